@@ -1,0 +1,84 @@
+//! The compiler's errors: each names the file (and line or byte offset where it can) and what is wrong.
+
+use std::path::PathBuf;
+
+/// Everything that can stop a compile.
+#[derive(Debug, thiserror::Error)]
+pub enum CompileError {
+    /// The file could not be read at all.
+    #[error("{path}: cannot read: {source}")]
+    Io {
+        /// The file.
+        path: PathBuf,
+        /// What the OS said.
+        source: std::io::Error,
+    },
+    /// The OBJ text is malformed (bad number, bad index syntax, ...).
+    #[error("{path}:{line}: {message}")]
+    Parse {
+        /// The file.
+        path: PathBuf,
+        /// 1-based line number.
+        line: usize,
+        /// What is wrong.
+        message: String,
+    },
+    /// A vertex coordinate is NaN or infinite.
+    #[error("{path}:{line}: vertex coordinate is not finite ({value})")]
+    NonFinite {
+        /// The file.
+        path: PathBuf,
+        /// 1-based line of the `v` statement.
+        line: usize,
+        /// The offending value as written.
+        value: String,
+    },
+    /// A face refers to a vertex that does not exist.
+    #[error("{path}:{line}: vertex index {index} out of range (the file has {count} vertices)")]
+    IndexOutOfRange {
+        /// The file.
+        path: PathBuf,
+        /// 1-based line of the `f` statement.
+        line: usize,
+        /// The index as written (1-based or negative, OBJ style).
+        index: i64,
+        /// How many vertices were defined.
+        count: usize,
+    },
+    /// The scene holds no face to draw.
+    #[error("{path}: the scene has no faces")]
+    NoFaces {
+        /// The file.
+        path: PathBuf,
+    },
+    /// The input is larger than the compiler accepts.
+    #[error("{path}: {message}")]
+    TooLarge {
+        /// The file.
+        path: PathBuf,
+        /// Which limit was exceeded.
+        message: String,
+    },
+    /// An internal invariant of the display tree was violated: a bug, reported instead of a hang.
+    #[error("internal invariant violated: {0}")]
+    Invariant(String),
+    /// Writing the output failed.
+    #[error("{path}: cannot write: {source}")]
+    Write {
+        /// The output file.
+        path: PathBuf,
+        /// What the OS said.
+        source: std::io::Error,
+    },
+    /// Encoding the tree failed.
+    #[error("cannot encode the tree: {0}")]
+    Encode(String),
+    /// A compiled file is not valid (for `inspect`, `dump`, `render`).
+    #[error("{path}: invalid .peel file: {message}")]
+    BadPeel {
+        /// The file.
+        path: PathBuf,
+        /// What the reader found wrong.
+        message: String,
+    },
+}

@@ -1,0 +1,25 @@
+//! Peel's offline scene compiler.
+//!
+//! Pipeline (one module per stage):
+//! [`load`] (OBJ + MTL -> source triangles) -> [`quantise`] (power-of-two integer grid)
+//! -> [`planes`] (exact integer planes and predicates) -> [`peel`] (convex-hull layers) /
+//! [`split`] (exact cuts and the choice of the splitting plane) -> [`tree`] (the display
+//! tree and its invariants) -> [`shade`] (baked Lambert colours) -> [`write`] (the `.peel`
+//! bytes, written atomically).
+#![forbid(unsafe_code)]
+#![warn(missing_docs)]
+
+pub mod builder;
+pub mod dump;
+pub mod error;
+pub mod load;
+pub mod peel;
+pub mod planes;
+pub mod quantise;
+pub mod shade;
+pub mod split;
+pub mod tree;
+pub mod write;
+
+pub use builder::Builder;
+pub use error::CompileError;

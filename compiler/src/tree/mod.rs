@@ -1,0 +1,129 @@
+//! Tree: the display-tree build (seed 000's `compile(L)`), its statistics and invariants.
+//!
+//! CONTRACT (owned by the core helper): [`build`] turns a [`Mesh`] into a [`DisplayTree`].
+//! Everything in the `DisplayTree` is relative to `centre` (the quantisation offset), in
+//! world units, f64.
+
+use glam::DVec3;
+
+use crate::error::CompileError;
+use crate::load::Mesh;
+
+/// Knobs of the build.
+#[derive(Debug, Clone)]
+pub struct BuildOptions {
+    /// At most this many candidate planes are costed per split node (sampled deterministically
+    /// from `seed` when there are more).
+    pub candidates: usize,
+    /// Seed of the candidate sampling.
+    pub seed: u64,
+    /// Output polygons with more vertices are split into convex pieces.
+    pub max_polygon_vertices: usize,
+}
+
+impl Default for BuildOptions {
+    fn default() -> Self {
+        BuildOptions { candidates: 64, seed: 0, max_polygon_vertices: 12 }
+    }
+}
+
+/// A plane `normal · p = offset` relative to [`DisplayTree::centre`]; `normal` has unit length
+/// and the sign of the canonical integer plane.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct TreePlane {
+    /// Unit normal.
+    pub normal: DVec3,
+    /// Offset along the normal.
+    pub offset: f64,
+}
+
+/// One output polygon (a convex fragment of one source triangle).
+#[derive(Debug, Clone, PartialEq)]
+pub struct TreePolygon {
+    /// Index into [`DisplayTree::planes`] of its support plane.
+    pub plane: u32,
+    /// True when the source triangle's front normal is opposite to the plane's normal.
+    pub flipped: bool,
+    /// True when the rest of its convex set lies on the + side of the plane (the "inside").
+    pub interior_front: bool,
+    /// Indices into [`DisplayTree::vertices`], in the source triangle's winding order.
+    pub vertices: Vec<u32>,
+    /// Source triangle id.
+    pub source: u32,
+}
+
+/// A node of the display tree. Children always have larger indices than their parent.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum TreeNode {
+    /// A convex set: polygons `first_polygon .. first_polygon + polygon_count`, then a child.
+    Convex {
+        /// First polygon of the set.
+        first_polygon: u32,
+        /// Number of polygons of the set (>= 1).
+        polygon_count: u32,
+        /// What lies inside the set.
+        child: Option<u32>,
+        /// Distinct support planes of the list this node was built from.
+        support_planes: u32,
+    },
+    /// A separating plane.
+    Split {
+        /// Index into [`DisplayTree::planes`].
+        plane: u32,
+        /// Subtree on the + side.
+        front: Option<u32>,
+        /// Subtree on the - side.
+        back: Option<u32>,
+        /// Distinct support planes of the list this node was built from.
+        support_planes: u32,
+    },
+}
+
+/// Counters reported by `peel compile`.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct TreeStats {
+    /// Triangles read.
+    pub input_triangles: u64,
+    /// Triangles of zero area after quantisation, dropped.
+    pub degenerate_dropped: u64,
+    /// Polygons in the output.
+    pub output_polygons: u64,
+    /// Convex nodes.
+    pub convex_nodes: u64,
+    /// Split nodes.
+    pub split_nodes: u64,
+    /// Fragments cut in two.
+    pub cuts: u64,
+    /// Nodes on the longest root-to-leaf path.
+    pub max_depth: u64,
+    /// Distinct planes in the output.
+    pub planes: u64,
+}
+
+/// The compiled display tree, before serialisation.
+#[derive(Debug, Clone, Default)]
+pub struct DisplayTree {
+    /// World position of the origin of every coordinate below.
+    pub centre: DVec3,
+    /// Distinct vertices, relative to `centre`.
+    pub vertices: Vec<DVec3>,
+    /// Distinct planes used by polygons and splits.
+    pub planes: Vec<TreePlane>,
+    /// Polygons; each convex node owns a contiguous range.
+    pub polygons: Vec<TreePolygon>,
+    /// Nodes in pre-order; the root is node 0 (absent when the tree is empty).
+    pub nodes: Vec<TreeNode>,
+    /// Counters.
+    pub stats: TreeStats,
+}
+
+/// Build the display tree of `mesh`. `progress` is called from time to time with the number
+/// of fragments placed in convex nodes so far (for a progress bar).
+pub fn build(
+    mesh: &Mesh,
+    options: &BuildOptions,
+    progress: &(dyn Fn(u64) + Sync),
+) -> Result<DisplayTree, CompileError> {
+    let _ = (mesh, options, progress);
+    todo!("core helper")
+}

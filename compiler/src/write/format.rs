@@ -1,0 +1,124 @@
+//! The `.peel` file as Rust types. `formats/peel.md` specifies the same bytes; bincode 2 with
+//! [`config`] (fixed-width little-endian integers, `u64` sequence lengths) writes them.
+//!
+//! Layout rule: every record type has a fixed size, so the runtime reads any element in place.
+
+use serde::{Deserialize, Serialize};
+
+/// First four bytes of every `.peel` file.
+pub const MAGIC: [u8; 4] = *b"PEEL";
+/// Bumped whenever the byte layout changes (see `formats/peel.md`, "Versioning").
+pub const FORMAT_VERSION: u16 = 1;
+/// "No node" in a child field.
+pub const NONE: u32 = u32::MAX;
+
+/// Bits of [`Header::flags`].
+pub mod header_flags {
+    /// The `ids` array holds one source triangle id per polygon.
+    pub const IDS: u16 = 1 << 0;
+    /// Every bit this version defines; a reader refuses others.
+    pub const KNOWN: u16 = IDS;
+}
+
+/// Bits of [`Polygon::flags`].
+pub mod polygon_flags {
+    /// The polygon's front (counter-clockwise) side faces away from its plane's normal.
+    pub const FLIPPED: u8 = 1 << 0;
+    /// The rest of the polygon's convex set lies on the + side of its plane.
+    pub const INTERIOR_FRONT: u8 = 1 << 1;
+    /// Every bit this version defines.
+    pub const KNOWN: u8 = FLIPPED | INTERIOR_FRONT;
+}
+
+/// Values of [`Node::kind`].
+pub mod node_kind {
+    /// `a` = first polygon, `b` = polygon count, `c` = child (or [`super::NONE`]).
+    pub const CONVEX: u8 = 0;
+    /// `a` = plane, `b` = child on the + side, `c` = child on the - side (or [`super::NONE`]).
+    pub const SPLIT: u8 = 1;
+}
+
+/// The bincode configuration, pinned here and nowhere else.
+pub fn config() -> impl bincode::config::Config {
+    bincode::config::standard()
+        .with_little_endian()
+        .with_fixed_int_encoding()
+}
+
+/// Fixed-size header (84 bytes).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct Header {
+    /// [`MAGIC`].
+    pub magic: [u8; 4],
+    /// [`FORMAT_VERSION`].
+    pub version: u16,
+    /// [`header_flags`].
+    pub flags: u16,
+    /// Length of `vertices`.
+    pub vertex_count: u32,
+    /// Length of `planes`.
+    pub plane_count: u32,
+    /// Length of `indices`.
+    pub index_count: u32,
+    /// Length of `polygons`.
+    pub polygon_count: u32,
+    /// Length of `nodes`.
+    pub node_count: u32,
+    /// Nodes on the longest root-to-leaf path (bounds the traversal stack).
+    pub max_depth: u32,
+    /// Largest `vertex_count` of any polygon (bounds the clip buffers).
+    pub max_polygon_vertices: u32,
+    /// World position every coordinate of the file is relative to.
+    pub centre: [f64; 3],
+    /// Lower corner of the scene's bounding box, relative to `centre`.
+    pub bounds_min: [f32; 3],
+    /// Upper corner of the scene's bounding box, relative to `centre`.
+    pub bounds_max: [f32; 3],
+}
+
+/// A convex polygon (14 bytes).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+pub struct Polygon {
+    /// Index into `planes` of its support plane.
+    pub plane: u32,
+    /// First of its `vertex_count` entries in `indices`.
+    pub first_index: u32,
+    /// Number of vertices (>= 3).
+    pub vertex_count: u16,
+    /// [`polygon_flags`].
+    pub flags: u8,
+    /// Baked RGB888 colour.
+    pub colour: [u8; 3],
+}
+
+/// A node of the display tree (13 bytes); see [`node_kind`] for the meaning of `a`, `b`, `c`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+pub struct Node {
+    /// [`node_kind`].
+    pub kind: u8,
+    /// First field.
+    pub a: u32,
+    /// Second field.
+    pub b: u32,
+    /// Third field.
+    pub c: u32,
+}
+
+/// A whole `.peel` file: the header, then flat arrays (each a `u64` length then its records).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct PeelFile {
+    /// Header.
+    pub header: Header,
+    /// Vertex positions relative to `header.centre`.
+    pub vertices: Vec<[f32; 3]>,
+    /// Planes `n · p = d` as `[nx, ny, nz, d]`, unit normal, relative to `header.centre`.
+    pub planes: Vec<[f32; 4]>,
+    /// Polygon vertex lists, concatenated.
+    pub indices: Vec<u32>,
+    /// Polygons; a convex node owns a contiguous range.
+    pub polygons: Vec<Polygon>,
+    /// Source triangle id per polygon when `header_flags::IDS` is set, else empty.
+    pub ids: Vec<u32>,
+    /// Nodes in pre-order: the root is node 0 and children come after their parents.
+    pub nodes: Vec<Node>,
+}

@@ -1,0 +1,3 @@
+//! Write: `DisplayTree` -> [`format::PeelFile`] -> bytes, and the atomic file write.
+
+pub mod format;

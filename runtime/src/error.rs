@@ -1,0 +1,113 @@
+//! Typed errors: `Copy`, `Display`, never a panic.
+
+use core::fmt;
+
+/// Why a byte slice is not a valid `.peel` file. `offset` is the byte offset of the problem.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ReadError {
+    /// Fewer bytes than the structure needs.
+    Truncated {
+        /// Where the missing data starts.
+        offset: usize,
+    },
+    /// The first four bytes are not `PEEL`.
+    BadMagic,
+    /// A format version this reader does not know.
+    UnsupportedVersion {
+        /// The version in the file.
+        version: u16,
+    },
+    /// Flag bits this reader does not know.
+    UnknownFlags {
+        /// The flags in the file.
+        flags: u16,
+    },
+    /// An array length disagrees with the header count.
+    CountMismatch {
+        /// Byte offset of the array length.
+        offset: usize,
+    },
+    /// A record holds an index beyond its array, a child that does not come after its parent,
+    /// an unknown kind, or a value out of its documented range.
+    BadRecord {
+        /// Byte offset of the record.
+        offset: usize,
+    },
+    /// The tree is deeper than the header says.
+    TooDeep {
+        /// The header's `max_depth`.
+        max_depth: u32,
+    },
+    /// Bytes remain after the last array.
+    TrailingBytes {
+        /// Where they start.
+        offset: usize,
+    },
+}
+
+impl fmt::Display for ReadError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match *self {
+            ReadError::Truncated { offset } => write!(f, "truncated at byte {offset}"),
+            ReadError::BadMagic => write!(f, "not a .peel file (bad magic at byte 0)"),
+            ReadError::UnsupportedVersion { version } => {
+                write!(f, "unsupported format version {version} (byte 4)")
+            }
+            ReadError::UnknownFlags { flags } => write!(f, "unknown header flags {flags:#06x} (byte 6)"),
+            ReadError::CountMismatch { offset } => {
+                write!(f, "array length at byte {offset} disagrees with the header")
+            }
+            ReadError::BadRecord { offset } => write!(f, "invalid record at byte {offset}"),
+            ReadError::TooDeep { max_depth } => {
+                write!(f, "tree deeper than the header's max_depth {max_depth}")
+            }
+            ReadError::TrailingBytes { offset } => write!(f, "unexpected bytes after the end, at byte {offset}"),
+        }
+    }
+}
+
+#[cfg(feature = "std")]
+impl std::error::Error for ReadError {}
+
+/// Why a frame cannot be drawn (decided up front, before any pixel is written).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum RenderError {
+    /// The tree is deeper than the caller's traversal stack.
+    StackTooSmall {
+        /// Entries needed (the header's `max_depth`).
+        needed: u32,
+        /// Entries provided.
+        available: u32,
+    },
+    /// A polygon has more vertices than the clip buffers hold.
+    PolygonTooLarge {
+        /// Vertices needed (the header's `max_polygon_vertices` plus what clipping adds).
+        needed: u32,
+        /// Vertices the buffers hold.
+        available: u32,
+    },
+    /// Id rendering was asked of a file compiled without `--ids`.
+    NoIds,
+    /// The camera is not usable (zero-size image, degenerate basis, non-finite values).
+    BadCamera,
+}
+
+impl fmt::Display for RenderError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match *self {
+            RenderError::StackTooSmall { needed, available } => write!(
+                f,
+                "the tree needs a traversal stack of {needed} entries, the caller gave {available}"
+            ),
+            RenderError::PolygonTooLarge { needed, available } => write!(
+                f,
+                "polygons need clip buffers of {needed} vertices, the caller gave {available}"
+            ),
+            RenderError::NoIds => write!(f, "the file holds no triangle ids (compile it with --ids)"),
+            RenderError::BadCamera => write!(f, "the camera is degenerate or not finite"),
+        }
+    }
+}
+
+#[cfg(feature = "std")]
+impl std::error::Error for RenderError {}

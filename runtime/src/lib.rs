@@ -1,0 +1,22 @@
+//! Peel's runtime: reads a compiled `.peel` display tree in place and paints it.
+//!
+//! `#![no_std]`, no allocator, no `unsafe`: every buffer is provided by the caller or has a
+//! fixed size. Pipeline: [`read`] -> [`traverse`] -> [`camera`] (project) -> [`clip`] ->
+//! [`fill`] -> [`target`]; [`render`] ties them together.
+#![no_std]
+#![forbid(unsafe_code)]
+#![deny(missing_docs)]
+
+#[cfg(feature = "std")]
+extern crate std;
+
+pub mod camera;
+pub mod clip;
+pub mod error;
+pub mod fill;
+pub mod read;
+pub mod render;
+pub mod target;
+pub mod traverse;
+
+pub use error::{ReadError, RenderError};
