@@ -1,1 +1,283 @@
-//! TODO
+//! `peel dump` and `peel inspect`: a `.peel` file read back through the runtime's reader (so
+//! what is shown is what the runtime sees), as deterministic YAML or as a few counters.
+
+use std::fmt::Write as _;
+
+use peel_runtime::read::layout::{header_flags, polygon_flags};
+use peel_runtime::read::{Node, Scene};
+use peel_runtime::ReadError;
+use serde::Serialize;
+
+/// Decimals of every float in the dump: fixed, so that snapshots are stable.
+const DECIMALS: usize = 6;
+
+/// Counters of `peel inspect`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+pub struct Inspect {
+    /// The file's format version.
+    pub format_version: u16,
+    /// Polygons.
+    pub output_polygons: u64,
+    /// Convex nodes.
+    pub convex_nodes: u64,
+    /// Split nodes.
+    pub split_nodes: u64,
+    /// Nodes on the longest root-to-leaf path (the header's value, checked by the reader).
+    pub max_depth: u64,
+    /// Largest polygon vertex count.
+    pub max_polygon_vertices: u64,
+    /// Distinct planes.
+    pub planes: u64,
+    /// Distinct vertices.
+    pub vertices: u64,
+    /// Whether source triangle ids are present.
+    pub ids: bool,
+    /// File size.
+    pub bytes: u64,
+}
+
+/// The counters of a `.peel` file (validated first).
+pub fn inspect(bytes: &[u8]) -> Result<Inspect, ReadError> {
+    let scene = Scene::parse(bytes)?;
+    let header = scene.header();
+    let convex_nodes = (0..header.node_count)
+        .filter(|&i| matches!(scene.node(i), Node::Convex { .. }))
+        .count() as u64;
+    Ok(Inspect {
+        format_version: header.version,
+        output_polygons: header.polygon_count.into(),
+        convex_nodes,
+        split_nodes: u64::from(header.node_count) - convex_nodes,
+        max_depth: header.max_depth.into(),
+        max_polygon_vertices: header.max_polygon_vertices.into(),
+        planes: header.plane_count.into(),
+        vertices: header.vertex_count.into(),
+        ids: header.flags & header_flags::IDS != 0,
+        bytes: bytes.len() as u64,
+    })
+}
+
+/// `v` with [`DECIMALS`] decimals, without the sign of a value that rounds to zero.
+fn fixed(v: f64) -> String {
+    let s = format!("{v:.DECIMALS$}");
+    match s.strip_prefix('-') {
+        Some(rest) if rest.bytes().all(|b| b == b'0' || b == b'.') => rest.to_string(),
+        _ => s,
+    }
+}
+
+fn triple(v: [f64; 3]) -> String {
+    format!("[{}, {}, {}]", fixed(v[0]), fixed(v[1]), fixed(v[2]))
+}
+
+fn f32_triple(v: glam::Vec3) -> String {
+    triple(v.as_dvec3().to_array())
+}
+
+/// Names of the set bits, as a YAML flow sequence.
+fn flag_names(names: &[(bool, &str)]) -> String {
+    let set: Vec<&str> = names
+        .iter()
+        .filter(|(on, _)| *on)
+        .map(|(_, name)| *name)
+        .collect();
+    format!("[{}]", set.join(", "))
+}
+
+/// What is left to print, innermost last (an explicit stack: deep trees must not overflow).
+enum Item {
+    /// A node's fields at this indentation.
+    Node(u32, usize),
+    /// `name: null`, or `name:` followed by the child node, indented once more.
+    Child(&'static str, Option<u32>, usize),
+}
+
+/// The whole file as a YAML document: the header, the planes, then the tree as nested nodes
+/// with their polygons (plane, flags, colour, id if present, vertices).
+pub fn dump_yaml(bytes: &[u8]) -> Result<String, ReadError> {
+    let scene = Scene::parse(bytes)?;
+    let h = scene.header();
+    let mut out = String::new();
+    let ids = flag_names(&[(h.flags & header_flags::IDS != 0, "ids")]);
+    // Writing into a String cannot fail.
+    let _ = writeln!(
+        out,
+        "header:\n  version: {}\n  flags: {ids}\n  vertices: {}\n  planes: {}\n  indices: {}\n  \
+         polygons: {}\n  nodes: {}\n  max_depth: {}\n  max_polygon_vertices: {}\n  centre: {}\n  \
+         bounds_min: {}\n  bounds_max: {}",
+        h.version,
+        h.vertex_count,
+        h.plane_count,
+        h.index_count,
+        h.polygon_count,
+        h.node_count,
+        h.max_depth,
+        h.max_polygon_vertices,
+        triple(h.centre),
+        f32_triple(h.bounds_min),
+        f32_triple(h.bounds_max),
+    );
+    if h.plane_count == 0 {
+        out.push_str("planes: []\n");
+    } else {
+        out.push_str("planes:\n");
+        for i in 0..h.plane_count {
+            let p = scene.plane(i);
+            let n = p.normal.as_dvec3();
+            let d = fixed(p.d.into());
+            let _ = writeln!(
+                out,
+                "  - [{}, {}, {}, {d}]",
+                fixed(n.x),
+                fixed(n.y),
+                fixed(n.z)
+            );
+        }
+    }
+    let mut stack = vec![Item::Child("tree", scene.root(), 0)];
+    while let Some(item) = stack.pop() {
+        match item {
+            Item::Child(name, None, indent) => {
+                let _ = writeln!(out, "{:indent$}{name}: null", "");
+            }
+            Item::Child(name, Some(node), indent) => {
+                let _ = writeln!(out, "{:indent$}{name}:", "");
+                stack.push(Item::Node(node, indent + 2));
+            }
+            Item::Node(i, indent) => match scene.node(i) {
+                Node::Convex {
+                    first,
+                    count,
+                    child,
+                } => {
+                    let _ = writeln!(out, "{:indent$}kind: convex\n{:indent$}node: {i}", "", "");
+                    let _ = writeln!(out, "{:indent$}polygons:", "");
+                    for p in first..first.saturating_add(count) {
+                        write_polygon(&mut out, &scene, p, indent + 2);
+                    }
+                    stack.push(Item::Child("child", child, indent));
+                }
+                Node::Split { plane, front, back } => {
+                    let _ = writeln!(
+                        out,
+                        "{:indent$}kind: split\n{:indent$}node: {i}\n{:indent$}plane: {plane}",
+                        "", "", ""
+                    );
+                    stack.push(Item::Child("back", back, indent));
+                    stack.push(Item::Child("front", front, indent));
+                }
+            },
+        }
+    }
+    Ok(out)
+}
+
+/// One polygon as a sequence entry at `indent`.
+fn write_polygon(out: &mut String, scene: &Scene<'_>, p: u32, indent: usize) {
+    let polygon = scene.polygon(p);
+    let flags = flag_names(&[
+        (polygon.flags & polygon_flags::FLIPPED != 0, "flipped"),
+        (
+            polygon.flags & polygon_flags::INTERIOR_FRONT != 0,
+            "interior_front",
+        ),
+    ]);
+    let c = polygon.colour;
+    let _ = writeln!(out, "{:indent$}- index: {p}", "");
+    let inner = indent + 2;
+    let _ = writeln!(
+        out,
+        "{:inner$}plane: {}\n{:inner$}flags: {flags}\n{:inner$}colour: [{}, {}, {}]",
+        "", polygon.plane, "", "", c.r, c.g, c.b
+    );
+    if let Some(id) = scene.id(p) {
+        let _ = writeln!(out, "{:inner$}id: {id}", "");
+    }
+    let _ = writeln!(out, "{:inner$}vertices:", "");
+    for k in 0..u32::from(polygon.vertex_count) {
+        let _ = writeln!(
+            out,
+            "{:inner$}  - {}",
+            "",
+            f32_triple(scene.polygon_vertex(&polygon, k))
+        );
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::write::tests::{chain_tree, small_tree};
+
+    #[test]
+    fn dump_of_a_small_tree() {
+        let (tree, colours) = small_tree();
+        let bytes = crate::write::encode(&tree, &colours, true).unwrap();
+        insta::assert_snapshot!(dump_yaml(&bytes).unwrap());
+    }
+
+    #[test]
+    fn dump_without_ids_has_no_id_lines() {
+        let (tree, colours) = small_tree();
+        let bytes = crate::write::encode(&tree, &colours, false).unwrap();
+        let yaml = dump_yaml(&bytes).unwrap();
+        assert!(
+            yaml.contains("flags: []\n") && !yaml.contains("id:"),
+            "{yaml}"
+        );
+    }
+
+    #[test]
+    fn dump_of_a_deep_tree_does_not_recurse() {
+        // Run on a stack far too small for one frame per level (the output is quadratic in
+        // the depth because of the indentation, so the depth stays moderate).
+        let depth = 2000;
+        let (tree, colours) = chain_tree(depth);
+        let bytes = crate::write::encode(&tree, &colours, false).unwrap();
+        let yaml = std::thread::Builder::new()
+            .stack_size(48 * 1024)
+            .spawn(move || dump_yaml(&bytes).unwrap())
+            .unwrap()
+            .join()
+            .unwrap();
+        assert_eq!(yaml.matches("kind: convex").count(), depth as usize);
+        let deepest = format!("\n{:1$}kind: convex\n", "", 2 * depth as usize);
+        assert!(yaml.contains(&deepest));
+    }
+
+    #[test]
+    fn dump_refuses_invalid_bytes() {
+        assert_eq!(dump_yaml(b"nope").unwrap_err(), ReadError::BadMagic);
+        assert_eq!(
+            inspect(b"PEE").unwrap_err(),
+            ReadError::Truncated { offset: 0 }
+        );
+    }
+
+    #[test]
+    fn inspect_counts() {
+        let (tree, colours) = small_tree();
+        let bytes = crate::write::encode(&tree, &colours, true).unwrap();
+        let info = inspect(&bytes).unwrap();
+        let expected = Inspect {
+            format_version: 1,
+            output_polygons: 3,
+            convex_nodes: 3,
+            split_nodes: 1,
+            max_depth: 3,
+            max_polygon_vertices: 4,
+            planes: 3,
+            vertices: 7,
+            ids: true,
+            bytes: bytes.len() as u64,
+        };
+        assert_eq!(info, expected);
+    }
+
+    #[test]
+    fn fixed_drops_the_sign_of_zero() {
+        assert_eq!(fixed(-0.0), "0.000000");
+        assert_eq!(fixed(-1e-9), "0.000000");
+        assert_eq!(fixed(-0.5), "-0.500000");
+    }
+}

@@ -34,7 +34,7 @@ pub enum CompileError {
         value: String,
     },
     /// A face refers to a vertex that does not exist.
-    #[error("{path}:{line}: vertex index {index} out of range (the file has {count} vertices)")]
+    #[error("{path}:{line}: vertex index {index} out of range ({count} vertices are defined before this line)")]
     IndexOutOfRange {
         /// The file.
         path: PathBuf,
@@ -42,8 +42,16 @@ pub enum CompileError {
         line: usize,
         /// The index as written (1-based or negative, OBJ style).
         index: i64,
-        /// How many vertices were defined.
+        /// How many vertices were defined before the `f` line (OBJ indices refer backwards).
         count: usize,
+    },
+    /// The OBJ parser (tobj) failed where the line scan found nothing wrong; no line is known.
+    #[error("{path}: cannot parse: {message}")]
+    Obj {
+        /// The file.
+        path: PathBuf,
+        /// What tobj said.
+        message: String,
     },
     /// The scene holds no face to draw.
     #[error("{path}: the scene has no faces")]

@@ -10,12 +10,14 @@
 #![warn(missing_docs)]
 
 pub mod builder;
+pub mod compile;
 pub mod dump;
 pub mod error;
 pub mod load;
 pub mod peel;
 pub mod planes;
 pub mod quantise;
+pub mod raster;
 pub mod shade;
 pub mod split;
 pub mod tree;

@@ -1,1 +1,165 @@
-fn main() {}
+//! `peel`: compile OBJ scenes into `.peel` display trees, inspect, dump and render them.
+
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+use std::time::Duration;
+
+use clap::{Args, Parser, Subcommand};
+use glam::DVec3;
+use indicatif::{ProgressBar, ProgressStyle};
+
+use peel_compiler::compile::{compile_obj, CompileOptions};
+use peel_compiler::shade::{Shading, DEFAULT_LIGHT};
+use peel_compiler::tree::BuildOptions;
+
+mod cli;
+
+#[derive(Parser)]
+#[command(name = "peel", version, about = "Exact display-tree compiler and renderer for triangle meshes")]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Compile an OBJ scene into a .peel display tree.
+    Compile(CompileArgs),
+    /// Print what a .peel file holds.
+    Inspect {
+        /// The .peel file.
+        file: PathBuf,
+        /// Print JSON instead of text.
+        #[arg(long)]
+        json: bool,
+    },
+    /// Print the whole tree as YAML.
+    Dump {
+        /// The .peel file.
+        file: PathBuf,
+    },
+    /// Render a .peel file to a PNG.
+    Render(cli::RenderArgs),
+    /// Compile and render the built-in demo scene.
+    Demo {
+        /// Where to write demo.obj, demo.peel and demo.png.
+        #[arg(long, default_value = "peel-demo")]
+        out: PathBuf,
+    },
+}
+
+#[derive(Args)]
+struct CompileArgs {
+    /// The OBJ file (its MTL files are read too).
+    scene: PathBuf,
+    /// Output .peel file.
+    #[arg(short, long)]
+    output: PathBuf,
+    /// Keep each polygon's source triangle id (needed for `render --ids`).
+    #[arg(long)]
+    ids: bool,
+    /// Candidate planes costed per split node (sampled when there are more).
+    #[arg(long, default_value_t = BuildOptions::default().candidates)]
+    candidates: usize,
+    /// Seed of the candidate sampling.
+    #[arg(long, default_value_t = 0)]
+    seed: u64,
+    /// Larger output polygons are split into convex pieces.
+    #[arg(long, default_value_t = BuildOptions::default().max_polygon_vertices)]
+    max_polygon_vertices: usize,
+    /// Direction towards the light for the baked two-sided Lambert shading.
+    #[arg(long, value_parser = cli::parse_dvec3, allow_hyphen_values = true)]
+    light: Option<DVec3>,
+    /// Keep the raw material colours (no shading).
+    #[arg(long, conflicts_with = "light")]
+    flat: bool,
+    /// Also write the statistics as JSON to this file.
+    #[arg(long)]
+    stats_json: Option<PathBuf>,
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let result = match cli.command {
+        Command::Compile(args) => compile(&args),
+        Command::Inspect { file, json } => cli::inspect(&file, json),
+        Command::Dump { file } => cli::dump(&file),
+        Command::Render(args) => cli::render(&args),
+        Command::Demo { out } => cli::demo(&out),
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(message) => {
+            eprintln!("error: {message}");
+            ExitCode::FAILURE
+        }
+    }
+}
+
+fn compile(args: &CompileArgs) -> Result<(), String> {
+    let options = CompileOptions {
+        build: BuildOptions {
+            candidates: args.candidates,
+            seed: args.seed,
+            max_polygon_vertices: args.max_polygon_vertices,
+        },
+        ids: args.ids,
+        shading: if args.flat { Shading::Flat } else { Shading::Lambert(args.light.unwrap_or(DEFAULT_LIGHT)) },
+    };
+    compile_to(&args.scene, &args.output, &options, args.stats_json.as_deref()).map(|_| ())
+}
+
+/// Compile `scene` into `output` with a progress bar on a terminal, print the summary, and
+/// return the bytes written.
+pub(crate) fn compile_to(
+    scene: &Path,
+    output: &Path,
+    options: &CompileOptions,
+    stats_json: Option<&Path>,
+) -> Result<Vec<u8>, String> {
+    let bar = ProgressBar::new_spinner();
+    bar.set_style(ProgressStyle::with_template("{spinner} {msg} [{elapsed}]").map_err(|e| e.to_string())?);
+    bar.set_message(format!("compiling {}", scene.display()));
+    bar.enable_steady_tick(Duration::from_millis(120));
+    let progress = |placed: u64| bar.set_message(format!("compiling {}: {placed} polygons placed", scene.display()));
+    let compiled = compile_obj(scene, options, &progress);
+    bar.finish_and_clear();
+    let compiled = compiled.map_err(|e| e.to_string())?;
+    for w in &compiled.warnings {
+        eprintln!("warning: {w}");
+    }
+    peel_compiler::write::write_atomic(output, &compiled.bytes).map_err(|e| e.to_string())?;
+    let s = compiled.stats;
+    let stats = serde_json::json!({
+        "input_triangles": s.input_triangles,
+        "degenerate_dropped": s.degenerate_dropped,
+        "output_polygons": s.output_polygons,
+        "convex_nodes": s.convex_nodes,
+        "split_nodes": s.split_nodes,
+        "cuts": s.cuts,
+        "max_depth": s.max_depth,
+        "planes": s.planes,
+        "bytes": compiled.bytes.len(),
+        "compile_seconds": compiled.seconds,
+    });
+    if let Some(path) = stats_json {
+        let text = serde_json::to_string_pretty(&stats).map_err(|e| e.to_string())?;
+        peel_compiler::write::write_atomic(path, text.as_bytes()).map_err(|e| e.to_string())?;
+    }
+    println!(
+        "{} -> {}: {} triangles ({} degenerate dropped) -> {} polygons, {} convex + {} split nodes, {} cuts, depth {}, {} planes, {} bytes, {:.3} s",
+        scene.display(),
+        output.display(),
+        s.input_triangles,
+        s.degenerate_dropped,
+        s.output_polygons,
+        s.convex_nodes,
+        s.split_nodes,
+        s.cuts,
+        s.max_depth,
+        s.planes,
+        compiled.bytes.len(),
+        compiled.seconds
+    );
+    Ok(compiled.bytes)
+}

@@ -90,6 +90,17 @@ pub enum RenderError {
     NoIds,
     /// The camera is not usable (zero-size image, degenerate basis, non-finite values).
     BadCamera,
+    /// The image is too large for the fixed-point screen coordinates (`W * 2^SUB` and
+    /// `H * 2^SUB` must fit in an `i32`).
+    ImageTooLarge {
+        /// Image width in pixels.
+        width: u32,
+        /// Image height in pixels.
+        height: u32,
+    },
+    /// The tree visits more nodes than it has (a cycle): only a tree that did not come
+    /// from a validated file can do that.
+    MalformedTree,
 }
 
 impl fmt::Display for RenderError {
@@ -103,8 +114,17 @@ impl fmt::Display for RenderError {
                 f,
                 "polygons need clip buffers of {needed} vertices, the caller gave {available}"
             ),
-            RenderError::NoIds => write!(f, "the file holds no triangle ids (compile it with --ids)"),
+            RenderError::NoIds => {
+                write!(f, "the file holds no triangle ids (compile it with --ids)")
+            }
             RenderError::BadCamera => write!(f, "the camera is degenerate or not finite"),
+            RenderError::ImageTooLarge { width, height } => write!(
+                f,
+                "a {width} x {height} image is too large for the fixed-point screen coordinates"
+            ),
+            RenderError::MalformedTree => {
+                write!(f, "the display tree is malformed (a node is reached twice)")
+            }
         }
     }
 }

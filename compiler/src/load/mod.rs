@@ -3,14 +3,53 @@
 //! CONTRACT (owned by the load helper): `load_obj(path)` returns a [`Mesh`] whose triangle `i`
 //! is source triangle id `i` (ids follow the order of the `f` lines; a polygon face contributes
 //! its triangles in the documented order).
+//!
+//! How a file is read:
+//! - The OBJ text is parsed by `tobj` with its triangulation off, after a light line scan
+//!   ([`scan`]) that validates what tobj does not (NaN/inf coordinates, index ranges, syntax)
+//!   and reports the line. tobj groups faces into models (a new one at each `o`, `g` or
+//!   material change) but keeps them in file order; the loader pairs each tobj face with its
+//!   scanned `f`/`l` line and fails with [`CompileError::Invariant`] if the two disagree, so
+//!   source ids always follow the `f` lines.
+//! - A face's colour is its material's diffuse `Kd`, clamped to [0, 1] and rounded to RGB888.
+//!   A face without material, with an undefined material, with a material without `Kd`, or
+//!   whose MTL file is missing gets [`DEFAULT_COLOUR`] and a warning.
+//! - A triangle face gives one triangle, its corners in file order. A face with more corners is
+//!   triangulated in its own plane ([`triangulate`]): every triangle is written starting at
+//!   its smallest corner index in the face, keeping the face's winding, and the triangles of
+//!   the face are sorted by these index triples. Consecutive repeated corners are merged first
+//!   (so a face can give fewer than n - 2 triangles). A polygon that is not simple (repeated
+//!   vertex, crossing edges) gets a warning and the fan `[0, i, i + 1]` from its first corner;
+//!   a collinear one gets the same fan silently (all zero-area, dropped later).
+//! - `f` lines with fewer than three corners are skipped with a warning; `l` (polyline)
+//!   statements are not surfaces and are skipped with a warning.
+//! - Degenerate triangles are kept: the compiler drops zero-area triangles after quantisation.
+//! - Limits: the OBJ (and each MTL) may not exceed [`MAX_INPUT_BYTES`], the file may not have
+//!   more than [`MAX_VERTEX_STATEMENTS`] `v`/`vt`/`vn` statements nor produce more than
+//!   [`MAX_TRIANGLES`] triangles; otherwise [`CompileError::TooLarge`].
+
+pub mod scan;
+pub mod triangulate;
 
 use glam::DVec3;
+use std::cell::RefCell;
+use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
 use crate::error::CompileError;
 
 /// Colour used for faces without a material (or when the MTL file is missing): mid grey.
 pub const DEFAULT_COLOUR: [u8; 3] = [200, 200, 200];
+
+/// Largest OBJ or MTL file accepted, in bytes (256 MiB).
+pub const MAX_INPUT_BYTES: u64 = 256 << 20;
+
+/// Largest number of `v`, `vt` and `vn` statements together in one OBJ.
+pub const MAX_VERTEX_STATEMENTS: usize = 1 << 22;
+
+/// Largest number of triangles (a polygon of n corners counts n - 2; every `l` statement and
+/// every face with fewer than three corners counts one, as they cost memory too).
+pub const MAX_TRIANGLES: usize = 1 << 22;
 
 /// One input triangle.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -34,6 +73,349 @@ pub struct Mesh {
 
 /// Load an OBJ file (and its MTL files).
 pub fn load_obj(path: &Path) -> Result<Mesh, CompileError> {
-    let _ = path;
-    todo!("load helper")
+    let io = |source| CompileError::Io {
+        path: path.to_path_buf(),
+        source,
+    };
+    let size = std::fs::metadata(path).map_err(io)?.len();
+    check_size(path, size)?;
+    let bytes = std::fs::read(path).map_err(io)?;
+    check_size(path, bytes.len() as u64)?;
+    let text = String::from_utf8(bytes).map_err(|e| {
+        let valid = &e.as_bytes()[..e.utf8_error().valid_up_to()];
+        CompileError::Parse {
+            path: path.to_path_buf(),
+            line: valid.iter().filter(|&&b| b == b'\n').count() + 1,
+            message: "the file is not valid UTF-8 text".into(),
+        }
+    })?;
+    load_obj_text(path, &text)
 }
+
+fn check_size(path: &Path, size: u64) -> Result<(), CompileError> {
+    if size > MAX_INPUT_BYTES {
+        return Err(CompileError::TooLarge {
+            path: path.to_path_buf(),
+            message: format!("the file has {size} bytes, more than the limit of {MAX_INPUT_BYTES}"),
+        });
+    }
+    Ok(())
+}
+
+/// What happened to one `mtllib` statement.
+#[derive(Debug)]
+enum MtlOutcome {
+    Loaded,
+    Missing,
+    Unreadable(String),
+    TooLarge(u64),
+}
+
+/// Loads already-read OBJ text; `path` names the file and locates its MTL files.
+fn load_obj_text(path: &Path, text: &str) -> Result<Mesh, CompileError> {
+    let limits = scan::Limits {
+        vertices: MAX_VERTEX_STATEMENTS,
+        triangles: MAX_TRIANGLES,
+    };
+    let scanned = scan::scan(path, text, limits)?;
+    if scanned.polygon_faces == 0 {
+        return Err(CompileError::NoFaces {
+            path: path.to_path_buf(),
+        });
+    }
+
+    let libraries: RefCell<Vec<(PathBuf, MtlOutcome)>> = RefCell::new(Vec::new());
+    let options = tobj::LoadOptions {
+        triangulate: false,
+        single_index: true,
+        // Points and lines stay in, so tobj emits one face per `f`/`l` line (see above).
+        ..Default::default()
+    };
+    let (models, materials) = tobj::load_obj_buf(
+        &mut std::io::Cursor::new(text.as_bytes()),
+        &options,
+        |name| {
+            let full = match path.parent() {
+                Some(dir) => dir.join(name),
+                None => name.to_path_buf(),
+            };
+            let (outcome, result) = read_mtl(&full);
+            libraries.borrow_mut().push((full, outcome));
+            result
+        },
+    )
+    .map_err(|e| CompileError::Obj {
+        path: path.to_path_buf(),
+        message: e.to_string(),
+    })?;
+    // tobj reports an error here only when no library loaded; our record says why.
+    let materials = materials.unwrap_or_default();
+
+    let mut mesh = Mesh {
+        files: vec![path.to_path_buf()],
+        ..Mesh::default()
+    };
+    let mut notes = Notes::default();
+    for ((full, outcome), &line) in libraries.into_inner().iter().zip(&scanned.mtllib_lines) {
+        let at = format!("{}:{line}", path.display());
+        match outcome {
+            MtlOutcome::Loaded => {}
+            MtlOutcome::Missing => mesh.warnings.push(format!(
+                "{at}: material library {} not found; faces using its materials get the default colour",
+                full.display()
+            )),
+            MtlOutcome::Unreadable(why) => mesh.warnings.push(format!(
+                "{at}: material library {} cannot be read ({why}); faces using its materials get the default colour",
+                full.display()
+            )),
+            MtlOutcome::TooLarge(size) => {
+                return Err(CompileError::TooLarge {
+                    path: full.clone(),
+                    message: format!(
+                        "the file has {size} bytes, more than the limit of {MAX_INPUT_BYTES}"
+                    ),
+                })
+            }
+        }
+        if !matches!(outcome, MtlOutcome::Missing) && !mesh.files.contains(full) {
+            mesh.files.push(full.clone());
+        }
+    }
+    let colours: Vec<Option<[u8; 3]>> = materials
+        .iter()
+        .map(|m| m.diffuse.and_then(kd_to_rgb))
+        .collect();
+
+    let mut statements = scanned.statements.iter();
+    for model in &models {
+        let m = &model.mesh;
+        let arities: Box<dyn Iterator<Item = usize>> = if m.face_arities.is_empty() {
+            Box::new((0..m.indices.len() / 3).map(|_| 3))
+        } else {
+            Box::new(m.face_arities.iter().map(|&a| a as usize))
+        };
+        let mut next = 0;
+        for arity in arities {
+            let statement = statements.next().ok_or_else(|| {
+                CompileError::Invariant(format!(
+                    "{}: tobj returned more faces than the file has `f`/`l` lines",
+                    path.display()
+                ))
+            })?;
+            if statement.arity != arity || next + arity > m.indices.len() {
+                return Err(CompileError::Invariant(format!(
+                    "{}:{}: tobj read {arity} corners where the line scan read {}",
+                    path.display(),
+                    statement.line,
+                    statement.arity
+                )));
+            }
+            let indices = &m.indices[next..next + arity];
+            next += arity;
+            if !statement.is_face {
+                notes.polylines.add(statement.line);
+                continue;
+            }
+            if arity < 3 {
+                notes.short_faces.add(statement.line);
+                continue;
+            }
+            let colour = face_colour(m.material_id, &colours, statement, &mut notes);
+            let corners: Vec<DVec3> = indices
+                .iter()
+                .map(|&i| {
+                    let i = 3 * i as usize;
+                    DVec3::new(m.positions[i], m.positions[i + 1], m.positions[i + 2])
+                })
+                .collect();
+            let triangles = match triangulate::triangulate_polygon(&corners) {
+                Ok(t) => t,
+                Err(triangulate::NotSimple::ZeroArea) => triangulate::fan(arity),
+                Err(why) => {
+                    notes
+                        .not_simple
+                        .entry(why.to_string())
+                        .or_default()
+                        .add(statement.line);
+                    triangulate::fan(arity)
+                }
+            };
+            mesh.triangles
+                .extend(triangles.iter().map(|t| SourceTriangle {
+                    vertices: t.map(|i| corners[i]),
+                    colour,
+                }));
+        }
+    }
+    if let Some(statement) = statements.next() {
+        return Err(CompileError::Invariant(format!(
+            "{}:{}: tobj returned no face for this line",
+            path.display(),
+            statement.line
+        )));
+    }
+    if mesh.triangles.is_empty() {
+        return Err(CompileError::NoFaces {
+            path: path.to_path_buf(),
+        });
+    }
+    notes.into_warnings(path, &scanned, &materials, &mut mesh.warnings);
+    Ok(mesh)
+}
+
+/// Reads one MTL file for tobj, recording what happened.
+fn read_mtl(full: &Path) -> (MtlOutcome, tobj::MTLLoadResult) {
+    let failed = Err(tobj::LoadError::OpenFileFailed);
+    let size = match std::fs::metadata(full) {
+        Ok(meta) if meta.is_file() => meta.len(),
+        Ok(_) => return (MtlOutcome::Missing, failed),
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return (MtlOutcome::Missing, failed),
+        Err(e) => return (MtlOutcome::Unreadable(e.to_string()), failed),
+    };
+    if size > MAX_INPUT_BYTES {
+        return (MtlOutcome::TooLarge(size), failed);
+    }
+    match tobj::load_mtl(full) {
+        Ok(result) => (MtlOutcome::Loaded, Ok(result)),
+        Err(e) => (MtlOutcome::Unreadable(e.to_string()), Err(e)),
+    }
+}
+
+/// `Kd` -> RGB888: each channel clamped to [0, 1] and rounded; `None` if a channel is NaN.
+fn kd_to_rgb(kd: [f64; 3]) -> Option<[u8; 3]> {
+    if kd.iter().any(|c| c.is_nan()) {
+        return None;
+    }
+    Some(kd.map(|c| (c.clamp(0.0, 1.0) * 255.0).round() as u8))
+}
+
+/// The colour of one face, noting why it falls back to [`DEFAULT_COLOUR`].
+fn face_colour(
+    material_id: Option<usize>,
+    colours: &[Option<[u8; 3]>],
+    statement: &scan::Statement,
+    notes: &mut Notes,
+) -> [u8; 3] {
+    match (material_id, statement.material) {
+        (Some(id), _) => match colours.get(id).copied().flatten() {
+            Some(colour) => colour,
+            None => {
+                notes.no_kd.entry(id).or_default().add(statement.line);
+                DEFAULT_COLOUR
+            }
+        },
+        (None, Some(name)) => {
+            notes.undefined.entry(name).or_default().add(statement.line);
+            DEFAULT_COLOUR
+        }
+        (None, None) => {
+            notes.no_material.add(statement.line);
+            DEFAULT_COLOUR
+        }
+    }
+}
+
+/// How often something happened and where first.
+#[derive(Debug, Default, Clone, Copy)]
+struct Tally {
+    count: usize,
+    first_line: usize,
+}
+
+impl Tally {
+    fn add(&mut self, line: usize) {
+        if self.count == 0 {
+            self.first_line = line;
+        }
+        self.count += 1;
+    }
+
+    /// "1 face" or "3 faces" (with the given words).
+    fn count(&self, singular: &str, plural: &str) -> String {
+        match self.count {
+            1 => format!("1 {singular}"),
+            n => format!("{n} {plural}"),
+        }
+    }
+
+    /// "line 7" or "first at line 7".
+    fn at(&self) -> String {
+        match self.count {
+            1 => format!("line {}", self.first_line),
+            _ => format!("first at line {}", self.first_line),
+        }
+    }
+}
+
+/// Non-fatal findings, collected per kind so a bad file gives a few readable warnings.
+#[derive(Debug, Default)]
+struct Notes {
+    no_material: Tally,
+    undefined: BTreeMap<u32, Tally>,
+    no_kd: BTreeMap<usize, Tally>,
+    short_faces: Tally,
+    polylines: Tally,
+    not_simple: BTreeMap<String, Tally>,
+}
+
+impl Notes {
+    fn into_warnings(
+        self,
+        path: &Path,
+        scanned: &scan::Scan,
+        materials: &[tobj::Material],
+        out: &mut Vec<String>,
+    ) {
+        let file = path.display();
+        let t = &self.no_material;
+        if t.count > 0 {
+            out.push(format!(
+                "{file}: {} no material (no `usemtl` before, {}); default colour used",
+                t.count("face has", "faces have"),
+                t.at()
+            ));
+        }
+        for (name, t) in &self.undefined {
+            out.push(format!(
+                "{file}: material `{}` is not defined in any material library; {} ({}) use the default colour",
+                scanned.material_names[*name as usize],
+                t.count("face", "faces"),
+                t.at()
+            ));
+        }
+        for (id, t) in &self.no_kd {
+            out.push(format!(
+                "{file}: material `{}` has no usable diffuse colour (`Kd`); {} ({}) use the default colour",
+                materials[*id].name,
+                t.count("face", "faces"),
+                t.at()
+            ));
+        }
+        let t = &self.short_faces;
+        if t.count > 0 {
+            out.push(format!(
+                "{file}: skipped {} with fewer than three corners ({})",
+                t.count("face", "faces"),
+                t.at()
+            ));
+        }
+        let t = &self.polylines;
+        if t.count > 0 {
+            out.push(format!(
+                "{file}: skipped {} (`l` is not a surface; {})",
+                t.count("polyline", "polylines"),
+                t.at()
+            ));
+        }
+        for (why, t) in &self.not_simple {
+            out.push(format!(
+                "{file}: {} not a simple polygon because {why} ({}); triangulated as a fan from the first corner",
+                t.count("face is", "faces are"),
+                t.at()
+            ));
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests;

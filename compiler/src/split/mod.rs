@@ -1,1 +1,258 @@
-//! TODO
+//! Split: convex fragments, their exact cut by a plane, and the choice of the splitting plane.
+//!
+//! A fragment is a convex polygon stored as its support plane plus a cyclic list of bounding
+//! planes; its vertices are kept alongside (grid points, or intersections of three table
+//! planes). A cut adds one vertex on each cut edge — the intersection of the support plane,
+//! the edge's plane and the split plane — and one edge (the split plane) to each piece, so
+//! nothing is ever recomputed from rounded data.
+
+use std::sync::Arc;
+
+use rayon::prelude::*;
+
+use crate::planes::{intersect, PlaneId, PlaneTable, Side, Vertex};
+
+/// A bounding edge of a fragment: the plane it lies on and the side the fragment is on.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Edge {
+    /// The bounding plane.
+    pub plane: PlaneId,
+    /// The side of `plane` the fragment lies on (`Front` or `Back`).
+    pub inside: Side,
+}
+
+/// A convex fragment of one source triangle.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Fragment {
+    /// Source triangle id.
+    pub source: u32,
+    /// Support plane.
+    pub support: PlaneId,
+    /// True when the source triangle's normal is opposite to the support plane's normal.
+    pub flipped: bool,
+    /// Vertices, in the source triangle's winding order.
+    pub vertices: Vec<Vertex>,
+    /// `edges[i]` runs from `vertices[i]` to `vertices[i + 1]` (cyclically).
+    pub edges: Vec<Edge>,
+}
+
+/// Where a fragment lies with respect to a plane.
+#[derive(Debug, Clone, PartialEq)]
+pub enum SplitResult {
+    /// On the closed + side, not in the plane.
+    Front,
+    /// On the closed − side, not in the plane.
+    Back,
+    /// In the plane.
+    On,
+    /// Cut in two: `(front piece, back piece)`.
+    Cut(Fragment, Fragment),
+}
+
+/// How a fragment's vertices fall with respect to a plane, without cutting it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Placement {
+    /// On the closed + side, not in the plane.
+    Front,
+    /// On the closed − side, not in the plane.
+    Back,
+    /// In the plane.
+    On,
+    /// Strictly on both sides.
+    Straddle,
+}
+
+impl Fragment {
+    /// Where the fragment lies with respect to `plane`.
+    pub fn placement(&self, plane: PlaneId, table: &PlaneTable) -> Placement {
+        if self.support == plane {
+            return Placement::On;
+        }
+        let e = table.get(plane);
+        let (mut front, mut back) = (false, false);
+        for v in &self.vertices {
+            match v.side(e) {
+                Side::Front => front = true,
+                Side::Back => back = true,
+                Side::On => {}
+            }
+            if front && back {
+                return Placement::Straddle;
+            }
+        }
+        match (front, back) {
+            (true, _) => Placement::Front,
+            (false, true) => Placement::Back,
+            // Every vertex on a plane other than its support: a degenerate fragment.
+            (false, false) => Placement::On,
+        }
+    }
+
+    /// Cut the fragment exactly by `plane`. `None` only if the geometry is inconsistent (three
+    /// planes that should meet in a point do not): a bug, reported by the caller.
+    pub fn split(self, plane: PlaneId, table: &PlaneTable) -> Option<SplitResult> {
+        if self.support == plane {
+            return Some(SplitResult::On);
+        }
+        let e = table.get(plane);
+        let sides: Vec<Side> = self.vertices.iter().map(|v| v.side(e)).collect();
+        let front = sides.contains(&Side::Front);
+        let back = sides.contains(&Side::Back);
+        match (front, back) {
+            (true, false) => return Some(SplitResult::Front),
+            (false, true) => return Some(SplitResult::Back),
+            (false, false) => return Some(SplitResult::On),
+            (true, true) => {}
+        }
+        let n = self.vertices.len();
+        let cap = n + 2;
+        let (mut fv, mut fe) = (Vec::with_capacity(cap), Vec::with_capacity(cap));
+        let (mut bv, mut be) = (Vec::with_capacity(cap), Vec::with_capacity(cap));
+        let cut_front = Edge { plane, inside: Side::Front };
+        let cut_back = Edge { plane, inside: Side::Back };
+        let support = &table.get(self.support).plane;
+        for i in 0..n {
+            let j = (i + 1) % n;
+            let (si, sj) = (sides[i], sides[j]);
+            let v = &self.vertices[i];
+            let edge = self.edges[i];
+            if si != Side::Back {
+                fv.push(v.clone());
+                fe.push(if si == Side::On && sj == Side::Back { cut_front } else { edge });
+            }
+            if si != Side::Front {
+                bv.push(v.clone());
+                be.push(if si == Side::On && sj == Side::Front { cut_back } else { edge });
+            }
+            if (si == Side::Front && sj == Side::Back) || (si == Side::Back && sj == Side::Front) {
+                let h = intersect(support, &table.get(edge.plane).plane, &e.plane)?;
+                let c = Vertex::Hom(Arc::new(h));
+                if si == Side::Front {
+                    fv.push(c.clone());
+                    fe.push(cut_front);
+                    bv.push(c);
+                    be.push(edge);
+                } else {
+                    bv.push(c.clone());
+                    be.push(cut_back);
+                    fv.push(c);
+                    fe.push(edge);
+                }
+            }
+        }
+        if fv.len() < 3 || bv.len() < 3 {
+            return None;
+        }
+        let piece = |vertices, edges| Fragment {
+            source: self.source,
+            support: self.support,
+            flipped: self.flipped,
+            vertices,
+            edges,
+        };
+        Some(SplitResult::Cut(piece(fv, fe), piece(bv, be)))
+    }
+}
+
+/// Small deterministic generator (SplitMix64) for the candidate and fragment samples.
+#[derive(Debug, Clone)]
+pub struct SplitMix(u64);
+
+impl SplitMix {
+    /// A generator seeded with `seed`.
+    pub fn new(seed: u64) -> SplitMix {
+        SplitMix(seed)
+    }
+
+    /// Next value.
+    pub fn next_u64(&mut self) -> u64 {
+        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        z ^ (z >> 31)
+    }
+
+    /// Uniform-ish value in `0..n` (`n > 0`).
+    pub fn below(&mut self, n: usize) -> usize {
+        ((self.next_u64() as u128 * n as u128) >> 64) as usize
+    }
+}
+
+/// A deterministic hash of a fragment list (sources and supports), to seed its samples from
+/// the node's content rather than from shared state: the result is the same on any thread.
+pub fn content_hash(frags: &[Fragment]) -> u64 {
+    let mut h = 0xcbf2_9ce4_8422_2325u64 ^ frags.len() as u64;
+    for f in frags {
+        h = (h ^ ((f.source as u64) << 32 | f.support as u64)).wrapping_mul(0x0000_0100_0000_01B3);
+        h = h.rotate_left(5) ^ f.vertices.len() as u64;
+    }
+    h
+}
+
+/// Fragments costed per candidate at most; bigger nodes are sampled.
+pub const COST_SAMPLE: usize = 2000;
+
+/// Weight of one cut against one fragment of imbalance.
+pub const CUT_WEIGHT: u64 = 8;
+
+/// The cost of `plane` on `frags`: `8·cuts + |front − back|` (a cut piece counts on both
+/// sides, fragments in the plane on neither). Stops early above `limit`.
+pub fn cost(frags: &[&Fragment], plane: PlaneId, table: &PlaneTable, limit: u64) -> u64 {
+    let (mut cuts, mut front, mut back) = (0u64, 0u64, 0u64);
+    for f in frags {
+        match f.placement(plane, table) {
+            Placement::Front => front += 1,
+            Placement::Back => back += 1,
+            Placement::On => {}
+            Placement::Straddle => {
+                cuts += 1;
+                front += 1;
+                back += 1;
+                if cuts * CUT_WEIGHT > limit {
+                    return u64::MAX;
+                }
+            }
+        }
+    }
+    cuts * CUT_WEIGHT + front.abs_diff(back)
+}
+
+/// Choose the splitting plane among `planes` (the distinct support planes of `frags`, sorted):
+/// the seed's rule (fewest cuts) weighed with balance, see [`cost`]. At most `candidates`
+/// planes are costed (a deterministic sample seeded from `seed` and the node's content when
+/// there are more), each on at most [`COST_SAMPLE`] fragments. Ties go to the smaller id.
+pub fn choose_split(
+    frags: &[Fragment],
+    planes: &[PlaneId],
+    table: &PlaneTable,
+    candidates: usize,
+    seed: u64,
+) -> PlaneId {
+    let mut rng = SplitMix::new(seed ^ content_hash(frags));
+    let mut cands: Vec<PlaneId> = planes.to_vec();
+    let k = candidates.max(1);
+    if cands.len() > k {
+        for i in 0..k {
+            let j = i + rng.below(cands.len() - i);
+            cands.swap(i, j);
+        }
+        cands.truncate(k);
+        cands.sort_unstable();
+    }
+    let sample: Vec<&Fragment> = if frags.len() > COST_SAMPLE {
+        (0..COST_SAMPLE).map(|_| &frags[rng.below(frags.len())]).collect()
+    } else {
+        frags.iter().collect()
+    };
+    let costed = |&p: &PlaneId| (cost(&sample, p, table, u64::MAX), p);
+    let best = if sample.len() * cands.len() > 20_000 {
+        cands.par_iter().map(costed).min()
+    } else {
+        cands.iter().map(costed).min()
+    };
+    best.map(|(_, p)| p).unwrap_or(planes[0])
+}
+
+#[cfg(test)]
+mod tests;

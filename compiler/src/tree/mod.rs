@@ -8,6 +8,15 @@ use glam::DVec3;
 
 use crate::error::CompileError;
 use crate::load::Mesh;
+use crate::quantise::Quantiser;
+
+mod build;
+#[cfg(test)]
+mod check;
+mod input;
+mod output;
+#[cfg(test)]
+mod tests;
 
 /// Knobs of the build.
 #[derive(Debug, Clone)]
@@ -119,11 +128,19 @@ pub struct DisplayTree {
 
 /// Build the display tree of `mesh`. `progress` is called from time to time with the number
 /// of fragments placed in convex nodes so far (for a progress bar).
+///
+/// Deterministic: the same mesh and options give the same tree, whatever the thread count.
 pub fn build(
     mesh: &Mesh,
     options: &BuildOptions,
     progress: &(dyn Fn(u64) + Sync),
 ) -> Result<DisplayTree, CompileError> {
-    let _ = (mesh, options, progress);
-    todo!("core helper")
+    let input = input::prepare(mesh)?;
+    let exact = build::build_exact(&input, options, progress)?;
+    Ok(output::to_display(&exact, &input, options))
+}
+
+/// The quantisation transform [`build`] uses for `mesh` (`centre` is its `offset`).
+pub fn quantisation(mesh: &Mesh) -> Quantiser {
+    Quantiser::fit(mesh)
 }

@@ -5,38 +5,10 @@
 
 use serde::{Deserialize, Serialize};
 
-/// First four bytes of every `.peel` file.
-pub const MAGIC: [u8; 4] = *b"PEEL";
-/// Bumped whenever the byte layout changes (see `formats/peel.md`, "Versioning").
-pub const FORMAT_VERSION: u16 = 1;
-/// "No node" in a child field.
-pub const NONE: u32 = u32::MAX;
-
-/// Bits of [`Header::flags`].
-pub mod header_flags {
-    /// The `ids` array holds one source triangle id per polygon.
-    pub const IDS: u16 = 1 << 0;
-    /// Every bit this version defines; a reader refuses others.
-    pub const KNOWN: u16 = IDS;
-}
-
-/// Bits of [`Polygon::flags`].
-pub mod polygon_flags {
-    /// The polygon's front (counter-clockwise) side faces away from its plane's normal.
-    pub const FLIPPED: u8 = 1 << 0;
-    /// The rest of the polygon's convex set lies on the + side of its plane.
-    pub const INTERIOR_FRONT: u8 = 1 << 1;
-    /// Every bit this version defines.
-    pub const KNOWN: u8 = FLIPPED | INTERIOR_FRONT;
-}
-
-/// Values of [`Node::kind`].
-pub mod node_kind {
-    /// `a` = first polygon, `b` = polygon count, `c` = child (or [`super::NONE`]).
-    pub const CONVEX: u8 = 0;
-    /// `a` = plane, `b` = child on the + side, `c` = child on the - side (or [`super::NONE`]).
-    pub const SPLIT: u8 = 1;
-}
+// The constants live in the runtime's reader so that writer and reader cannot disagree.
+pub use peel_runtime::read::layout::{
+    header_flags, node_kind, polygon_flags, FORMAT_VERSION, MAGIC, NONE,
+};
 
 /// The bincode configuration, pinned here and nowhere else.
 pub fn config() -> impl bincode::config::Config {
@@ -91,7 +63,7 @@ pub struct Polygon {
     pub colour: [u8; 3],
 }
 
-/// A node of the display tree (13 bytes); see [`node_kind`] for the meaning of `a`, `b`, `c`.
+/// A node of the display tree (17 bytes); see [`node_kind`] for the meaning of `a`, `b`, `c`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 pub struct Node {
     /// [`node_kind`].
@@ -102,6 +74,9 @@ pub struct Node {
     pub b: u32,
     /// Third field.
     pub c: u32,
+    /// The node whose child this is ([`NONE`] for the root). Lets the reader check that the
+    /// links form a tree, and measure its depth, without memory of its own.
+    pub parent: u32,
 }
 
 /// A whole `.peel` file: the header, then flat arrays (each a `u64` length then its records).
@@ -115,10 +90,12 @@ pub struct PeelFile {
     pub planes: Vec<[f32; 4]>,
     /// Polygon vertex lists, concatenated.
     pub indices: Vec<u32>,
-    /// Polygons; a convex node owns a contiguous range.
+    /// Polygons, in the order of the convex nodes that own them; their vertex lists are
+    /// consecutive in `indices`.
     pub polygons: Vec<Polygon>,
     /// Source triangle id per polygon when `header_flags::IDS` is set, else empty.
     pub ids: Vec<u32>,
-    /// Nodes in pre-order: the root is node 0 and children come after their parents.
+    /// Nodes in pre-order (front before back): the root is node 0 and children come after
+    /// their parents. Convex nodes own the polygons in node order.
     pub nodes: Vec<Node>,
 }

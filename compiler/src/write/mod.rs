@@ -1,3 +1,328 @@
-//! Write: `DisplayTree` -> [`format::PeelFile`] -> bytes, and the atomic file write.
+//! Write: [`DisplayTree`] -> [`format::PeelFile`] -> bytes, and the atomic file write.
+//!
+//! The file is canonical whatever the order of the tree's nodes: nodes are renumbered in
+//! pre-order (front before back), polygons follow the convex nodes that own them and their
+//! vertex lists follow the polygons, so the reader can check ownership in one pass.
 
+mod atomic;
 pub mod format;
+
+use glam::DVec3;
+
+use crate::error::CompileError;
+use crate::tree::{DisplayTree, TreeNode};
+use format::{header_flags, node_kind, polygon_flags, Header, Node, PeelFile, Polygon};
+
+pub use atomic::{write_atomic, write_atomic_with};
+
+fn invariant(message: impl Into<String>) -> CompileError {
+    CompileError::Invariant(message.into())
+}
+
+/// `value` as a `u32` count, or an encode error naming `what`.
+fn count(value: usize, what: &str) -> Result<u32, CompileError> {
+    u32::try_from(value).map_err(|_| CompileError::Encode(format!("too many {what}: {value}")))
+}
+
+/// `v` rounded to `f32`, refusing values that are not finite there.
+fn to_f32(v: DVec3, what: &str) -> Result<[f32; 3], CompileError> {
+    let out = v.as_vec3().to_array();
+    if out.iter().all(|c| c.is_finite()) {
+        Ok(out)
+    } else {
+        Err(CompileError::Encode(format!(
+            "{what} {v} is not finite in f32"
+        )))
+    }
+}
+
+/// The file for `tree`, `colours[i]` being the colour of `tree.polygons[i]`; source triangle
+/// ids are kept when `ids` is set. Fails on a tree that breaks its invariants (a node reached
+/// twice or never, an empty convex set, an index out of range).
+pub fn peel_file(
+    tree: &DisplayTree,
+    colours: &[[u8; 3]],
+    ids: bool,
+) -> Result<PeelFile, CompileError> {
+    if colours.len() != tree.polygons.len() {
+        return Err(invariant(format!(
+            "{} colours for {} polygons",
+            colours.len(),
+            tree.polygons.len()
+        )));
+    }
+    let vertices = tree
+        .vertices
+        .iter()
+        .map(|&v| to_f32(v, "vertex"))
+        .collect::<Result<Vec<_>, _>>()?;
+    let planes = tree
+        .planes
+        .iter()
+        .map(|p| {
+            let [x, y, z] = to_f32(p.normal, "plane normal")?;
+            let d = p.offset as f32;
+            if !d.is_finite() {
+                return Err(CompileError::Encode(format!(
+                    "plane offset {} is not finite in f32",
+                    p.offset
+                )));
+            }
+            Ok([x, y, z, d])
+        })
+        .collect::<Result<Vec<_>, _>>()?;
+    let (bounds_min, bounds_max) = bounds(&vertices);
+
+    let mut out = Emitter {
+        tree,
+        colours,
+        ids,
+        file_nodes: Vec::new(),
+        polygons: Vec::new(),
+        indices: Vec::new(),
+        ids_out: Vec::new(),
+        max_depth: 0,
+        emitted: vec![false; tree.polygons.len()],
+    };
+    out.emit_nodes()?;
+    if let Some(unowned) = out.unowned_polygon() {
+        return Err(invariant(format!(
+            "polygon {unowned} belongs to no convex node"
+        )));
+    }
+    let max_polygon_vertices = out
+        .polygons
+        .iter()
+        .map(|p| u32::from(p.vertex_count))
+        .max()
+        .unwrap_or(0);
+    let header = Header {
+        magic: format::MAGIC,
+        version: format::FORMAT_VERSION,
+        flags: if ids { header_flags::IDS } else { 0 },
+        vertex_count: count(vertices.len(), "vertices")?,
+        plane_count: count(planes.len(), "planes")?,
+        index_count: count(out.indices.len(), "polygon vertices")?,
+        polygon_count: count(out.polygons.len(), "polygons")?,
+        node_count: count(out.file_nodes.len(), "nodes")?,
+        max_depth: out.max_depth,
+        max_polygon_vertices,
+        centre: tree.centre.to_array(),
+        bounds_min,
+        bounds_max,
+    };
+    Ok(PeelFile {
+        header,
+        vertices,
+        planes,
+        indices: out.indices,
+        polygons: out.polygons,
+        ids: out.ids_out,
+        nodes: out.file_nodes,
+    })
+}
+
+/// Bounding box of `vertices` (all zero when there are none).
+fn bounds(vertices: &[[f32; 3]]) -> ([f32; 3], [f32; 3]) {
+    let Some(first) = vertices.first() else {
+        return ([0.0; 3], [0.0; 3]);
+    };
+    vertices
+        .iter()
+        .fold((*first, *first), |(mut lo, mut hi), v| {
+            for k in 0..3 {
+                lo[k] = lo[k].min(v[k]);
+                hi[k] = hi[k].max(v[k]);
+            }
+            (lo, hi)
+        })
+}
+
+/// Builds the node, polygon, index and id arrays in file order.
+struct Emitter<'t> {
+    tree: &'t DisplayTree,
+    colours: &'t [[u8; 3]],
+    ids: bool,
+    file_nodes: Vec<Node>,
+    polygons: Vec<Polygon>,
+    indices: Vec<u32>,
+    ids_out: Vec<u32>,
+    max_depth: u32,
+    /// Per tree polygon: already written (a polygon is owned by exactly one convex node).
+    emitted: Vec<bool>,
+}
+
+/// Which field of the parent record receives a child's new index.
+#[derive(Clone, Copy)]
+enum Slot {
+    Root,
+    B(u32),
+    C(u32),
+}
+
+impl Emitter<'_> {
+    /// Pre-order walk with an explicit stack (deep trees must not overflow the call stack).
+    fn emit_nodes(&mut self) -> Result<(), CompileError> {
+        let tree = self.tree;
+        if tree.nodes.is_empty() {
+            return Ok(());
+        }
+        let mut seen = vec![false; tree.nodes.len()];
+        let mut stack = vec![(0u32, Slot::Root, 1u32)];
+        while let Some((old, slot, depth)) = stack.pop() {
+            let seen_before = seen
+                .get_mut(old as usize)
+                .map(|s| std::mem::replace(s, true))
+                .ok_or_else(|| invariant(format!("child {old} out of range")))?;
+            if seen_before {
+                return Err(invariant(format!("node {old} is reached twice")));
+            }
+            let new = count(self.file_nodes.len(), "nodes")?;
+            let parent = match slot {
+                Slot::Root => format::NONE,
+                Slot::B(p) => {
+                    self.file_nodes[p as usize].b = new;
+                    p
+                }
+                Slot::C(p) => {
+                    self.file_nodes[p as usize].c = new;
+                    p
+                }
+            };
+            self.max_depth = self.max_depth.max(depth);
+            let none = format::NONE;
+            match tree.nodes[old as usize] {
+                TreeNode::Convex {
+                    first_polygon,
+                    polygon_count,
+                    child,
+                    ..
+                } => {
+                    if polygon_count == 0 {
+                        return Err(invariant(format!("convex node {old} has no polygon")));
+                    }
+                    let first = count(self.polygons.len(), "polygons")?;
+                    for p in first_polygon..first_polygon.saturating_add(polygon_count) {
+                        self.emit_polygon(p)?;
+                    }
+                    self.file_nodes.push(Node {
+                        kind: node_kind::CONVEX,
+                        a: first,
+                        b: polygon_count,
+                        c: none,
+                        parent,
+                    });
+                    if let Some(child) = child {
+                        stack.push((child, Slot::C(new), depth + 1));
+                    }
+                }
+                TreeNode::Split {
+                    plane, front, back, ..
+                } => {
+                    if plane as usize >= tree.planes.len() {
+                        return Err(invariant(format!(
+                            "split node {old}: plane {plane} out of range"
+                        )));
+                    }
+                    self.file_nodes.push(Node {
+                        kind: node_kind::SPLIT,
+                        a: plane,
+                        b: none,
+                        c: none,
+                        parent,
+                    });
+                    // Back first on the stack so that the front subtree comes first in the file.
+                    if let Some(back) = back {
+                        stack.push((back, Slot::C(new), depth + 1));
+                    }
+                    if let Some(front) = front {
+                        stack.push((front, Slot::B(new), depth + 1));
+                    }
+                }
+            }
+        }
+        match seen.iter().position(|s| !s) {
+            Some(unreached) => Err(invariant(format!(
+                "node {unreached} is not reachable from the root"
+            ))),
+            None => Ok(()),
+        }
+    }
+
+    fn emit_polygon(&mut self, p: u32) -> Result<(), CompileError> {
+        let tree = self.tree;
+        let polygon = tree
+            .polygons
+            .get(p as usize)
+            .ok_or_else(|| invariant(format!("polygon {p} out of range")))?;
+        if std::mem::replace(&mut self.emitted[p as usize], true) {
+            return Err(invariant(format!(
+                "polygon {p} belongs to two convex nodes"
+            )));
+        }
+        if polygon.plane as usize >= tree.planes.len() {
+            return Err(invariant(format!(
+                "polygon {p}: plane {} out of range",
+                polygon.plane
+            )));
+        }
+        let vertex_count = u16::try_from(polygon.vertices.len())
+            .ok()
+            .filter(|&n| n >= 3)
+            .ok_or_else(|| {
+                invariant(format!(
+                    "polygon {p} has {} vertices",
+                    polygon.vertices.len()
+                ))
+            })?;
+        if let Some(v) = polygon
+            .vertices
+            .iter()
+            .find(|&&v| v as usize >= tree.vertices.len())
+        {
+            return Err(invariant(format!("polygon {p}: vertex {v} out of range")));
+        }
+        let mut flags = 0;
+        if polygon.flipped {
+            flags |= polygon_flags::FLIPPED;
+        }
+        if polygon.interior_front {
+            flags |= polygon_flags::INTERIOR_FRONT;
+        }
+        self.polygons.push(Polygon {
+            plane: polygon.plane,
+            first_index: count(self.indices.len(), "polygon vertices")?,
+            vertex_count,
+            flags,
+            colour: self.colours[p as usize],
+        });
+        self.indices.extend_from_slice(&polygon.vertices);
+        if self.ids {
+            self.ids_out.push(polygon.source);
+        }
+        Ok(())
+    }
+
+    /// A polygon of the tree that no convex node emitted.
+    fn unowned_polygon(&self) -> Option<usize> {
+        self.emitted.iter().position(|e| !e)
+    }
+}
+
+/// The bincode bytes of `file`, with [`format::config`].
+pub fn to_bytes(file: &PeelFile) -> Result<Vec<u8>, CompileError> {
+    bincode::serde::encode_to_vec(file, format::config())
+        .map_err(|e| CompileError::Encode(e.to_string()))
+}
+
+/// The `.peel` bytes of `tree` (see [`peel_file`]), checked by the runtime's own reader before
+/// they are returned, so a file this returns is one the runtime accepts.
+pub fn encode(tree: &DisplayTree, colours: &[[u8; 3]], ids: bool) -> Result<Vec<u8>, CompileError> {
+    let bytes = to_bytes(&peel_file(tree, colours, ids)?)?;
+    peel_runtime::read::Scene::parse(&bytes)
+        .map_err(|e| invariant(format!("the runtime refuses the encoded file: {e}")))?;
+    Ok(bytes)
+}
+
+#[cfg(test)]
+pub(crate) mod tests;

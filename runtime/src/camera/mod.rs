@@ -1,1 +1,483 @@
-//! TODO
+//! Camera: where the eye is, where it looks, and how camera space maps to pixels.
+//!
+//! # Conventions (the project's camera specification, restated)
+//!
+//! World coordinates are right-handed. A camera is an `eye`, a `target`, an `up` vector
+//! (default `0,1,0`), a vertical field of view `fov_y` in degrees (default 60), an image of
+//! `W x H` pixels and a `near` distance (default: `1e-3` times the scene's bounding-box
+//! diagonal, see [`Camera::default_near`]).
+//!
+//! ```text
+//! f   = normalize(target - eye)      forward
+//! r   = normalize(cross(f, up))      right
+//! u   = cross(r, f)                  true up
+//! fpx = (H / 2) / tan(fov_y / 2)     focal length in pixels (square pixels)
+//!
+//! xc = dot(P - eye, r)   yc = dot(P - eye, u)   zc = dot(P - eye, f)    camera space
+//! sx = W / 2 + fpx * xc / zc          screen x, to the right
+//! sy = H / 2 - fpx * yc / zc          screen y, downwards
+//! ```
+//!
+//! Only points with `zc >= near` are visible; the rest is clipped away (see [`crate::clip`]),
+//! never wrapped around. Pixel `(i, j)` is column `i` from the left, row `j` from the top, and
+//! its sample point is its centre `(i + 0.5, j + 0.5)`.
+//!
+//! # The focal/pixel-ratio parametrisation
+//!
+//! [`Camera::from_intrinsics`] takes the classic pinhole model instead: a focal distance `f`,
+//! the width `rx` and height `ry` of a pixel (same unit as `f`), and the principal point
+//! `(i0, j0)` in pixels. A camera-space point then lands at
+//! `i = i0 + f * xc / (rx * zc)`, `j = j0 - f * yc / (ry * zc)` (the image `j` axis points
+//! against the true up). With `f / rx = f / ry = fpx` and `(i0, j0) = (W / 2, H / 2)` it is
+//! exactly the look-at camera above.
+//!
+//! # Precision
+//!
+//! The camera is kept in `f64`. A `.peel` file stores `f32` coordinates relative to a `centre`
+//! given in `f64`; [`Camera::view`] subtracts that centre from the eye in `f64` and only then
+//! rounds to `f32`, so a scene far from the world origin keeps its precision.
+
+use glam::{DVec3, Vec2, Vec3};
+
+use crate::error::RenderError;
+
+/// Field of view used when the caller has no preference, in degrees.
+pub const DEFAULT_FOV_Y_DEG: f64 = 60.0;
+/// Up vector used when the caller has no preference.
+pub const DEFAULT_UP: DVec3 = DVec3::Y;
+/// Default near distance as a fraction of the scene's bounding-box diagonal.
+pub const DEFAULT_NEAR_FRACTION: f64 = 1e-3;
+
+/// Where the camera is and where it looks (world coordinates).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Pose {
+    /// Eye position.
+    pub eye: DVec3,
+    /// A point the optical axis goes through.
+    pub target: DVec3,
+    /// Approximate up direction (need not be orthogonal to the view direction).
+    pub up: DVec3,
+}
+
+impl Pose {
+    /// A pose with the default up vector `0,1,0`.
+    pub fn new(eye: DVec3, target: DVec3) -> Self {
+        Pose {
+            eye,
+            target,
+            up: DEFAULT_UP,
+        }
+    }
+}
+
+/// The pinhole parameters of the focal/pixel-ratio model (see the module docs).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Intrinsics {
+    /// Distance from the optical centre to the image plane.
+    pub f: f64,
+    /// Width of a pixel, in the unit of `f`.
+    pub rx: f64,
+    /// Height of a pixel, in the unit of `f`.
+    pub ry: f64,
+    /// Principal point, column (continuous pixel coordinates).
+    pub i0: f64,
+    /// Principal point, row (continuous pixel coordinates, downwards).
+    pub j0: f64,
+}
+
+/// A validated camera (world coordinates, `f64`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Camera {
+    eye: DVec3,
+    right: DVec3,
+    up: DVec3,
+    forward: DVec3,
+    /// Focal lengths in pixels, horizontal and vertical.
+    fx: f64,
+    fy: f64,
+    /// Principal point in pixels.
+    cx: f64,
+    cy: f64,
+    width: u32,
+    height: u32,
+    near: f64,
+}
+
+impl Camera {
+    /// The camera of the project's specification: `fov_y_deg` is the vertical field of view.
+    ///
+    /// Refuses ([`RenderError::BadCamera`]) a zero-size image, `eye == target`, an `up`
+    /// parallel to the view direction, a field of view outside `(0, 180)`, a near distance
+    /// that is not positive, or any non-finite value.
+    pub fn look_at(
+        pose: Pose,
+        fov_y_deg: f64,
+        width: u32,
+        height: u32,
+        near: f64,
+    ) -> Result<Camera, RenderError> {
+        if !(fov_y_deg > 0.0 && fov_y_deg < 180.0) {
+            return Err(RenderError::BadCamera);
+        }
+        let half = (fov_y_deg * 0.5).to_radians();
+        let fpx = (f64::from(height) * 0.5) / libm::tan(half);
+        Camera::build(
+            pose,
+            fpx,
+            fpx,
+            f64::from(width) * 0.5,
+            f64::from(height) * 0.5,
+            width,
+            height,
+            near,
+        )
+    }
+
+    /// The focal/pixel-ratio camera (see the module docs), oriented by `pose` like
+    /// [`Camera::look_at`]. Same refusals, plus `f`, `rx` or `ry` not positive.
+    pub fn from_intrinsics(
+        pose: Pose,
+        intrinsics: Intrinsics,
+        width: u32,
+        height: u32,
+        near: f64,
+    ) -> Result<Camera, RenderError> {
+        let Intrinsics { f, rx, ry, i0, j0 } = intrinsics;
+        if !(f > 0.0 && rx > 0.0 && ry > 0.0) {
+            return Err(RenderError::BadCamera);
+        }
+        Camera::build(pose, f / rx, f / ry, i0, j0, width, height, near)
+    }
+
+    #[allow(clippy::too_many_arguments)]
+    fn build(
+        pose: Pose,
+        fx: f64,
+        fy: f64,
+        cx: f64,
+        cy: f64,
+        width: u32,
+        height: u32,
+        near: f64,
+    ) -> Result<Camera, RenderError> {
+        let finite = pose.eye.is_finite()
+            && pose.target.is_finite()
+            && pose.up.is_finite()
+            && fx.is_finite()
+            && fy.is_finite()
+            && cx.is_finite()
+            && cy.is_finite()
+            && near.is_finite();
+        if !finite || width == 0 || height == 0 || near <= 0.0 || fx <= 0.0 || fy <= 0.0 {
+            return Err(RenderError::BadCamera);
+        }
+        let forward = (pose.target - pose.eye)
+            .try_normalize()
+            .ok_or(RenderError::BadCamera)?;
+        let right = forward
+            .cross(pose.up)
+            .try_normalize()
+            .ok_or(RenderError::BadCamera)?;
+        let up = right.cross(forward);
+        Ok(Camera {
+            eye: pose.eye,
+            right,
+            up,
+            forward,
+            fx,
+            fy,
+            cx,
+            cy,
+            width,
+            height,
+            near,
+        })
+    }
+
+    /// The specification's default near distance: `1e-3` times the diagonal of the scene's
+    /// bounding box (a `.peel` header gives `bounds_min`, `bounds_max`).
+    pub fn default_near(bounds_min: Vec3, bounds_max: Vec3) -> f64 {
+        (bounds_max.as_dvec3() - bounds_min.as_dvec3()).length() * DEFAULT_NEAR_FRACTION
+    }
+
+    /// Image width in pixels.
+    pub fn width(&self) -> u32 {
+        self.width
+    }
+
+    /// Image height in pixels.
+    pub fn height(&self) -> u32 {
+        self.height
+    }
+
+    /// Near distance.
+    pub fn near(&self) -> f64 {
+        self.near
+    }
+
+    /// Eye position (world).
+    pub fn eye(&self) -> DVec3 {
+        self.eye
+    }
+
+    /// The orthonormal camera basis `(right, true up, forward)`.
+    pub fn basis(&self) -> (DVec3, DVec3, DVec3) {
+        (self.right, self.up, self.forward)
+    }
+
+    /// Camera-space coordinates `(xc, yc, zc)` of a world point, in `f64`.
+    pub fn to_camera(&self, p: DVec3) -> DVec3 {
+        let v = p - self.eye;
+        DVec3::new(v.dot(self.right), v.dot(self.up), v.dot(self.forward))
+    }
+
+    /// Screen position `(sx, sy)` of a world point, in `f64`; `None` when it is closer than
+    /// the near distance. A reference for tests and tools; the renderer uses [`View`].
+    pub fn project(&self, p: DVec3) -> Option<(f64, f64)> {
+        let c = self.to_camera(p);
+        if c.z.is_nan() || c.z < self.near {
+            return None;
+        }
+        Some((self.cx + self.fx * c.x / c.z, self.cy - self.fy * c.y / c.z))
+    }
+
+    /// The camera as seen from a scene whose coordinates are relative to `centre`, in `f32`.
+    pub fn view(&self, centre: [f64; 3]) -> View {
+        let eye = self.eye - DVec3::from_array(centre);
+        View {
+            eye: eye.as_vec3(),
+            right: self.right.as_vec3(),
+            up: self.up.as_vec3(),
+            forward: self.forward.as_vec3(),
+            fx: self.fx as f32,
+            fy: self.fy as f32,
+            cx: self.cx as f32,
+            cy: self.cy as f32,
+            width: self.width,
+            height: self.height,
+            near: self.near as f32,
+        }
+    }
+}
+
+/// A [`Camera`] in a scene's local `f32` frame: the per-vertex work of the renderer.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct View {
+    /// Eye position relative to the scene centre.
+    pub eye: Vec3,
+    /// Right vector.
+    pub right: Vec3,
+    /// True up vector.
+    pub up: Vec3,
+    /// Forward vector.
+    pub forward: Vec3,
+    /// Horizontal focal length in pixels.
+    pub fx: f32,
+    /// Vertical focal length in pixels.
+    pub fy: f32,
+    /// Principal point, column.
+    pub cx: f32,
+    /// Principal point, row.
+    pub cy: f32,
+    /// Image width in pixels.
+    pub width: u32,
+    /// Image height in pixels.
+    pub height: u32,
+    /// Near distance (camera-space `zc` of the near plane).
+    pub near: f32,
+}
+
+impl View {
+    /// Camera-space coordinates of a scene point. A pure function of `p`: a vertex shared by
+    /// two polygons gets bit-identical camera coordinates in both.
+    pub fn to_camera(&self, p: Vec3) -> Vec3 {
+        let v = p - self.eye;
+        Vec3::new(v.dot(self.right), v.dot(self.up), v.dot(self.forward))
+    }
+
+    /// Screen position of a camera-space point that survived near clipping. `zc` is first
+    /// raised to `near`: clipped points can land a rounding error short of the near plane and
+    /// must never be projected from behind it.
+    pub fn project(&self, c: Vec3) -> Vec2 {
+        let z = c.z.max(self.near);
+        Vec2::new(self.cx + self.fx * (c.x / z), self.cy - self.fy * (c.y / z))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn close(a: f64, b: f64) -> bool {
+        (a - b).abs() <= 1e-9 * (1.0 + a.abs().max(b.abs()))
+    }
+
+    fn simple() -> Camera {
+        // fov 90 -> fpx = (H/2) / tan(45) = 50.
+        Camera::look_at(
+            Pose::new(DVec3::new(0.0, 0.0, 5.0), DVec3::ZERO),
+            90.0,
+            200,
+            100,
+            0.01,
+        )
+        .unwrap()
+    }
+
+    #[test]
+    fn look_at_matches_the_spec_formulas() {
+        let cam = simple();
+        let (r, u, f) = cam.basis();
+        assert!(close(r.x, 1.0) && close(r.y, 0.0) && close(r.z, 0.0));
+        assert!(close(u.x, 0.0) && close(u.y, 1.0) && close(u.z, 0.0));
+        assert!(close(f.x, 0.0) && close(f.y, 0.0) && close(f.z, -1.0));
+        // xc = 1, yc = 0.5, zc = 5: sx = 100 + 50 * 1 / 5, sy = 50 - 50 * 0.5 / 5.
+        let (sx, sy) = cam.project(DVec3::new(1.0, 0.5, 0.0)).unwrap();
+        assert!(close(sx, 110.0), "{sx}");
+        assert!(close(sy, 45.0), "{sy}");
+        // The target projects to the image centre.
+        let (sx, sy) = cam.project(DVec3::ZERO).unwrap();
+        assert!(close(sx, 100.0) && close(sy, 50.0));
+    }
+
+    #[test]
+    fn oblique_camera_hand_computed() {
+        // Eye on the +x axis looking at the origin: forward -x, right = cross(-x, y) = -z.
+        // fov 60, H = 120 -> fpx = 60 / tan(30 deg) = 60 * sqrt(3).
+        let cam = Camera::look_at(
+            Pose::new(DVec3::new(10.0, 0.0, 0.0), DVec3::ZERO),
+            60.0,
+            160,
+            120,
+            0.1,
+        )
+        .unwrap();
+        let p = DVec3::new(0.0, 2.0, -3.0); // xc = 3, yc = 2, zc = 10
+        let c = cam.to_camera(p);
+        assert!(close(c.x, 3.0) && close(c.y, 2.0) && close(c.z, 10.0));
+        let fpx = 60.0 * 3f64.sqrt();
+        let (sx, sy) = cam.project(p).unwrap();
+        assert!(close(sx, 80.0 + fpx * 0.3));
+        assert!(close(sy, 60.0 - fpx * 0.2));
+    }
+
+    #[test]
+    fn points_closer_than_near_do_not_project() {
+        let cam = simple();
+        assert!(cam.project(DVec3::new(0.0, 0.0, 5.0)).is_none()); // the eye itself
+        assert!(cam.project(DVec3::new(0.0, 0.0, 6.0)).is_none()); // behind
+        assert!(cam.project(DVec3::new(0.0, 0.0, 4.995)).is_none()); // zc = 0.005 < near
+        assert!(cam.project(DVec3::new(0.0, 0.0, 4.98)).is_some()); // zc = 2 * near
+    }
+
+    #[test]
+    fn intrinsics_equal_look_at_when_parameters_agree() {
+        let pose = Pose {
+            eye: DVec3::new(1.0, 2.0, 3.0),
+            target: DVec3::new(-2.0, 0.5, -4.0),
+            up: DVec3::new(0.1, 1.0, 0.0),
+        };
+        let (w, h) = (320, 240);
+        let a = Camera::look_at(pose, 50.0, w, h, 0.05).unwrap();
+        let fpx = 120.0 / (25f64).to_radians().tan();
+        let rx = 0.002;
+        let intr = Intrinsics {
+            f: fpx * rx,
+            rx,
+            ry: rx,
+            i0: 160.0,
+            j0: 120.0,
+        };
+        let b = Camera::from_intrinsics(pose, intr, w, h, 0.05).unwrap();
+        for p in [
+            DVec3::new(0.0, 0.0, 0.0),
+            DVec3::new(-1.5, 0.7, -2.0),
+            DVec3::new(3.0, -1.0, -9.0),
+        ] {
+            let (ax, ay) = a.project(p).unwrap();
+            let (bx, by) = b.project(p).unwrap();
+            assert!(close(ax, bx) && close(ay, by), "{ax},{ay} vs {bx},{by}");
+        }
+    }
+
+    #[test]
+    fn intrinsics_use_the_pixel_ratios_and_principal_point() {
+        // i = i0 + f xc / (rx zc), j = j0 - f yc / (ry zc), with xc = 1, yc = 0.5, zc = 5.
+        let intr = Intrinsics {
+            f: 2.0,
+            rx: 0.01,
+            ry: 0.02,
+            i0: 30.0,
+            j0: 40.0,
+        };
+        let cam = Camera::from_intrinsics(
+            Pose::new(DVec3::new(0.0, 0.0, 5.0), DVec3::ZERO),
+            intr,
+            64,
+            64,
+            0.01,
+        )
+        .unwrap();
+        let (i, j) = cam.project(DVec3::new(1.0, 0.5, 0.0)).unwrap();
+        assert!(close(i, 30.0 + 200.0 / 5.0), "{i}");
+        assert!(close(j, 40.0 - 100.0 * 0.5 / 5.0), "{j}");
+    }
+
+    #[test]
+    fn degenerate_cameras_are_refused() {
+        let ok = Pose::new(DVec3::new(0.0, 0.0, 5.0), DVec3::ZERO);
+        let bad = |r: Result<Camera, RenderError>| r == Err(RenderError::BadCamera);
+        assert!(bad(Camera::look_at(ok, 60.0, 0, 10, 0.1)));
+        assert!(bad(Camera::look_at(ok, 60.0, 10, 0, 0.1)));
+        assert!(bad(Camera::look_at(ok, 0.0, 10, 10, 0.1)));
+        assert!(bad(Camera::look_at(ok, 180.0, 10, 10, 0.1)));
+        assert!(bad(Camera::look_at(ok, f64::NAN, 10, 10, 0.1)));
+        assert!(bad(Camera::look_at(ok, 60.0, 10, 10, 0.0)));
+        assert!(bad(Camera::look_at(ok, 60.0, 10, 10, f64::INFINITY)));
+        let same = Pose::new(DVec3::ONE, DVec3::ONE);
+        assert!(bad(Camera::look_at(same, 60.0, 10, 10, 0.1)));
+        let parallel = Pose {
+            eye: DVec3::new(0.0, 5.0, 0.0),
+            target: DVec3::ZERO,
+            up: DVec3::Y,
+        };
+        assert!(bad(Camera::look_at(parallel, 60.0, 10, 10, 0.1)));
+        let nan = Pose::new(DVec3::new(f64::NAN, 0.0, 0.0), DVec3::ZERO);
+        assert!(bad(Camera::look_at(nan, 60.0, 10, 10, 0.1)));
+        let intr = Intrinsics {
+            f: 1.0,
+            rx: 0.0,
+            ry: 1.0,
+            i0: 0.0,
+            j0: 0.0,
+        };
+        assert!(bad(Camera::from_intrinsics(ok, intr, 10, 10, 0.1)));
+    }
+
+    #[test]
+    fn view_is_relative_to_the_centre_and_agrees_with_f64() {
+        let centre = [1.0e6, -2.0e6, 3.0e6];
+        let eye = DVec3::new(1.0e6 + 0.25, -2.0e6 + 1.5, 3.0e6 + 7.0);
+        let cam = Camera::look_at(
+            Pose::new(eye, DVec3::from_array(centre)),
+            60.0,
+            100,
+            100,
+            0.01,
+        )
+        .unwrap();
+        let view = cam.view(centre);
+        assert_eq!(view.eye, Vec3::new(0.25, 1.5, 7.0));
+        let local = Vec3::new(0.5, -0.25, 1.0);
+        let world = DVec3::from_array(centre) + local.as_dvec3();
+        let (sx, sy) = cam.project(world).unwrap();
+        let s = view.project(view.to_camera(local));
+        assert!((f64::from(s.x) - sx).abs() < 1e-3 && (f64::from(s.y) - sy).abs() < 1e-3);
+    }
+
+    #[test]
+    fn default_near_is_a_thousandth_of_the_diagonal() {
+        let n = Camera::default_near(Vec3::ZERO, Vec3::new(3.0, 4.0, 12.0));
+        assert!(close(n, 0.013));
+    }
+}

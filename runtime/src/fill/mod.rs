@@ -1,10 +1,38 @@
 //! Fill: integer scanline fill of a polygon already clipped to the screen window.
 //! CONTRACT (owned by the fill helper): [`fill_polygon`] below.
+//!
+//! Seed 001's fill, generalised to fixed point: every non-horizontal edge is walked down the
+//! scanlines with the seed's `Parcours` (see `edge.rs`, no float and no division per row);
+//! on each row the crossings of the active edges are sorted and paired (the seed's XG/XD),
+//! and each pair `[x_left, x_right)` becomes one span. Sorting and pairing (even-odd) also
+//! copes with polygons that snapping made slightly non-convex, self-touching or degenerate.
+//!
+//! # Ownership of boundary pixels (the spec's top-left rule)
+//! A pixel is drawn when its centre `(i + 1/2, j + 1/2)` is inside. A centre exactly on an
+//! edge belongs to the polygon on the edge's right: spans are `[first centre >= x_left,
+//! first centre >= x_right)`, so left edges are drawn and right edges not. An edge covers the
+//! scanlines whose centre `y` satisfies `y_top <= y < y_bottom` and horizontal edges none, so
+//! a vertex counts only for the edge it is the top of (seed 001's "ordonnée minimale" rule
+//! with y down), and a horizontal top edge is drawn while a bottom one is not. Because the
+//! crossing of a shared edge is computed exactly (rationals, not floats) and identically from
+//! both sides, two polygons sharing an edge never both draw a pixel nor both skip one.
+
+mod edge;
+
+#[cfg(test)]
+mod tests;
+
+use core::fmt;
 
 use crate::target::{Colour, SpanSink};
+use edge::EdgeWalk;
 
 /// Fractional bits of the fixed-point screen coordinates used by the renderer.
 pub const SUBPIXEL_BITS: u32 = 8;
+
+/// Largest `SUB` [`fill_polygon`] accepts (checked at compile time); keeps every edge walk
+/// within `i64` for any `i32` coordinates.
+pub const MAX_SUBPIXEL_BITS: u32 = 24;
 
 /// Most vertices a polygon handed to [`fill_polygon`] may have.
 pub const MAX_FILL_VERTICES: usize = 64;
@@ -19,15 +47,198 @@ pub struct FixedPoint {
     pub y: i32,
 }
 
+impl FixedPoint {
+    /// A point from its raw fixed-point coordinates.
+    pub const fn new(x: i32, y: i32) -> Self {
+        FixedPoint { x, y }
+    }
+
+    /// Snap a screen position in pixels to the nearest point of the `2^-SUB` grid (halves
+    /// away from zero). Out-of-range values saturate and NaN becomes 0, so a bad vertex can
+    /// misplace a polygon but never break the fill. The same input always gives the same
+    /// point, which is what keeps vertices shared by two polygons shared after snapping.
+    pub fn snap<const SUB: u32>(x: f32, y: f32) -> Self {
+        let scale = (1u32 << SUB) as f32;
+        FixedPoint {
+            x: libm::roundf(x * scale) as i32,
+            y: libm::roundf(y * scale) as i32,
+        }
+    }
+
+    /// [`Self::snap`] from `f64` coordinates.
+    pub fn snap_f64<const SUB: u32>(x: f64, y: f64) -> Self {
+        let scale = f64::from(1u32 << SUB);
+        FixedPoint {
+            x: libm::round(x * scale) as i32,
+            y: libm::round(y * scale) as i32,
+        }
+    }
+
+    /// The point at whole pixel coordinates `(x, y)` (a pixel corner), saturating.
+    pub const fn from_pixels<const SUB: u32>(x: i32, y: i32) -> Self {
+        FixedPoint {
+            x: x.saturating_mul(1 << SUB),
+            y: y.saturating_mul(1 << SUB),
+        }
+    }
+}
+
+/// Why [`fill_polygon`] drew nothing.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum FillError {
+    /// The polygon has more vertices than [`MAX_FILL_VERTICES`].
+    TooManyVertices {
+        /// Vertices given.
+        count: usize,
+        /// Vertices the fill holds.
+        max: usize,
+    },
+}
+
+impl fmt::Display for FillError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match *self {
+            FillError::TooManyVertices { count, max } => {
+                write!(
+                    f,
+                    "polygon of {count} vertices, the fill holds at most {max}"
+                )
+            }
+        }
+    }
+}
+
+#[cfg(feature = "std")]
+impl std::error::Error for FillError {}
+
 /// Fill the polygon `points` (either winding, inside the window `[0, width] x [0, height]`)
 /// with the top-left rule and emit its spans; returns the number of pixels emitted.
+///
+/// `SUB` is the number of fractional bits of `points` (`0..=`[`MAX_SUBPIXEL_BITS`], checked
+/// at compile time; the renderer uses [`SUBPIXEL_BITS`]). The polygon is filled with the
+/// even-odd rule, so any closed point list is accepted: non-convex, self-intersecting, with
+/// repeated or collinear points, or of zero area (which draws nothing). Points outside the
+/// window are fine (any `i32`): spans are clipped to it, so the sink only ever receives
+/// `x_start < x_end <= width`, `y < height`; a convex polygon gives at most one span per row.
+///
+/// # Errors
+/// [`FillError::TooManyVertices`] when `points.len() > MAX_FILL_VERTICES`; nothing is drawn.
 pub fn fill_polygon<const SUB: u32, S: SpanSink + ?Sized>(
     points: &[FixedPoint],
     width: u32,
     height: u32,
     colour: Colour,
     sink: &mut S,
+) -> Result<u64, FillError> {
+    const {
+        assert!(
+            SUB <= MAX_SUBPIXEL_BITS,
+            "SUB must be at most MAX_SUBPIXEL_BITS"
+        );
+    }
+    if points.len() > MAX_FILL_VERTICES {
+        return Err(FillError::TooManyVertices {
+            count: points.len(),
+            max: MAX_FILL_VERTICES,
+        });
+    }
+
+    // Typical polygons (clipped triangles and quads) get small arrays: initialising the
+    // full-size ones would cost more than filling a small polygon.
+    Ok(if points.len() <= SMALL_POLYGON {
+        fill_with::<SUB, SMALL_POLYGON, S>(points, width, height, colour, sink)
+    } else {
+        fill_with::<SUB, MAX_FILL_VERTICES, S>(points, width, height, colour, sink)
+    })
+}
+
+/// Vertex count up to which [`fill_polygon`] uses its small arrays.
+const SMALL_POLYGON: usize = 16;
+
+/// [`fill_polygon`] with room for `N >= points.len()` edges.
+fn fill_with<const SUB: u32, const N: usize, S: SpanSink + ?Sized>(
+    points: &[FixedPoint],
+    width: u32,
+    height: u32,
+    colour: Colour,
+    sink: &mut S,
 ) -> u64 {
-    let _ = (points, width, height, colour, sink);
-    todo!("fill helper")
+    // Edges that cross at least one row centre of the window, sorted by first row.
+    let mut edges = [EdgeWalk::default(); N];
+    let mut count = 0;
+    for (i, &a) in points.iter().enumerate() {
+        let b = points[(i + 1) % points.len()];
+        if let Some(walk) = EdgeWalk::for_edge::<SUB>(a, b, height) {
+            // Insertion keeps `edges[..count]` sorted by `row`.
+            let mut k = count;
+            while k > 0 && edges[k - 1].row > walk.row {
+                edges[k] = edges[k - 1];
+                k -= 1;
+            }
+            edges[k] = walk;
+            count += 1;
+        }
+    }
+    if count == 0 {
+        return 0;
+    }
+
+    let width = i64::from(width);
+    // Indices into `edges` of the edges crossing the current row, in x order.
+    let mut active = [0u8; N];
+    let mut n_active = 0;
+    let mut next = 0;
+    let mut row = edges[0].row;
+    let mut pixels = 0u64;
+    loop {
+        while next < count && edges[next].row == row {
+            active[n_active] = next as u8;
+            n_active += 1;
+            next += 1;
+        }
+        // Sort by crossing; the order barely changes between rows, so insertion sort is
+        // linear in practice (and trivial for the two edges of a convex polygon).
+        for i in 1..n_active {
+            let e = active[i];
+            let x = edges[usize::from(e)].x;
+            let mut k = i;
+            while k > 0 && edges[usize::from(active[k - 1])].x > x {
+                active[k] = active[k - 1];
+                k -= 1;
+            }
+            active[k] = e;
+        }
+        // Pair the crossings. Every edge covers the same half-open rows, so a closed polygon
+        // always has an even count; an odd last one could only come from a bug and is ignored.
+        let mut p = 0;
+        while p + 1 < n_active {
+            let start = edges[usize::from(active[p])].x.clamp(0, width);
+            let end = edges[usize::from(active[p + 1])].x.clamp(0, width);
+            if start < end {
+                // In range: 0 <= row < height and 0 <= start < end <= width, all u32.
+                sink.span(row as u32, start as u32, end as u32, colour);
+                pixels += (end - start) as u64;
+            }
+            p += 2;
+        }
+        // Step the active edges and drop the finished ones, keeping the x order.
+        let mut kept = 0;
+        for i in 0..n_active {
+            let e = &mut edges[usize::from(active[i])];
+            if e.row_end > row + 1 {
+                e.step();
+                active[kept] = active[i];
+                kept += 1;
+            }
+        }
+        n_active = kept;
+        row += 1;
+        if n_active == 0 {
+            if next == count {
+                break;
+            }
+            row = edges[next].row;
+        }
+    }
+    pixels
 }

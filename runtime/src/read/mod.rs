@@ -1,11 +1,22 @@
 //! Read: a `.peel` file read in place from `&[u8]`, validated up front.
+//!
 //! CONTRACT (owned by the format helper): the API below. After [`Scene::parse`] succeeded,
 //! every accessor is total (it never panics; an out-of-range argument gives a default).
+//! The byte layout is specified in `formats/peel.md`; [`layout`] holds its constants.
+
+pub mod layout;
+mod validate;
+
+use core::fmt;
 
 use glam::Vec3;
 
 use crate::error::ReadError;
 use crate::target::Colour;
+use layout::{
+    element, f32_at, header_flags, node_kind, u16_at, u32_at, u8_at, ID_SIZE, INDEX_SIZE,
+    NODE_SIZE, NONE, PLANE_SIZE, POLYGON_SIZE, VERTEX_SIZE,
+};
 
 /// The header, decoded.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -90,55 +101,206 @@ pub enum Node {
     },
 }
 
+impl Node {
+    /// What [`Scene::node`] answers for an index out of range: an empty leaf, which draws nothing.
+    pub const EMPTY: Node = Node::Convex {
+        first: 0,
+        count: 0,
+        child: None,
+    };
+}
+
+/// A child or parent field: [`layout::NONE`] means "none".
+fn link(value: u32) -> Option<u32> {
+    (value != NONE).then_some(value)
+}
+
 /// A validated `.peel` file borrowed from its bytes.
-#[derive(Debug, Clone, Copy)]
+#[derive(Clone, Copy)]
 pub struct Scene<'a> {
     bytes: &'a [u8],
+    header: Header,
+    /// Byte offsets of the first record of each array (just after its length).
+    vertices: usize,
+    planes: usize,
+    indices: usize,
+    polygons: usize,
+    ids: usize,
+    nodes: usize,
+}
+
+impl fmt::Debug for Scene<'_> {
+    /// The header and the size, not the (possibly megabytes of) bytes.
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.debug_struct("Scene")
+            .field("bytes", &self.bytes.len())
+            .field("header", &self.header)
+            .finish()
+    }
 }
 
 impl<'a> Scene<'a> {
-    /// Check everything up front (magic, version, sizes, every index in range, children after
-    /// parents, depth <= header depth).
+    /// Check everything up front (magic, version, flags, sizes, finite floats, every index in
+    /// range, the node tree, depth <= header depth); see `formats/peel.md`, "Validation".
+    /// Runs in time linear in the file size and allocates nothing.
     pub fn parse(bytes: &'a [u8]) -> Result<Scene<'a>, ReadError> {
-        let _ = bytes;
-        todo!("format helper")
+        validate::parse(bytes)
     }
+
     /// The header.
     pub fn header(&self) -> Header {
-        todo!()
+        self.header
     }
+
+    /// The bytes the scene was parsed from.
+    pub fn bytes(&self) -> &'a [u8] {
+        self.bytes
+    }
+
     /// Root node, if the tree is not empty.
     pub fn root(&self) -> Option<u32> {
-        todo!()
+        (self.header.node_count > 0).then_some(0)
     }
-    /// Node `i`.
+
+    /// Node `i` ([`Node::EMPTY`] when out of range).
     pub fn node(&self, i: u32) -> Node {
-        let _ = i;
-        todo!()
+        match self.raw_node(i) {
+            Some(raw) if i < self.header.node_count => raw.node(),
+            _ => Node::EMPTY,
+        }
     }
-    /// Polygon `i`.
+
+    /// Parent of node `i` (`None` for the root and out of range).
+    pub fn parent(&self, i: u32) -> Option<u32> {
+        if i >= self.header.node_count {
+            return None;
+        }
+        self.raw_node(i).and_then(|raw| link(raw.parent))
+    }
+
+    /// Polygon `i` (all zero when out of range).
     pub fn polygon(&self, i: u32) -> Polygon {
-        let _ = i;
-        todo!()
+        if i >= self.header.polygon_count {
+            return Polygon::default();
+        }
+        let Some(at) = element(self.polygons, POLYGON_SIZE, i) else {
+            return Polygon::default();
+        };
+        let b = self.bytes;
+        Polygon {
+            plane: u32_at(b, at).unwrap_or(0),
+            first_index: u32_at(b, at + 4).unwrap_or(0),
+            vertex_count: u16_at(b, at + 8).unwrap_or(0),
+            flags: u8_at(b, at + 10).unwrap_or(0),
+            colour: Colour::new(
+                u8_at(b, at + 11).unwrap_or(0),
+                u8_at(b, at + 12).unwrap_or(0),
+                u8_at(b, at + 13).unwrap_or(0),
+            ),
+        }
     }
-    /// Vertex `i` of polygon `polygon` (`i < vertex_count`), relative to the centre.
+
+    /// Vertex `i` of polygon `polygon` (`i < vertex_count`), relative to the centre
+    /// (zero when out of range).
     pub fn polygon_vertex(&self, polygon: &Polygon, i: u32) -> Vec3 {
-        let _ = (polygon, i);
-        todo!()
+        if i >= u32::from(polygon.vertex_count) {
+            return Vec3::ZERO;
+        }
+        match polygon.first_index.checked_add(i) {
+            Some(slot) if slot < self.header.index_count => element(self.indices, INDEX_SIZE, slot)
+                .and_then(|at| u32_at(self.bytes, at))
+                .map_or(Vec3::ZERO, |v| self.vertex(v)),
+            _ => Vec3::ZERO,
+        }
     }
-    /// Vertex `i`, relative to the centre.
+
+    /// Vertex `i`, relative to the centre (zero when out of range).
     pub fn vertex(&self, i: u32) -> Vec3 {
-        let _ = i;
-        todo!()
+        if i >= self.header.vertex_count {
+            return Vec3::ZERO;
+        }
+        element(self.vertices, VERTEX_SIZE, i).map_or(Vec3::ZERO, |at| self.vec3_at(at))
     }
-    /// Plane `i`.
+
+    /// Plane `i` (all zero when out of range).
     pub fn plane(&self, i: u32) -> Plane {
-        let _ = i;
-        todo!()
+        if i >= self.header.plane_count {
+            return Plane::default();
+        }
+        element(self.planes, PLANE_SIZE, i).map_or(Plane::default(), |at| Plane {
+            normal: self.vec3_at(at),
+            d: f32_at(self.bytes, at + 12).unwrap_or(0.0),
+        })
     }
+
     /// Source triangle id of polygon `i`, when the file has ids.
     pub fn id(&self, i: u32) -> Option<u32> {
-        let _ = (i, self.bytes);
-        todo!()
+        if self.header.flags & header_flags::IDS == 0 || i >= self.header.polygon_count {
+            return None;
+        }
+        u32_at(self.bytes, element(self.ids, ID_SIZE, i)?)
+    }
+
+    fn vec3_at(&self, at: usize) -> Vec3 {
+        let b = self.bytes;
+        Vec3::new(
+            f32_at(b, at).unwrap_or(0.0),
+            f32_at(b, at.saturating_add(4)).unwrap_or(0.0),
+            f32_at(b, at.saturating_add(8)).unwrap_or(0.0),
+        )
+    }
+
+    fn raw_node(&self, i: u32) -> Option<RawNode> {
+        RawNode::at(self.bytes, element(self.nodes, NODE_SIZE, i)?)
     }
 }
+
+/// A node record as stored, before its kind is interpreted.
+#[derive(Debug, Clone, Copy)]
+struct RawNode {
+    kind: u8,
+    a: u32,
+    b: u32,
+    c: u32,
+    parent: u32,
+}
+
+impl RawNode {
+    fn at(bytes: &[u8], at: usize) -> Option<RawNode> {
+        Some(RawNode {
+            kind: u8_at(bytes, at)?,
+            a: u32_at(bytes, at.checked_add(1)?)?,
+            b: u32_at(bytes, at.checked_add(5)?)?,
+            c: u32_at(bytes, at.checked_add(9)?)?,
+            parent: u32_at(bytes, at.checked_add(13)?)?,
+        })
+    }
+
+    /// The decoded node; an unknown kind (rejected by `parse`) reads as [`Node::EMPTY`].
+    fn node(self) -> Node {
+        match self.kind {
+            node_kind::CONVEX => Node::Convex {
+                first: self.a,
+                count: self.b,
+                child: link(self.c),
+            },
+            node_kind::SPLIT => Node::Split {
+                plane: self.a,
+                front: link(self.b),
+                back: link(self.c),
+            },
+            _ => Node::EMPTY,
+        }
+    }
+
+    /// Children in drawing-independent order: the convex child, or front then back.
+    fn children(self) -> [Option<u32>; 2] {
+        match self.node() {
+            Node::Convex { child, .. } => [child, None],
+            Node::Split { front, back, .. } => [front, back],
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests;

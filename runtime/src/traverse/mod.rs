@@ -1,1 +1,298 @@
-//! TODO
+//! Traverse: the display tree's polygons in painter order for one eye position.
+//!
+//! Display order (seed 000):
+//! - split node with plane `P`: eye on the + side (`distance >= 0`) -> the − child, then the
+//!   + child; otherwise the + child, then the − child;
+//! - convex node: first its polygons whose interior the eye sees (the eye is on the
+//!   polygon plane's interior side: the + side when [`INTERIOR_FRONT`] is set), then the
+//!   child, then its polygons whose exterior the eye sees.
+//!
+//! An eye exactly on a plane is legal: a split plane through the eye separates nothing the
+//! eye can see overlapping, and a polygon whose plane holds the eye is seen edge-on, so
+//! either order is right. The tie is broken the same way everywhere (`distance == 0` counts
+//! as the + side), which makes the order deterministic.
+//!
+//! The walk is iterative with an explicit, caller-provided stack: one pending entry per node
+//! on the current root-to-node path, so the header's `max_depth` entries always suffice.
+//! [`Order::FrontToBack`] walks the exact reverse sequence (for front-to-back renderers).
+
+use glam::Vec3;
+
+use crate::error::RenderError;
+use crate::read::{Node, Plane, Polygon, Scene};
+
+/// Bit of [`Polygon::flags`]: the rest of the polygon's convex set lies on the + side of its
+/// plane.
+pub const INTERIOR_FRONT: u8 = 1 << 1;
+
+/// The tree as the traversal sees it. [`Scene`] implements it; tests implement it on small
+/// hand-made trees. Accessors must be total (any default for an out-of-range index).
+pub trait DisplayTree {
+    /// Root node, if the tree is not empty.
+    fn root(&self) -> Option<u32>;
+    /// Node `i`.
+    fn node(&self, i: u32) -> Node;
+    /// Plane `i`.
+    fn plane(&self, i: u32) -> Plane;
+    /// Polygon `i`.
+    fn polygon(&self, i: u32) -> Polygon;
+    /// Number of nodes (bounds the walk even if the tree were malformed).
+    fn node_count(&self) -> u32;
+    /// Nodes on the longest root-to-leaf path (the stack the walk needs).
+    fn max_depth(&self) -> u32;
+}
+
+impl DisplayTree for Scene<'_> {
+    fn root(&self) -> Option<u32> {
+        Scene::root(self)
+    }
+    fn node(&self, i: u32) -> Node {
+        Scene::node(self, i)
+    }
+    fn plane(&self, i: u32) -> Plane {
+        Scene::plane(self, i)
+    }
+    fn polygon(&self, i: u32) -> Polygon {
+        Scene::polygon(self, i)
+    }
+    fn node_count(&self) -> u32 {
+        self.header().node_count
+    }
+    fn max_depth(&self) -> u32 {
+        self.header().max_depth
+    }
+}
+
+/// Which way the polygons come out.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Order {
+    /// Farthest first: the painter's algorithm (later polygons overwrite earlier ones).
+    #[default]
+    BackToFront,
+    /// Nearest first: the exact reverse of [`Order::BackToFront`].
+    FrontToBack,
+}
+
+/// Whether the eye sees the interior side of `polygon` (eye on its plane counts as yes).
+pub fn sees_interior(polygon: &Polygon, plane: &Plane, eye: Vec3) -> bool {
+    let d = plane.distance(eye);
+    if polygon.flags & INTERIOR_FRONT != 0 {
+        d >= 0.0
+    } else {
+        d <= 0.0
+    }
+}
+
+/// One entry of the traversal stack (opaque; `Copy` so stacks are plain arrays).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct StackEntry(Task);
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+enum Task {
+    #[default]
+    Idle,
+    /// Visit a node.
+    Node(u32),
+    /// Scan polygons `first .. first + count`, `done` of them already looked at, yielding
+    /// those with `sees_interior == interior`, then visit `then`.
+    Scan {
+        first: u32,
+        count: u32,
+        done: u32,
+        interior: bool,
+        then: Option<u32>,
+    },
+}
+
+/// The polygon indices of a tree in display order, as an iterator.
+///
+/// Created by [`Traversal::new`], which refuses a stack smaller than the tree's depth. If a
+/// (malformed) tree turned out deeper than it declares, or had more visits than nodes, the
+/// walk stops early and [`Traversal::error`] says why; a validated [`Scene`] never does.
+#[derive(Debug)]
+pub struct Traversal<'t, 's, T: DisplayTree + ?Sized> {
+    tree: &'t T,
+    eye: Vec3,
+    order: Order,
+    stack: &'s mut [StackEntry],
+    len: usize,
+    active: Task,
+    visits: u32,
+    error: Option<RenderError>,
+}
+
+impl<'t, 's, T: DisplayTree + ?Sized> Traversal<'t, 's, T> {
+    /// Walk `tree` for an eye at `eye` (in the tree's coordinates: relative to the scene
+    /// centre). Fails with [`RenderError::StackTooSmall`] if `stack` is shorter than the
+    /// tree's `max_depth`.
+    pub fn new(
+        tree: &'t T,
+        eye: Vec3,
+        order: Order,
+        stack: &'s mut [StackEntry],
+    ) -> Result<Self, RenderError> {
+        let needed = tree.max_depth();
+        if needed as usize > stack.len() {
+            return Err(RenderError::StackTooSmall {
+                needed,
+                available: u32::try_from(stack.len()).unwrap_or(u32::MAX),
+            });
+        }
+        Ok(Traversal {
+            tree,
+            eye,
+            order,
+            stack,
+            len: 0,
+            active: tree.root().map_or(Task::Idle, Task::Node),
+            visits: 0,
+            error: None,
+        })
+    }
+
+    /// Why the walk stopped early, if it did (see the type docs).
+    pub fn error(&self) -> Option<RenderError> {
+        self.error
+    }
+
+    fn push(&mut self, task: Task) -> bool {
+        match self.stack.get_mut(self.len) {
+            Some(slot) => {
+                *slot = StackEntry(task);
+                self.len += 1;
+                true
+            }
+            None => {
+                self.error = Some(RenderError::StackTooSmall {
+                    needed: self.tree.max_depth().saturating_add(1),
+                    available: u32::try_from(self.stack.len()).unwrap_or(u32::MAX),
+                });
+                false
+            }
+        }
+    }
+
+    fn pop(&mut self) -> Task {
+        if self.len == 0 {
+            return Task::Idle;
+        }
+        self.len -= 1;
+        self.stack.get(self.len).map_or(Task::Idle, |e| e.0)
+    }
+
+    fn stop(&mut self) -> Option<u32> {
+        self.active = Task::Idle;
+        self.len = 0;
+        None
+    }
+}
+
+impl<T: DisplayTree + ?Sized> Iterator for Traversal<'_, '_, T> {
+    type Item = u32;
+
+    fn next(&mut self) -> Option<u32> {
+        let back_to_front = self.order == Order::BackToFront;
+        loop {
+            if self.error.is_some() {
+                return self.stop();
+            }
+            let task = match self.active {
+                Task::Idle => {
+                    if self.len == 0 {
+                        return None;
+                    }
+                    self.pop()
+                }
+                t => t,
+            };
+            self.active = Task::Idle;
+            match task {
+                Task::Idle => {}
+                Task::Node(i) => {
+                    self.visits = self.visits.saturating_add(1);
+                    if self.visits > self.tree.node_count() {
+                        self.error = Some(RenderError::MalformedTree);
+                        return self.stop();
+                    }
+                    match self.tree.node(i) {
+                        Node::Split { plane, front, back } => {
+                            let plus = self.tree.plane(plane).distance(self.eye) >= 0.0;
+                            let (first, second) = if plus == back_to_front {
+                                (back, front)
+                            } else {
+                                (front, back)
+                            };
+                            if let Some(s) = second {
+                                if !self.push(Task::Node(s)) {
+                                    return self.stop();
+                                }
+                            }
+                            self.active = first.map_or(Task::Idle, Task::Node);
+                        }
+                        Node::Convex {
+                            first,
+                            count,
+                            child,
+                        } => {
+                            // Second pass: pending below the child.
+                            let later = Task::Scan {
+                                first,
+                                count,
+                                done: 0,
+                                interior: !back_to_front,
+                                then: None,
+                            };
+                            if !self.push(later) {
+                                return self.stop();
+                            }
+                            self.active = Task::Scan {
+                                first,
+                                count,
+                                done: 0,
+                                interior: back_to_front,
+                                then: child,
+                            };
+                        }
+                    }
+                }
+                Task::Scan {
+                    first,
+                    count,
+                    mut done,
+                    interior,
+                    then,
+                } => {
+                    while done < count {
+                        // Back to front scans forwards, front to back backwards: exact reverse.
+                        let k = if back_to_front {
+                            done
+                        } else {
+                            count - 1 - done
+                        };
+                        done += 1;
+                        let index = first.saturating_add(k);
+                        let polygon = self.tree.polygon(index);
+                        let plane = self.tree.plane(polygon.plane);
+                        if sees_interior(&polygon, &plane, self.eye) == interior {
+                            self.active = Task::Scan {
+                                first,
+                                count,
+                                done,
+                                interior,
+                                then,
+                            };
+                            return Some(index);
+                        }
+                    }
+                    self.active = then.map_or(Task::Idle, Task::Node);
+                }
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+pub(crate) mod testing;
+
+#[cfg(test)]
+mod tests;

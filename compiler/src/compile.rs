@@ -1,0 +1,73 @@
+//! The whole compile in one call: load -> build -> shade -> encode. Used by the CLI, the
+//! [`crate::Builder`] for build scripts, the benchmark and the tests.
+
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use crate::error::CompileError;
+use crate::load::{load_obj, Mesh};
+use crate::shade::Shading;
+use crate::tree::{build, BuildOptions, DisplayTree, TreeStats};
+
+/// Everything a compile can be asked.
+#[derive(Debug, Clone, Default)]
+pub struct CompileOptions {
+    /// Tree-building knobs.
+    pub build: BuildOptions,
+    /// Store each polygon's source triangle id (for id images).
+    pub ids: bool,
+    /// How colours are baked.
+    pub shading: Shading,
+}
+
+/// The result of a compile.
+#[derive(Debug, Clone)]
+pub struct Compiled {
+    /// The `.peel` bytes.
+    pub bytes: Vec<u8>,
+    /// The tree's counters.
+    pub stats: TreeStats,
+    /// Wall time of load + build + encode, in seconds.
+    pub seconds: f64,
+    /// Loader warnings.
+    pub warnings: Vec<String>,
+    /// Files read (OBJ and MTL).
+    pub files: Vec<PathBuf>,
+}
+
+/// Build, shade and encode an already loaded mesh.
+pub fn compile_mesh(
+    mesh: &Mesh,
+    options: &CompileOptions,
+    progress: &(dyn Fn(u64) + Sync),
+) -> Result<(DisplayTree, Vec<u8>), CompileError> {
+    let tree = build(mesh, &options.build, progress)?;
+    let colours: Vec<[u8; 3]> = tree
+        .polygons
+        .iter()
+        .map(|p| {
+            let kd = mesh.triangles[p.source as usize].colour;
+            options.shading.shade(kd, tree.planes[p.plane as usize].normal)
+        })
+        .collect();
+    let bytes = crate::write::encode(&tree, &colours, options.ids)?;
+    Ok((tree, bytes))
+}
+
+/// Load and compile an OBJ file (nothing is written).
+pub fn compile_obj(
+    path: &Path,
+    options: &CompileOptions,
+    progress: &(dyn Fn(u64) + Sync),
+) -> Result<Compiled, CompileError> {
+    let start = Instant::now();
+    let mesh = load_obj(path)?;
+    let (tree, bytes) = compile_mesh(&mesh, options, progress)?;
+    Ok(Compiled {
+        bytes,
+        stats: tree.stats,
+        seconds: start.elapsed().as_secs_f64(),
+        warnings: mesh.warnings,
+        files: mesh.files,
+    })
+}

@@ -1,0 +1,383 @@
+//! A light line scan of the OBJ text, run before tobj.
+//!
+//! tobj reports neither line numbers nor NaN/inf coordinates, so this scan validates every
+//! statement tobj would look at (same tokenisation, same index rules) and reports errors with
+//! their line. A file that passes the scan cannot make tobj fail on vertex or face data. The
+//! scan also records every `f`/`l` statement in file order: tobj emits exactly one face per
+//! statement, which lets the loader pair each tobj face with its line and check that the two
+//! parsers agree.
+
+use std::collections::HashMap;
+use std::path::Path;
+
+use crate::error::CompileError;
+
+/// One `f` or `l` statement.
+#[derive(Debug, Clone, Copy)]
+pub(super) struct Statement {
+    /// 1-based line.
+    pub line: usize,
+    /// Number of corners.
+    pub arity: usize,
+    /// `true` for `f`, `false` for `l` (a polyline, not a surface).
+    pub is_face: bool,
+    /// Index into [`Scan::material_names`] of the last `usemtl` before it.
+    pub material: Option<u32>,
+}
+
+/// What the scan learnt about the file.
+#[derive(Debug, Default)]
+pub(super) struct Scan {
+    /// Every `f` and `l` statement, in file order.
+    pub statements: Vec<Statement>,
+    /// Material names as tobj reads them from `usemtl` lines.
+    pub material_names: Vec<String>,
+    /// 1-based line of each `mtllib` statement, in file order.
+    pub mtllib_lines: Vec<usize>,
+    /// Number of `f` statements with at least three corners.
+    pub polygon_faces: usize,
+}
+
+/// Limits checked while scanning.
+#[derive(Debug, Clone, Copy)]
+pub(super) struct Limits {
+    /// Maximum number of `v`, `vt` and `vn` statements together.
+    pub vertices: usize,
+    /// Maximum number of triangles (a polygon of n corners counts n - 2; `l` and short faces 1).
+    pub triangles: usize,
+}
+
+/// Vertex, texture-coordinate and normal counts so far (OBJ indices refer to earlier lines).
+#[derive(Debug, Default)]
+struct Counts {
+    v: usize,
+    vt: usize,
+    vn: usize,
+}
+
+/// Scans `text` (the content of `path`).
+pub(super) fn scan(path: &Path, text: &str, limits: Limits) -> Result<Scan, CompileError> {
+    let parse_error = |line: usize, message: String| CompileError::Parse {
+        path: path.to_path_buf(),
+        line,
+        message,
+    };
+    let mut out = Scan::default();
+    let mut names: HashMap<String, u32> = HashMap::new();
+    let mut counts = Counts::default();
+    let mut material: Option<u32> = None;
+    let mut coloured: Option<bool> = None;
+    let mut triangles = 0usize;
+
+    for (index, raw) in text.split('\n').enumerate() {
+        let line = index + 1;
+        let mut words = raw.split_whitespace();
+        match words.next() {
+            Some("v") => {
+                let tokens: Vec<&str> = words.by_ref().take(7).collect();
+                check_vertex(path, line, &tokens, &mut coloured)?;
+                counts.v += 1;
+            }
+            Some("vt") => {
+                check_floats(&mut words, 2)
+                    .map_err(|m| parse_error(line, format!("texture coordinate: {m}")))?;
+                counts.vt += 1;
+            }
+            Some("vn") => {
+                check_floats(&mut words, 3)
+                    .map_err(|m| parse_error(line, format!("normal: {m}")))?;
+                counts.vn += 1;
+            }
+            Some(keyword @ ("f" | "l")) => {
+                let mut arity = 0;
+                for corner in words {
+                    check_corner(path, line, corner, &counts)?;
+                    arity += 1;
+                }
+                let is_face = keyword == "f";
+                triangles += if is_face && arity >= 3 { arity - 2 } else { 1 };
+                if triangles > limits.triangles {
+                    return Err(CompileError::TooLarge {
+                        path: path.to_path_buf(),
+                        message: format!(
+                            "more than {} triangles (reached at line {line})",
+                            limits.triangles
+                        ),
+                    });
+                }
+                if is_face && arity >= 3 {
+                    out.polygon_faces += 1;
+                }
+                out.statements.push(Statement {
+                    line,
+                    arity,
+                    is_face,
+                    material,
+                });
+            }
+            Some("usemtl") => {
+                // Same extraction as tobj, so the names match the ones it looks up.
+                let name = raw.split_once(' ').unwrap_or_default().1.trim();
+                if name.is_empty() {
+                    return Err(parse_error(line, "`usemtl` needs a material name".into()));
+                }
+                let next = out.material_names.len() as u32;
+                let id = *names.entry(name.to_owned()).or_insert(next);
+                if id == next {
+                    out.material_names.push(name.to_owned());
+                }
+                material = Some(id);
+            }
+            Some("mtllib") => out.mtllib_lines.push(line),
+            _ => {}
+        }
+        if counts.v + counts.vt + counts.vn > limits.vertices {
+            return Err(CompileError::TooLarge {
+                path: path.to_path_buf(),
+                message: format!(
+                    "more than {} vertex statements (`v`, `vt`, `vn`; reached at line {line})",
+                    limits.vertices
+                ),
+            });
+        }
+    }
+    Ok(out)
+}
+
+/// Checks a `v` statement the way tobj reads it: x y z, then nothing, a weight w, or an RGB
+/// colour. Coordinates (after dividing by w) must be finite.
+fn check_vertex(
+    path: &Path,
+    line: usize,
+    tokens: &[&str],
+    coloured: &mut Option<bool>,
+) -> Result<(), CompileError> {
+    let parse_error = |message: String| CompileError::Parse {
+        path: path.to_path_buf(),
+        line,
+        message,
+    };
+    let non_finite = |value: String| CompileError::NonFinite {
+        path: path.to_path_buf(),
+        line,
+        value,
+    };
+    if tokens.len() < 3 {
+        return Err(parse_error(format!(
+            "a vertex needs three coordinates, found {}",
+            tokens.len()
+        )));
+    }
+    let mut xyz = [0.0f64; 3];
+    for (c, token) in xyz.iter_mut().zip(tokens) {
+        *c = number(token).map_err(|m| parse_error(format!("vertex coordinate: {m}")))?;
+        if !c.is_finite() {
+            return Err(non_finite((*token).to_owned()));
+        }
+    }
+    let has_colour = match tokens.len() {
+        3 => false,
+        4 => {
+            let w = number(tokens[3]).map_err(|m| parse_error(format!("vertex weight: {m}")))?;
+            if !w.is_finite() {
+                return Err(non_finite(tokens[3].to_owned()));
+            }
+            if w == 0.0 {
+                return Err(parse_error("the vertex weight w is zero".into()));
+            }
+            for (c, token) in xyz.iter().zip(tokens) {
+                if !(c / w).is_finite() {
+                    return Err(non_finite(format!("{token} / {}", tokens[3])));
+                }
+            }
+            false
+        }
+        6 => {
+            for token in &tokens[3..] {
+                number(token).map_err(|m| parse_error(format!("vertex colour: {m}")))?;
+            }
+            true
+        }
+        n => {
+            return Err(parse_error(format!(
+                "a vertex is x y z, optionally followed by a weight w or an RGB colour; found {}{} numbers",
+                if n > 6 { "more than " } else { "" },
+                n.min(6)
+            )))
+        }
+    };
+    match *coloured {
+        None => *coloured = Some(has_colour),
+        Some(c) if c != has_colour => {
+            return Err(parse_error(
+                "some vertices have an RGB colour and others do not".into(),
+            ))
+        }
+        Some(_) => {}
+    }
+    Ok(())
+}
+
+fn number(token: &str) -> Result<f64, String> {
+    token
+        .parse::<f64>()
+        .map_err(|_| format!("`{token}` is not a number"))
+}
+
+/// Checks that the next `n` words are numbers (extra words are ignored, as tobj does).
+fn check_floats<'a>(words: &mut impl Iterator<Item = &'a str>, n: usize) -> Result<(), String> {
+    let mut found = 0;
+    for token in words.take(n) {
+        number(token)?;
+        found += 1;
+    }
+    if found < n {
+        return Err(format!("expected {n} numbers, found {found}"));
+    }
+    Ok(())
+}
+
+/// Checks one face corner `v`, `v/vt`, `v//vn` or `v/vt/vn` against what is defined so far.
+fn check_corner(
+    path: &Path,
+    line: usize,
+    corner: &str,
+    counts: &Counts,
+) -> Result<(), CompileError> {
+    let parse_error = |message: String| CompileError::Parse {
+        path: path.to_path_buf(),
+        line,
+        message,
+    };
+    let parts: Vec<&str> = corner.split('/').collect();
+    if parts.len() > 3 {
+        return Err(parse_error(format!(
+            "face corner `{corner}` has more than three indices"
+        )));
+    }
+    if parts[0].is_empty() {
+        return Err(parse_error(format!(
+            "face corner `{corner}` has no vertex index"
+        )));
+    }
+    for (slot, part) in parts.iter().enumerate() {
+        if part.is_empty() {
+            continue;
+        }
+        let index: i64 = part.parse().map_err(|_| {
+            parse_error(format!("face corner `{corner}`: `{part}` is not an index"))
+        })?;
+        let count = [counts.v, counts.vt, counts.vn][slot];
+        if resolve(index, count).is_none() {
+            return Err(match slot {
+                0 => CompileError::IndexOutOfRange {
+                    path: path.to_path_buf(),
+                    line,
+                    index,
+                    count,
+                },
+                1 => parse_error(format!(
+                    "texture coordinate index {index} out of range ({count} defined before this line)"
+                )),
+                _ => parse_error(format!(
+                    "normal index {index} out of range ({count} defined before this line)"
+                )),
+            });
+        }
+    }
+    Ok(())
+}
+
+/// Resolves a 1-based or negative (relative) OBJ index to a 0-based one, if it is in range.
+fn resolve(index: i64, count: usize) -> Option<usize> {
+    let count = i64::try_from(count).ok()?;
+    let zero_based = if index < 0 { count + index } else { index - 1 };
+    (0..count)
+        .contains(&zero_based)
+        .then_some(zero_based as usize)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const LIMITS: Limits = Limits {
+        vertices: 1000,
+        triangles: 1000,
+    };
+
+    fn run(text: &str) -> Result<Scan, CompileError> {
+        scan(Path::new("t.obj"), text, LIMITS)
+    }
+
+    #[test]
+    fn resolve_follows_obj_rules() {
+        assert_eq!(resolve(1, 3), Some(0));
+        assert_eq!(resolve(3, 3), Some(2));
+        assert_eq!(resolve(4, 3), None);
+        assert_eq!(resolve(0, 3), None);
+        assert_eq!(resolve(-1, 3), Some(2));
+        assert_eq!(resolve(-3, 3), Some(0));
+        assert_eq!(resolve(-4, 3), None);
+    }
+
+    #[test]
+    fn records_statements_and_materials_in_order() {
+        let s = run("v 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl a\nf 1 2 3\nl 1 2\nusemtl b\nf 1 2 3 1\nusemtl a\nf -3 -2 -1\n")
+            .unwrap();
+        let lines: Vec<_> = s
+            .statements
+            .iter()
+            .map(|s| (s.line, s.arity, s.is_face, s.material))
+            .collect();
+        assert_eq!(
+            lines,
+            [
+                (5, 3, true, Some(0)),
+                (6, 2, false, Some(0)),
+                (8, 4, true, Some(1)),
+                (10, 3, true, Some(0))
+            ]
+        );
+        assert_eq!(s.material_names, ["a", "b"]);
+        assert_eq!(s.polygon_faces, 3);
+    }
+
+    #[test]
+    fn weight_that_overflows_is_non_finite() {
+        let e = run("v 1e300 0 0 1e-300\n").unwrap_err();
+        assert!(matches!(e, CompileError::NonFinite { line: 1, .. }), "{e}");
+    }
+
+    #[test]
+    fn mixed_vertex_colours_are_rejected() {
+        let e = run("v 0 0 0 1 0 0\nv 1 0 0\n").unwrap_err();
+        assert!(matches!(e, CompileError::Parse { line: 2, .. }), "{e}");
+    }
+
+    #[test]
+    fn texture_index_out_of_range_is_reported() {
+        let e = run("v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nf 1/1 2/2 3/1\n").unwrap_err();
+        assert!(matches!(e, CompileError::Parse { line: 5, .. }), "{e}");
+    }
+
+    #[test]
+    fn limits_give_too_large() {
+        let many_vertices = "v 0 0 0\n".repeat(1001);
+        assert!(matches!(
+            run(&many_vertices),
+            Err(CompileError::TooLarge { .. })
+        ));
+        let mut many_faces = "v 0 0 0\nv 1 0 0\nv 0 1 0\n".to_owned();
+        many_faces.push_str(&"f 1 2 3\n".repeat(1001));
+        assert!(matches!(
+            run(&many_faces),
+            Err(CompileError::TooLarge { .. })
+        ));
+        let big_polygon = format!("v 0 0 0\nf {}\n", "1 ".repeat(1003));
+        assert!(matches!(
+            run(&big_polygon),
+            Err(CompileError::TooLarge { .. })
+        ));
+    }
+}

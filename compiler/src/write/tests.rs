@@ -1,0 +1,378 @@
+//! Writer tests: hand-built trees, the round trip through the runtime's reader field by field,
+//! and the writer's own invariant checks.
+
+use glam::{DVec3, Vec3};
+use peel_runtime::read::{self, layout, Scene};
+use peel_runtime::target::Colour;
+
+use super::format::{self, node_kind, polygon_flags, PeelFile, NONE};
+use super::*;
+use crate::tree::{TreePlane, TreePolygon};
+
+fn polygon(
+    plane: u32,
+    vertices: &[u32],
+    flipped: bool,
+    interior_front: bool,
+    source: u32,
+) -> TreePolygon {
+    TreePolygon {
+        plane,
+        flipped,
+        interior_front,
+        vertices: vertices.to_vec(),
+        source,
+    }
+}
+
+fn convex(first_polygon: u32, polygon_count: u32, child: Option<u32>) -> TreeNode {
+    TreeNode::Convex {
+        first_polygon,
+        polygon_count,
+        child,
+        support_planes: 0,
+    }
+}
+
+/// A split at x = 0.5 whose front is a chain of two convex sets and whose back is one; the
+/// node and polygon order is deliberately not the file's (the writer renumbers).
+pub(crate) fn small_tree() -> (DisplayTree, Vec<[u8; 3]>) {
+    let v = |x, y, z| DVec3::new(x, y, z);
+    let plane = |normal, offset| TreePlane { normal, offset };
+    let tree = DisplayTree {
+        centre: v(100.0, 200.0, 300.0),
+        vertices: vec![
+            v(0.0, 0.0, 0.0),
+            v(1.0, 0.0, 0.0),
+            v(1.0, 1.0, 0.0),
+            v(0.0, 1.0, 0.0),
+            v(0.0, 0.0, 1.0),
+            v(1.0, 0.0, 1.0),
+            v(-0.25, 1.0, 1.0),
+        ],
+        planes: vec![
+            plane(DVec3::Z, 0.0),
+            plane(DVec3::Z, 1.0),
+            plane(DVec3::X, 0.5),
+        ],
+        polygons: vec![
+            polygon(1, &[4, 5, 6], true, false, 11),
+            polygon(0, &[0, 1, 2, 3], false, true, 10),
+            polygon(1, &[4, 6, 5], false, false, 12),
+        ],
+        nodes: vec![
+            TreeNode::Split {
+                plane: 2,
+                front: Some(2),
+                back: Some(1),
+                support_planes: 0,
+            },
+            convex(0, 1, None),
+            convex(1, 1, Some(3)),
+            convex(2, 1, None),
+        ],
+        stats: Default::default(),
+    };
+    (tree, vec![[255, 0, 0], [0, 255, 0], [0, 0, 255]])
+}
+
+/// A chain of `depth` convex sets, one triangle each.
+pub(crate) fn chain_tree(depth: u32) -> (DisplayTree, Vec<[u8; 3]>) {
+    let tree = DisplayTree {
+        vertices: vec![DVec3::ZERO, DVec3::X, DVec3::Y],
+        planes: vec![TreePlane {
+            normal: DVec3::Z,
+            offset: 0.0,
+        }],
+        polygons: (0..depth)
+            .map(|i| polygon(0, &[0, 1, 2], false, true, i))
+            .collect(),
+        nodes: (0..depth)
+            .map(|i| convex(i, 1, (i + 1 < depth).then_some(i + 1)))
+            .collect(),
+        ..Default::default()
+    };
+    (tree, vec![[1, 2, 3]; depth as usize])
+}
+
+fn colour(c: [u8; 3]) -> Colour {
+    Colour::new(c[0], c[1], c[2])
+}
+
+fn link(v: u32) -> Option<u32> {
+    (v != NONE).then_some(v)
+}
+
+/// Everything the reader sees equals what bincode wrote.
+fn assert_reads_back(file: &PeelFile) {
+    let bytes = to_bytes(file).unwrap();
+    let (decoded, used): (PeelFile, usize) =
+        bincode::serde::decode_from_slice(&bytes, format::config()).unwrap();
+    assert_eq!((&decoded, used), (file, bytes.len()));
+
+    let scene = Scene::parse(&bytes).unwrap();
+    let (h, fh) = (scene.header(), &file.header);
+    assert_eq!((h.version, h.flags), (fh.version, fh.flags));
+    assert_eq!(
+        [
+            h.vertex_count,
+            h.plane_count,
+            h.index_count,
+            h.polygon_count,
+            h.node_count
+        ],
+        [
+            fh.vertex_count,
+            fh.plane_count,
+            fh.index_count,
+            fh.polygon_count,
+            fh.node_count
+        ]
+    );
+    assert_eq!(
+        (h.max_depth, h.max_polygon_vertices),
+        (fh.max_depth, fh.max_polygon_vertices)
+    );
+    assert_eq!(h.centre, fh.centre);
+    assert_eq!(h.bounds_min, Vec3::from(fh.bounds_min));
+    assert_eq!(h.bounds_max, Vec3::from(fh.bounds_max));
+    for (i, v) in file.vertices.iter().enumerate() {
+        assert_eq!(scene.vertex(i as u32), Vec3::from(*v));
+    }
+    for (i, p) in file.planes.iter().enumerate() {
+        let plane = scene.plane(i as u32);
+        assert_eq!((plane.normal, plane.d), (Vec3::new(p[0], p[1], p[2]), p[3]));
+    }
+    for (i, p) in file.polygons.iter().enumerate() {
+        let read = scene.polygon(i as u32);
+        let expected = read::Polygon {
+            plane: p.plane,
+            first_index: p.first_index,
+            vertex_count: p.vertex_count,
+            flags: p.flags,
+            colour: colour(p.colour),
+        };
+        assert_eq!(read, expected);
+        for k in 0..u32::from(p.vertex_count) {
+            let index = file.indices[(p.first_index + k) as usize];
+            assert_eq!(
+                scene.polygon_vertex(&read, k),
+                Vec3::from(file.vertices[index as usize])
+            );
+        }
+        assert_eq!(scene.id(i as u32), file.ids.get(i).copied());
+    }
+    for (i, n) in file.nodes.iter().enumerate() {
+        let expected = match n.kind {
+            node_kind::CONVEX => read::Node::Convex {
+                first: n.a,
+                count: n.b,
+                child: link(n.c),
+            },
+            _ => read::Node::Split {
+                plane: n.a,
+                front: link(n.b),
+                back: link(n.c),
+            },
+        };
+        assert_eq!(scene.node(i as u32), expected);
+        assert_eq!(scene.parent(i as u32), link(n.parent));
+    }
+    assert_eq!(scene.root(), (!file.nodes.is_empty()).then_some(0));
+}
+
+#[test]
+fn record_sizes_match_the_spec() {
+    let (tree, colours) = small_tree();
+    let file = peel_file(&tree, &colours, true).unwrap();
+    let size = |bytes: Vec<u8>| bytes.len();
+    let enc = |v: &dyn erased::Encode| v.encode();
+    assert_eq!(size(enc(&file.header)), layout::HEADER_SIZE);
+    assert_eq!(size(enc(&file.polygons[0])), layout::POLYGON_SIZE);
+    assert_eq!(size(enc(&file.nodes[0])), layout::NODE_SIZE);
+    assert_eq!(size(enc(&file.vertices[0])), layout::VERTEX_SIZE);
+    assert_eq!(size(enc(&file.planes[0])), layout::PLANE_SIZE);
+    let h = &file.header;
+    let total = layout::HEADER_SIZE
+        + 6 * layout::LENGTH_SIZE
+        + h.vertex_count as usize * layout::VERTEX_SIZE
+        + h.plane_count as usize * layout::PLANE_SIZE
+        + h.index_count as usize * layout::INDEX_SIZE
+        + h.polygon_count as usize * (layout::POLYGON_SIZE + layout::ID_SIZE)
+        + h.node_count as usize * layout::NODE_SIZE;
+    assert_eq!(to_bytes(&file).unwrap().len(), total);
+    // Spot checks of the header's byte offsets.
+    let bytes = to_bytes(&file).unwrap();
+    assert_eq!(&bytes[..4], b"PEEL");
+    assert_eq!(
+        u32::from_le_bytes(bytes[24..28].try_into().unwrap()),
+        4,
+        "node_count at 24"
+    );
+    assert_eq!(
+        f64::from_le_bytes(bytes[36..44].try_into().unwrap()),
+        100.0,
+        "centre at 36"
+    );
+    assert_eq!(
+        f32::from_le_bytes(bytes[60..64].try_into().unwrap()),
+        -0.25,
+        "bounds_min at 60"
+    );
+}
+
+/// Encoding of single records, to measure them.
+mod erased {
+    pub trait Encode {
+        fn encode(&self) -> Vec<u8>;
+    }
+    impl<T: serde::Serialize> Encode for T {
+        fn encode(&self) -> Vec<u8> {
+            bincode::serde::encode_to_vec(self, super::format::config()).unwrap()
+        }
+    }
+}
+
+#[test]
+fn round_trip_field_by_field() {
+    let (tree, colours) = small_tree();
+    for ids in [true, false] {
+        assert_reads_back(&peel_file(&tree, &colours, ids).unwrap());
+    }
+    let (tree, colours) = chain_tree(1000);
+    assert_reads_back(&peel_file(&tree, &colours, true).unwrap());
+    assert_reads_back(&peel_file(&DisplayTree::default(), &[], false).unwrap());
+}
+
+#[test]
+fn the_file_is_the_tree_in_pre_order() {
+    let (tree, colours) = small_tree();
+    let file = peel_file(&tree, &colours, true).unwrap();
+    let h = &file.header;
+    assert_eq!(
+        (h.magic, h.version, h.flags),
+        (*b"PEEL", 1, format::header_flags::IDS)
+    );
+    assert_eq!((h.max_depth, h.max_polygon_vertices), (3, 4));
+    assert_eq!(
+        (h.bounds_min, h.bounds_max),
+        ([-0.25, 0.0, 0.0], [1.0, 1.0, 1.0])
+    );
+    assert_eq!(h.centre, [100.0, 200.0, 300.0]);
+    let node = |kind, a, b, c, parent| format::Node {
+        kind,
+        a,
+        b,
+        c,
+        parent,
+    };
+    assert_eq!(
+        file.nodes,
+        [
+            node(node_kind::SPLIT, 2, 1, 3, NONE),
+            node(node_kind::CONVEX, 0, 1, 2, 0),
+            node(node_kind::CONVEX, 1, 1, NONE, 1),
+            node(node_kind::CONVEX, 2, 1, NONE, 0),
+        ]
+    );
+    // Old polygons 1, 2, 0, in the order of the convex nodes that own them.
+    assert_eq!(file.ids, [10, 12, 11]);
+    assert_eq!(file.indices, [0, 1, 2, 3, 4, 6, 5, 4, 5, 6]);
+    let firsts: Vec<u32> = file.polygons.iter().map(|p| p.first_index).collect();
+    assert_eq!(firsts, [0, 4, 7]);
+    assert_eq!(file.polygons[0].flags, polygon_flags::INTERIOR_FRONT);
+    assert_eq!(file.polygons[2].flags, polygon_flags::FLIPPED);
+    assert_eq!(file.polygons[1].colour, [0, 0, 255]);
+    assert_eq!(file.planes[2], [1.0, 0.0, 0.0, 0.5]);
+    assert_eq!(file.vertices[6], [-0.25, 1.0, 1.0]);
+    let without_ids = peel_file(&tree, &colours, false).unwrap();
+    assert_eq!((without_ids.header.flags, without_ids.ids.len()), (0, 0));
+}
+
+#[test]
+fn encode_checks_with_the_reader() {
+    let (tree, colours) = chain_tree(300);
+    let bytes = encode(&tree, &colours, false).unwrap();
+    let scene = Scene::parse(&bytes).unwrap();
+    assert_eq!(scene.header().max_depth, 300);
+}
+
+/// Breaks a tree or its colours.
+type Breakage = fn(&mut DisplayTree, &mut Vec<[u8; 3]>);
+
+#[test]
+fn broken_trees_are_refused() {
+    let cases: [(&str, Breakage); 9] = [
+        ("reached twice", |t, _| {
+            t.nodes[0] = TreeNode::Split {
+                plane: 2,
+                front: Some(2),
+                back: Some(2),
+                support_planes: 0,
+            }
+        }),
+        ("not reachable", |t, _| t.nodes[2] = convex(1, 1, None)),
+        ("no polygon", |t, _| t.nodes[1] = convex(0, 0, None)),
+        ("out of range", |t, _| t.nodes[3] = convex(2, 2, None)),
+        ("two convex", |t, _| t.nodes[3] = convex(1, 1, Some(1))),
+        ("colours", |_, c| {
+            c.pop();
+        }),
+        ("vertices", |t, _| t.polygons[0].vertices.truncate(2)),
+        ("vertex 9", |t, _| t.polygons[0].vertices[0] = 9),
+        ("plane 3", |t, _| t.polygons[0].plane = 3),
+    ];
+    for (needle, break_it) in cases {
+        let (mut tree, mut colours) = small_tree();
+        break_it(&mut tree, &mut colours);
+        let err = encode(&tree, &colours, true).unwrap_err();
+        assert!(
+            matches!(err, CompileError::Invariant(ref m) if m.contains(needle)),
+            "{needle}: {err}"
+        );
+    }
+    let (mut tree, colours) = small_tree();
+    tree.nodes[3] = convex(0, 1, None);
+    // Polygon 0 owned twice (and polygon 2 by nobody: the counts agree) is caught.
+    assert!(encode(&tree, &colours, true)
+        .unwrap_err()
+        .to_string()
+        .contains("two convex"));
+    let (mut tree, colours) = small_tree();
+    tree.nodes[3] = convex(1, 1, None);
+    tree.nodes[2] = convex(0, 1, Some(3));
+    tree.nodes[1] = convex(2, 1, None);
+    assert!(
+        encode(&tree, &colours, true).is_ok(),
+        "a permutation of ownership is fine"
+    );
+}
+
+#[test]
+fn values_beyond_f32_are_refused() {
+    let (mut tree, colours) = small_tree();
+    tree.vertices[0].x = 1e39;
+    assert!(matches!(
+        encode(&tree, &colours, false),
+        Err(CompileError::Encode(_))
+    ));
+    let (mut tree, colours) = small_tree();
+    tree.planes[0].offset = f64::NAN;
+    assert!(matches!(
+        encode(&tree, &colours, false),
+        Err(CompileError::Encode(_))
+    ));
+}
+
+#[test]
+fn unowned_polygons_are_refused() {
+    let (mut tree, mut colours) = small_tree();
+    tree.polygons.push(polygon(0, &[0, 1, 2], false, false, 13));
+    colours.push([9, 9, 9]);
+    let err = encode(&tree, &colours, false).unwrap_err();
+    assert!(
+        err.to_string()
+            .contains("polygon 3 belongs to no convex node"),
+        "{err}"
+    );
+}

@@ -1,0 +1,247 @@
+//! The edge walk (seed 001's `Parcours`): the pixel where an edge crosses each scanline, by
+//! integer stepping only.
+//!
+//! The seed walks an edge from `(xbas, ybas)` to `(xhaut, yhaut)` keeping `x` and the numerator
+//! `N` of its fractional part over `Δy`; each row does `(Q, N) <- div_euclid(N, Δy); x += Q;
+//! N += Δx`, with `N` started at `Δy - 1` on a left edge so the rounding is a ceiling. Here the
+//! same walk is written for any rational sequence `x_k = ceil((num + k * step) / den)`: the
+//! division of the step by `den` is done once up front (`step = q * den + r`), so a row costs
+//! an add and a compare instead of a division, and the state `(x, rem)` after each row is
+//! exactly the seed's `(x, N)` after its line 5.2.
+//!
+//! For the fill, `x_k` is the first pixel whose centre is at or right of the crossing at row
+//! `j0 + k` (see [`EdgeWalk::for_edge`]). Using that one rounding for left *and* right edges
+//! (a span is `[x_left, x_right)`) is what makes two polygons sharing an edge split its pixels
+//! exactly: the one on the right owns a centre lying on the edge, the one on the left does not.
+
+use super::FixedPoint;
+
+/// One non-horizontal edge being walked down the scanlines.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub(crate) struct EdgeWalk {
+    /// First pixel (column) whose centre is at or right of the crossing on row `row`.
+    pub(crate) x: i64,
+    /// Numerator of the fractional remainder, `0 <= rem < den`.
+    rem: i64,
+    /// Denominator, `> 0`.
+    den: i64,
+    /// Whole pixels added per row.
+    step_q: i64,
+    /// Remainder added per row, `0 <= step_r < den`.
+    step_r: i64,
+    /// The row `x` belongs to.
+    pub(crate) row: i64,
+    /// First row past the edge.
+    pub(crate) row_end: i64,
+}
+
+/// Pixel index `ceil((2v - S) / (2S))` of a fixed-point coordinate `v` with `S = 2^SUB`: the
+/// first pixel whose centre `(k + 1/2) * S` is `>= v`. Used for rows and columns alike.
+#[inline]
+pub(crate) fn first_centre_at_or_after<const SUB: u32>(v: i32) -> i64 {
+    let s = 1i64 << SUB;
+    (2 * i64::from(v) + s - 1).div_euclid(2 * s)
+}
+
+impl EdgeWalk {
+    /// The walk of `x_k = ceil((num + k * step) / den)` from `k = 0` on row `row`, `den > 0`.
+    /// The caller guarantees every value of the walk fits an `i64` (see [`Self::for_edge`]).
+    pub(crate) fn from_ratio(num: i128, den: i64, step: i64, row: i64, row_end: i64) -> Self {
+        debug_assert!(den > 0);
+        // ceil(num / den) = floor((num + den - 1) / den); the remainder is the seed's N.
+        let shifted = num + i128::from(den) - 1;
+        // Inside a window of up to 2^15 pixels at SUB = 8 the numerator is below 2^50, so the
+        // 128-bit division (slow, in software on small cores) is only a fallback.
+        let (x, rem) = match i64::try_from(shifted) {
+            Ok(a) => (a.div_euclid(den), a.rem_euclid(den)),
+            Err(_) => {
+                let d = i128::from(den);
+                (shifted.div_euclid(d) as i64, shifted.rem_euclid(d) as i64)
+            }
+        };
+        EdgeWalk {
+            x,
+            rem,
+            den,
+            step_q: step.div_euclid(den),
+            step_r: step.rem_euclid(den),
+            row,
+            row_end,
+        }
+    }
+
+    /// The walk of the edge `a`-`b` (either direction; fixed point with `SUB` fractional
+    /// bits) over the scanlines whose centre `y` satisfies `y_top <= y < y_bottom`, restricted
+    /// to rows `0..height`. `None` for a horizontal edge or one that crosses no such row.
+    ///
+    /// Arithmetic range: with `S = 2^SUB` (`SUB <= 24`), `dy = y_bottom - y_top < 2^32` and
+    /// `|dx| < 2^32` for any `i32` input, so `den = 2S*dy < 2^57` and `|step| = 2S*|dx| <
+    /// 2^57`; the walk keeps `rem + step_r < 2*den < 2^58`, and `x` stays within a pixel of the
+    /// edge's own x range, `|x| < 2^32`. Only the start numerator needs 128 bits (once per
+    /// edge). So any `i32` coordinates are safe, not only those inside the window.
+    pub(crate) fn for_edge<const SUB: u32>(
+        a: FixedPoint,
+        b: FixedPoint,
+        height: u32,
+    ) -> Option<Self> {
+        let (top, bottom) = match a.y.cmp(&b.y) {
+            core::cmp::Ordering::Less => (a, b),
+            core::cmp::Ordering::Greater => (b, a),
+            core::cmp::Ordering::Equal => return None,
+        };
+        let first = first_centre_at_or_after::<SUB>(top.y).max(0);
+        let end = first_centre_at_or_after::<SUB>(bottom.y).min(i64::from(height));
+        if first >= end {
+            return None;
+        }
+        let s = 1i64 << SUB;
+        let dy = i64::from(bottom.y) - i64::from(top.y);
+        let dx = i64::from(bottom.x) - i64::from(top.x);
+        // Crossing at row j (centre y_c, 2*y_c = (2j+1)S): x = x_t + dx*(y_c - y_t)/dy, and the
+        // pixel is ceil((2x - S) / 2S) = ceil(num_j / den) with
+        //   num_j = (2 x_t - S) dy + dx ((2j+1)S - 2 y_t),   den = 2S dy,   num_{j+1} = num_j + 2S dx.
+        let centre2 = i128::from((2 * first + 1) * s);
+        let num = i128::from(2 * i64::from(top.x) - s) * i128::from(dy)
+            + i128::from(dx) * (centre2 - 2 * i128::from(top.y));
+        Some(Self::from_ratio(num, 2 * s * dy, 2 * s * dx, first, end))
+    }
+
+    /// Move to the next row.
+    #[inline]
+    pub(crate) fn step(&mut self) {
+        self.x += self.step_q;
+        self.rem += self.step_r;
+        if self.rem >= self.den {
+            self.rem -= self.den;
+            self.x += 1;
+        }
+        self.row += 1;
+    }
+
+    /// The seed's `N` after the division of the current row.
+    #[cfg(test)]
+    pub(crate) fn rem(&self) -> i64 {
+        self.rem
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn xs(mut walk: EdgeWalk) -> ([i64; 16], usize) {
+        let mut out = [0; 16];
+        let mut n = 0;
+        while walk.row < walk.row_end {
+            out[n] = walk.x;
+            n += 1;
+            walk.step();
+        }
+        (out, n)
+    }
+
+    /// Seed 001, figure 6: left edge (3, 0)-(7, 10) in the seed's own lattice (pixels on
+    /// integer points): x = 3 + 0.4 y displayed as 3,4,4,5,5,5,6,6,7,7, and the table's
+    /// (Q, N) column gives N = 9,3,7,1,5,9 after each division.
+    #[test]
+    fn seed_parcours_worked_example() {
+        let (xbas, ybas, xhaut, yhaut) = (3i64, 0i64, 7i64, 10i64);
+        let (dx, dy) = (xhaut - xbas, yhaut - ybas);
+        let mut walk = EdgeWalk::from_ratio(i128::from(xbas * dy), dy, dx, ybas, yhaut);
+        let mut n = [0; 10];
+        let mut x = [0; 10];
+        for k in 0..10 {
+            x[k] = walk.x;
+            n[k] = walk.rem();
+            walk.step();
+        }
+        assert_eq!(x, [3, 4, 4, 5, 5, 5, 6, 6, 7, 7]);
+        assert_eq!(n[..6], [9, 3, 7, 1, 5, 9]);
+    }
+
+    /// The fill's walk at SUB = 0 on the same edge (3, 0)-(7, 10), whose vertices are now
+    /// pixel *corners*: the crossings at y = j + 1/2 are x = 3.2, 3.6, 4.0, 4.4, ..., 6.8, and
+    /// the first pixel with centre i + 1/2 >= x is ceil(x - 1/2) = 3,4,4,4,5,5,6,6,6,7 (4.0
+    /// lies on the centre 3.5 + 1/2, so pixel 4 is the first one: a left edge is drawn).
+    #[test]
+    fn fill_walk_sub0_same_edge() {
+        let a = FixedPoint { x: 3, y: 0 };
+        let b = FixedPoint { x: 7, y: 10 };
+        let (got, n) = xs(EdgeWalk::for_edge::<0>(a, b, 100).unwrap());
+        assert_eq!(got[..n], [3, 4, 4, 4, 5, 5, 6, 6, 6, 7]);
+        // Either direction gives the same walk (shared edges must agree).
+        assert_eq!(
+            EdgeWalk::for_edge::<0>(b, a, 100),
+            EdgeWalk::for_edge::<0>(a, b, 100)
+        );
+    }
+
+    /// The seed's lattice is the pixel-centre lattice shifted by half a pixel: at SUB = 1 the
+    /// edge (3.5, 0.5)-(7.5, 10.5) reproduces the seed's sequence exactly.
+    #[test]
+    fn fill_walk_is_the_seed_walk_shifted_by_half_a_pixel() {
+        let a = FixedPoint { x: 7, y: 1 };
+        let b = FixedPoint { x: 15, y: 21 };
+        let (got, n) = xs(EdgeWalk::for_edge::<1>(a, b, 100).unwrap());
+        assert_eq!(got[..n], [3, 4, 4, 5, 5, 5, 6, 6, 7, 7]);
+    }
+
+    #[test]
+    fn negative_slope_and_rows() {
+        // (10, 0) -> (0, 5) at SUB = 0: x = 10 - 2 (j + 1/2) = 9, 7, 5, 3, 1 -> ceil(x - 1/2).
+        let (got, n) =
+            xs(
+                EdgeWalk::for_edge::<0>(FixedPoint { x: 10, y: 0 }, FixedPoint { x: 0, y: 5 }, 100)
+                    .unwrap(),
+            );
+        assert_eq!(got[..n], [9, 7, 5, 3, 1]);
+    }
+
+    #[test]
+    fn rows_are_half_open_and_clamped() {
+        // SUB = 2 (S = 4): y from 2 (0.5, row 0's centre, included) to 10 (2.5, row 2's
+        // centre, excluded) -> rows 0 and 1.
+        let w = EdgeWalk::for_edge::<2>(FixedPoint { x: 0, y: 2 }, FixedPoint { x: 0, y: 10 }, 100)
+            .unwrap();
+        assert_eq!((w.row, w.row_end), (0, 2));
+        // Just below a centre: y from 3 -> row 1 first.
+        let w = EdgeWalk::for_edge::<2>(FixedPoint { x: 0, y: 3 }, FixedPoint { x: 0, y: 11 }, 100)
+            .unwrap();
+        assert_eq!((w.row, w.row_end), (1, 3));
+        // Clamped to the window, and the start x is that of the clamped row.
+        let w =
+            EdgeWalk::for_edge::<0>(FixedPoint { x: 0, y: -10 }, FixedPoint { x: 20, y: 10 }, 5)
+                .unwrap();
+        assert_eq!((w.row, w.row_end, w.x), (0, 5, 10));
+        // Between two centres, and horizontal: nothing.
+        assert!(
+            EdgeWalk::for_edge::<2>(FixedPoint { x: 0, y: 3 }, FixedPoint { x: 9, y: 5 }, 9)
+                .is_none()
+        );
+        assert!(
+            EdgeWalk::for_edge::<0>(FixedPoint { x: 0, y: 3 }, FixedPoint { x: 9, y: 3 }, 9)
+                .is_none()
+        );
+    }
+
+    #[test]
+    fn extreme_coordinates_do_not_overflow() {
+        let a = FixedPoint {
+            x: i32::MIN,
+            y: i32::MIN,
+        };
+        let b = FixedPoint {
+            x: i32::MAX,
+            y: i32::MAX,
+        };
+        let mut w = EdgeWalk::for_edge::<24>(a, b, 1 << 15).unwrap();
+        while w.row < w.row_end {
+            w.step();
+        }
+        let mut w = EdgeWalk::for_edge::<0>(b, FixedPoint { x: i32::MIN, y: 0 }, 1 << 15).unwrap();
+        assert!(w.x < -(1 << 30));
+        while w.row < w.row_end {
+            w.step();
+        }
+    }
+}

@@ -1,0 +1,556 @@
+//! Raster tests of the fill on the checking mock target: ASCII snapshots of small cases, and
+//! property tests against tilings and a brute-force edge-function reference.
+
+extern crate std;
+
+use std::string::ToString;
+use std::vec::Vec;
+
+use proptest::prelude::*;
+
+use super::*;
+use crate::target::testing::MockTarget;
+
+const A: Colour = Colour::new(255, 0, 0);
+const B: Colour = Colour::new(0, 255, 0);
+const C: Colour = Colour::new(0, 0, 255);
+
+/// Points given in pixels, snapped with `SUB` bits.
+fn pts<const SUB: u32>(p: &[(f32, f32)]) -> Vec<FixedPoint> {
+    p.iter()
+        .map(|&(x, y)| FixedPoint::snap::<SUB>(x, y))
+        .collect()
+}
+
+/// Fill on the mock and check the returned count against what the mock received.
+fn fill<const SUB: u32, const W: usize, const H: usize>(
+    m: &mut MockTarget<W, H>,
+    points: &[FixedPoint],
+    colour: Colour,
+) -> u64 {
+    let before = m.pixels();
+    let n = fill_polygon::<SUB, _>(points, W as u32, H as u32, colour, m).unwrap();
+    assert_eq!(
+        n,
+        m.pixels() - before,
+        "returned count disagrees with the spans"
+    );
+    n
+}
+
+// ---------------------------------------------------------------- ASCII snapshots
+
+#[test]
+fn snapshot_triangle() {
+    let mut m = MockTarget::<16, 10>::new();
+    fill::<8, 16, 10>(&mut m, &pts::<8>(&[(1.0, 1.0), (14.3, 3.7), (4.2, 9.6)]), A);
+    insta::assert_snapshot!("triangle", m.to_string());
+}
+
+/// A square whose diagonal runs through pixel centres: each centre on it goes to the
+/// triangle on its right (B), none is drawn twice, none is left out.
+#[test]
+fn snapshot_square_split_on_pixel_centres() {
+    let mut m = MockTarget::<10, 10>::new();
+    let (p0, p1, p2, p3) = ((0.5, 0.5), (8.5, 0.5), (8.5, 8.5), (0.5, 8.5));
+    fill::<1, 10, 10>(&mut m, &pts::<1>(&[p0, p2, p3]), A);
+    fill::<1, 10, 10>(&mut m, &pts::<1>(&[p0, p1, p2]), B);
+    // Centres with 0.5 <= x < 8.5 and 0.5 <= y < 8.5: columns and rows 0..8.
+    assert_eq!(m.written_count(), 64);
+    insta::assert_snapshot!("square_split_on_pixel_centres", m.to_string());
+}
+
+/// Six triangles around a vertex that sits exactly on a pixel centre (7.5, 5.5).
+#[test]
+fn snapshot_fan_around_a_pixel_centre() {
+    let mut m = MockTarget::<16, 12>::new();
+    let centre = (7.5, 5.5);
+    let rim = [
+        (13.0, 5.5),
+        (10.25, 0.5),
+        (4.75, 0.5),
+        (2.0, 5.5),
+        (4.75, 10.5),
+        (10.25, 10.5),
+    ];
+    for (k, colour) in [A, B, C, A, B, C].into_iter().enumerate() {
+        let tri = [centre, rim[k], rim[(k + 1) % 6]];
+        fill::<4, 16, 12>(&mut m, &pts::<4>(&tri), colour);
+    }
+    assert!(
+        m.written(7, 5),
+        "the shared centre pixel is owned by someone"
+    );
+    insta::assert_snapshot!("fan_around_a_pixel_centre", m.to_string());
+}
+
+/// A sliver narrower than a pixel draws only the centres it really covers, and nothing
+/// where it passes between them.
+#[test]
+fn snapshot_sliver() {
+    let mut m = MockTarget::<16, 6>::new();
+    fill::<8, 16, 6>(
+        &mut m,
+        &pts::<8>(&[(0.2, 0.3), (15.8, 4.6), (15.8, 5.2)]),
+        A,
+    );
+    insta::assert_snapshot!("sliver", m.to_string());
+}
+
+/// Rectangles with all edges on pixel centres: the top and left edges are drawn, the bottom
+/// and right ones are not, so the three tiles neither overlap nor leave gaps; plus a
+/// trapezoid with horizontal top and bottom edges.
+#[test]
+fn snapshot_horizontal_edges() {
+    let mut m = MockTarget::<16, 12>::new();
+    let rect =
+        |x0: f32, y0: f32, x1: f32, y1: f32| pts::<1>(&[(x0, y0), (x1, y0), (x1, y1), (x0, y1)]);
+    assert_eq!(
+        fill::<1, 16, 12>(&mut m, &rect(2.5, 1.5, 6.5, 4.5), A),
+        4 * 3
+    );
+    assert_eq!(
+        fill::<1, 16, 12>(&mut m, &rect(6.5, 1.5, 10.5, 4.5), B),
+        4 * 3
+    );
+    assert_eq!(
+        fill::<1, 16, 12>(&mut m, &rect(2.5, 4.5, 10.5, 6.5), C),
+        8 * 2
+    );
+    let trapezoid = pts::<1>(&[(4.0, 7.5), (10.0, 7.5), (14.0, 11.5), (1.0, 11.5)]);
+    fill::<1, 16, 12>(&mut m, &trapezoid, A);
+    insta::assert_snapshot!("horizontal_edges", m.to_string());
+}
+
+/// Non-convex and self-intersecting outlines are filled even-odd: an L shape, and a
+/// pentagram whose centre is outside.
+#[test]
+fn snapshot_non_convex() {
+    let mut m = MockTarget::<24, 12>::new();
+    let l = pts::<4>(&[
+        (1.0, 1.0),
+        (4.0, 1.0),
+        (4.0, 8.0),
+        (9.0, 8.0),
+        (9.0, 11.0),
+        (1.0, 11.0),
+    ]);
+    fill::<4, 24, 12>(&mut m, &l, A);
+    let star = pts::<4>(&[
+        (16.5, 0.5),
+        (20.3, 11.2),
+        (10.5, 4.5),
+        (22.5, 4.5),
+        (12.7, 11.2),
+    ]);
+    fill::<4, 24, 12>(&mut m, &star, B);
+    assert!(
+        !m.written(16, 6),
+        "the pentagram's centre has winding 2: outside"
+    );
+    insta::assert_snapshot!("non_convex", m.to_string());
+}
+
+// ---------------------------------------------------------------- unit tests
+
+#[test]
+fn degenerate_polygons_draw_nothing_and_do_not_panic() {
+    let mut m = MockTarget::<8, 8>::new();
+    let p = |x, y| FixedPoint::from_pixels::<4>(x, y);
+    let cases: [&[FixedPoint]; 7] = [
+        &[],
+        &[p(1, 1)],
+        &[p(1, 1), p(5, 6)],
+        &[p(1, 1), p(1, 1), p(1, 1)],
+        &[p(1, 1), p(3, 3), p(6, 6)],
+        &[p(1, 1), p(6, 1), p(3, 1)],
+        &[p(1, 1), p(6, 6), p(1, 1), p(6, 6)],
+    ];
+    for points in cases {
+        assert_eq!(fill::<4, 8, 8>(&mut m, points, A), 0, "{points:?}");
+    }
+    assert_eq!(m.spans(), 0);
+}
+
+#[test]
+fn repeated_and_collinear_points_change_nothing() {
+    let p = |x, y| FixedPoint::from_pixels::<0>(x, y);
+    let mut plain = MockTarget::<8, 8>::new();
+    assert!(fill::<0, 8, 8>(&mut plain, &[p(1, 1), p(7, 3), p(3, 7)], A) > 10);
+    // (4, 2), (5, 5) and (2, 4) lie on the three edges; (1, 1), (7, 3) are repeated.
+    let noisy = [
+        p(1, 1),
+        p(1, 1),
+        p(4, 2),
+        p(7, 3),
+        p(7, 3),
+        p(5, 5),
+        p(3, 7),
+        p(2, 4),
+        p(1, 1),
+    ];
+    let mut m = MockTarget::<8, 8>::new();
+    fill::<0, 8, 8>(&mut m, &noisy, A);
+    assert_eq!(m.to_string(), plain.to_string());
+}
+
+#[test]
+fn winding_does_not_matter() {
+    let points = pts::<8>(&[(0.7, 0.2), (7.9, 3.3), (5.1, 7.8), (1.2, 6.0)]);
+    let mut reversed = points.clone();
+    reversed.reverse();
+    let mut a = MockTarget::<8, 8>::new();
+    let mut b = MockTarget::<8, 8>::new();
+    let na = fill::<8, 8, 8>(&mut a, &points, A);
+    let nb = fill::<8, 8, 8>(&mut b, &reversed, A);
+    assert!(na > 20);
+    assert_eq!((na, a.to_string()), (nb, b.to_string()));
+}
+
+#[test]
+fn convex_polygon_gives_one_span_per_row() {
+    let mut m = MockTarget::<16, 16>::new();
+    let hexagon = pts::<8>(&[
+        (8.0, 0.3),
+        (15.0, 4.0),
+        (15.0, 12.0),
+        (8.0, 15.7),
+        (1.0, 12.0),
+        (1.0, 4.0),
+    ]);
+    fill::<8, 16, 16>(&mut m, &hexagon, A);
+    // Rows 0 and 15 pass between the pixel centres near the pointed top and bottom.
+    assert!(!m.written(7, 0) && !m.written(8, 0) && !m.written(7, 15) && !m.written(8, 15));
+    assert_eq!(m.spans(), 14);
+}
+
+#[test]
+fn outside_the_window_is_clipped() {
+    let mut m = MockTarget::<8, 6>::new();
+    let big = pts::<8>(&[(-100.0, -50.0), (300.0, -40.0), (20.0, 400.0)]);
+    assert_eq!(fill::<8, 8, 6>(&mut m, &big, A), 48);
+    let mut m = MockTarget::<8, 6>::new();
+    let beyond = pts::<8>(&[(9.0, 1.0), (20.0, 1.0), (20.0, 5.0)]);
+    assert_eq!(fill::<8, 8, 6>(&mut m, &beyond, A), 0);
+    let extreme = [
+        FixedPoint::new(i32::MIN, i32::MIN),
+        FixedPoint::new(i32::MAX, 0),
+        FixedPoint::new(0, i32::MAX),
+    ];
+    let mut m = MockTarget::<8, 6>::new();
+    assert_eq!(fill::<8, 8, 6>(&mut m, &extreme, A), 48);
+    let mut m = MockTarget::<8, 6>::new();
+    fill::<0, 8, 6>(&mut m, &extreme, A);
+}
+
+#[test]
+fn too_many_vertices_is_an_error_and_draws_nothing() {
+    let mut m = MockTarget::<8, 8>::new();
+    let ring: Vec<FixedPoint> = (0..MAX_FILL_VERTICES + 1)
+        .map(|k| {
+            let a = k as f32 / (MAX_FILL_VERTICES + 1) as f32 * core::f32::consts::TAU;
+            FixedPoint::snap::<8>(4.0 + 3.5 * libm::cosf(a), 4.0 + 3.5 * libm::sinf(a))
+        })
+        .collect();
+    assert_eq!(
+        fill_polygon::<8, _>(&ring, 8, 8, A, &mut m),
+        Err(FillError::TooManyVertices { count: 65, max: 64 })
+    );
+    assert_eq!(m.spans(), 0);
+    assert!(fill::<8, 8, 8>(&mut m, &ring[..MAX_FILL_VERTICES], A) > 30);
+}
+
+#[test]
+fn snap_rounds_and_saturates() {
+    assert_eq!(FixedPoint::snap::<8>(1.5, -0.25), FixedPoint::new(384, -64));
+    assert_eq!(FixedPoint::snap::<0>(2.5, 2.49), FixedPoint::new(3, 2));
+    assert_eq!(
+        FixedPoint::snap::<8>(f32::NAN, 1e30),
+        FixedPoint::new(0, i32::MAX)
+    );
+    assert_eq!(
+        FixedPoint::snap_f64::<4>(0.03125, -1e300),
+        FixedPoint::new(1, i32::MIN)
+    );
+    assert_eq!(
+        FixedPoint::from_pixels::<8>(3, -2),
+        FixedPoint::new(768, -512)
+    );
+}
+
+#[test]
+fn error_display() {
+    let e = FillError::TooManyVertices { count: 70, max: 64 };
+    assert_eq!(
+        e.to_string(),
+        "polygon of 70 vertices, the fill holds at most 64"
+    );
+}
+
+// ---------------------------------------------------------------- references
+
+/// Brute-force coverage of a convex polygon (any winding, non-zero area, no collinear
+/// points): exact edge functions at doubled-unit pixel centres `((2i+1)S, (2j+1)S)`, with
+/// the spec's tie rule (a centre on an edge is inside iff the edge is a left edge, or a
+/// horizontal edge with the inside below it).
+fn brute_force<const SUB: u32, const W: usize, const H: usize>(
+    poly: &[FixedPoint],
+) -> [[bool; W]; H] {
+    let s = 1i128 << SUB;
+    let n = poly.len();
+    let area2: i128 = (0..n)
+        .map(|k| {
+            let (a, b) = (poly[k], poly[(k + 1) % n]);
+            i128::from(a.x) * i128::from(b.y) - i128::from(b.x) * i128::from(a.y)
+        })
+        .sum();
+    assert_ne!(area2, 0);
+    let sign = area2.signum();
+    let mut out = [[false; W]; H];
+    for (j, row) in out.iter_mut().enumerate() {
+        for (i, cell) in row.iter_mut().enumerate() {
+            let (cx, cy) = ((2 * i as i128 + 1) * s, (2 * j as i128 + 1) * s);
+            *cell = (0..n).all(|k| {
+                let (a, b) = (poly[k], poly[(k + 1) % n]);
+                let (ax, ay) = (2 * i128::from(a.x), 2 * i128::from(a.y));
+                let (dx, dy) = (2 * i128::from(b.x) - ax, 2 * i128::from(b.y) - ay);
+                let e = sign * (dx * (cy - ay) - dy * (cx - ax));
+                // Inward normal (gradient of e): (-dy, dx) * sign.
+                let (nx, ny) = (-dy * sign, dx * sign);
+                e > 0 || (e == 0 && (nx > 0 || (nx == 0 && ny > 0)))
+            });
+        }
+    }
+    out
+}
+
+/// Strictly convex hull (Andrew's monotone chain, collinear points dropped).
+fn hull(mut p: Vec<FixedPoint>) -> Vec<FixedPoint> {
+    p.sort_by_key(|q| (q.x, q.y));
+    p.dedup();
+    if p.len() < 3 {
+        return p;
+    }
+    let cross = |o: FixedPoint, a: FixedPoint, b: FixedPoint| {
+        (i128::from(a.x) - i128::from(o.x)) * (i128::from(b.y) - i128::from(o.y))
+            - (i128::from(a.y) - i128::from(o.y)) * (i128::from(b.x) - i128::from(o.x))
+    };
+    let mut h: Vec<FixedPoint> = Vec::new();
+    for pass in 0..2 {
+        let start = h.len();
+        let iter: Vec<FixedPoint> = if pass == 0 {
+            p.clone()
+        } else {
+            p.iter().rev().copied().collect()
+        };
+        for q in iter {
+            while h.len() >= start + 2 && cross(h[h.len() - 2], h[h.len() - 1], q) <= 0 {
+                h.pop();
+            }
+            h.push(q);
+        }
+        h.pop();
+    }
+    h
+}
+
+fn check_convex<const SUB: u32>(raw: Vec<(i32, i32)>, reverse: bool) -> Result<(), TestCaseError> {
+    const W: usize = 24;
+    const H: usize = 20;
+    let mut poly = hull(
+        raw.into_iter()
+            .map(|(x, y)| FixedPoint::new(x, y))
+            .collect(),
+    );
+    if poly.len() < 3 {
+        return Ok(());
+    }
+    if reverse {
+        poly.reverse();
+    }
+    let expected = brute_force::<SUB, W, H>(&poly);
+    let mut m = MockTarget::<W, H>::new();
+    fill::<SUB, W, H>(&mut m, &poly, A);
+    for (j, row) in expected.iter().enumerate() {
+        for (i, &inside) in row.iter().enumerate() {
+            prop_assert_eq!(
+                m.written(i, j),
+                inside,
+                "pixel ({}, {}) of {:?}\n{}",
+                i,
+                j,
+                poly,
+                m
+            );
+        }
+    }
+    Ok(())
+}
+
+/// A `cols x rows` grid of jittered cells, each split into two triangles along a random
+/// diagonal, tiling the rectangle `[ox, ox + cols*cw] x [oy, oy + rows*ch]` exactly (boundary
+/// vertices only slide along the boundary, interior jitter stays below a quarter cell so no
+/// triangle flips). Every pixel whose centre is in the half-open rectangle must be drawn
+/// exactly once (the mock panics on a second write) and no other.
+#[allow(clippy::too_many_arguments)]
+fn check_grid<const SUB: u32>(
+    origin: (i32, i32),
+    cell: (i32, i32),
+    size: (usize, usize),
+    jitter: &[(i32, i32)],
+    diagonals: &[bool],
+) -> Result<(), TestCaseError> {
+    const W: usize = 48;
+    const H: usize = 48;
+    let s = 1i32 << SUB;
+    let (ox, oy) = (origin.0 * s / 16, origin.1 * s / 16);
+    let (cw, ch) = (cell.0 * s / 16, cell.1 * s / 16);
+    let (cols, rows) = size;
+    let jmax = (cw.min(ch) - 1) / 4;
+    let vertex = |c: usize, r: usize| {
+        let (jx, jy) = jitter[r * (cols + 1) + c];
+        let (jx, jy) = (
+            jx.rem_euclid(2 * jmax + 1) - jmax,
+            jy.rem_euclid(2 * jmax + 1) - jmax,
+        );
+        let inner_x = c > 0 && c < cols;
+        let inner_y = r > 0 && r < rows;
+        FixedPoint::new(
+            ox + c as i32 * cw + if inner_x { jx } else { 0 },
+            oy + r as i32 * ch + if inner_y { jy } else { 0 },
+        )
+    };
+    let mut m = MockTarget::<W, H>::new();
+    let mut total = 0;
+    for r in 0..rows {
+        for c in 0..cols {
+            let (p00, p10, p01, p11) = (
+                vertex(c, r),
+                vertex(c + 1, r),
+                vertex(c, r + 1),
+                vertex(c + 1, r + 1),
+            );
+            let tris = if diagonals[r * cols + c] {
+                [[p00, p10, p01], [p10, p11, p01]]
+            } else {
+                [[p00, p10, p11], [p00, p11, p01]]
+            };
+            for (k, t) in tris.iter().enumerate() {
+                total += fill::<SUB, W, H>(&mut m, t, if (r + c + k) % 2 == 0 { A } else { B });
+            }
+        }
+    }
+    let (x0, x1) = (2 * i64::from(ox), 2 * i64::from(ox + cols as i32 * cw));
+    let (y0, y1) = (2 * i64::from(oy), 2 * i64::from(oy + rows as i32 * ch));
+    let mut inside = 0;
+    for j in 0..H {
+        for i in 0..W {
+            let (cx, cy) = (
+                (2 * i as i64 + 1) * i64::from(s),
+                (2 * j as i64 + 1) * i64::from(s),
+            );
+            let want = x0 <= cx && cx < x1 && y0 <= cy && cy < y1;
+            inside += u64::from(want);
+            prop_assert_eq!(m.written(i, j), want, "pixel ({}, {})\n{}", i, j, m);
+        }
+    }
+    prop_assert_eq!(total, inside);
+    Ok(())
+}
+
+/// Origin, cell size, cell counts, jitter per vertex, diagonal per cell.
+type GridCase = (
+    (i32, i32),
+    (i32, i32),
+    (usize, usize),
+    Vec<(i32, i32)>,
+    Vec<bool>,
+);
+
+/// Grid parameters in sixteenths of a pixel (scaled to each SUB, so SUB = 0 gets whole
+/// pixels): origin 0..4 px, cells 4..8 px, up to 5 x 5 cells (at most 44 px, inside 48).
+fn grid_strategy() -> impl Strategy<Value = GridCase> {
+    (
+        0..64i32,
+        0..64i32,
+        64..=128i32,
+        64..=128i32,
+        1..=5usize,
+        1..=5usize,
+    )
+        .prop_flat_map(|(ox, oy, cw, ch, cols, rows)| {
+            (
+                Just((ox, oy)),
+                Just((cw, ch)),
+                Just((cols, rows)),
+                proptest::collection::vec((0..1 << 20, 0..1 << 20), (cols + 1) * (rows + 1)),
+                proptest::collection::vec(any::<bool>(), cols * rows),
+            )
+        })
+}
+
+/// Up to 10 points within a margin of two pixels around the 24 x 20 window; each coordinate
+/// is often snapped to a multiple of half a pixel so that vertices and edges land exactly on
+/// pixel centres, where the tie rule matters.
+fn points_strategy(sub: u32) -> impl Strategy<Value = Vec<(i32, i32)>> {
+    let s = 1i32 << sub;
+    let half = (s / 2).max(1);
+    let coord = move |lo: i32, hi: i32| {
+        (lo * s..=hi * s, any::<bool>())
+            .prop_map(move |(v, snap)| if snap { v.div_euclid(half) * half } else { v })
+    };
+    proptest::collection::vec((coord(-2, 26), coord(-2, 22)), 3..=10)
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 200, ..ProptestConfig::default() })]
+
+    #[test]
+    fn grid_tiles_exactly_sub0((o, c, n, j, d) in grid_strategy()) {
+        check_grid::<0>(o, c, n, &j, &d)?;
+    }
+
+    #[test]
+    fn grid_tiles_exactly_sub4((o, c, n, j, d) in grid_strategy()) {
+        check_grid::<4>(o, c, n, &j, &d)?;
+    }
+
+    #[test]
+    fn grid_tiles_exactly_sub8((o, c, n, j, d) in grid_strategy()) {
+        check_grid::<8>(o, c, n, &j, &d)?;
+    }
+
+    #[test]
+    fn convex_matches_brute_force_sub0(p in points_strategy(0), rev in any::<bool>()) {
+        check_convex::<0>(p, rev)?;
+    }
+
+    #[test]
+    fn convex_matches_brute_force_sub4(p in points_strategy(4), rev in any::<bool>()) {
+        check_convex::<4>(p, rev)?;
+    }
+
+    #[test]
+    fn convex_matches_brute_force_sub8(p in points_strategy(8), rev in any::<bool>()) {
+        check_convex::<8>(p, rev)?;
+    }
+
+    /// Any point list, anywhere in i32: no panic, no span outside the window, no pixel
+    /// drawn twice (spans of one polygon are disjoint), and the count is right.
+    #[test]
+    fn arbitrary_polygons_are_safe(
+        p in proptest::collection::vec(
+            prop_oneof![
+                (-300i32..9000, -300i32..7000),
+                (any::<i32>(), any::<i32>()),
+            ],
+            0..=MAX_FILL_VERTICES,
+        )
+    ) {
+        let poly: Vec<FixedPoint> = p.into_iter().map(|(x, y)| FixedPoint::new(x, y)).collect();
+        let mut m = MockTarget::<32, 24>::new();
+        fill::<8, 32, 24>(&mut m, &poly, A);
+        let mut m = MockTarget::<32, 24>::new();
+        fill::<0, 32, 24>(&mut m, &poly, A);
+    }
+}

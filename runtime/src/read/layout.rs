@@ -1,0 +1,105 @@
+//! The byte layout of a `.peel` file (specified in `formats/peel.md`): the constants the
+//! compiler's writer shares with this reader, and little-endian field access that never panics.
+
+/// First four bytes of every `.peel` file.
+pub const MAGIC: [u8; 4] = *b"PEEL";
+/// Bumped whenever the byte layout or the meaning of a field changes; readers refuse others.
+pub const FORMAT_VERSION: u16 = 1;
+/// "No node" in a child or parent field.
+pub const NONE: u32 = u32::MAX;
+
+/// Bits of the header's `flags`.
+pub mod header_flags {
+    /// The `ids` array holds one source triangle id per polygon.
+    pub const IDS: u16 = 1 << 0;
+    /// Every bit this version defines; a reader refuses others.
+    pub const KNOWN: u16 = IDS;
+}
+
+/// Bits of a polygon's `flags`.
+pub mod polygon_flags {
+    /// The polygon's front (counter-clockwise) side faces away from its plane's normal.
+    pub const FLIPPED: u8 = 1 << 0;
+    /// The rest of the polygon's convex set lies on the + side of its plane.
+    pub const INTERIOR_FRONT: u8 = 1 << 1;
+    /// Every bit this version defines; a reader refuses others.
+    pub const KNOWN: u8 = FLIPPED | INTERIOR_FRONT;
+}
+
+/// Values of a node's `kind`.
+pub mod node_kind {
+    /// `a` = first polygon, `b` = polygon count, `c` = child (or [`super::NONE`]).
+    pub const CONVEX: u8 = 0;
+    /// `a` = plane, `b` = child on the + side, `c` = child on the - side (or [`super::NONE`]).
+    pub const SPLIT: u8 = 1;
+}
+
+/// Bytes of the header.
+pub const HEADER_SIZE: usize = 84;
+/// Bytes of an array length (`u64`).
+pub const LENGTH_SIZE: usize = 8;
+/// Bytes of a vertex (`[f32; 3]`).
+pub const VERTEX_SIZE: usize = 12;
+/// Bytes of a plane (`[f32; 4]`).
+pub const PLANE_SIZE: usize = 16;
+/// Bytes of an index (`u32`).
+pub const INDEX_SIZE: usize = 4;
+/// Bytes of a polygon record.
+pub const POLYGON_SIZE: usize = 14;
+/// Bytes of an id (`u32`).
+pub const ID_SIZE: usize = 4;
+/// Bytes of a node record.
+pub const NODE_SIZE: usize = 17;
+
+/// Byte offsets of the header fields.
+pub(crate) mod header_offset {
+    pub const VERSION: usize = 4;
+    pub const FLAGS: usize = 6;
+    pub const VERTEX_COUNT: usize = 8;
+    pub const PLANE_COUNT: usize = 12;
+    pub const INDEX_COUNT: usize = 16;
+    pub const POLYGON_COUNT: usize = 20;
+    pub const NODE_COUNT: usize = 24;
+    pub const MAX_DEPTH: usize = 28;
+    pub const MAX_POLYGON_VERTICES: usize = 32;
+    pub const CENTRE: usize = 36;
+    pub const BOUNDS_MIN: usize = 60;
+    pub const BOUNDS_MAX: usize = 72;
+}
+
+/// `N` bytes at `offset`, or `None` past the end (or on overflow).
+fn array_at<const N: usize>(bytes: &[u8], offset: usize) -> Option<[u8; N]> {
+    bytes.get(offset..offset.checked_add(N)?)?.try_into().ok()
+}
+
+pub(crate) fn u8_at(bytes: &[u8], offset: usize) -> Option<u8> {
+    bytes.get(offset).copied()
+}
+
+pub(crate) fn u16_at(bytes: &[u8], offset: usize) -> Option<u16> {
+    array_at(bytes, offset).map(u16::from_le_bytes)
+}
+
+pub(crate) fn u32_at(bytes: &[u8], offset: usize) -> Option<u32> {
+    array_at(bytes, offset).map(u32::from_le_bytes)
+}
+
+pub(crate) fn u64_at(bytes: &[u8], offset: usize) -> Option<u64> {
+    array_at(bytes, offset).map(u64::from_le_bytes)
+}
+
+pub(crate) fn f32_at(bytes: &[u8], offset: usize) -> Option<f32> {
+    array_at(bytes, offset).map(f32::from_le_bytes)
+}
+
+pub(crate) fn f64_at(bytes: &[u8], offset: usize) -> Option<f64> {
+    array_at(bytes, offset).map(f64::from_le_bytes)
+}
+
+/// Byte offset of element `index` of an array of `size`-byte records starting at `start`.
+pub(crate) fn element(start: usize, size: usize, index: u32) -> Option<usize> {
+    usize::try_from(index)
+        .ok()?
+        .checked_mul(size)?
+        .checked_add(start)
+}

@@ -1,0 +1,318 @@
+//! [`Scene::parse`]: the layout first (so that any prefix of a valid file is `Truncated`), then
+//! every record, then the tree. Linear time, no allocation, no recursion.
+//!
+//! The tree check needs no per-node memory because every node stores its parent: each child
+//! link must be answered by the child's parent link and vice versa, parents come before their
+//! children, and a split's two children differ. Then every node but the root has exactly one
+//! parent, which precedes it, so the nodes form one tree rooted at node 0. Its depth is measured
+//! by a walk that goes down child links and back up parent links, keeping only the current
+//! node and its depth: no stack, each edge walked twice.
+
+use glam::Vec3;
+
+use super::layout::{
+    f32_at, f64_at, header_flags, header_offset as h, node_kind, polygon_flags, u16_at, u32_at,
+    u64_at, u8_at, FORMAT_VERSION, HEADER_SIZE, ID_SIZE, INDEX_SIZE, LENGTH_SIZE, MAGIC, NODE_SIZE,
+    NONE, PLANE_SIZE, POLYGON_SIZE, VERTEX_SIZE,
+};
+use super::{Header, Scene};
+use crate::error::ReadError;
+
+/// `value`, or `Truncated { offset }` when it lies past the end.
+fn need<T>(value: Option<T>, offset: usize) -> Result<T, ReadError> {
+    value.ok_or(ReadError::Truncated { offset })
+}
+
+fn bad(offset: usize) -> ReadError {
+    ReadError::BadRecord { offset }
+}
+
+pub(super) fn parse(bytes: &[u8]) -> Result<Scene<'_>, ReadError> {
+    let header = read_header(bytes)?;
+    let scene = locate_arrays(bytes, header)?;
+    check_header_values(bytes)?;
+    check_vertices(&scene)?;
+    check_planes(&scene)?;
+    check_indices(&scene)?;
+    check_polygons(&scene)?;
+    check_nodes(&scene)?;
+    check_depth(&scene)?;
+    Ok(scene)
+}
+
+/// Magic, version and flags are judged on whatever bytes there are, so that a foreign or newer
+/// file is reported as such even when it is shorter than this version's header.
+fn read_header(bytes: &[u8]) -> Result<Header, ReadError> {
+    match bytes.get(..MAGIC.len()) {
+        Some(magic) if magic != MAGIC => return Err(ReadError::BadMagic),
+        Some(_) => {}
+        None if MAGIC.starts_with(bytes) => return Err(ReadError::Truncated { offset: 0 }),
+        None => return Err(ReadError::BadMagic),
+    }
+    if let Some(version) = u16_at(bytes, h::VERSION) {
+        if version != FORMAT_VERSION {
+            return Err(ReadError::UnsupportedVersion { version });
+        }
+    }
+    if let Some(flags) = u16_at(bytes, h::FLAGS) {
+        if flags & !header_flags::KNOWN != 0 {
+            return Err(ReadError::UnknownFlags { flags });
+        }
+    }
+    if bytes.len() < HEADER_SIZE {
+        return Err(ReadError::Truncated { offset: 0 });
+    }
+    let u32_field = |offset| need(u32_at(bytes, offset), 0);
+    let f32_field = |offset| need(f32_at(bytes, offset), 0);
+    let vec3 = |offset: usize| -> Result<Vec3, ReadError> {
+        Ok(Vec3::new(
+            f32_field(offset)?,
+            f32_field(offset + 4)?,
+            f32_field(offset + 8)?,
+        ))
+    };
+    let f64_field = |offset| need(f64_at(bytes, offset), 0);
+    Ok(Header {
+        version: FORMAT_VERSION,
+        flags: need(u16_at(bytes, h::FLAGS), 0)?,
+        vertex_count: u32_field(h::VERTEX_COUNT)?,
+        plane_count: u32_field(h::PLANE_COUNT)?,
+        index_count: u32_field(h::INDEX_COUNT)?,
+        polygon_count: u32_field(h::POLYGON_COUNT)?,
+        node_count: u32_field(h::NODE_COUNT)?,
+        max_depth: u32_field(h::MAX_DEPTH)?,
+        max_polygon_vertices: u32_field(h::MAX_POLYGON_VERTICES)?,
+        centre: [
+            f64_field(h::CENTRE)?,
+            f64_field(h::CENTRE + 8)?,
+            f64_field(h::CENTRE + 16)?,
+        ],
+        bounds_min: vec3(h::BOUNDS_MIN)?,
+        bounds_max: vec3(h::BOUNDS_MAX)?,
+    })
+}
+
+/// One array: its `u64` length at `*at` must equal `count` and its records must fit.
+/// Returns the offset of its first record and moves `*at` past its end.
+fn array(bytes: &[u8], at: &mut usize, count: u32, size: usize) -> Result<usize, ReadError> {
+    let length_at = *at;
+    let length = need(u64_at(bytes, length_at), length_at)?;
+    if length != u64::from(count) {
+        return Err(ReadError::CountMismatch { offset: length_at });
+    }
+    let start = length_at + LENGTH_SIZE;
+    let end = usize::try_from(count)
+        .ok()
+        .and_then(|n| n.checked_mul(size))
+        .and_then(|n| n.checked_add(start))
+        .filter(|&end| end <= bytes.len())
+        .ok_or(ReadError::Truncated { offset: start })?;
+    *at = end;
+    Ok(start)
+}
+
+fn locate_arrays(bytes: &[u8], header: Header) -> Result<Scene<'_>, ReadError> {
+    let id_count = if header.flags & header_flags::IDS != 0 {
+        header.polygon_count
+    } else {
+        0
+    };
+    let mut at = HEADER_SIZE;
+    let scene = Scene {
+        bytes,
+        header,
+        vertices: array(bytes, &mut at, header.vertex_count, VERTEX_SIZE)?,
+        planes: array(bytes, &mut at, header.plane_count, PLANE_SIZE)?,
+        indices: array(bytes, &mut at, header.index_count, INDEX_SIZE)?,
+        polygons: array(bytes, &mut at, header.polygon_count, POLYGON_SIZE)?,
+        ids: array(bytes, &mut at, id_count, ID_SIZE)?,
+        nodes: array(bytes, &mut at, header.node_count, NODE_SIZE)?,
+    };
+    if at != bytes.len() {
+        return Err(ReadError::TrailingBytes { offset: at });
+    }
+    Ok(scene)
+}
+
+/// Finite centre, finite bounds with `min <= max`.
+fn check_header_values(bytes: &[u8]) -> Result<(), ReadError> {
+    for k in 0..3 {
+        let at = h::CENTRE + 8 * k;
+        if !f64_at(bytes, at).is_some_and(f64::is_finite) {
+            return Err(bad(at));
+        }
+        let (min_at, max_at) = (h::BOUNDS_MIN + 4 * k, h::BOUNDS_MAX + 4 * k);
+        let min = f32_at(bytes, min_at)
+            .filter(|v| v.is_finite())
+            .ok_or(bad(min_at))?;
+        let max = f32_at(bytes, max_at)
+            .filter(|v| v.is_finite())
+            .ok_or(bad(max_at))?;
+        if min > max {
+            return Err(bad(max_at));
+        }
+    }
+    Ok(())
+}
+
+/// Record offsets `start, start + size, ...` of an array of `count` records.
+fn records(start: usize, size: usize, count: u32) -> impl Iterator<Item = (u32, usize)> {
+    (0..count).scan(start, move |at, i| {
+        let here = *at;
+        *at += size;
+        Some((i, here))
+    })
+}
+
+/// Every vertex finite and inside the header's bounds.
+fn check_vertices(scene: &Scene<'_>) -> Result<(), ReadError> {
+    let (min, max) = (scene.header.bounds_min, scene.header.bounds_max);
+    for (_, at) in records(scene.vertices, VERTEX_SIZE, scene.header.vertex_count) {
+        for k in 0..3 {
+            let inside = f32_at(scene.bytes, at + 4 * k)
+                .is_some_and(|v| v.is_finite() && min[k] <= v && v <= max[k]);
+            if !inside {
+                return Err(bad(at));
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Every plane coefficient finite.
+fn check_planes(scene: &Scene<'_>) -> Result<(), ReadError> {
+    for (_, at) in records(scene.planes, PLANE_SIZE, scene.header.plane_count) {
+        if !(0..4).all(|k| f32_at(scene.bytes, at + 4 * k).is_some_and(f32::is_finite)) {
+            return Err(bad(at));
+        }
+    }
+    Ok(())
+}
+
+/// Every index names a vertex.
+fn check_indices(scene: &Scene<'_>) -> Result<(), ReadError> {
+    for (_, at) in records(scene.indices, INDEX_SIZE, scene.header.index_count) {
+        let vertex = u32_at(scene.bytes, at).unwrap_or(u32::MAX);
+        if vertex >= scene.header.vertex_count {
+            return Err(bad(at));
+        }
+    }
+    Ok(())
+}
+
+/// Every polygon: a known plane, known flags, `3 <= vertex_count <= max_polygon_vertices`, and
+/// its vertex list right after the previous polygon's, the last one ending the index array.
+fn check_polygons(scene: &Scene<'_>) -> Result<(), ReadError> {
+    let header = &scene.header;
+    let mut next_index: u64 = 0;
+    for (_, at) in records(scene.polygons, POLYGON_SIZE, header.polygon_count) {
+        let b = scene.bytes;
+        let plane = need(u32_at(b, at), at)?;
+        let first_index = need(u32_at(b, at + 4), at)?;
+        let vertex_count = need(u16_at(b, at + 8), at)?;
+        let flags = need(u8_at(b, at + 10), at)?;
+        let ok = plane < header.plane_count
+            && flags & !polygon_flags::KNOWN == 0
+            && vertex_count >= 3
+            && u32::from(vertex_count) <= header.max_polygon_vertices
+            && u64::from(first_index) == next_index;
+        if !ok {
+            return Err(bad(at));
+        }
+        next_index += u64::from(vertex_count);
+    }
+    if next_index != u64::from(header.index_count) {
+        // Some indices belong to no polygon, or the last polygon runs past the array.
+        return Err(bad(scene.indices - LENGTH_SIZE));
+    }
+    Ok(())
+}
+
+/// Every node: a known kind, fields in range, convex sets owning the polygons in node order
+/// (each polygon exactly once), and child and parent links that answer each other.
+fn check_nodes(scene: &Scene<'_>) -> Result<(), ReadError> {
+    let header = &scene.header;
+    let n = header.node_count;
+    let mut next_polygon: u64 = 0;
+    for (i, at) in records(scene.nodes, NODE_SIZE, n) {
+        let raw = need(scene.raw_node(i), at)?;
+        match raw.kind {
+            node_kind::CONVEX => {
+                if raw.b == 0 || u64::from(raw.a) != next_polygon {
+                    return Err(bad(at));
+                }
+                next_polygon += u64::from(raw.b);
+            }
+            node_kind::SPLIT if raw.a < header.plane_count => {}
+            _ => return Err(bad(at)),
+        }
+        let [first, second] = raw.children();
+        if first.is_some() && first == second {
+            return Err(bad(at));
+        }
+        for child in [first, second].into_iter().flatten() {
+            let answered =
+                child > i && child < n && scene.raw_node(child).is_some_and(|c| c.parent == i);
+            if !answered {
+                return Err(bad(at));
+            }
+        }
+        let parent_ok = if i == 0 {
+            raw.parent == NONE
+        } else {
+            raw.parent < i
+                && scene
+                    .raw_node(raw.parent)
+                    .is_some_and(|p| p.children().contains(&Some(i)))
+        };
+        if !parent_ok {
+            return Err(bad(at));
+        }
+    }
+    if next_polygon != u64::from(header.polygon_count) {
+        // Some polygons belong to no convex node, or the last set runs past the array.
+        return Err(bad(scene.polygons - LENGTH_SIZE));
+    }
+    Ok(())
+}
+
+/// The longest root-to-leaf path has at most `max_depth` nodes. Relies on [`check_nodes`]:
+/// the links form one tree, so the walk ends after `2 * node_count` steps.
+fn check_depth(scene: &Scene<'_>) -> Result<(), ReadError> {
+    let max_depth = scene.header.max_depth;
+    let too_deep = ReadError::TooDeep { max_depth };
+    if scene.header.node_count == 0 {
+        return Ok(());
+    }
+    let node = |i: u32| scene.raw_node(i).ok_or(bad(scene.nodes));
+    let (mut current, mut depth) = (0u32, 1u32);
+    if depth > max_depth {
+        return Err(too_deep);
+    }
+    'walk: loop {
+        let [first, second] = node(current)?.children();
+        if let Some(child) = first.or(second) {
+            current = child;
+            depth += 1;
+            if depth > max_depth {
+                return Err(too_deep);
+            }
+            continue;
+        }
+        // A leaf: climb until an ancestor has a second child not yet visited.
+        loop {
+            let Some(parent) = super::link(node(current)?.parent) else {
+                break 'walk;
+            };
+            if let [Some(first), Some(second)] = node(parent)?.children() {
+                if first == current {
+                    current = second;
+                    continue 'walk;
+                }
+            }
+            current = parent;
+            depth -= 1;
+        }
+    }
+    Ok(())
+}

@@ -1,0 +1,173 @@
+//! Adapter from [`SpanSink`] to an `embedded_graphics_core` [`DrawTarget`] (feature
+//! `embedded-graphics`). Each span is one `fill_solid` call, which display drivers turn into a
+//! single window-and-burst transfer, instead of one call per pixel.
+
+use embedded_graphics_core::draw_target::DrawTarget;
+use embedded_graphics_core::geometry::{Point, Size};
+use embedded_graphics_core::pixelcolor::Rgb888;
+use embedded_graphics_core::primitives::Rectangle;
+
+use super::{Colour, SpanSink};
+
+/// Forwards spans to a [`DrawTarget`] whose colour converts from `Rgb888` (all of
+/// embedded-graphics' RGB and grey types do). `SpanSink::span` cannot fail, so the first draw
+/// error is kept, later spans are skipped, and [`Self::finish`] reports it.
+#[derive(Debug)]
+pub struct DrawTargetSink<'a, D: DrawTarget> {
+    target: &'a mut D,
+    error: Option<D::Error>,
+    /// The last colour converted, to convert once per polygon rather than once per span.
+    last: Option<(Colour, D::Color)>,
+}
+
+impl<'a, D> DrawTargetSink<'a, D>
+where
+    D: DrawTarget,
+    D::Color: From<Rgb888>,
+{
+    /// A sink drawing into `target`.
+    pub fn new(target: &'a mut D) -> Self {
+        DrawTargetSink {
+            target,
+            error: None,
+            last: None,
+        }
+    }
+
+    /// The first error the target returned, if any.
+    ///
+    /// # Errors
+    /// That error; the spans after it were not drawn.
+    pub fn finish(self) -> Result<(), D::Error> {
+        match self.error {
+            Some(e) => Err(e),
+            None => Ok(()),
+        }
+    }
+}
+
+impl<D> SpanSink for DrawTargetSink<'_, D>
+where
+    D: DrawTarget,
+    D::Color: From<Rgb888>,
+{
+    fn span(&mut self, y: u32, x_start: u32, x_end: u32, colour: Colour) {
+        if self.error.is_some() || x_start >= x_end {
+            return;
+        }
+        let (Ok(x), Ok(y)) = (i32::try_from(x_start), i32::try_from(y)) else {
+            return;
+        };
+        let c = match self.last {
+            Some((k, c)) if k == colour => c,
+            _ => {
+                let c = D::Color::from(Rgb888::new(colour.r, colour.g, colour.b));
+                self.last = Some((colour, c));
+                c
+            }
+        };
+        let area = Rectangle::new(Point::new(x, y), Size::new(x_end - x_start, 1));
+        if let Err(e) = self.target.fill_solid(&area, c) {
+            self.error = Some(e);
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::fill::{fill_polygon, FixedPoint};
+    use embedded_graphics_core::geometry::{Dimensions, OriginDimensions};
+    use embedded_graphics_core::pixelcolor::{Gray8, PixelColor, Rgb565};
+    use embedded_graphics_core::Pixel;
+
+    /// Counts calls; keeps what was filled in a small grid.
+    struct Counting<C> {
+        fills: usize,
+        pixel_calls: usize,
+        grid: [[Option<C>; 8]; 8],
+        fail_after: usize,
+    }
+
+    impl<C: PixelColor> OriginDimensions for Counting<C> {
+        fn size(&self) -> Size {
+            Size::new(8, 8)
+        }
+    }
+
+    impl<C: PixelColor> DrawTarget for Counting<C> {
+        type Color = C;
+        type Error = u8;
+
+        fn draw_iter<I: IntoIterator<Item = Pixel<C>>>(&mut self, pixels: I) -> Result<(), u8> {
+            self.pixel_calls += pixels.into_iter().count();
+            Ok(())
+        }
+
+        fn fill_solid(&mut self, area: &Rectangle, color: C) -> Result<(), u8> {
+            if self.fills == self.fail_after {
+                return Err(7);
+            }
+            self.fills += 1;
+            assert_eq!(area.size.height, 1);
+            let area = area.intersection(&self.bounding_box());
+            let (x0, y) = (area.top_left.x as usize, area.top_left.y as usize);
+            for cell in &mut self.grid[y][x0..x0 + area.size.width as usize] {
+                assert!(cell.is_none());
+                *cell = Some(color);
+            }
+            Ok(())
+        }
+    }
+
+    fn counting<C: PixelColor>(fail_after: usize) -> Counting<C> {
+        Counting {
+            fills: 0,
+            pixel_calls: 0,
+            grid: [[None; 8]; 8],
+            fail_after,
+        }
+    }
+
+    #[test]
+    fn one_fill_solid_per_span() {
+        let mut t = counting::<Rgb565>(usize::MAX);
+        let mut sink = DrawTargetSink::new(&mut t);
+        // Square (1,1)-(6,5) at SUB = 0: 4 rows of 5 pixels.
+        let square = [(1, 1), (6, 1), (6, 5), (1, 5)].map(|(x, y)| FixedPoint::new(x, y));
+        let n = fill_polygon::<0, _>(&square, 8, 8, Colour::new(255, 0, 0), &mut sink).unwrap();
+        assert_eq!(sink.finish(), Ok(()));
+        assert_eq!((n, t.fills, t.pixel_calls), (20, 4, 0));
+        assert_eq!(t.grid[1][1], Some(Rgb565::new(31, 0, 0)));
+        assert_eq!(t.grid[4][5], Some(Rgb565::new(31, 0, 0)));
+        assert_eq!(t.grid[5][5], None);
+        assert_eq!(t.grid[1][6], None);
+    }
+
+    #[test]
+    fn colours_match_the_framebuffer_encodings() {
+        let mut t = counting::<Gray8>(usize::MAX);
+        let c = Colour::new(10, 200, 30);
+        let mut sink = DrawTargetSink::new(&mut t);
+        sink.span(0, 0, 1, c);
+        sink.finish().unwrap();
+        assert_eq!(t.grid[0][0], Some(Gray8::new(c.luma())));
+        for v in 0..=255u8 {
+            let c = Colour::new(v, v.wrapping_mul(7), 255 - v);
+            let eg = Rgb565::from(Rgb888::new(c.r, c.g, c.b));
+            let raw = embedded_graphics_core::pixelcolor::IntoStorage::into_storage(eg);
+            assert_eq!(raw, c.to_rgb565(), "{c:?}");
+        }
+    }
+
+    #[test]
+    fn first_error_is_kept_and_stops_drawing() {
+        let mut t = counting::<Rgb565>(1);
+        let mut sink = DrawTargetSink::new(&mut t);
+        sink.span(0, 0, 2, Colour::default());
+        sink.span(1, 0, 2, Colour::default());
+        sink.span(2, 0, 2, Colour::default());
+        assert_eq!(sink.finish(), Err(7));
+        assert_eq!(t.fills, 1);
+    }
+}

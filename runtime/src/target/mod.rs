@@ -1,0 +1,102 @@
+//! Target: where spans land. CONTRACT: the [`SpanSink`] trait and [`Colour`] are shared by
+//! `fill` (producer) and the framebuffers (consumers); the fill helper owns this module.
+//!
+//! [`Framebuffer`] writes into a caller's slice in one of three pixel formats ([`Gray8`],
+//! [`Rgb565`], [`Xrgb8888`]); with the `embedded-graphics` feature, [`DrawTargetSink`] forwards
+//! spans to any `embedded_graphics_core` draw target; [`testing::MockTarget`] checks and prints
+//! what a fill drew.
+
+mod framebuffer;
+pub mod testing;
+
+#[cfg(feature = "embedded-graphics")]
+mod embedded;
+
+#[cfg(feature = "embedded-graphics")]
+pub use embedded::DrawTargetSink;
+pub use framebuffer::{
+    Framebuffer, Gray8, Gray8Framebuffer, PixelFormat, Rgb565, Rgb565Framebuffer, TargetError,
+    Xrgb8888, Xrgb8888Framebuffer,
+};
+
+/// An RGB888 colour. Id images use it too: `id + 1` as 24 bits, red the high byte.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+pub struct Colour {
+    /// Red.
+    pub r: u8,
+    /// Green.
+    pub g: u8,
+    /// Blue.
+    pub b: u8,
+}
+
+impl Colour {
+    /// A colour from its three channels.
+    pub const fn new(r: u8, g: u8, b: u8) -> Self {
+        Colour { r, g, b }
+    }
+
+    /// A grey level (seed 001's 256 levels), as a colour.
+    pub const fn grey(level: u8) -> Self {
+        Colour::new(level, level, level)
+    }
+
+    /// Luma, ITU-R BT.601 in 8-bit fixed point (`(77 R + 150 G + 29 B + 128) / 256`), the same
+    /// formula as embedded-graphics' RGB to grey conversion, so both paths agree.
+    pub const fn luma(self) -> u8 {
+        ((self.r as u32 * 77 + self.g as u32 * 150 + self.b as u32 * 29 + 128) >> 8) as u8
+    }
+
+    /// RGB565 (red in the high bits), each channel rounded to nearest like embedded-graphics.
+    pub const fn to_rgb565(self) -> u16 {
+        let r = (self.r as u32 * 31 + 127) / 255;
+        let g = (self.g as u32 * 63 + 127) / 255;
+        let b = (self.b as u32 * 31 + 127) / 255;
+        ((r << 11) | (g << 5) | b) as u16
+    }
+
+    /// `0x00RRGGBB`.
+    pub const fn to_xrgb8888(self) -> u32 {
+        ((self.r as u32) << 16) | ((self.g as u32) << 8) | self.b as u32
+    }
+}
+
+/// Receives horizontal runs of pixels: row `y`, columns `x_start .. x_end` (exclusive end,
+/// `x_start < x_end <= width`, `y < height`).
+pub trait SpanSink {
+    /// Paint one span.
+    fn span(&mut self, y: u32, x_start: u32, x_end: u32, colour: Colour);
+}
+
+impl<S: SpanSink + ?Sized> SpanSink for &mut S {
+    #[inline]
+    fn span(&mut self, y: u32, x_start: u32, x_end: u32, colour: Colour) {
+        (**self).span(y, x_start, x_end, colour);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn encodings() {
+        let white = Colour::new(255, 255, 255);
+        let black = Colour::default();
+        assert_eq!((white.luma(), black.luma()), (255, 0));
+        assert_eq!(Colour::grey(100).luma(), 100);
+        // Green weighs most, blue least.
+        assert_eq!(Colour::new(255, 0, 0).luma(), 77);
+        assert_eq!(Colour::new(0, 255, 0).luma(), 149);
+        assert_eq!(Colour::new(0, 0, 255).luma(), 29);
+        assert_eq!(white.to_rgb565(), 0xffff);
+        assert_eq!(black.to_rgb565(), 0);
+        assert_eq!(Colour::new(255, 0, 0).to_rgb565(), 0xf800);
+        assert_eq!(Colour::new(0, 255, 0).to_rgb565(), 0x07e0);
+        assert_eq!(Colour::new(0, 0, 255).to_rgb565(), 0x001f);
+        // Rounded, not truncated: 4/255*31 = 0.49 -> 0, 5/255*31 = 0.61 -> 1.
+        assert_eq!(Colour::new(0, 0, 4).to_rgb565(), 0);
+        assert_eq!(Colour::new(0, 0, 5).to_rgb565(), 1);
+        assert_eq!(Colour::new(0x12, 0x34, 0x56).to_xrgb8888(), 0x0012_3456);
+    }
+}
