@@ -9,16 +9,15 @@ use crate::shade::Shading;
 /// Compiles an OBJ (and its MTL) into `OUT_DIR` from a `build.rs`, and tells cargo to rerun
 /// the build script when any of the files read changes.
 ///
+/// In `build.rs`:
+///
 /// ```no_run
-/// // build.rs
-/// fn main() {
-///     let peel = peel_compiler::Builder::new("assets/scene.obj")
-///         .compile()
-///         .expect("compile assets/scene.obj");
-///     // peel == $OUT_DIR/scene.peel; embed it with
-///     // include_bytes!(concat!(env!("OUT_DIR"), "/scene.peel"))
-///     let _ = peel;
-/// }
+/// let peel = peel_compiler::Builder::new("assets/scene.obj")
+///     .compile()
+///     .expect("compile assets/scene.obj");
+/// // peel == $OUT_DIR/scene.peel; the firmware embeds it with
+/// // include_bytes!(concat!(env!("OUT_DIR"), "/scene.peel"))
+/// assert!(peel.ends_with("scene.peel"));
 /// ```
 #[derive(Debug, Clone)]
 pub struct Builder {
@@ -78,17 +77,23 @@ impl Builder {
     /// Compile, write atomically, print `cargo:rerun-if-changed` for every file read, and
     /// return the path of the `.peel` file.
     pub fn compile(&self) -> Result<PathBuf, CompileError> {
-        let out_dir = match &self.out_dir {
-            Some(d) => d.clone(),
-            None => PathBuf::from(std::env::var_os("OUT_DIR").ok_or_else(|| {
-                CompileError::Write {
-                    path: PathBuf::from("$OUT_DIR"),
-                    source: std::io::Error::other("OUT_DIR is not set (not in a build script?)"),
-                }
-            })?),
-        };
+        let out_dir =
+            match &self.out_dir {
+                Some(d) => d.clone(),
+                None => PathBuf::from(std::env::var_os("OUT_DIR").ok_or_else(|| {
+                    CompileError::Write {
+                        path: PathBuf::from("$OUT_DIR"),
+                        source: std::io::Error::other(
+                            "OUT_DIR is not set (not in a build script?)",
+                        ),
+                    }
+                })?),
+            };
         let name = self.out_name.clone().unwrap_or_else(|| {
-            let stem = self.obj.file_stem().map(|s| s.to_string_lossy().into_owned());
+            let stem = self
+                .obj
+                .file_stem()
+                .map(|s| s.to_string_lossy().into_owned());
             format!("{}.peel", stem.unwrap_or_else(|| "scene".into()))
         });
         // Rerun on the OBJ even if loading fails, so fixing it triggers a rebuild.

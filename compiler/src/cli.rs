@@ -16,7 +16,9 @@ pub fn parse_dvec3(s: &str) -> Result<DVec3, String> {
     }
     let mut v = [0.0f64; 3];
     for (slot, p) in v.iter_mut().zip(&parts) {
-        let x: f64 = p.parse().map_err(|_| format!("'{p}' is not a number (in '{s}')"))?;
+        let x: f64 = p
+            .parse()
+            .map_err(|_| format!("'{p}' is not a number (in '{s}')"))?;
         if !x.is_finite() {
             return Err(format!("'{p}' is not finite (in '{s}')"));
         }
@@ -27,11 +29,21 @@ pub fn parse_dvec3(s: &str) -> Result<DVec3, String> {
 
 /// Parse `WxH`.
 pub fn parse_size(s: &str) -> Result<(u32, u32), String> {
-    let (w, h) = s.split_once(['x', 'X']).ok_or_else(|| format!("expected WxH, got '{s}'"))?;
-    let w: u32 = w.trim().parse().map_err(|_| format!("bad width in '{s}'"))?;
-    let h: u32 = h.trim().parse().map_err(|_| format!("bad height in '{s}'"))?;
+    let (w, h) = s
+        .split_once(['x', 'X'])
+        .ok_or_else(|| format!("expected WxH, got '{s}'"))?;
+    let w: u32 = w
+        .trim()
+        .parse()
+        .map_err(|_| format!("bad width in '{s}'"))?;
+    let h: u32 = h
+        .trim()
+        .parse()
+        .map_err(|_| format!("bad height in '{s}'"))?;
     if w == 0 || h == 0 || w > 16384 || h > 16384 {
-        return Err(format!("image size '{s}' must be between 1x1 and 16384x16384"));
+        return Err(format!(
+            "image size '{s}' must be between 1x1 and 16384x16384"
+        ));
     }
     Ok((w, h))
 }
@@ -44,7 +56,9 @@ pub fn parse_rgb(s: &str) -> Result<[u8; 3], String> {
         return Err(format!("expected r,g,b, got '{s}'"));
     }
     for (slot, p) in c.iter_mut().zip(&parts) {
-        *slot = p.parse().map_err(|_| format!("'{p}' is not a channel value 0..=255 (in '{s}')"))?;
+        *slot = p
+            .parse()
+            .map_err(|_| format!("'{p}' is not a channel value 0..=255 (in '{s}')"))?;
     }
     Ok(c)
 }
@@ -90,11 +104,15 @@ fn read(path: &Path) -> Result<Vec<u8>, String> {
 /// `peel inspect`.
 pub fn inspect(path: &Path, json: bool) -> Result<(), String> {
     let bytes = read(path)?;
-    let info = peel_compiler::dump::inspect(&bytes).map_err(|e| format!("{}: invalid .peel file: {e}", path.display()))?;
+    let info = peel_compiler::dump::inspect(&bytes)
+        .map_err(|e| format!("{}: invalid .peel file: {e}", path.display()))?;
     if json {
-        println!("{}", serde_json::to_string_pretty(&info).map_err(|e| e.to_string())?);
+        println!(
+            "{}",
+            serde_json::to_string_pretty(&info).map_err(|e| e.to_string())?
+        );
     } else {
-        let v = serde_json::to_value(&info).map_err(|e| e.to_string())?;
+        let v = serde_json::to_value(info).map_err(|e| e.to_string())?;
         if let Some(map) = v.as_object() {
             for (k, v) in map {
                 println!("{k}: {v}");
@@ -107,7 +125,8 @@ pub fn inspect(path: &Path, json: bool) -> Result<(), String> {
 /// `peel dump`.
 pub fn dump(path: &Path) -> Result<(), String> {
     let bytes = read(path)?;
-    let yaml = peel_compiler::dump::dump_yaml(&bytes).map_err(|e| format!("{}: invalid .peel file: {e}", path.display()))?;
+    let yaml = peel_compiler::dump::dump_yaml(&bytes)
+        .map_err(|e| format!("{}: invalid .peel file: {e}", path.display()))?;
     print!("{yaml}");
     Ok(())
 }

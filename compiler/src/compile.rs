@@ -47,7 +47,9 @@ pub fn compile_mesh(
         .iter()
         .map(|p| {
             let kd = mesh.triangles[p.source as usize].colour;
-            options.shading.shade(kd, tree.planes[p.plane as usize].normal)
+            options
+                .shading
+                .shade(kd, tree.planes[p.plane as usize].normal)
         })
         .collect();
     let bytes = crate::write::encode(&tree, &colours, options.ids)?;

@@ -98,7 +98,13 @@ pub fn dump_yaml(bytes: &[u8]) -> Result<String, ReadError> {
     let scene = Scene::parse(bytes)?;
     let h = scene.header();
     let mut out = String::new();
-    let ids = flag_names(&[(h.flags & header_flags::IDS != 0, "ids")]);
+    let ids = flag_names(&[
+        (h.flags & header_flags::IDS != 0, "ids"),
+        (h.flags & header_flags::INDEX16 != 0, "index16"),
+        (h.flags & header_flags::PALETTE != 0, "palette"),
+        (h.flags & header_flags::PALETTE16 != 0, "palette16"),
+        (h.flags & header_flags::BOUNDS != 0, "bounds"),
+    ]);
     // Writing into a String cannot fail.
     let _ = writeln!(
         out,
@@ -181,6 +187,7 @@ fn write_polygon(out: &mut String, scene: &Scene<'_>, p: u32, indent: usize) {
             polygon.flags & polygon_flags::INTERIOR_FRONT != 0,
             "interior_front",
         ),
+        (polygon.flags & polygon_flags::ONE_SIDED != 0, "one_sided"),
     ]);
     let c = polygon.colour;
     let _ = writeln!(out, "{:indent$}- index: {p}", "");

@@ -18,6 +18,7 @@ pub mod peel;
 pub mod planes;
 pub mod quantise;
 pub mod raster;
+pub mod scenes;
 pub mod shade;
 pub mod split;
 pub mod tree;

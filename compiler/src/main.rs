@@ -15,7 +15,11 @@ use peel_compiler::tree::BuildOptions;
 mod cli;
 
 #[derive(Parser)]
-#[command(name = "peel", version, about = "Exact display-tree compiler and renderer for triangle meshes")]
+#[command(
+    name = "peel",
+    version,
+    about = "Exact display-tree compiler and renderer for triangle meshes"
+)]
 struct Cli {
     #[command(subcommand)]
     command: Command,
@@ -104,9 +108,19 @@ fn compile(args: &CompileArgs) -> Result<(), String> {
             max_polygon_vertices: args.max_polygon_vertices,
         },
         ids: args.ids,
-        shading: if args.flat { Shading::Flat } else { Shading::Lambert(args.light.unwrap_or(DEFAULT_LIGHT)) },
+        shading: if args.flat {
+            Shading::Flat
+        } else {
+            Shading::Lambert(args.light.unwrap_or(DEFAULT_LIGHT))
+        },
     };
-    compile_to(&args.scene, &args.output, &options, args.stats_json.as_deref()).map(|_| ())
+    compile_to(
+        &args.scene,
+        &args.output,
+        &options,
+        args.stats_json.as_deref(),
+    )
+    .map(|_| ())
 }
 
 /// Compile `scene` into `output` with a progress bar on a terminal, print the summary, and
@@ -118,10 +132,17 @@ pub(crate) fn compile_to(
     stats_json: Option<&Path>,
 ) -> Result<Vec<u8>, String> {
     let bar = ProgressBar::new_spinner();
-    bar.set_style(ProgressStyle::with_template("{spinner} {msg} [{elapsed}]").map_err(|e| e.to_string())?);
+    bar.set_style(
+        ProgressStyle::with_template("{spinner} {msg} [{elapsed}]").map_err(|e| e.to_string())?,
+    );
     bar.set_message(format!("compiling {}", scene.display()));
     bar.enable_steady_tick(Duration::from_millis(120));
-    let progress = |placed: u64| bar.set_message(format!("compiling {}: {placed} polygons placed", scene.display()));
+    let progress = |placed: u64| {
+        bar.set_message(format!(
+            "compiling {}: {placed} polygons placed",
+            scene.display()
+        ))
+    };
     let compiled = compile_obj(scene, options, &progress);
     bar.finish_and_clear();
     let compiled = compiled.map_err(|e| e.to_string())?;

@@ -5,8 +5,8 @@ use glam::DVec3;
 use peel_runtime::camera::{Camera, Pose};
 use peel_runtime::read::Scene;
 use peel_runtime::render::{render, FrameStats, Paint, Workspace};
-use peel_runtime::target::{Framebuffer, Xrgb8888};
 use peel_runtime::target::Colour;
+use peel_runtime::target::{Framebuffer, Xrgb8888};
 
 /// Traversal stack entries of the host workspace (trees deeper than this are refused).
 pub const HOST_STACK: usize = 1 << 14;
@@ -48,16 +48,25 @@ pub struct Frame {
 impl Frame {
     /// The frame as RGB bytes.
     pub fn to_rgb(&self) -> Vec<u8> {
-        self.pixels.iter().flat_map(|p| [(p >> 16) as u8, (p >> 8) as u8, *p as u8]).collect()
+        self.pixels
+            .iter()
+            .flat_map(|p| [(p >> 16) as u8, (p >> 8) as u8, *p as u8])
+            .collect()
     }
 }
 
 /// The runtime camera for `view` over `scene` (resolving the default near distance).
 pub fn camera(scene: &Scene<'_>, view: &View) -> Result<Camera, String> {
     let h = scene.header();
-    let near = view.near.unwrap_or_else(|| Camera::default_near(h.bounds_min, h.bounds_max));
+    let near = view
+        .near
+        .unwrap_or_else(|| Camera::default_near(h.bounds_min, h.bounds_max));
     Camera::look_at(
-        Pose { eye: view.eye, target: view.target, up: view.up },
+        Pose {
+            eye: view.eye,
+            target: view.target,
+            up: view.up,
+        },
         view.fov_y_deg,
         view.width,
         view.height,
@@ -67,17 +76,33 @@ pub fn camera(scene: &Scene<'_>, view: &View) -> Result<Camera, String> {
 }
 
 /// Render `bytes` seen from `view`: colours, or the id image (`id + 1`, background 0).
-pub fn render_bytes(bytes: &[u8], view: &View, ids: bool, background: [u8; 3]) -> Result<Frame, String> {
+pub fn render_bytes(
+    bytes: &[u8],
+    view: &View,
+    ids: bool,
+    background: [u8; 3],
+) -> Result<Frame, String> {
     let scene = Scene::parse(bytes).map_err(|e| format!("invalid .peel file: {e}"))?;
     let camera = camera(&scene, view)?;
     let mut pixels = vec![0u32; view.width as usize * view.height as usize];
-    let mut fb = Framebuffer::<Xrgb8888>::new(&mut pixels, view.width, view.height).map_err(|e| e.to_string())?;
-    let bg = if ids { Colour::new(0, 0, 0) } else { Colour::new(background[0], background[1], background[2]) };
+    let mut fb = Framebuffer::<Xrgb8888>::new(&mut pixels, view.width, view.height)
+        .map_err(|e| e.to_string())?;
+    let bg = if ids {
+        Colour::new(0, 0, 0)
+    } else {
+        Colour::new(background[0], background[1], background[2])
+    };
     fb.clear(bg);
     let mut workspace: Box<Workspace<HOST_STACK, HOST_VERTS>> = Box::default();
     let paint = if ids { Paint::Ids } else { Paint::Colours };
-    let stats = render(&scene, &camera, &mut workspace, paint, &mut fb).map_err(|e| e.to_string())?;
-    Ok(Frame { width: view.width, height: view.height, pixels, stats })
+    let stats =
+        render(&scene, &camera, &mut workspace, paint, &mut fb).map_err(|e| e.to_string())?;
+    Ok(Frame {
+        width: view.width,
+        height: view.height,
+        pixels,
+        stats,
+    })
 }
 
 /// Encode a frame as PNG bytes.
@@ -85,7 +110,12 @@ pub fn png(frame: &Frame) -> Result<Vec<u8>, String> {
     use image::ImageEncoder;
     let mut out = Vec::new();
     image::codecs::png::PngEncoder::new(&mut out)
-        .write_image(&frame.to_rgb(), frame.width, frame.height, image::ExtendedColorType::Rgb8)
+        .write_image(
+            &frame.to_rgb(),
+            frame.width,
+            frame.height,
+            image::ExtendedColorType::Rgb8,
+        )
         .map_err(|e| e.to_string())?;
     Ok(out)
 }

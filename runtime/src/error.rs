@@ -22,6 +22,11 @@ pub enum ReadError {
         /// The flags in the file.
         flags: u16,
     },
+    /// Header flags that contradict each other (a `u16` palette index without a palette).
+    InconsistentFlags {
+        /// The flags in the file.
+        flags: u16,
+    },
     /// An array length disagrees with the header count.
     CountMismatch {
         /// Byte offset of the array length.
@@ -53,7 +58,12 @@ impl fmt::Display for ReadError {
             ReadError::UnsupportedVersion { version } => {
                 write!(f, "unsupported format version {version} (byte 4)")
             }
-            ReadError::UnknownFlags { flags } => write!(f, "unknown header flags {flags:#06x} (byte 6)"),
+            ReadError::UnknownFlags { flags } => {
+                write!(f, "unknown header flags {flags:#06x} (byte 6)")
+            }
+            ReadError::InconsistentFlags { flags } => {
+                write!(f, "inconsistent header flags {flags:#06x} (byte 6)")
+            }
             ReadError::CountMismatch { offset } => {
                 write!(f, "array length at byte {offset} disagrees with the header")
             }
@@ -61,7 +71,9 @@ impl fmt::Display for ReadError {
             ReadError::TooDeep { max_depth } => {
                 write!(f, "tree deeper than the header's max_depth {max_depth}")
             }
-            ReadError::TrailingBytes { offset } => write!(f, "unexpected bytes after the end, at byte {offset}"),
+            ReadError::TrailingBytes { offset } => {
+                write!(f, "unexpected bytes after the end, at byte {offset}")
+            }
         }
     }
 }
@@ -101,6 +113,9 @@ pub enum RenderError {
     /// The tree visits more nodes than it has (a cycle): only a tree that did not come
     /// from a validated file can do that.
     MalformedTree,
+    /// The span memory does not match the frame: fewer row counters than rows, or a width
+    /// beyond `u16`.
+    SpanMemory,
 }
 
 impl fmt::Display for RenderError {
@@ -125,6 +140,10 @@ impl fmt::Display for RenderError {
             RenderError::MalformedTree => {
                 write!(f, "the display tree is malformed (a node is reached twice)")
             }
+            RenderError::SpanMemory => write!(
+                f,
+                "the span memory needs one counter per row and a width of at most 65535"
+            ),
         }
     }
 }

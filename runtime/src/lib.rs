@@ -12,6 +12,7 @@ extern crate std;
 
 pub mod camera;
 pub mod clip;
+pub mod coverage;
 pub mod error;
 pub mod fill;
 pub mod read;

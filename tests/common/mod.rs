@@ -78,7 +78,11 @@ pub const EDGE_MARGIN: f64 = 1.0 / 16.0;
 /// Cast one ray per pixel against `triangles` (the source triangles: ids are indices) and mark
 /// the pixels near the projected edges of `triangles` and of `extra_edges` (e.g. the edges of
 /// the compiled polygons, which include the cuts).
-pub fn reference(triangles: &[[DVec3; 3]], extra_polygons: &[Vec<DVec3>], cam: &RefCamera) -> Reference {
+pub fn reference(
+    triangles: &[[DVec3; 3]],
+    extra_polygons: &[Vec<DVec3>],
+    cam: &RefCamera,
+) -> Reference {
     let b = cam.basis();
     let (w, h) = (cam.width as usize, cam.height as usize);
     let mut depth = vec![f64::INFINITY; w * h];
@@ -86,7 +90,9 @@ pub fn reference(triangles: &[[DVec3; 3]], extra_polygons: &[Vec<DVec3>], cam: &
     let mut robust = vec![true; w * h];
     for (id, t) in triangles.iter().enumerate() {
         let c = t.map(|p| cam.to_camera(&b, p));
-        let Some((x0, x1, y0, y1)) = screen_bbox(cam, &b, &c) else { continue };
+        let Some((x0, x1, y0, y1)) = screen_bbox(cam, &b, &c) else {
+            continue;
+        };
         for j in y0..y1 {
             for i in x0..x1 {
                 let dir = b.f + ((i as f64 + 0.5 - f64::from(cam.width) / 2.0) / b.fpx) * b.r
@@ -121,7 +127,9 @@ fn screen_bbox(cam: &RefCamera, b: &Basis, c: &[DVec3]) -> Option<(usize, usize,
     }
     let s: Vec<DVec2> = c.iter().map(|&p| cam.project(b, p)).collect();
     let lo = s.iter().fold(DVec2::splat(f64::INFINITY), |a, &p| a.min(p));
-    let hi = s.iter().fold(DVec2::splat(f64::NEG_INFINITY), |a, &p| a.max(p));
+    let hi = s
+        .iter()
+        .fold(DVec2::splat(f64::NEG_INFINITY), |a, &p| a.max(p));
     let clamp = |v: f64, n: usize| v.max(0.0).min(n as f64) as usize;
     let (x0, x1) = (clamp(lo.x - 1.0, w), clamp(hi.x + 2.0, w));
     let (y0, y1) = (clamp(lo.y - 1.0, h), clamp(hi.y + 2.0, h));
@@ -177,7 +185,12 @@ fn mark_segment(cam: &RefCamera, a: DVec2, b: DVec2, robust: &mut [bool]) {
     // Clip to the screen grown by two pixels (Liang–Barsky), so long edges cost their on-screen length.
     let d = b - a;
     let (mut t0, mut t1) = (0.0f64, 1.0f64);
-    for (p, q) in [(-d.x, a.x + 2.0), (d.x, w + 2.0 - a.x), (-d.y, a.y + 2.0), (d.y, h + 2.0 - a.y)] {
+    for (p, q) in [
+        (-d.x, a.x + 2.0),
+        (d.x, w + 2.0 - a.x),
+        (-d.y, a.y + 2.0),
+        (d.y, h + 2.0 - a.y),
+    ] {
         if p == 0.0 {
             if q < 0.0 {
                 return;
@@ -216,7 +229,11 @@ fn mark_segment(cam: &RefCamera, a: DVec2, b: DVec2, robust: &mut [bool]) {
 fn segment_distance(p: DVec2, a: DVec2, b: DVec2) -> f64 {
     let d = b - a;
     let len2 = d.length_squared();
-    let t = if len2 > 0.0 { ((p - a).dot(d) / len2).clamp(0.0, 1.0) } else { 0.0 };
+    let t = if len2 > 0.0 {
+        ((p - a).dot(d) / len2).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
     (a + d * t - p).length()
 }
 
@@ -238,7 +255,11 @@ mod tests {
 
     #[test]
     fn centre_pixel_sees_the_facing_triangle_and_corners_see_nothing() {
-        let t = [[DVec3::new(-1.0, -1.0, 0.0), DVec3::new(1.0, -1.0, 0.0), DVec3::new(0.0, 1.0, 0.0)]];
+        let t = [[
+            DVec3::new(-1.0, -1.0, 0.0),
+            DVec3::new(1.0, -1.0, 0.0),
+            DVec3::new(0.0, 1.0, 0.0),
+        ]];
         let r = reference(&t, &[], &cam(33, 33));
         assert_eq!(r.ids[16 * 33 + 16], 1);
         assert_eq!(r.ids[0], 0);
@@ -247,8 +268,16 @@ mod tests {
 
     #[test]
     fn nearer_triangle_wins_and_edges_are_not_robust() {
-        let far = [DVec3::new(-3.0, -3.0, -1.0), DVec3::new(3.0, -3.0, -1.0), DVec3::new(0.0, 3.0, -1.0)];
-        let near = [DVec3::new(-1.0, -0.9, 1.0), DVec3::new(1.1, -1.0, 1.0), DVec3::new(0.1, 1.0, 1.0)];
+        let far = [
+            DVec3::new(-3.0, -3.0, -1.0),
+            DVec3::new(3.0, -3.0, -1.0),
+            DVec3::new(0.0, 3.0, -1.0),
+        ];
+        let near = [
+            DVec3::new(-1.0, -0.9, 1.0),
+            DVec3::new(1.1, -1.0, 1.0),
+            DVec3::new(0.1, 1.0, 1.0),
+        ];
         let r = reference(&[far, near], &[], &cam(64, 64));
         assert_eq!(r.ids[32 * 64 + 32], 2);
         // A pixel column crossing the near triangle's left edge has a non-robust pixel.
@@ -258,7 +287,11 @@ mod tests {
 
     #[test]
     fn triangle_behind_the_eye_is_invisible() {
-        let t = [[DVec3::new(-1.0, -1.0, 6.0), DVec3::new(1.0, -1.0, 6.0), DVec3::new(0.0, 1.0, 6.0)]];
+        let t = [[
+            DVec3::new(-1.0, -1.0, 6.0),
+            DVec3::new(1.0, -1.0, 6.0),
+            DVec3::new(0.0, 1.0, 6.0),
+        ]];
         let r = reference(&t, &[], &cam(16, 16));
         assert!(r.ids.iter().all(|&i| i == 0));
     }

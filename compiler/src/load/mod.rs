@@ -111,8 +111,9 @@ enum MtlOutcome {
     TooLarge(u64),
 }
 
-/// Loads already-read OBJ text; `path` names the file and locates its MTL files.
-fn load_obj_text(path: &Path, text: &str) -> Result<Mesh, CompileError> {
+/// Load OBJ text already in memory; `path` names it in messages and locates its MTL files
+/// (relative `mtllib` paths are resolved next to it). Used by fuzzing and in-memory callers.
+pub fn load_obj_text(path: &Path, text: &str) -> Result<Mesh, CompileError> {
     let limits = scan::Limits {
         vertices: MAX_VERTEX_STATEMENTS,
         triangles: MAX_TRIANGLES,

@@ -16,8 +16,8 @@
 
 use rayon::prelude::*;
 
-use crate::planes::{side_of_hom, HomPoint, PlaneEntry, PlaneId, PlaneTable, Side};
 use crate::planes::Vertex;
+use crate::planes::{side_of_hom, HomPoint, PlaneEntry, PlaneId, PlaneTable, Side};
 use crate::split::Fragment;
 
 /// Points per leaf.
@@ -72,7 +72,10 @@ impl<'a> VertexSet<'a> {
         ints.sort_unstable();
         ints.dedup();
         pts.extend(ints.into_iter().map(|p| (p.map(|c| c as f64), Pt::Int(p))));
-        let mut set = VertexSet { pts, nodes: Vec::new() };
+        let mut set = VertexSet {
+            pts,
+            nodes: Vec::new(),
+        };
         if !set.pts.is_empty() {
             let n = set.pts.len();
             set.build(0, n);
@@ -90,7 +93,13 @@ impl<'a> VertexSet<'a> {
             }
         }
         let id = self.nodes.len() as u32;
-        self.nodes.push(BvhNode { min, max, start: start as u32, end: end as u32, leaf: true });
+        self.nodes.push(BvhNode {
+            min,
+            max,
+            start: start as u32,
+            end: end as u32,
+            leaf: true,
+        });
         if end - start > LEAF {
             let axis = (0..3)
                 .max_by(|&a, &b| (max[a] - min[a]).total_cmp(&(max[b] - min[b])))
@@ -181,7 +190,11 @@ impl<'a> VertexSet<'a> {
 
 /// For each plane of `planes` (the distinct support planes of `frags`): `Some(interior_front)`
 /// when it is on the convex hull of `frags`, else `None`.
-pub fn hull_planes(frags: &[Fragment], planes: &[PlaneId], table: &PlaneTable) -> Vec<Option<bool>> {
+pub fn hull_planes(
+    frags: &[Fragment],
+    planes: &[PlaneId],
+    table: &PlaneTable,
+) -> Vec<Option<bool>> {
     let set = VertexSet::new(frags);
     let test = |&p: &PlaneId| set.hull_side(table.get(p));
     if planes.len() > 64 && frags.len() > 512 {
@@ -198,7 +211,10 @@ mod tests {
     use proptest::prelude::*;
 
     fn naive(frags: &[Fragment], e: &PlaneEntry) -> Option<bool> {
-        let sides: Vec<Side> = frags.iter().flat_map(|f| f.vertices.iter().map(|v| v.side(e))).collect();
+        let sides: Vec<Side> = frags
+            .iter()
+            .flat_map(|f| f.vertices.iter().map(|v| v.side(e)))
+            .collect();
         let (f, b) = (sides.contains(&Side::Front), sides.contains(&Side::Back));
         match (f, b) {
             (true, true) => None,

@@ -149,11 +149,19 @@ impl Plane {
 }
 
 fn sub(a: IPoint, b: IPoint) -> [i64; 3] {
-    [a[0] as i64 - b[0] as i64, a[1] as i64 - b[1] as i64, a[2] as i64 - b[2] as i64]
+    [
+        a[0] as i64 - b[0] as i64,
+        a[1] as i64 - b[1] as i64,
+        a[2] as i64 - b[2] as i64,
+    ]
 }
 
 fn cross(u: [i64; 3], v: [i64; 3]) -> [i64; 3] {
-    [u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]]
+    [
+        u[1] * v[2] - u[2] * v[1],
+        u[2] * v[0] - u[0] * v[2],
+        u[0] * v[1] - u[1] * v[0],
+    ]
 }
 
 fn dot_i(n: [i64; 3], p: IPoint) -> i128 {
@@ -164,12 +172,16 @@ fn dot_i(n: [i64; 3], p: IPoint) -> i128 {
 /// axis direction along which `support` is largest (never parallel to the support plane), so
 /// adjacent triangles in the same plane share their edge planes.
 pub fn edge_plane(a: IPoint, b: IPoint, support: [i64; 3]) -> Plane {
-    let k = (0..3).max_by_key(|&k| (support[k].unsigned_abs(), std::cmp::Reverse(k))).unwrap_or(0);
+    let k = (0..3)
+        .max_by_key(|&k| (support[k].unsigned_abs(), std::cmp::Reverse(k)))
+        .unwrap_or(0);
     let mut e = [0i64; 3];
     e[k] = 1;
     let n = cross(sub(b, a), e);
     let d = dot_i(n, a);
-    Plane::canonical(n, d).expect("an edge of a non-degenerate triangle").0
+    Plane::canonical(n, d)
+        .expect("an edge of a non-degenerate triangle")
+        .0
 }
 
 /// A table plane with its f64 approximation cached for the filters.
@@ -240,7 +252,11 @@ impl HomPoint {
         if w == I256::ZERO {
             return None;
         }
-        let (xyz, w) = if w < I256::ZERO { (xyz.map(|c| -c), -w) } else { (xyz, w) };
+        let (xyz, w) = if w < I256::ZERO {
+            (xyz.map(|c| -c), -w)
+        } else {
+            (xyz, w)
+        };
         let wf = w.as_f64();
         let approx = xyz.map(|c| c.as_f64() / wf);
         Some(HomPoint { xyz, w, approx })
@@ -295,7 +311,11 @@ impl Vertex {
 /// Exact side of a homogeneous point: the f64 filter, then I256 when it cannot decide.
 #[inline]
 pub fn side_of_hom(h: &HomPoint, e: &PlaneEntry) -> Side {
-    let t = [e.nf[0] * h.approx[0], e.nf[1] * h.approx[1], e.nf[2] * h.approx[2]];
+    let t = [
+        e.nf[0] * h.approx[0],
+        e.nf[1] * h.approx[1],
+        e.nf[2] * h.approx[2],
+    ];
     let s = t[0] + t[1] + t[2] - e.df;
     let m = t[0].abs() + t[1].abs() + t[2].abs() + e.df.abs();
     let bound = m * FILTER_BOUND;
@@ -320,7 +340,11 @@ pub fn side_of_hom_exact(h: &HomPoint, p: &Plane) -> Side {
 
 fn cross_wide(u: [i64; 3], v: [i64; 3]) -> [i128; 3] {
     let (u, v) = (u.map(|c| c as i128), v.map(|c| c as i128));
-    [u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]]
+    [
+        u[1] * v[2] - u[2] * v[1],
+        u[2] * v[0] - u[0] * v[2],
+        u[0] * v[1] - u[1] * v[0],
+    ]
 }
 
 /// The common point of three planes (Cramer), or `None` when they do not meet in one point.
@@ -328,13 +352,13 @@ pub fn intersect(a: &Plane, b: &Plane, c: &Plane) -> Option<HomPoint> {
     let bc = cross_wide(b.n, c.n);
     let ca = cross_wide(c.n, a.n);
     let ab = cross_wide(a.n, b.n);
-    let mut w = I256::ZERO;
-    for k in 0..3 {
-        w += I256::from(a.n[k]) * I256::from(bc[k]);
-    }
+    let w = (0..3).fold(I256::ZERO, |w, k| {
+        w + I256::from(a.n[k]) * I256::from(bc[k])
+    });
     let (da, db, dc) = (I256::from(a.d), I256::from(b.d), I256::from(c.d));
-    let xyz: [I256; 3] =
-        std::array::from_fn(|k| da * I256::from(bc[k]) + db * I256::from(ca[k]) + dc * I256::from(ab[k]));
+    let xyz: [I256; 3] = std::array::from_fn(|k| {
+        da * I256::from(bc[k]) + db * I256::from(ca[k]) + dc * I256::from(ab[k])
+    });
     HomPoint::new(xyz, w)
 }
 

@@ -130,25 +130,38 @@ fn a_256_by_256_scan_of_adjacent_points_around_a_plane() {
     let a = plane_through([M, -M + 17, 3], [-M, 3, 5], [1, 2, M - 3]).unwrap();
     let b = plane_through([-M + 5, M, -1234567], [7, -M, 99], [M, M, -M]).unwrap();
     let on = intersect(&p, &a, &b).unwrap();
-    assert!(on.w.unsigned_abs() > U256::ONE << 100, "the scan needs a big W");
+    assert!(
+        on.w.unsigned_abs() > U256::ONE << 100,
+        "the scan needs a big W"
+    );
     let e = entry(p);
     let mut counts = [0usize; 3];
     for i in -128..128i32 {
         for j in -128..128i32 {
-            let xyz = [on.xyz[0] + I256::from(i), on.xyz[1] + I256::from(j), on.xyz[2]];
+            let xyz = [
+                on.xyz[0] + I256::from(i),
+                on.xyz[1] + I256::from(j),
+                on.xyz[2],
+            ];
             let q = HomPoint::new(xyz, on.w).unwrap();
             let got = side_of_hom(&q, &e);
             assert_eq!(got, oracle_hom(&p, &q), "at ({i}, {j})");
             counts[got as usize] += 1;
         }
     }
-    assert!(counts[0] > 0 && counts[1] > 0 && counts[2] > 0, "{counts:?}");
+    assert!(
+        counts[0] > 0 && counts[1] > 0 && counts[2] > 0,
+        "{counts:?}"
+    );
 }
 
 #[test]
 fn points_coplanar_up_to_rounding() {
     // Points of the real plane x + 2y + 3z = 1, rounded to the grid: classify exactly.
-    let p = Plane { n: [1, 2, 3], d: 1 << 20 };
+    let p = Plane {
+        n: [1, 2, 3],
+        d: 1 << 20,
+    };
     let e = entry(p);
     let mut on = 0;
     for i in 0..2000i64 {
@@ -165,7 +178,14 @@ fn points_coplanar_up_to_rounding() {
 
 #[test]
 fn reduced_is_canonical() {
-    let h = HomPoint::new([I256::from(6), I256::from(-9), I256::from(12)], I256::from(-3)).unwrap();
-    assert_eq!(h.reduced(), ([I256::from(-2), I256::from(3), I256::from(-4)], I256::ONE));
+    let h = HomPoint::new(
+        [I256::from(6), I256::from(-9), I256::from(12)],
+        I256::from(-3),
+    )
+    .unwrap();
+    assert_eq!(
+        h.reduced(),
+        ([I256::from(-2), I256::from(3), I256::from(-4)], I256::ONE)
+    );
     assert!(big(h.w).is_positive() && !big(h.w).is_zero());
 }

@@ -40,11 +40,14 @@ impl Quantiser {
             max = max.max(p);
         }
         if !(min.is_finite() && max.is_finite()) {
-            return Quantiser { offset: DVec3::ZERO, scale: 1.0 };
+            return Quantiser {
+                offset: DVec3::ZERO,
+                scale: 1.0,
+            };
         }
         let offset = (min + max) * 0.5;
         let half = (max - offset).max(offset - min).max_element();
-        if !(half > 0.0) {
+        if half.partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) {
             return Quantiser { offset, scale: 1.0 };
         }
         // Smallest power of two with half / scale <= 2^25.
@@ -93,7 +96,11 @@ mod tests {
 
     #[test]
     fn far_offsets_and_tiny_scales_are_the_same_problem() {
-        let unit = [DVec3::new(0.0, 0.0, 0.0), DVec3::new(1.0, 0.5, 0.25), DVec3::new(-0.3, 1.0, 0.0)];
+        let unit = [
+            DVec3::new(0.0, 0.0, 0.0),
+            DVec3::new(1.0, 0.5, 0.25),
+            DVec3::new(-0.3, 1.0, 0.0),
+        ];
         check(&unit);
         check(&unit.map(|p| p + DVec3::splat(1e6)));
         check(&unit.map(|p| p * 1e-6));

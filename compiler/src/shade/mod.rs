@@ -56,7 +56,11 @@ mod tests {
     fn facing_the_light_is_full_colour_and_edge_on_is_ambient() {
         let s = Shading::Lambert(DVec3::Y);
         assert_eq!(s.shade([200, 100, 50], DVec3::Y), [200, 100, 50]);
-        assert_eq!(s.shade([200, 100, 50], -DVec3::Y), [200, 100, 50], "two-sided");
+        assert_eq!(
+            s.shade([200, 100, 50], -DVec3::Y),
+            [200, 100, 50],
+            "two-sided"
+        );
         assert_eq!(s.shade([200, 100, 50], DVec3::X), [60, 30, 15]);
     }
 

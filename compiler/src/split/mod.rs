@@ -39,12 +39,12 @@ pub struct Fragment {
 /// Where a fragment lies with respect to a plane.
 #[derive(Debug, Clone, PartialEq)]
 pub enum SplitResult {
-    /// On the closed + side, not in the plane.
-    Front,
+    /// On the closed + side, not in the plane (the fragment, unchanged).
+    Front(Fragment),
     /// On the closed − side, not in the plane.
-    Back,
+    Back(Fragment),
     /// In the plane.
-    On,
+    On(Fragment),
     /// Cut in two: `(front piece, back piece)`.
     Cut(Fragment, Fragment),
 }
@@ -92,24 +92,30 @@ impl Fragment {
     /// planes that should meet in a point do not): a bug, reported by the caller.
     pub fn split(self, plane: PlaneId, table: &PlaneTable) -> Option<SplitResult> {
         if self.support == plane {
-            return Some(SplitResult::On);
+            return Some(SplitResult::On(self));
         }
         let e = table.get(plane);
         let sides: Vec<Side> = self.vertices.iter().map(|v| v.side(e)).collect();
         let front = sides.contains(&Side::Front);
         let back = sides.contains(&Side::Back);
         match (front, back) {
-            (true, false) => return Some(SplitResult::Front),
-            (false, true) => return Some(SplitResult::Back),
-            (false, false) => return Some(SplitResult::On),
+            (true, false) => return Some(SplitResult::Front(self)),
+            (false, true) => return Some(SplitResult::Back(self)),
+            (false, false) => return Some(SplitResult::On(self)),
             (true, true) => {}
         }
         let n = self.vertices.len();
         let cap = n + 2;
         let (mut fv, mut fe) = (Vec::with_capacity(cap), Vec::with_capacity(cap));
         let (mut bv, mut be) = (Vec::with_capacity(cap), Vec::with_capacity(cap));
-        let cut_front = Edge { plane, inside: Side::Front };
-        let cut_back = Edge { plane, inside: Side::Back };
+        let cut_front = Edge {
+            plane,
+            inside: Side::Front,
+        };
+        let cut_back = Edge {
+            plane,
+            inside: Side::Back,
+        };
         let support = &table.get(self.support).plane;
         for i in 0..n {
             let j = (i + 1) % n;
@@ -118,11 +124,19 @@ impl Fragment {
             let edge = self.edges[i];
             if si != Side::Back {
                 fv.push(v.clone());
-                fe.push(if si == Side::On && sj == Side::Back { cut_front } else { edge });
+                fe.push(if si == Side::On && sj == Side::Back {
+                    cut_front
+                } else {
+                    edge
+                });
             }
             if si != Side::Front {
                 bv.push(v.clone());
-                be.push(if si == Side::On && sj == Side::Front { cut_back } else { edge });
+                be.push(if si == Side::On && sj == Side::Front {
+                    cut_back
+                } else {
+                    edge
+                });
             }
             if (si == Side::Front && sj == Side::Back) || (si == Side::Back && sj == Side::Front) {
                 let h = intersect(support, &table.get(edge.plane).plane, &e.plane)?;
@@ -241,7 +255,9 @@ pub fn choose_split(
         cands.sort_unstable();
     }
     let sample: Vec<&Fragment> = if frags.len() > COST_SAMPLE {
-        (0..COST_SAMPLE).map(|_| &frags[rng.below(frags.len())]).collect()
+        (0..COST_SAMPLE)
+            .map(|_| &frags[rng.below(frags.len())])
+            .collect()
     } else {
         frags.iter().collect()
     };

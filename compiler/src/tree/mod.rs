@@ -32,7 +32,11 @@ pub struct BuildOptions {
 
 impl Default for BuildOptions {
     fn default() -> Self {
-        BuildOptions { candidates: 64, seed: 0, max_polygon_vertices: 12 }
+        BuildOptions {
+            candidates: 64,
+            seed: 0,
+            max_polygon_vertices: 12,
+        }
     }
 }
 

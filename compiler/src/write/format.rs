@@ -17,7 +17,7 @@ pub fn config() -> impl bincode::config::Config {
         .with_fixed_int_encoding()
 }
 
-/// Fixed-size header (84 bytes).
+/// Fixed-size header (92 bytes).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct Header {
     /// [`MAGIC`].
@@ -46,6 +46,10 @@ pub struct Header {
     pub bounds_min: [f32; 3],
     /// Upper corner of the scene's bounding box, relative to `centre`.
     pub bounds_max: [f32; 3],
+    /// Length of `palette` (0 without `header_flags::PALETTE`).
+    pub palette_count: u32,
+    /// Length of `bounds` (0 without `header_flags::BOUNDS`).
+    pub bounds_count: u32,
 }
 
 /// A convex polygon (14 bytes).
@@ -95,6 +99,12 @@ pub struct PeelFile {
     pub polygons: Vec<Polygon>,
     /// Source triangle id per polygon when `header_flags::IDS` is set, else empty.
     pub ids: Vec<u32>,
+    /// Palette colours when `header_flags::PALETTE` is set, else empty (this writer does not
+    /// emit a palette yet).
+    pub palette: Vec<[u8; 3]>,
+    /// Node bounding boxes `[min, max]` when `header_flags::BOUNDS` is set, else empty (this
+    /// writer does not emit bounds yet).
+    pub bounds: Vec<[f32; 6]>,
     /// Nodes in pre-order (front before back): the root is node 0 and children come after
     /// their parents. Convex nodes own the polygons in node order.
     pub nodes: Vec<Node>,

@@ -110,6 +110,8 @@ pub fn peel_file(
         centre: tree.centre.to_array(),
         bounds_min,
         bounds_max,
+        palette_count: 0,
+        bounds_count: 0,
     };
     Ok(PeelFile {
         header,
@@ -118,6 +120,8 @@ pub fn peel_file(
         indices: out.indices,
         polygons: out.polygons,
         ids: out.ids_out,
+        palette: Vec::new(),
+        bounds: Vec::new(),
         nodes: out.file_nodes,
     })
 }

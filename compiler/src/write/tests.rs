@@ -194,7 +194,7 @@ fn record_sizes_match_the_spec() {
     assert_eq!(size(enc(&file.planes[0])), layout::PLANE_SIZE);
     let h = &file.header;
     let total = layout::HEADER_SIZE
-        + 6 * layout::LENGTH_SIZE
+        + 8 * layout::LENGTH_SIZE
         + h.vertex_count as usize * layout::VERTEX_SIZE
         + h.plane_count as usize * layout::PLANE_SIZE
         + h.index_count as usize * layout::INDEX_SIZE

@@ -12,8 +12,46 @@ pub const NONE: u32 = u32::MAX;
 pub mod header_flags {
     /// The `ids` array holds one source triangle id per polygon.
     pub const IDS: u16 = 1 << 0;
+    /// Indices are `u16` (else `u32`).
+    pub const INDEX16: u16 = 1 << 1;
+    /// Polygons name a colour of the `palette` array (else they hold their RGB colour).
+    pub const PALETTE: u16 = 1 << 2;
+    /// With [`PALETTE`]: the palette index is a `u16` (else a `u8`).
+    pub const PALETTE16: u16 = 1 << 3;
+    /// Node records end with a `u32` index into the `bounds` array (or `NONE`).
+    pub const BOUNDS: u16 = 1 << 4;
     /// Every bit this version defines; a reader refuses others.
-    pub const KNOWN: u16 = IDS;
+    pub const KNOWN: u16 = IDS | INDEX16 | PALETTE | PALETTE16 | BOUNDS;
+}
+
+/// Bytes of an index under header `flags`.
+pub const fn index_size(flags: u16) -> usize {
+    if flags & header_flags::INDEX16 != 0 {
+        2
+    } else {
+        4
+    }
+}
+
+/// Bytes of a polygon record under header `flags`: 11 + the colour (3 bytes of RGB, or a
+/// 1- or 2-byte palette index).
+pub const fn polygon_size(flags: u16) -> usize {
+    if flags & header_flags::PALETTE == 0 {
+        POLYGON_SIZE
+    } else if flags & header_flags::PALETTE16 != 0 {
+        POLYGON_SIZE - 1
+    } else {
+        POLYGON_SIZE - 2
+    }
+}
+
+/// Bytes of a node record under header `flags`.
+pub const fn node_size(flags: u16) -> usize {
+    if flags & header_flags::BOUNDS != 0 {
+        NODE_SIZE + 4
+    } else {
+        NODE_SIZE
+    }
 }
 
 /// Bits of a polygon's `flags`.
@@ -22,8 +60,11 @@ pub mod polygon_flags {
     pub const FLIPPED: u8 = 1 << 0;
     /// The rest of the polygon's convex set lies on the + side of its plane.
     pub const INTERIOR_FRONT: u8 = 1 << 1;
+    /// The polygon is one-sided (from a closed, consistently oriented mesh): the runtime may
+    /// skip it when the eye is behind its front side.
+    pub const ONE_SIDED: u8 = 1 << 2;
     /// Every bit this version defines; a reader refuses others.
-    pub const KNOWN: u8 = FLIPPED | INTERIOR_FRONT;
+    pub const KNOWN: u8 = FLIPPED | INTERIOR_FRONT | ONE_SIDED;
 }
 
 /// Values of a node's `kind`.
@@ -35,20 +76,24 @@ pub mod node_kind {
 }
 
 /// Bytes of the header.
-pub const HEADER_SIZE: usize = 84;
+pub const HEADER_SIZE: usize = 92;
 /// Bytes of an array length (`u64`).
 pub const LENGTH_SIZE: usize = 8;
 /// Bytes of a vertex (`[f32; 3]`).
 pub const VERTEX_SIZE: usize = 12;
 /// Bytes of a plane (`[f32; 4]`).
 pub const PLANE_SIZE: usize = 16;
-/// Bytes of an index (`u32`).
+/// Bytes of an index (`u32`; `u16` with [`header_flags::INDEX16`], see [`index_size`]).
 pub const INDEX_SIZE: usize = 4;
-/// Bytes of a polygon record.
+/// Bytes of a polygon record with an RGB colour (see [`polygon_size`]).
 pub const POLYGON_SIZE: usize = 14;
+/// Bytes of a palette entry (RGB888).
+pub const PALETTE_SIZE: usize = 3;
+/// Bytes of a node's bounds (`[f32; 6]`: min then max).
+pub const BOUNDS_SIZE: usize = 24;
 /// Bytes of an id (`u32`).
 pub const ID_SIZE: usize = 4;
-/// Bytes of a node record.
+/// Bytes of a node record without bounds (see [`node_size`]).
 pub const NODE_SIZE: usize = 17;
 
 /// Byte offsets of the header fields.
@@ -65,6 +110,8 @@ pub(crate) mod header_offset {
     pub const CENTRE: usize = 36;
     pub const BOUNDS_MIN: usize = 60;
     pub const BOUNDS_MAX: usize = 72;
+    pub const PALETTE_COUNT: usize = 84;
+    pub const BOUNDS_COUNT: usize = 88;
 }
 
 /// `N` bytes at `offset`, or `None` past the end (or on overflow).

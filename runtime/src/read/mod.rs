@@ -14,8 +14,8 @@ use glam::Vec3;
 use crate::error::ReadError;
 use crate::target::Colour;
 use layout::{
-    element, f32_at, header_flags, node_kind, u16_at, u32_at, u8_at, ID_SIZE, INDEX_SIZE,
-    NODE_SIZE, NONE, PLANE_SIZE, POLYGON_SIZE, VERTEX_SIZE,
+    element, f32_at, header_flags, node_kind, u16_at, u32_at, u8_at, BOUNDS_SIZE, ID_SIZE,
+    NODE_SIZE, NONE, PALETTE_SIZE, PLANE_SIZE, VERTEX_SIZE,
 };
 
 /// The header, decoded.
@@ -23,7 +23,7 @@ use layout::{
 pub struct Header {
     /// Format version.
     pub version: u16,
-    /// Header flags (bit 0: ids present).
+    /// Header flags ([`layout::header_flags`]).
     pub flags: u16,
     /// Number of vertices.
     pub vertex_count: u32,
@@ -45,6 +45,10 @@ pub struct Header {
     pub bounds_min: Vec3,
     /// Scene bounds relative to `centre`.
     pub bounds_max: Vec3,
+    /// Number of palette colours (0 without [`header_flags::PALETTE`]).
+    pub palette_count: u32,
+    /// Number of node bounding boxes (0 without [`header_flags::BOUNDS`]).
+    pub bounds_count: u32,
 }
 
 /// A plane `normal · p = d` (relative to the scene centre).
@@ -72,7 +76,7 @@ pub struct Polygon {
     pub first_index: u32,
     /// Number of vertices.
     pub vertex_count: u16,
-    /// Polygon flags (bit 0 flipped, bit 1 interior on the + side).
+    /// Polygon flags ([`layout::polygon_flags`]).
     pub flags: u8,
     /// Baked colour.
     pub colour: Colour,
@@ -126,7 +130,13 @@ pub struct Scene<'a> {
     indices: usize,
     polygons: usize,
     ids: usize,
+    palette: usize,
+    bounds: usize,
     nodes: usize,
+    /// Record sizes, which the header flags choose.
+    index_size: usize,
+    polygon_size: usize,
+    node_size: usize,
 }
 
 impl fmt::Debug for Scene<'_> {
@@ -183,7 +193,7 @@ impl<'a> Scene<'a> {
         if i >= self.header.polygon_count {
             return Polygon::default();
         }
-        let Some(at) = element(self.polygons, POLYGON_SIZE, i) else {
+        let Some(at) = element(self.polygons, self.polygon_size, i) else {
             return Polygon::default();
         };
         let b = self.bytes;
@@ -192,12 +202,63 @@ impl<'a> Scene<'a> {
             first_index: u32_at(b, at + 4).unwrap_or(0),
             vertex_count: u16_at(b, at + 8).unwrap_or(0),
             flags: u8_at(b, at + 10).unwrap_or(0),
-            colour: Colour::new(
-                u8_at(b, at + 11).unwrap_or(0),
-                u8_at(b, at + 12).unwrap_or(0),
-                u8_at(b, at + 13).unwrap_or(0),
-            ),
+            colour: self.colour_at(at + 11),
         }
+    }
+
+    /// The colour field at `at`: RGB, or a palette index (see [`layout::polygon_size`]).
+    fn colour_at(&self, at: usize) -> Colour {
+        let b = self.bytes;
+        let flags = self.header.flags;
+        let rgb = |at: usize| {
+            Colour::new(
+                u8_at(b, at).unwrap_or(0),
+                u8_at(b, at + 1).unwrap_or(0),
+                u8_at(b, at + 2).unwrap_or(0),
+            )
+        };
+        if flags & header_flags::PALETTE == 0 {
+            return rgb(at);
+        }
+        let index = if flags & header_flags::PALETTE16 != 0 {
+            u16_at(b, at).map(u32::from)
+        } else {
+            u8_at(b, at).map(u32::from)
+        };
+        match index {
+            Some(k) if k < self.header.palette_count => {
+                element(self.palette, PALETTE_SIZE, k).map_or(Colour::default(), rgb)
+            }
+            _ => Colour::default(),
+        }
+    }
+
+    /// Entry `i` of the index array (`u16` or `u32` as the header says), if in range.
+    fn index(&self, i: u32) -> Option<u32> {
+        if i >= self.header.index_count {
+            return None;
+        }
+        let at = element(self.indices, self.index_size, i)?;
+        if self.index_size == 2 {
+            u16_at(self.bytes, at).map(u32::from)
+        } else {
+            u32_at(self.bytes, at)
+        }
+    }
+
+    /// Bounding box `(min, max)` of node `i`'s subtree, relative to the centre, if the file
+    /// stores one for it.
+    pub fn node_bounds(&self, i: u32) -> Option<(Vec3, Vec3)> {
+        if self.header.flags & header_flags::BOUNDS == 0 || i >= self.header.node_count {
+            return None;
+        }
+        let at = element(self.nodes, self.node_size, i)?.checked_add(NODE_SIZE)?;
+        let k = link(u32_at(self.bytes, at)?)?;
+        if k >= self.header.bounds_count {
+            return None;
+        }
+        let at = element(self.bounds, BOUNDS_SIZE, k)?;
+        Some((self.vec3_at(at), self.vec3_at(at + 12)))
     }
 
     /// Vertex `i` of polygon `polygon` (`i < vertex_count`), relative to the centre
@@ -206,12 +267,11 @@ impl<'a> Scene<'a> {
         if i >= u32::from(polygon.vertex_count) {
             return Vec3::ZERO;
         }
-        match polygon.first_index.checked_add(i) {
-            Some(slot) if slot < self.header.index_count => element(self.indices, INDEX_SIZE, slot)
-                .and_then(|at| u32_at(self.bytes, at))
-                .map_or(Vec3::ZERO, |v| self.vertex(v)),
-            _ => Vec3::ZERO,
-        }
+        polygon
+            .first_index
+            .checked_add(i)
+            .and_then(|slot| self.index(slot))
+            .map_or(Vec3::ZERO, |v| self.vertex(v))
     }
 
     /// Vertex `i`, relative to the centre (zero when out of range).
@@ -251,7 +311,7 @@ impl<'a> Scene<'a> {
     }
 
     fn raw_node(&self, i: u32) -> Option<RawNode> {
-        RawNode::at(self.bytes, element(self.nodes, NODE_SIZE, i)?)
+        RawNode::at(self.bytes, element(self.nodes, self.node_size, i)?)
     }
 }
 

@@ -30,6 +30,15 @@ struct Spec {
     ids: Vec<u32>,
     /// kind, a, b, c, parent
     nodes: Vec<(u8, u32, u32, u32, u32)>,
+    /// Palette colours (with `PALETTE`, a polygon's colour field holds its index: byte 0, or
+    /// bytes 0-1 with `PALETTE16`).
+    palette: Vec<[u8; 3]>,
+    /// Node boxes.
+    boxes: Vec<[f32; 6]>,
+    /// Per node with `BOUNDS`: its box index or `NONE`.
+    node_boxes: Vec<u32>,
+    /// Header palette and bounds counts, when not the lengths.
+    extra_counts: Option<[u32; 2]>,
 }
 
 impl Spec {
@@ -70,7 +79,27 @@ impl Spec {
                 (node_kind::CONVEX, 0, 2, NONE, 0),
                 (node_kind::CONVEX, 2, 1, NONE, 0),
             ],
+            palette: Vec::new(),
+            boxes: Vec::new(),
+            node_boxes: Vec::new(),
+            extra_counts: None,
         }
+    }
+
+    /// [`Spec::small`] with every optional part: u16 indices, a u8 palette, node bounds.
+    fn small_with_everything() -> Spec {
+        let mut spec = Spec::small();
+        spec.flags |= header_flags::INDEX16 | header_flags::PALETTE | header_flags::BOUNDS;
+        spec.palette = std::vec![[10, 20, 30], [40, 50, 60]];
+        for (k, p) in spec.polygons.iter_mut().enumerate() {
+            p.4 = [(k % 2) as u8, 0, 0];
+        }
+        spec.boxes = std::vec![
+            [0.0, 0.0, 0.0, 1.0, 1.0, 1.0],
+            [0.0, 0.0, 1.0, 1.0, 1.0, 1.0]
+        ];
+        spec.node_boxes = std::vec![0, NONE, 1];
+        spec
     }
 
     /// A chain of `n` convex nodes, one triangle each.
@@ -117,6 +146,12 @@ impl Spec {
         for v in self.bounds.iter().flatten() {
             out.extend(v.to_le_bytes());
         }
+        let extra = self
+            .extra_counts
+            .unwrap_or([self.palette.len() as u32, self.boxes.len() as u32]);
+        for v in extra {
+            out.extend(v.to_le_bytes());
+        }
         assert_eq!(out.len(), HEADER_SIZE);
         let length = |out: &mut Vec<u8>, n: usize| out.extend((n as u64).to_le_bytes());
         length(&mut out, self.vertices.len());
@@ -128,8 +163,12 @@ impl Spec {
             out.extend(v.to_le_bytes());
         }
         length(&mut out, self.indices.len());
-        for v in &self.indices {
-            out.extend(v.to_le_bytes());
+        for &v in &self.indices {
+            if self.flags & header_flags::INDEX16 != 0 {
+                out.extend((v as u16).to_le_bytes());
+            } else {
+                out.extend(v.to_le_bytes());
+            }
         }
         length(&mut out, self.polygons.len());
         for &(plane, first, count, flags, colour) in &self.polygons {
@@ -137,17 +176,35 @@ impl Spec {
             out.extend(first.to_le_bytes());
             out.extend(count.to_le_bytes());
             out.push(flags);
-            out.extend(colour);
+            let colour_size = polygon_size(self.flags) - 11;
+            out.extend(&colour[..colour_size]);
         }
         length(&mut out, self.ids.len());
         for v in &self.ids {
             out.extend(v.to_le_bytes());
         }
+        length(&mut out, self.palette.len());
+        for c in &self.palette {
+            out.extend(c);
+        }
+        length(&mut out, self.boxes.len());
+        for v in self.boxes.iter().flatten() {
+            out.extend(v.to_le_bytes());
+        }
         length(&mut out, self.nodes.len());
-        for &(kind, a, b, c, parent) in &self.nodes {
+        for (i, &(kind, a, b, c, parent)) in self.nodes.iter().enumerate() {
             out.push(kind);
             for v in [a, b, c, parent] {
                 out.extend(v.to_le_bytes());
+            }
+            if self.flags & header_flags::BOUNDS != 0 {
+                out.extend(
+                    self.node_boxes
+                        .get(i)
+                        .copied()
+                        .unwrap_or(NONE)
+                        .to_le_bytes(),
+                );
             }
         }
         out
@@ -155,7 +212,7 @@ impl Spec {
 
     /// Byte offset of node `i`'s record.
     fn node_offset(&self, i: usize) -> usize {
-        self.encode().len() - (self.nodes.len() - i) * NODE_SIZE
+        self.encode().len() - (self.nodes.len() - i) * node_size(self.flags)
     }
 
     fn parse(&self) -> Result<(), ReadError> {
@@ -328,8 +385,116 @@ fn header_identity_is_checked_first() {
         ReadError::UnsupportedVersion { version: 2 }
     );
     let mut spec = Spec::small();
-    spec.flags = 0b10;
-    assert_eq!(spec.parse(), Err(ReadError::UnknownFlags { flags: 0b10 }));
+    spec.flags = 0b10_0000;
+    assert_eq!(
+        spec.parse(),
+        Err(ReadError::UnknownFlags { flags: 0b10_0000 })
+    );
+}
+
+#[test]
+fn optional_parts_read_back() {
+    let spec = Spec::small_with_everything();
+    let bytes = spec.encode();
+    let plain = Spec::small().encode();
+    // u16 indices (-20), 12-byte polygons (-6), 21-byte nodes (+12), palette (+6), boxes (+48).
+    assert_eq!(bytes.len(), plain.len() - 20 - 6 + 12 + 6 + 48);
+    let scene = Scene::parse(&bytes).unwrap();
+    let plain = Scene::parse(&plain).unwrap();
+    for i in 0..3 {
+        let (p, q) = (scene.polygon(i), plain.polygon(i));
+        assert_eq!(
+            (p.plane, p.first_index, p.vertex_count, p.flags),
+            (q.plane, q.first_index, q.vertex_count, q.flags)
+        );
+        for k in 0..u32::from(p.vertex_count) {
+            assert_eq!(scene.polygon_vertex(&p, k), plain.polygon_vertex(&q, k));
+        }
+        assert_eq!(scene.node(i), plain.node(i));
+    }
+    assert_eq!(scene.polygon(0).colour, Colour::new(10, 20, 30));
+    assert_eq!(scene.polygon(1).colour, Colour::new(40, 50, 60));
+    assert_eq!(scene.polygon(2).colour, Colour::new(10, 20, 30));
+    assert_eq!(scene.node_bounds(0), Some((Vec3::ZERO, Vec3::ONE)));
+    assert_eq!(scene.node_bounds(1), None);
+    assert_eq!(
+        scene.node_bounds(2),
+        Some((Vec3::new(0.0, 0.0, 1.0), Vec3::ONE))
+    );
+    assert_eq!(plain.node_bounds(0), None);
+    assert_eq!(scene.node_bounds(3), None);
+    // A u16 palette index.
+    let mut spec = Spec::small_with_everything();
+    spec.flags |= header_flags::PALETTE16;
+    spec.polygons[2].4 = [1, 0, 0];
+    let scene_bytes = spec.encode();
+    let scene = Scene::parse(&scene_bytes).unwrap();
+    assert_eq!(scene.polygon(2).colour, Colour::new(40, 50, 60));
+}
+
+#[test]
+fn inconsistent_optional_parts_are_refused() {
+    let mut spec = Spec::small();
+    spec.flags |= header_flags::PALETTE16;
+    assert_eq!(
+        spec.parse(),
+        Err(ReadError::InconsistentFlags { flags: spec.flags })
+    );
+    let cases: [fn(&mut Spec); 9] = [
+        // A palette without its flag, and the flag without a palette.
+        |s| s.palette.push([1, 2, 3]),
+        |s| {
+            s.flags |= header_flags::PALETTE;
+            s.extra_counts = Some([0, 0]);
+        },
+        // Boxes without the flag.
+        |s| s.boxes.push([0.0; 6]),
+        // A palette index out of range.
+        |s| {
+            *s = Spec::small_with_everything();
+            s.polygons[1].4 = [2, 0, 0];
+        },
+        // A box index out of range.
+        |s| {
+            *s = Spec::small_with_everything();
+            s.node_boxes[1] = 2;
+        },
+        // A box with min > max, and a non-finite one.
+        |s| {
+            *s = Spec::small_with_everything();
+            s.boxes[1][2] = 2.0;
+        },
+        |s| {
+            *s = Spec::small_with_everything();
+            s.boxes[0][4] = f32::NAN;
+        },
+        // A palette count beyond what a u8 index can name.
+        |s| {
+            *s = Spec::small_with_everything();
+            s.palette = std::vec![[0; 3]; 257];
+        },
+        // u16 indices with more than 2^16 vertices.
+        |s| {
+            *s = Spec::small_with_everything();
+            s.vertices = std::vec![[0.0; 3]; (1 << 16) + 1];
+        },
+    ];
+    for (k, case) in cases.into_iter().enumerate() {
+        let mut spec = Spec::small();
+        case(&mut spec);
+        assert!(
+            matches!(
+                spec.parse(),
+                Err(ReadError::BadRecord { .. } | ReadError::CountMismatch { .. })
+            ),
+            "case {k}: {:?}",
+            spec.parse()
+        );
+    }
+    // The header counts must match the arrays.
+    let mut spec = Spec::small_with_everything();
+    spec.extra_counts = Some([2, 1]);
+    assert!(matches!(spec.parse(), Err(ReadError::CountMismatch { .. })));
 }
 
 #[test]
@@ -392,7 +557,7 @@ fn out_of_range_records_are_refused_at_their_offset() {
     }
     let polygon_cases: [fn(&mut Spec); 6] = [
         |s| s.polygons[1].0 = 3,        // plane out of range
-        |s| s.polygons[1].3 = 0b100,    // unknown flag
+        |s| s.polygons[1].3 = 0b1000,   // unknown flag
         |s| s.polygons[1].1 = 3,        // not right after the previous polygon
         |s| s.max_polygon_vertices = 3, // polygon 0 has 4 vertices
         |s| s.indices[3] = 7,           // vertex out of range

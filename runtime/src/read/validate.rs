@@ -11,9 +11,10 @@
 use glam::Vec3;
 
 use super::layout::{
-    f32_at, f64_at, header_flags, header_offset as h, node_kind, polygon_flags, u16_at, u32_at,
-    u64_at, u8_at, FORMAT_VERSION, HEADER_SIZE, ID_SIZE, INDEX_SIZE, LENGTH_SIZE, MAGIC, NODE_SIZE,
-    NONE, PLANE_SIZE, POLYGON_SIZE, VERTEX_SIZE,
+    f32_at, f64_at, header_flags as hf, header_offset as h, index_size, node_kind, node_size,
+    polygon_flags, polygon_size, u16_at, u32_at, u64_at, u8_at, BOUNDS_SIZE, FORMAT_VERSION,
+    HEADER_SIZE, ID_SIZE, LENGTH_SIZE, MAGIC, NODE_SIZE, NONE, PALETTE_SIZE, PLANE_SIZE,
+    VERTEX_SIZE,
 };
 use super::{Header, Scene};
 use crate::error::ReadError;
@@ -34,6 +35,7 @@ pub(super) fn parse(bytes: &[u8]) -> Result<Scene<'_>, ReadError> {
     check_vertices(&scene)?;
     check_planes(&scene)?;
     check_indices(&scene)?;
+    check_bounds(&scene)?;
     check_polygons(&scene)?;
     check_nodes(&scene)?;
     check_depth(&scene)?;
@@ -55,8 +57,11 @@ fn read_header(bytes: &[u8]) -> Result<Header, ReadError> {
         }
     }
     if let Some(flags) = u16_at(bytes, h::FLAGS) {
-        if flags & !header_flags::KNOWN != 0 {
+        if flags & !hf::KNOWN != 0 {
             return Err(ReadError::UnknownFlags { flags });
+        }
+        if flags & hf::PALETTE16 != 0 && flags & hf::PALETTE == 0 {
+            return Err(ReadError::InconsistentFlags { flags });
         }
     }
     if bytes.len() < HEADER_SIZE {
@@ -89,6 +94,8 @@ fn read_header(bytes: &[u8]) -> Result<Header, ReadError> {
         ],
         bounds_min: vec3(h::BOUNDS_MIN)?,
         bounds_max: vec3(h::BOUNDS_MAX)?,
+        palette_count: u32_field(h::PALETTE_COUNT)?,
+        bounds_count: u32_field(h::BOUNDS_COUNT)?,
     })
 }
 
@@ -112,21 +119,50 @@ fn array(bytes: &[u8], at: &mut usize, count: u32, size: usize) -> Result<usize,
 }
 
 fn locate_arrays(bytes: &[u8], header: Header) -> Result<Scene<'_>, ReadError> {
-    let id_count = if header.flags & header_flags::IDS != 0 {
+    let flags = header.flags;
+    let id_count = if flags & hf::IDS != 0 {
         header.polygon_count
     } else {
         0
     };
+    // Optional parts: a count without its flag (or a palette flag without colours) is
+    // inconsistent, as is a palette too large for its index width.
+    let palette_max = match (flags & hf::PALETTE != 0, flags & hf::PALETTE16 != 0) {
+        (false, _) => 0,
+        (true, false) => 1 << 8,
+        (true, true) => 1 << 16,
+    };
+    let palette_ok = if palette_max == 0 {
+        header.palette_count == 0
+    } else {
+        (1..=palette_max).contains(&header.palette_count)
+    };
+    if !palette_ok {
+        return Err(bad(h::PALETTE_COUNT));
+    }
+    if flags & hf::BOUNDS == 0 && header.bounds_count != 0 {
+        return Err(bad(h::BOUNDS_COUNT));
+    }
+    if flags & hf::INDEX16 != 0 && header.vertex_count > 1 << 16 {
+        return Err(bad(h::VERTEX_COUNT));
+    }
+    let (index_size, polygon_size, node_size) =
+        (index_size(flags), polygon_size(flags), node_size(flags));
     let mut at = HEADER_SIZE;
     let scene = Scene {
         bytes,
         header,
         vertices: array(bytes, &mut at, header.vertex_count, VERTEX_SIZE)?,
         planes: array(bytes, &mut at, header.plane_count, PLANE_SIZE)?,
-        indices: array(bytes, &mut at, header.index_count, INDEX_SIZE)?,
-        polygons: array(bytes, &mut at, header.polygon_count, POLYGON_SIZE)?,
+        indices: array(bytes, &mut at, header.index_count, index_size)?,
+        polygons: array(bytes, &mut at, header.polygon_count, polygon_size)?,
         ids: array(bytes, &mut at, id_count, ID_SIZE)?,
-        nodes: array(bytes, &mut at, header.node_count, NODE_SIZE)?,
+        palette: array(bytes, &mut at, header.palette_count, PALETTE_SIZE)?,
+        bounds: array(bytes, &mut at, header.bounds_count, BOUNDS_SIZE)?,
+        nodes: array(bytes, &mut at, header.node_count, node_size)?,
+        index_size,
+        polygon_size,
+        node_size,
     };
     if at != bytes.len() {
         return Err(ReadError::TrailingBytes { offset: at });
@@ -189,10 +225,22 @@ fn check_planes(scene: &Scene<'_>) -> Result<(), ReadError> {
     Ok(())
 }
 
+/// Every box finite with `min <= max`.
+fn check_bounds(scene: &Scene<'_>) -> Result<(), ReadError> {
+    for (_, at) in records(scene.bounds, BOUNDS_SIZE, scene.header.bounds_count) {
+        let v = |k: usize| f32_at(scene.bytes, at + 4 * k).filter(|v| v.is_finite());
+        let ok = (0..3).all(|k| matches!((v(k), v(k + 3)), (Some(lo), Some(hi)) if lo <= hi));
+        if !ok {
+            return Err(bad(at));
+        }
+    }
+    Ok(())
+}
+
 /// Every index names a vertex.
 fn check_indices(scene: &Scene<'_>) -> Result<(), ReadError> {
-    for (_, at) in records(scene.indices, INDEX_SIZE, scene.header.index_count) {
-        let vertex = u32_at(scene.bytes, at).unwrap_or(u32::MAX);
+    for (i, at) in records(scene.indices, scene.index_size, scene.header.index_count) {
+        let vertex = scene.index(i).unwrap_or(u32::MAX);
         if vertex >= scene.header.vertex_count {
             return Err(bad(at));
         }
@@ -205,13 +253,22 @@ fn check_indices(scene: &Scene<'_>) -> Result<(), ReadError> {
 fn check_polygons(scene: &Scene<'_>) -> Result<(), ReadError> {
     let header = &scene.header;
     let mut next_index: u64 = 0;
-    for (_, at) in records(scene.polygons, POLYGON_SIZE, header.polygon_count) {
+    let palette16 = header.flags & hf::PALETTE16 != 0;
+    for (_, at) in records(scene.polygons, scene.polygon_size, header.polygon_count) {
         let b = scene.bytes;
+        let colour_ok = if header.flags & hf::PALETTE == 0 {
+            true
+        } else if palette16 {
+            u16_at(b, at + 11).is_some_and(|k| u32::from(k) < header.palette_count)
+        } else {
+            u8_at(b, at + 11).is_some_and(|k| u32::from(k) < header.palette_count)
+        };
         let plane = need(u32_at(b, at), at)?;
         let first_index = need(u32_at(b, at + 4), at)?;
         let vertex_count = need(u16_at(b, at + 8), at)?;
         let flags = need(u8_at(b, at + 10), at)?;
-        let ok = plane < header.plane_count
+        let ok = colour_ok
+            && plane < header.plane_count
             && flags & !polygon_flags::KNOWN == 0
             && vertex_count >= 3
             && u32::from(vertex_count) <= header.max_polygon_vertices
@@ -234,8 +291,15 @@ fn check_nodes(scene: &Scene<'_>) -> Result<(), ReadError> {
     let header = &scene.header;
     let n = header.node_count;
     let mut next_polygon: u64 = 0;
-    for (i, at) in records(scene.nodes, NODE_SIZE, n) {
+    let with_bounds = header.flags & hf::BOUNDS != 0;
+    for (i, at) in records(scene.nodes, scene.node_size, n) {
         let raw = need(scene.raw_node(i), at)?;
+        if with_bounds {
+            let k = need(u32_at(scene.bytes, at + NODE_SIZE), at)?;
+            if k != NONE && k >= header.bounds_count {
+                return Err(bad(at));
+            }
+        }
         match raw.kind {
             node_kind::CONVEX => {
                 if raw.b == 0 || u64::from(raw.a) != next_polygon {

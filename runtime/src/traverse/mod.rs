@@ -191,6 +191,15 @@ impl<T: DisplayTree + ?Sized> Iterator for Traversal<'_, '_, T> {
     type Item = u32;
 
     fn next(&mut self) -> Option<u32> {
+        self.next_entering(|_| true)
+    }
+}
+
+impl<T: DisplayTree + ?Sized> Traversal<'_, '_, T> {
+    /// The next polygon, asking `enter(node)` before walking into each node: `false` skips
+    /// the node's whole subtree (the renderer's frustum and coverage culling). Asked once per
+    /// node reached, in walk order, so the answer may depend on what was drawn so far.
+    pub fn next_entering<F: FnMut(u32) -> bool>(&mut self, mut enter: F) -> Option<u32> {
         let back_to_front = self.order == Order::BackToFront;
         loop {
             if self.error.is_some() {
@@ -213,6 +222,9 @@ impl<T: DisplayTree + ?Sized> Iterator for Traversal<'_, '_, T> {
                     if self.visits > self.tree.node_count() {
                         self.error = Some(RenderError::MalformedTree);
                         return self.stop();
+                    }
+                    if !enter(i) {
+                        continue;
                     }
                     match self.tree.node(i) {
                         Node::Split { plane, front, back } => {

@@ -22,6 +22,8 @@ pub(crate) struct TestTree {
     pub centre: [f64; 3],
     /// Declared depth; `None` computes it.
     pub declared_depth: Option<u32>,
+    /// Per node: its subtree's bounding box, if any (missing entries: none).
+    pub bounds: Vec<Option<(Vec3, Vec3)>>,
 }
 
 impl TestTree {
@@ -132,6 +134,9 @@ impl Source for TestTree {
             .and_then(|ids| ids.get(i as usize))
             .copied()
     }
+    fn node_bounds(&self, i: u32) -> Option<(Vec3, Vec3)> {
+        self.bounds.get(i as usize).copied().flatten()
+    }
 }
 
 /// The six faces of the axis-aligned box `[lo, hi]` as quads, interior towards the box.
@@ -229,6 +234,8 @@ pub(crate) fn encode(tree: &TestTree) -> Vec<u8> {
     for v in lo.to_array().into_iter().chain(hi.to_array()) {
         out.extend(v.to_le_bytes());
     }
+    // No palette, no bounds.
+    out.extend([0u8; 8]);
     assert_eq!(out.len(), HEADER_SIZE);
     let length = |out: &mut Vec<u8>, n: usize| out.extend((n as u64).to_le_bytes());
     length(&mut out, tree.vertices.len());
@@ -258,6 +265,8 @@ pub(crate) fn encode(tree: &TestTree) -> Vec<u8> {
     for v in ids {
         out.extend(v.to_le_bytes());
     }
+    length(&mut out, 0);
+    length(&mut out, 0);
     length(&mut out, tree.nodes.len());
     let opt = |c: Option<u32>| c.unwrap_or(NONE);
     for (n, parent) in tree.nodes.iter().zip(parents) {

@@ -1,0 +1,433 @@
+//! The exact build: seed 000's `compile(L)` on exact fragments, with an explicit work stack
+//! (deep trees cannot overflow the call stack) and rayon for large independent subtrees.
+//!
+//! Rule for the fragments lying in the split plane P: they go to the side with fewer
+//! fragments (ties: front), and that child is built directly as a convex node holding exactly
+//! them, its interior being that side of P; the seed's termination argument then holds by
+//! construction, and is checked on every node (`CompileError::Invariant`, never a hang).
+
+use std::sync::atomic::{AtomicU64, Ordering};
+
+use rayon::prelude::*;
+
+use super::input::Input;
+use super::BuildOptions;
+use crate::error::CompileError;
+use crate::peel::hull_planes;
+use crate::planes::{PlaneId, PlaneTable};
+use crate::split::{choose_split, Fragment, SplitResult};
+
+/// Subtrees are built in parallel when both sides of a split hold at least this many
+/// fragments and at least an eighth of the node (which bounds the join recursion depth).
+const PAR_MIN: usize = 2048;
+
+/// A node of the exact tree (indices local to its [`ExactTree`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum ExactNode {
+    /// A convex set: polygons `first .. first + count`.
+    Convex {
+        first: u32,
+        count: u32,
+        child: Option<u32>,
+        support_planes: u32,
+    },
+    /// A split by a table plane.
+    Split {
+        plane: PlaneId,
+        front: Option<u32>,
+        back: Option<u32>,
+        support_planes: u32,
+    },
+}
+
+/// A polygon of a convex node.
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) struct ExactPolygon {
+    pub frag: Fragment,
+    /// The rest of its convex set (and the node's subtree) lies on the + side of its plane.
+    pub interior_front: bool,
+}
+
+/// The display tree with exact geometry; nodes in pre-order, root 0.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub(crate) struct ExactTree {
+    pub nodes: Vec<ExactNode>,
+    pub polygons: Vec<ExactPolygon>,
+    pub cuts: u64,
+}
+
+#[derive(Debug, Clone, Copy)]
+enum Slot {
+    Root,
+    Child(u32),
+    Front(u32),
+    Back(u32),
+}
+
+/// Bound on a child's support-plane count: `<= max`, or `< max` when strict.
+#[derive(Debug, Clone, Copy)]
+struct Limit {
+    max: u32,
+    strict: bool,
+}
+
+impl Limit {
+    fn check(self, k: u32, what: &str) -> Result<(), CompileError> {
+        if k > self.max || (self.strict && k == self.max) {
+            return Err(CompileError::Invariant(format!(
+                "{what}: {k} support planes, parent allows {} {}",
+                if self.strict { "<" } else { "<=" },
+                self.max
+            )));
+        }
+        Ok(())
+    }
+}
+
+enum Job {
+    /// `compile(L)`.
+    Compile {
+        frags: Vec<Fragment>,
+        slot: Slot,
+        limit: Limit,
+    },
+    /// The child of a split holding the split plane's fragments `on`: a convex node of
+    /// exactly them, then `compile(rest)`.
+    InPlane {
+        on: Vec<Fragment>,
+        rest: Vec<Fragment>,
+        interior_front: bool,
+        slot: Slot,
+        limit: Limit,
+    },
+}
+
+impl Job {
+    /// The same job as the root of a separately built subtree.
+    fn rooted(mut self) -> Job {
+        match &mut self {
+            Job::Compile { slot, .. } | Job::InPlane { slot, .. } => *slot = Slot::Root,
+        }
+        self
+    }
+}
+
+struct Ctx<'a> {
+    table: &'a PlaneTable,
+    options: &'a BuildOptions,
+    progress: &'a (dyn Fn(u64) + Sync),
+    placed: AtomicU64,
+}
+
+pub(crate) fn build_exact(
+    input: &Input,
+    options: &BuildOptions,
+    progress: &(dyn Fn(u64) + Sync),
+) -> Result<ExactTree, CompileError> {
+    let ctx = Ctx {
+        table: &input.table,
+        options,
+        progress,
+        placed: AtomicU64::new(0),
+    };
+    let root = Job::Compile {
+        frags: input.fragments.clone(),
+        slot: Slot::Root,
+        limit: Limit {
+            max: u32::MAX,
+            strict: false,
+        },
+    };
+    let tree = run(&ctx, root)?;
+    (ctx.progress)(ctx.placed.load(Ordering::Relaxed));
+    Ok(tree)
+}
+
+/// Sorted distinct support planes of a list.
+fn distinct_planes<'a>(frags: impl Iterator<Item = &'a Fragment>) -> Vec<PlaneId> {
+    let mut p: Vec<PlaneId> = frags.map(|f| f.support).collect();
+    p.sort_unstable();
+    p.dedup();
+    p
+}
+
+fn attach(tree: &mut ExactTree, slot: Slot, idx: u32) {
+    let field = match slot {
+        Slot::Root => return,
+        Slot::Child(n) => match &mut tree.nodes[n as usize] {
+            ExactNode::Convex { child, .. } => child,
+            ExactNode::Split { .. } => unreachable!("convex child of a split"),
+        },
+        Slot::Front(n) | Slot::Back(n) => match &mut tree.nodes[n as usize] {
+            ExactNode::Split { front, back, .. } => {
+                if matches!(slot, Slot::Front(_)) {
+                    front
+                } else {
+                    back
+                }
+            }
+            ExactNode::Convex { .. } => unreachable!("split child of a convex node"),
+        },
+    };
+    *field = Some(idx);
+}
+
+/// Append a subtree built separately, in pre-order position (everything still on the work
+/// stack comes after it in pre-order).
+fn append(tree: &mut ExactTree, sub: ExactTree, slot: Slot) {
+    tree.cuts += sub.cuts;
+    if sub.nodes.is_empty() {
+        return;
+    }
+    let no = tree.nodes.len() as u32;
+    let po = tree.polygons.len() as u32;
+    let off = |c: Option<u32>| c.map(|c| c + no);
+    tree.nodes.extend(sub.nodes.into_iter().map(|n| match n {
+        ExactNode::Convex {
+            first,
+            count,
+            child,
+            support_planes,
+        } => ExactNode::Convex {
+            first: first + po,
+            count,
+            child: off(child),
+            support_planes,
+        },
+        ExactNode::Split {
+            plane,
+            front,
+            back,
+            support_planes,
+        } => ExactNode::Split {
+            plane,
+            front: off(front),
+            back: off(back),
+            support_planes,
+        },
+    }));
+    tree.polygons.extend(sub.polygons);
+    attach(tree, slot, no);
+}
+
+fn push_convex(
+    ctx: &Ctx,
+    tree: &mut ExactTree,
+    polys: Vec<ExactPolygon>,
+    support_planes: u32,
+    slot: Slot,
+) -> u32 {
+    let idx = tree.nodes.len() as u32;
+    tree.nodes.push(ExactNode::Convex {
+        first: tree.polygons.len() as u32,
+        count: polys.len() as u32,
+        child: None,
+        support_planes,
+    });
+    attach(tree, slot, idx);
+    let n = polys.len() as u64;
+    tree.polygons.extend(polys);
+    let before = ctx.placed.fetch_add(n, Ordering::Relaxed);
+    if before >> 12 != (before + n) >> 12 {
+        (ctx.progress)(before + n);
+    }
+    idx
+}
+
+fn run(ctx: &Ctx, job: Job) -> Result<ExactTree, CompileError> {
+    let mut tree = ExactTree::default();
+    let mut stack = vec![job];
+    while let Some(job) = stack.pop() {
+        match job {
+            Job::InPlane {
+                on,
+                rest,
+                interior_front,
+                slot,
+                limit,
+            } => {
+                let k = distinct_planes(on.iter().chain(&rest)).len() as u32;
+                limit.check(k, "in-plane child of a split")?;
+                let polys = on
+                    .into_iter()
+                    .map(|frag| ExactPolygon {
+                        frag,
+                        interior_front,
+                    })
+                    .collect();
+                let idx = push_convex(ctx, &mut tree, polys, k, slot);
+                if !rest.is_empty() {
+                    let limit = Limit {
+                        max: k,
+                        strict: true,
+                    };
+                    stack.push(Job::Compile {
+                        frags: rest,
+                        slot: Slot::Child(idx),
+                        limit,
+                    });
+                }
+            }
+            Job::Compile { frags, slot, limit } => {
+                if frags.is_empty() {
+                    continue;
+                }
+                let planes = distinct_planes(frags.iter());
+                let k = planes.len() as u32;
+                limit.check(k, "node")?;
+                let hull = hull_planes(&frags, &planes, ctx.table);
+                if hull.iter().any(Option::is_some) {
+                    let (mut e, mut rest) = (Vec::new(), Vec::new());
+                    for frag in frags {
+                        let i = planes.binary_search(&frag.support).expect("own plane");
+                        match hull[i] {
+                            Some(interior_front) => e.push(ExactPolygon {
+                                frag,
+                                interior_front,
+                            }),
+                            None => rest.push(frag),
+                        }
+                    }
+                    let idx = push_convex(ctx, &mut tree, e, k, slot);
+                    if !rest.is_empty() {
+                        let limit = Limit {
+                            max: k,
+                            strict: true,
+                        };
+                        stack.push(Job::Compile {
+                            frags: rest,
+                            slot: Slot::Child(idx),
+                            limit,
+                        });
+                    }
+                    continue;
+                }
+                let (front_job, back_job, idx) = split_node(ctx, &mut tree, frags, &planes, slot)?;
+                let sizes = |j: &Job| match j {
+                    Job::Compile { frags, .. } => frags.len(),
+                    Job::InPlane { on, rest, .. } => on.len() + rest.len(),
+                };
+                let (nf, nb) = (sizes(&front_job), sizes(&back_job));
+                if nf.min(nb) >= PAR_MIN && nf.min(nb) * 8 >= nf + nb {
+                    let (f, b) = rayon::join(
+                        || run(ctx, front_job.rooted()),
+                        || run(ctx, back_job.rooted()),
+                    );
+                    append(&mut tree, f?, Slot::Front(idx));
+                    append(&mut tree, b?, Slot::Back(idx));
+                } else {
+                    stack.push(back_job);
+                    stack.push(front_job);
+                }
+            }
+        }
+    }
+    Ok(tree)
+}
+
+/// Emit a split node for `frags` (no plane of which is on the hull) and return the jobs of
+/// its two children.
+fn split_node(
+    ctx: &Ctx,
+    tree: &mut ExactTree,
+    frags: Vec<Fragment>,
+    planes: &[PlaneId],
+    slot: Slot,
+) -> Result<(Job, Job, u32), CompileError> {
+    let k = planes.len() as u32;
+    let p = choose_split(
+        &frags,
+        planes,
+        ctx.table,
+        ctx.options.candidates,
+        ctx.options.seed,
+    );
+    let results: Vec<Option<SplitResult>> = if frags.len() >= PAR_MIN {
+        frags
+            .into_par_iter()
+            .map(|f| f.split(p, ctx.table))
+            .collect()
+    } else {
+        frags.into_iter().map(|f| f.split(p, ctx.table)).collect()
+    };
+    let (mut front, mut back, mut on) = (Vec::new(), Vec::new(), Vec::new());
+    for r in results {
+        match r {
+            Some(SplitResult::Front(f)) => front.push(f),
+            Some(SplitResult::Back(f)) => back.push(f),
+            Some(SplitResult::On(f)) => on.push(f),
+            Some(SplitResult::Cut(f, b)) => {
+                tree.cuts += 1;
+                front.push(f);
+                back.push(b);
+            }
+            None => {
+                return Err(CompileError::Invariant(
+                    "a cut found no intersection point".into(),
+                ))
+            }
+        }
+    }
+    if on.iter().any(|f| f.support != p) {
+        return Err(CompileError::Invariant(
+            "a fragment lies in a plane that is not its support".into(),
+        ));
+    }
+    if on.is_empty() || front.is_empty() || back.is_empty() {
+        return Err(CompileError::Invariant(format!(
+            "split plane {p} is not a proper split: {} front, {} back, {} in the plane",
+            front.len(),
+            back.len(),
+            on.len()
+        )));
+    }
+    let idx = tree.nodes.len() as u32;
+    tree.nodes.push(ExactNode::Split {
+        plane: p,
+        front: None,
+        back: None,
+        support_planes: k,
+    });
+    attach(tree, slot, idx);
+    let strict = Limit {
+        max: k,
+        strict: true,
+    };
+    let loose = Limit {
+        max: k,
+        strict: false,
+    };
+    Ok(if front.len() <= back.len() {
+        (
+            Job::InPlane {
+                on,
+                rest: front,
+                interior_front: true,
+                slot: Slot::Front(idx),
+                limit: loose,
+            },
+            Job::Compile {
+                frags: back,
+                slot: Slot::Back(idx),
+                limit: strict,
+            },
+            idx,
+        )
+    } else {
+        (
+            Job::Compile {
+                frags: front,
+                slot: Slot::Front(idx),
+                limit: strict,
+            },
+            Job::InPlane {
+                on,
+                rest: back,
+                interior_front: false,
+                slot: Slot::Back(idx),
+                limit: loose,
+            },
+            idx,
+        )
+    })
+}

@@ -1,0 +1,219 @@
+//! The `peel` binary as a user runs it: exit codes, messages, files written (or not).
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn peel(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_peel"))
+        .args(args)
+        .output()
+        .expect("run peel")
+}
+
+fn fixtures() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../fixtures")
+}
+
+fn fixture(name: &str) -> String {
+    fixtures().join(name).to_string_lossy().into_owned()
+}
+
+fn s(p: &Path) -> &str {
+    p.to_str().unwrap()
+}
+
+fn json_keys(text: &str) -> Vec<String> {
+    let v: serde_json::Value = serde_json::from_str(text).expect("valid JSON");
+    let mut keys: Vec<String> = v.as_object().expect("an object").keys().cloned().collect();
+    keys.sort();
+    keys
+}
+
+#[test]
+fn compile_writes_the_file_and_exact_stats_keys() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("cube.peel");
+    let stats = dir.path().join("stats.json");
+    let o = peel(&[
+        "compile",
+        &fixture("cube.obj"),
+        "-o",
+        s(&out),
+        "--stats-json",
+        s(&stats),
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert!(out.exists());
+    let mut want = [
+        "input_triangles",
+        "degenerate_dropped",
+        "output_polygons",
+        "convex_nodes",
+        "split_nodes",
+        "cuts",
+        "max_depth",
+        "planes",
+        "bytes",
+        "compile_seconds",
+    ]
+    .map(String::from)
+    .to_vec();
+    want.sort();
+    let text = std::fs::read_to_string(&stats).unwrap();
+    assert_eq!(json_keys(&text), want);
+    let v: serde_json::Value = serde_json::from_str(&text).unwrap();
+    assert_eq!(v["input_triangles"], 12);
+    assert_eq!(v["bytes"], std::fs::metadata(&out).unwrap().len());
+
+    let o = peel(&["inspect", s(&out), "--json"]);
+    assert!(o.status.success());
+    let keys = json_keys(&String::from_utf8_lossy(&o.stdout));
+    for k in [
+        "format_version",
+        "output_polygons",
+        "convex_nodes",
+        "split_nodes",
+        "max_depth",
+        "planes",
+        "vertices",
+        "bytes",
+    ] {
+        assert!(
+            keys.contains(&k.to_string()),
+            "inspect --json lacks {k}: {keys:?}"
+        );
+    }
+
+    let o = peel(&["dump", s(&out)]);
+    assert!(o.status.success());
+    assert!(String::from_utf8_lossy(&o.stdout).contains("convex"));
+}
+
+#[test]
+fn bad_inputs_fail_with_file_and_line_and_write_nothing() {
+    let dir = tempfile::tempdir().unwrap();
+    for (name, line) in [
+        ("bad/nan_coordinate.obj", 4),
+        ("bad/inf_coordinate.obj", 3),
+        ("bad/index_out_of_range.obj", 6),
+        ("bad/bad_number.obj", 3),
+    ] {
+        let out = dir.path().join("out.peel");
+        let o = peel(&["compile", &fixture(name), "-o", s(&out)]);
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert!(!o.status.success(), "{name} compiled");
+        let file = Path::new(name).file_name().unwrap().to_str().unwrap();
+        assert!(err.contains(&format!("{file}:{line}:")), "{name}: {err}");
+        assert!(!out.exists(), "{name}: partial output left behind");
+        assert_eq!(
+            std::fs::read_dir(dir.path()).unwrap().count(),
+            0,
+            "temp file left behind"
+        );
+    }
+    let out = dir.path().join("out.peel");
+    let o = peel(&["compile", &fixture("bad/no_faces.obj"), "-o", s(&out)]);
+    assert!(!o.status.success());
+    assert!(String::from_utf8_lossy(&o.stderr).contains("no faces"));
+    let o = peel(&["compile", &fixture("does_not_exist.obj"), "-o", s(&out)]);
+    assert!(!o.status.success());
+    assert!(String::from_utf8_lossy(&o.stderr).contains("does_not_exist.obj"));
+    assert!(!out.exists());
+}
+
+#[test]
+fn corrupt_peel_is_a_clear_error() {
+    let dir = tempfile::tempdir().unwrap();
+    let bad = dir.path().join("bad.peel");
+    std::fs::write(&bad, b"PEEL\x01\x00garbage").unwrap();
+    for args in [vec!["inspect", s(&bad)], vec!["dump", s(&bad)]] {
+        let o = peel(&args);
+        assert!(!o.status.success());
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert!(err.contains("bad.peel") && err.contains("byte"), "{err}");
+    }
+}
+
+#[test]
+fn render_accepts_negative_numbers_in_both_forms_and_checks_ids() {
+    let dir = tempfile::tempdir().unwrap();
+    let plain = dir.path().join("plain.peel");
+    assert!(peel(&["compile", &fixture("cube.obj"), "-o", s(&plain)])
+        .status
+        .success());
+    let a = dir.path().join("a.png");
+    let o = peel(&[
+        "render",
+        s(&plain),
+        "--eye=-3,2.5,4",
+        "--target=0,0,0",
+        "--size=64x48",
+        "-o",
+        s(&a),
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let b = dir.path().join("b.png");
+    let o = peel(&[
+        "render",
+        s(&plain),
+        "--eye",
+        "-3,2.5,4",
+        "--target",
+        "-0,0,0",
+        "--size",
+        "64x48",
+        "-o",
+        s(&b),
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert_eq!(std::fs::read(&a).unwrap(), std::fs::read(&b).unwrap());
+
+    let c = dir.path().join("c.png");
+    let o = peel(&[
+        "render",
+        s(&plain),
+        "--eye=-3,2.5,4",
+        "--target=0,0,0",
+        "--size=64x48",
+        "--ids",
+        "-o",
+        s(&c),
+    ]);
+    assert!(!o.status.success());
+    assert!(String::from_utf8_lossy(&o.stderr).contains("--ids"));
+    assert!(!c.exists());
+
+    let with_ids = dir.path().join("ids.peel");
+    assert!(
+        peel(&["compile", &fixture("cube.obj"), "-o", s(&with_ids), "--ids"])
+            .status
+            .success()
+    );
+    let o = peel(&[
+        "render",
+        s(&with_ids),
+        "--eye=-3,2.5,4",
+        "--target=0,0,0",
+        "--size=64x48",
+        "--ids",
+        "-o",
+        s(&c),
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let img = image::open(&c).unwrap().to_rgb8();
+    let centre = img.get_pixel(32, 24).0;
+    let id = (u32::from(centre[0]) << 16) | (u32::from(centre[1]) << 8) | u32::from(centre[2]);
+    assert!((1..=12).contains(&id), "centre pixel shows id+1 = {id}");
+    assert_eq!(img.get_pixel(0, 0).0, [0, 0, 0], "background is 0");
+}
+
+#[test]
+fn demo_writes_a_picture() {
+    let dir = tempfile::tempdir().unwrap();
+    let o = peel(&["demo", "--out", s(dir.path())]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let img = image::open(dir.path().join("demo.png")).unwrap().to_rgb8();
+    assert_eq!(img.dimensions(), (800, 600));
+    let distinct: std::collections::HashSet<[u8; 3]> = img.pixels().map(|p| p.0).collect();
+    assert!(distinct.len() > 8, "the demo shows several shaded objects");
+}

@@ -1,0 +1,25 @@
+//! Arbitrary bytes -> runtime reader -> render: never a panic, never a hang.
+#![no_main]
+
+use glam::DVec3;
+use libfuzzer_sys::fuzz_target;
+use peel_runtime::camera::{Camera, Pose};
+use peel_runtime::read::Scene;
+use peel_runtime::render::{render, Paint, Workspace};
+use peel_runtime::target::testing::MockTarget;
+
+fuzz_target!(|data: &[u8]| {
+    let Ok(scene) = Scene::parse(data) else { return };
+    let mut workspace: Box<Workspace<256, 64>> = Box::default();
+    for (eye, paint) in [
+        (DVec3::new(3.0, 2.0, 5.0), Paint::Colours),
+        (DVec3::new(0.0, 0.0, 0.0), Paint::Ids),
+        (DVec3::new(-1e3, 4.0, 0.5), Paint::Colours),
+    ] {
+        let Ok(camera) = Camera::look_at(Pose::new(eye, DVec3::new(0.1, 0.2, 0.3)), 60.0, 32, 24, 1e-3) else {
+            continue;
+        };
+        let mut target = MockTarget::<32, 24>::allowing_overdraw();
+        let _ = render(&scene, &camera, &mut workspace, paint, &mut target);
+    }
+});

@@ -1,0 +1,268 @@
+//! Coverage: which pixels of the frame are already drawn, as a span buffer in caller memory.
+//!
+//! Front-to-back rendering (seed 004: "draw a pixel only if it has not been drawn yet") keeps,
+//! per scanline, the sorted list of covered intervals. Every span the fill emits goes through
+//! [`Coverage::span`]: the covered parts are subtracted, only the uncovered pieces reach the
+//! real sink, and the span is merged into the row's list. So each pixel is written at most
+//! once, and the frame is done when every row is one interval `[0, W)`.
+//!
+//! # Memory and the exhaustion policy
+//!
+//! The caller gives `H` row counters and a slice of `(u16, u16)` intervals, split evenly into
+//! `H` rows of `intervals.len() / H` slots. A span whose merge would need one more slot than
+//! its row has is **not drawn**: the coverage becomes [`Coverage::exhausted`] and ignores every
+//! later span, so the list still describes exactly the pixels that were written. The renderer
+//! then [freezes](Coverage::freeze) it and paints the polygons that are left (the one that
+//! overflowed and all farther ones) back to front, each span still clipped against the frozen
+//! list: nearer polygons are never overwritten and no polygon is dropped; only the rest of the
+//! frame has overdraw. Merging adjacent intervals keeps the lists short: a row needs one slot
+//! per visible "hole" boundary, not per polygon.
+
+#[cfg(test)]
+mod tests;
+
+use crate::error::RenderError;
+use crate::target::{Colour, SpanSink};
+
+/// What [`Coverage::span`] does with the list.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Mode {
+    /// Subtract, forward the uncovered pieces, merge (front-to-back rendering).
+    Exclusive,
+    /// Subtract and forward, but do not merge: the list is frozen (the exhaustion fallback).
+    Frozen,
+    /// Forward the whole span and merge it: only measures the distinct pixels covered
+    /// (back-to-front rendering with statistics).
+    Measure,
+}
+
+/// Per-row covered intervals of a `width x height` frame, in caller memory (see the module
+/// docs). Intervals are half-open `[start, end)`, sorted, disjoint and not touching.
+#[derive(Debug)]
+pub struct Coverage<'m> {
+    intervals: &'m mut [(u16, u16)],
+    counts: &'m mut [u16],
+    per_row: usize,
+    width: u16,
+    height: u32,
+    full_rows: u32,
+    covered: u64,
+    mode: Mode,
+    exhausted: bool,
+}
+
+impl<'m> Coverage<'m> {
+    /// An empty coverage of a `width x height` frame. Needs `counts.len() >= height` and
+    /// `width <= u16::MAX`, else [`RenderError::SpanMemory`]; any `intervals` length works
+    /// (even 0: then the first span exhausts it, and the renderer falls back at once).
+    pub fn new(
+        intervals: &'m mut [(u16, u16)],
+        counts: &'m mut [u16],
+        width: u32,
+        height: u32,
+    ) -> Result<Self, RenderError> {
+        let w = u16::try_from(width).map_err(|_| RenderError::SpanMemory)?;
+        let rows = usize::try_from(height).map_err(|_| RenderError::SpanMemory)?;
+        if counts.len() < rows {
+            return Err(RenderError::SpanMemory);
+        }
+        let per_row = intervals
+            .len()
+            .checked_div(rows)
+            .unwrap_or(0)
+            .min(usize::from(u16::MAX));
+        let mut c = Coverage {
+            intervals,
+            counts,
+            per_row,
+            width: w,
+            height,
+            full_rows: 0,
+            covered: 0,
+            mode: Mode::Exclusive,
+            exhausted: false,
+        };
+        c.clear();
+        Ok(c)
+    }
+
+    /// Forget everything (a new frame), back to [`Mode::Exclusive`].
+    pub fn clear(&mut self) {
+        for c in self.counts.iter_mut() {
+            *c = 0;
+        }
+        self.full_rows = 0;
+        self.covered = 0;
+        self.mode = Mode::Exclusive;
+        self.exhausted = false;
+    }
+
+    /// Frame width.
+    pub fn width(&self) -> u32 {
+        u32::from(self.width)
+    }
+
+    /// Frame height.
+    pub fn height(&self) -> u32 {
+        self.height
+    }
+
+    /// Interval slots per row.
+    pub fn per_row(&self) -> usize {
+        self.per_row
+    }
+
+    /// The current mode.
+    pub fn mode(&self) -> Mode {
+        self.mode
+    }
+
+    /// Set the mode (clears nothing).
+    pub fn set_mode(&mut self, mode: Mode) {
+        self.mode = mode;
+    }
+
+    /// Stop merging: later spans are clipped against the list as it is now.
+    pub fn freeze(&mut self) {
+        self.mode = Mode::Frozen;
+    }
+
+    /// Whether a span could not be merged for lack of slots (it and every later span were
+    /// dropped until [`Coverage::freeze`] or [`Coverage::clear`]).
+    pub fn exhausted(&self) -> bool {
+        self.exhausted
+    }
+
+    /// Distinct pixels covered (exact while not exhausted).
+    pub fn covered(&self) -> u64 {
+        self.covered
+    }
+
+    /// Whether every pixel of the frame is covered.
+    pub fn is_full(&self) -> bool {
+        self.full_rows == self.height || self.width == 0
+    }
+
+    /// The covered intervals of row `y` (empty outside the frame).
+    pub fn row(&self, y: u32) -> &[(u16, u16)] {
+        let Some(y) = usize::try_from(y).ok().filter(|_| y < self.height) else {
+            return &[];
+        };
+        let n = usize::from(self.counts.get(y).copied().unwrap_or(0));
+        let start = y * self.per_row;
+        self.intervals.get(start..start + n).unwrap_or(&[])
+    }
+
+    /// Whether every pixel `x0 <= x < x1`, `y0 <= y < y1` is covered (an empty rectangle is).
+    pub fn covers(&self, x0: u32, y0: u32, x1: u32, y1: u32) -> bool {
+        (y0..y1.min(self.height)).all(|y| {
+            x0 >= x1
+                || self
+                    .row(y)
+                    .iter()
+                    .any(|&(a, b)| u32::from(a) <= x0 && x1 <= u32::from(b))
+        })
+    }
+
+    /// Paint `[x_start, x_end)` of row `y` into `sink` as the mode says; returns the pixels
+    /// forwarded. Out-of-frame or empty spans, and every span once exhausted (in the merging
+    /// modes), forward nothing.
+    pub fn span<S: SpanSink + ?Sized>(
+        &mut self,
+        y: u32,
+        x_start: u32,
+        x_end: u32,
+        colour: Colour,
+        sink: &mut S,
+    ) -> u64 {
+        let x_end = x_end.min(u32::from(self.width));
+        if x_start >= x_end || y >= self.height || (self.exhausted && self.mode == Mode::Exclusive)
+        {
+            return 0;
+        }
+        // In range: both fit u16 since x_end <= width <= u16::MAX.
+        let (a, b) = (x_start as u16, x_end as u16);
+        // Intervals touching [a, b] (overlapping or adjacent) are merged with it.
+        let (first, last, n) = {
+            let row = self.row(y);
+            let first = row.partition_point(|&(_, e)| e < a);
+            (first, row.partition_point(|&(s, _)| s <= b), row.len())
+        };
+        let mut merging = self.mode != Mode::Frozen && !self.exhausted;
+        if merging && n + 1 - (last - first) > self.per_row {
+            self.exhausted = true;
+            if self.mode == Mode::Exclusive {
+                return 0;
+            }
+            // Measuring: keep painting, stop counting.
+            merging = false;
+        }
+        let row = self.row(y);
+        let mut forwarded = 0u64;
+        if self.mode == Mode::Measure {
+            sink.span(y, x_start, x_end, colour);
+            forwarded = u64::from(b - a);
+        } else {
+            let mut at = a;
+            for &(s, e) in &row[first..last] {
+                if s > at {
+                    sink.span(y, u32::from(at), u32::from(s), colour);
+                    forwarded += u64::from(s - at);
+                }
+                at = at.max(e);
+            }
+            if at < b {
+                sink.span(y, u32::from(at), u32::from(b), colour);
+                forwarded += u64::from(b - at);
+            }
+        }
+        if merging {
+            self.merge(y as usize, first, last, a, b);
+        }
+        forwarded
+    }
+
+    /// Replace intervals `first..last` of row `y` (all touching `[a, b]`) by their union with
+    /// `[a, b]`; the caller checked there is room.
+    fn merge(&mut self, y: usize, first: usize, last: usize, a: u16, b: u16) {
+        let base = y * self.per_row;
+        let n = usize::from(self.counts[y]);
+        let row = &mut self.intervals[base..base + self.per_row];
+        let (mut s, mut e) = (a, b);
+        let mut before = 0u64;
+        for &(rs, re) in &row[first..last] {
+            s = s.min(rs);
+            e = e.max(re);
+            before += u64::from(re - rs);
+        }
+        let was_full = n == 1 && row[0] == (0, self.width);
+        let new_n = n + 1 - (last - first);
+        // Shift the tail so that exactly one slot replaces `first..last`.
+        if last - first != 1 {
+            row.copy_within(last..n, first + 1);
+        }
+        row[first] = (s, e);
+        self.counts[y] = new_n as u16;
+        self.covered += u64::from(e - s) - before;
+        if !was_full && new_n == 1 && s == 0 && e == self.width {
+            self.full_rows += 1;
+        }
+    }
+}
+
+/// A [`SpanSink`] that paints through a [`Coverage`] into another sink, counting pixels.
+#[derive(Debug)]
+pub struct CoverageSink<'c, 'm, S: SpanSink + ?Sized> {
+    /// The coverage spans are clipped against.
+    pub coverage: &'c mut Coverage<'m>,
+    /// The real sink.
+    pub sink: &'c mut S,
+    /// Pixels forwarded to `sink`.
+    pub pixels: u64,
+}
+
+impl<S: SpanSink + ?Sized> SpanSink for CoverageSink<'_, '_, S> {
+    fn span(&mut self, y: u32, x_start: u32, x_end: u32, colour: Colour) {
+        self.pixels += self.coverage.span(y, x_start, x_end, colour, self.sink);
+    }
+}
