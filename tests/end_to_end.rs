@@ -9,9 +9,10 @@ use std::path::{Path, PathBuf};
 use glam::DVec3;
 use peel_compiler::compile::{compile_mesh, CompileOptions};
 use peel_compiler::load::{load_obj, Mesh};
-use peel_compiler::raster::{render_bytes, View};
+use peel_compiler::raster::{render_bytes_with, Settings, View};
 use peel_e2e::{reference, RefCamera};
 use peel_runtime::read::{Node, Scene};
+use peel_runtime::traverse::Order;
 
 fn fixture(name: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR"))
@@ -56,8 +57,22 @@ fn bounds(mesh: &Mesh) -> (DVec3, DVec3) {
 }
 
 /// Render `bytes` and the reference with `view`; returns (robust mismatches, robust pixels).
-fn compare(mesh: &Mesh, bytes: &[u8], polys: &[Vec<DVec3>], view: &View) -> (usize, usize) {
-    let frame = render_bytes(bytes, view, true, [0, 0, 0]).expect("render");
+fn compare(
+    mesh: &Mesh,
+    bytes: &[u8],
+    polys: &[Vec<DVec3>],
+    view: &View,
+    settings: &Settings,
+) -> (usize, usize) {
+    let frame = render_bytes_with(
+        bytes,
+        view,
+        &Settings {
+            ids: true,
+            ..*settings
+        },
+    )
+    .expect("render");
     let scene = Scene::parse(bytes).unwrap();
     let camera = peel_compiler::raster::camera(&scene, view).unwrap();
     let cam = RefCamera {
@@ -91,6 +106,31 @@ fn compare(mesh: &Mesh, bytes: &[u8], polys: &[Vec<DVec3>], view: &View) -> (usi
         }
     }
     (bad, robust)
+}
+
+/// Both drawing orders without culling, and front to back with culling when the eye is known
+/// to be outside every closed mesh.
+fn all_settings(outside: bool) -> Vec<Settings> {
+    let mut v = vec![
+        Settings {
+            order: Order::FrontToBack,
+            cull: false,
+            ..Settings::default()
+        },
+        Settings {
+            order: Order::BackToFront,
+            cull: false,
+            ..Settings::default()
+        },
+    ];
+    if outside {
+        v.push(Settings {
+            order: Order::FrontToBack,
+            cull: true,
+            ..Settings::default()
+        });
+    }
+    v
 }
 
 fn view(eye: DVec3, target: DVec3, width: u32, height: u32) -> View {
@@ -155,11 +195,16 @@ fn check_scene(name: &str, mesh: &Mesh, extra: &[View]) {
     }
     let mut total_bad = 0;
     for (k, v) in views.iter().enumerate() {
-        let (bad, robust) = compare(mesh, &bytes, &polys, v);
-        if bad > 0 {
-            eprintln!("{name}: camera {k} ({v:?}): {bad} of {robust} robust pixels differ");
+        // Back-face culling assumes the eye is outside closed meshes: only the orbit cameras
+        // (outside the bounding box) keep it on.
+        let outside = k < 8;
+        for settings in all_settings(outside) {
+            let (bad, robust) = compare(mesh, &bytes, &polys, v, &settings);
+            if bad > 0 {
+                eprintln!("{name}: camera {k} ({v:?}) {settings:?}: {bad} of {robust} robust pixels differ");
+            }
+            total_bad += bad;
         }
-        total_bad += bad;
     }
     assert_eq!(
         total_bad, 0,
@@ -196,9 +241,11 @@ fn near_plane_cuts_polygons() {
         90,
     );
     v.near = Some(0.08);
-    let (bad, robust) = compare(&mesh, &bytes, &polys, &v);
-    assert!(robust > 1000);
-    assert_eq!(bad, 0);
+    for settings in all_settings(false) {
+        let (bad, robust) = compare(&mesh, &bytes, &polys, &v, &settings);
+        assert!(robust > 1000);
+        assert_eq!(bad, 0, "{settings:?}");
+    }
 }
 
 #[test]
@@ -207,9 +254,11 @@ fn large_image() {
     let bytes = compile(&mesh);
     let polys = polygons(&bytes);
     let v = view(DVec3::new(5.0, 3.5, 6.0), DVec3::ZERO, 4096, 4096);
-    let (bad, robust) = compare(&mesh, &bytes, &polys, &v);
-    assert!(robust > 1_000_000);
-    assert_eq!(bad, 0);
+    for settings in all_settings(true) {
+        let (bad, robust) = compare(&mesh, &bytes, &polys, &v, &settings);
+        assert!(robust > 1_000_000);
+        assert_eq!(bad, 0, "{settings:?}");
+    }
 }
 
 #[test]

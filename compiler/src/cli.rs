@@ -6,7 +6,8 @@ use clap::Args;
 use glam::DVec3;
 
 use peel_compiler::compile::CompileOptions;
-use peel_compiler::raster::{png, render_bytes, Frame, View};
+use peel_compiler::raster::{png, render_bytes, render_bytes_with, Frame, Settings, View};
+use peel_runtime::traverse::Order;
 
 /// Parse `x,y,z` (negative numbers allowed: `--eye=-1,2,3` or `--eye -1,2,3`).
 pub fn parse_dvec3(s: &str) -> Result<DVec3, String> {
@@ -92,9 +93,28 @@ pub struct RenderArgs {
     /// Background colour r,g,b.
     #[arg(long, value_parser = parse_rgb, default_value = "0,0,0")]
     pub background: [u8; 3],
+    /// Drawing order: front-to-back writes each pixel once; back-to-front is the plain
+    /// painter's algorithm.
+    #[arg(long, value_enum, default_value_t = OrderArg::FrontToBack)]
+    pub order: OrderArg,
+    /// Draw everything: no frustum, covered-subtree or back-face culling.
+    #[arg(long)]
+    pub no_cull: bool,
+    /// Print the frame's statistics (polygons visited, culled, drawn, pixels written, overdraw).
+    #[arg(long)]
+    pub stats: bool,
     /// Output PNG.
     #[arg(short, long)]
     pub output: PathBuf,
+}
+
+/// `--order` values.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum OrderArg {
+    /// Reverse painter order with a span buffer: every pixel written once.
+    FrontToBack,
+    /// Painter's order: far polygons first, overdraw.
+    BackToFront,
 }
 
 fn read(path: &Path) -> Result<Vec<u8>, String> {
@@ -143,9 +163,40 @@ pub fn render(args: &RenderArgs) -> Result<(), String> {
         height: args.size.1,
         near: args.near,
     };
-    let frame = render_bytes(&bytes, &view, args.ids, args.background)
+    let settings = Settings {
+        order: match args.order {
+            OrderArg::FrontToBack => Order::FrontToBack,
+            OrderArg::BackToFront => Order::BackToFront,
+        },
+        cull: !args.no_cull,
+        ids: args.ids,
+        background: args.background,
+    };
+    let frame = render_bytes_with(&bytes, &view, &settings)
         .map_err(|e| format!("{}: {e}", args.file.display()))?;
     write_png(&args.output, &frame)?;
+    if args.stats {
+        let s = &frame.stats;
+        println!("polygons visited: {}", s.polygons_visited);
+        println!("subtrees culled (frustum): {}", s.nodes_culled_frustum);
+        println!("subtrees culled (covered): {}", s.nodes_culled_covered);
+        println!(
+            "polygons culled (back face): {}",
+            s.polygons_culled_back_face
+        );
+        println!("polygons drawn: {}", s.polygons_drawn);
+        println!("pixels written: {}", s.pixels_written);
+        match s.distinct_pixels {
+            Some(d) => println!("distinct pixels: {d}"),
+            None => println!("distinct pixels: unknown"),
+        }
+        match s.overdraw() {
+            Some(o) => println!("overdraw: {o:.2}"),
+            None => println!("overdraw: unknown"),
+        }
+        println!("stopped when full: {}", s.stopped_full);
+        println!("span memory fallback: {}", s.fallback);
+    }
     println!(
         "{} -> {}: {}x{}, {} polygons visited, {} drawn, {} pixels written",
         args.file.display(),
@@ -201,3 +252,133 @@ pub fn demo(out: &Path) -> Result<(), String> {
 /// The demo scene (also `fixtures/demo.obj`).
 const DEMO_OBJ: &str = include_str!("../../fixtures/demo.obj");
 const DEMO_MTL: &str = include_str!("../../fixtures/demo.mtl");
+
+/// Arguments of `peel bench`.
+#[derive(Args)]
+pub struct BenchArgs {
+    /// `frames` (default): frame time vs error per method; `compile`: the compiler vs its baselines.
+    #[arg(default_value = "frames")]
+    pub what: BenchWhat,
+    /// Folder of the shared models (teapot, cow, suzanne, stanford-bunny); absent models are
+    /// skipped with a notice.
+    #[arg(long, default_value = "../shared/models")]
+    pub models: PathBuf,
+    /// Write one JSON record per (scene, method).
+    #[arg(long)]
+    pub json: Option<PathBuf>,
+    /// Where the markdown table and the plot go.
+    #[arg(long, default_value = "peel-bench")]
+    pub out: PathBuf,
+    /// Image size.
+    #[arg(long, value_parser = parse_size, default_value = "640x480")]
+    pub size: (u32, u32),
+    /// Cameras per scene.
+    #[arg(long, default_value_t = 16)]
+    pub cameras: usize,
+    /// Only the small scenes (demo and generated), for a quick look.
+    #[arg(long)]
+    pub quick: bool,
+}
+
+/// What `peel bench` measures.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum BenchWhat {
+    /// Frame time against pixel error.
+    Frames,
+    /// Compile time and output size against the baselines.
+    Compile,
+}
+
+/// The demo scene as a mesh (written to a temporary folder so its MTL resolves).
+fn demo_mesh() -> Result<peel_compiler::load::Mesh, String> {
+    let dir = std::env::temp_dir().join(format!("peel-bench-demo-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).map_err(|e| e.to_string())?;
+    std::fs::write(dir.join("demo.obj"), DEMO_OBJ).map_err(|e| e.to_string())?;
+    std::fs::write(dir.join("demo.mtl"), DEMO_MTL).map_err(|e| e.to_string())?;
+    let mesh = peel_compiler::load::load_obj(&dir.join("demo.obj")).map_err(|e| e.to_string());
+    let _ = std::fs::remove_dir_all(&dir);
+    mesh
+}
+
+/// The benchmark's scenes: the demo, generated scenes, then the shared models found.
+fn bench_scenes(
+    models: &Path,
+    quick: bool,
+) -> Result<Vec<(String, peel_compiler::load::Mesh)>, String> {
+    use peel_compiler::scenes;
+    let mut v = vec![
+        ("demo".to_string(), demo_mesh()?),
+        ("sphere-9k".to_string(), scenes::sphere(48, 96)),
+        ("torus-4k".to_string(), scenes::torus(64, 32)),
+        ("box-grid-768".to_string(), scenes::box_grid(4)),
+        ("soup-1k".to_string(), scenes::soup(1000, 0.25, 1)),
+    ];
+    if quick {
+        return Ok(v);
+    }
+    for name in ["teapot", "suzanne", "cow", "stanford-bunny"] {
+        let path = models.join(format!("{name}.obj"));
+        if !path.exists() {
+            eprintln!("notice: {} not found, skipping {name}", path.display());
+            continue;
+        }
+        v.push((
+            name.to_string(),
+            peel_compiler::load::load_obj(&path).map_err(|e| e.to_string())?,
+        ));
+    }
+    Ok(v)
+}
+
+/// `peel bench`.
+pub fn bench(args: &BenchArgs) -> Result<(), String> {
+    std::fs::create_dir_all(&args.out).map_err(|e| format!("{}: {e}", args.out.display()))?;
+    match args.what {
+        BenchWhat::Frames => bench_frames(args),
+        BenchWhat::Compile => Err("peel bench compile: not available yet".into()),
+    }
+}
+
+fn bench_frames(args: &BenchArgs) -> Result<(), String> {
+    use peel_compiler::frames;
+    let scenes: Vec<frames::BenchScene> = bench_scenes(&args.models, args.quick)?
+        .into_iter()
+        .map(|(name, mesh)| frames::BenchScene {
+            name,
+            mesh,
+            naive_bsp: None,
+        })
+        .collect();
+    let (w, h) = args.size;
+    let records = frames::run(&scenes, w, h, args.cameras, &mut |m| eprintln!("{m}"))?;
+    let mut report = format!(
+        "## Frame time vs error ({w}x{h}, {} cameras per scene)\n\n",
+        args.cameras
+    );
+    report += &frames::markdown(&records);
+    let knob_scene = scenes
+        .iter()
+        .find(|s| s.name == "cow")
+        .or_else(|| scenes.iter().find(|s| s.name == "sphere-9k"));
+    if let Some(s) = knob_scene {
+        report += "\n## The --candidates knob\n\n";
+        report +=
+            &frames::candidates_knob(&s.name, &s.mesh, &[4, 16, 64, 256], w, h, args.cameras)?;
+    }
+    let md = args.out.join("frames.md");
+    peel_compiler::write::write_atomic(&md, report.as_bytes()).map_err(|e| e.to_string())?;
+    let png = args.out.join("frames.png");
+    peel_compiler::write::write_atomic(&png, &frames::plot(&records)?)
+        .map_err(|e| e.to_string())?;
+    if let Some(json) = &args.json {
+        let main: Vec<&frames::FrameRecord> = records
+            .iter()
+            .filter(|r| frames::METHODS.contains(&r.method.as_str()))
+            .collect();
+        let text = serde_json::to_string_pretty(&main).map_err(|e| e.to_string())?;
+        peel_compiler::write::write_atomic(json, text.as_bytes()).map_err(|e| e.to_string())?;
+    }
+    println!("{report}");
+    println!("wrote {} and {}", md.display(), png.display());
+    Ok(())
+}

@@ -44,6 +44,9 @@ enum Command {
     },
     /// Render a .peel file to a PNG.
     Render(cli::RenderArgs),
+    /// Benchmarks: frame time against pixel error for Peel and baselines (default), or the
+    /// compiler against its baselines (`peel bench compile`).
+    Bench(cli::BenchArgs),
     /// Compile and render the built-in demo scene.
     Demo {
         /// Where to write demo.obj, demo.peel and demo.png.
@@ -90,6 +93,7 @@ fn main() -> ExitCode {
         Command::Dump { file } => cli::dump(&file),
         Command::Render(args) => cli::render(&args),
         Command::Demo { out } => cli::demo(&out),
+        Command::Bench(args) => cli::bench(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -3,10 +3,12 @@
 
 use glam::DVec3;
 use peel_runtime::camera::{Camera, Pose};
+use peel_runtime::coverage::Coverage;
 use peel_runtime::read::Scene;
-use peel_runtime::render::{render, FrameStats, Paint, Workspace};
+use peel_runtime::render::{render_with_options, FrameStats, Paint, RenderOptions, Workspace};
 use peel_runtime::target::Colour;
 use peel_runtime::target::{Framebuffer, Xrgb8888};
+use peel_runtime::traverse::Order;
 
 /// Traversal stack entries of the host workspace (trees deeper than this are refused).
 pub const HOST_STACK: usize = 1 << 14;
@@ -75,13 +77,55 @@ pub fn camera(scene: &Scene<'_>, view: &View) -> Result<Camera, String> {
     .map_err(|e| e.to_string())
 }
 
-/// Render `bytes` seen from `view`: colours, or the id image (`id + 1`, background 0).
+/// Span-buffer intervals per image row given to front-to-back rendering on the host.
+pub const HOST_SPANS_PER_ROW: usize = 64;
+
+/// How a frame is drawn on the host.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Settings {
+    /// Front to back (each pixel written once) or back to front (painter's algorithm).
+    pub order: Order,
+    /// Frustum, covered-subtree and back-face culling.
+    pub cull: bool,
+    /// The id image (`id + 1`, background 0) instead of colours.
+    pub ids: bool,
+    /// Background colour (ignored for id images, whose background is 0).
+    pub background: [u8; 3],
+}
+
+impl Default for Settings {
+    fn default() -> Self {
+        Settings {
+            order: Order::FrontToBack,
+            cull: true,
+            ids: false,
+            background: [0, 0, 0],
+        }
+    }
+}
+
+/// Render `bytes` seen from `view`: colours, or the id image (`id + 1`, background 0), front
+/// to back with culling.
 pub fn render_bytes(
     bytes: &[u8],
     view: &View,
     ids: bool,
     background: [u8; 3],
 ) -> Result<Frame, String> {
+    render_bytes_with(
+        bytes,
+        view,
+        &Settings {
+            ids,
+            background,
+            ..Settings::default()
+        },
+    )
+}
+
+/// Render `bytes` seen from `view` as `settings` say.
+pub fn render_bytes_with(bytes: &[u8], view: &View, settings: &Settings) -> Result<Frame, String> {
+    let (ids, background) = (settings.ids, settings.background);
     let scene = Scene::parse(bytes).map_err(|e| format!("invalid .peel file: {e}"))?;
     let camera = camera(&scene, view)?;
     let mut pixels = vec![0u32; view.width as usize * view.height as usize];
@@ -95,8 +139,26 @@ pub fn render_bytes(
     fb.clear(bg);
     let mut workspace: Box<Workspace<HOST_STACK, HOST_VERTS>> = Box::default();
     let paint = if ids { Paint::Ids } else { Paint::Colours };
+    let options = RenderOptions {
+        order: settings.order,
+        paint,
+        cull: settings.cull,
+    };
+    let rows = view.height as usize;
+    let mut intervals = vec![(0u16, 0u16); HOST_SPANS_PER_ROW * rows];
+    let mut counts = vec![0u16; rows];
+    let mut coverage = Coverage::new(&mut intervals, &mut counts, view.width, view.height)
+        .map_err(|e| e.to_string())?;
     let stats =
-        render(&scene, &camera, &mut workspace, paint, &mut fb).map_err(|e| e.to_string())?;
+        render_with_options::<{ peel_runtime::fill::SUBPIXEL_BITS }, _, _, HOST_STACK, HOST_VERTS>(
+            &scene,
+            &camera,
+            &mut workspace,
+            options,
+            Some(&mut coverage),
+            &mut fb,
+        )
+        .map_err(|e| e.to_string())?;
     Ok(Frame {
         width: view.width,
         height: view.height,

@@ -217,3 +217,60 @@ fn demo_writes_a_picture() {
     let distinct: std::collections::HashSet<[u8; 3]> = img.pixels().map(|p| p.0).collect();
     assert!(distinct.len() > 8, "the demo shows several shaded objects");
 }
+
+#[test]
+fn render_orders_give_the_same_picture_and_stats_report_overdraw() {
+    let dir = tempfile::tempdir().unwrap();
+    let file = dir.path().join("demo.peel");
+    assert!(peel(&["compile", &fixture("demo.obj"), "-o", s(&file)])
+        .status
+        .success());
+    let mut pictures = Vec::new();
+    let mut overdraws = Vec::new();
+    for order in ["front-to-back", "back-to-front"] {
+        let png = dir.path().join(format!("{order}.png"));
+        let o = peel(&[
+            "render",
+            s(&file),
+            "--eye=5,4,7",
+            "--target=0,0.8,0",
+            "--size=160x120",
+            &format!("--order={order}"),
+            "--stats",
+            "-o",
+            s(&png),
+        ]);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        let out = String::from_utf8_lossy(&o.stdout).into_owned();
+        let line = out
+            .lines()
+            .find(|l| l.starts_with("overdraw: "))
+            .expect("overdraw line")
+            .to_owned();
+        overdraws.push(line);
+        pictures.push(std::fs::read(&png).unwrap());
+    }
+    assert_eq!(
+        pictures[0], pictures[1],
+        "both orders draw the same picture"
+    );
+    assert_eq!(
+        overdraws[0], "overdraw: 1.00",
+        "front to back writes each pixel once"
+    );
+    assert_ne!(
+        overdraws[1], "overdraw: 1.00",
+        "the painter's algorithm overdraws this scene"
+    );
+    let o = peel(&[
+        "render",
+        s(&file),
+        "--eye=5,4,7",
+        "--target=0,0,0",
+        "--size=8x8",
+        "--order=sideways",
+        "-o",
+        "x.png",
+    ]);
+    assert!(!o.status.success());
+}

@@ -1,0 +1,599 @@
+//! Frames: `peel bench` — frame time against pixel error, for Peel's two drawing orders and the
+//! classic baselines, on the same scenes and cameras in one run.
+//!
+//! Every method draws source triangle ids (`id + 1`) into a `W x H` id image; the error of a
+//! frame is the number of pixels whose id differs from the exact ray-casting reference
+//! ([`crate::reference`]): `robust_errors` counts only pixels whose sample point is farther
+//! than 1/16 pixel from every projected edge (of the source triangles and of Peel's compiled
+//! polygons), `all_errors` counts them all. Times are medians over the cameras of each scene;
+//! `pixels_written` is the mean per frame (overdraw included). The baselines share the
+//! runtime's clip, projection, snapping and fill, so only the visibility method differs.
+
+mod newell;
+mod prepare;
+mod zbuffer;
+
+use std::time::Instant;
+
+use glam::DVec3;
+use peel_runtime::camera::{Camera, Pose};
+use peel_runtime::coverage::Coverage;
+use peel_runtime::read::Scene;
+use peel_runtime::render::{render_with_options, Paint, RenderOptions, Workspace};
+use peel_runtime::target::{Framebuffer, Xrgb8888};
+use peel_runtime::traverse::Order;
+use serde::Serialize;
+
+use crate::compile::{compile_mesh, CompileOptions};
+use crate::load::Mesh;
+use crate::raster::{HOST_SPANS_PER_ROW, HOST_STACK, HOST_VERTS};
+use crate::reference::{reference, RefCamera, Reference};
+
+/// One (scene, method) result; the JSON keys are exactly these fields.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct FrameRecord {
+    /// Scene name.
+    pub scene: String,
+    /// Method name.
+    pub method: String,
+    /// Median frame time over the cameras, milliseconds.
+    pub median_frame_ms: f64,
+    /// Mean pixels written per frame (overdraw included).
+    pub pixels_written: u64,
+    /// Mismatched pixels whose sample point is farther than 1/16 pixel from every edge.
+    pub robust_errors: u64,
+    /// All mismatched pixels.
+    pub all_errors: u64,
+}
+
+/// A frame: an id image and the pixels written.
+struct Drawn {
+    ids: Vec<u32>,
+    written: u64,
+}
+
+/// A camera of the benchmark.
+#[derive(Debug, Clone, Copy)]
+pub struct BenchCamera {
+    /// Eye (world).
+    pub eye: DVec3,
+    /// Target (world).
+    pub target: DVec3,
+}
+
+/// `n` cameras on a ring around the scene's bounding box, alternating above and below.
+pub fn ring_cameras(mesh: &Mesh, n: usize) -> Vec<BenchCamera> {
+    let (lo, hi) = mesh_bounds(mesh);
+    let c = (lo + hi) / 2.0;
+    let r = (hi - lo).length().max(1e-9) / 2.0;
+    (0..n)
+        .map(|k| {
+            let a = std::f64::consts::TAU * k as f64 / n as f64 + 0.2;
+            let up = if k % 2 == 0 { 0.55 } else { -0.35 };
+            BenchCamera {
+                eye: c + DVec3::new(a.cos() * 2.3 * r, up * r, a.sin() * 2.3 * r),
+                target: c,
+            }
+        })
+        .collect()
+}
+
+fn mesh_bounds(mesh: &Mesh) -> (DVec3, DVec3) {
+    mesh.triangles.iter().flat_map(|t| t.vertices).fold(
+        (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY)),
+        |(lo, hi), v| (lo.min(v), hi.max(v)),
+    )
+}
+
+/// Method names, in table order.
+pub const METHODS: [&str; 6] = [
+    "peel-front-to-back",
+    "peel-back-to-front",
+    "zbuffer-int",
+    "zbuffer-f32",
+    "newell",
+    "naive-bsp",
+];
+
+/// Everything a scene needs once: compiled bytes, source triangles, camera and reference per view.
+struct Prepared {
+    bytes: Vec<u8>,
+    naive: Option<Vec<u8>>,
+    triangles: Vec<[DVec3; 3]>,
+    views: Vec<(Camera, Reference)>,
+}
+
+fn prepare_scene(
+    mesh: &Mesh,
+    naive: Option<Vec<u8>>,
+    cams: &[BenchCamera],
+    width: u32,
+    height: u32,
+    compile: &CompileOptions,
+) -> Result<Prepared, String> {
+    let options = CompileOptions {
+        ids: true,
+        ..compile.clone()
+    };
+    let (_, bytes) = compile_mesh(mesh, &options, &|_| {}).map_err(|e| e.to_string())?;
+    let scene = Scene::parse(&bytes).map_err(|e| e.to_string())?;
+    let h = scene.header();
+    let centre = DVec3::from_array(h.centre);
+    let near = Camera::default_near(h.bounds_min, h.bounds_max);
+    let polys: Vec<Vec<DVec3>> = (0..h.polygon_count)
+        .map(|i| {
+            let p = scene.polygon(i);
+            (0..u32::from(p.vertex_count))
+                .map(|k| centre + scene.polygon_vertex(&p, k).as_dvec3())
+                .collect()
+        })
+        .collect();
+    let triangles: Vec<[DVec3; 3]> = mesh.triangles.iter().map(|t| t.vertices).collect();
+    let mut views = Vec::new();
+    for c in cams {
+        let camera = Camera::look_at(Pose::new(c.eye, c.target), 60.0, width, height, near)
+            .map_err(|e| e.to_string())?;
+        let rc = RefCamera {
+            eye: c.eye,
+            target: c.target,
+            up: DVec3::Y,
+            fov_y_deg: 60.0,
+            width,
+            height,
+            near,
+        };
+        views.push((camera, reference(&triangles, &polys, &rc)));
+    }
+    Ok(Prepared {
+        bytes,
+        naive,
+        triangles,
+        views,
+    })
+}
+
+/// Draw one frame with `method`; `SUB` is the fixed-point precision.
+fn draw<const SUB: u32>(
+    p: &Prepared,
+    method: &str,
+    camera: &Camera,
+    work: &mut Work,
+) -> Result<Drawn, String> {
+    let (w, h) = (camera.width(), camera.height());
+    let n = (w * h) as usize;
+    match method {
+        "peel-front-to-back" | "peel-back-to-front" | "naive-bsp" => {
+            let bytes = if method == "naive-bsp" {
+                p.naive.as_deref().ok_or("no naive BSP")?
+            } else {
+                &p.bytes
+            };
+            let scene = Scene::parse(bytes).map_err(|e| e.to_string())?;
+            let order = if method == "peel-front-to-back" {
+                Order::FrontToBack
+            } else {
+                Order::BackToFront
+            };
+            let mut ids = vec![0u32; n];
+            let mut fb = Framebuffer::<Xrgb8888>::new(&mut ids, w, h).map_err(|e| e.to_string())?;
+            let mut coverage = Coverage::new(&mut work.intervals, &mut work.counts, w, h)
+                .map_err(|e| e.to_string())?;
+            let options = RenderOptions {
+                order,
+                paint: Paint::Ids,
+                cull: true,
+            };
+            let stats = render_with_options::<SUB, _, _, HOST_STACK, HOST_VERTS>(
+                &scene,
+                camera,
+                &mut work.workspace,
+                options,
+                Some(&mut coverage),
+                &mut fb,
+            )
+            .map_err(|e| e.to_string())?;
+            Ok(Drawn {
+                ids,
+                written: stats.pixels_written,
+            })
+        }
+        "zbuffer-int" | "zbuffer-f32" | "newell" => {
+            let scene = Scene::parse(&p.bytes).map_err(|e| e.to_string())?;
+            let centre = DVec3::from_array(scene.header().centre);
+            let view = camera.view(scene.header().centre);
+            let tris = prepare::prepare::<SUB>(&p.triangles, centre, &view);
+            let mut ids = vec![0u32; n];
+            let written = match method {
+                "zbuffer-int" => {
+                    work.depth_u32.resize(n, 0);
+                    let mut f = zbuffer::ZFrame {
+                        ids: &mut ids,
+                        depth: &mut work.depth_u32,
+                        width: w as usize,
+                    };
+                    zbuffer::render_int::<SUB>(&tris, &view, &mut f)
+                }
+                "zbuffer-f32" => {
+                    work.depth_f32.resize(n, 0.0);
+                    let mut f = zbuffer::ZFrame {
+                        ids: &mut ids,
+                        depth: &mut work.depth_f32,
+                        width: w as usize,
+                    };
+                    zbuffer::render_f32::<SUB>(&tris, &view, &mut f)
+                }
+                _ => newell::render::<SUB>(&tris, &view, &mut ids),
+            };
+            Ok(Drawn { ids, written })
+        }
+        other => Err(format!("unknown method {other}")),
+    }
+}
+
+/// Reused buffers.
+struct Work {
+    workspace: Box<Workspace<HOST_STACK, HOST_VERTS>>,
+    intervals: Vec<(u16, u16)>,
+    counts: Vec<u16>,
+    depth_u32: Vec<u32>,
+    depth_f32: Vec<f32>,
+}
+
+impl Work {
+    fn new(height: u32) -> Self {
+        Work {
+            workspace: Box::default(),
+            intervals: vec![(0, 0); HOST_SPANS_PER_ROW * height as usize],
+            counts: vec![0; height as usize],
+            depth_u32: Vec::new(),
+            depth_f32: Vec::new(),
+        }
+    }
+}
+
+fn errors(r: &Reference, ids: &[u32]) -> (u64, u64) {
+    let mut robust = 0;
+    let mut all = 0;
+    for ((&want, &ok), &got) in r.ids.iter().zip(&r.robust).zip(ids) {
+        if want != got {
+            all += 1;
+            robust += u64::from(ok);
+        }
+    }
+    (robust, all)
+}
+
+fn median(mut v: Vec<f64>) -> f64 {
+    v.sort_by(f64::total_cmp);
+    if v.is_empty() {
+        return 0.0;
+    }
+    let m = v.len() / 2;
+    if v.len() % 2 == 1 {
+        v[m]
+    } else {
+        (v[m - 1] + v[m]) / 2.0
+    }
+}
+
+fn measure<const SUB: u32>(
+    scene: &str,
+    label: &str,
+    method: &str,
+    p: &Prepared,
+    work: &mut Work,
+) -> Result<FrameRecord, String> {
+    let mut times = Vec::new();
+    let (mut written, mut robust, mut all) = (0u64, 0u64, 0u64);
+    for (camera, r) in &p.views {
+        // One untimed warm-up, then the timed frame.
+        draw::<SUB>(p, method, camera, work)?;
+        let start = Instant::now();
+        let d = draw::<SUB>(p, method, camera, work)?;
+        times.push(start.elapsed().as_secs_f64() * 1e3);
+        written += d.written;
+        let (rb, al) = errors(r, &d.ids);
+        robust += rb;
+        all += al;
+    }
+    Ok(FrameRecord {
+        scene: scene.into(),
+        method: label.into(),
+        median_frame_ms: median(times),
+        pixels_written: written / p.views.len().max(1) as u64,
+        robust_errors: robust,
+        all_errors: all,
+    })
+}
+
+/// One scene of the benchmark: its mesh and, when available, the naive BSP baseline's bytes.
+pub struct BenchScene {
+    /// Name in the table.
+    pub name: String,
+    /// Source triangles.
+    pub mesh: Mesh,
+    /// Seed 004's naive BSP of the mesh, as a `.peel` file with ids.
+    pub naive_bsp: Option<Vec<u8>>,
+}
+
+/// Run every method on every scene (16 cameras each unless `cameras` says otherwise); also the
+/// `SUBPIXEL_BITS` knob (0, 4, 8) for front to back, reported as extra rows named
+/// `peel-front-to-back/sub0` etc. (not part of the six methods).
+pub fn run(
+    scenes: &[BenchScene],
+    width: u32,
+    height: u32,
+    cameras: usize,
+    log: &mut dyn FnMut(&str),
+) -> Result<Vec<FrameRecord>, String> {
+    let mut out = Vec::new();
+    for s in scenes {
+        log(&format!(
+            "{}: {} triangles, preparing references",
+            s.name,
+            s.mesh.triangles.len()
+        ));
+        let cams = ring_cameras(&s.mesh, cameras);
+        let p = prepare_scene(
+            &s.mesh,
+            s.naive_bsp.clone(),
+            &cams,
+            width,
+            height,
+            &CompileOptions::default(),
+        )?;
+        let mut work = Work::new(height);
+        for m in METHODS {
+            if m == "naive-bsp" && p.naive.is_none() {
+                continue;
+            }
+            let r = measure::<{ peel_runtime::fill::SUBPIXEL_BITS }>(&s.name, m, m, &p, &mut work)?;
+            log(&format!(
+                "  {m}: {:.3} ms, {} robust errors",
+                r.median_frame_ms, r.robust_errors
+            ));
+            out.push(r);
+        }
+        out.push(measure::<0>(
+            &s.name,
+            "peel-front-to-back/sub0",
+            "peel-front-to-back",
+            &p,
+            &mut work,
+        )?);
+        out.push(measure::<4>(
+            &s.name,
+            "peel-front-to-back/sub4",
+            "peel-front-to-back",
+            &p,
+            &mut work,
+        )?);
+    }
+    Ok(out)
+}
+
+/// The records as a markdown table, with each method's time relative to the integer z-buffer
+/// of the same scene (the baseline measured in the same run).
+pub fn markdown(records: &[FrameRecord]) -> String {
+    let mut s = String::from(
+        "| scene | method | median frame (ms) | vs zbuffer-int | pixels written | robust errors | all errors |\n|---|---|---:|---:|---:|---:|---:|\n",
+    );
+    for r in records {
+        let base = records
+            .iter()
+            .find(|b| b.scene == r.scene && b.method == "zbuffer-int")
+            .map(|b| b.median_frame_ms)
+            .unwrap_or(f64::NAN);
+        s += &format!(
+            "| {} | {} | {:.3} | {:.2}x | {} | {} | {} |\n",
+            r.scene,
+            r.method,
+            r.median_frame_ms,
+            base / r.median_frame_ms,
+            r.pixels_written,
+            r.robust_errors,
+            r.all_errors
+        );
+    }
+    s
+}
+
+/// A scatter plot (PNG bytes) of median frame time against all errors, one colour per method.
+pub fn plot(records: &[FrameRecord]) -> Result<Vec<u8>, String> {
+    use plotters::prelude::*;
+    static FONT: std::sync::OnceLock<Result<(), String>> = std::sync::OnceLock::new();
+    FONT.get_or_init(|| {
+        // plotters draws text with ab_glyph from a font we ship: no system font is needed.
+        plotters::style::register_font("sans-serif", FontStyle::Normal, dejavu::sans::regular())
+            .map_err(|_| "cannot load the plot font".to_string())
+    })
+    .clone()?;
+    let (w, h) = (900u32, 600u32);
+    let mut rgb = vec![255u8; (w * h * 3) as usize];
+    {
+        let root = BitMapBackend::with_buffer(&mut rgb, (w, h)).into_drawing_area();
+        root.fill(&WHITE).map_err(|e| e.to_string())?;
+        let max_t = records
+            .iter()
+            .map(|r| r.median_frame_ms)
+            .fold(1e-3, f64::max)
+            * 2.0;
+        let min_t = records
+            .iter()
+            .map(|r| r.median_frame_ms)
+            .fold(max_t, f64::min)
+            .max(1e-4)
+            / 2.0;
+        let max_e = records
+            .iter()
+            .map(|r| r.all_errors)
+            .max()
+            .unwrap_or(1)
+            .max(1) as f64
+            * 2.0;
+        let mut chart = ChartBuilder::on(&root)
+            .caption(
+                "frame time vs pixel errors (16 cameras per scene)",
+                ("sans-serif", 22),
+            )
+            .margin(15)
+            .x_label_area_size(45)
+            .y_label_area_size(60)
+            .build_cartesian_2d((min_t..max_t).log_scale(), (0.5f64..max_e).log_scale())
+            .map_err(|e| e.to_string())?;
+        chart
+            .configure_mesh()
+            .x_desc("median frame time (ms)")
+            .y_desc("mismatched pixels + 1 (all)")
+            .draw()
+            .map_err(|e| e.to_string())?;
+        let palette = [RED, BLUE, GREEN, MAGENTA, CYAN, BLACK];
+        for (k, m) in METHODS.iter().enumerate() {
+            let colour = palette[k % palette.len()];
+            let pts: Vec<(f64, f64)> = records
+                .iter()
+                .filter(|r| r.method == *m)
+                .map(|r| (r.median_frame_ms, r.all_errors as f64 + 1.0))
+                .collect();
+            chart
+                .draw_series(pts.iter().map(|&p| Circle::new(p, 5, colour.filled())))
+                .map_err(|e| e.to_string())?
+                .label(*m)
+                .legend(move |(x, y)| Circle::new((x, y), 5, colour.filled()));
+        }
+        chart
+            .configure_series_labels()
+            .background_style(WHITE.mix(0.8))
+            .border_style(BLACK)
+            .draw()
+            .map_err(|e| e.to_string())?;
+        root.present().map_err(|e| e.to_string())?;
+    }
+    let frame = crate::raster::Frame {
+        width: w,
+        height: h,
+        pixels: rgb
+            .chunks(3)
+            .map(|c| (u32::from(c[0]) << 16) | (u32::from(c[1]) << 8) | u32::from(c[2]))
+            .collect(),
+        stats: Default::default(),
+    };
+    crate::raster::png(&frame)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// On a small closed scene, Peel (both orders) and the z-buffers have no robust errors, and
+    /// front to back writes fewer pixels than back to front.
+    #[test]
+    fn methods_agree_with_the_reference_on_a_box_grid() {
+        let scene = BenchScene {
+            name: "grid".into(),
+            mesh: crate::scenes::box_grid(2),
+            naive_bsp: None,
+        };
+        let records = run(&[scene], 64, 48, 4, &mut |_| {}).unwrap();
+        let get = |m: &str| records.iter().find(|r| r.method == m).unwrap();
+        for m in [
+            "peel-front-to-back",
+            "peel-back-to-front",
+            "zbuffer-int",
+            "zbuffer-f32",
+        ] {
+            assert_eq!(get(m).robust_errors, 0, "{m}");
+        }
+        assert!(
+            get("peel-front-to-back").pixels_written < get("peel-back-to-front").pixels_written
+        );
+        assert!(markdown(&records).contains("| grid | zbuffer-int |"));
+    }
+
+    /// Newell's sort without splitting cannot draw a cyclic overlap right: it must show errors
+    /// where Peel shows none.
+    #[test]
+    fn newell_fails_on_a_cycle_peel_does_not() {
+        let mesh = crate::load::load_obj(
+            &std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+                .join("../fixtures/cyclic_triangles.obj"),
+        )
+        .unwrap();
+        let scene = BenchScene {
+            name: "cyclic".into(),
+            mesh,
+            naive_bsp: None,
+        };
+        let cams = [BenchCamera {
+            eye: DVec3::new(0.0, 0.0, 6.0),
+            target: DVec3::ZERO,
+        }];
+        let p =
+            prepare_scene(&scene.mesh, None, &cams, 64, 64, &CompileOptions::default()).unwrap();
+        let mut work = Work::new(64);
+        let peel = measure::<8>(
+            "c",
+            "peel-front-to-back",
+            "peel-front-to-back",
+            &p,
+            &mut work,
+        )
+        .unwrap();
+        let newell = measure::<8>("c", "newell", "newell", &p, &mut work).unwrap();
+        assert_eq!(peel.robust_errors, 0);
+        assert!(newell.robust_errors > 0, "a cycle cannot be sorted");
+    }
+
+    #[test]
+    fn plot_is_a_png() {
+        let r = FrameRecord {
+            scene: "s".into(),
+            method: "zbuffer-int".into(),
+            median_frame_ms: 1.0,
+            pixels_written: 10,
+            robust_errors: 0,
+            all_errors: 3,
+        };
+        let png = plot(&[r]).unwrap();
+        assert_eq!(&png[1..4], b"PNG");
+    }
+}
+
+/// The `--candidates` knob on one mesh: compile time, output polygons and median
+/// front-to-back frame time for each `K`, as a markdown table.
+pub fn candidates_knob(
+    name: &str,
+    mesh: &Mesh,
+    ks: &[usize],
+    width: u32,
+    height: u32,
+    cameras: usize,
+) -> Result<String, String> {
+    let mut s = format!(
+        "| scene | candidates | compile (s) | output polygons | polygons / triangles | median frame (ms) |\n|---|---:|---:|---:|---:|---:|\n"
+    );
+    let cams = ring_cameras(mesh, cameras);
+    for &k in ks {
+        let mut options = CompileOptions::default();
+        options.build.candidates = k;
+        let start = Instant::now();
+        let (tree, _) = compile_mesh(mesh, &options, &|_| {}).map_err(|e| e.to_string())?;
+        let seconds = start.elapsed().as_secs_f64();
+        let p = prepare_scene(mesh, None, &cams, width, height, &options)?;
+        let mut work = Work::new(height);
+        let r = measure::<{ peel_runtime::fill::SUBPIXEL_BITS }>(
+            name,
+            "peel-front-to-back",
+            "peel-front-to-back",
+            &p,
+            &mut work,
+        )?;
+        s += &format!(
+            "| {name} | {k} | {seconds:.3} | {} | {:.3} | {:.3} |\n",
+            tree.stats.output_polygons,
+            tree.stats.output_polygons as f64 / mesh.triangles.len().max(1) as f64,
+            r.median_frame_ms
+        );
+    }
+    Ok(s)
+}

@@ -1,0 +1,80 @@
+//! The per-triangle front end shared by the baseline renderers: world -> camera (the runtime's
+//! `View`), near and window clipping (the runtime's `clip`), projection and snapping (the
+//! runtime's `snap`), so every method sees bit-identical screen polygons.
+
+use glam::{DVec3, Vec3};
+use peel_runtime::camera::View;
+use peel_runtime::clip::{clip_polygon, Frustum};
+use peel_runtime::fill::FixedPoint;
+use peel_runtime::render::snap;
+
+/// One source triangle after clipping: camera-space and fixed-point screen polygons.
+#[derive(Debug, Clone)]
+pub struct Prepared {
+    /// Source triangle id.
+    pub id: u32,
+    /// Clipped polygon in camera space.
+    pub camera: Vec<Vec3>,
+    /// The same polygon on screen, `SUB` fractional bits.
+    pub screen: Vec<FixedPoint>,
+}
+
+/// Clip and project `triangles` (world coordinates) for `view` (built for `centre`).
+pub fn prepare<const SUB: u32>(
+    triangles: &[[DVec3; 3]],
+    centre: DVec3,
+    view: &View,
+) -> Vec<Prepared> {
+    let frustum = Frustum::new(view);
+    let (max_x, max_y) = ((view.width << SUB) as i32, (view.height << SUB) as i32);
+    let mut a = [Vec3::ZERO; 16];
+    let mut b = [Vec3::ZERO; 16];
+    let mut out = Vec::new();
+    for (id, t) in triangles.iter().enumerate() {
+        for (slot, p) in a.iter_mut().zip(t) {
+            *slot = view.to_camera((*p - centre).as_vec3());
+        }
+        let Ok(clipped) = clip_polygon(frustum.planes(), 3, &mut a, &mut b) else {
+            continue;
+        };
+        if clipped.len() < 3 {
+            continue;
+        }
+        let screen = clipped
+            .iter()
+            .map(|&c| snap::<SUB>(view.project(c), max_x, max_y))
+            .collect();
+        out.push(Prepared {
+            id: id as u32,
+            camera: clipped.to_vec(),
+            screen,
+        });
+    }
+    out
+}
+
+/// `1/zc` at a screen point as `A x + B y + C` for the plane of a camera-space polygon, or
+/// `None` when the plane passes through the eye (seen edge-on).
+pub fn inverse_depth_plane(camera: &[Vec3], view: &View) -> Option<[f64; 3]> {
+    let p0 = camera.first()?.as_dvec3();
+    let mut n = DVec3::ZERO;
+    for w in camera.windows(2).skip(1) {
+        n += (w[0].as_dvec3() - p0).cross(w[1].as_dvec3() - p0);
+    }
+    let d = n.dot(p0);
+    if d == 0.0 || !d.is_finite() {
+        return None;
+    }
+    let (fx, fy, cx, cy) = (
+        f64::from(view.fx),
+        f64::from(view.fy),
+        f64::from(view.cx),
+        f64::from(view.cy),
+    );
+    // dir(x, y) = ((x - cx)/fx, -(y - cy)/fy, 1); t = d / (n . dir) = zc, so 1/zc = n . dir / d.
+    Some([
+        n.x / (fx * d),
+        -n.y / (fy * d),
+        (n.z - n.x * cx / fx + n.y * cy / fy) / d,
+    ])
+}

@@ -1,0 +1,560 @@
+//! Stress suite: hard inputs compiled, checked against the build's exact invariants
+//! (`peel_compiler::tree::verify`), compiled again for determinism, and rendered against the
+//! reference ray caster. Closed meshes must render without crack pixels.
+//!
+//! `cargo test --release --test stress` runs the fast subset (CI); `-- --ignored` adds the long
+//! run (1000 random rotations, large sizes, more cameras). `-- --nocapture` prints a table.
+
+use std::path::Path;
+use std::time::Instant;
+
+use glam::{DMat3, DVec3};
+use peel_compiler::compile::{compile_mesh, CompileOptions};
+use peel_compiler::load::{load_obj, Mesh, SourceTriangle, DEFAULT_COLOUR};
+use peel_compiler::raster::{render_bytes, View};
+use peel_compiler::scenes::{self, SplitMix};
+use peel_compiler::tree::{verify, BuildOptions, DisplayTree};
+use peel_e2e::{reference, RefCamera};
+use peel_runtime::read::Scene;
+
+fn mesh_of(tris: Vec<[DVec3; 3]>) -> Mesh {
+    Mesh {
+        triangles: tris
+            .into_iter()
+            .map(|vertices| SourceTriangle {
+                vertices,
+                colour: DEFAULT_COLOUR,
+            })
+            .collect(),
+        ..Mesh::default()
+    }
+}
+
+fn map(mesh: &Mesh, f: impl Fn(DVec3) -> DVec3) -> Mesh {
+    mesh_of(mesh.triangles.iter().map(|t| t.vertices.map(&f)).collect())
+}
+
+/// How strictly a case's pixels are compared with the reference.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Pixels {
+    /// Robust pixels show the reference's triangle, and closed meshes have no crack.
+    Closed,
+    /// Robust pixels show the reference's triangle.
+    Ids,
+    /// Robust pixels are covered iff the reference covers them (which of near-coincident
+    /// triangles wins is not decidable in f64).
+    Coverage,
+}
+
+/// What one case measured.
+#[derive(Debug, Clone)]
+struct Outcome {
+    name: String,
+    kept: u64,
+    polygons: u64,
+    seconds: f64,
+}
+
+impl Outcome {
+    fn growth(&self) -> f64 {
+        self.polygons as f64 / self.kept.max(1) as f64
+    }
+}
+
+fn same_tree(a: &DisplayTree, b: &DisplayTree) -> bool {
+    a.centre == b.centre
+        && a.vertices == b.vertices
+        && a.planes == b.planes
+        && a.polygons == b.polygons
+        && a.nodes == b.nodes
+        && a.stats == b.stats
+}
+
+fn bounds(mesh: &Mesh) -> (DVec3, DVec3) {
+    let mut lo = DVec3::splat(f64::INFINITY);
+    let mut hi = DVec3::splat(f64::NEG_INFINITY);
+    for t in &mesh.triangles {
+        for v in t.vertices {
+            lo = lo.min(v);
+            hi = hi.max(v);
+        }
+    }
+    (lo, hi)
+}
+
+/// World-space polygons of a compiled file (their edges include every cut).
+fn polygons(bytes: &[u8]) -> Vec<Vec<DVec3>> {
+    let scene = Scene::parse(bytes).expect("valid file");
+    let c = DVec3::from_array(scene.header().centre);
+    (0..scene.header().polygon_count)
+        .map(|i| {
+            let p = scene.polygon(i);
+            (0..u32::from(p.vertex_count))
+                .map(|k| c + scene.polygon_vertex(&p, k).as_dvec3())
+                .collect()
+        })
+        .collect()
+}
+
+/// `n` cameras outside the bounding sphere, spread over it (golden-angle spiral), with a
+/// little distance and target jitter.
+fn cameras(mesh: &Mesh, n: usize, size: (u32, u32), seed: u64) -> Vec<View> {
+    let (lo, hi) = bounds(mesh);
+    let c = (lo + hi) / 2.0;
+    let r = ((hi - lo).length() / 2.0).max(f64::MIN_POSITIVE);
+    let mut rng = SplitMix(seed);
+    (0..n)
+        .map(|k| {
+            let y = 1.0 - 2.0 * (k as f64 + 0.5) / n as f64;
+            let a = k as f64 * 2.399_963_229_728_653;
+            let s = (1.0 - y * y).sqrt();
+            let dir = DVec3::new(s * a.cos(), y, s * a.sin());
+            let dist = r * (2.2 + 1.5 * rng.unit());
+            let jitter = (DVec3::new(rng.unit(), rng.unit(), rng.unit()) - 0.5) * 0.3 * r;
+            View {
+                eye: c + dir * dist,
+                target: c + jitter,
+                up: if y.abs() > 0.9 { DVec3::X } else { DVec3::Y },
+                fov_y_deg: 50.0,
+                width: size.0,
+                height: size.1,
+                near: None,
+            }
+        })
+        .collect()
+}
+
+/// Pixel differences of one view: robust id mismatches, robust coverage mismatches, cracks.
+#[derive(Debug, Default, Clone, Copy)]
+struct Diff {
+    ids: usize,
+    coverage: usize,
+    cracks: usize,
+}
+
+/// A crack pixel: the reference covers it and all its neighbours, the render leaves it at the
+/// background.
+fn compare(mesh: &Mesh, bytes: &[u8], polys: &[Vec<DVec3>], view: &View) -> Diff {
+    let frame = render_bytes(bytes, view, true, [0, 0, 0]).expect("render");
+    let scene = Scene::parse(bytes).unwrap();
+    let camera = peel_compiler::raster::camera(&scene, view).unwrap();
+    let cam = RefCamera {
+        eye: view.eye,
+        target: view.target,
+        up: view.up,
+        fov_y_deg: view.fov_y_deg,
+        width: view.width,
+        height: view.height,
+        near: camera.near(),
+    };
+    let tris: Vec<[DVec3; 3]> = mesh.triangles.iter().map(|t| t.vertices).collect();
+    let r = reference(&tris, polys, &cam);
+    let (w, h) = (view.width as i64, view.height as i64);
+    let mut d = Diff::default();
+    for (k, (&want, &ok)) in r.ids.iter().zip(&r.robust).enumerate() {
+        let got = frame.pixels[k];
+        if ok && got != want {
+            d.ids += 1;
+        }
+        if ok && (got == 0) != (want == 0) {
+            d.coverage += 1;
+        }
+        let (x, y) = (k as i64 % w, k as i64 / w);
+        let covered =
+            |i: i64, j: i64| i >= 0 && j >= 0 && i < w && j < h && r.ids[(j * w + i) as usize] != 0;
+        if got == 0 && (-1..=1).all(|j| (-1..=1).all(|i| covered(x + i, y + j))) {
+            d.cracks += 1;
+        }
+    }
+    d
+}
+
+/// Verify, compile twice (determinism), render from `views` cameras; panics with the case name.
+fn run(name: &str, mesh: &Mesh, pixels: Pixels, views: usize, size: (u32, u32)) -> Outcome {
+    let start = Instant::now();
+    let options = BuildOptions::default();
+    let tree =
+        verify(mesh, &options, 4).unwrap_or_else(|e| panic!("{name}: invariant broken: {e}"));
+    let s = tree.stats;
+    assert_eq!(s.input_triangles, mesh.triangles.len() as u64, "{name}");
+    assert!(s.degenerate_dropped <= s.input_triangles, "{name}");
+    let compile = CompileOptions {
+        ids: true,
+        ..CompileOptions::default()
+    };
+    let (again, bytes) =
+        compile_mesh(mesh, &compile, &|_| {}).unwrap_or_else(|e| panic!("{name}: {e}"));
+    assert!(same_tree(&tree, &again), "{name}: two builds differ");
+    let polys = polygons(&bytes);
+    let mut total = Diff::default();
+    for (k, view) in cameras(mesh, views, size, 11).iter().enumerate() {
+        let d = compare(mesh, &bytes, &polys, view);
+        if d.ids + d.coverage + d.cracks > 0 {
+            eprintln!("{name}: camera {k}: {d:?}");
+        }
+        total.ids += d.ids;
+        total.coverage += d.coverage;
+        total.cracks += d.cracks;
+    }
+    match pixels {
+        Pixels::Closed => {
+            assert_eq!(total.cracks, 0, "{name}: crack pixels");
+            assert_eq!(total.ids, 0, "{name}: robust pixels differ");
+        }
+        Pixels::Ids => assert_eq!(total.ids, 0, "{name}: robust pixels differ"),
+        Pixels::Coverage => assert_eq!(total.coverage, 0, "{name}: robust coverage differs"),
+    }
+    Outcome {
+        name: name.to_string(),
+        kept: s.input_triangles - s.degenerate_dropped,
+        polygons: s.output_polygons,
+        seconds: start.elapsed().as_secs_f64(),
+    }
+}
+
+fn report(title: &str, outcomes: &[Outcome]) {
+    let growth = outcomes
+        .iter()
+        .max_by(|a, b| a.growth().total_cmp(&b.growth()));
+    let slowest = outcomes
+        .iter()
+        .max_by(|a, b| a.seconds.total_cmp(&b.seconds));
+    println!("{title}: {} cases", outcomes.len());
+    if let (Some(g), Some(s)) = (growth, slowest) {
+        println!(
+            "  largest growth {:.2}x ({}: {} -> {} polygons); slowest {:.2}s ({})",
+            g.growth(),
+            g.name,
+            g.kept,
+            g.polygons,
+            s.seconds,
+            s.name
+        );
+    }
+}
+
+fn models() -> Option<std::path::PathBuf> {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/models");
+    if dir.is_dir() {
+        Some(dir)
+    } else {
+        println!("skipping: shared models not found at ../shared/models");
+        None
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Watertightness.
+
+fn closed_meshes() -> Vec<(String, Mesh)> {
+    vec![
+        ("sphere".into(), scenes::sphere(12, 18)),
+        ("torus".into(), scenes::torus(18, 10)),
+        ("box grid".into(), scenes::box_grid(3)),
+    ]
+}
+
+#[test]
+fn closed_meshes_have_no_cracks_from_100_cameras() {
+    let mut out = Vec::new();
+    for (name, mesh) in closed_meshes() {
+        out.push(run(&name, &mesh, Pixels::Closed, 100, (64, 48)));
+    }
+    report("watertight", &out);
+}
+
+#[test]
+fn the_cow_has_no_cracks_from_100_cameras() {
+    let Some(dir) = models() else { return };
+    let mesh = load_obj(&dir.join("cow.obj")).expect("cow.obj");
+    let out = run("cow", &mesh, Pixels::Closed, 100, (64, 48));
+    report("cow", &[out]);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Transforms.
+
+/// The same meshes translated by 0, ±1e6 and scaled by 1e-6, 1, 1e6.
+#[test]
+fn translated_and_scaled_meshes() {
+    let mut out = Vec::new();
+    for (name, mesh) in [
+        ("torus", scenes::torus(10, 6)),
+        ("soup", scenes::soup(40, 0.4, 5)),
+    ] {
+        for shift in [0.0, 1e6, -1e6] {
+            for scale in [1e-6, 1.0, 1e6] {
+                let m = map(&mesh, |p| p * scale + DVec3::splat(shift * scale.max(1.0)));
+                let pixels = if name == "torus" {
+                    Pixels::Closed
+                } else {
+                    Pixels::Ids
+                };
+                out.push(run(
+                    &format!("{name} x{scale:e} +{shift:e}"),
+                    &m,
+                    pixels,
+                    6,
+                    (48, 36),
+                ));
+            }
+        }
+    }
+    report("translated/scaled", &out);
+}
+
+/// A random rotation (uniform enough: three random angles).
+fn rotation(rng: &mut SplitMix) -> DMat3 {
+    let mut a = || rng.unit() * std::f64::consts::TAU;
+    DMat3::from_euler(glam::EulerRot::ZYX, a(), a(), a())
+}
+
+fn rotations(n: usize, views: usize) -> Vec<Outcome> {
+    let base = [scenes::torus(8, 6), scenes::soup(20, 0.5, 9)];
+    let mut rng = SplitMix(1234);
+    (0..n)
+        .map(|k| {
+            let r = rotation(&mut rng);
+            let mesh = map(&base[k % 2], |p| r * p);
+            let pixels = if k % 2 == 0 {
+                Pixels::Closed
+            } else {
+                Pixels::Ids
+            };
+            run(&format!("rotation {k}"), &mesh, pixels, views, (40, 30))
+        })
+        .collect()
+}
+
+#[test]
+fn random_rotations() {
+    report("rotations", &rotations(12, 2));
+}
+
+#[test]
+#[ignore = "long run: cargo test --release --test stress -- --ignored"]
+fn random_rotations_1000() {
+    report("rotations (long)", &rotations(1000, 2));
+}
+
+/// Exact transforms (axis swaps, mirrors, whole-grid translations) of a mesh on a dyadic grid
+/// give the same tree up to the transform.
+#[test]
+fn exact_transforms_give_the_same_tree() {
+    let snap = |p: DVec3| (p * 1024.0).round() / 1024.0;
+    for (name, base) in [
+        ("torus", map(&scenes::torus(10, 6), snap)),
+        ("soup", map(&scenes::soup(30, 0.5, 2), snap)),
+    ] {
+        let options = BuildOptions::default();
+        let t0 = verify(&base, &options, 2).unwrap();
+        let transforms: [(&str, fn(DVec3) -> DVec3); 6] = [
+            ("swap xy", |p| DVec3::new(p.y, p.x, p.z)),
+            ("swap yz", |p| DVec3::new(p.x, p.z, p.y)),
+            ("cycle", |p| DVec3::new(p.z, p.x, p.y)),
+            ("mirror x", |p| DVec3::new(-p.x, p.y, p.z)),
+            ("mirror z", |p| DVec3::new(p.x, p.y, -p.z)),
+            ("translate", |p| p + DVec3::new(3.0, -5.0, 1024.0)),
+        ];
+        for (what, f) in transforms {
+            let m = map(&base, f);
+            let t = verify(&m, &options, 2).unwrap_or_else(|e| panic!("{name} {what}: {e}"));
+            let linear = |p: DVec3| f(p) - f(DVec3::ZERO);
+            assert_eq!(t.stats, t0.stats, "{name} {what}: statistics differ");
+            assert_eq!(t.polygons.len(), t0.polygons.len(), "{name} {what}");
+            for (a, b) in t0.polygons.iter().zip(&t.polygons) {
+                assert_eq!(a.source, b.source, "{name} {what}: polygon order differs");
+                let key = |v: DVec3| v.to_array().map(f64::to_bits);
+                let mut pa: Vec<_> = a
+                    .vertices
+                    .iter()
+                    .map(|&i| key(linear(t0.vertices[i as usize])))
+                    .collect();
+                let mut pb: Vec<_> = b
+                    .vertices
+                    .iter()
+                    .map(|&i| key(t.vertices[i as usize]))
+                    .collect();
+                pa.sort_unstable();
+                pb.sort_unstable();
+                assert_eq!(
+                    pa, pb,
+                    "{name} {what}: polygon of source {} differs",
+                    a.source
+                );
+            }
+        }
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Degenerate and adversarial inputs.
+
+/// Triangles sharing the edge (0,0,0)-(1,0,0), consecutive ones `angle` radians apart.
+fn fan(count: usize, angle: f64) -> Mesh {
+    mesh_of(
+        (0..count)
+            .map(|i| {
+                let a = 0.4 + i as f64 * angle;
+                [DVec3::ZERO, DVec3::X, DVec3::new(0.5, a.cos(), a.sin())]
+            })
+            .collect(),
+    )
+}
+
+#[test]
+fn near_coplanar_fans() {
+    let mut out = Vec::new();
+    for e in 3..=9 {
+        let angle = 10f64.powi(-e);
+        out.push(run(
+            &format!("fan 1e-{e}"),
+            &fan(12, angle),
+            Pixels::Coverage,
+            4,
+            (48, 36),
+        ));
+    }
+    report("fans", &out);
+}
+
+/// `n` pages around the x axis, all sharing the segment (0,0,0)-(1,0,0).
+fn book(n: usize) -> Mesh {
+    fan(n, std::f64::consts::TAU / n as f64)
+}
+
+/// `n` random triangles sharing the origin as a corner.
+fn star(n: usize, seed: u64) -> Mesh {
+    let mut rng = SplitMix(seed);
+    let mut dir =
+        || DVec3::new(rng.unit() - 0.5, rng.unit() - 0.5, rng.unit() - 0.5).normalize_or(DVec3::X);
+    mesh_of((0..n).map(|_| [DVec3::ZERO, dir(), dir()]).collect())
+}
+
+#[test]
+fn book_pages_and_a_star() {
+    let out = vec![
+        run("book 1000", &book(1000), Pixels::Coverage, 3, (48, 36)),
+        run("star 1000", &star(1000, 4), Pixels::Coverage, 3, (48, 36)),
+    ];
+    report("book/star", &out);
+}
+
+#[test]
+fn duplicate_and_opposite_duplicate_triangles() {
+    let base = scenes::sphere(6, 8);
+    let mut tris: Vec<[DVec3; 3]> = base.triangles.iter().map(|t| t.vertices).collect();
+    let n = tris.len();
+    for k in 0..n {
+        let t = tris[k];
+        tris.push(t);
+        tris.push([t[0], t[2], t[1]]);
+    }
+    let out = run("duplicates", &mesh_of(tris), Pixels::Coverage, 8, (48, 36));
+    report("duplicates", &[out]);
+}
+
+#[test]
+fn slivers_and_zero_area_triangles() {
+    let mut out = Vec::new();
+    for e in 3..=9 {
+        let aspect = 10f64.powi(e);
+        let mut tris = vec![
+            [
+                DVec3::ZERO,
+                DVec3::new(1.0, 0.0, 0.0),
+                DVec3::new(0.5, 1.0 / aspect, 0.0),
+            ],
+            [
+                DVec3::new(0.3, -0.5, -0.2),
+                DVec3::new(0.4, 0.5, -0.2),
+                DVec3::new(0.35, 0.0, 0.6),
+            ],
+            [
+                DVec3::new(-0.2, 0.3, 0.3),
+                DVec3::new(1.2, 0.3, 0.3),
+                DVec3::new(0.5, -0.4, -0.3),
+            ],
+        ];
+        // Exactly zero area: a repeated corner and collinear corners.
+        tris.push([DVec3::ONE, DVec3::ONE, DVec3::ZERO]);
+        tris.push([DVec3::ZERO, DVec3::splat(0.5), DVec3::ONE]);
+        let o = run(
+            &format!("sliver 1e{e}"),
+            &mesh_of(tris.clone()),
+            Pixels::Coverage,
+            4,
+            (48, 36),
+        );
+        let tree = verify(&mesh_of(tris), &BuildOptions::default(), 1).unwrap();
+        assert!(
+            tree.stats.degenerate_dropped >= 2,
+            "zero-area triangles are counted"
+        );
+        out.push(o);
+    }
+    report("slivers", &out);
+}
+
+#[test]
+fn random_soups() {
+    let out: Vec<Outcome> = (0..6)
+        .map(|seed| {
+            run(
+                &format!("soup {seed}"),
+                &scenes::soup(60, 0.5, seed),
+                Pixels::Ids,
+                4,
+                (48, 36),
+            )
+        })
+        .collect();
+    report("soups", &out);
+}
+
+#[test]
+#[ignore = "long run: cargo test --release --test stress -- --ignored"]
+fn large_inputs() {
+    let mut out = vec![
+        run(
+            "sphere 40x60",
+            &scenes::sphere(40, 60),
+            Pixels::Closed,
+            20,
+            (96, 72),
+        ),
+        run(
+            "torus 60x30",
+            &scenes::torus(60, 30),
+            Pixels::Closed,
+            20,
+            (96, 72),
+        ),
+        run(
+            "box grid 6",
+            &scenes::box_grid(6),
+            Pixels::Closed,
+            20,
+            (96, 72),
+        ),
+        run("book 5000", &book(5000), Pixels::Coverage, 4, (64, 48)),
+        run("star 5000", &star(5000, 8), Pixels::Coverage, 4, (64, 48)),
+    ];
+    for seed in 0..20 {
+        out.push(run(
+            &format!("soup 300 {seed}"),
+            &scenes::soup(300, 0.4, seed),
+            Pixels::Ids,
+            4,
+            (64, 48),
+        ));
+    }
+    if let Some(dir) = models() {
+        for name in ["suzanne.obj", "teapot.obj", "stanford-bunny.obj"] {
+            if let Ok(mesh) = load_obj(&dir.join(name)) {
+                out.push(run(name, &mesh, Pixels::Ids, 10, (96, 72)));
+            }
+        }
+    }
+    report("large", &out);
+}
