@@ -335,7 +335,14 @@ pub fn bench(args: &BenchArgs) -> Result<(), String> {
     std::fs::create_dir_all(&args.out).map_err(|e| format!("{}: {e}", args.out.display()))?;
     match args.what {
         BenchWhat::Frames => bench_frames(args),
-        BenchWhat::Compile => Err("peel bench compile: not available yet".into()),
+        BenchWhat::Compile => {
+            let table = peel_compiler::bench::bench_compile(&args.models, args.json.as_deref()).map_err(|e| e.to_string())?;
+            let md = args.out.join("compile.md");
+            peel_compiler::write::write_atomic(&md, table.as_bytes()).map_err(|e| e.to_string())?;
+            println!("{table}");
+            println!("wrote {}", md.display());
+            Ok(())
+        }
     }
 }
 

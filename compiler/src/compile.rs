@@ -1,4 +1,4 @@
-//! The whole compile in one call: load -> build -> shade -> encode. Used by the CLI, the
+//! The whole compile in one call: load -> build -> closed meshes + shade -> encode. Used by the CLI, the
 //! [`crate::Builder`] for build scripts, the benchmark and the tests.
 
 use std::path::{Path, PathBuf};
@@ -52,7 +52,18 @@ pub fn compile_mesh(
                 .shade(kd, tree.planes[p.plane as usize].normal)
         })
         .collect();
-    let bytes = crate::write::encode(&tree, &colours, options.ids)?;
+    let closed = crate::closed::one_sided_triangles(&mesh.triangles);
+    let one_sided: Vec<bool> = tree
+        .polygons
+        .iter()
+        .map(|p| closed[p.source as usize])
+        .collect();
+    let input = crate::write::WriteInput {
+        colours: &colours,
+        one_sided: &one_sided,
+        ids: options.ids,
+    };
+    let bytes = crate::write::encode_with(&tree, &input)?;
     Ok((tree, bytes))
 }
 

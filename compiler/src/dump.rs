@@ -32,6 +32,12 @@ pub struct Inspect {
     pub vertices: u64,
     /// Whether source triangle ids are present.
     pub ids: bool,
+    /// Polygons flagged one-sided (back-face culled by the runtime).
+    pub one_sided_polygons: u64,
+    /// Palette colours (0 without a palette).
+    pub palette_colours: u64,
+    /// Distinct node bounding boxes stored.
+    pub node_bounds: u64,
     /// File size.
     pub bytes: u64,
 }
@@ -53,6 +59,11 @@ pub fn inspect(bytes: &[u8]) -> Result<Inspect, ReadError> {
         planes: header.plane_count.into(),
         vertices: header.vertex_count.into(),
         ids: header.flags & header_flags::IDS != 0,
+        one_sided_polygons: (0..header.polygon_count)
+            .filter(|&i| scene.polygon(i).flags & polygon_flags::ONE_SIDED != 0)
+            .count() as u64,
+        palette_colours: header.palette_count.into(),
+        node_bounds: header.bounds_count.into(),
         bytes: bytes.len() as u64,
     })
 }
@@ -110,7 +121,7 @@ pub fn dump_yaml(bytes: &[u8]) -> Result<String, ReadError> {
         out,
         "header:\n  version: {}\n  flags: {ids}\n  vertices: {}\n  planes: {}\n  indices: {}\n  \
          polygons: {}\n  nodes: {}\n  max_depth: {}\n  max_polygon_vertices: {}\n  centre: {}\n  \
-         bounds_min: {}\n  bounds_max: {}",
+         bounds_min: {}\n  bounds_max: {}\n  palette: {}\n  node_bounds: {}",
         h.version,
         h.vertex_count,
         h.plane_count,
@@ -122,6 +133,8 @@ pub fn dump_yaml(bytes: &[u8]) -> Result<String, ReadError> {
         triple(h.centre),
         f32_triple(h.bounds_min),
         f32_triple(h.bounds_max),
+        h.palette_count,
+        h.bounds_count,
     );
     if h.plane_count == 0 {
         out.push_str("planes: []\n");
@@ -150,29 +163,36 @@ pub fn dump_yaml(bytes: &[u8]) -> Result<String, ReadError> {
                 let _ = writeln!(out, "{:indent$}{name}:", "");
                 stack.push(Item::Node(node, indent + 2));
             }
-            Item::Node(i, indent) => match scene.node(i) {
-                Node::Convex {
-                    first,
-                    count,
-                    child,
-                } => {
-                    let _ = writeln!(out, "{:indent$}kind: convex\n{:indent$}node: {i}", "", "");
-                    let _ = writeln!(out, "{:indent$}polygons:", "");
-                    for p in first..first.saturating_add(count) {
-                        write_polygon(&mut out, &scene, p, indent + 2);
+            Item::Node(i, indent) => {
+                if let Some((lo, hi)) = scene.node_bounds(i) {
+                    let (lo, hi) = (f32_triple(lo), f32_triple(hi));
+                    let _ = writeln!(out, "{:indent$}bounds: [{lo}, {hi}]", "");
+                }
+                match scene.node(i) {
+                    Node::Convex {
+                        first,
+                        count,
+                        child,
+                    } => {
+                        let _ =
+                            writeln!(out, "{:indent$}kind: convex\n{:indent$}node: {i}", "", "");
+                        let _ = writeln!(out, "{:indent$}polygons:", "");
+                        for p in first..first.saturating_add(count) {
+                            write_polygon(&mut out, &scene, p, indent + 2);
+                        }
+                        stack.push(Item::Child("child", child, indent));
                     }
-                    stack.push(Item::Child("child", child, indent));
+                    Node::Split { plane, front, back } => {
+                        let _ = writeln!(
+                            out,
+                            "{:indent$}kind: split\n{:indent$}node: {i}\n{:indent$}plane: {plane}",
+                            "", "", ""
+                        );
+                        stack.push(Item::Child("back", back, indent));
+                        stack.push(Item::Child("front", front, indent));
+                    }
                 }
-                Node::Split { plane, front, back } => {
-                    let _ = writeln!(
-                        out,
-                        "{:indent$}kind: split\n{:indent$}node: {i}\n{:indent$}plane: {plane}",
-                        "", "", ""
-                    );
-                    stack.push(Item::Child("back", back, indent));
-                    stack.push(Item::Child("front", front, indent));
-                }
-            },
+            }
         }
     }
     Ok(out)
@@ -229,7 +249,7 @@ mod tests {
         let bytes = crate::write::encode(&tree, &colours, false).unwrap();
         let yaml = dump_yaml(&bytes).unwrap();
         assert!(
-            yaml.contains("flags: []\n") && !yaml.contains("id:"),
+            yaml.contains("flags: [index16, bounds]\n") && !yaml.contains("id:"),
             "{yaml}"
         );
     }
@@ -276,6 +296,9 @@ mod tests {
             planes: 3,
             vertices: 7,
             ids: true,
+            one_sided_polygons: 0,
+            palette_colours: 0,
+            node_bounds: 1,
             bytes: bytes.len() as u64,
         };
         assert_eq!(info, expected);

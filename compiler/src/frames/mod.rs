@@ -44,12 +44,16 @@ pub struct FrameRecord {
     pub robust_errors: u64,
     /// All mismatched pixels.
     pub all_errors: u64,
+    /// Mean polygons handed to the fill per frame (Peel methods; 0 when not counted).
+    #[serde(skip)]
+    pub polygons_drawn: u64,
 }
 
 /// A frame: an id image and the pixels written.
 struct Drawn {
     ids: Vec<u32>,
     written: u64,
+    polygons: u64,
 }
 
 /// A camera of the benchmark.
@@ -192,10 +196,7 @@ fn draw<const SUB: u32>(
                 &mut fb,
             )
             .map_err(|e| e.to_string())?;
-            Ok(Drawn {
-                ids,
-                written: stats.pixels_written,
-            })
+            Ok(Drawn { ids, written: stats.pixels_written, polygons: stats.polygons_drawn })
         }
         "zbuffer-int" | "zbuffer-f32" | "newell" => {
             let scene = Scene::parse(&p.bytes).map_err(|e| e.to_string())?;
@@ -224,7 +225,7 @@ fn draw<const SUB: u32>(
                 }
                 _ => newell::render::<SUB>(&tris, &view, &mut ids),
             };
-            Ok(Drawn { ids, written })
+            Ok(Drawn { ids, written, polygons: 0 })
         }
         other => Err(format!("unknown method {other}")),
     }
@@ -284,7 +285,7 @@ fn measure<const SUB: u32>(
     work: &mut Work,
 ) -> Result<FrameRecord, String> {
     let mut times = Vec::new();
-    let (mut written, mut robust, mut all) = (0u64, 0u64, 0u64);
+    let (mut written, mut robust, mut all, mut polygons) = (0u64, 0u64, 0u64, 0u64);
     for (camera, r) in &p.views {
         // One untimed warm-up, then the timed frame.
         draw::<SUB>(p, method, camera, work)?;
@@ -292,6 +293,7 @@ fn measure<const SUB: u32>(
         let d = draw::<SUB>(p, method, camera, work)?;
         times.push(start.elapsed().as_secs_f64() * 1e3);
         written += d.written;
+        polygons += d.polygons;
         let (rb, al) = errors(r, &d.ids);
         robust += rb;
         all += al;
@@ -303,6 +305,7 @@ fn measure<const SUB: u32>(
         pixels_written: written / p.views.len().max(1) as u64,
         robust_errors: robust,
         all_errors: all,
+        polygons_drawn: polygons / p.views.len().max(1) as u64,
     })
 }
 
@@ -376,7 +379,7 @@ pub fn run(
 /// of the same scene (the baseline measured in the same run).
 pub fn markdown(records: &[FrameRecord]) -> String {
     let mut s = String::from(
-        "| scene | method | median frame (ms) | vs zbuffer-int | pixels written | robust errors | all errors |\n|---|---|---:|---:|---:|---:|---:|\n",
+        "| scene | method | median frame (ms) | speed vs zbuffer-int | polygons drawn | pixels written | robust errors | all errors |\n|---|---|---:|---:|---:|---:|---:|---:|\n",
     );
     for r in records {
         let base = records
@@ -385,11 +388,12 @@ pub fn markdown(records: &[FrameRecord]) -> String {
             .map(|b| b.median_frame_ms)
             .unwrap_or(f64::NAN);
         s += &format!(
-            "| {} | {} | {:.3} | {:.2}x | {} | {} | {} |\n",
+            "| {} | {} | {:.3} | {:.2}x | {} | {} | {} | {} |\n",
             r.scene,
             r.method,
             r.median_frame_ms,
             base / r.median_frame_ms,
+            if r.polygons_drawn > 0 { r.polygons_drawn.to_string() } else { "-".into() },
             r.pixels_written,
             r.robust_errors,
             r.all_errors
@@ -481,6 +485,45 @@ pub fn plot(records: &[FrameRecord]) -> Result<Vec<u8>, String> {
     crate::raster::png(&frame)
 }
 
+/// The `--candidates` knob on one mesh: compile time, output polygons and median
+/// front-to-back frame time for each `K`, as a markdown table.
+pub fn candidates_knob(
+    name: &str,
+    mesh: &Mesh,
+    ks: &[usize],
+    width: u32,
+    height: u32,
+    cameras: usize,
+) -> Result<String, String> {
+    let mut s = String::from(
+        "| scene | candidates | compile (s) | output polygons | polygons / triangles | median frame (ms) |\n|---|---:|---:|---:|---:|---:|\n",
+    );
+    let cams = ring_cameras(mesh, cameras);
+    for &k in ks {
+        let mut options = CompileOptions::default();
+        options.build.candidates = k;
+        let start = Instant::now();
+        let (tree, _) = compile_mesh(mesh, &options, &|_| {}).map_err(|e| e.to_string())?;
+        let seconds = start.elapsed().as_secs_f64();
+        let p = prepare_scene(mesh, None, &cams, width, height, &options)?;
+        let mut work = Work::new(height);
+        let r = measure::<{ peel_runtime::fill::SUBPIXEL_BITS }>(
+            name,
+            "peel-front-to-back",
+            "peel-front-to-back",
+            &p,
+            &mut work,
+        )?;
+        s += &format!(
+            "| {name} | {k} | {seconds:.3} | {} | {:.3} | {:.3} |\n",
+            tree.stats.output_polygons,
+            tree.stats.output_polygons as f64 / mesh.triangles.len().max(1) as f64,
+            r.median_frame_ms
+        );
+    }
+    Ok(s)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -553,47 +596,9 @@ mod tests {
             pixels_written: 10,
             robust_errors: 0,
             all_errors: 3,
+            polygons_drawn: 0,
         };
         let png = plot(&[r]).unwrap();
         assert_eq!(&png[1..4], b"PNG");
     }
-}
-
-/// The `--candidates` knob on one mesh: compile time, output polygons and median
-/// front-to-back frame time for each `K`, as a markdown table.
-pub fn candidates_knob(
-    name: &str,
-    mesh: &Mesh,
-    ks: &[usize],
-    width: u32,
-    height: u32,
-    cameras: usize,
-) -> Result<String, String> {
-    let mut s = format!(
-        "| scene | candidates | compile (s) | output polygons | polygons / triangles | median frame (ms) |\n|---|---:|---:|---:|---:|---:|\n"
-    );
-    let cams = ring_cameras(mesh, cameras);
-    for &k in ks {
-        let mut options = CompileOptions::default();
-        options.build.candidates = k;
-        let start = Instant::now();
-        let (tree, _) = compile_mesh(mesh, &options, &|_| {}).map_err(|e| e.to_string())?;
-        let seconds = start.elapsed().as_secs_f64();
-        let p = prepare_scene(mesh, None, &cams, width, height, &options)?;
-        let mut work = Work::new(height);
-        let r = measure::<{ peel_runtime::fill::SUBPIXEL_BITS }>(
-            name,
-            "peel-front-to-back",
-            "peel-front-to-back",
-            &p,
-            &mut work,
-        )?;
-        s += &format!(
-            "| {name} | {k} | {seconds:.3} | {} | {:.3} | {:.3} |\n",
-            tree.stats.output_polygons,
-            tree.stats.output_polygons as f64 / mesh.triangles.len().max(1) as f64,
-            r.median_frame_ms
-        );
-    }
-    Ok(s)
 }

@@ -135,8 +135,13 @@ impl<'a> VertexSet<'a> {
             return false;
         }
         let sign = if side == Side::Front { 1.0 } else { -1.0 };
-        let mut stack = vec![0u32];
-        while let Some(i) = stack.pop() {
+        // The median split keeps the hierarchy's depth below 33 for any `u32` point count;
+        // each level leaves at most one sibling on the stack.
+        let mut stack = [0u32; 80];
+        let mut len = 1;
+        while len > 0 {
+            len -= 1;
+            let i = stack[len];
             let node = &self.nodes[i as usize];
             let (lo, hi, m) = Self::range(node, e);
             let (lo, hi) = if sign > 0.0 { (lo, hi) } else { (-hi, -lo) };
@@ -156,7 +161,7 @@ impl<'a> VertexSet<'a> {
             } else {
                 // Visit the child reaching further to `side` first.
                 let (l, r) = (node.start, node.end);
-                let reach = |c: u32| {
+                let reach_of = |c: u32| {
                     let (lo, hi, _) = Self::range(&self.nodes[c as usize], e);
                     if sign > 0.0 {
                         hi
@@ -164,13 +169,11 @@ impl<'a> VertexSet<'a> {
                         -lo
                     }
                 };
-                if reach(l) >= reach(r) {
-                    stack.push(r);
-                    stack.push(l);
-                } else {
-                    stack.push(l);
-                    stack.push(r);
-                }
+                let (rl, rr) = (reach_of(l), reach_of(r));
+                let (first, second) = if rl >= rr { (l, r) } else { (r, l) };
+                stack[len] = second;
+                stack[len + 1] = first;
+                len += 2;
             }
         }
         false

@@ -10,7 +10,9 @@ use std::sync::Arc;
 
 use rayon::prelude::*;
 
-use crate::planes::{intersect, PlaneId, PlaneTable, Side, Vertex};
+use std::sync::atomic::{AtomicU64, Ordering};
+
+use crate::planes::{intersect, PlaneEntry, PlaneId, PlaneTable, Side, Vertex, FILTER_BOUND};
 
 /// A bounding edge of a fragment: the plane it lies on and the side the fragment is on.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -211,32 +213,172 @@ pub const COST_SAMPLE: usize = 2000;
 pub const CUT_WEIGHT: u64 = 8;
 
 /// The cost of `plane` on `frags`: `8·cuts + |front − back|` (a cut piece counts on both
-/// sides, fragments in the plane on neither). Stops early above `limit`.
+/// sides, fragments in the plane on neither). Returns `u64::MAX` as soon as the cost is
+/// proven to exceed `limit` (the cuts so far plus the imbalance the remaining fragments
+/// cannot undo), which never changes which plane is cheapest.
 pub fn cost(frags: &[&Fragment], plane: PlaneId, table: &PlaneTable, limit: u64) -> u64 {
-    let (mut cuts, mut front, mut back) = (0u64, 0u64, 0u64);
-    for f in frags {
-        match f.placement(plane, table) {
-            Placement::Front => front += 1,
-            Placement::Back => back += 1,
-            Placement::On => {}
-            Placement::Straddle => {
-                cuts += 1;
-                front += 1;
-                back += 1;
-                if cuts * CUT_WEIGHT > limit {
+    Sample::new(frags.iter().copied()).cost(plane, table, limit)
+}
+
+/// The fragments a node's candidates are costed on, with their vertices' f64 coordinates
+/// flattened so that most sides are decided by one filtered dot product (the exact
+/// predicate runs only when the filter cannot decide).
+pub(crate) struct Sample<'a> {
+    frags: Vec<&'a Fragment>,
+    /// Vertex coordinates of all fragments, in order.
+    coords: Vec<[f64; 3]>,
+    /// `coords[ends[i - 1]..ends[i]]` are fragment `i`'s vertices.
+    ends: Vec<u32>,
+}
+
+impl<'a> Sample<'a> {
+    pub(crate) fn new(frags: impl Iterator<Item = &'a Fragment>) -> Sample<'a> {
+        let frags: Vec<&Fragment> = frags.collect();
+        let mut coords = Vec::with_capacity(frags.len() * 4);
+        let mut ends = Vec::with_capacity(frags.len());
+        for f in &frags {
+            coords.extend(f.vertices.iter().map(Vertex::approx));
+            ends.push(coords.len() as u32);
+        }
+        Sample {
+            frags,
+            coords,
+            ends,
+        }
+    }
+
+    /// [`Fragment::placement`] of fragment `i`, filtered.
+    #[inline]
+    fn placement(&self, i: usize, plane: PlaneId, e: &PlaneEntry) -> Placement {
+        let f = self.frags[i];
+        if f.support == plane {
+            return Placement::On;
+        }
+        let lo = if i == 0 { 0 } else { self.ends[i - 1] as usize };
+        let (mut front, mut back) = (false, false);
+        for (k, c) in self.coords[lo..self.ends[i] as usize].iter().enumerate() {
+            let t = [e.nf[0] * c[0], e.nf[1] * c[1], e.nf[2] * c[2]];
+            let s = t[0] + t[1] + t[2] - e.df;
+            let bound = (t[0].abs() + t[1].abs() + t[2].abs() + e.df.abs()) * FILTER_BOUND;
+            let side = if s > bound {
+                Side::Front
+            } else if s < -bound {
+                Side::Back
+            } else {
+                f.vertices[k].side(e)
+            };
+            match side {
+                Side::Front => front = true,
+                Side::Back => back = true,
+                Side::On => {}
+            }
+            if front && back {
+                return Placement::Straddle;
+            }
+        }
+        match (front, back) {
+            (true, _) => Placement::Front,
+            (false, true) => Placement::Back,
+            (false, false) => Placement::On,
+        }
+    }
+
+    /// See [`cost`].
+    pub(crate) fn cost(&self, plane: PlaneId, table: &PlaneTable, limit: u64) -> u64 {
+        self.cost_with(SplitRule::default(), plane, table, limit)
+    }
+
+    /// `rule.cut_weight·cuts + rule.balance_weight·|front − back|`, `u64::MAX` once proven
+    /// above `limit`.
+    pub(crate) fn cost_with(
+        &self,
+        rule: SplitRule,
+        plane: PlaneId,
+        table: &PlaneTable,
+        limit: u64,
+    ) -> u64 {
+        let e = table.get(plane);
+        let n = self.frags.len() as u64;
+        let (mut cuts, mut front, mut back) = (0u64, 0u64, 0u64);
+        for i in 0..self.frags.len() {
+            match self.placement(i, plane, e) {
+                Placement::Front => front += 1,
+                Placement::Back => back += 1,
+                Placement::On => {}
+                Placement::Straddle => {
+                    cuts += 1;
+                    front += 1;
+                    back += 1;
+                    if cuts * rule.cut_weight > limit {
+                        return u64::MAX;
+                    }
+                }
+            }
+            if i % 16 == 15 {
+                let left = n - 1 - i as u64;
+                let bound = cuts * rule.cut_weight
+                    + front.abs_diff(back).saturating_sub(left) * rule.balance_weight;
+                if bound > limit {
                     return u64::MAX;
                 }
             }
         }
+        let c = cuts * rule.cut_weight + front.abs_diff(back) * rule.balance_weight;
+        if c > limit {
+            u64::MAX
+        } else {
+            c
+        }
     }
-    cuts * CUT_WEIGHT + front.abs_diff(back)
+}
+
+/// The weights of a split plane's cost.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct SplitRule {
+    /// Weight of one cut fragment.
+    pub cut_weight: u64,
+    /// Weight of one fragment of imbalance between the sides.
+    pub balance_weight: u64,
+}
+
+impl Default for SplitRule {
+    /// The build's rule: `8·cuts + |front − back|`.
+    fn default() -> Self {
+        SplitRule {
+            cut_weight: CUT_WEIGHT,
+            balance_weight: 1,
+        }
+    }
+}
+
+impl SplitRule {
+    /// Seed 000's rule: the fewest cuts, balance ignored (ties to the smaller plane id).
+    pub const FEWEST_CUTS: SplitRule = SplitRule {
+        cut_weight: 1,
+        balance_weight: 0,
+    };
 }
 
 /// Choose the splitting plane among `planes` (the distinct support planes of `frags`, sorted):
 /// the seed's rule (fewest cuts) weighed with balance, see [`cost`]. At most `candidates`
 /// planes are costed (a deterministic sample seeded from `seed` and the node's content when
 /// there are more), each on at most [`COST_SAMPLE`] fragments. Ties go to the smaller id.
+///
+/// Candidates are costed in parallel for large nodes; a shared best-so-far only stops
+/// candidates proven worse, so the minimum by `(cost, plane)` is the same on any thread count.
 pub fn choose_split(
+    frags: &[Fragment],
+    planes: &[PlaneId],
+    table: &PlaneTable,
+    candidates: usize,
+    seed: u64,
+) -> PlaneId {
+    choose_split_with(SplitRule::default(), frags, planes, table, candidates, seed)
+}
+
+/// [`choose_split`] with the cost weights of `rule`.
+pub fn choose_split_with(
+    rule: SplitRule,
     frags: &[Fragment],
     planes: &[PlaneId],
     table: &PlaneTable,
@@ -254,15 +396,18 @@ pub fn choose_split(
         cands.truncate(k);
         cands.sort_unstable();
     }
-    let sample: Vec<&Fragment> = if frags.len() > COST_SAMPLE {
-        (0..COST_SAMPLE)
-            .map(|_| &frags[rng.below(frags.len())])
-            .collect()
+    let sample = if frags.len() > COST_SAMPLE {
+        Sample::new((0..COST_SAMPLE).map(|_| &frags[rng.below(frags.len())]))
     } else {
-        frags.iter().collect()
+        Sample::new(frags.iter())
     };
-    let costed = |&p: &PlaneId| (cost(&sample, p, table, u64::MAX), p);
-    let best = if sample.len() * cands.len() > 20_000 {
+    let best_so_far = AtomicU64::new(u64::MAX);
+    let costed = |&p: &PlaneId| {
+        let c = sample.cost_with(rule, p, table, best_so_far.load(Ordering::Relaxed));
+        best_so_far.fetch_min(c, Ordering::Relaxed);
+        (c, p)
+    };
+    let best = if sample.frags.len() * cands.len() > 20_000 {
         cands.par_iter().map(costed).min()
     } else {
         cands.iter().map(costed).min()

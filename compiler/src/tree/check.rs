@@ -337,6 +337,7 @@ pub(crate) fn area_partition(
 }
 
 /// All of the above.
+#[cfg(test)]
 pub(crate) fn all(t: &ExactTree, input: &Input) -> Check {
     structure(t)?;
     support_planes(t)?;

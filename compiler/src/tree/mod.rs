@@ -10,11 +10,12 @@ use crate::error::CompileError;
 use crate::load::Mesh;
 use crate::quantise::Quantiser;
 
-mod build;
-#[cfg(test)]
+pub(crate) mod build;
 mod check;
-mod input;
+pub(crate) mod input;
 mod output;
+#[doc(hidden)]
+pub use output::verify;
 #[cfg(test)]
 mod tests;
 

@@ -1,15 +1,26 @@
-//! Exact tree -> [`DisplayTree`]: exact vertex dedupe, f64 conversion relative to the centre,
-//! the output plane table (in order of first use), large polygons cut into fans, statistics.
+//! Exact tree -> [`DisplayTree`]: exact vertex dedupe, watertight boundaries (T-junctions
+//! closed), f64 conversion relative to the centre, the output plane table (in order of first
+//! use), large polygons cut into convex pieces, statistics.
+//!
+//! Watertightness: a cut adds a vertex on an edge that a neighbouring polygon also has. Once
+//! rounded to f64 and projected, that vertex is no longer exactly on the neighbour's edge, and
+//! the fill leaves cracks. So every vertex of an edge that lies exactly inside another polygon's
+//! collinear edge is inserted into that polygon's vertex list. Edges are indexed by their exact
+//! supporting line (canonical Plücker coordinates of the two planes that define it), so only
+//! collinear edges are compared; every shared boundary segment lies on collinear edges of both
+//! polygons. A vertex touching an edge transversally (no shared segment) cannot open a crack
+//! and is not inserted.
 
-use std::collections::HashMap;
+use std::collections::{HashMap, HashSet};
 
-use ethnum::I256;
+use ethnum::{I256, U256};
 use glam::DVec3;
 
 use super::build::{ExactNode, ExactTree};
 use super::input::Input;
 use super::{BuildOptions, DisplayTree, TreeNode, TreePlane, TreePolygon, TreeStats};
-use crate::planes::{PlaneId, Vertex};
+use crate::planes::{Plane, PlaneId, Vertex};
+use crate::split::Fragment;
 
 /// Exact identity of a vertex: grid point, or homogeneous coordinates in lowest terms.
 #[derive(Debug, Clone, PartialEq, Eq, Hash)]
@@ -33,6 +44,221 @@ fn key(v: &Vertex) -> Key {
     }
 }
 
+fn gcd_u128(mut a: u128, mut b: u128) -> u128 {
+    while b != 0 {
+        (a, b) = (b, a % b);
+    }
+    a
+}
+
+/// Exact identity of a line: the Plücker coordinates `(n1 × n2, d1 n2 − d2 n1)` of the two
+/// planes meeting in it (the same up to a factor for any two planes of the pencil), divided by
+/// their gcd, first non-zero direction component positive.
+#[derive(Debug, Clone, PartialEq, Eq, Hash)]
+struct LineKey {
+    dir: [i128; 3],
+    moment: [I256; 3],
+}
+
+/// `None` when the planes are parallel (never for a support plane and one of its edge planes).
+fn line_key(a: &Plane, b: &Plane) -> Option<LineKey> {
+    let (u, v) = (a.n.map(i128::from), b.n.map(i128::from));
+    let mut dir = [
+        u[1] * v[2] - u[2] * v[1],
+        u[2] * v[0] - u[0] * v[2],
+        u[0] * v[1] - u[1] * v[0],
+    ];
+    let mut moment: [I256; 3] = std::array::from_fn(|k| {
+        I256::from(a.d) * I256::from(b.n[k]) - I256::from(b.d) * I256::from(a.n[k])
+    });
+    let mut g = dir.iter().fold(0u128, |g, c| gcd_u128(g, c.unsigned_abs()));
+    if g == 0 {
+        return None;
+    }
+    for m in &moment {
+        let r = m.unsigned_abs() % U256::from(g);
+        g = gcd_u128(g, r.as_u128());
+    }
+    let sign = if dir.iter().copied().find(|&c| c != 0).unwrap_or(0) < 0 {
+        -1
+    } else {
+        1
+    };
+    let gi = g as i128 * sign;
+    dir = dir.map(|c| c / gi);
+    let gw = I256::from(gi);
+    moment = moment.map(|c| c / gw);
+    Some(LineKey { dir, moment })
+}
+
+/// The distinct vertices lying on one line (edge endpoints), sorted by their approximate
+/// position `t` along it.
+#[derive(Default)]
+struct Line {
+    dir: DVec3,
+    points: Vec<(f64, Key, Vertex)>,
+}
+
+/// Slack of the approximate range search along a line, in grid units: vertex approximations
+/// are within ~1e-7 of the exact point; the exact tests decide.
+const LINE_SLACK: f64 = 1e-3;
+
+fn along(dir: DVec3, v: &Vertex) -> f64 {
+    DVec3::from_array(v.approx()).dot(dir)
+}
+
+/// Every polygon's boundary with the collinear vertices of other polygons inserted: per
+/// polygon, the vertices with their keys and the sides (collinear runs) each lies on — side
+/// `k` is the polygon's edge `k`.
+type Boundary = Vec<(Key, Vertex, Vec<u32>)>;
+
+fn watertight(polys: &[&Fragment], input: &Input) -> Vec<Boundary> {
+    let keys: Vec<Vec<Key>> = polys
+        .iter()
+        .map(|f| f.vertices.iter().map(key).collect())
+        .collect();
+    let mut line_ids: HashMap<LineKey, u32> = HashMap::new();
+    let mut lines: Vec<Line> = Vec::new();
+    let mut seen: HashSet<(u32, Key)> = HashSet::new();
+    // Edge (polygon, k) -> its line.
+    let mut edge_lines: Vec<Vec<Option<u32>>> = Vec::with_capacity(polys.len());
+    for (p, f) in polys.iter().enumerate() {
+        let n = f.vertices.len();
+        let support = &input.table.get(f.support).plane;
+        let mut ids = Vec::with_capacity(n);
+        for k in 0..n.min(f.edges.len()) {
+            let Some(lk) = line_key(support, &input.table.get(f.edges[k].plane).plane) else {
+                ids.push(None);
+                continue;
+            };
+            let id = match line_ids.get(&lk) {
+                Some(&id) => id,
+                None => {
+                    let id = lines.len() as u32;
+                    let d = lk.dir.map(|c| c as f64);
+                    lines.push(Line {
+                        dir: DVec3::from_array(d).normalize(),
+                        points: Vec::new(),
+                    });
+                    line_ids.insert(lk, id);
+                    id
+                }
+            };
+            for j in [k, (k + 1) % n] {
+                if seen.insert((id, keys[p][j].clone())) {
+                    let line = &mut lines[id as usize];
+                    let t = along(line.dir, &f.vertices[j]);
+                    line.points
+                        .push((t, keys[p][j].clone(), f.vertices[j].clone()));
+                }
+            }
+            ids.push(Some(id));
+        }
+        edge_lines.push(ids);
+    }
+    for line in &mut lines {
+        line.points.sort_by(|a, b| a.0.total_cmp(&b.0));
+    }
+    let mut out = Vec::with_capacity(polys.len());
+    for (p, f) in polys.iter().enumerate() {
+        let n = f.vertices.len();
+        let mut boundary: Boundary = Vec::with_capacity(n);
+        for k in 0..n {
+            let prev = (k + n - 1) % n;
+            boundary.push((
+                keys[p][k].clone(),
+                f.vertices[k].clone(),
+                vec![prev as u32, k as u32],
+            ));
+            let Some(Some(id)) = edge_lines[p].get(k).copied() else {
+                continue;
+            };
+            if n < 3 || f.edges.len() != n {
+                continue;
+            }
+            let line = &lines[id as usize];
+            let next = (k + 1) % n;
+            let (ta, tb) = (
+                along(line.dir, &f.vertices[k]),
+                along(line.dir, &f.vertices[next]),
+            );
+            let slack = LINE_SLACK + 1e-12 * (ta.abs() + tb.abs());
+            let (lo, hi) = (ta.min(tb) - slack, ta.max(tb) + slack);
+            let start = line.points.partition_point(|q| q.0 < lo);
+            let (e_prev, e_next) = (&f.edges[prev], &f.edges[next]);
+            let (pl_prev, pl_next) = (input.table.get(e_prev.plane), input.table.get(e_next.plane));
+            let mut inserted: Vec<&(f64, Key, Vertex)> = line.points[start..]
+                .iter()
+                .take_while(|q| q.0 <= hi)
+                .filter(|q| q.1 != keys[p][k] && q.1 != keys[p][next])
+                // On the line, strictly inside both neighbouring edges = strictly between the
+                // endpoints (the polygon is strictly convex).
+                .filter(|q| {
+                    q.2.side(pl_prev) == e_prev.inside && q.2.side(pl_next) == e_next.inside
+                })
+                .collect();
+            inserted.sort_by(|a, b| (a.0 - ta).abs().total_cmp(&(b.0 - ta).abs()));
+            for q in inserted {
+                boundary.push((q.1.clone(), q.2.clone(), vec![k as u32]));
+            }
+        }
+        out.push(boundary);
+    }
+    out
+}
+
+/// Cut a convex polygon whose vertex `i` lies on the sides `sides[i]` (collinear runs of its
+/// boundary) into convex pieces of at most `max` (>= 3) vertices: index lists into the
+/// polygon, in its winding. Each cut is a chord between two vertices on no common side, so
+/// every piece has positive area, chords carry no vertex, and every boundary vertex stays on
+/// the boundary of a piece (no new T-junction).
+pub(crate) fn convex_pieces(sides: &[Vec<u32>], max: usize) -> Vec<Vec<usize>> {
+    let max = max.max(3);
+    let mut next_side = sides.iter().flatten().copied().max().map_or(0, |m| m + 1);
+    let mut pieces = Vec::new();
+    let mut todo: Vec<Vec<(usize, Vec<u32>)>> = vec![sides.iter().cloned().enumerate().collect()];
+    while let Some(piece) = todo.pop() {
+        let n = piece.len();
+        if n <= max {
+            pieces.push(piece.into_iter().map(|(i, _)| i).collect());
+            continue;
+        }
+        let disjoint = |i: usize, j: usize| !piece[i].1.iter().any(|s| piece[j].1.contains(s));
+        let chord = (2..=n / 2).rev().find_map(|d| {
+            (0..n)
+                .map(|i| (i, (i + d) % n))
+                .find(|&(i, j)| disjoint(i, j))
+        });
+        let Some((i, j)) = chord else {
+            // Unreachable for a polygon of positive area (n >= 4 always has such a chord).
+            pieces.push(piece.into_iter().map(|(i, _)| i).collect());
+            continue;
+        };
+        let c = next_side;
+        next_side += 1;
+        let run = |from: usize, to: usize| {
+            let mut r = Vec::new();
+            let mut k = from;
+            loop {
+                let (v, mut s) = piece[k].clone();
+                if k == from || k == to {
+                    s.push(c);
+                }
+                r.push((v, s));
+                if k == to {
+                    return r;
+                }
+                k = (k + 1) % n;
+            }
+        };
+        let (a, b) = (run(i, j), run(j, i));
+        // Popped last-in first-out: `a` (which holds the start of the list) comes out first.
+        todo.push(b);
+        todo.push(a);
+    }
+    pieces
+}
+
 struct Out<'a> {
     input: &'a Input,
     tree: DisplayTree,
@@ -41,9 +267,8 @@ struct Out<'a> {
 }
 
 impl Out<'_> {
-    fn vertex(&mut self, v: &Vertex) -> u32 {
-        let k = key(v);
-        if let Some(&i) = self.vertex_ids.get(&k) {
+    fn vertex(&mut self, k: &Key, v: &Vertex) -> u32 {
+        if let Some(&i) = self.vertex_ids.get(k) {
             return i;
         }
         let s = self.input.quantiser.scale;
@@ -60,7 +285,7 @@ impl Out<'_> {
         };
         let i = self.tree.vertices.len() as u32;
         self.tree.vertices.push(p);
-        self.vertex_ids.insert(k, i);
+        self.vertex_ids.insert(k.clone(), i);
         i
     }
 
@@ -82,7 +307,9 @@ impl Out<'_> {
 }
 
 /// Cut a convex polygon of `n` vertices into fans of at most `max` (>= 3) vertices sharing
-/// vertex 0: index lists into the polygon.
+/// vertex 0: index lists into the polygon. (Superseded by [`convex_pieces`], which keeps
+/// inserted collinear vertices on piece boundaries.)
+#[cfg(test)]
 pub(crate) fn fan_pieces(n: usize, max: usize) -> Vec<Vec<usize>> {
     let max = max.max(3);
     if n <= max {
@@ -116,6 +343,8 @@ pub(crate) fn to_display(exact: &ExactTree, input: &Input, options: &BuildOption
         cuts: exact.cuts,
         ..TreeStats::default()
     };
+    let frags: Vec<&Fragment> = exact.polygons.iter().map(|p| &p.frag).collect();
+    let boundaries = watertight(&frags, input);
     for node in &exact.nodes {
         let node = match *node {
             ExactNode::Convex {
@@ -126,11 +355,18 @@ pub(crate) fn to_display(exact: &ExactTree, input: &Input, options: &BuildOption
             } => {
                 stats.convex_nodes += 1;
                 let start = out.tree.polygons.len() as u32;
-                for poly in &exact.polygons[first as usize..(first + count) as usize] {
+                for (poly, boundary) in exact.polygons[first as usize..(first + count) as usize]
+                    .iter()
+                    .zip(&boundaries[first as usize..(first + count) as usize])
+                {
                     let f = &poly.frag;
                     let plane = out.plane(f.support);
-                    for piece in fan_pieces(f.vertices.len(), options.max_polygon_vertices) {
-                        let vertices = piece.iter().map(|&i| out.vertex(&f.vertices[i])).collect();
+                    let sides: Vec<Vec<u32>> = boundary.iter().map(|b| b.2.clone()).collect();
+                    for piece in convex_pieces(&sides, options.max_polygon_vertices) {
+                        let vertices = piece
+                            .iter()
+                            .map(|&i| out.vertex(&boundary[i].0, &boundary[i].1))
+                            .collect();
                         out.tree.polygons.push(TreePolygon {
                             plane,
                             flipped: f.flipped,
@@ -179,4 +415,249 @@ pub(crate) fn to_display(exact: &ExactTree, input: &Input, options: &BuildOption
     stats.planes = out.tree.planes.len() as u64;
     out.tree.stats = stats;
     out.tree
+}
+
+/// Build `mesh` and check the exact tree against every invariant of the build (structure,
+/// strictly decreasing support-plane counts, sides of every split, convex nodes convex, exact
+/// area partition with `samples` rational points per source triangle); then convert it as
+/// [`super::build`] does. For the stress suite and the fuzzers: slow on large inputs.
+#[doc(hidden)]
+pub fn verify(
+    mesh: &crate::load::Mesh,
+    options: &BuildOptions,
+    samples: usize,
+) -> Result<DisplayTree, String> {
+    let input = super::input::prepare(mesh).map_err(|e| e.to_string())?;
+    let exact = super::build::build_exact(&input, options, &|_| {}).map_err(|e| e.to_string())?;
+    super::check::structure(&exact)?;
+    super::check::support_planes(&exact)?;
+    super::check::fragments(&exact, &input)?;
+    super::check::ancestor_sides(&exact, &input)?;
+    super::check::convex_sets(&exact, &input)?;
+    super::check::area_partition(&exact, &input, samples, 7)?;
+    Ok(to_display(&exact, &input, options))
+}
+
+/// Polygon edges with another polygon's vertex inside them (closer than `off` to the edge's
+/// line, farther than `end` from both ends, and with one of its own edges along that line:
+/// a transversal touch opens no crack), found by brute force in f64: an independent check
+/// of [`watertight`]. Exactly collinear vertices round to within ~1e-16 of the line; `off`
+/// must stay far below the distance of the nearest distinct non-collinear vertex.
+#[cfg(test)]
+pub(crate) fn t_junctions(polys: &[Vec<DVec3>], off: f64, end: f64) -> usize {
+    let mut found = 0;
+    for (p, poly) in polys.iter().enumerate() {
+        for k in 0..poly.len() {
+            let (a, b) = (poly[k], poly[(k + 1) % poly.len()]);
+            let d = b - a;
+            let len2 = d.length_squared();
+            if len2 == 0.0 {
+                continue;
+            }
+            let near_line = |w: DVec3| {
+                let t = (w - a).dot(d) / len2;
+                (a + d * t - w).length() < off
+            };
+            for (q, other) in polys.iter().enumerate() {
+                if q == p {
+                    continue;
+                }
+                for (j, &w) in other.iter().enumerate() {
+                    let t = (w - a).dot(d) / len2;
+                    let away = (w - a).length() > end && (w - b).length() > end;
+                    // Only a vertex of an edge along the same line can open a crack.
+                    let m = other.len();
+                    let along = near_line(other[(j + 1) % m]) || near_line(other[(j + m - 1) % m]);
+                    if t > 0.0 && t < 1.0 && away && near_line(w) && along && !poly.contains(&w) {
+                        found += 1;
+                    }
+                }
+            }
+        }
+    }
+    found
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scenes;
+    use crate::tree::build::build_exact;
+    use crate::tree::input::prepare;
+
+    fn area2(pts: &[[f64; 2]]) -> f64 {
+        (0..pts.len())
+            .map(|k| {
+                let (a, b) = (pts[k], pts[(k + 1) % pts.len()]);
+                a[0] * b[1] - a[1] * b[0]
+            })
+            .sum()
+    }
+
+    /// A convex polygon (regular `m`-gon) with `extra[k]` collinear points inserted on edge `k`.
+    fn polygon(m: usize, extra: &[usize]) -> (Vec<[f64; 2]>, Vec<Vec<u32>>) {
+        let corner = |k: usize| {
+            let a = std::f64::consts::TAU * k as f64 / m as f64;
+            [a.cos(), a.sin()]
+        };
+        let (mut pts, mut sides) = (Vec::new(), Vec::new());
+        for k in 0..m {
+            pts.push(corner(k));
+            sides.push(vec![((k + m - 1) % m) as u32, k as u32]);
+            let (a, b) = (corner(k), corner((k + 1) % m));
+            let e = extra.get(k).copied().unwrap_or(0);
+            for i in 1..=e {
+                let t = i as f64 / (e + 1) as f64;
+                pts.push([a[0] + (b[0] - a[0]) * t, a[1] + (b[1] - a[1]) * t]);
+                sides.push(vec![k as u32]);
+            }
+        }
+        (pts, sides)
+    }
+
+    #[test]
+    fn pieces_are_convex_non_degenerate_and_cover_the_polygon() {
+        for (m, extra, max) in [
+            (3, vec![10], 4),
+            (3, vec![10], 3),
+            (3, vec![0, 0, 30], 12),
+            (4, vec![1, 2, 3, 4], 5),
+            (12, vec![], 12),
+            (12, vec![], 4),
+            (5, vec![7, 0, 7, 0, 7], 6),
+            (3, vec![2, 2, 2], 3),
+        ] {
+            let (pts, sides) = polygon(m, &extra);
+            let pieces = convex_pieces(&sides, max);
+            let total = area2(&pts);
+            let mut sum = 0.0;
+            let mut used = vec![false; pts.len()];
+            for piece in &pieces {
+                assert!(piece.len() >= 3 && piece.len() <= max.max(3), "{piece:?}");
+                let q: Vec<[f64; 2]> = piece.iter().map(|&i| pts[i]).collect();
+                let a = area2(&q);
+                assert!(
+                    a > 1e-9,
+                    "degenerate piece {piece:?} of {m}/{extra:?}/{max}"
+                );
+                for k in 0..q.len() {
+                    let (a, b, c) = (q[k], q[(k + 1) % q.len()], q[(k + 2) % q.len()]);
+                    let turn = (b[0] - a[0]) * (c[1] - b[1]) - (b[1] - a[1]) * (c[0] - b[0]);
+                    assert!(turn > -1e-12, "piece {piece:?} not convex");
+                }
+                sum += a;
+                piece.iter().for_each(|&i| used[i] = true);
+            }
+            assert!(
+                (sum - total).abs() < 1e-9 * total,
+                "pieces do not tile the polygon"
+            );
+            assert!(used.iter().all(|&u| u), "a boundary vertex is on no piece");
+            if pts.len() <= max {
+                assert_eq!(pieces.len(), 1);
+            }
+        }
+    }
+
+    #[test]
+    fn line_keys_identify_lines_whatever_the_planes() {
+        // The line through (1, 2, 3) with direction (2, -1, 5), as the meet of different planes.
+        let through = |n: [i64; 3]| {
+            let d = n[0] as i128 + 2 * n[1] as i128 + 3 * n[2] as i128;
+            Plane::canonical(n, d).unwrap().0
+        };
+        // Normals orthogonal to (2, -1, 5).
+        let normals = [[1, 2, 0], [5, 0, -2], [0, 5, 1], [6, 2, -2], [-7, 6, 4]];
+        let key0 = line_key(&through(normals[0]), &through(normals[1])).unwrap();
+        for a in normals {
+            for b in normals {
+                let k = line_key(&through(a), &through(b));
+                if a == b {
+                    assert!(k.is_none());
+                } else {
+                    assert_eq!(k.unwrap(), key0);
+                }
+            }
+        }
+        // A parallel line and a line through the same point with another direction differ.
+        let shifted = |n: [i64; 3]| {
+            let d = n[0] as i128 + 2 * n[1] as i128 + 4 * n[2] as i128;
+            Plane::canonical(n, d).unwrap().0
+        };
+        assert_ne!(
+            line_key(&shifted(normals[0]), &shifted(normals[1])).unwrap(),
+            key0
+        );
+        assert_ne!(
+            line_key(&through([1, 0, 0]), &through([0, 1, 0])).unwrap(),
+            key0
+        );
+    }
+
+    fn world_polygons(t: &DisplayTree) -> Vec<Vec<DVec3>> {
+        t.polygons
+            .iter()
+            .map(|p| p.vertices.iter().map(|&i| t.vertices[i as usize]).collect())
+            .collect()
+    }
+
+    #[test]
+    fn cut_meshes_come_out_without_t_junctions() {
+        for (name, mesh) in [
+            ("torus", scenes::torus(12, 8)),
+            ("soup", scenes::soup(40, 0.5, 3)),
+            (
+                "bumpy",
+                crate::tree::tests::bumpy_sphere(6, 9, &[0.3, -0.2, 0.1, 0.25, -0.3]),
+            ),
+        ] {
+            let options = BuildOptions::default();
+            let input = prepare(&mesh).unwrap();
+            let exact = build_exact(&input, &options, &|_| {}).unwrap();
+            // The exact fragments as they were, without the insertions.
+            let s = input.quantiser.scale;
+            let raw: Vec<Vec<DVec3>> = exact
+                .polygons
+                .iter()
+                .map(|p| {
+                    p.frag
+                        .vertices
+                        .iter()
+                        .map(|v| DVec3::from_array(v.approx()) * s)
+                        .collect()
+                })
+                .collect();
+            let before = t_junctions(&raw, 1e-12, 1e-9);
+            let tree = to_display(&exact, &input, &options);
+            let after = t_junctions(&world_polygons(&tree), 1e-12, 1e-9);
+            assert!(exact.cuts > 0, "{name}: no cut, nothing to test");
+            assert!(before > 0, "{name}: the build made no T-junction to close");
+            assert_eq!(
+                after, 0,
+                "{name}: {after} T-junctions left ({before} before)"
+            );
+            assert!(tree
+                .polygons
+                .iter()
+                .all(|p| p.vertices.len() <= options.max_polygon_vertices));
+        }
+    }
+
+    #[test]
+    fn small_vertex_limits_still_close_t_junctions() {
+        let mesh = scenes::torus(10, 6);
+        for max in [3, 4, 5] {
+            let options = BuildOptions {
+                max_polygon_vertices: max,
+                ..BuildOptions::default()
+            };
+            let tree = crate::tree::build(&mesh, &options, &|_| {}).unwrap();
+            assert!(tree.polygons.iter().all(|p| p.vertices.len() <= max));
+            assert_eq!(
+                t_junctions(&world_polygons(&tree), 1e-12, 1e-9),
+                0,
+                "max {max}"
+            );
+        }
+    }
 }

@@ -3,15 +3,24 @@
 //! The file is canonical whatever the order of the tree's nodes: nodes are renumbered in
 //! pre-order (front before back), polygons follow the convex nodes that own them and their
 //! vertex lists follow the polygons, so the reader can check ownership in one pass.
+//!
+//! It also carries only what the scene needs ([`encoding`]): `u16` indices when the vertex count
+//! allows, a colour palette when it makes the file smaller, ids only when asked, and node
+//! bounding boxes where they can let the runtime skip work.
 
 mod atomic;
+mod bounds;
+pub mod encoding;
 pub mod format;
 
 use glam::DVec3;
 
 use crate::error::CompileError;
 use crate::tree::{DisplayTree, TreeNode};
-use format::{header_flags, node_kind, polygon_flags, Header, Node, PeelFile, Polygon};
+use encoding::Encoding;
+use format::{
+    header_flags, node_kind, polygon_flags, ColourField, Header, Node, PeelFile, Polygon,
+};
 
 pub use atomic::{write_atomic, write_atomic_with};
 
@@ -36,6 +45,17 @@ fn to_f32(v: DVec3, what: &str) -> Result<[f32; 3], CompileError> {
     }
 }
 
+/// What the writer stores besides the tree.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct WriteInput<'a> {
+    /// Colour of each tree polygon.
+    pub colours: &'a [[u8; 3]],
+    /// Per tree polygon: one-sided (see `crate::closed`); empty means all two-sided.
+    pub one_sided: &'a [bool],
+    /// Keep source triangle ids.
+    pub ids: bool,
+}
+
 /// The file for `tree`, `colours[i]` being the colour of `tree.polygons[i]`; source triangle
 /// ids are kept when `ids` is set. Fails on a tree that breaks its invariants (a node reached
 /// twice or never, an empty convex set, an index out of range).
@@ -44,10 +64,47 @@ pub fn peel_file(
     colours: &[[u8; 3]],
     ids: bool,
 ) -> Result<PeelFile, CompileError> {
+    peel_file_with(
+        tree,
+        &WriteInput {
+            colours,
+            one_sided: &[],
+            ids,
+        },
+    )
+}
+
+/// [`peel_file`] with every input, in the smallest encoding ([`Encoding::smallest`]).
+pub fn peel_file_with(
+    tree: &DisplayTree,
+    input: &WriteInput<'_>,
+) -> Result<PeelFile, CompileError> {
+    peel_file_encoded(tree, input, None)
+}
+
+/// [`peel_file_with`] in `encoding` (`None`: the smallest). Fails when `encoding` cannot hold
+/// the scene (too many vertices for `u16` indices, colours for the palette width).
+pub fn peel_file_encoded(
+    tree: &DisplayTree,
+    input: &WriteInput<'_>,
+    encoding: Option<Encoding>,
+) -> Result<PeelFile, CompileError> {
+    let WriteInput {
+        colours,
+        one_sided,
+        ids,
+    } = *input;
     if colours.len() != tree.polygons.len() {
         return Err(invariant(format!(
             "{} colours for {} polygons",
             colours.len(),
+            tree.polygons.len()
+        )));
+    }
+    if !one_sided.is_empty() && one_sided.len() != tree.polygons.len() {
+        return Err(invariant(format!(
+            "{} one-sided flags for {} polygons",
+            one_sided.len(),
             tree.polygons.len()
         )));
     }
@@ -75,16 +132,17 @@ pub fn peel_file(
 
     let mut out = Emitter {
         tree,
-        colours,
+        one_sided,
         ids,
         file_nodes: Vec::new(),
         polygons: Vec::new(),
+        rgb: Vec::new(),
         indices: Vec::new(),
         ids_out: Vec::new(),
         max_depth: 0,
         emitted: vec![false; tree.polygons.len()],
     };
-    out.emit_nodes()?;
+    out.emit_nodes(colours)?;
     if let Some(unowned) = out.unowned_polygon() {
         return Err(invariant(format!(
             "polygon {unowned} belongs to no convex node"
@@ -96,10 +154,37 @@ pub fn peel_file(
         .map(|p| u32::from(p.vertex_count))
         .max()
         .unwrap_or(0);
+
+    let colours = encoding::distinct_colours(&out.rgb).len();
+    let encoding = encoding.unwrap_or_else(|| {
+        Encoding::smallest(
+            vertices.len(),
+            out.indices.len(),
+            out.polygons.len(),
+            colours,
+        )
+    });
+    let flags = encoding.flags(vertices.len(), colours)?;
+    let (fields, palette) = encoding::colour_fields(flags, &out.rgb)?;
+    for (polygon, field) in out.polygons.iter_mut().zip(fields) {
+        polygon.colour = field;
+    }
+    let node_bounds = bounds::node_bounds(&vertices, &out.indices, &out.polygons, &out.file_nodes);
+    let boxes = bounds::assign(&mut out.file_nodes, &node_bounds);
+    let flags = if boxes.is_some() {
+        flags | header_flags::BOUNDS
+    } else {
+        flags
+    };
+    let boxes = boxes.unwrap_or_default();
     let header = Header {
         magic: format::MAGIC,
         version: format::FORMAT_VERSION,
-        flags: if ids { header_flags::IDS } else { 0 },
+        flags: if ids {
+            flags | header_flags::IDS
+        } else {
+            flags
+        },
         vertex_count: count(vertices.len(), "vertices")?,
         plane_count: count(planes.len(), "planes")?,
         index_count: count(out.indices.len(), "polygon vertices")?,
@@ -110,8 +195,8 @@ pub fn peel_file(
         centre: tree.centre.to_array(),
         bounds_min,
         bounds_max,
-        palette_count: 0,
-        bounds_count: 0,
+        palette_count: count(palette.len(), "palette colours")?,
+        bounds_count: count(boxes.len(), "node bounds")?,
     };
     Ok(PeelFile {
         header,
@@ -120,8 +205,8 @@ pub fn peel_file(
         indices: out.indices,
         polygons: out.polygons,
         ids: out.ids_out,
-        palette: Vec::new(),
-        bounds: Vec::new(),
+        palette,
+        bounds: boxes,
         nodes: out.file_nodes,
     })
 }
@@ -145,10 +230,13 @@ fn bounds(vertices: &[[f32; 3]]) -> ([f32; 3], [f32; 3]) {
 /// Builds the node, polygon, index and id arrays in file order.
 struct Emitter<'t> {
     tree: &'t DisplayTree,
-    colours: &'t [[u8; 3]],
+    one_sided: &'t [bool],
     ids: bool,
     file_nodes: Vec<Node>,
+    /// Polygons in file order, their colour field still RGB.
     polygons: Vec<Polygon>,
+    /// RGB colour of each file polygon.
+    rgb: Vec<[u8; 3]>,
     indices: Vec<u32>,
     ids_out: Vec<u32>,
     max_depth: u32,
@@ -166,7 +254,7 @@ enum Slot {
 
 impl Emitter<'_> {
     /// Pre-order walk with an explicit stack (deep trees must not overflow the call stack).
-    fn emit_nodes(&mut self) -> Result<(), CompileError> {
+    fn emit_nodes(&mut self, colours: &[[u8; 3]]) -> Result<(), CompileError> {
         let tree = self.tree;
         if tree.nodes.is_empty() {
             return Ok(());
@@ -207,7 +295,7 @@ impl Emitter<'_> {
                     }
                     let first = count(self.polygons.len(), "polygons")?;
                     for p in first_polygon..first_polygon.saturating_add(polygon_count) {
-                        self.emit_polygon(p)?;
+                        self.emit_polygon(p, colours)?;
                     }
                     self.file_nodes.push(Node {
                         kind: node_kind::CONVEX,
@@ -215,6 +303,7 @@ impl Emitter<'_> {
                         b: polygon_count,
                         c: none,
                         parent,
+                        bounds: none,
                     });
                     if let Some(child) = child {
                         stack.push((child, Slot::C(new), depth + 1));
@@ -234,6 +323,7 @@ impl Emitter<'_> {
                         b: none,
                         c: none,
                         parent,
+                        bounds: none,
                     });
                     // Back first on the stack so that the front subtree comes first in the file.
                     if let Some(back) = back {
@@ -253,7 +343,7 @@ impl Emitter<'_> {
         }
     }
 
-    fn emit_polygon(&mut self, p: u32) -> Result<(), CompileError> {
+    fn emit_polygon(&mut self, p: u32, colours: &[[u8; 3]]) -> Result<(), CompileError> {
         let tree = self.tree;
         let polygon = tree
             .polygons
@@ -293,13 +383,17 @@ impl Emitter<'_> {
         if polygon.interior_front {
             flags |= polygon_flags::INTERIOR_FRONT;
         }
+        if self.one_sided.get(p as usize) == Some(&true) {
+            flags |= polygon_flags::ONE_SIDED;
+        }
         self.polygons.push(Polygon {
             plane: polygon.plane,
             first_index: count(self.indices.len(), "polygon vertices")?,
             vertex_count,
             flags,
-            colour: self.colours[p as usize],
+            colour: ColourField::Rgb(colours[p as usize]),
         });
+        self.rgb.push(colours[p as usize]);
         self.indices.extend_from_slice(&polygon.vertices);
         if self.ids {
             self.ids_out.push(polygon.source);
@@ -322,7 +416,19 @@ pub fn to_bytes(file: &PeelFile) -> Result<Vec<u8>, CompileError> {
 /// The `.peel` bytes of `tree` (see [`peel_file`]), checked by the runtime's own reader before
 /// they are returned, so a file this returns is one the runtime accepts.
 pub fn encode(tree: &DisplayTree, colours: &[[u8; 3]], ids: bool) -> Result<Vec<u8>, CompileError> {
-    let bytes = to_bytes(&peel_file(tree, colours, ids)?)?;
+    encode_with(
+        tree,
+        &WriteInput {
+            colours,
+            one_sided: &[],
+            ids,
+        },
+    )
+}
+
+/// [`encode`] with every input (see [`peel_file_with`]).
+pub fn encode_with(tree: &DisplayTree, input: &WriteInput<'_>) -> Result<Vec<u8>, CompileError> {
+    let bytes = to_bytes(&peel_file_with(tree, input)?)?;
     peel_runtime::read::Scene::parse(&bytes)
         .map_err(|e| invariant(format!("the runtime refuses the encoded file: {e}")))?;
     Ok(bytes)

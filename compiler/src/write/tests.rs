@@ -5,7 +5,8 @@ use glam::{DVec3, Vec3};
 use peel_runtime::read::{self, layout, Scene};
 use peel_runtime::target::Colour;
 
-use super::format::{self, node_kind, polygon_flags, PeelFile, NONE};
+use super::encoding::{Encoding, PaletteWidth};
+use super::format::{self, header_flags, node_kind, polygon_flags, ColourField, PeelFile, NONE};
 use super::*;
 use crate::tree::{TreePlane, TreePolygon};
 
@@ -150,7 +151,11 @@ fn assert_reads_back(file: &PeelFile) {
             first_index: p.first_index,
             vertex_count: p.vertex_count,
             flags: p.flags,
-            colour: colour(p.colour),
+            colour: match p.colour {
+                ColourField::Rgb(c) => colour(c),
+                ColourField::Index8(k) => colour(file.palette[usize::from(k)]),
+                ColourField::Index16(k) => colour(file.palette[usize::from(k)]),
+            },
         };
         assert_eq!(read, expected);
         for k in 0..u32::from(p.vertex_count) {
@@ -177,30 +182,56 @@ fn assert_reads_back(file: &PeelFile) {
         };
         assert_eq!(scene.node(i as u32), expected);
         assert_eq!(scene.parent(i as u32), link(n.parent));
+        let stored = link(n.bounds).map(|k| {
+            let b = file.bounds[k as usize];
+            (Vec3::new(b[0], b[1], b[2]), Vec3::new(b[3], b[4], b[5]))
+        });
+        assert_eq!(scene.node_bounds(i as u32), stored);
     }
+    assert_eq!(h.palette_count as usize, file.palette.len());
+    assert_eq!(h.bounds_count as usize, file.bounds.len());
     assert_eq!(scene.root(), (!file.nodes.is_empty()).then_some(0));
 }
 
 #[test]
 fn record_sizes_match_the_spec() {
     let (tree, colours) = small_tree();
-    let file = peel_file(&tree, &colours, true).unwrap();
     let size = |bytes: Vec<u8>| bytes.len();
     let enc = |v: &dyn erased::Encode| v.encode();
-    assert_eq!(size(enc(&file.header)), layout::HEADER_SIZE);
-    assert_eq!(size(enc(&file.polygons[0])), layout::POLYGON_SIZE);
-    assert_eq!(size(enc(&file.nodes[0])), layout::NODE_SIZE);
-    assert_eq!(size(enc(&file.vertices[0])), layout::VERTEX_SIZE);
-    assert_eq!(size(enc(&file.planes[0])), layout::PLANE_SIZE);
-    let h = &file.header;
-    let total = layout::HEADER_SIZE
-        + 8 * layout::LENGTH_SIZE
-        + h.vertex_count as usize * layout::VERTEX_SIZE
-        + h.plane_count as usize * layout::PLANE_SIZE
-        + h.index_count as usize * layout::INDEX_SIZE
-        + h.polygon_count as usize * (layout::POLYGON_SIZE + layout::ID_SIZE)
-        + h.node_count as usize * layout::NODE_SIZE;
-    assert_eq!(to_bytes(&file).unwrap().len(), total);
+    let input = WriteInput {
+        colours: &colours,
+        one_sided: &[],
+        ids: true,
+    };
+    for encoding in Encoding::ALL {
+        let file = peel_file_encoded(&tree, &input, Some(encoding)).unwrap();
+        assert_eq!(size(enc(&file.header)), layout::HEADER_SIZE);
+        assert_eq!(size(enc(&file.vertices[0])), layout::VERTEX_SIZE);
+        assert_eq!(size(enc(&file.planes[0])), layout::PLANE_SIZE);
+        let h = &file.header;
+        let total = layout::HEADER_SIZE
+            + 8 * layout::LENGTH_SIZE
+            + h.vertex_count as usize * layout::VERTEX_SIZE
+            + h.plane_count as usize * layout::PLANE_SIZE
+            + h.index_count as usize * layout::index_size(h.flags)
+            + h.polygon_count as usize * (layout::polygon_size(h.flags) + layout::ID_SIZE)
+            + h.palette_count as usize * layout::PALETTE_SIZE
+            + h.bounds_count as usize * layout::BOUNDS_SIZE
+            + h.node_count as usize * layout::node_size(h.flags);
+        assert_eq!(to_bytes(&file).unwrap().len(), total, "{encoding:?}");
+        let expected_index = if encoding.index16 { 2 } else { 4 };
+        let expected_polygon = match encoding.palette {
+            None => 14,
+            Some(PaletteWidth::U8) => 12,
+            Some(PaletteWidth::U16) => 13,
+        };
+        assert_eq!(
+            (layout::index_size(h.flags), layout::polygon_size(h.flags)),
+            (expected_index, expected_polygon)
+        );
+        assert_eq!(layout::node_size(h.flags), 21, "small_tree has bounds");
+    }
+    let file = peel_file(&tree, &colours, true).unwrap();
     // Spot checks of the header's byte offsets.
     let bytes = to_bytes(&file).unwrap();
     assert_eq!(&bytes[..4], b"PEEL");
@@ -251,7 +282,11 @@ fn the_file_is_the_tree_in_pre_order() {
     let h = &file.header;
     assert_eq!(
         (h.magic, h.version, h.flags),
-        (*b"PEEL", 1, format::header_flags::IDS)
+        (
+            *b"PEEL",
+            1,
+            header_flags::IDS | header_flags::INDEX16 | header_flags::BOUNDS
+        )
     );
     assert_eq!((h.max_depth, h.max_polygon_vertices), (3, 4));
     assert_eq!(
@@ -259,22 +294,26 @@ fn the_file_is_the_tree_in_pre_order() {
         ([-0.25, 0.0, 0.0], [1.0, 1.0, 1.0])
     );
     assert_eq!(h.centre, [100.0, 200.0, 300.0]);
-    let node = |kind, a, b, c, parent| format::Node {
+    let node = |kind, a, b, c, parent, bounds| format::Node {
         kind,
         a,
         b,
         c,
         parent,
+        bounds,
     };
+    // Bounds: the root's; node 1's box equals the root's; the two leaves hold one polygon
+    // each: none.
     assert_eq!(
         file.nodes,
         [
-            node(node_kind::SPLIT, 2, 1, 3, NONE),
-            node(node_kind::CONVEX, 0, 1, 2, 0),
-            node(node_kind::CONVEX, 1, 1, NONE, 1),
-            node(node_kind::CONVEX, 2, 1, NONE, 0),
+            node(node_kind::SPLIT, 2, 1, 3, NONE, 0),
+            node(node_kind::CONVEX, 0, 1, 2, 0, NONE),
+            node(node_kind::CONVEX, 1, 1, NONE, 1, NONE),
+            node(node_kind::CONVEX, 2, 1, NONE, 0, NONE),
         ]
     );
+    assert_eq!(file.bounds, [[-0.25, 0.0, 0.0, 1.0, 1.0, 1.0]]);
     // Old polygons 1, 2, 0, in the order of the convex nodes that own them.
     assert_eq!(file.ids, [10, 12, 11]);
     assert_eq!(file.indices, [0, 1, 2, 3, 4, 6, 5, 4, 5, 6]);
@@ -282,11 +321,12 @@ fn the_file_is_the_tree_in_pre_order() {
     assert_eq!(firsts, [0, 4, 7]);
     assert_eq!(file.polygons[0].flags, polygon_flags::INTERIOR_FRONT);
     assert_eq!(file.polygons[2].flags, polygon_flags::FLIPPED);
-    assert_eq!(file.polygons[1].colour, [0, 0, 255]);
+    assert_eq!(file.polygons[1].colour, ColourField::Rgb([0, 0, 255]));
     assert_eq!(file.planes[2], [1.0, 0.0, 0.0, 0.5]);
     assert_eq!(file.vertices[6], [-0.25, 1.0, 1.0]);
     let without_ids = peel_file(&tree, &colours, false).unwrap();
-    assert_eq!((without_ids.header.flags, without_ids.ids.len()), (0, 0));
+    assert_eq!(without_ids.header.flags & header_flags::IDS, 0);
+    assert!(without_ids.ids.is_empty());
 }
 
 #[test]
@@ -375,4 +415,203 @@ fn unowned_polygons_are_refused() {
             .contains("polygon 3 belongs to no convex node"),
         "{err}"
     );
+}
+
+/// A split at x = 0 between two stacks of `per_side` unit squares (each its own leaf convex
+/// node of 4 polygons... as triangles fans): the front at x in 1..2, the back at x in -2..-1.
+/// Polygon `k` has colour `colour(k)`.
+fn two_sided_tree(per_side: u32, colour: impl Fn(u32) -> [u8; 3]) -> (DisplayTree, Vec<[u8; 3]>) {
+    let mut vertices = Vec::new();
+    let mut polygons = Vec::new();
+    let mut nodes = vec![TreeNode::Split {
+        plane: 0,
+        front: Some(1),
+        back: Some(2),
+        support_planes: 0,
+    }];
+    for (side, x) in [(0u32, 1.0), (1, -2.0)] {
+        let first = polygons.len() as u32;
+        for k in 0..per_side {
+            let v = vertices.len() as u32;
+            let z = f64::from(k);
+            vertices.extend([
+                DVec3::new(x, 0.0, z),
+                DVec3::new(x + 1.0, 0.0, z),
+                DVec3::new(x + 1.0, 1.0, z),
+            ]);
+            polygons.push(polygon(1, &[v, v + 1, v + 2], false, true, first + k));
+        }
+        nodes.push(convex(first, per_side, None));
+        let _ = side;
+    }
+    let colours = (0..polygons.len() as u32).map(colour).collect();
+    let tree = DisplayTree {
+        vertices,
+        planes: vec![
+            TreePlane {
+                normal: DVec3::X,
+                offset: 0.0,
+            },
+            TreePlane {
+                normal: DVec3::Z,
+                offset: 0.0,
+            },
+        ],
+        polygons,
+        nodes,
+        ..Default::default()
+    };
+    (tree, colours)
+}
+
+fn input<'a>(colours: &'a [[u8; 3]], one_sided: &'a [bool], ids: bool) -> WriteInput<'a> {
+    WriteInput {
+        colours,
+        one_sided,
+        ids,
+    }
+}
+
+#[test]
+fn node_bounds_follow_the_rule() {
+    // Front leaf: 4 polygons (gets a box); back leaf: 4 too; root: always.
+    let (tree, colours) = two_sided_tree(4, |_| [1, 2, 3]);
+    let file = peel_file(&tree, &colours, false).unwrap();
+    assert_ne!(file.header.flags & header_flags::BOUNDS, 0);
+    let boxes: Vec<_> = file
+        .nodes
+        .iter()
+        .map(|n| link(n.bounds).map(|k| file.bounds[k as usize]))
+        .collect();
+    assert_eq!(
+        boxes,
+        [
+            Some([-2.0, 0.0, 0.0, 2.0, 1.0, 3.0]),
+            Some([1.0, 0.0, 0.0, 2.0, 1.0, 3.0]),
+            Some([-2.0, 0.0, 0.0, -1.0, 1.0, 3.0]),
+        ]
+    );
+    assert_reads_back(&file);
+    // Leaves of fewer than MIN_LEAF_POLYGONS polygons get none.
+    let (tree, colours) = two_sided_tree(bounds::MIN_LEAF_POLYGONS - 1, |_| [1, 2, 3]);
+    let file = peel_file(&tree, &colours, false).unwrap();
+    let kept: Vec<u32> = file.nodes.iter().map(|n| n.bounds).collect();
+    assert_eq!(kept, [0, NONE, NONE]);
+    // A single node stores no bounds at all.
+    let (tree, colours) = chain_tree(1);
+    let file = peel_file(&tree, &colours, false).unwrap();
+    assert_eq!(file.header.flags & header_flags::BOUNDS, 0);
+    assert!(file.bounds.is_empty() && file.nodes[0].bounds == NONE);
+    // A chain: every box equals its parent's (same triangle): only the root's.
+    let (tree, colours) = chain_tree(10);
+    let file = peel_file(&tree, &colours, false).unwrap();
+    assert_eq!(file.bounds.len(), 1);
+    assert!(file.nodes[1..].iter().all(|n| n.bounds == NONE));
+}
+
+#[test]
+fn every_optional_part_round_trips() {
+    let trees = [
+        small_tree(),
+        two_sided_tree(5, |k| [k as u8, 0, 0]),
+        two_sided_tree(200, |k| [(k % 7) as u8, 1, 2]),
+        two_sided_tree(200, |k| [(k % 256) as u8, (k / 256) as u8, 9]),
+        chain_tree(50),
+    ];
+    for (tree, colours) in &trees {
+        let one_sided: Vec<bool> = (0..colours.len()).map(|k| k % 3 == 0).collect();
+        for ids in [false, true] {
+            for sided in [&[][..], &one_sided[..]] {
+                let distinct = encoding::distinct_colours(colours).len();
+                for e in Encoding::ALL {
+                    if e.flags(tree.vertices.len(), distinct).is_err() {
+                        continue;
+                    }
+                    let file =
+                        peel_file_encoded(tree, &input(colours, sided, ids), Some(e)).unwrap();
+                    assert_reads_back(&file);
+                    let one_sided_out = file
+                        .polygons
+                        .iter()
+                        .filter(|p| p.flags & polygon_flags::ONE_SIDED != 0)
+                        .count();
+                    let expected = sided.iter().filter(|&&s| s).count();
+                    assert_eq!(one_sided_out, expected);
+                }
+            }
+        }
+    }
+}
+
+#[test]
+fn the_chosen_encoding_is_the_smallest() {
+    let many_vertices = {
+        let (mut tree, colours) = two_sided_tree(4, |_| [5, 5, 5]);
+        tree.vertices
+            .extend((0..70_000).map(|k| DVec3::new(0.0, 0.0, f64::from(k % 3))));
+        (tree, colours)
+    };
+    let cases = [
+        ("distinct colours", small_tree()),
+        ("one colour", chain_tree(40)),
+        ("7 colours", two_sided_tree(200, |k| [(k % 7) as u8, 1, 2])),
+        (
+            "300 colours",
+            two_sided_tree(600, |k| [(k % 300) as u8, (k % 300 / 256) as u8, 3]),
+        ),
+        (
+            "all distinct",
+            two_sided_tree(300, |k| [k as u8, (k >> 8) as u8, 0]),
+        ),
+        ("70000 vertices", many_vertices),
+    ];
+    let mut chosen_palettes = Vec::new();
+    for (name, (tree, colours)) in &cases {
+        let input = input(colours, &[], false);
+        let chosen = to_bytes(&peel_file_with(tree, &input).unwrap()).unwrap();
+        let sizes: Vec<(Encoding, usize)> = Encoding::ALL
+            .into_iter()
+            .filter_map(|e| {
+                let file = peel_file_encoded(tree, &input, Some(e)).ok()?;
+                Some((e, to_bytes(&file).unwrap().len()))
+            })
+            .collect();
+        let best = sizes.iter().map(|s| s.1).min().unwrap();
+        assert_eq!(chosen.len(), best, "{name}: {sizes:?}");
+        chosen_palettes.push(Scene::parse(&chosen).unwrap().header().flags);
+    }
+    let has = |k: usize, flag: u16| chosen_palettes[k] & flag != 0;
+    assert!(
+        !has(0, header_flags::PALETTE),
+        "3 distinct colours in 3 polygons"
+    );
+    assert!(has(1, header_flags::PALETTE) && !has(1, header_flags::PALETTE16));
+    assert!(
+        has(3, header_flags::PALETTE16),
+        "300 colours need u16 indices"
+    );
+    assert!(!has(4, header_flags::PALETTE), "nothing repeats");
+    assert!(has(0, header_flags::INDEX16) && !has(5, header_flags::INDEX16));
+    // An encoding that cannot hold the scene is refused, not truncated.
+    let (tree, colours) = &cases[5].1;
+    let u16_indices = Encoding {
+        index16: true,
+        palette: None,
+    };
+    assert!(peel_file_encoded(tree, &input(colours, &[], false), Some(u16_indices)).is_err());
+}
+
+#[test]
+fn one_sided_flags_must_match_the_polygons() {
+    let (tree, colours) = small_tree();
+    let err = peel_file_with(&tree, &input(&colours, &[true], false)).unwrap_err();
+    assert!(err.to_string().contains("one-sided"), "{err}");
+    let file = peel_file_with(&tree, &input(&colours, &[true, false, false], false)).unwrap();
+    // Tree polygon 0 is written last (see the_file_is_the_tree_in_pre_order).
+    let flags: Vec<bool> = file
+        .polygons
+        .iter()
+        .map(|p| p.flags & polygon_flags::ONE_SIDED != 0)
+        .collect();
+    assert_eq!(flags, [false, false, true]);
 }

@@ -204,7 +204,7 @@ impl<'m> Coverage<'m> {
             forwarded = u64::from(b - a);
         } else {
             let mut at = a;
-            for &(s, e) in &row[first..last] {
+            for &(s, e) in row.get(first..last).unwrap_or(&[]) {
                 if s > at {
                     sink.span(y, u32::from(at), u32::from(s), colour);
                     forwarded += u64::from(s - at);
@@ -226,23 +226,41 @@ impl<'m> Coverage<'m> {
     /// `[a, b]`; the caller checked there is room.
     fn merge(&mut self, y: usize, first: usize, last: usize, a: u16, b: u16) {
         let base = y * self.per_row;
-        let n = usize::from(self.counts[y]);
-        let row = &mut self.intervals[base..base + self.per_row];
+        // Every index below is in range by construction; `get` keeps the path panic-free.
+        let n = usize::from(self.counts.get(y).copied().unwrap_or(0));
+        let Some(row) = self.intervals.get_mut(base..base + self.per_row) else {
+            return;
+        };
         let (mut s, mut e) = (a, b);
         let mut before = 0u64;
-        for &(rs, re) in &row[first..last] {
+        for &(rs, re) in row.get(first..last).unwrap_or(&[]) {
             s = s.min(rs);
             e = e.max(re);
             before += u64::from(re - rs);
         }
-        let was_full = n == 1 && row[0] == (0, self.width);
+        let was_full = n == 1 && row.first() == Some(&(0, self.width));
         let new_n = n + 1 - (last - first);
         // Shift the tail so that exactly one slot replaces `first..last`.
-        if last - first != 1 {
-            row.copy_within(last..n, first + 1);
+        // (Element by element with `get`: `copy_within`'s checks are not provably dead.)
+        let (src, dst, moved) = (last, first + 1, n.saturating_sub(last));
+        let mut shift = |i: usize| {
+            if let (Some(&v), Some(_)) = (row.get(src + i), row.get(dst + i)) {
+                if let Some(d) = row.get_mut(dst + i) {
+                    *d = v;
+                }
+            }
+        };
+        if dst < src {
+            (0..moved).for_each(&mut shift);
+        } else if dst > src {
+            (0..moved).rev().for_each(&mut shift);
         }
-        row[first] = (s, e);
-        self.counts[y] = new_n as u16;
+        if let Some(slot) = row.get_mut(first) {
+            *slot = (s, e);
+        }
+        if let Some(count) = self.counts.get_mut(y) {
+            *count = new_n as u16;
+        }
         self.covered += u64::from(e - s) - before;
         if !was_full && new_n == 1 && s == 0 && e == self.width {
             self.full_rows += 1;

@@ -48,6 +48,8 @@ impl EdgeWalk {
     /// The caller guarantees every value of the walk fits an `i64` (see [`Self::for_edge`]).
     pub(crate) fn from_ratio(num: i128, den: i64, step: i64, row: i64, row_end: i64) -> Self {
         debug_assert!(den > 0);
+        // Guaranteed by the caller; clamping makes the divisions provably panic-free.
+        let den = den.max(1);
         // ceil(num / den) = floor((num + den - 1) / den); the remainder is the seed's N.
         let shifted = num + i128::from(den) - 1;
         // Inside a window of up to 2^15 pixels at SUB = 8 the numerator is below 2^50, so the

@@ -167,8 +167,12 @@ fn fill_with<const SUB: u32, const N: usize, S: SpanSink + ?Sized>(
     let mut edges = [EdgeWalk::default(); N];
     let mut count = 0;
     for (i, &a) in points.iter().enumerate() {
-        let b = points[(i + 1) % points.len()];
+        // `count <= points.len() <= N`: the `get`s never fail, and keep the fill panic-free.
+        let b = points.get(i + 1).or(points.first()).copied().unwrap_or(a);
         if let Some(walk) = EdgeWalk::for_edge::<SUB>(a, b, height) {
+            if count >= N {
+                break;
+            }
             // Insertion keeps `edges[..count]` sorted by `row`.
             let mut k = count;
             while k > 0 && edges[k - 1].row > walk.row {
@@ -191,18 +195,21 @@ fn fill_with<const SUB: u32, const N: usize, S: SpanSink + ?Sized>(
     let mut row = edges[0].row;
     let mut pixels = 0u64;
     loop {
-        while next < count && edges[next].row == row {
-            active[n_active] = next as u8;
+        while next < count && next < N && edges[next].row == row {
+            active[n_active.min(N - 1)] = next as u8;
             n_active += 1;
             next += 1;
         }
         // Sort by crossing; the order barely changes between rows, so insertion sort is
         // linear in practice (and trivial for the two edges of a convex polygon).
-        for i in 1..n_active {
+        // (`x_of` and the `min`s only make the bounds provable: indices are always in range.)
+        let x_of = |a: u8| edges.get(usize::from(a)).map_or(0, |e| e.x);
+        let n_active_max = n_active.min(N);
+        for i in 1..n_active_max {
             let e = active[i];
-            let x = edges[usize::from(e)].x;
+            let x = x_of(e);
             let mut k = i;
-            while k > 0 && edges[usize::from(active[k - 1])].x > x {
+            while k > 0 && x_of(active[k - 1]) > x {
                 active[k] = active[k - 1];
                 k -= 1;
             }
@@ -211,9 +218,9 @@ fn fill_with<const SUB: u32, const N: usize, S: SpanSink + ?Sized>(
         // Pair the crossings. Every edge covers the same half-open rows, so a closed polygon
         // always has an even count; an odd last one could only come from a bug and is ignored.
         let mut p = 0;
-        while p + 1 < n_active {
-            let start = edges[usize::from(active[p])].x.clamp(0, width);
-            let end = edges[usize::from(active[p + 1])].x.clamp(0, width);
+        while p + 1 < n_active_max {
+            let start = x_of(active[p]).clamp(0, width);
+            let end = x_of(active[p + 1]).clamp(0, width);
             if start < end {
                 // In range: 0 <= row < height and 0 <= start < end <= width, all u32.
                 sink.span(row as u32, start as u32, end as u32, colour);
@@ -223,21 +230,26 @@ fn fill_with<const SUB: u32, const N: usize, S: SpanSink + ?Sized>(
         }
         // Step the active edges and drop the finished ones, keeping the x order.
         let mut kept = 0;
-        for i in 0..n_active {
-            let e = &mut edges[usize::from(active[i])];
+        for i in 0..n_active_max {
+            let Some(e) = edges.get_mut(usize::from(active[i])) else {
+                continue;
+            };
             if e.row_end > row + 1 {
                 e.step();
-                active[kept] = active[i];
+                let a = active[i];
+                if let Some(slot) = active.get_mut(kept) {
+                    *slot = a;
+                }
                 kept += 1;
             }
         }
         n_active = kept;
         row += 1;
         if n_active == 0 {
-            if next == count {
-                break;
+            match edges.get(next) {
+                Some(e) if next < count => row = e.row,
+                _ => break,
             }
-            row = edges[next].row;
         }
     }
     pixels

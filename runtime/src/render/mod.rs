@@ -129,7 +129,9 @@ pub struct RenderOptions {
     /// Colours or ids.
     pub paint: Paint,
     /// Skip subtrees outside the frustum or (front to back) already covered, and one-sided
-    /// polygons seen from behind. Never changes the image.
+    /// polygons seen from behind. Changes the image only where back faces of a closed mesh
+    /// are visible: with the eye inside it, or its inside opened by the near plane; turn it
+    /// off to look inside closed meshes (see `formats/peel.md`, `ONE_SIDED`).
     pub cull: bool,
 }
 
@@ -267,16 +269,22 @@ pub fn render_with_options<const SUB: u32, T, S, const STACK: usize, const VERTS
     camera: &Camera,
     workspace: &mut Workspace<STACK, VERTS>,
     options: RenderOptions,
-    mut coverage: Option<&mut Coverage<'_>>,
+    coverage: Option<&mut Coverage<'_>>,
     sink: &mut S,
 ) -> Result<FrameStats, RenderError>
 where
     T: Source + ?Sized,
     S: SpanSink + ?Sized,
 {
+    // Without the feature the span memory is never used: the optimiser drops that code.
+    let mut coverage = if cfg!(feature = "front-to-back") {
+        coverage
+    } else {
+        None
+    };
     let (width, height) = (camera.width(), camera.height());
     let (max_x, max_y) = window::<SUB>(width, height)?;
-    if options.paint == Paint::Ids && !scene.has_ids() {
+    if options.paint == Paint::Ids && !(cfg!(feature = "ids") && scene.has_ids()) {
         return Err(RenderError::NoIds);
     }
     let needed = clip::buffer_len_for(scene.max_polygon_vertices());
@@ -494,7 +502,8 @@ impl<const SUB: u32> Painter<'_, SUB> {
         }
         let colour = match self.paint {
             Paint::Colours => polygon.colour,
-            Paint::Ids => id_colour(scene.id(index).unwrap_or(u32::MAX)),
+            Paint::Ids if cfg!(feature = "ids") => id_colour(scene.id(index).unwrap_or(u32::MAX)),
+            Paint::Ids => polygon.colour,
         };
         stats.polygons_drawn = stats.polygons_drawn.saturating_add(1);
         let pts = self.points.get(..count).unwrap_or(&[]);
@@ -529,3 +538,6 @@ mod tests;
 
 #[cfg(test)]
 mod order_tests;
+
+#[cfg(test)]
+mod feature_tests;

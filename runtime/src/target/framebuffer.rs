@@ -207,7 +207,13 @@ impl<P: PixelFormat> SpanSink for Framebuffer<'_, P> {
             return;
         }
         let row = y as usize * self.stride;
-        self.buf[row + x_start as usize..row + x_end as usize].fill(P::encode(colour));
+        // `new` checked the buffer holds every row: `get_mut` never fails, and cannot panic.
+        if let Some(run) = self
+            .buf
+            .get_mut(row + x_start as usize..row + x_end as usize)
+        {
+            run.fill(P::encode(colour));
+        }
     }
 }
 

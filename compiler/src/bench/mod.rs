@@ -1,0 +1,219 @@
+//! `peel bench compile`: Peel's build against two baselines, on the shared models and on
+//! generated scenes, in one process (so the timings are comparable).
+//!
+//! For each scene: compile time, `output polygons / input triangles`, split nodes and depth of
+//! Peel's tree, next to seed 004's naive BSP and seed 000's greedy rule with triangle output
+//! (see [`baselines`]). The baselines are quadratic on unfavourable inputs, so they are run
+//! only on scenes of at most [`BASELINE_MAX_TRIANGLES`] triangles.
+
+pub mod baselines;
+
+use std::path::Path;
+use std::time::Instant;
+
+use serde::Serialize;
+
+use crate::error::CompileError;
+use crate::load::{load_obj, Mesh};
+use crate::tree::{build, BuildOptions};
+use baselines::{greedy_triangles, naive_bsp, BaselineStats};
+
+/// The shared models looked for in the models directory (absent ones are skipped).
+pub const MODELS: [&str; 4] = ["cow", "teapot", "suzanne", "stanford-bunny"];
+
+/// Scenes with more triangles skip the baselines.
+pub const BASELINE_MAX_TRIANGLES: usize = 20_000;
+
+/// One baseline's figures on one scene.
+#[derive(Debug, Clone, Copy, Serialize)]
+pub struct BaselineRow {
+    /// Output polygons (greedy: triangles).
+    pub polygons: u64,
+    /// `polygons / triangles`.
+    pub ratio: f64,
+    /// Nodes on the longest path.
+    pub depth: u64,
+    /// Wall time.
+    pub seconds: f64,
+}
+
+/// One scene's figures.
+#[derive(Debug, Clone, Serialize)]
+pub struct BenchRow {
+    /// Scene name.
+    pub scene: String,
+    /// Input triangles.
+    pub triangles: u64,
+    /// Peel's output polygons.
+    pub polygons: u64,
+    /// `polygons / triangles`.
+    pub ratio: f64,
+    /// Peel's split nodes.
+    pub split_nodes: u64,
+    /// Peel's depth.
+    pub depth: u64,
+    /// Peel's build time (wall).
+    pub seconds: f64,
+    /// Seed 004's naive BSP (absent above [`BASELINE_MAX_TRIANGLES`]).
+    pub naive_bsp: Option<BaselineRow>,
+    /// Seed 000's greedy rule with triangles (absent above [`BASELINE_MAX_TRIANGLES`]).
+    pub greedy_triangles: Option<BaselineRow>,
+}
+
+fn ratio(polygons: u64, triangles: u64) -> f64 {
+    polygons as f64 / triangles.max(1) as f64
+}
+
+fn baseline(
+    run: impl FnOnce() -> Result<BaselineStats, CompileError>,
+) -> Result<BaselineRow, CompileError> {
+    let t = Instant::now();
+    let s = run()?;
+    Ok(BaselineRow {
+        polygons: s.output_polygons,
+        ratio: ratio(s.output_polygons, s.input_triangles),
+        depth: s.max_depth,
+        seconds: t.elapsed().as_secs_f64(),
+    })
+}
+
+/// Measure one scene with Peel's default options and both baselines.
+pub fn bench_scene(name: &str, mesh: &Mesh) -> Result<BenchRow, CompileError> {
+    let options = BuildOptions::default();
+    let t = Instant::now();
+    let tree = build(mesh, &options, &|_| {})?;
+    let seconds = t.elapsed().as_secs_f64();
+    let s = tree.stats;
+    let small = mesh.triangles.len() <= BASELINE_MAX_TRIANGLES;
+    Ok(BenchRow {
+        scene: name.to_string(),
+        triangles: s.input_triangles,
+        polygons: s.output_polygons,
+        ratio: ratio(s.output_polygons, s.input_triangles),
+        split_nodes: s.split_nodes,
+        depth: s.max_depth,
+        seconds,
+        naive_bsp: if small {
+            Some(baseline(|| naive_bsp(mesh))?)
+        } else {
+            None
+        },
+        greedy_triangles: if small {
+            Some(baseline(|| {
+                greedy_triangles(mesh, options.candidates, options.seed)
+            })?)
+        } else {
+            None
+        },
+    })
+}
+
+/// The generated scenes of the bench.
+pub fn generated_scenes() -> Vec<(String, Mesh)> {
+    use crate::scenes::{box_grid, soup, sphere, torus};
+    vec![
+        ("sphere 32x64".into(), sphere(32, 64)),
+        ("torus 48x24".into(), torus(48, 24)),
+        ("box grid 6^3".into(), box_grid(6)),
+        ("soup 2000".into(), soup(2000, 0.1, 1)),
+    ]
+}
+
+/// The rows as a markdown table.
+pub fn markdown(rows: &[BenchRow]) -> String {
+    let mut out = String::from(
+        "| scene | triangles | peel polygons | peel ratio | peel splits | peel depth | peel s \
+         | naive BSP polygons | naive BSP ratio | naive BSP s \
+         | greedy-triangles triangles | greedy-triangles ratio | greedy-triangles s |\n\
+         |---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n",
+    );
+    let base = |b: &Option<BaselineRow>| match b {
+        Some(b) => format!("{} | {:.3} | {:.3}", b.polygons, b.ratio, b.seconds),
+        None => "— | — | —".to_string(),
+    };
+    for r in rows {
+        out.push_str(&format!(
+            "| {} | {} | {} | {:.3} | {} | {} | {:.3} | {} | {} |\n",
+            r.scene,
+            r.triangles,
+            r.polygons,
+            r.ratio,
+            r.split_nodes,
+            r.depth,
+            r.seconds,
+            base(&r.naive_bsp),
+            base(&r.greedy_triangles),
+        ));
+    }
+    out
+}
+
+/// Run the bench on the shared models found in `models_dir` (a notice is printed for each
+/// one absent) and on the generated scenes; write the rows as JSON to `json` when given;
+/// return the markdown table.
+pub fn bench_compile(models_dir: &Path, json: Option<&Path>) -> Result<String, CompileError> {
+    let mut rows = Vec::new();
+    for name in MODELS {
+        let path = models_dir.join(format!("{name}.obj"));
+        if !path.is_file() {
+            println!("skipped: {} not found", path.display());
+            continue;
+        }
+        let mesh = load_obj(&path)?;
+        rows.push(bench_scene(name, &mesh)?);
+    }
+    for (name, mesh) in generated_scenes() {
+        rows.push(bench_scene(&name, &mesh)?);
+    }
+    if let Some(path) = json {
+        let text =
+            serde_json::to_string_pretty(&rows).map_err(|e| CompileError::Encode(e.to_string()))?;
+        std::fs::write(path, text).map_err(|source| CompileError::Write {
+            path: path.to_path_buf(),
+            source,
+        })?;
+    }
+    Ok(markdown(&rows))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_row_and_its_table() {
+        let row = bench_scene("box grid 2^3", &crate::scenes::box_grid(2)).unwrap();
+        assert_eq!(row.triangles, 96);
+        // Disjoint boxes are never cut by Peel nor by the greedy rule.
+        assert_eq!(row.polygons, 96);
+        assert_eq!(row.greedy_triangles.unwrap().polygons, 96);
+        assert!(row.naive_bsp.unwrap().polygons >= 96);
+        let table = markdown(&[row]);
+        assert_eq!(table.lines().count(), 3);
+        assert!(table
+            .lines()
+            .nth(2)
+            .unwrap()
+            .starts_with("| box grid 2^3 | 96 | 96 | 1.000 |"));
+    }
+
+    /// The full bench on the shared models (run with `--ignored --nocapture`, release).
+    #[test]
+    #[ignore]
+    fn shared_models_bench() {
+        let models = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../shared/models");
+        println!("{}", bench_compile(&models, None).unwrap());
+    }
+
+    #[test]
+    fn missing_models_are_skipped_and_json_is_written() {
+        let dir = tempfile::tempdir().unwrap();
+        let json = dir.path().join("bench.json");
+        let table = bench_compile(dir.path(), Some(&json)).unwrap();
+        // Only the generated scenes: header, rule and one line each.
+        assert_eq!(table.lines().count(), 2 + generated_scenes().len());
+        let rows: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+        assert_eq!(rows.as_array().unwrap().len(), generated_scenes().len());
+    }
+}

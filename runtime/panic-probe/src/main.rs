@@ -1,0 +1,80 @@
+//! Panic probe: calls the runtime's public render path (parse, camera, render back to front
+//! and front to back into a framebuffer) on inputs the optimiser cannot see through
+//! (`black_box`), so every panic the runtime could reach on some input stays in the program.
+//! The panic handler of `panic-never` references an undefined symbol: linking succeeds only
+//! when no panic is reachable. Build: `cargo build --release --target thumbv7em-none-eabihf`.
+#![no_std]
+#![no_main]
+
+use core::hint::black_box;
+
+use glam::DVec3;
+use panic_never as _;
+use peel_runtime::camera::{Camera, Pose};
+use peel_runtime::coverage::Coverage;
+use peel_runtime::read::Scene;
+use peel_runtime::render::{render, render_ordered, Paint, RenderOptions, Workspace};
+use peel_runtime::target::{Colour, Framebuffer, Rgb565};
+use peel_runtime::traverse::Order;
+
+/// Image size of the probe (any size: the runtime checks it).
+const W: u32 = 40;
+const H: u32 = 30;
+const PIXELS: usize = (W * H) as usize;
+
+/// Stand-in for a `.peel` file in flash; its contents are opaque to the optimiser.
+static FILE: [u8; 4096] = [0; 4096];
+
+fn probe() {
+    let len = black_box(FILE.len());
+    let bytes = FILE.get(..len).unwrap_or(&[]);
+    let bytes = black_box(bytes);
+    let Ok(scene) = Scene::parse(bytes) else {
+        return;
+    };
+    let eye = black_box(DVec3::new(3.0, 2.0, 5.0));
+    let target = black_box(DVec3::ZERO);
+    let (fov, width, height, near) = black_box((60.0, W, H, 1e-3));
+    let Ok(camera) = Camera::look_at(Pose::new(eye, target), fov, width, height, near) else {
+        return;
+    };
+    let mut pixels = [0u16; PIXELS];
+    let Ok(mut fb) = Framebuffer::<Rgb565>::new(&mut pixels, W, H) else {
+        return;
+    };
+    fb.clear(black_box(Colour::new(1, 2, 3)));
+    let mut workspace: Workspace<64, 32> = Workspace::new();
+    let _ = black_box(render(
+        &scene,
+        &camera,
+        &mut workspace,
+        black_box(Paint::Colours),
+        &mut fb,
+    ));
+    let mut intervals = [(0u16, 0u16); 8 * H as usize];
+    let mut counts = [0u16; H as usize];
+    if let Ok(mut coverage) = Coverage::new(&mut intervals, &mut counts, W, H) {
+        let options = black_box(RenderOptions {
+            order: Order::FrontToBack,
+            paint: Paint::Ids,
+            cull: true,
+        });
+        let _ = black_box(render_ordered(
+            &scene,
+            &camera,
+            &mut workspace,
+            options,
+            Some(&mut coverage),
+            &mut fb,
+        ));
+    }
+    black_box(&pixels);
+}
+
+/// Entry point (no runtime crate: the probe is linked, never run).
+#[no_mangle]
+pub extern "C" fn _start() -> ! {
+    probe();
+    #[allow(clippy::empty_loop)]
+    loop {}
+}
