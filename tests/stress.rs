@@ -443,11 +443,9 @@ fn grid_translations_give_the_same_tree() {
     }
 }
 
-/// Axis swaps and mirrors should give the same tree up to the transform. They do not yet: the
-/// build breaks ties by axis order and plane sign (valid trees all the same, checked by
-/// `verify`). Kept as the specification of the fix.
+/// Axis swaps and mirrors give the same tree up to the transform: the build breaks ties by
+/// plane ids numbered in source order and never by axis order or plane sign.
 #[test]
-#[ignore = "known: the build is not equivariant under axis swaps and mirrors"]
 fn swaps_and_mirrors_give_the_same_tree() {
     let mut all = Vec::new();
     for (name, base) in dyadic_meshes() {
@@ -681,40 +679,70 @@ fn fuzz_read_render(data: &[u8]) {
     }
 }
 
-fn regressions(target: &str) -> Vec<(String, Vec<u8>)> {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR"))
+/// Runs one kept input, by target; the named tests below call it once per file.
+fn replay(target: &str, file: &str) {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
         .join("fuzz/regressions")
-        .join(target);
-    let mut out: Vec<(String, Vec<u8>)> = std::fs::read_dir(&dir)
-        .map(|d| {
-            d.filter_map(Result::ok)
-                .map(|e| {
-                    let bytes = std::fs::read(e.path()).expect("readable regression input");
-                    (e.file_name().to_string_lossy().into_owned(), bytes)
-                })
-                .collect()
-        })
-        .unwrap_or_default();
-    out.sort();
-    out
+        .join(target)
+        .join(file);
+    let bytes =
+        std::fs::read(&path).unwrap_or_else(|e| panic!("fuzz regression {}: {e}", path.display()));
+    match target {
+        "compile_obj" => fuzz_compile_obj(&bytes),
+        "read_render" => fuzz_read_render(&bytes),
+        _ => panic!("unknown fuzz target {target}"),
+    }
 }
 
-#[test]
-fn fuzz_regressions_compile_obj() {
-    let cases = regressions("compile_obj");
-    assert!(!cases.is_empty(), "fuzz/regressions/compile_obj is empty");
-    for (name, bytes) in cases {
-        println!("compile_obj regression {name}");
-        fuzz_compile_obj(&bytes);
+/// One `#[test]` per kept input, so a regression fails under its own name; `FUZZ_REGRESSIONS`
+/// lists them all, and `fuzz_regressions_all_named` fails when a file in
+/// `fuzz/regressions/` has no test here (add a line) or a line names a missing file.
+macro_rules! fuzz_regressions {
+    ($($target:ident { $($test:ident => $file:literal,)* })*) => {
+        $($(
+            #[test]
+            fn $test() {
+                replay(stringify!($target), $file);
+            }
+        )*)*
+        const FUZZ_REGRESSIONS: &[(&str, &str)] = &[$($((stringify!($target), $file),)*)*];
+    };
+}
+
+fuzz_regressions! {
+    compile_obj {
+        fuzz_regressions_compile_obj_seed_collinear_and_repeated_corners =>
+            "seed_collinear_and_repeated_corners.obj",
+    }
+    read_render {
+        fuzz_regressions_read_render_seed_truncated_header => "seed_truncated_header.bin",
     }
 }
 
 #[test]
-fn fuzz_regressions_read_render() {
-    let cases = regressions("read_render");
-    assert!(!cases.is_empty(), "fuzz/regressions/read_render is empty");
-    for (name, bytes) in cases {
-        println!("read_render regression {name}");
-        fuzz_read_render(&bytes);
+fn fuzz_regressions_all_named() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("fuzz/regressions");
+    let mut on_disk = Vec::new();
+    for target in ["compile_obj", "read_render"] {
+        let dir = root.join(target);
+        let entries = std::fs::read_dir(&dir)
+            .unwrap_or_else(|e| panic!("fuzz regressions {}: {e}", dir.display()));
+        for entry in entries {
+            let name = entry.expect("readable directory entry").file_name();
+            on_disk.push((target.to_string(), name.to_string_lossy().into_owned()));
+        }
     }
+    on_disk.sort();
+    let mut named: Vec<(String, String)> = FUZZ_REGRESSIONS
+        .iter()
+        .map(|&(t, f)| (t.to_string(), f.to_string()))
+        .collect();
+    named.sort();
+    let unnamed: Vec<_> = on_disk.iter().filter(|c| !named.contains(c)).collect();
+    let missing: Vec<_> = named.iter().filter(|c| !on_disk.contains(c)).collect();
+    assert!(
+        unnamed.is_empty() && missing.is_empty(),
+        "fuzz/regressions out of step with the fuzz_regressions! list in tests/stress.rs: \
+         files without a test {unnamed:?}, tests without a file {missing:?}"
+    );
 }

@@ -336,7 +336,8 @@ pub fn bench(args: &BenchArgs) -> Result<(), String> {
     match args.what {
         BenchWhat::Frames => bench_frames(args),
         BenchWhat::Compile => {
-            let table = peel_compiler::bench::bench_compile(&args.models, args.json.as_deref()).map_err(|e| e.to_string())?;
+            let table = peel_compiler::bench::bench_compile(&args.models, args.json.as_deref())
+                .map_err(|e| e.to_string())?;
             let md = args.out.join("compile.md");
             peel_compiler::write::write_atomic(&md, table.as_bytes()).map_err(|e| e.to_string())?;
             println!("{table}");

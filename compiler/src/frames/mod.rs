@@ -196,7 +196,11 @@ fn draw<const SUB: u32>(
                 &mut fb,
             )
             .map_err(|e| e.to_string())?;
-            Ok(Drawn { ids, written: stats.pixels_written, polygons: stats.polygons_drawn })
+            Ok(Drawn {
+                ids,
+                written: stats.pixels_written,
+                polygons: stats.polygons_drawn,
+            })
         }
         "zbuffer-int" | "zbuffer-f32" | "newell" => {
             let scene = Scene::parse(&p.bytes).map_err(|e| e.to_string())?;
@@ -225,7 +229,11 @@ fn draw<const SUB: u32>(
                 }
                 _ => newell::render::<SUB>(&tris, &view, &mut ids),
             };
-            Ok(Drawn { ids, written, polygons: 0 })
+            Ok(Drawn {
+                ids,
+                written,
+                polygons: 0,
+            })
         }
         other => Err(format!("unknown method {other}")),
     }
@@ -393,7 +401,11 @@ pub fn markdown(records: &[FrameRecord]) -> String {
             r.method,
             r.median_frame_ms,
             base / r.median_frame_ms,
-            if r.polygons_drawn > 0 { r.polygons_drawn.to_string() } else { "-".into() },
+            if r.polygons_drawn > 0 {
+                r.polygons_drawn.to_string()
+            } else {
+                "-".into()
+            },
             r.pixels_written,
             r.robust_errors,
             r.all_errors

@@ -103,6 +103,21 @@ enum Job {
 }
 
 impl Job {
+    /// Where the job's node goes.
+    fn slot(&self) -> Slot {
+        match self {
+            Job::Compile { slot, .. } | Job::InPlane { slot, .. } => *slot,
+        }
+    }
+
+    /// Fragments the job starts from.
+    fn len(&self) -> usize {
+        match self {
+            Job::Compile { frags, .. } => frags.len(),
+            Job::InPlane { on, rest, .. } => on.len() + rest.len(),
+        }
+    }
+
     /// The same job as the root of a separately built subtree.
     fn rooted(mut self) -> Job {
         match &mut self {
@@ -302,22 +317,22 @@ fn run(ctx: &Ctx, job: Job) -> Result<ExactTree, CompileError> {
                     }
                     continue;
                 }
-                let (front_job, back_job, idx) = split_node(ctx, &mut tree, frags, &planes, slot)?;
-                let sizes = |j: &Job| match j {
-                    Job::Compile { frags, .. } => frags.len(),
-                    Job::InPlane { on, rest, .. } => on.len() + rest.len(),
-                };
-                let (nf, nb) = (sizes(&front_job), sizes(&back_job));
-                if nf.min(nb) >= PAR_MIN && nf.min(nb) * 8 >= nf + nb {
-                    let (f, b) = rayon::join(
-                        || run(ctx, front_job.rooted()),
-                        || run(ctx, back_job.rooted()),
+                // The child holding the split plane's fragments is laid out first: the
+                // order does not depend on the plane's sign, so mirrored scenes give the same
+                // tree up to the transform.
+                let (first, second) = split_node(ctx, &mut tree, frags, &planes, slot)?;
+                let (n1, n2) = (first.len(), second.len());
+                if n1.min(n2) >= PAR_MIN && n1.min(n2) * 8 >= n1 + n2 {
+                    let (s1, s2) = (first.slot(), second.slot());
+                    let (a, b) = rayon::join(
+                        || run(ctx, first.rooted()),
+                        || run(ctx, second.rooted()),
                     );
-                    append(&mut tree, f?, Slot::Front(idx));
-                    append(&mut tree, b?, Slot::Back(idx));
+                    append(&mut tree, a?, s1);
+                    append(&mut tree, b?, s2);
                 } else {
-                    stack.push(back_job);
-                    stack.push(front_job);
+                    stack.push(second);
+                    stack.push(first);
                 }
             }
         }
@@ -326,14 +341,14 @@ fn run(ctx: &Ctx, job: Job) -> Result<ExactTree, CompileError> {
 }
 
 /// Emit a split node for `frags` (no plane of which is on the hull) and return the jobs of
-/// its two children.
+/// its two children: the one holding the split plane's fragments first.
 fn split_node(
     ctx: &Ctx,
     tree: &mut ExactTree,
     frags: Vec<Fragment>,
     planes: &[PlaneId],
     slot: Slot,
-) -> Result<(Job, Job, u32), CompileError> {
+) -> Result<(Job, Job), CompileError> {
     let k = planes.len() as u32;
     let p = choose_split(
         &frags,
@@ -397,7 +412,17 @@ fn split_node(
         max: k,
         strict: false,
     };
-    Ok(if front.len() <= back.len() {
+    // The split plane's fragments join the smaller side; a tie goes to the side whose
+    // source ids come first (not to "front", which depends on the plane's sign).
+    let on_front = match front.len().cmp(&back.len()) {
+        std::cmp::Ordering::Less => true,
+        std::cmp::Ordering::Greater => false,
+        std::cmp::Ordering::Equal => front
+            .iter()
+            .map(|f| f.source)
+            .le(back.iter().map(|f| f.source)),
+    };
+    Ok(if on_front {
         (
             Job::InPlane {
                 on,
@@ -411,15 +436,9 @@ fn split_node(
                 slot: Slot::Back(idx),
                 limit: strict,
             },
-            idx,
         )
     } else {
         (
-            Job::Compile {
-                frags: front,
-                slot: Slot::Front(idx),
-                limit: strict,
-            },
             Job::InPlane {
                 on,
                 rest: back,
@@ -427,7 +446,11 @@ fn split_node(
                 slot: Slot::Back(idx),
                 limit: loose,
             },
-            idx,
+            Job::Compile {
+                frags: front,
+                slot: Slot::Front(idx),
+                limit: strict,
+            },
         )
     })
 }

@@ -18,7 +18,8 @@ fn children(n: &ExactNode) -> Vec<u32> {
     }
 }
 
-/// Every node reachable exactly once, in pre-order, children after parents.
+/// Every node reachable exactly once, in pre-order (a split's children in either order),
+/// children after parents.
 pub(crate) fn structure(t: &ExactTree) -> Check {
     if t.nodes.is_empty() {
         return if t.polygons.is_empty() {
@@ -32,7 +33,7 @@ pub(crate) fn structure(t: &ExactTree) -> Check {
     while let Some(i) = stack.pop() {
         order.push(i);
         let mut c = children(&t.nodes[i as usize]);
-        c.reverse();
+        c.sort_unstable_by(|a, b| b.cmp(a));
         stack.extend(c);
     }
     if order != (0..t.nodes.len() as u32).collect::<Vec<_>>() {

@@ -39,13 +39,20 @@ pub(crate) fn prepare(mesh: &Mesh) -> Result<Input, CompileError> {
     let mut table = PlaneTable::default();
     let mut fragments = Vec::with_capacity(mesh.triangles.len());
     let mut dropped = 0;
+    // Support planes take the first ids, in source order, and edge planes come after: the
+    // build breaks ties by plane id, and this numbering does not depend on the coordinate
+    // axes (an edge plane's axis direction does), so axis swaps and mirrors give the same
+    // tree up to the transform.
+    let mut kept = Vec::with_capacity(mesh.triangles.len());
     for (i, t) in mesh.triangles.iter().enumerate() {
         let q = t.vertices.map(|p| quantiser.quantise(p));
         let Some((plane, flipped)) = Plane::through(q[0], q[1], q[2]) else {
             dropped += 1;
             continue;
         };
-        let support = table.insert(plane);
+        kept.push((i, q, plane, flipped, table.insert(plane)));
+    }
+    for (i, q, plane, flipped, support) in kept {
         let edges = (0..3)
             .map(|k| {
                 let e = edge_plane(q[k], q[(k + 1) % 3], plane.n);
