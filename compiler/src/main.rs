@@ -110,6 +110,7 @@ fn compile(args: &CompileArgs) -> Result<(), String> {
             candidates: args.candidates,
             seed: args.seed,
             max_polygon_vertices: args.max_polygon_vertices,
+            ..BuildOptions::default()
         },
         ids: args.ids,
         shading: if args.flat {

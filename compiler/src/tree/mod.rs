@@ -29,6 +29,9 @@ pub struct BuildOptions {
     pub seed: u64,
     /// Output polygons with more vertices are split into convex pieces.
     pub max_polygon_vertices: usize,
+    /// Close T-junctions (see the watertight pass of the output). Always on in the CLI; off
+    /// only to show the cracks it prevents (the stress suite's control test).
+    pub watertight: bool,
 }
 
 impl Default for BuildOptions {
@@ -37,6 +40,7 @@ impl Default for BuildOptions {
             candidates: 64,
             seed: 0,
             max_polygon_vertices: 12,
+            watertight: true,
         }
     }
 }

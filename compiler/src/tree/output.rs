@@ -207,6 +207,16 @@ fn watertight(polys: &[&Fragment], input: &Input) -> Vec<Boundary> {
     out
 }
 
+/// A polygon's own boundary, T-junctions left open (vertex `k` lies on sides `k − 1` and `k`).
+fn plain_boundary(f: &Fragment) -> Boundary {
+    let n = f.vertices.len();
+    f.vertices
+        .iter()
+        .enumerate()
+        .map(|(k, v)| (key(v), v.clone(), vec![((k + n - 1) % n) as u32, k as u32]))
+        .collect()
+}
+
 /// Cut a convex polygon whose vertex `i` lies on the sides `sides[i]` (collinear runs of its
 /// boundary) into convex pieces of at most `max` (>= 3) vertices: index lists into the
 /// polygon, in its winding. Each cut is a chord between two vertices on no common side, so
@@ -344,7 +354,11 @@ pub(crate) fn to_display(exact: &ExactTree, input: &Input, options: &BuildOption
         ..TreeStats::default()
     };
     let frags: Vec<&Fragment> = exact.polygons.iter().map(|p| &p.frag).collect();
-    let boundaries = watertight(&frags, input);
+    let boundaries = if options.watertight {
+        watertight(&frags, input)
+    } else {
+        frags.iter().map(|f| plain_boundary(f)).collect()
+    };
     for node in &exact.nodes {
         let node = match *node {
             ExactNode::Convex {
