@@ -11,7 +11,9 @@
 //!   since orientation only means something for a surface as a whole;
 //! - a triangle with two equal corners (no area, nothing to draw) is two-sided and ignored;
 //! - outward: the component's signed volume is positive (counter-clockwise seen from outside).
-//!   An inside-out closed mesh is consistent but shows its back faces from outside: two-sided.
+//!   An inside-out closed mesh is consistent but shows its back faces from outside: two-sided;
+//! - embedded: no two of its triangles cross (exact test in [`intersect`]). A surface that
+//!   folds through itself, as scanned meshes sometimes do, shows back faces from outside too.
 //!
 //! Why this is safe for an eye **outside** every closed component: a point seen from behind on
 //! an outward closed surface is reached through the solid, so a front face of the same surface
@@ -21,8 +23,7 @@
 //! near plane cuts one open (the hiding front face is clipped away): then back faces are
 //! visible and culling shows what is behind them instead. The compiler cannot know the camera,
 //! so the file marks the polygons and the runtime's `RenderOptions::cull` (on by default, off
-//! with `peel render --no-cull`) decides. Not covered: a self-intersecting closed surface with
-//! regions of negative winding number (it is accepted when its total volume is positive).
+//! with `peel render --no-cull`) decides.
 
 use std::collections::HashMap;
 
@@ -109,6 +110,22 @@ pub fn one_sided_triangles(triangles: &[SourceTriangle]) -> Vec<bool> {
         let o = *origin[root].get_or_insert(a);
         volume[root] += (a - o).dot((b - o).cross(c - o));
     }
+    // A surface that crosses itself shows back faces from outside: two-sided.
+    let mut members: HashMap<usize, Vec<[DVec3; 3]>> = HashMap::new();
+    for t in 0..n {
+        let root = components.find(t as u32) as usize;
+        if !spoiled[root] && volume[root] > 0.0 {
+            members.entry(root).or_default().push(triangles[t].vertices);
+        }
+    }
+    let crossing: Vec<usize> = members
+        .into_iter()
+        .filter(|(_, tris)| intersect::self_intersecting(tris))
+        .map(|(root, _)| root)
+        .collect();
+    for root in crossing {
+        spoiled[root] = true;
+    }
     (0..n)
         .map(|t| {
             let root = components.find(t as u32) as usize;
@@ -116,6 +133,8 @@ pub fn one_sided_triangles(triangles: &[SourceTriangle]) -> Vec<bool> {
         })
         .collect()
 }
+
+mod intersect;
 
 #[cfg(test)]
 mod tests;

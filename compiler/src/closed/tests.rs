@@ -129,3 +129,29 @@ fn degenerate_triangles_are_two_sided_and_ignored() {
     assert_eq!(one_sided_triangles(&t), expected);
     assert_eq!(one_sided_triangles(&[]), Vec::<bool>::new());
 }
+
+#[test]
+fn a_closed_surface_that_crosses_itself_is_two_sided() {
+    // Pull the corner (1, 1, 1) down through the bottom face: still closed, consistently
+    // wound and of positive volume, but the faces around that corner cross the bottom face,
+    // so from below their back sides show.
+    let pulled = DVec3::new(0.6, 0.6, -0.5);
+    let t: Vec<SourceTriangle> = unit_cube()
+        .into_iter()
+        .map(|mut t| {
+            for v in &mut t.vertices {
+                if *v == DVec3::ONE {
+                    *v = pulled;
+                }
+            }
+            t
+        })
+        .collect();
+    assert_eq!(one_sided_triangles(&t), vec![false; 12]);
+    // The same surface beside an untouched cube: only the crossing one is two-sided.
+    let mut both = t;
+    both.extend(cube(DVec3::splat(3.0), DVec3::splat(4.0)));
+    let sides = one_sided_triangles(&both);
+    assert_eq!(sides[..12], [false; 12]);
+    assert_eq!(sides[12..], [true; 12]);
+}

@@ -324,10 +324,8 @@ fn run(ctx: &Ctx, job: Job) -> Result<ExactTree, CompileError> {
                 let (n1, n2) = (first.len(), second.len());
                 if n1.min(n2) >= PAR_MIN && n1.min(n2) * 8 >= n1 + n2 {
                     let (s1, s2) = (first.slot(), second.slot());
-                    let (a, b) = rayon::join(
-                        || run(ctx, first.rooted()),
-                        || run(ctx, second.rooted()),
-                    );
+                    let (a, b) =
+                        rayon::join(|| run(ctx, first.rooted()), || run(ctx, second.rooted()));
                     append(&mut tree, a?, s1);
                     append(&mut tree, b?, s2);
                 } else {
