@@ -274,3 +274,154 @@ fn render_orders_give_the_same_picture_and_stats_report_overdraw() {
     ]);
     assert!(!o.status.success());
 }
+
+/// The polygon colours of a `.peel` file in the order `peel dump` lists the polygons.
+fn dumped_colours(file: &Path) -> Vec<[u8; 3]> {
+    let o = peel(&["dump", s(file)]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    String::from_utf8_lossy(&o.stdout)
+        .lines()
+        .filter_map(|l| l.trim().strip_prefix("colour: ["))
+        .map(|rest| {
+            let v: Vec<u8> = rest
+                .trim_end_matches(']')
+                .split(',')
+                .map(|c| c.trim().parse().expect("a colour channel"))
+                .collect();
+            [v[0], v[1], v[2]]
+        })
+        .collect()
+}
+
+/// The `Kd` colours of an MTL file as the loader rounds them (clamped, x 255, rounded).
+fn kd_colours(mtl: &str) -> Vec<[u8; 3]> {
+    std::fs::read_to_string(fixtures().join(mtl))
+        .unwrap()
+        .lines()
+        .filter_map(|l| l.trim().strip_prefix("Kd "))
+        .map(|rest| {
+            let v: Vec<f64> = rest
+                .split_whitespace()
+                .map(|c| c.parse().unwrap())
+                .collect();
+            [v[0], v[1], v[2]].map(|c| (c.clamp(0.0, 1.0) * 255.0).round() as u8)
+        })
+        .collect()
+}
+
+fn compile_demo(dir: &Path, name: &str, extra: &[&str]) -> Vec<[u8; 3]> {
+    let out = dir.join(name);
+    let mut args = vec!["compile", &fixture("demo.obj"), "-o", s(&out)]
+        .into_iter()
+        .map(String::from)
+        .collect::<Vec<_>>();
+    args.extend(extra.iter().map(|a| a.to_string()));
+    let args: Vec<&str> = args.iter().map(String::as_str).collect();
+    let o = peel(&args);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    dumped_colours(&out)
+}
+
+#[test]
+fn compile_bakes_shading_unless_flat_and_light_moves_it() {
+    let dir = tempfile::tempdir().unwrap();
+    let kd = kd_colours("demo.mtl");
+    let ground = kd[0];
+    assert_eq!(
+        ground,
+        [89, 140, 77],
+        "demo.mtl's first material is the ground"
+    );
+
+    // --flat: exactly the materials' Kd, every material present.
+    let flat = compile_demo(dir.path(), "flat.peel", &["--flat"]);
+    assert!(flat.len() > 20);
+    let mut flat_set: Vec<[u8; 3]> = flat.clone();
+    flat_set.sort();
+    flat_set.dedup();
+    let mut kd_set = kd.clone();
+    kd_set.sort();
+    kd_set.dedup();
+    assert_eq!(flat_set, kd_set, "--flat keeps the raw Kd colours");
+
+    // Default: Kd scaled by AMBIENT + (1 - AMBIENT) |n.l| in [0.3, 1], per polygon.
+    let shaded = compile_demo(dir.path(), "shaded.peel", &[]);
+    assert_eq!(shaded.len(), flat.len(), "shading does not change the tree");
+    let within = |baked: &[[u8; 3]], what: &str| {
+        for (i, (b, f)) in baked.iter().zip(&flat).enumerate() {
+            for c in 0..3 {
+                let lo = (f64::from(f[c]) * 0.3).floor() as u8;
+                assert!(
+                    b[c] <= f[c] && b[c] >= lo.saturating_sub(1),
+                    "{what}: polygon {i} baked {b:?} from Kd {f:?}"
+                );
+            }
+        }
+    };
+    within(&shaded, "default light");
+    let changed = shaded.iter().zip(&flat).filter(|(a, b)| a != b).count();
+    assert!(
+        changed * 2 > flat.len(),
+        "default compile shades: only {changed} of {} polygons differ from --flat",
+        flat.len()
+    );
+    // The ground (normal +y) under the default light (0.4, 0.8, 0.45): k = 0.3 + 0.7 * 0.799.
+    let grounds: Vec<usize> = (0..flat.len()).filter(|&i| flat[i] == ground).collect();
+    assert!(!grounds.is_empty());
+    for &i in &grounds {
+        assert_eq!(shaded[i], [76, 120, 66], "ground under the default light");
+    }
+
+    // --light straight up: the ground gets its full Kd; from the side: only the ambient part.
+    let up = compile_demo(dir.path(), "up.peel", &["--light", "0,1,0"]);
+    within(&up, "--light 0,1,0");
+    let side = compile_demo(dir.path(), "side.peel", &["--light=-1,0,0"]);
+    within(&side, "--light -1,0,0");
+    for &i in &grounds {
+        assert_eq!(up[i], ground, "ground lit from straight above");
+        assert_eq!(side[i], [27, 42, 23], "ground lit edge-on: 0.3 x Kd");
+    }
+    assert_ne!(up, shaded, "--light changes the baked colours");
+    assert_ne!(side, shaded, "--light changes the baked colours");
+    assert_ne!(up, side);
+}
+
+#[test]
+fn the_demo_scene_needs_split_nodes() {
+    let dir = tempfile::tempdir().unwrap();
+    // `peel demo` compiles the copy of fixtures/demo.obj built into the binary.
+    let o = peel(&["demo", "--out", s(dir.path())]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let demo_obj = dir.path().join("demo.obj");
+    assert_eq!(
+        std::fs::read(&demo_obj).unwrap(),
+        std::fs::read(fixtures().join("demo.obj")).unwrap(),
+        "peel demo uses fixtures/demo.obj"
+    );
+    let out = dir.path().join("again.peel");
+    let stats = dir.path().join("stats.json");
+    let o = peel(&[
+        "compile",
+        s(&demo_obj),
+        "-o",
+        s(&out),
+        "--stats-json",
+        s(&stats),
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let v: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&stats).unwrap()).unwrap();
+    let splits = v["split_nodes"].as_u64().expect("split_nodes is a number");
+    assert!(splits > 0, "the demo scene compiles without a split: {v}");
+    assert!(v["cuts"].as_u64().unwrap() > 0, "{v}");
+    // The file says the same.
+    let o = peel(&["inspect", s(&out), "--json"]);
+    assert!(o.status.success());
+    let inspect: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(inspect["split_nodes"].as_u64(), Some(splits));
+    // And so does the file `peel demo` wrote itself.
+    let o = peel(&["inspect", s(&dir.path().join("demo.peel")), "--json"]);
+    assert!(o.status.success());
+    let inspect: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(inspect["split_nodes"].as_u64(), Some(splits));
+}

@@ -8,6 +8,7 @@ use std::vec::Vec;
 use super::*;
 use crate::camera::Pose;
 use crate::read::Node;
+use crate::target::testing::MockTarget;
 use crate::traverse::testing::{box_faces, TestTree};
 
 /// A framebuffer that also counts how often each pixel is written.
@@ -397,4 +398,201 @@ fn scene_renders_like_the_in_memory_tree() {
     )
     .unwrap();
     assert_ne!(f.at(20, 15), Colour::default());
+}
+
+/// Screen segments of every polygon edge of `t` (its centre is the origin), projected in
+/// `f64`; `None` when a vertex is behind the near plane.
+fn projected_edges(t: &TestTree, cam: &Camera) -> Option<Vec<[(f64, f64); 2]>> {
+    let mut out = Vec::new();
+    for p in &t.polygons {
+        let n = u32::from(p.vertex_count);
+        for i in 0..n {
+            let a = cam.project(t.polygon_vertex(p, i).as_dvec3())?;
+            let b = cam.project(t.polygon_vertex(p, (i + 1) % n).as_dvec3())?;
+            out.push([a, b]);
+        }
+    }
+    Some(out)
+}
+
+/// Distance from the centre of pixel `(x, y)` to the nearest segment of `edges`.
+fn distance_to_edges(x: usize, y: usize, edges: &[[(f64, f64); 2]]) -> f64 {
+    let (px, py) = (x as f64 + 0.5, y as f64 + 0.5);
+    edges
+        .iter()
+        .map(|&[(ax, ay), (bx, by)]| {
+            let (dx, dy) = (bx - ax, by - ay);
+            let len2 = dx * dx + dy * dy;
+            let s = if len2 > 0.0 {
+                (((px - ax) * dx + (py - ay) * dy) / len2).clamp(0.0, 1.0)
+            } else {
+                0.0
+            };
+            let (qx, qy) = (ax + s * dx - px, ay + s * dy - py);
+            (qx * qx + qy * qy).sqrt()
+        })
+        .fold(f64::INFINITY, f64::min)
+}
+
+/// Pixels where `a` and `b` differ (in coverage or colour) must lie within `tolerance` pixels
+/// of a projected edge; returns how many differ.
+fn differences_near_edges<const W: usize, const H: usize>(
+    a: &MockTarget<W, H>,
+    b: &MockTarget<W, H>,
+    edges: &[[(f64, f64); 2]],
+    tolerance: f64,
+) -> usize {
+    let mut differ = 0;
+    for y in 0..H {
+        for x in 0..W {
+            if a.get(x, y) != b.get(x, y) {
+                differ += 1;
+                let d = distance_to_edges(x, y, edges);
+                assert!(
+                    d <= tolerance,
+                    "pixel ({x}, {y}) differs {d} px away from every edge\n{a}\n{b}"
+                );
+            }
+        }
+    }
+    differ
+}
+
+/// The whole render path (traverse, clip, project, snap, fill) at `SUB = 0`: snapping to
+/// whole pixels moves each vertex by at most half a pixel per axis, so the image equals the
+/// `SUB = 8` one except within `sqrt(2) / 2` pixel of a projected edge; a shared edge is still
+/// written exactly once, and front to back still writes every pixel once (`MockTarget::new()`
+/// panics on overdraw).
+#[test]
+fn whole_pixel_precision_renders_the_same_scene_up_to_edges() {
+    const W: usize = 48;
+    const H: usize = 36;
+    let tolerance = core::f64::consts::FRAC_1_SQRT_2 + 1e-3;
+
+    // Two triangles sharing a diagonal, back to front, no overdraw allowed.
+    let plane_z = |x: f32, y: f32| Vec3::new(x, y, 0.3 * x - 0.2 * y);
+    let quads = [
+        [
+            Vec3::new(-2.3, -1.6, 0.0),
+            Vec3::new(2.1, -1.2, 0.0),
+            Vec3::new(1.7, 1.9, 0.0),
+            Vec3::new(-1.9, 1.4, 0.0),
+        ],
+        [
+            plane_z(-2.6, -0.4),
+            plane_z(0.3, -2.2),
+            plane_z(2.4, 0.9),
+            plane_z(-0.8, 2.0),
+        ],
+    ];
+    for q in quads {
+        let t = quad_pair(q);
+        for eye in [DVec3::new(0.4, 0.3, 5.0), DVec3::new(-3.0, 1.2, 4.1)] {
+            let cam = camera(eye, W as u32, H as u32);
+            let mut coarse = MockTarget::<W, H>::new();
+            let stats = render_with::<0, TestTree, MockTarget<W, H>, 2, 8>(
+                &t,
+                &cam,
+                &mut Workspace::new(),
+                Paint::Colours,
+                &mut coarse,
+            )
+            .unwrap();
+            let mut fine = MockTarget::<W, H>::new();
+            render_with::<8, TestTree, MockTarget<W, H>, 2, 8>(
+                &t,
+                &cam,
+                &mut Workspace::new(),
+                Paint::Colours,
+                &mut fine,
+            )
+            .unwrap();
+            assert_eq!(stats.polygons_drawn, 2, "{stats:?}");
+            assert_eq!(stats.pixels_written, coarse.written_count() as u64);
+            assert!(coarse.written_count() > 300, "{coarse}");
+            // Both triangles show.
+            let colours = [Colour::new(0, 0, 1), Colour::new(0, 0, 2)];
+            for c in colours {
+                let n = (0..H)
+                    .flat_map(|y| (0..W).map(move |x| (x, y)))
+                    .filter(|&(x, y)| coarse.get(x, y) == Some(c))
+                    .count();
+                assert!(n > 50, "{c:?}: {n} pixels\n{coarse}");
+            }
+            let edges = projected_edges(&t, &cam).unwrap();
+            let differ = differences_near_edges(&coarse, &fine, &edges, tolerance);
+            assert!(
+                differ < coarse.written_count() / 4,
+                "{differ} pixels differ"
+            );
+        }
+    }
+
+    // A closed box, front to back with span memory: each pixel once, same picture as SUB = 8.
+    let t = coloured_box();
+    for eye in [
+        DVec3::new(2.0, 1.4, 2.7),
+        DVec3::new(-2.6, -1.0, 1.6),
+        DVec3::new(0.5, 3.0, -1.8),
+    ] {
+        let cam = camera(eye, W as u32, H as u32);
+        let mut frames = [MockTarget::<W, H>::new(), MockTarget::<W, H>::new()];
+        let mut all_stats = [FrameStats::default(); 2];
+        for (k, (frame, stats)) in frames.iter_mut().zip(&mut all_stats).enumerate() {
+            let mut intervals = vec![(0u16, 0u16); 8 * H];
+            let mut counts = [0u16; H];
+            let mut cov = Coverage::new(&mut intervals, &mut counts, W as u32, H as u32).unwrap();
+            let mut ws = Workspace::<4, 16>::new();
+            let options = RenderOptions::default();
+            *stats = if k == 0 {
+                render_with_options::<0, _, _, 4, 16>(
+                    &t,
+                    &cam,
+                    &mut ws,
+                    options,
+                    Some(&mut cov),
+                    frame,
+                )
+            } else {
+                render_with_options::<8, _, _, 4, 16>(
+                    &t,
+                    &cam,
+                    &mut ws,
+                    options,
+                    Some(&mut cov),
+                    frame,
+                )
+            }
+            .unwrap();
+        }
+        let [coarse, fine] = &frames;
+        let stats = all_stats[0];
+        assert!(!stats.fallback, "{stats:?}");
+        assert_eq!(stats.distinct_pixels, Some(stats.pixels_written));
+        assert_eq!(stats.pixels_written, coarse.written_count() as u64);
+        // Three faces are visible from each of these eyes.
+        assert!(stats.polygons_drawn >= 3, "{stats:?}");
+        assert!(coarse.written_count() > 300, "{coarse}");
+        let edges = projected_edges(&t, &cam).unwrap();
+        let differ = differences_near_edges(coarse, fine, &edges, tolerance);
+        assert!(
+            differ < coarse.written_count() / 4,
+            "{differ} pixels differ"
+        );
+        // Back to front at SUB = 0 paints the same picture (with overdraw).
+        let mut painter = MockTarget::<W, H>::allowing_overdraw();
+        render_with::<0, TestTree, MockTarget<W, H>, 4, 16>(
+            &t,
+            &cam,
+            &mut Workspace::new(),
+            Paint::Colours,
+            &mut painter,
+        )
+        .unwrap();
+        for y in 0..H {
+            for x in 0..W {
+                assert_eq!(coarse.get(x, y), painter.get(x, y), "({x}, {y})");
+            }
+        }
+    }
 }
