@@ -147,8 +147,11 @@ pub fn dump(path: &Path) -> Result<(), String> {
     let bytes = read(path)?;
     let yaml = peel_compiler::dump::dump_yaml(&bytes)
         .map_err(|e| format!("{}: invalid .peel file: {e}", path.display()))?;
-    print!("{yaml}");
-    Ok(())
+    // A reader that stops early (`peel dump f | head`) is not an error.
+    match std::io::Write::write_all(&mut std::io::stdout().lock(), yaml.as_bytes()) {
+        Err(e) if e.kind() != std::io::ErrorKind::BrokenPipe => Err(format!("stdout: {e}")),
+        _ => Ok(()),
+    }
 }
 
 /// `peel render`.
