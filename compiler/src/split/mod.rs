@@ -64,16 +64,12 @@ pub enum Placement {
     Straddle,
 }
 
-impl Fragment {
-    /// Where the fragment lies with respect to `plane`.
-    pub fn placement(&self, plane: PlaneId, table: &PlaneTable) -> Placement {
-        if self.support == plane {
-            return Placement::On;
-        }
-        let e = table.get(plane);
+impl Placement {
+    /// The placement of vertices on `sides` (stops at the first proof of a straddle).
+    fn of_sides(sides: impl Iterator<Item = Side>) -> Placement {
         let (mut front, mut back) = (false, false);
-        for v in &self.vertices {
-            match v.side(e) {
+        for side in sides {
+            match side {
                 Side::Front => front = true,
                 Side::Back => back = true,
                 Side::On => {}
@@ -88,6 +84,17 @@ impl Fragment {
             // Every vertex on a plane other than its support: a degenerate fragment.
             (false, false) => Placement::On,
         }
+    }
+}
+
+impl Fragment {
+    /// Where the fragment lies with respect to `plane`.
+    pub fn placement(&self, plane: PlaneId, table: &PlaneTable) -> Placement {
+        if self.support == plane {
+            return Placement::On;
+        }
+        let e = table.get(plane);
+        Placement::of_sides(self.vertices.iter().map(|v| v.side(e)))
     }
 
     /// Cut the fragment exactly by `plane`. `None` only if the geometry is inconsistent (three
@@ -255,32 +262,23 @@ impl<'a> Sample<'a> {
             return Placement::On;
         }
         let lo = if i == 0 { 0 } else { self.ends[i - 1] as usize };
-        let (mut front, mut back) = (false, false);
-        for (k, c) in self.coords[lo..self.ends[i] as usize].iter().enumerate() {
-            let t = [e.nf[0] * c[0], e.nf[1] * c[1], e.nf[2] * c[2]];
-            let s = t[0] + t[1] + t[2] - e.df;
-            let bound = (t[0].abs() + t[1].abs() + t[2].abs() + e.df.abs()) * FILTER_BOUND;
-            let side = if s > bound {
-                Side::Front
-            } else if s < -bound {
-                Side::Back
-            } else {
-                f.vertices[k].side(e)
-            };
-            match side {
-                Side::Front => front = true,
-                Side::Back => back = true,
-                Side::On => {}
-            }
-            if front && back {
-                return Placement::Straddle;
-            }
-        }
-        match (front, back) {
-            (true, _) => Placement::Front,
-            (false, true) => Placement::Back,
-            (false, false) => Placement::On,
-        }
+        Placement::of_sides(
+            self.coords[lo..self.ends[i] as usize]
+                .iter()
+                .enumerate()
+                .map(|(k, c)| {
+                    let t = [e.nf[0] * c[0], e.nf[1] * c[1], e.nf[2] * c[2]];
+                    let s = t[0] + t[1] + t[2] - e.df;
+                    let bound = (t[0].abs() + t[1].abs() + t[2].abs() + e.df.abs()) * FILTER_BOUND;
+                    if s > bound {
+                        Side::Front
+                    } else if s < -bound {
+                        Side::Back
+                    } else {
+                        f.vertices[k].side(e)
+                    }
+                }),
+        )
     }
 
     /// See [`cost`].
