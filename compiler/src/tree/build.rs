@@ -21,6 +21,10 @@ use crate::split::{choose_split, Fragment, SplitResult};
 /// fragments and at least an eighth of the node (which bounds the join recursion depth).
 const PAR_MIN: usize = 2048;
 
+/// Subtrees built in parallel so far (tests check that the parallel path is exercised).
+#[cfg(test)]
+pub(crate) static JOINS: AtomicU64 = AtomicU64::new(0);
+
 /// A node of the exact tree (indices local to its [`ExactTree`]).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub(crate) enum ExactNode {
@@ -324,6 +328,8 @@ fn run(ctx: &Ctx, job: Job) -> Result<ExactTree, CompileError> {
                 let (n1, n2) = (first.len(), second.len());
                 if n1.min(n2) >= PAR_MIN && n1.min(n2) * 8 >= n1 + n2 {
                     let (s1, s2) = (first.slot(), second.slot());
+                    #[cfg(test)]
+                    JOINS.fetch_add(1, Ordering::Relaxed);
                     let (a, b) =
                         rayon::join(|| run(ctx, first.rooted()), || run(ctx, second.rooted()));
                     append(&mut tree, a?, s1);

@@ -55,12 +55,29 @@ fn exact(mesh: &Mesh, options: &BuildOptions) -> (Input, ExactTree) {
     (input, tree)
 }
 
+/// Build and check every invariant; also compile twice to bytes and compare them.
 fn checked(mesh: &Mesh) -> (Input, ExactTree) {
     let (input, tree) = exact(mesh, &BuildOptions::default());
     if let Err(e) = super::check::all(&tree, &input) {
         panic!("{e}");
     }
+    assert_eq!(
+        encoded(mesh),
+        encoded(mesh),
+        "two compiles give different bytes"
+    );
     (input, tree)
+}
+
+/// The `.peel` bytes of `mesh` with default options and ids.
+fn encoded(mesh: &Mesh) -> Vec<u8> {
+    let options = crate::compile::CompileOptions {
+        ids: true,
+        ..Default::default()
+    };
+    crate::compile::compile_mesh(mesh, &options, &|_| {})
+        .unwrap()
+        .1
 }
 
 fn same(a: &DisplayTree, b: &DisplayTree) -> bool {
@@ -268,17 +285,25 @@ fn building_twice_and_on_any_thread_count_gives_identical_output() {
         .collect();
     let mesh = bumpy_sphere(60, 80, &radii);
     let options = BuildOptions::default();
-    let run = |threads: usize| {
-        let pool = rayon::ThreadPoolBuilder::new()
+    let pool = |threads: usize| {
+        rayon::ThreadPoolBuilder::new()
             .num_threads(threads)
             .build()
-            .unwrap();
-        pool.install(|| build(&mesh, &options, &|_| {}).unwrap())
+            .unwrap()
     };
+    let run = |threads: usize| pool(threads).install(|| build(&mesh, &options, &|_| {}).unwrap());
+    let joins = super::build::JOINS.load(std::sync::atomic::Ordering::Relaxed);
     let a = run(1);
     let b = run(2);
     let c = run(3);
     assert!(same(&a, &b) && same(&a, &c));
+    assert!(
+        super::build::JOINS.load(std::sync::atomic::Ordering::Relaxed) > joins,
+        "the mesh is too small to build subtrees in parallel"
+    );
+    // The file too, byte for byte.
+    let bytes = |threads: usize| pool(threads).install(|| encoded(&mesh));
+    assert_eq!(bytes(1), bytes(2));
     assert!(a.stats.split_nodes > 0);
     let (input, tree) = exact(&mesh, &options);
     super::check::structure(&tree).unwrap();
