@@ -358,7 +358,11 @@ impl SplitRule {
 }
 
 /// Choose the splitting plane among `planes` (the distinct support planes of `frags`, sorted):
-/// the seed's rule (fewest cuts) weighed with balance, see [`cost`]. At most `candidates`
+/// the seed's rule (fewest cuts) weighed with balance, see [`cost`]. A plane that cuts nothing
+/// (a free split: it adds no polygon) costs only its imbalance, so it wins whenever that
+/// imbalance is below what the cheapest cutting plane costs; candidates are support planes
+/// only, so every split also takes its plane's fragments out of both children (the
+/// termination argument), and no plane is ever made up. At most `candidates`
 /// planes are costed (a deterministic sample seeded from `seed` and the node's content when
 /// there are more), each on at most [`COST_SAMPLE`] fragments. Ties go to the smaller id.
 ///
