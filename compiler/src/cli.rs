@@ -354,12 +354,8 @@ fn bench_frames(args: &BenchArgs) -> Result<(), String> {
     use peel_compiler::frames;
     let scenes: Vec<frames::BenchScene> = bench_scenes(&args.models, args.quick)?
         .into_iter()
-        .map(|(name, mesh)| frames::BenchScene {
-            name,
-            mesh,
-            naive_bsp: None,
-        })
-        .collect();
+        .map(|(name, mesh)| frames::bench_scene(&name, mesh, &mut |m| eprintln!("{m}")))
+        .collect::<Result<_, _>>()?;
     let (w, h) = args.size;
     let records = frames::run(&scenes, w, h, args.cameras, &mut |m| eprintln!("{m}"))?;
     let mut report = format!(
@@ -382,11 +378,7 @@ fn bench_frames(args: &BenchArgs) -> Result<(), String> {
     peel_compiler::write::write_atomic(&png, &frames::plot(&records)?)
         .map_err(|e| e.to_string())?;
     if let Some(json) = &args.json {
-        let main: Vec<&frames::FrameRecord> = records
-            .iter()
-            .filter(|r| frames::METHODS.contains(&r.method.as_str()))
-            .collect();
-        let text = serde_json::to_string_pretty(&main).map_err(|e| e.to_string())?;
+        let text = frames::json(&records)?;
         peel_compiler::write::write_atomic(json, text.as_bytes()).map_err(|e| e.to_string())?;
     }
     println!("{report}");

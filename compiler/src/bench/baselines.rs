@@ -1,7 +1,9 @@
 //! The two baselines `peel bench compile` measures Peel against, built from the core's own
 //! exact predicates and cuts (no geometry written twice):
 //! - seed 004's naive BSP: the first polygon of a list is the node, its plane splits the rest
-//!   exactly, polygons in that plane join the node; every polygon list gives a node;
+//!   exactly, polygons in that plane join the node; every polygon list gives a node. `peel
+//!   bench` also draws it: [`naive_bsp_file`] encodes it as a display tree through the same
+//!   writer as Peel's output;
 //! - seed 000's greedy rule with triangle output: convex peeling, else the support plane
 //!   cutting the fewest fragments (no balance term). The seed keeps triangles, so a cut
 //!   triangle becomes a triangle and a quad split in two (3 triangles). Here the pieces are
@@ -14,8 +16,13 @@ use crate::error::CompileError;
 use crate::load::Mesh;
 use crate::peel::hull_planes;
 use crate::planes::PlaneId;
+use crate::shade::Shading;
 use crate::split::{choose_split_with, Fragment, SplitResult, SplitRule};
-use crate::tree::input::prepare;
+use crate::tree::build::{ExactNode, ExactPolygon, ExactTree};
+use crate::tree::input::{prepare, Input};
+use crate::tree::output::to_display;
+use crate::tree::{BuildOptions, DisplayTree};
+use crate::write::{encode_with, WriteInput};
 
 /// What a baseline produced.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
@@ -41,7 +48,7 @@ type Sides = (Vec<Fragment>, Vec<Fragment>, Vec<Fragment>, u64);
 
 /// Split `frags` by `plane`.
 fn split_all(
-    frags: Vec<Fragment>,
+    frags: impl IntoIterator<Item = Fragment>,
     plane: PlaneId,
     table: &crate::planes::PlaneTable,
 ) -> Result<Sides, CompileError> {
@@ -63,26 +70,203 @@ fn split_all(
 
 /// Seed 004's naive BSP of `mesh`.
 pub fn naive_bsp(mesh: &Mesh) -> Result<BaselineStats, CompileError> {
+    match naive_walk(&prepare(mesh)?, u64::MAX, None)? {
+        Walk::Done(stats) | Walk::OverBudget(stats) => Ok(stats),
+    }
+}
+
+/// Seed 004's naive BSP as a `.peel` file (see [`naive_bsp_file`]).
+#[derive(Debug, Clone)]
+pub struct NaiveBspFile {
+    /// The BSP's figures (nodes and depth of the BSP itself, not of its encoding).
+    pub stats: BaselineStats,
+    /// The display tree encoding it.
+    pub tree: DisplayTree,
+    /// The `.peel` bytes (checked by the runtime's reader).
+    pub bytes: Vec<u8>,
+}
+
+/// What [`naive_bsp_file`] made.
+#[derive(Debug, Clone)]
+pub enum NaiveBsp {
+    /// The BSP fits the budget.
+    Built(Box<NaiveBspFile>),
+    /// The BSP was abandoned as soon as it held more than `limit` polygons.
+    OverBudget {
+        /// Polygons (placed or still to place) when it stopped.
+        polygons: u64,
+        /// The budget.
+        limit: u64,
+    },
+}
+
+/// Seed 004's naive BSP of `mesh` as a display tree, encoded like Peel's own output
+/// ([`crate::write::encode_with`]), so the runtime draws it: two-sided polygons (no culling
+/// flags), colours baked with `shading`, source ids kept when `ids` is set. The build stops
+/// (without running out of memory) once the polygons exceed `max_polygons`.
+///
+/// Encoding: a BSP node with plane `P`, the polygons `S` lying in `P`, the + subtree `F` and
+/// the − subtree `B` must be drawn `B, S, F` from an eye on the + side and `F, S, B` from the
+/// − side. The runtime draws a convex node as: the polygons whose interior side the eye sees,
+/// then the child, then the others; a split node as: the far side's child, then the near
+/// side's. So the node becomes
+/// - `Split(P, + = Convex(S, interior +, child F), − = B)` when both sides are non-empty;
+/// - `Convex(S, interior +, child F)` when `B` is empty;
+/// - `Convex(S, interior −, child B)` when `F` is empty (eye on +: `B`, then `S`; eye on −:
+///   `S`, then `B`),
+///
+/// which keeps chains (a convex object gives one) one tree node per BSP node deep.
+pub fn naive_bsp_file(
+    mesh: &Mesh,
+    max_polygons: u64,
+    ids: bool,
+    shading: &Shading,
+) -> Result<NaiveBsp, CompileError> {
     let input = prepare(mesh)?;
+    let mut exact = ExactTree::default();
+    let stats = match naive_walk(&input, max_polygons, Some(&mut exact))? {
+        Walk::Done(stats) => stats,
+        Walk::OverBudget(stats) => {
+            return Ok(NaiveBsp::OverBudget {
+                polygons: stats.output_polygons,
+                limit: max_polygons,
+            })
+        }
+    };
+    // The same output pass as Peel's own trees: exact vertex sharing, T-junctions closed,
+    // large polygons cut into convex pieces.
+    let tree = to_display(&exact, &input, &BuildOptions::default());
+    let colours: Vec<[u8; 3]> = tree
+        .polygons
+        .iter()
+        .map(|p| {
+            let kd = mesh.triangles[p.source as usize].colour;
+            shading.shade(kd, tree.planes[p.plane as usize].normal)
+        })
+        .collect();
+    let input = WriteInput {
+        colours: &colours,
+        one_sided: &[],
+        ids,
+    };
+    let bytes = encode_with(&tree, &input)?;
+    Ok(NaiveBsp::Built(Box::new(NaiveBspFile {
+        stats,
+        tree,
+        bytes,
+    })))
+}
+
+/// How [`naive_walk`] ended (the figures so far).
+enum Walk {
+    Done(BaselineStats),
+    OverBudget(BaselineStats),
+}
+
+/// Where a subtree's root goes in the exact tree.
+#[derive(Debug, Clone, Copy)]
+enum Slot {
+    Root,
+    Child(u32),
+    Front(u32),
+    Back(u32),
+}
+
+/// Append `node` to `tree` and point the parent's `slot` at it.
+fn emit(tree: &mut ExactTree, slot: Slot, node: ExactNode) -> u32 {
+    let idx = tree.nodes.len() as u32;
+    tree.nodes.push(node);
+    let parent = match slot {
+        Slot::Root => return idx,
+        Slot::Child(p) | Slot::Front(p) | Slot::Back(p) => &mut tree.nodes[p as usize],
+    };
+    match (slot, parent) {
+        (Slot::Child(_), ExactNode::Convex { child, .. }) => *child = Some(idx),
+        (Slot::Front(_), ExactNode::Split { front, .. }) => *front = Some(idx),
+        (Slot::Back(_), ExactNode::Split { back, .. }) => *back = Some(idx),
+        _ => unreachable!("slot and parent kind agree by construction"),
+    }
+    idx
+}
+
+/// A convex node holding `set` (all in one plane), its interior on the + side or not.
+fn emit_convex(tree: &mut ExactTree, slot: Slot, set: Vec<Fragment>, interior_front: bool) -> u32 {
+    let node = ExactNode::Convex {
+        first: tree.polygons.len() as u32,
+        count: set.len() as u32,
+        child: None,
+        // Only Peel's build uses these counts (for its termination check).
+        support_planes: 0,
+    };
+    tree.polygons
+        .extend(set.into_iter().map(|frag| ExactPolygon {
+            frag,
+            interior_front,
+        }));
+    emit(tree, slot, node)
+}
+
+/// Seed 004's naive BSP, with an explicit stack (the tree can be as deep as the input is
+/// long); builds the exact display tree (see [`naive_bsp_file`]) when `tree` is given. Stops
+/// once the polygons placed or still to place exceed `max_polygons`.
+fn naive_walk(
+    input: &Input,
+    max_polygons: u64,
+    mut tree: Option<&mut ExactTree>,
+) -> Result<Walk, CompileError> {
     let mut stats = BaselineStats {
         input_triangles: input.input_triangles,
         ..BaselineStats::default()
     };
-    let mut stack = vec![(input.fragments, 1u64)];
-    while let Some((mut frags, depth)) = stack.pop() {
-        if frags.is_empty() {
+    // Fragments placed or still to place.
+    let mut live = input.fragments.len() as u64;
+    let mut stack = vec![(input.fragments.clone(), 1u64, Slot::Root)];
+    while let Some((frags, depth, slot)) = stack.pop() {
+        let mut frags = frags.into_iter();
+        let Some(first) = frags.next() else {
             continue;
-        }
-        let first = frags.remove(0);
+        };
         let plane = first.support;
-        let (front, back, on, _) = split_all(frags, plane, &input.table)?;
+        let (front, back, on, c) = split_all(frags, plane, &input.table)?;
+        live += c;
         stats.nodes += 1;
         stats.output_polygons += 1 + on.len() as u64;
         stats.max_depth = stats.max_depth.max(depth);
-        stack.push((back, depth + 1));
-        stack.push((front, depth + 1));
+        if live > max_polygons {
+            stats.output_polygons = live;
+            return Ok(Walk::OverBudget(stats));
+        }
+        let Some(tree) = tree.as_deref_mut() else {
+            stack.push((back, depth + 1, slot));
+            stack.push((front, depth + 1, slot));
+            continue;
+        };
+        tree.cuts += c;
+        let mut set = on;
+        set.insert(0, first);
+        if front.is_empty() {
+            // Convex(S, interior −, child B).
+            let node = emit_convex(tree, slot, set, false);
+            stack.push((back, depth + 1, Slot::Child(node)));
+        } else if back.is_empty() {
+            // Convex(S, interior +, child F).
+            let node = emit_convex(tree, slot, set, true);
+            stack.push((front, depth + 1, Slot::Child(node)));
+        } else {
+            // Split(P, + = Convex(S, interior +, child F), − = B).
+            let split = ExactNode::Split {
+                plane,
+                front: None,
+                back: None,
+                support_planes: 0,
+            };
+            let split = emit(tree, slot, split);
+            let node = emit_convex(tree, Slot::Front(split), set, true);
+            stack.push((back, depth + 1, Slot::Back(split)));
+            stack.push((front, depth + 1, Slot::Child(node)));
+        }
     }
-    Ok(stats)
+    Ok(Walk::Done(stats))
 }
 
 fn triangles(frags: &[Fragment]) -> u64 {
@@ -191,6 +375,31 @@ mod tests {
         assert_eq!(greedy.output_polygons, 12);
         assert_eq!(greedy.nodes, 1);
         assert_eq!(greedy.split_nodes, 0);
+    }
+
+    /// The encoded naive BSP is the counted one: a cube is a chain of 6 convex nodes (every
+    /// other face on one side of each face: no split node), the cyclic triangles need
+    /// split nodes; the runtime reads both files.
+    #[test]
+    fn the_naive_bsp_file_encodes_the_counted_tree() {
+        let shading = Shading::default();
+        for (mesh, splits) in [(cube(), 0), (cyclic(), 2)] {
+            let NaiveBsp::Built(f) = naive_bsp_file(&mesh, u64::MAX, true, &shading).unwrap()
+            else {
+                panic!("no budget, no skip");
+            };
+            assert_eq!(f.stats, naive_bsp(&mesh).unwrap());
+            assert_eq!(f.tree.stats.convex_nodes, f.stats.nodes);
+            assert_eq!(f.tree.stats.split_nodes, splits);
+            assert!(f.tree.stats.output_polygons >= f.stats.output_polygons);
+            let scene = peel_runtime::read::Scene::parse(&f.bytes).unwrap();
+            assert_eq!(u64::from(scene.header().node_count), f.stats.nodes + splits);
+        }
+        let NaiveBsp::Built(cube) = naive_bsp_file(&cube(), 100, false, &shading).unwrap() else {
+            panic!("12 polygons fit in 100");
+        };
+        assert_eq!(cube.tree.stats.max_depth, 6);
+        assert!(cube.tree.polygons.iter().all(|p| p.vertices.len() == 3));
     }
 
     #[test]

@@ -112,10 +112,10 @@ pub fn one_sided_triangles(triangles: &[SourceTriangle]) -> Vec<bool> {
     }
     // A surface that crosses itself shows back faces from outside: two-sided.
     let mut members: HashMap<usize, Vec<[DVec3; 3]>> = HashMap::new();
-    for t in 0..n {
+    for (t, tri) in triangles.iter().enumerate() {
         let root = components.find(t as u32) as usize;
         if !spoiled[root] && volume[root] > 0.0 {
-            members.entry(root).or_default().push(triangles[t].vertices);
+            members.entry(root).or_default().push(tri.vertices);
         }
     }
     let crossing: Vec<usize> = members

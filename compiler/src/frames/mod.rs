@@ -327,6 +327,65 @@ pub struct BenchScene {
     pub naive_bsp: Option<Vec<u8>>,
 }
 
+/// The naive BSP baseline is abandoned on a scene once it holds more than this many polygons
+/// per input triangle (the scene then has no `naive-bsp` row, and a notice says so).
+pub const NAIVE_BSP_MAX_RATIO: u64 = 20;
+
+/// A scene of the benchmark, with seed 004's naive BSP compiled to `.peel` bytes (ids on,
+/// two-sided) unless it exceeds [`NAIVE_BSP_MAX_RATIO`] or is deeper than the host renderer's
+/// stack; `log` gets a notice when it is skipped, and the build's figures otherwise.
+pub fn bench_scene(
+    name: &str,
+    mesh: Mesh,
+    log: &mut dyn FnMut(&str),
+) -> Result<BenchScene, String> {
+    use crate::bench::baselines::{naive_bsp_file, NaiveBsp};
+    let limit = (mesh.triangles.len() as u64)
+        .saturating_mul(NAIVE_BSP_MAX_RATIO)
+        .max(1);
+    let start = Instant::now();
+    let built = naive_bsp_file(&mesh, limit, true, &CompileOptions::default().shading)
+        .map_err(|e| format!("{name}: naive BSP: {e}"))?;
+    let naive_bsp = match built {
+        NaiveBsp::OverBudget { polygons, limit } => {
+            log(&format!(
+                "notice: {name}: naive BSP skipped, over {polygons} polygons (budget {limit} = \
+                 {NAIVE_BSP_MAX_RATIO} x {} triangles)",
+                mesh.triangles.len()
+            ));
+            None
+        }
+        NaiveBsp::Built(f) if f.tree.stats.max_depth > HOST_STACK as u64 => {
+            log(&format!(
+                "notice: {name}: naive BSP skipped, {} nodes deep (the host renderer's stack \
+                 holds {HOST_STACK})",
+                f.tree.stats.max_depth
+            ));
+            None
+        }
+        NaiveBsp::Built(f) => {
+            log(&format!(
+                "{name}: naive BSP: {} polygons ({:.2} x {} triangles), {} nodes, depth {}, \
+                 {} cuts, {} bytes, {:.2} s",
+                f.stats.output_polygons,
+                f.stats.output_polygons as f64 / mesh.triangles.len().max(1) as f64,
+                mesh.triangles.len(),
+                f.stats.nodes,
+                f.stats.max_depth,
+                f.tree.stats.cuts,
+                f.bytes.len(),
+                start.elapsed().as_secs_f64()
+            ));
+            Some(f.bytes)
+        }
+    };
+    Ok(BenchScene {
+        name: name.to_string(),
+        mesh,
+        naive_bsp,
+    })
+}
+
 /// Run every method on every scene (16 cameras each unless `cameras` says otherwise); also the
 /// `SUBPIXEL_BITS` knob (0, 4, 8) for front to back, reported as extra rows named
 /// `peel-front-to-back/sub0` etc. (not part of the six methods).
@@ -381,6 +440,16 @@ pub fn run(
         )?);
     }
     Ok(out)
+}
+
+/// The JSON of `peel bench --json`: one record per (scene, method) of the six [`METHODS`]
+/// (the `SUBPIXEL_BITS` rows are left out).
+pub fn json(records: &[FrameRecord]) -> Result<String, String> {
+    let main: Vec<&FrameRecord> = records
+        .iter()
+        .filter(|r| METHODS.contains(&r.method.as_str()))
+        .collect();
+    serde_json::to_string_pretty(&main).map_err(|e| e.to_string())
 }
 
 /// The records as a markdown table, with each method's time relative to the integer z-buffer
@@ -597,6 +666,71 @@ mod tests {
         let newell = measure::<8>("c", "newell", "newell", &p, &mut work).unwrap();
         assert_eq!(peel.robust_errors, 0);
         assert!(newell.robust_errors > 0, "a cycle cannot be sorted");
+    }
+
+    /// The whole bench on a small soup (cycles, so the naive BSP cuts): every method has a
+    /// record with exactly the JSON keys, and the naive BSP, an exact BSP drawn back to front,
+    /// matches the reference on every robust pixel.
+    #[test]
+    fn bench_json_has_all_six_methods_and_the_naive_bsp_is_exact() {
+        let mesh = crate::scenes::soup(40, 0.5, 3);
+        let triangles = mesh.triangles.len();
+        let mut notes = Vec::new();
+        let scene = bench_scene("soup-40", mesh, &mut |m| notes.push(m.to_string())).unwrap();
+        let naive = scene
+            .naive_bsp
+            .as_deref()
+            .expect("the naive BSP fits its budget");
+        let header = Scene::parse(naive).unwrap().header();
+        assert!(
+            header.polygon_count as usize > triangles,
+            "{notes:?}: no cut"
+        );
+        let records = run(&[scene], 64, 48, 4, &mut |_| {}).unwrap();
+        let text = json(&records).unwrap();
+        let value: serde_json::Value = serde_json::from_str(&text).unwrap();
+        let rows = value.as_array().unwrap();
+        assert_eq!(rows.len(), METHODS.len());
+        for row in rows {
+            let mut keys: Vec<&str> = row
+                .as_object()
+                .unwrap()
+                .keys()
+                .map(|k| k.as_str())
+                .collect();
+            keys.sort_unstable();
+            assert_eq!(
+                keys,
+                [
+                    "all_errors",
+                    "median_frame_ms",
+                    "method",
+                    "pixels_written",
+                    "robust_errors",
+                    "scene"
+                ]
+            );
+        }
+        let methods: Vec<&str> = rows.iter().map(|r| r["method"].as_str().unwrap()).collect();
+        assert_eq!(methods, METHODS);
+        let naive = rows.iter().find(|r| r["method"] == "naive-bsp").unwrap();
+        assert_eq!(naive["robust_errors"], 0);
+        assert!(naive["pixels_written"].as_u64().unwrap() > 0);
+        for r in rows.iter().filter(|r| r["method"] != "newell") {
+            assert_eq!(r["robust_errors"], 0, "{r}");
+        }
+    }
+
+    /// The naive BSP stops as soon as it exceeds its polygon budget.
+    #[test]
+    fn a_naive_bsp_over_budget_stops() {
+        use crate::bench::baselines::{naive_bsp_file, NaiveBsp};
+        let mesh = crate::scenes::soup(40, 0.5, 3);
+        let shading = CompileOptions::default().shading;
+        match naive_bsp_file(&mesh, 45, true, &shading).unwrap() {
+            NaiveBsp::OverBudget { polygons, limit } => assert!(polygons > limit && limit == 45),
+            NaiveBsp::Built(_) => panic!("40 crossing triangles fit in 45 polygons"),
+        }
     }
 
     #[test]

@@ -13,7 +13,7 @@ use crate::quantise::Quantiser;
 pub(crate) mod build;
 mod check;
 pub(crate) mod input;
-mod output;
+pub(crate) mod output;
 #[doc(hidden)]
 pub use output::verify;
 #[cfg(test)]
