@@ -33,7 +33,7 @@ pub struct BaselineStats {
     pub output_polygons: u64,
     /// Nodes of the tree (naive BSP: one per polygon list; greedy: convex + split nodes).
     pub nodes: u64,
-    /// Split nodes (greedy only; 0 for the naive BSP, whose every node splits).
+    /// Split nodes (naive BSP: nodes with polygons on both sides of their plane).
     pub split_nodes: u64,
     /// Nodes on the longest root-to-leaf path.
     pub max_depth: u64,
@@ -232,6 +232,9 @@ fn naive_walk(
         stats.nodes += 1;
         stats.output_polygons += 1 + on.len() as u64;
         stats.max_depth = stats.max_depth.max(depth);
+        if !front.is_empty() && !back.is_empty() {
+            stats.split_nodes += 1;
+        }
         if live > max_polygons {
             stats.output_polygons = live;
             return Ok(Walk::OverBudget(stats));

@@ -22,7 +22,7 @@ use baselines::{greedy_triangles, naive_bsp, BaselineStats};
 pub const MODELS: [&str; 4] = ["cow", "teapot", "suzanne", "stanford-bunny"];
 
 /// Scenes with more triangles skip the baselines.
-pub const BASELINE_MAX_TRIANGLES: usize = 20_000;
+pub const BASELINE_MAX_TRIANGLES: usize = 100_000;
 
 /// One baseline's figures on one scene.
 #[derive(Debug, Clone, Copy, Serialize)]
@@ -33,6 +33,8 @@ pub struct BaselineRow {
     pub ratio: f64,
     /// Nodes on the longest path.
     pub depth: u64,
+    /// Split nodes (naive BSP: every node with both sides non-empty counts as one).
+    pub split_nodes: u64,
     /// Wall time.
     pub seconds: f64,
 }
@@ -73,6 +75,7 @@ fn baseline(
         polygons: s.output_polygons,
         ratio: ratio(s.output_polygons, s.input_triangles),
         depth: s.max_depth,
+        split_nodes: s.split_nodes,
         seconds: t.elapsed().as_secs_f64(),
     })
 }
@@ -123,13 +126,17 @@ pub fn generated_scenes() -> Vec<(String, Mesh)> {
 pub fn markdown(rows: &[BenchRow]) -> String {
     let mut out = String::from(
         "| scene | triangles | peel polygons | peel ratio | peel splits | peel depth | peel s \
-         | naive BSP polygons | naive BSP ratio | naive BSP s \
-         | greedy-triangles triangles | greedy-triangles ratio | greedy-triangles s |\n\
-         |---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n",
+         | naive BSP polygons | naive BSP ratio | naive BSP splits | naive BSP depth | naive BSP s \
+         | greedy-triangles triangles | greedy-triangles ratio | greedy splits | greedy depth \
+         | greedy-triangles s |\n\
+         |---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n",
     );
     let base = |b: &Option<BaselineRow>| match b {
-        Some(b) => format!("{} | {:.3} | {:.3}", b.polygons, b.ratio, b.seconds),
-        None => "— | — | —".to_string(),
+        Some(b) => format!(
+            "{} | {:.3} | {} | {} | {:.3}",
+            b.polygons, b.ratio, b.split_nodes, b.depth, b.seconds
+        ),
+        None => "— | — | — | — | —".to_string(),
     };
     for r in rows {
         out.push_str(&format!(
