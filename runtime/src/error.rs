@@ -103,7 +103,8 @@ pub enum RenderError {
     /// The camera is not usable (zero-size image, degenerate basis, non-finite values).
     BadCamera,
     /// The image is too large for the fixed-point screen coordinates (`W * 2^SUB` and
-    /// `H * 2^SUB` must fit in an `i32`).
+    /// `H * 2^SUB` must fit in an `i32`, and without the `wide-coordinates` feature be at most
+    /// [`crate::fill::coordinate_limit`]).
     ImageTooLarge {
         /// Image width in pixels.
         width: u32,

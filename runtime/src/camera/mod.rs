@@ -36,6 +36,17 @@
 //! The camera is kept in `f64`. A `.peel` file stores `f32` coordinates relative to a `centre`
 //! given in `f64`; [`Camera::view`] subtracts that centre from the eye in `f64` and only then
 //! rounds to `f32`, so a scene far from the world origin keeps its precision.
+//!
+//! # An `f32` camera for small cores
+//!
+//! A core without `f64` hardware (Cortex-M4F) pays for the `f64` camera in software floating
+//! point. [`View::look_at`] builds the renderer's [`View`] directly in `f32`, in the scene's
+//! local frame (coordinates relative to the header's `centre`), from a focal length in
+//! pixels (no `tan`); [`crate::render::render_view`] draws with it. It is the look-at camera
+//! above with `fpx = focal` and the principal point at the image centre, rounded to `f32`
+//! one step earlier (the basis is normalised in `f32`): fine for a scene near its centre,
+//! which is where the compiler puts it. Firmware that never calls [`Camera`] links no `f64`
+//! arithmetic at all.
 
 use glam::{DVec3, Vec2, Vec3};
 
@@ -288,6 +299,68 @@ pub struct View {
 }
 
 impl View {
+    /// The look-at camera of the module docs, computed in `f32` in the scene's local frame:
+    /// `eye`, `target` and `up` relative to the scene's `centre`, `focal` the focal length in
+    /// pixels (`(H / 2) / tan(fov_y / 2)` for a vertical field of view `fov_y`), the principal
+    /// point at the image centre. Refuses ([`RenderError::BadCamera`]) what
+    /// [`Camera::look_at`] refuses: a zero-size image, `eye == target`, an `up` parallel to the
+    /// view direction, a focal length or near distance that is not positive, any non-finite
+    /// value.
+    pub fn look_at(
+        eye: Vec3,
+        target: Vec3,
+        up: Vec3,
+        focal: f32,
+        width: u32,
+        height: u32,
+        near: f32,
+    ) -> Result<View, RenderError> {
+        // Non-finite `eye`, `target` or `up` make a direction that does not normalise.
+        let forward = (target - eye)
+            .try_normalize()
+            .ok_or(RenderError::BadCamera)?;
+        let right = forward
+            .cross(up)
+            .try_normalize()
+            .ok_or(RenderError::BadCamera)?;
+        let view = View {
+            eye,
+            right,
+            up: right.cross(forward),
+            forward,
+            fx: focal,
+            fy: focal,
+            cx: width as f32 * 0.5,
+            cy: height as f32 * 0.5,
+            width,
+            height,
+            near,
+        };
+        view.check()?;
+        Ok(view)
+    }
+
+    /// Whether the view is usable: every value finite, a non-empty image, positive focal
+    /// lengths and near distance ([`RenderError::BadCamera`] otherwise). The fields are
+    /// public, so [`crate::render::render_view`] checks this before drawing; a view from
+    /// [`View::look_at`] always passes. The basis is not checked for orthonormality: a skewed
+    /// one draws a skewed image, nothing worse.
+    pub fn check(&self) -> Result<(), RenderError> {
+        let (e, r, u, f) = (self.eye, self.right, self.up, self.forward);
+        let values = [
+            e.x, e.y, e.z, r.x, r.y, r.z, u.x, u.y, u.z, f.x, f.y, f.z, self.fx, self.fy, self.cx,
+            self.cy, self.near,
+        ];
+        // One loop rather than seventeen inlined tests: this runs once per frame.
+        let finite = values.iter().all(|v| v.is_finite());
+        let positive = self.near > 0.0 && self.fx > 0.0 && self.fy > 0.0;
+        if finite && positive && self.width != 0 && self.height != 0 {
+            Ok(())
+        } else {
+            Err(RenderError::BadCamera)
+        }
+    }
+
     /// Camera-space coordinates of a scene point. A pure function of `p`: a vertex shared by
     /// two polygons gets bit-identical camera coordinates in both.
     pub fn to_camera(&self, p: Vec3) -> Vec3 {
@@ -473,6 +546,89 @@ mod tests {
         let (sx, sy) = cam.project(world).unwrap();
         let s = view.project(view.to_camera(local));
         assert!((f64::from(s.x) - sx).abs() < 1e-3 && (f64::from(s.y) - sy).abs() < 1e-3);
+    }
+
+    #[test]
+    fn f32_look_at_agrees_with_the_f64_camera() {
+        let centre = [3.0, -1.0, 2.0];
+        let c = DVec3::from_array(centre);
+        let (eye, target, up) = (
+            DVec3::new(2.0, 3.0, 9.0),
+            DVec3::new(-1.0, 0.5, 0.25),
+            DVec3::new(0.1, 1.0, 0.0),
+        );
+        let (w, h) = (160, 120);
+        let camera = Camera::look_at(Pose { eye, target, up }, 50.0, w, h, 0.01).unwrap();
+        let focal = (60.0 / (25f64).to_radians().tan()) as f32;
+        let view = View::look_at(
+            (eye - c).as_vec3(),
+            (target - c).as_vec3(),
+            up.as_vec3(),
+            focal,
+            w,
+            h,
+            0.01,
+        )
+        .unwrap();
+        let reference = camera.view(centre);
+        assert_eq!(
+            (view.width, view.height, view.cx, view.cy),
+            (160, 120, 80.0, 60.0)
+        );
+        assert!((view.fx - reference.fx).abs() < 1e-4 && view.fx == view.fy);
+        assert!((view.near - reference.near).abs() < 1e-9);
+        for (a, b) in [
+            (view.eye, reference.eye),
+            (view.right, reference.right),
+            (view.up, reference.up),
+            (view.forward, reference.forward),
+        ] {
+            assert!((a - b).abs().max_element() < 1e-6, "{a} vs {b}");
+        }
+        for p in [
+            Vec3::ZERO,
+            Vec3::new(-1.5, 0.7, -2.0),
+            Vec3::new(3.0, -1.0, -4.0),
+        ] {
+            let (s, r) = (
+                view.project(view.to_camera(p)),
+                reference.project(reference.to_camera(p)),
+            );
+            assert!((s - r).abs().max_element() < 1e-3, "{s} vs {r}");
+        }
+    }
+
+    #[test]
+    fn degenerate_f32_views_are_refused() {
+        let (eye, target) = (Vec3::new(0.0, 0.0, 5.0), Vec3::ZERO);
+        let look = |eye: Vec3, target: Vec3, up: Vec3, focal: f32, w: u32, h: u32, near: f32| {
+            View::look_at(eye, target, up, focal, w, h, near)
+        };
+        assert!(look(eye, target, Vec3::Y, 100.0, 10, 10, 0.1).is_ok());
+        let bad = |r: Result<View, RenderError>| r == Err(RenderError::BadCamera);
+        assert!(bad(look(eye, target, Vec3::Y, 100.0, 0, 10, 0.1)));
+        assert!(bad(look(eye, target, Vec3::Y, 100.0, 10, 0, 0.1)));
+        assert!(bad(look(eye, target, Vec3::Y, 0.0, 10, 10, 0.1)));
+        assert!(bad(look(eye, target, Vec3::Y, f32::NAN, 10, 10, 0.1)));
+        assert!(bad(look(eye, target, Vec3::Y, f32::INFINITY, 10, 10, 0.1)));
+        assert!(bad(look(eye, target, Vec3::Y, 100.0, 10, 10, 0.0)));
+        assert!(bad(look(eye, target, Vec3::Y, 100.0, 10, 10, f32::NAN)));
+        assert!(bad(look(eye, eye, Vec3::Y, 100.0, 10, 10, 0.1)));
+        assert!(bad(look(eye, target, Vec3::Z, 100.0, 10, 10, 0.1)));
+        assert!(bad(look(eye, target, Vec3::NAN, 100.0, 10, 10, 0.1)));
+        assert!(bad(look(
+            Vec3::INFINITY,
+            target,
+            Vec3::Y,
+            100.0,
+            10,
+            10,
+            0.1
+        )));
+        assert!(bad(look(eye, Vec3::NAN, Vec3::Y, 100.0, 10, 10, 0.1)));
+        let mut view = look(eye, target, Vec3::Y, 100.0, 10, 10, 0.1).unwrap();
+        view.right.x = f32::NAN;
+        assert_eq!(view.check(), Err(RenderError::BadCamera));
     }
 
     #[test]

@@ -14,38 +14,76 @@
 //! (a span is `[x_left, x_right)`) is what makes two polygons sharing an edge split its pixels
 //! exactly: the one on the right owns a centre lying on the edge, the one on the left does not.
 
+//!
+//! # Two widths
+//!
+//! With the `wide-coordinates` feature (default) the walk is kept in `i64` and set up with a
+//! 128-bit numerator, so any `i32` coordinates work ([`EdgeWalk::for_edge`]). Without it,
+//! [`EdgeWalk::for_edge_narrow`] sets up the same walk, bit for bit, with 32-bit arithmetic
+//! only (a core's hardware divide instead of software 64-bit division), for coordinates in
+//! `0..=`[`super::coordinate_limit`]: those of the renderer, which clamps every point to
+//! its window and refuses a window beyond that limit.
+
 use super::FixedPoint;
+
+/// The integer type of a walk: `i64` with `wide-coordinates`, `i32` without.
+#[cfg(feature = "wide-coordinates")]
+pub(crate) type Coord = i64;
+/// The integer type of a walk: `i64` with `wide-coordinates`, `i32` without.
+#[cfg(not(feature = "wide-coordinates"))]
+pub(crate) type Coord = i32;
 
 /// One non-horizontal edge being walked down the scanlines.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub(crate) struct EdgeWalk {
     /// First pixel (column) whose centre is at or right of the crossing on row `row`.
-    pub(crate) x: i64,
+    pub(crate) x: Coord,
     /// Numerator of the fractional remainder, `0 <= rem < den`.
-    rem: i64,
+    rem: Coord,
     /// Denominator, `> 0`.
-    den: i64,
+    den: Coord,
     /// Whole pixels added per row.
-    step_q: i64,
+    step_q: Coord,
     /// Remainder added per row, `0 <= step_r < den`.
-    step_r: i64,
+    step_r: Coord,
     /// The row `x` belongs to.
-    pub(crate) row: i64,
+    pub(crate) row: Coord,
     /// First row past the edge.
-    pub(crate) row_end: i64,
+    pub(crate) row_end: Coord,
 }
 
 /// Pixel index `ceil((2v - S) / (2S))` of a fixed-point coordinate `v` with `S = 2^SUB`: the
 /// first pixel whose centre `(k + 1/2) * S` is `>= v`. Used for rows and columns alike.
+#[cfg(feature = "wide-coordinates")]
 #[inline]
 pub(crate) fn first_centre_at_or_after<const SUB: u32>(v: i32) -> i64 {
     let s = 1i64 << SUB;
     (2 * i64::from(v) + s - 1).div_euclid(2 * s)
 }
 
+/// An `i32` as a [`Coord`] (the identity without `wide-coordinates`).
+#[cfg(any(test, not(feature = "wide-coordinates")))]
+#[allow(clippy::useless_conversion)]
+#[inline]
+fn coord(v: i32) -> Coord {
+    Coord::from(v)
+}
+
 impl EdgeWalk {
+    /// All zero: an unused slot (the [`Default`], usable in `const` context).
+    pub(crate) const ZERO: EdgeWalk = EdgeWalk {
+        x: 0,
+        rem: 0,
+        den: 0,
+        step_q: 0,
+        step_r: 0,
+        row: 0,
+        row_end: 0,
+    };
+
     /// The walk of `x_k = ceil((num + k * step) / den)` from `k = 0` on row `row`, `den > 0`.
     /// The caller guarantees every value of the walk fits an `i64` (see [`Self::for_edge`]).
+    #[cfg(feature = "wide-coordinates")]
     pub(crate) fn from_ratio(num: i128, den: i64, step: i64, row: i64, row_end: i64) -> Self {
         debug_assert!(den > 0);
         // Guaranteed by the caller; clamping makes the divisions provably panic-free.
@@ -81,6 +119,7 @@ impl EdgeWalk {
     /// 2^57`; the walk keeps `rem + step_r < 2*den < 2^58`, and `x` stays within a pixel of the
     /// edge's own x range, `|x| < 2^32`. Only the start numerator needs 128 bits (once per
     /// edge). So any `i32` coordinates are safe, not only those inside the window.
+    #[cfg(feature = "wide-coordinates")]
     pub(crate) fn for_edge<const SUB: u32>(
         a: FixedPoint,
         b: FixedPoint,
@@ -108,6 +147,70 @@ impl EdgeWalk {
         Some(Self::from_ratio(num, 2 * s * dy, 2 * s * dx, first, end))
     }
 
+    /// [`Self::for_edge_narrow`]: the only walk without `wide-coordinates`.
+    #[cfg(not(feature = "wide-coordinates"))]
+    #[inline]
+    pub(crate) fn for_edge<const SUB: u32>(
+        a: FixedPoint,
+        b: FixedPoint,
+        height: u32,
+    ) -> Option<Self> {
+        Self::for_edge_narrow::<SUB>(a, b, height)
+    }
+
+    /// [`Self::for_edge`] in 32-bit arithmetic, for points whose coordinates all lie in
+    /// `0..=L` with `L = `[`super::coordinate_limit`]`::<SUB>() = 2^(29 - SUB) - 1` (the
+    /// caller guarantees it): the same walk, field for field.
+    ///
+    /// With `S = 2^SUB`, `e = (2 first + 1) S - 2 y_top` (`0 <= e < 2S`: `y_top >= 0`, so no
+    /// row is clamped away) and `dx e = q1 dy + r1` (`0 <= r1 < dy`), the start numerator is
+    /// `num = (2 x_top - S) dy + dx e = M dy + r1` with `M = 2 x_top - S + q1`. Splitting
+    /// `M = 2S k + m` (`0 <= m < 2S`: a shift and a mask) gives `num = den k + (dy m + r1)`
+    /// with `0 <= dy m + r1 < den = 2S dy`, so `ceil(num / den)` is `k` or `k + 1` and the
+    /// seed's `N` follows without dividing by `den`. Ranges: `den <= 2S L < 2^30`,
+    /// `|dx e| < 2S L`, `|M| <= (2S + 1) L + S < 2^31`, and the walk keeps
+    /// `rem + step_r < 2 den < 2^31`: nothing overflows an `i32`.
+    #[cfg(any(test, not(feature = "wide-coordinates")))]
+    pub(crate) fn for_edge_narrow<const SUB: u32>(
+        a: FixedPoint,
+        b: FixedPoint,
+        height: u32,
+    ) -> Option<Self> {
+        let (top, bottom) = match a.y.cmp(&b.y) {
+            core::cmp::Ordering::Less => (a, b),
+            core::cmp::Ordering::Greater => (b, a),
+            core::cmp::Ordering::Equal => return None,
+        };
+        let s = 1i32 << SUB;
+        // ceil((2v - S) / 2S) = floor((2v + S - 1) / 2S): an arithmetic shift.
+        let first_centre = |v: i32| (2 * v + s - 1) >> (SUB + 1);
+        let first = first_centre(top.y).max(0);
+        let end = first_centre(bottom.y).min(i32::try_from(height).unwrap_or(i32::MAX));
+        if first >= end {
+            return None;
+        }
+        // `max(1)`: `dy > 0` already; it only makes the divisions provably panic-free.
+        let dy = (bottom.y - top.y).max(1);
+        let dx = bottom.x - top.x;
+        let den = 2 * s * dy;
+        let e = (2 * first + 1) * s - 2 * top.y;
+        let p = dx * e;
+        let (q1, r1) = (p.div_euclid(dy), p.rem_euclid(dy));
+        let m_all = 2 * top.x - s + q1;
+        let (k, m) = (m_all >> (SUB + 1), m_all & (2 * s - 1));
+        let t = dy * m + r1 + den - 1;
+        let (x, rem) = if t >= den { (k + 1, t - den) } else { (k, t) };
+        Some(EdgeWalk {
+            x: coord(x),
+            rem: coord(rem),
+            den: coord(den),
+            step_q: coord(dx.div_euclid(dy)),
+            step_r: coord(2 * s * dx.rem_euclid(dy)),
+            row: coord(first),
+            row_end: coord(end),
+        })
+    }
+
     /// Move to the next row.
     #[inline]
     pub(crate) fn step(&mut self) {
@@ -121,8 +224,8 @@ impl EdgeWalk {
     }
 
     /// The seed's `N` after the division of the current row.
-    #[cfg(test)]
-    pub(crate) fn rem(&self) -> i64 {
+    #[cfg(all(test, feature = "wide-coordinates"))]
+    pub(crate) fn rem(&self) -> Coord {
         self.rem
     }
 }
@@ -131,7 +234,9 @@ impl EdgeWalk {
 mod tests {
     use super::*;
 
-    fn xs(mut walk: EdgeWalk) -> ([i64; 16], usize) {
+    use proptest::prelude::*;
+
+    fn xs(mut walk: EdgeWalk) -> ([Coord; 16], usize) {
         let mut out = [0; 16];
         let mut n = 0;
         while walk.row < walk.row_end {
@@ -145,6 +250,7 @@ mod tests {
     /// Seed 001, figure 6: left edge (3, 0)-(7, 10) in the seed's own lattice (pixels on
     /// integer points): x = 3 + 0.4 y displayed as 3,4,4,5,5,5,6,6,7,7, and the table's
     /// (Q, N) column gives N = 9,3,7,1,5,9 after each division.
+    #[cfg(feature = "wide-coordinates")]
     #[test]
     fn seed_parcours_worked_example() {
         let (xbas, ybas, xhaut, yhaut) = (3i64, 0i64, 7i64, 10i64);
@@ -211,10 +317,15 @@ mod tests {
             .unwrap();
         assert_eq!((w.row, w.row_end), (1, 3));
         // Clamped to the window, and the start x is that of the clamped row.
-        let w =
-            EdgeWalk::for_edge::<0>(FixedPoint { x: 0, y: -10 }, FixedPoint { x: 20, y: 10 }, 5)
-                .unwrap();
-        assert_eq!((w.row, w.row_end, w.x), (0, 5, 10));
+        #[cfg(feature = "wide-coordinates")]
+        {
+            let (a, b) = (FixedPoint { x: 0, y: -10 }, FixedPoint { x: 20, y: 10 });
+            let w = EdgeWalk::for_edge::<0>(a, b, 5).unwrap();
+            assert_eq!((w.row, w.row_end, w.x), (0, 5, 10));
+        }
+        let (a, b) = (FixedPoint { x: 0, y: 0 }, FixedPoint { x: 20, y: 20 });
+        let w = EdgeWalk::for_edge::<0>(a, b, 5).unwrap();
+        assert_eq!((w.row, w.row_end, w.x), (0, 5, 0));
         // Between two centres, and horizontal: nothing.
         assert!(
             EdgeWalk::for_edge::<2>(FixedPoint { x: 0, y: 3 }, FixedPoint { x: 9, y: 5 }, 9)
@@ -226,6 +337,7 @@ mod tests {
         );
     }
 
+    #[cfg(feature = "wide-coordinates")]
     #[test]
     fn extreme_coordinates_do_not_overflow() {
         let a = FixedPoint {
@@ -245,5 +357,107 @@ mod tests {
         while w.row < w.row_end {
             w.step();
         }
+    }
+
+    /// The pixel of row `j` straight from the definition (see [`EdgeWalk::for_edge`]), in
+    /// 128-bit arithmetic: `ceil(num_j / den)`.
+    fn reference_x<const SUB: u32>(a: FixedPoint, b: FixedPoint, j: i128) -> i128 {
+        let (top, bottom) = if a.y < b.y { (a, b) } else { (b, a) };
+        let s = 1i128 << SUB;
+        let (ty, tx) = (i128::from(top.y), i128::from(top.x));
+        let dy = i128::from(bottom.y) - ty;
+        let dx = i128::from(bottom.x) - tx;
+        let num = (2 * tx - s) * dy + dx * ((2 * j + 1) * s - 2 * ty);
+        let den = 2 * s * dy;
+        num.div_euclid(den) + i128::from(num.rem_euclid(den) != 0)
+    }
+
+    /// The narrow walk against the definition, row by row, and (when both exist) field for
+    /// field against the wide walk.
+    fn check_narrow<const SUB: u32>(a: FixedPoint, b: FixedPoint, height: u32) {
+        let narrow = EdgeWalk::for_edge_narrow::<SUB>(a, b, height);
+        #[cfg(feature = "wide-coordinates")]
+        assert_eq!(
+            narrow,
+            EdgeWalk::for_edge::<SUB>(a, b, height),
+            "{a:?} {b:?}"
+        );
+        let s = 1i128 << SUB;
+        let centre = |v: i32| (2 * i128::from(v) + s - 1).div_euclid(2 * s);
+        let first = centre(a.y.min(b.y)).max(0);
+        let end = centre(a.y.max(b.y)).min(i128::from(height));
+        let Some(mut walk) = narrow else {
+            assert!(first >= end, "{a:?} {b:?}: no walk for rows {first}..{end}");
+            return;
+        };
+        assert_eq!(
+            (i128::from(walk.row), i128::from(walk.row_end)),
+            (first, end)
+        );
+        // The first rows (up to 2048): the set-up is what the narrow range is about; a step
+        // is the same add-and-compare in both widths.
+        let mut j = first;
+        while j < end.min(first + 2048) {
+            assert_eq!(
+                i128::from(walk.x),
+                reference_x::<SUB>(a, b, j),
+                "{a:?} {b:?} row {j}"
+            );
+            assert!(0 <= walk.rem && walk.rem < walk.den);
+            walk.step();
+            j += 1;
+        }
+    }
+
+    fn point_within(limit: i32) -> impl Strategy<Value = FixedPoint> {
+        let c = move || prop_oneof![0..=limit, 0..=limit.min(4096), Just(0), Just(limit)];
+        (c(), c()).prop_map(|(x, y)| FixedPoint { x, y })
+    }
+
+    proptest! {
+        #[test]
+        fn narrow_walk_is_exact_sub8(
+            a in point_within(crate::fill::coordinate_limit::<8>().min((1 << 21) - 1)),
+            b in point_within((1 << 21) - 1),
+            height in 1u32..3000,
+        ) {
+            check_narrow::<8>(a, b, height);
+        }
+
+        #[test]
+        fn narrow_walk_is_exact_other_precisions(
+            a in point_within((1 << 29) - 1),
+            b in point_within((1 << 29) - 1),
+            height in 1u32..3000,
+        ) {
+            let (l4, l0, l24) = ((1 << 25) - 1, (1 << 29) - 1, (1 << 5) - 1);
+            let clamp = |p: FixedPoint, l: i32| FixedPoint { x: p.x % (l + 1), y: p.y % (l + 1) };
+            check_narrow::<4>(clamp(a, l4), clamp(b, l4), height);
+            check_narrow::<0>(clamp(a, l0), clamp(b, l0), height);
+            check_narrow::<24>(clamp(a, l24), clamp(b, l24), height);
+        }
+    }
+
+    /// The corners of the narrow range, where the arithmetic is tightest.
+    #[test]
+    fn narrow_walk_at_the_limits() {
+        fn corners<const SUB: u32>() {
+            let l = (1i32 << (29 - SUB)) - 1;
+            let vals = [0, 1, l / 2, l - 1, l];
+            for &ax in &vals {
+                for &ay in &vals {
+                    for &bx in &vals {
+                        for &by in &vals {
+                            let (a, b) = (FixedPoint { x: ax, y: ay }, FixedPoint { x: bx, y: by });
+                            check_narrow::<SUB>(a, b, 40);
+                            check_narrow::<SUB>(a, b, u32::MAX);
+                        }
+                    }
+                }
+            }
+        }
+        corners::<0>();
+        corners::<8>();
+        corners::<24>();
     }
 }

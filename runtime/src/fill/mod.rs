@@ -25,7 +25,8 @@ mod tests;
 use core::fmt;
 
 use crate::target::{Colour, SpanSink};
-use edge::EdgeWalk;
+use edge::Coord;
+pub(crate) use edge::EdgeWalk;
 
 /// Fractional bits of the fixed-point screen coordinates used by the renderer.
 pub const SUBPIXEL_BITS: u32 = 8;
@@ -36,6 +37,22 @@ pub const MAX_SUBPIXEL_BITS: u32 = 24;
 
 /// Most vertices a polygon handed to [`fill_polygon`] may have.
 pub const MAX_FILL_VERTICES: usize = 64;
+
+/// Largest fixed-point coordinate (with `SUB` fractional bits) the fill accepts: any `i32`
+/// with the `wide-coordinates` feature (default), else `2^(29 - SUB) - 1` (8191 pixels at
+/// [`SUBPIXEL_BITS`]), and then no negative coordinate either: the edge walk is then set up
+/// in 32-bit arithmetic (see `edge.rs`). The renderer refuses a window beyond it up front
+/// ([`crate::RenderError::ImageTooLarge`]) and clamps every point to its window, so its
+/// polygons always fit.
+pub const fn coordinate_limit<const SUB: u32>() -> i32 {
+    if cfg!(feature = "wide-coordinates") {
+        i32::MAX
+    } else if SUB <= 29 {
+        (1 << (29 - SUB)) - 1
+    } else {
+        0
+    }
+}
 
 /// A screen point in fixed point with `SUB` fractional bits (x right, y down; pixel `(i, j)`
 /// has its sample point at `(i + 0.5, j + 0.5)`).
@@ -93,6 +110,14 @@ pub enum FillError {
         /// Vertices the fill holds.
         max: usize,
     },
+    /// A point lies outside `0..=limit` ([`coordinate_limit`]; only without the
+    /// `wide-coordinates` feature).
+    OutOfRange {
+        /// The point.
+        point: FixedPoint,
+        /// The largest coordinate accepted.
+        limit: i32,
+    },
 }
 
 impl fmt::Display for FillError {
@@ -104,6 +129,12 @@ impl fmt::Display for FillError {
                     "polygon of {count} vertices, the fill holds at most {max}"
                 )
             }
+            FillError::OutOfRange { point, limit } => write!(
+                f,
+                "point ({}, {}) outside the fill's range 0..={limit} \
+                 (enable the `wide-coordinates` feature)",
+                point.x, point.y
+            ),
         }
     }
 }
@@ -118,11 +149,13 @@ impl std::error::Error for FillError {}
 /// at compile time; the renderer uses [`SUBPIXEL_BITS`]). The polygon is filled with the
 /// even-odd rule, so any closed point list is accepted: non-convex, self-intersecting, with
 /// repeated or collinear points, or of zero area (which draws nothing). Points outside the
-/// window are fine (any `i32`): spans are clipped to it, so the sink only ever receives
+/// window are fine (any `i32`, or any coordinate in `0..=`[`coordinate_limit`] without the
+/// `wide-coordinates` feature): spans are clipped to it, so the sink only ever receives
 /// `x_start < x_end <= width`, `y < height`; a convex polygon gives at most one span per row.
 ///
 /// # Errors
-/// [`FillError::TooManyVertices`] when `points.len() > MAX_FILL_VERTICES`; nothing is drawn.
+/// [`FillError::TooManyVertices`] when `points.len() > MAX_FILL_VERTICES`,
+/// [`FillError::OutOfRange`] for a point beyond [`coordinate_limit`]; nothing is drawn.
 pub fn fill_polygon<const SUB: u32, S: SpanSink + ?Sized>(
     points: &[FixedPoint],
     width: u32,
@@ -142,60 +175,82 @@ pub fn fill_polygon<const SUB: u32, S: SpanSink + ?Sized>(
             max: MAX_FILL_VERTICES,
         });
     }
+    if !cfg!(feature = "wide-coordinates") {
+        let limit = coordinate_limit::<SUB>();
+        let inside = |v: i32| (0..=limit).contains(&v);
+        if let Some(&point) = points.iter().find(|p| !(inside(p.x) && inside(p.y))) {
+            return Err(FillError::OutOfRange { point, limit });
+        }
+    }
 
     // Typical polygons (clipped triangles and quads) get small arrays: initialising the
     // full-size ones would cost more than filling a small polygon.
     Ok(if points.len() <= SMALL_POLYGON {
-        fill_with::<SUB, SMALL_POLYGON, S>(points, width, height, colour, sink)
+        let mut edges = [EdgeWalk::default(); SMALL_POLYGON];
+        fill_in::<SUB, S>(points, &mut edges, width, height, colour, sink)
     } else {
-        fill_with::<SUB, MAX_FILL_VERTICES, S>(points, width, height, colour, sink)
+        let mut edges = [EdgeWalk::default(); MAX_FILL_VERTICES];
+        fill_in::<SUB, S>(points, &mut edges, width, height, colour, sink)
     })
 }
 
 /// Vertex count up to which [`fill_polygon`] uses its small arrays.
 const SMALL_POLYGON: usize = 16;
 
-/// [`fill_polygon`] with room for `N >= points.len()` edges.
-fn fill_with<const SUB: u32, const N: usize, S: SpanSink + ?Sized>(
+/// [`fill_polygon`] (without its checks) with room for `edges.len()` edges, at most
+/// [`MAX_FILL_VERTICES`]; edges past that are ignored. The renderer passes the edge memory of
+/// its workspace, so nothing is initialised per polygon and the binary holds one fill.
+pub(crate) fn fill_in<const SUB: u32, S: SpanSink + ?Sized>(
     points: &[FixedPoint],
+    edges: &mut [EdgeWalk],
     width: u32,
     height: u32,
     colour: Colour,
     sink: &mut S,
 ) -> u64 {
+    const N: usize = MAX_FILL_VERTICES;
+    let room = edges.len().min(N);
     // Edges that cross at least one row centre of the window, sorted by first row.
-    let mut edges = [EdgeWalk::default(); N];
     let mut count = 0;
     for (i, &a) in points.iter().enumerate() {
-        // `count <= points.len() <= N`: the `get`s never fail, and keep the fill panic-free.
+        // Every index below is in range (`count < room <= edges.len()`); `get` keeps the
+        // fill panic-free.
         let b = points.get(i + 1).or(points.first()).copied().unwrap_or(a);
         if let Some(walk) = EdgeWalk::for_edge::<SUB>(a, b, height) {
-            if count >= N {
+            if count >= room {
                 break;
             }
-            // Insertion keeps `edges[..count]` sorted by `row`.
+            // Insertion keeps `edges[..count]` sorted by `row`. (Swapping neighbours rather
+            // than shifting keeps the optimiser from calling a `memmove` it must then link.)
+            if let Some(slot) = edges.get_mut(count) {
+                *slot = walk;
+            }
             let mut k = count;
-            while k > 0 && edges[k - 1].row > walk.row {
-                edges[k] = edges[k - 1];
+            while let Some([prev, this]) = k.checked_sub(1).and_then(|j| edges.get_mut(j..=k)) {
+                if prev.row <= this.row {
+                    break;
+                }
+                core::mem::swap(prev, this);
                 k -= 1;
             }
-            edges[k] = walk;
             count += 1;
         }
     }
-    if count == 0 {
+    let Some(first) = edges.first().filter(|_| count > 0) else {
         return 0;
-    }
+    };
 
-    let width = i64::from(width);
+    // Infallible with `wide-coordinates` (`i64`), saturating without (`i32`).
+    #[allow(clippy::unnecessary_fallible_conversions)]
+    let width = Coord::try_from(width).unwrap_or(Coord::MAX);
     // Indices into `edges` of the edges crossing the current row, in x order.
     let mut active = [0u8; N];
     let mut n_active = 0;
     let mut next = 0;
-    let mut row = edges[0].row;
+    let mut row = first.row;
     let mut pixels = 0u64;
     loop {
-        while next < count && next < N && edges[next].row == row {
+        while next < count && edges.get(next).is_some_and(|e| e.row == row) {
             active[n_active.min(N - 1)] = next as u8;
             n_active += 1;
             next += 1;

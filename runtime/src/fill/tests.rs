@@ -227,11 +227,29 @@ fn convex_polygon_gives_one_span_per_row() {
 #[test]
 fn outside_the_window_is_clipped() {
     let mut m = MockTarget::<8, 6>::new();
-    let big = pts::<8>(&[(-100.0, -50.0), (300.0, -40.0), (20.0, 400.0)]);
+    let big = pts::<8>(&[(0.0, 0.0), (300.0, 0.0), (20.0, 400.0)]);
     assert_eq!(fill::<8, 8, 6>(&mut m, &big, A), 48);
     let mut m = MockTarget::<8, 6>::new();
     let beyond = pts::<8>(&[(9.0, 1.0), (20.0, 1.0), (20.0, 5.0)]);
     assert_eq!(fill::<8, 8, 6>(&mut m, &beyond, A), 0);
+    // At the edge of the narrow range (any i32 is in range with `wide-coordinates`).
+    let l = coordinate_limit::<8>().min((1 << 21) - 1);
+    let far = [
+        FixedPoint::new(0, 0),
+        FixedPoint::new(l, 0),
+        FixedPoint::new(0, l),
+    ];
+    let mut m = MockTarget::<8, 6>::new();
+    assert_eq!(fill::<8, 8, 6>(&mut m, &far, A), 48);
+}
+
+#[cfg(feature = "wide-coordinates")]
+#[test]
+fn any_i32_coordinates_are_clipped() {
+    assert_eq!(coordinate_limit::<8>(), i32::MAX);
+    let mut m = MockTarget::<8, 6>::new();
+    let big = pts::<8>(&[(-100.0, -50.0), (300.0, -40.0), (20.0, 400.0)]);
+    assert_eq!(fill::<8, 8, 6>(&mut m, &big, A), 48);
     let extreme = [
         FixedPoint::new(i32::MIN, i32::MIN),
         FixedPoint::new(i32::MAX, 0),
@@ -241,6 +259,39 @@ fn outside_the_window_is_clipped() {
     assert_eq!(fill::<8, 8, 6>(&mut m, &extreme, A), 48);
     let mut m = MockTarget::<8, 6>::new();
     fill::<0, 8, 6>(&mut m, &extreme, A);
+}
+
+#[cfg(not(feature = "wide-coordinates"))]
+#[test]
+fn without_wide_coordinates_out_of_range_points_are_refused() {
+    assert_eq!(coordinate_limit::<8>(), (1 << 21) - 1);
+    assert_eq!(coordinate_limit::<0>(), (1 << 29) - 1);
+    assert_eq!(coordinate_limit::<24>(), 31);
+    let mut m = MockTarget::<8, 6>::new();
+    for bad in [
+        FixedPoint::new(-1, 0),
+        FixedPoint::new(0, -1),
+        FixedPoint::new(1 << 21, 5),
+        FixedPoint::new(5, i32::MAX),
+    ] {
+        let tri = [FixedPoint::new(0, 0), bad, FixedPoint::new(300, 400)];
+        assert_eq!(
+            fill_polygon::<8, _>(&tri, 8, 6, A, &mut m),
+            Err(FillError::OutOfRange {
+                point: bad,
+                limit: (1 << 21) - 1
+            })
+        );
+    }
+    assert_eq!(m.spans(), 0);
+    let e = FillError::OutOfRange {
+        point: FixedPoint::new(-1, 2),
+        limit: 31,
+    };
+    assert_eq!(
+        e.to_string(),
+        "point (-1, 2) outside the fill's range 0..=31 (enable the `wide-coordinates` feature)"
+    );
 }
 
 #[test]
@@ -499,7 +550,13 @@ fn points_strategy(sub: u32) -> impl Strategy<Value = Vec<(i32, i32)>> {
         (lo * s..=hi * s, any::<bool>())
             .prop_map(move |(v, snap)| if snap { v.div_euclid(half) * half } else { v })
     };
-    proptest::collection::vec((coord(-2, 26), coord(-2, 22)), 3..=10)
+    // Without `wide-coordinates` the fill takes no negative coordinate.
+    let lo = if cfg!(feature = "wide-coordinates") {
+        -2
+    } else {
+        0
+    };
+    proptest::collection::vec((coord(lo, 26), coord(lo, 22)), 3..=10)
 }
 
 proptest! {
@@ -536,7 +593,8 @@ proptest! {
     }
 
     /// Any point list, anywhere in i32: no panic, no span outside the window, no pixel
-    /// drawn twice (spans of one polygon are disjoint), and the count is right.
+    /// drawn twice (spans of one polygon are disjoint), and the count is right. Without
+    /// `wide-coordinates`: refused when out of range, and the same checks once wrapped into it.
     #[test]
     fn arbitrary_polygons_are_safe(
         p in proptest::collection::vec(
@@ -548,9 +606,28 @@ proptest! {
         )
     ) {
         let poly: Vec<FixedPoint> = p.into_iter().map(|(x, y)| FixedPoint::new(x, y)).collect();
-        let mut m = MockTarget::<32, 24>::new();
-        fill::<8, 32, 24>(&mut m, &poly, A);
-        let mut m = MockTarget::<32, 24>::new();
-        fill::<0, 32, 24>(&mut m, &poly, A);
+        arbitrary::<8>(&poly)?;
+        arbitrary::<0>(&poly)?;
     }
+}
+
+fn arbitrary<const SUB: u32>(poly: &[FixedPoint]) -> Result<(), TestCaseError> {
+    let limit = coordinate_limit::<SUB>();
+    let wide = cfg!(feature = "wide-coordinates");
+    let inside = |v: i32| wide || (0..=limit).contains(&v);
+    let mut m = MockTarget::<32, 24>::new();
+    if poly.iter().all(|p| inside(p.x) && inside(p.y)) {
+        fill::<SUB, 32, 24>(&mut m, poly, A);
+        return Ok(());
+    }
+    let refused = fill_polygon::<SUB, _>(poly, 32, 24, A, &mut m);
+    let out_of_range = matches!(refused, Err(FillError::OutOfRange { .. }));
+    prop_assert!(out_of_range, "{:?}", refused);
+    prop_assert_eq!(m.spans(), 0);
+    let wrapped: Vec<FixedPoint> = poly
+        .iter()
+        .map(|p| FixedPoint::new(p.x.rem_euclid(limit + 1), p.y.rem_euclid(limit + 1)))
+        .collect();
+    fill::<SUB, 32, 24>(&mut m, &wrapped, A);
+    Ok(())
 }

@@ -157,6 +157,22 @@ impl<'a> Scene<'a> {
         validate::parse(bytes)
     }
 
+    /// [`Scene::parse`] without the record checks, for bytes that [`Scene::parse`] already
+    /// accepted elsewhere: typically a file embedded in firmware with `include_bytes!` and
+    /// validated by the firmware's build script (what `runtime/embedded-example` does), where
+    /// the linear-time checks would only repeat the build's verdict at every boot and cost
+    /// flash. Checks the header (magic, version, flags) and that every array lies inside
+    /// `bytes` and the file ends with the last one, in constant time.
+    ///
+    /// On a file that [`Scene::parse`] would refuse, nothing unsafe happens: every accessor is
+    /// total, the traversal stops with a [`crate::RenderError`] on a malformed tree and walks no
+    /// polygon range beyond the polygon array, so a frame never panics and always ends, but it
+    /// may draw a wrong image or stop part way with an error. Anything read at run time (a
+    /// file from storage or a radio) belongs to [`Scene::parse`].
+    pub fn parse_trusted(bytes: &'a [u8]) -> Result<Scene<'a>, ReadError> {
+        validate::parse_layout(bytes)
+    }
+
     /// The header.
     pub fn header(&self) -> Header {
         self.header

@@ -652,6 +652,102 @@ fn depth_walk_visits_both_sides_of_splits() {
     assert_eq!(spec.parse(), Err(ReadError::TooDeep { max_depth: 2 }));
 }
 
+#[test]
+fn trusted_parse_reads_a_valid_file_like_parse() {
+    for spec in [Spec::small(), Spec::small_with_everything()] {
+        let bytes = spec.encode();
+        let (a, b) = (
+            Scene::parse(&bytes).unwrap(),
+            Scene::parse_trusted(&bytes).unwrap(),
+        );
+        assert_eq!(a.header(), b.header());
+        let h = a.header();
+        for i in 0..h.node_count + 1 {
+            assert_eq!((a.node(i), a.parent(i)), (b.node(i), b.parent(i)));
+            assert_eq!(a.node_bounds(i), b.node_bounds(i));
+        }
+        for i in 0..h.polygon_count + 1 {
+            let (p, q) = (a.polygon(i), b.polygon(i));
+            assert_eq!((p, a.id(i)), (q, b.id(i)));
+            for k in 0..u32::from(p.vertex_count) {
+                assert_eq!(a.polygon_vertex(&p, k), b.polygon_vertex(&q, k));
+            }
+        }
+    }
+}
+
+#[test]
+fn trusted_parse_checks_header_and_layout_only() {
+    let bytes = Spec::small().encode();
+    // Header and layout errors: the same verdict as `parse`.
+    for len in 0..bytes.len() {
+        assert_eq!(
+            Scene::parse_trusted(&bytes[..len]).unwrap_err(),
+            Scene::parse(&bytes[..len]).unwrap_err()
+        );
+    }
+    let mut trailing = bytes.clone();
+    trailing.push(0);
+    assert!(matches!(
+        Scene::parse_trusted(&trailing),
+        Err(ReadError::TrailingBytes { .. })
+    ));
+    let mut foreign = bytes.clone();
+    foreign[0] = b'X';
+    assert_eq!(
+        Scene::parse_trusted(&foreign).unwrap_err(),
+        ReadError::BadMagic
+    );
+    // A record out of range passes: that is `parse`'s linear-time work.
+    let mut spec = Spec::small();
+    spec.polygons[0].0 = 99; // plane index
+    let bytes = spec.encode();
+    assert!(matches!(
+        Scene::parse(&bytes),
+        Err(ReadError::BadRecord { .. })
+    ));
+    let scene = Scene::parse_trusted(&bytes).unwrap();
+    assert_eq!(scene.plane(99), Plane::default());
+    render_untrusted(&scene);
+}
+
+/// Render what `parse_trusted` accepted, front to back and back to front, through the `f32`
+/// view: it must end (an image or a typed error), never panic or hang.
+fn render_untrusted(scene: &Scene<'_>) {
+    use crate::coverage::Coverage;
+    use crate::render::{render_view, RenderOptions, Workspace};
+    use crate::target::SpanSink;
+    use crate::traverse::Order;
+    struct Count(u64);
+    impl SpanSink for Count {
+        fn span(&mut self, _: u32, x_start: u32, x_end: u32, _: Colour) {
+            self.0 += u64::from(x_end - x_start);
+        }
+    }
+    let view = crate::camera::View::look_at(
+        Vec3::new(2.0, 1.5, 3.0),
+        Vec3::splat(0.5),
+        Vec3::Y,
+        20.0,
+        16,
+        12,
+        0.01,
+    )
+    .unwrap();
+    for order in [Order::BackToFront, Order::FrontToBack] {
+        let mut intervals = [(0u16, 0u16); 2 * 12];
+        let mut counts = [0u16; 12];
+        let mut cov = Coverage::new(&mut intervals, &mut counts, 16, 12).unwrap();
+        let options = RenderOptions {
+            order,
+            ..RenderOptions::default()
+        };
+        let mut sink = Count(0);
+        let mut ws = Workspace::<8, 16>::new();
+        let _ = render_view(scene, &view, &mut ws, options, Some(&mut cov), &mut sink);
+    }
+}
+
 /// After a successful parse, read everything (and a little beyond) through the accessors.
 fn exercise(scene: &Scene<'_>) {
     let h = scene.header();
@@ -703,6 +799,40 @@ proptest! {
         }
         if let Ok(scene) = Scene::parse(&bytes) {
             exercise(&scene);
+        }
+        // The trusted reader accepts more of these; they still read and render safely.
+        if let Ok(scene) = Scene::parse_trusted(&bytes) {
+            exercise(&scene);
+            render_untrusted(&scene);
+        }
+    }
+
+    #[test]
+    fn trusted_random_bytes_behind_a_valid_layout_never_panic_or_hang(
+        records in proptest::collection::vec(any::<u8>(), 0..400),
+        which in any::<bool>(),
+    ) {
+        // The layout of a valid file (header and array lengths) with random records.
+        let spec = if which { Spec::small() } else { Spec::small_with_everything() };
+        let mut bytes = spec.encode();
+        let layout = Scene::parse_trusted(&bytes).unwrap();
+        let h = layout.header;
+        let arrays = [
+            (layout.vertices, h.vertex_count as usize * VERTEX_SIZE),
+            (layout.planes, h.plane_count as usize * PLANE_SIZE),
+            (layout.indices, h.index_count as usize * layout.index_size),
+            (layout.polygons, h.polygon_count as usize * layout.polygon_size),
+            (layout.palette, h.palette_count as usize * PALETTE_SIZE),
+            (layout.bounds, h.bounds_count as usize * BOUNDS_SIZE),
+            (layout.nodes, h.node_count as usize * layout.node_size),
+        ];
+        let slots = arrays.iter().flat_map(|&(start, len)| start..start + len);
+        for (at, r) in slots.zip(records) {
+            bytes[at] = r;
+        }
+        if let Ok(scene) = Scene::parse_trusted(&bytes) {
+            exercise(&scene);
+            render_untrusted(&scene);
         }
     }
 }

@@ -29,8 +29,7 @@ fn bad(offset: usize) -> ReadError {
 }
 
 pub(super) fn parse(bytes: &[u8]) -> Result<Scene<'_>, ReadError> {
-    let header = read_header(bytes)?;
-    let scene = locate_arrays(bytes, header)?;
+    let scene = parse_layout(bytes)?;
     check_header_values(bytes)?;
     check_vertices(&scene)?;
     check_planes(&scene)?;
@@ -40,6 +39,12 @@ pub(super) fn parse(bytes: &[u8]) -> Result<Scene<'_>, ReadError> {
     check_nodes(&scene)?;
     check_depth(&scene)?;
     Ok(scene)
+}
+
+/// The header and the array layout only (constant time): what [`Scene::parse_trusted`] checks.
+pub(super) fn parse_layout(bytes: &[u8]) -> Result<Scene<'_>, ReadError> {
+    let header = read_header(bytes)?;
+    locate_arrays(bytes, header)
 }
 
 /// Magic, version and flags are judged on whatever bytes there are, so that a foreign or newer

@@ -71,7 +71,14 @@ fn front_to_back_needs_its_feature_and_never_changes_the_image() {
     let (stats, image) = draw(Order::FrontToBack, Paint::Colours);
     let stats = stats.unwrap();
     let (b2f, reference) = draw(Order::BackToFront, Paint::Colours);
-    assert!(b2f.unwrap().polygons_drawn > 0);
+    b2f.unwrap();
+    assert!(
+        reference
+            .iter()
+            .filter(|&&c| c != Colour::default())
+            .count()
+            > 50
+    );
     assert_eq!(image, reference);
     // With the feature the span memory is used (no fallback, each pixel once); without it the
     // frame is painted back to front.
@@ -86,11 +93,149 @@ fn front_to_back_needs_its_feature_and_never_changes_the_image() {
 fn id_images_need_their_feature() {
     let (stats, image) = draw(Order::BackToFront, Paint::Ids);
     if cfg!(feature = "ids") {
-        assert!(stats.unwrap().polygons_drawn > 0);
+        stats.unwrap();
         assert!(image
             .iter()
             .any(|&c| c == id_colour(100) || c == id_colour(105)));
     } else {
         assert_eq!(stats.unwrap_err(), RenderError::NoIds);
+    }
+}
+
+#[test]
+fn counters_need_their_feature() {
+    let (stats, image) = draw(Order::BackToFront, Paint::Colours);
+    let stats = stats.unwrap();
+    let drawn = image.iter().filter(|&&c| c != Colour::default()).count() as u64;
+    // Span memory measures distinct pixels whatever `stats` says.
+    let measured = cfg!(feature = "front-to-back").then_some(drawn);
+    assert_eq!(stats.distinct_pixels, measured);
+    if cfg!(feature = "stats") {
+        // Three faces are seen, six visited; the painter overdraws the far ones.
+        assert_eq!(stats.polygons_visited, 6);
+        assert_eq!(stats.polygons_drawn, 6);
+        assert!(stats.pixels_written > drawn, "{stats:?}");
+        assert_eq!(stats.overdraw().is_some(), cfg!(feature = "front-to-back"));
+    } else {
+        let zero = FrameStats {
+            distinct_pixels: measured,
+            ..FrameStats::default()
+        };
+        assert_eq!(stats, zero);
+        assert_eq!(stats.overdraw(), None);
+    }
+}
+
+/// The cube with its node bounds, seen with its box out of view.
+fn culled_cube(order: Order) -> (FrameStats, bool) {
+    let mut t = cube();
+    t.bounds = vec![Some((Vec3::splat(-1.0), Vec3::ONE))];
+    let cam = Camera::look_at(
+        Pose::new(DVec3::new(0.0, 0.0, 5.0), DVec3::new(0.0, 0.0, 10.0)),
+        60.0,
+        16,
+        12,
+        0.01,
+    )
+    .unwrap();
+    let mut intervals = vec![(0u16, 0u16); 4 * 12];
+    let mut counts = vec![0u16; 12];
+    let mut cov = Coverage::new(&mut intervals, &mut counts, 16, 12).unwrap();
+    let mut sink = Pixels(16, vec![Colour::default(); 16 * 12]);
+    let options = RenderOptions {
+        order,
+        ..RenderOptions::default()
+    };
+    let mut ws = Workspace::<8, 16>::new();
+    let stats = render_ordered(&t, &cam, &mut ws, options, Some(&mut cov), &mut sink).unwrap();
+    // Whether the walk enters the node, asked directly.
+    let view = cam.view(t.centre);
+    let (mut a, mut b) = ([Vec3::ZERO; 16], [Vec3::ZERO; 16]);
+    let mut points = [FixedPoint::default(); 16];
+    let mut edges = [fill::EdgeWalk::default(); 16];
+    let painter = Painter::<8> {
+        view,
+        frustum: Frustum::new(&view),
+        max_x: 16 << 8,
+        max_y: 12 << 8,
+        available: 16,
+        paint: Paint::Colours,
+        cull: true,
+        clip_a: &mut a,
+        clip_b: &mut b,
+        points: &mut points,
+        edges: &mut edges,
+    };
+    let entered = painter.enter(&t, 0, None, &mut FrameStats::default());
+    assert!(sink.1.iter().all(|&c| c == Colour::default()));
+    (stats, entered)
+}
+
+#[test]
+fn subtree_culling_needs_its_feature_and_never_changes_the_image() {
+    for order in [Order::BackToFront, Order::FrontToBack] {
+        let (stats, entered) = culled_cube(order);
+        let culled = cfg!(feature = "bounds-culling");
+        assert_eq!(entered, !culled);
+        if cfg!(feature = "stats") {
+            // Culled: the node and its six polygons are skipped; else all six are visited
+            // and clipped away.
+            assert_eq!(stats.nodes_culled_frustum, u64::from(culled));
+            assert_eq!(stats.polygons_visited, if culled { 0 } else { 6 });
+            assert_eq!(stats.polygons_drawn, 0);
+        } else {
+            assert_eq!((stats.nodes_culled_frustum, stats.polygons_visited), (0, 0));
+        }
+    }
+}
+
+#[test]
+fn image_size_limit_follows_wide_coordinates() {
+    // At 8 subpixel bits: 8191 pixels fit both widths; 8192 need `wide-coordinates`, which
+    // allows up to 2^23 - 1.
+    assert!(window::<8>(8191, 8191).is_ok());
+    let wide = window::<8>(8192, 10);
+    let too_large = Err(RenderError::ImageTooLarge {
+        width: 8192,
+        height: 10,
+    });
+    if cfg!(feature = "wide-coordinates") {
+        assert_eq!(wide, Ok((8192 << 8, 10 << 8)));
+        assert!(window::<8>((1 << 23) - 1, 1).is_ok());
+        assert!(window::<8>(1 << 23, 1).is_err());
+    } else {
+        assert_eq!(wide, too_large);
+        assert!(window::<0>((1 << 29) - 1, 1).is_ok());
+        assert!(window::<0>(1 << 29, 1).is_err());
+    }
+    // Through the renderer, refused before any pixel (a 8192 x 2 frame of the cube).
+    let cam = Camera::look_at(
+        Pose::new(DVec3::new(0.0, 0.0, 3.0), DVec3::ZERO),
+        60.0,
+        8192,
+        2,
+        0.01,
+    )
+    .unwrap();
+    let mut sink = Pixels(8192, vec![Colour::default(); 8192 * 2]);
+    let r = render(
+        &cube(),
+        &cam,
+        &mut Workspace::<8, 16>::new(),
+        Paint::Colours,
+        &mut sink,
+    );
+    if cfg!(feature = "wide-coordinates") {
+        r.unwrap();
+        assert!(sink.1.iter().any(|&c| c != Colour::default()));
+    } else {
+        assert_eq!(
+            r,
+            Err(RenderError::ImageTooLarge {
+                width: 8192,
+                height: 2
+            })
+        );
+        assert!(sink.1.iter().all(|&c| c == Colour::default()));
     }
 }

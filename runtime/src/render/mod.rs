@@ -15,7 +15,7 @@ use glam::{Vec2, Vec3};
 
 use crate::camera::{Camera, View};
 use crate::clip::{self, Frustum};
-use crate::coverage::{Coverage, CoverageSink, Mode};
+use crate::coverage::{Coverage, Mode};
 use crate::error::RenderError;
 use crate::fill::{self, FixedPoint};
 use crate::read::layout::polygon_flags::{FLIPPED, ONE_SIDED};
@@ -82,7 +82,9 @@ pub fn id_colour(id: u32) -> Colour {
     Colour::new((v >> 16) as u8, (v >> 8) as u8, v as u8)
 }
 
-/// Counters of one frame (what `peel render --stats` prints).
+/// Counters of one frame (what `peel render --stats` prints). The counters are kept with the
+/// `stats` feature (default); without it they read 0, and only `distinct_pixels`,
+/// `stopped_full` and `fallback` are reported.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub struct FrameStats {
     /// Polygons the traversal yielded.
@@ -91,9 +93,11 @@ pub struct FrameStats {
     pub polygons_drawn: u64,
     /// Pixels the fill emitted (overdraw counted).
     pub pixels_written: u64,
-    /// Subtrees skipped because their bounds lie outside the view frustum.
+    /// Subtrees skipped because their bounds lie outside the view frustum (0 without the
+    /// `bounds-culling` feature).
     pub nodes_culled_frustum: u64,
-    /// Subtrees skipped because their screen rectangle was already covered (front to back).
+    /// Subtrees skipped because their screen rectangle was already covered (front to back;
+    /// 0 without the `bounds-culling` feature).
     pub nodes_culled_covered: u64,
     /// One-sided polygons skipped because the eye is behind them.
     pub polygons_culled_back_face: u64,
@@ -108,8 +112,12 @@ pub struct FrameStats {
 
 impl FrameStats {
     /// Pixels written per distinct pixel covered (exactly 1 in front-to-back mode; 1 for an
-    /// empty frame), when the distinct count is known.
+    /// empty frame), when the distinct count is known (and pixels are counted: never without
+    /// the `stats` feature).
     pub fn overdraw(&self) -> Option<f64> {
+        if !cfg!(feature = "stats") {
+            return None;
+        }
         let distinct = self.distinct_pixels?;
         Some(if distinct == 0 {
             1.0
@@ -128,8 +136,8 @@ pub struct RenderOptions {
     pub order: Order,
     /// Colours or ids.
     pub paint: Paint,
-    /// Skip subtrees outside the frustum or (front to back) already covered, and one-sided
-    /// polygons seen from behind. Changes the image only where back faces of a closed mesh
+    /// Skip subtrees outside the frustum or (front to back) already covered (with the
+    /// `bounds-culling` feature), and one-sided polygons seen from behind. Changes the image only where back faces of a closed mesh
     /// are visible: with the eye inside it, or its inside opened by the near plane; turn it
     /// off to look inside closed meshes (see `formats/peel.md`, `ONE_SIDED`).
     pub cull: bool,
@@ -154,16 +162,21 @@ pub struct Workspace<const STACK: usize, const VERTS: usize> {
     clip_a: [Vec3; VERTS],
     clip_b: [Vec3; VERTS],
     points: [FixedPoint; VERTS],
+    /// The fill's edge memory, reused by every polygon.
+    edges: [fill::EdgeWalk; VERTS],
 }
 
 impl<const STACK: usize, const VERTS: usize> Workspace<STACK, VERTS> {
-    /// A zeroed workspace (large `STACK`/`VERTS` belong in a `static` or on the heap).
-    pub fn new() -> Self {
+    /// A zeroed workspace (large `STACK`/`VERTS` belong in a `static` or on the heap). A
+    /// `const fn`: firmware can keep it in a `static`, which costs no code (all zero bytes,
+    /// it lands in `.bss`).
+    pub const fn new() -> Self {
         Workspace {
-            stack: [StackEntry::default(); STACK],
+            stack: [StackEntry::IDLE; STACK],
             clip_a: [Vec3::ZERO; VERTS],
             clip_b: [Vec3::ZERO; VERTS],
-            points: [FixedPoint::default(); VERTS],
+            points: [FixedPoint::new(0, 0); VERTS],
+            edges: [fill::EdgeWalk::ZERO; VERTS],
         }
     }
 }
@@ -185,13 +198,14 @@ pub fn snap<const SUB: u32>(p: Vec2, max_x: i32, max_y: i32) -> FixedPoint {
     }
 }
 
-/// The window in fixed point, or [`RenderError::ImageTooLarge`].
+/// The window in fixed point, or [`RenderError::ImageTooLarge`] (beyond `i32`, or beyond
+/// [`fill::coordinate_limit`] without the `wide-coordinates` feature).
 fn window<const SUB: u32>(width: u32, height: u32) -> Result<(i32, i32), RenderError> {
     let scaled = |v: u32| {
         i32::try_from(v)
             .ok()
             .and_then(|v| v.checked_mul(1i32.checked_shl(SUB)?))
-            .filter(|_| SUB <= 30)
+            .filter(|&v| SUB <= 30 && v <= fill::coordinate_limit::<SUB>())
     };
     match (scaled(width), scaled(height)) {
         (Some(x), Some(y)) => Ok((x, y)),
@@ -276,13 +290,69 @@ where
     T: Source + ?Sized,
     S: SpanSink + ?Sized,
 {
+    let view = camera.view(scene.centre());
+    draw_frame::<SUB, T, S, STACK, VERTS>(scene, view, workspace, options, coverage, sink)
+}
+
+/// [`render_view_with_options`] with the default fixed-point precision
+/// [`fill::SUBPIXEL_BITS`].
+pub fn render_view<T, S, const STACK: usize, const VERTS: usize>(
+    scene: &T,
+    view: &View,
+    workspace: &mut Workspace<STACK, VERTS>,
+    options: RenderOptions,
+    coverage: Option<&mut Coverage<'_>>,
+    sink: &mut S,
+) -> Result<FrameStats, RenderError>
+where
+    T: Source + ?Sized,
+    S: SpanSink + ?Sized,
+{
+    render_view_with_options::<{ fill::SUBPIXEL_BITS }, T, S, STACK, VERTS>(
+        scene, view, workspace, options, coverage, sink,
+    )
+}
+
+/// [`render_with_options`] for a camera given as a [`View`] in the scene's local `f32` frame
+/// (see [`View::look_at`]): no `f64` arithmetic, for cores without `f64` hardware. The view
+/// is checked first ([`View::check`], else [`RenderError::BadCamera`]); a view made by
+/// [`Camera::view`] for this scene's centre draws exactly what the camera draws.
+pub fn render_view_with_options<const SUB: u32, T, S, const STACK: usize, const VERTS: usize>(
+    scene: &T,
+    view: &View,
+    workspace: &mut Workspace<STACK, VERTS>,
+    options: RenderOptions,
+    coverage: Option<&mut Coverage<'_>>,
+    sink: &mut S,
+) -> Result<FrameStats, RenderError>
+where
+    T: Source + ?Sized,
+    S: SpanSink + ?Sized,
+{
+    view.check()?;
+    draw_frame::<SUB, T, S, STACK, VERTS>(scene, *view, workspace, options, coverage, sink)
+}
+
+/// The frame of [`render_with_options`] for a view in the scene's frame.
+fn draw_frame<const SUB: u32, T, S, const STACK: usize, const VERTS: usize>(
+    scene: &T,
+    view: View,
+    workspace: &mut Workspace<STACK, VERTS>,
+    options: RenderOptions,
+    coverage: Option<&mut Coverage<'_>>,
+    sink: &mut S,
+) -> Result<FrameStats, RenderError>
+where
+    T: Source + ?Sized,
+    S: SpanSink + ?Sized,
+{
     // Without the feature the span memory is never used: the optimiser drops that code.
     let mut coverage = if cfg!(feature = "front-to-back") {
         coverage
     } else {
         None
     };
-    let (width, height) = (camera.width(), camera.height());
+    let (width, height) = (view.width, view.height);
     let (max_x, max_y) = window::<SUB>(width, height)?;
     if options.paint == Paint::Ids && !(cfg!(feature = "ids") && scene.has_ids()) {
         return Err(RenderError::NoIds);
@@ -298,13 +368,13 @@ where
         }
         c.clear();
     }
-    let view = camera.view(scene.centre());
     let frustum = Frustum::new(&view);
     let Workspace {
         stack,
         clip_a,
         clip_b,
         points,
+        edges,
     } = workspace;
     let mut painter = Painter::<SUB> {
         view,
@@ -317,6 +387,7 @@ where
         clip_a,
         clip_b,
         points,
+        edges,
     };
     let mut stats = FrameStats::default();
     let front_to_back = options.order == Order::FrontToBack;
@@ -335,56 +406,44 @@ where
     };
 
     // Pass 1: the requested order (or back to front when there is no span memory).
-    let mut overflow = None;
-    {
-        let mut traversal = Traversal::new(scene, view.eye, first_order, &mut stack[..])?;
-        loop {
-            if front_to_back && coverage.as_deref().is_some_and(|c| c.is_full()) {
-                stats.stopped_full = true;
-                break;
-            }
-            let cov = coverage.as_deref();
-            let next = traversal.next_entering(|node| painter.enter(scene, node, cov, &mut stats));
-            let Some(index) = next else { break };
-            stats.polygons_visited = stats.polygons_visited.saturating_add(1);
-            painter.draw(scene, index, coverage.as_deref_mut(), sink, &mut stats)?;
-            if front_to_back && coverage.as_deref().is_some_and(|c| c.exhausted()) {
-                overflow = Some(index);
-                break;
-            }
-        }
-        if let Some(e) = traversal.error() {
-            return Err(e);
-        }
-    }
+    let overflow = painter.walk(
+        scene,
+        first_order,
+        &mut stack[..],
+        coverage.as_deref_mut(),
+        sink,
+        &mut stats,
+        None,
+    )?;
 
     // Pass 2 (span memory exhausted at polygon `last`): the polygons from the farthest up to
     // `last`, back to front, clipped against the frozen coverage.
     if let (Some(last), Some(c)) = (overflow, coverage.as_deref_mut()) {
         stats.fallback = true;
         c.freeze();
-        let mut traversal = Traversal::new(scene, view.eye, Order::BackToFront, &mut stack[..])?;
-        loop {
-            let cov = coverage.as_deref();
-            let next = traversal.next_entering(|node| painter.enter(scene, node, cov, &mut stats));
-            let Some(index) = next else { break };
-            if index != last {
-                stats.polygons_visited = stats.polygons_visited.saturating_add(1);
-            }
-            painter.draw(scene, index, coverage.as_deref_mut(), sink, &mut stats)?;
-            if index == last {
-                break;
-            }
-        }
-        if let Some(e) = traversal.error() {
-            return Err(e);
-        }
+        painter.walk(
+            scene,
+            Order::BackToFront,
+            &mut stack[..],
+            coverage.as_deref_mut(),
+            sink,
+            &mut stats,
+            Some(last),
+        )?;
     }
     stats.distinct_pixels = match coverage.as_deref() {
         Some(c) if !c.exhausted() && !stats.fallback => Some(c.covered()),
         _ => None,
     };
     Ok(stats)
+}
+
+/// `*counter += n` (saturating) with the `stats` feature; nothing without it.
+#[inline(always)]
+fn tally(counter: &mut u64, n: u64) {
+    if cfg!(feature = "stats") {
+        *counter = counter.saturating_add(n);
+    }
 }
 
 /// The per-polygon work of a frame, with its buffers.
@@ -399,10 +458,60 @@ struct Painter<'w, const SUB: u32> {
     clip_a: &'w mut [Vec3],
     clip_b: &'w mut [Vec3],
     points: &'w mut [FixedPoint],
+    edges: &'w mut [fill::EdgeWalk],
 }
 
 impl<const SUB: u32> Painter<'_, SUB> {
-    /// Whether the walk enters `node`: not when culling proves its subtree draws nothing.
+    /// One walk of the tree in `order`, drawing every polygon it yields. In front-to-back
+    /// mode ([`Mode::Exclusive`] coverage) it stops when the frame is full, or after the
+    /// polygon whose span did not fit the span memory, which it returns. With `last` (the
+    /// fallback pass) it stops after polygon `last`, which the first pass already counted.
+    /// One function for both passes keeps one copy of the loop in the binary.
+    #[allow(clippy::too_many_arguments)]
+    #[inline(never)]
+    fn walk<T: Source + ?Sized, S: SpanSink + ?Sized>(
+        &mut self,
+        scene: &T,
+        order: Order,
+        stack: &mut [StackEntry],
+        mut coverage: Option<&mut Coverage<'_>>,
+        sink: &mut S,
+        stats: &mut FrameStats,
+        last: Option<u32>,
+    ) -> Result<Option<u32>, RenderError> {
+        let exclusive = coverage
+            .as_deref()
+            .is_some_and(|c| c.mode() == Mode::Exclusive);
+        let mut overflow = None;
+        let mut traversal = Traversal::new(scene, self.view.eye, order, stack)?;
+        loop {
+            if exclusive && coverage.as_deref().is_some_and(|c| c.is_full()) {
+                stats.stopped_full = true;
+                break;
+            }
+            let cov = coverage.as_deref();
+            let next = traversal.next_entering(|node| self.enter(scene, node, cov, stats));
+            let Some(index) = next else { break };
+            if last != Some(index) {
+                tally(&mut stats.polygons_visited, 1);
+            }
+            self.draw(scene, index, coverage.as_deref_mut(), sink, stats)?;
+            if last == Some(index) {
+                break;
+            }
+            if exclusive && coverage.as_deref().is_some_and(|c| c.exhausted()) {
+                overflow = Some(index);
+                break;
+            }
+        }
+        match traversal.error() {
+            Some(e) => Err(e),
+            None => Ok(overflow),
+        }
+    }
+
+    /// Whether the walk enters `node`: not when culling proves its subtree draws nothing
+    /// (always, without the `bounds-culling` feature).
     fn enter<T: Source + ?Sized>(
         &self,
         scene: &T,
@@ -410,7 +519,7 @@ impl<const SUB: u32> Painter<'_, SUB> {
         coverage: Option<&Coverage<'_>>,
         stats: &mut FrameStats,
     ) -> bool {
-        if !self.cull {
+        if !(self.cull && cfg!(feature = "bounds-culling")) {
             return true;
         }
         let Some((lo, hi)) = scene.node_bounds(node) else {
@@ -432,7 +541,7 @@ impl<const SUB: u32> Painter<'_, SUB> {
             .iter()
             .any(|plane| corners.iter().all(|&c| plane.eval(c) < 0.0));
         if outside {
-            stats.nodes_culled_frustum = stats.nodes_culled_frustum.saturating_add(1);
+            tally(&mut stats.nodes_culled_frustum, 1);
             return false;
         }
         let Some(coverage) = coverage.filter(|c| c.mode() != Mode::Measure) else {
@@ -454,7 +563,7 @@ impl<const SUB: u32> Painter<'_, SUB> {
         let (x0, y0) = (pixel(min.x - 1.0, w), pixel(min.y - 1.0, h));
         let (x1, y1) = (pixel(max.x + 2.0, w), pixel(max.y + 2.0, h));
         if coverage.covers(x0, y0, x1, y1) {
-            stats.nodes_culled_covered = stats.nodes_culled_covered.saturating_add(1);
+            tally(&mut stats.nodes_culled_covered, 1);
             return false;
         }
         true
@@ -475,7 +584,7 @@ impl<const SUB: u32> Painter<'_, SUB> {
             let d = plane.distance(self.view.eye);
             let front = if polygon.flags & FLIPPED != 0 { -d } else { d };
             if front < 0.0 {
-                stats.polygons_culled_back_face = stats.polygons_culled_back_face.saturating_add(1);
+                tally(&mut stats.polygons_culled_back_face, 1);
                 return Ok(());
             }
         }
@@ -505,31 +614,44 @@ impl<const SUB: u32> Painter<'_, SUB> {
             Paint::Ids if cfg!(feature = "ids") => id_colour(scene.id(index).unwrap_or(u32::MAX)),
             Paint::Ids => polygon.colour,
         };
-        stats.polygons_drawn = stats.polygons_drawn.saturating_add(1);
+        tally(&mut stats.polygons_drawn, 1);
         let pts = self.points.get(..count).unwrap_or(&[]);
         let (width, height) = (self.view.width, self.view.height);
-        let too_large =
-            |fill::FillError::TooManyVertices { count, max }| RenderError::PolygonTooLarge {
-                needed: u32::try_from(count).unwrap_or(u32::MAX),
-                available: u32::try_from(max).unwrap_or(u32::MAX),
-            };
-        let pixels = match coverage {
-            Some(coverage) => {
-                let mut through = CoverageSink {
-                    coverage,
-                    sink,
-                    pixels: 0,
-                };
-                fill::fill_polygon::<SUB, _>(pts, width, height, colour, &mut through)
-                    .map_err(too_large)?;
-                through.pixels
+        // One fill for both cases (with and without span memory): one copy in the binary.
+        // Its checks hold: `count <= available <= min(VERTS, MAX_FILL_VERTICES)` edges, and
+        // `snap` keeps every point in the window, which `window` kept within
+        // `fill::coordinate_limit`.
+        let mut through = Through {
+            coverage,
+            sink,
+            pixels: 0,
+        };
+        fill::fill_in::<SUB, _>(pts, self.edges, width, height, colour, &mut through);
+        tally(&mut stats.pixels_written, through.pixels);
+        Ok(())
+    }
+}
+
+/// The sink the fill draws into: through the coverage when there is one (see
+/// [`crate::coverage::CoverageSink`]), else straight to `sink`; counts the pixels forwarded.
+struct Through<'c, 'm, S: SpanSink + ?Sized> {
+    coverage: Option<&'c mut Coverage<'m>>,
+    sink: &'c mut S,
+    pixels: u64,
+}
+
+impl<S: SpanSink + ?Sized> SpanSink for Through<'_, '_, S> {
+    fn span(&mut self, y: u32, x_start: u32, x_end: u32, colour: Colour) {
+        match self.coverage.as_deref_mut() {
+            Some(c) => {
+                let n = c.span(y, x_start, x_end, colour, self.sink);
+                tally(&mut self.pixels, n);
             }
             None => {
-                fill::fill_polygon::<SUB, S>(pts, width, height, colour, sink).map_err(too_large)?
+                self.sink.span(y, x_start, x_end, colour);
+                tally(&mut self.pixels, u64::from(x_end.saturating_sub(x_start)));
             }
-        };
-        stats.pixels_written = stats.pixels_written.saturating_add(pixels);
-        Ok(())
+        }
     }
 }
 

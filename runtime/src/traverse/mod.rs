@@ -40,6 +40,12 @@ pub trait DisplayTree {
     fn node_count(&self) -> u32;
     /// Nodes on the longest root-to-leaf path (the stack the walk needs).
     fn max_depth(&self) -> u32;
+    /// Number of polygons: the walk never scans a convex node's polygons beyond it, which
+    /// bounds its work even on a tree whose nodes were not validated (see
+    /// [`Scene::parse_trusted`]). The default trusts the nodes.
+    fn polygon_count(&self) -> u32 {
+        u32::MAX
+    }
 }
 
 impl DisplayTree for Scene<'_> {
@@ -60,6 +66,9 @@ impl DisplayTree for Scene<'_> {
     }
     fn max_depth(&self) -> u32 {
         self.header().max_depth
+    }
+    fn polygon_count(&self) -> u32 {
+        self.header().polygon_count
     }
 }
 
@@ -87,12 +96,20 @@ pub fn sees_interior(polygon: &Polygon, plane: &Plane, eye: Vec3) -> bool {
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub struct StackEntry(Task);
 
+impl StackEntry {
+    /// An unused entry (the [`Default`]).
+    pub const IDLE: StackEntry = StackEntry(Task::Idle);
+}
+
+// `repr(u8)` with `Idle = 0`: an idle stack is zero bytes, so a workspace in a `static` lands
+// in `.bss` (no flash for its initial value).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[repr(u8)]
 enum Task {
     #[default]
-    Idle,
+    Idle = 0,
     /// Visit a node.
-    Node(u32),
+    Node(u32) = 1,
     /// Scan polygons `first .. first + count`, `done` of them already looked at, yielding
     /// those with `sees_interior == interior`, then visit `then`.
     Scan {
@@ -101,7 +118,7 @@ enum Task {
         done: u32,
         interior: bool,
         then: Option<u32>,
-    },
+    } = 2,
 }
 
 /// The polygon indices of a tree in display order, as an iterator.
@@ -246,6 +263,8 @@ impl<T: DisplayTree + ?Sized> Traversal<'_, '_, T> {
                             count,
                             child,
                         } => {
+                            // A no-op on a validated tree.
+                            let count = count.min(self.tree.polygon_count().saturating_sub(first));
                             // Second pass: pending below the child.
                             let later = Task::Scan {
                                 first,
