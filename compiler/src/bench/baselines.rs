@@ -18,7 +18,7 @@ use crate::peel::hull_planes;
 use crate::planes::PlaneId;
 use crate::shade::Shading;
 use crate::split::{choose_split_with, Fragment, SplitResult, SplitRule};
-use crate::tree::build::{ExactNode, ExactPolygon, ExactTree};
+use crate::tree::build::{attach, ExactNode, ExactPolygon, ExactTree, Slot};
 use crate::tree::input::{prepare, Input};
 use crate::tree::output::to_display;
 use crate::tree::{BuildOptions, DisplayTree};
@@ -163,29 +163,11 @@ enum Walk {
     OverBudget(BaselineStats),
 }
 
-/// Where a subtree's root goes in the exact tree.
-#[derive(Debug, Clone, Copy)]
-enum Slot {
-    Root,
-    Child(u32),
-    Front(u32),
-    Back(u32),
-}
-
 /// Append `node` to `tree` and point the parent's `slot` at it.
 fn emit(tree: &mut ExactTree, slot: Slot, node: ExactNode) -> u32 {
     let idx = tree.nodes.len() as u32;
     tree.nodes.push(node);
-    let parent = match slot {
-        Slot::Root => return idx,
-        Slot::Child(p) | Slot::Front(p) | Slot::Back(p) => &mut tree.nodes[p as usize],
-    };
-    match (slot, parent) {
-        (Slot::Child(_), ExactNode::Convex { child, .. }) => *child = Some(idx),
-        (Slot::Front(_), ExactNode::Split { front, .. }) => *front = Some(idx),
-        (Slot::Back(_), ExactNode::Split { back, .. }) => *back = Some(idx),
-        _ => unreachable!("slot and parent kind agree by construction"),
-    }
+    attach(tree, slot, idx);
     idx
 }
 

@@ -60,8 +60,9 @@ pub(crate) struct ExactTree {
     pub cuts: u64,
 }
 
+/// Where a node goes: the root, or a child link of an earlier node.
 #[derive(Debug, Clone, Copy)]
-enum Slot {
+pub(crate) enum Slot {
     Root,
     Child(u32),
     Front(u32),
@@ -170,7 +171,8 @@ fn distinct_planes<'a>(frags: impl Iterator<Item = &'a Fragment>) -> Vec<PlaneId
     p
 }
 
-fn attach(tree: &mut ExactTree, slot: Slot, idx: u32) {
+/// Point the link `slot` of an earlier node at node `idx`.
+pub(crate) fn attach(tree: &mut ExactTree, slot: Slot, idx: u32) {
     let field = match slot {
         Slot::Root => return,
         Slot::Child(n) => match &mut tree.nodes[n as usize] {
