@@ -69,6 +69,15 @@ fn coord(v: i32) -> Coord {
     Coord::from(v)
 }
 
+/// The edge's ends, top first; `None` for a horizontal edge (it bounds no span).
+fn top_bottom(a: FixedPoint, b: FixedPoint) -> Option<(FixedPoint, FixedPoint)> {
+    match a.y.cmp(&b.y) {
+        core::cmp::Ordering::Less => Some((a, b)),
+        core::cmp::Ordering::Greater => Some((b, a)),
+        core::cmp::Ordering::Equal => None,
+    }
+}
+
 impl EdgeWalk {
     /// All zero: an unused slot (the [`Default`], usable in `const` context).
     pub(crate) const ZERO: EdgeWalk = EdgeWalk {
@@ -125,11 +134,7 @@ impl EdgeWalk {
         b: FixedPoint,
         height: u32,
     ) -> Option<Self> {
-        let (top, bottom) = match a.y.cmp(&b.y) {
-            core::cmp::Ordering::Less => (a, b),
-            core::cmp::Ordering::Greater => (b, a),
-            core::cmp::Ordering::Equal => return None,
-        };
+        let (top, bottom) = top_bottom(a, b)?;
         let first = first_centre_at_or_after::<SUB>(top.y).max(0);
         let end = first_centre_at_or_after::<SUB>(bottom.y).min(i64::from(height));
         if first >= end {
@@ -176,11 +181,7 @@ impl EdgeWalk {
         b: FixedPoint,
         height: u32,
     ) -> Option<Self> {
-        let (top, bottom) = match a.y.cmp(&b.y) {
-            core::cmp::Ordering::Less => (a, b),
-            core::cmp::Ordering::Greater => (b, a),
-            core::cmp::Ordering::Equal => return None,
-        };
+        let (top, bottom) = top_bottom(a, b)?;
         let s = 1i32 << SUB;
         // ceil((2v - S) / 2S) = floor((2v + S - 1) / 2S): an arithmetic shift.
         let first_centre = |v: i32| (2 * v + s - 1) >> (SUB + 1);
