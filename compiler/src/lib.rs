@@ -16,6 +16,7 @@ pub mod compile;
 pub mod dump;
 pub mod error;
 pub mod frames;
+pub(crate) mod hash;
 pub mod load;
 pub mod peel;
 pub mod planes;

@@ -159,6 +159,7 @@ fn prepare_scene(
 /// Draw one frame with `method`; `SUB` is the fixed-point precision.
 fn draw<const SUB: u32>(
     p: &Prepared,
+    scenes: &Scenes<'_>,
     method: &str,
     camera: &Camera,
     work: &mut Work,
@@ -167,12 +168,11 @@ fn draw<const SUB: u32>(
     let n = (w * h) as usize;
     match method {
         "peel-front-to-back" | "peel-back-to-front" | "naive-bsp" => {
-            let bytes = if method == "naive-bsp" {
-                p.naive.as_deref().ok_or("no naive BSP")?
+            let scene = if method == "naive-bsp" {
+                scenes.naive.as_ref().ok_or("no naive BSP")?
             } else {
-                &p.bytes
+                &scenes.peel
             };
-            let scene = Scene::parse(bytes).map_err(|e| e.to_string())?;
             let order = if method == "peel-front-to-back" {
                 Order::FrontToBack
             } else {
@@ -188,7 +188,7 @@ fn draw<const SUB: u32>(
                 cull: true,
             };
             let stats = render_with_options::<SUB, _, _, HOST_STACK, HOST_VERTS>(
-                &scene,
+                scene,
                 camera,
                 &mut work.workspace,
                 options,
@@ -203,10 +203,10 @@ fn draw<const SUB: u32>(
             })
         }
         "zbuffer-int" | "zbuffer-f32" | "newell" => {
-            let scene = Scene::parse(&p.bytes).map_err(|e| e.to_string())?;
-            let centre = DVec3::from_array(scene.header().centre);
-            let view = camera.view(scene.header().centre);
-            let tris = prepare::prepare::<SUB>(&p.triangles, centre, &view);
+            let centre = scenes.peel.header().centre;
+            let view = camera.view(centre);
+            let tris = &mut work.triangles;
+            prepare::prepare::<SUB>(&p.triangles, DVec3::from_array(centre), &view, tris);
             let mut ids = vec![0u32; n];
             let written = match method {
                 "zbuffer-int" => {
@@ -216,7 +216,7 @@ fn draw<const SUB: u32>(
                         depth: &mut work.depth_u32,
                         width: w as usize,
                     };
-                    zbuffer::render_int::<SUB>(&tris, &view, &mut f)
+                    zbuffer::render_int::<SUB>(tris, &view, &mut f)
                 }
                 "zbuffer-f32" => {
                     work.depth_f32.resize(n, 0.0);
@@ -225,9 +225,9 @@ fn draw<const SUB: u32>(
                         depth: &mut work.depth_f32,
                         width: w as usize,
                     };
-                    zbuffer::render_f32::<SUB>(&tris, &view, &mut f)
+                    zbuffer::render_f32::<SUB>(tris, &view, &mut f)
                 }
-                _ => newell::render::<SUB>(&tris, &view, &mut ids),
+                _ => newell::render::<SUB>(tris, &view, &mut ids),
             };
             Ok(Drawn {
                 ids,
@@ -246,6 +246,14 @@ struct Work {
     counts: Vec<u16>,
     depth_u32: Vec<u32>,
     depth_f32: Vec<f32>,
+    triangles: Vec<prepare::Prepared>,
+}
+
+/// A scene's files, validated once before any frame is timed (firmware parses a file once,
+/// then draws many frames from it).
+struct Scenes<'b> {
+    peel: Scene<'b>,
+    naive: Option<Scene<'b>>,
 }
 
 impl Work {
@@ -256,6 +264,7 @@ impl Work {
             counts: vec![0; height as usize],
             depth_u32: Vec::new(),
             depth_f32: Vec::new(),
+            triangles: Vec::new(),
         }
     }
 }
@@ -294,14 +303,21 @@ fn measure<const SUB: u32>(
 ) -> Result<FrameRecord, String> {
     let mut times = Vec::new();
     let (mut written, mut robust, mut all, mut polygons) = (0u64, 0u64, 0u64, 0u64);
+    let scenes = Scenes {
+        peel: Scene::parse(&p.bytes).map_err(|e| e.to_string())?,
+        naive: match &p.naive {
+            Some(bytes) => Some(Scene::parse(bytes).map_err(|e| e.to_string())?),
+            None => None,
+        },
+    };
     for (camera, r) in &p.views {
         // One untimed warm-up, then the fastest of three timed frames (a frame is short: the
         // minimum filters out the machine's other work; the median over cameras is taken next).
-        let mut d = draw::<SUB>(p, method, camera, work)?;
+        let mut d = draw::<SUB>(p, &scenes, method, camera, work)?;
         let mut best = f64::INFINITY;
         for _ in 0..3 {
             let start = Instant::now();
-            d = draw::<SUB>(p, method, camera, work)?;
+            d = draw::<SUB>(p, &scenes, method, camera, work)?;
             best = best.min(start.elapsed().as_secs_f64() * 1e3);
         }
         times.push(best);

@@ -22,22 +22,22 @@ struct Item<'p> {
 
 impl<'p> Item<'p> {
     fn new(t: &'p Prepared) -> Self {
-        let zmin = t.camera.iter().map(|p| p.z).fold(f32::INFINITY, f32::min);
+        let zmin = t.camera().iter().map(|p| p.z).fold(f32::INFINITY, f32::min);
         let zmax = t
-            .camera
+            .camera()
             .iter()
             .map(|p| p.z)
             .fold(f32::NEG_INFINITY, f32::max);
         let lo = t
-            .screen
+            .screen()
             .iter()
             .fold((i32::MAX, i32::MAX), |a, p| (a.0.min(p.x), a.1.min(p.y)));
         let hi = t
-            .screen
+            .screen()
             .iter()
             .fold((i32::MIN, i32::MIN), |a, p| (a.0.max(p.x), a.1.max(p.y)));
-        let p0 = t.camera[0];
-        let normal = (t.camera[1] - p0).cross(t.camera[2] - p0);
+        let p0 = t.camera()[0];
+        let normal = (t.camera()[1] - p0).cross(t.camera()[2] - p0);
         Item {
             t,
             zmin,
@@ -52,7 +52,7 @@ impl<'p> Item<'p> {
     /// Every vertex of `other` on the side of this plane given by `sign` (the eye is at 0).
     fn all_on_side(&self, other: &Item<'_>, eye_side: bool) -> bool {
         let eye = -self.d; // plane value at the eye (origin)
-        other.t.camera.iter().all(|p| {
+        other.t.camera().iter().all(|p| {
             let v = self.normal.dot(*p) - self.d;
             if eye_side {
                 v * eye >= 0.0
@@ -129,7 +129,7 @@ pub fn render<const SUB: u32>(tris: &[Prepared], view: &View, ids: &mut [u32]) -
     for item in &order {
         sink.id = item.t.id;
         let _ = fill_polygon::<SUB, _>(
-            &item.t.screen,
+            item.t.screen(),
             view.width,
             view.height,
             Colour::default(),

@@ -4,32 +4,48 @@
 
 use glam::{DVec3, Vec3};
 use peel_runtime::camera::View;
-use peel_runtime::clip::{clip_polygon, Frustum};
+use peel_runtime::clip::{clip_polygon, Frustum, CLIP_PLANES};
 use peel_runtime::fill::FixedPoint;
 use peel_runtime::render::snap;
 
-/// One source triangle after clipping: camera-space and fixed-point screen polygons.
-#[derive(Debug, Clone)]
+/// Most vertices of a clipped triangle: one more per clip plane.
+const MAX_CLIPPED: usize = 3 + CLIP_PLANES;
+
+/// One source triangle after clipping: camera-space and fixed-point screen polygons, in
+/// fixed arrays (no allocation per triangle).
+#[derive(Debug, Clone, Copy)]
 pub struct Prepared {
     /// Source triangle id.
     pub id: u32,
-    /// Clipped polygon in camera space.
-    pub camera: Vec<Vec3>,
-    /// The same polygon on screen, `SUB` fractional bits.
-    pub screen: Vec<FixedPoint>,
+    len: usize,
+    camera: [Vec3; MAX_CLIPPED],
+    screen: [FixedPoint; MAX_CLIPPED],
 }
 
-/// Clip and project `triangles` (world coordinates) for `view` (built for `centre`).
+impl Prepared {
+    /// The clipped polygon in camera space.
+    pub fn camera(&self) -> &[Vec3] {
+        &self.camera[..self.len]
+    }
+    /// The same polygon on screen, `SUB` fractional bits.
+    pub fn screen(&self) -> &[FixedPoint] {
+        &self.screen[..self.len]
+    }
+}
+
+/// Clip and project `triangles` (world coordinates) for `view` (built for `centre`) into
+/// `out` (cleared first; its memory is reused from frame to frame).
 pub fn prepare<const SUB: u32>(
     triangles: &[[DVec3; 3]],
     centre: DVec3,
     view: &View,
-) -> Vec<Prepared> {
+    out: &mut Vec<Prepared>,
+) {
+    out.clear();
     let frustum = Frustum::new(view);
     let (max_x, max_y) = ((view.width << SUB) as i32, (view.height << SUB) as i32);
     let mut a = [Vec3::ZERO; 16];
     let mut b = [Vec3::ZERO; 16];
-    let mut out = Vec::new();
     for (id, t) in triangles.iter().enumerate() {
         for (slot, p) in a.iter_mut().zip(t) {
             *slot = view.to_camera((*p - centre).as_vec3());
@@ -37,20 +53,21 @@ pub fn prepare<const SUB: u32>(
         let Ok(clipped) = clip_polygon(frustum.planes(), 3, &mut a, &mut b) else {
             continue;
         };
-        if clipped.len() < 3 {
+        if clipped.len() < 3 || clipped.len() > MAX_CLIPPED {
             continue;
         }
-        let screen = clipped
-            .iter()
-            .map(|&c| snap::<SUB>(view.project(c), max_x, max_y))
-            .collect();
-        out.push(Prepared {
+        let mut t = Prepared {
             id: id as u32,
-            camera: clipped.to_vec(),
-            screen,
-        });
+            len: clipped.len(),
+            camera: [Vec3::ZERO; MAX_CLIPPED],
+            screen: [FixedPoint::default(); MAX_CLIPPED],
+        };
+        for (k, &c) in clipped.iter().enumerate() {
+            t.camera[k] = c;
+            t.screen[k] = snap::<SUB>(view.project(c), max_x, max_y);
+        }
+        out.push(t);
     }
-    out
 }
 
 /// `1/zc` at a screen point as `A x + B y + C` for the plane of a camera-space polygon, or

@@ -52,7 +52,7 @@ pub fn render_f32<const SUB: u32>(
     frame.depth.fill(0.0);
     let mut written = 0;
     for t in tris {
-        let Some(p) = inverse_depth_plane(&t.camera, view) else {
+        let Some(p) = inverse_depth_plane(t.camera(), view) else {
             continue;
         };
         let mut sink = F32Sink {
@@ -62,7 +62,7 @@ pub fn render_f32<const SUB: u32>(
             written: 0,
         };
         let _ = fill_polygon::<SUB, _>(
-            &t.screen,
+            t.screen(),
             view.width,
             view.height,
             Colour::default(),
@@ -114,7 +114,7 @@ pub fn render_int<const SUB: u32>(
     let scale = f64::from(1u32 << 30) * f64::from(view.near) * f64::from(1u32 << DEPTH_FRACTION);
     let mut written = 0;
     for t in tris {
-        let Some(p) = inverse_depth_plane(&t.camera, view) else {
+        let Some(p) = inverse_depth_plane(t.camera(), view) else {
             continue;
         };
         let plane = p.map(|v| (v * scale).round() as i64);
@@ -125,7 +125,7 @@ pub fn render_int<const SUB: u32>(
             written: 0,
         };
         let _ = fill_polygon::<SUB, _>(
-            &t.screen,
+            t.screen(),
             view.width,
             view.height,
             Colour::default(),

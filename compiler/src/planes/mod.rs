@@ -12,7 +12,7 @@
 //! A cut never builds a plane from rounded points: cut vertices are intersections of table
 //! planes, so precision never drifts however deep the cut.
 
-use std::collections::HashMap;
+use crate::hash::FastMap;
 use std::sync::Arc;
 
 use ethnum::{I256, U256};
@@ -199,7 +199,7 @@ pub struct PlaneEntry {
 #[derive(Debug, Clone, Default)]
 pub struct PlaneTable {
     entries: Vec<PlaneEntry>,
-    ids: HashMap<Plane, PlaneId>,
+    ids: FastMap<Plane, PlaneId>,
 }
 
 impl PlaneTable {

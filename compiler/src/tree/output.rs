@@ -11,10 +11,11 @@
 //! polygons. A vertex touching an edge transversally (no shared segment) cannot open a crack
 //! and is not inserted.
 
-use std::collections::{HashMap, HashSet};
+use crate::hash::{FastMap, FastSet};
 
 use ethnum::{I256, U256};
 use glam::DVec3;
+use rayon::prelude::*;
 
 use super::build::{ExactNode, ExactTree};
 use super::input::Input;
@@ -91,44 +92,92 @@ fn line_key(a: &Plane, b: &Plane) -> Option<LineKey> {
     Some(LineKey { dir, moment })
 }
 
-/// The distinct vertices lying on one line (edge endpoints), sorted by their approximate
-/// position `t` along it.
+/// The distinct vertices lying on one line (edge endpoints, as [`Vertices`] ids), sorted by
+/// their approximate position `t` along it.
 #[derive(Default)]
 struct Line {
     dir: DVec3,
-    points: Vec<(f64, Key, Vertex)>,
+    points: Vec<(f64, u32)>,
 }
 
 /// Slack of the approximate range search along a line, in grid units: vertex approximations
 /// are within ~1e-7 of the exact point; the exact tests decide.
 const LINE_SLACK: f64 = 1e-3;
 
-fn along(dir: DVec3, v: &Vertex) -> f64 {
-    DVec3::from_array(v.approx()).dot(dir)
+/// The distinct vertices of the output (one id per exact point), with their approximate
+/// coordinates (grid units).
+#[derive(Default)]
+struct Vertices {
+    ids: FastMap<Key, u32>,
+    list: Vec<(Vertex, DVec3)>,
+}
+
+impl Vertices {
+    /// The id of the exact point `k` (of vertex `v`), numbered in order of first call.
+    fn id(&mut self, k: Key, v: &Vertex) -> u32 {
+        let next = self.list.len() as u32;
+        let id = *self.ids.entry(k).or_insert(next);
+        if id == next {
+            self.list.push((v.clone(), DVec3::from_array(v.approx())));
+        }
+        id
+    }
+
+    /// Ids of every vertex of every polygon, keys computed in parallel (wide-integer gcds are
+    /// the costly part) and numbered in polygon order: the same on any thread count.
+    fn of(polys: &[&Fragment]) -> (Vertices, Vec<Vec<u32>>) {
+        let keys: Vec<Vec<Key>> = polys
+            .par_iter()
+            .map(|f| f.vertices.iter().map(key).collect())
+            .collect();
+        let mut vertices = Vertices::default();
+        let ids = polys
+            .iter()
+            .zip(keys)
+            .map(|(f, ks)| {
+                ks.into_iter()
+                    .zip(&f.vertices)
+                    .map(|(k, v)| vertices.id(k, v))
+                    .collect()
+            })
+            .collect();
+        (vertices, ids)
+    }
 }
 
 /// Every polygon's boundary with the collinear vertices of other polygons inserted: per
-/// polygon, the vertices with their keys and the sides (collinear runs) each lies on — side
-/// `k` is the polygon's edge `k`.
-type Boundary = Vec<(Key, Vertex, Vec<u32>)>;
+/// polygon, the vertices (as [`Vertices`] ids) and the sides (collinear runs) each lies on —
+/// side `k` is the polygon's edge `k`.
+type Boundary = Vec<(u32, Vec<u32>)>;
 
-fn watertight(polys: &[&Fragment], input: &Input) -> Vec<Boundary> {
-    let keys: Vec<Vec<Key>> = polys
-        .iter()
-        .map(|f| f.vertices.iter().map(key).collect())
+fn watertight(
+    polys: &[&Fragment],
+    input: &Input,
+    vertices: &Vertices,
+    ids: &[Vec<u32>],
+) -> Vec<Boundary> {
+    let line_keys: Vec<Vec<Option<LineKey>>> = polys
+        .par_iter()
+        .map(|f| {
+            let support = &input.table.get(f.support).plane;
+            f.edges
+                .iter()
+                .take(f.vertices.len())
+                .map(|e| line_key(support, &input.table.get(e.plane).plane))
+                .collect()
+        })
         .collect();
-    let mut line_ids: HashMap<LineKey, u32> = HashMap::new();
+    let mut line_ids: FastMap<LineKey, u32> = FastMap::default();
     let mut lines: Vec<Line> = Vec::new();
-    let mut seen: HashSet<(u32, Key)> = HashSet::new();
+    let mut seen: FastSet<(u32, u32)> = FastSet::default();
     // Edge (polygon, k) -> its line.
     let mut edge_lines: Vec<Vec<Option<u32>>> = Vec::with_capacity(polys.len());
-    for (p, f) in polys.iter().enumerate() {
-        let n = f.vertices.len();
-        let support = &input.table.get(f.support).plane;
-        let mut ids = Vec::with_capacity(n);
-        for k in 0..n.min(f.edges.len()) {
-            let Some(lk) = line_key(support, &input.table.get(f.edges[k].plane).plane) else {
-                ids.push(None);
+    for (p, polygon_lines) in line_keys.into_iter().enumerate() {
+        let n = ids[p].len();
+        let mut edges = Vec::with_capacity(n);
+        for (k, lk) in polygon_lines.into_iter().enumerate() {
+            let Some(lk) = lk else {
+                edges.push(None);
                 continue;
             };
             let id = match line_ids.get(&lk) {
@@ -145,31 +194,27 @@ fn watertight(polys: &[&Fragment], input: &Input) -> Vec<Boundary> {
                 }
             };
             for j in [k, (k + 1) % n] {
-                if seen.insert((id, keys[p][j].clone())) {
+                let v = ids[p][j];
+                if seen.insert((id, v)) {
                     let line = &mut lines[id as usize];
-                    let t = along(line.dir, &f.vertices[j]);
                     line.points
-                        .push((t, keys[p][j].clone(), f.vertices[j].clone()));
+                        .push((vertices.list[v as usize].1.dot(line.dir), v));
                 }
             }
-            ids.push(Some(id));
+            edges.push(Some(id));
         }
-        edge_lines.push(ids);
+        edge_lines.push(edges);
     }
     for line in &mut lines {
         line.points.sort_by(|a, b| a.0.total_cmp(&b.0));
     }
-    let mut out = Vec::with_capacity(polys.len());
-    for (p, f) in polys.iter().enumerate() {
+    let boundary = |(p, f): (usize, &&Fragment)| {
         let n = f.vertices.len();
+        let own = &ids[p];
         let mut boundary: Boundary = Vec::with_capacity(n);
         for k in 0..n {
             let prev = (k + n - 1) % n;
-            boundary.push((
-                keys[p][k].clone(),
-                f.vertices[k].clone(),
-                vec![prev as u32, k as u32],
-            ));
+            boundary.push((own[k], vec![prev as u32, k as u32]));
             let Some(Some(id)) = edge_lines[p].get(k).copied() else {
                 continue;
             };
@@ -178,42 +223,40 @@ fn watertight(polys: &[&Fragment], input: &Input) -> Vec<Boundary> {
             }
             let line = &lines[id as usize];
             let next = (k + 1) % n;
-            let (ta, tb) = (
-                along(line.dir, &f.vertices[k]),
-                along(line.dir, &f.vertices[next]),
-            );
+            let along = |v: u32| vertices.list[v as usize].1.dot(line.dir);
+            let (ta, tb) = (along(own[k]), along(own[next]));
             let slack = LINE_SLACK + 1e-12 * (ta.abs() + tb.abs());
             let (lo, hi) = (ta.min(tb) - slack, ta.max(tb) + slack);
             let start = line.points.partition_point(|q| q.0 < lo);
             let (e_prev, e_next) = (&f.edges[prev], &f.edges[next]);
             let (pl_prev, pl_next) = (input.table.get(e_prev.plane), input.table.get(e_next.plane));
-            let mut inserted: Vec<&(f64, Key, Vertex)> = line.points[start..]
+            let mut inserted: Vec<&(f64, u32)> = line.points[start..]
                 .iter()
                 .take_while(|q| q.0 <= hi)
-                .filter(|q| q.1 != keys[p][k] && q.1 != keys[p][next])
+                .filter(|q| q.1 != own[k] && q.1 != own[next])
                 // On the line, strictly inside both neighbouring edges = strictly between the
                 // endpoints (the polygon is strictly convex).
                 .filter(|q| {
-                    q.2.side(pl_prev) == e_prev.inside && q.2.side(pl_next) == e_next.inside
+                    let v = &vertices.list[q.1 as usize].0;
+                    v.side(pl_prev) == e_prev.inside && v.side(pl_next) == e_next.inside
                 })
                 .collect();
             inserted.sort_by(|a, b| (a.0 - ta).abs().total_cmp(&(b.0 - ta).abs()));
             for q in inserted {
-                boundary.push((q.1.clone(), q.2.clone(), vec![k as u32]));
+                boundary.push((q.1, vec![k as u32]));
             }
         }
-        out.push(boundary);
-    }
-    out
+        boundary
+    };
+    polys.par_iter().enumerate().map(boundary).collect()
 }
 
 /// A polygon's own boundary, T-junctions left open (vertex `k` lies on sides `k − 1` and `k`).
-fn plain_boundary(f: &Fragment) -> Boundary {
-    let n = f.vertices.len();
-    f.vertices
-        .iter()
+fn plain_boundary(own: &[u32]) -> Boundary {
+    let n = own.len();
+    own.iter()
         .enumerate()
-        .map(|(k, v)| (key(v), v.clone(), vec![((k + n - 1) % n) as u32, k as u32]))
+        .map(|(k, &v)| (v, vec![((k + n - 1) % n) as u32, k as u32]))
         .collect()
 }
 
@@ -272,17 +315,18 @@ pub(crate) fn convex_pieces(sides: &[Vec<u32>], max: usize) -> Vec<Vec<usize>> {
 struct Out<'a> {
     input: &'a Input,
     tree: DisplayTree,
-    vertex_ids: HashMap<Key, u32>,
-    plane_ids: HashMap<PlaneId, u32>,
+    /// Output index of each [`Vertices`] id, in order of first use.
+    vertex_ids: Vec<Option<u32>>,
+    plane_ids: FastMap<PlaneId, u32>,
 }
 
 impl Out<'_> {
-    fn vertex(&mut self, k: &Key, v: &Vertex) -> u32 {
-        if let Some(&i) = self.vertex_ids.get(k) {
+    fn vertex(&mut self, vertices: &Vertices, id: u32) -> u32 {
+        if let Some(i) = self.vertex_ids[id as usize] {
             return i;
         }
         let s = self.input.quantiser.scale;
-        let p = match v {
+        let p = match &vertices.list[id as usize].0 {
             Vertex::Int(p) => self.input.quantiser.relative(*p),
             Vertex::Hom(h) => {
                 let w = h.w.as_f64();
@@ -295,7 +339,7 @@ impl Out<'_> {
         };
         let i = self.tree.vertices.len() as u32;
         self.tree.vertices.push(p);
-        self.vertex_ids.insert(k.clone(), i);
+        self.vertex_ids[id as usize] = Some(i);
         i
     }
 
@@ -344,8 +388,8 @@ pub(crate) fn to_display(exact: &ExactTree, input: &Input, options: &BuildOption
             centre: input.quantiser.offset,
             ..DisplayTree::default()
         },
-        vertex_ids: HashMap::new(),
-        plane_ids: HashMap::new(),
+        vertex_ids: Vec::new(),
+        plane_ids: FastMap::default(),
     };
     let mut stats = TreeStats {
         input_triangles: input.input_triangles,
@@ -354,10 +398,12 @@ pub(crate) fn to_display(exact: &ExactTree, input: &Input, options: &BuildOption
         ..TreeStats::default()
     };
     let frags: Vec<&Fragment> = exact.polygons.iter().map(|p| &p.frag).collect();
+    let (vertices, ids) = Vertices::of(&frags);
+    out.vertex_ids = vec![None; vertices.list.len()];
     let boundaries = if options.watertight {
-        watertight(&frags, input)
+        watertight(&frags, input, &vertices, &ids)
     } else {
-        frags.iter().map(|f| plain_boundary(f)).collect()
+        ids.iter().map(|own| plain_boundary(own)).collect()
     };
     for node in &exact.nodes {
         let node = match *node {
@@ -375,11 +421,16 @@ pub(crate) fn to_display(exact: &ExactTree, input: &Input, options: &BuildOption
                 {
                     let f = &poly.frag;
                     let plane = out.plane(f.support);
-                    let sides: Vec<Vec<u32>> = boundary.iter().map(|b| b.2.clone()).collect();
-                    for piece in convex_pieces(&sides, options.max_polygon_vertices) {
+                    let pieces = if boundary.len() <= options.max_polygon_vertices.max(3) {
+                        vec![(0..boundary.len()).collect()]
+                    } else {
+                        let sides: Vec<Vec<u32>> = boundary.iter().map(|b| b.1.clone()).collect();
+                        convex_pieces(&sides, options.max_polygon_vertices)
+                    };
+                    for piece in pieces {
                         let vertices = piece
                             .iter()
-                            .map(|&i| out.vertex(&boundary[i].0, &boundary[i].1))
+                            .map(|&i| out.vertex(&vertices, boundary[i].0))
                             .collect();
                         out.tree.polygons.push(TreePolygon {
                             plane,

@@ -77,8 +77,8 @@ impl FixedPoint {
     pub fn snap<const SUB: u32>(x: f32, y: f32) -> Self {
         let scale = (1u32 << SUB) as f32;
         FixedPoint {
-            x: libm::roundf(x * scale) as i32,
-            y: libm::roundf(y * scale) as i32,
+            x: round_f32(x * scale),
+            y: round_f32(y * scale),
         }
     }
 
@@ -98,6 +98,57 @@ impl FixedPoint {
             y: y.saturating_mul(1 << SUB),
         }
     }
+}
+
+/// `v` rounded to the nearest integer, halves away from zero, saturating, NaN to 0: the same
+/// as `libm::roundf(v) as i32`, without its bit twiddling (it runs for every snapped vertex).
+/// Below `2^23` in magnitude the truncation and the fraction `v - t` are exact, so comparing
+/// the fraction with one half decides exactly; above, every `f32` is already an integer.
+#[inline]
+fn round_f32(v: f32) -> i32 {
+    const EXACT: f32 = 8_388_608.0; // 2^23
+    if !(v > -EXACT && v < EXACT) {
+        return v as i32;
+    }
+    let t = v as i32;
+    let fraction = v - t as f32;
+    if fraction >= 0.5 {
+        t + 1
+    } else if fraction <= -0.5 {
+        t - 1
+    } else {
+        t
+    }
+}
+
+/// The pixels `[x0, x1) x [y0, y1)` whose sample points lie in the half-open box
+/// `[min, max)` of `points` (`SUB` fractional bits), within a `width x height` window, or
+/// `None` when there is none. Every pixel the fill draws for `points` is in it (a span
+/// `[x_left, x_right)` and an edge's rows `[y_top, y_bottom)` are half-open the same way), so
+/// `None` means the fill would draw nothing, and a rectangle already covered means the
+/// polygon cannot show.
+pub fn sample_rect<const SUB: u32>(
+    points: &[FixedPoint],
+    width: u32,
+    height: u32,
+) -> Option<[u32; 4]> {
+    let first = points.first()?;
+    let (mut lo, mut hi) = (*first, *first);
+    for p in points {
+        lo = FixedPoint::new(lo.x.min(p.x), lo.y.min(p.y));
+        hi = FixedPoint::new(hi.x.max(p.x), hi.y.max(p.y));
+    }
+    // Pixel `i`'s sample is at `(2i + 1) 2^SUB / 2`: in doubled units the first sample at or
+    // after `v` is pixel `ceil((2v - 2^SUB) / 2^(SUB+1))`.
+    let first_at = |v: i32, limit: u32| -> u32 {
+        let step = 1i64 << (SUB + 1);
+        let num = 2 * i64::from(v) - (1i64 << SUB);
+        let i = -((-num).div_euclid(step));
+        i.clamp(0, i64::from(limit)) as u32
+    };
+    let (x0, x1) = (first_at(lo.x, width), first_at(hi.x, width));
+    let (y0, y1) = (first_at(lo.y, height), first_at(hi.y, height));
+    (x0 < x1 && y0 < y1).then_some([x0, y0, x1, y1])
 }
 
 /// Why [`fill_polygon`] drew nothing.

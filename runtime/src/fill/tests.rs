@@ -631,3 +631,110 @@ fn arbitrary<const SUB: u32>(poly: &[FixedPoint]) -> Result<(), TestCaseError> {
     fill::<SUB, 32, 24>(&mut m, &wrapped, A);
     Ok(())
 }
+
+#[test]
+fn round_f32_matches_libm_on_halves_and_limits() {
+    let cases = [
+        0.0f32,
+        -0.0,
+        0.5,
+        -0.5,
+        1.5,
+        -1.5,
+        2.5,
+        0.49999997,
+        -0.49999997,
+        8_388_607.5,
+        -8_388_607.5,
+        8_388_608.0,
+        16_777_215.0,
+        3.0e9,
+        -3.0e9,
+        f32::INFINITY,
+        f32::NEG_INFINITY,
+        f32::NAN,
+        f32::MIN_POSITIVE,
+    ];
+    for v in cases {
+        assert_eq!(round_f32(v), libm::roundf(v) as i32, "{v}");
+    }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 2000, ..ProptestConfig::default() })]
+
+    #[test]
+    fn round_f32_matches_libm(bits in any::<u32>()) {
+        let v = f32::from_bits(bits);
+        prop_assert_eq!(round_f32(v), libm::roundf(v) as i32, "{}", v);
+    }
+
+    #[test]
+    fn round_f32_matches_libm_near_halves(k in -20_000_000i32..20_000_000, ulps in -3i32..=3) {
+        let half = k as f32 + 0.5;
+        let v = f32::from_bits((half.to_bits() as i32 + ulps) as u32);
+        prop_assert_eq!(round_f32(v), libm::roundf(v) as i32, "{}", v);
+    }
+}
+
+/// The pixels a fill draws, as a set.
+fn drawn_pixels<const SUB: u32>(points: &[FixedPoint], w: u32, h: u32) -> Vec<(u32, u32)> {
+    struct Collect(Vec<(u32, u32)>);
+    impl SpanSink for Collect {
+        fn span(&mut self, y: u32, x0: u32, x1: u32, _: Colour) {
+            self.0.extend((x0..x1).map(|x| (x, y)));
+        }
+    }
+    let mut c = Collect(Vec::new());
+    fill_polygon::<SUB, _>(points, w, h, Colour::default(), &mut c).unwrap();
+    c.0
+}
+
+#[test]
+fn sample_rect_edges() {
+    let p = |x: i32, y: i32| FixedPoint::new(x, y);
+    // SUB = 4: pixel 0's sample is at 8, pixel 1's at 24.
+    // A box from 8 (on pixel 0's sample) to 24 (on pixel 1's): only pixel 0 on each axis.
+    assert_eq!(
+        sample_rect::<4>(&[p(8, 8), p(24, 8), p(24, 24), p(8, 24)], 10, 10),
+        Some([0, 0, 1, 1])
+    );
+    // Just after the sample: nothing.
+    assert_eq!(
+        sample_rect::<4>(&[p(9, 9), p(24, 9), p(24, 24)], 10, 10),
+        None
+    );
+    // SUB = 0: samples at i + 1/2, so [0, 1) holds pixel 0.
+    assert_eq!(
+        sample_rect::<0>(&[p(0, 0), p(1, 0), p(0, 1)], 4, 4),
+        Some([0, 0, 1, 1])
+    );
+    // Clamped to the window; empty input.
+    assert_eq!(
+        sample_rect::<0>(&[p(-5, -5), p(50, -5), p(50, 50)], 4, 3),
+        Some([0, 0, 4, 3])
+    );
+    assert_eq!(sample_rect::<0>(&[], 4, 4), None);
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 500, ..ProptestConfig::default() })]
+
+    /// Every pixel the fill draws lies in the sample rectangle, and `None` means none is
+    /// drawn.
+    #[test]
+    fn sample_rect_holds_every_drawn_pixel(
+        pts in proptest::collection::vec((-40i32..400, -40i32..400), 3..7)
+    ) {
+        let points: Vec<FixedPoint> = pts.iter().map(|&(x, y)| FixedPoint::new(x, y)).collect();
+        let drawn = drawn_pixels::<4>(&points, 20, 16);
+        match sample_rect::<4>(&points, 20, 16) {
+            None => prop_assert!(drawn.is_empty(), "{:?}", drawn),
+            Some([x0, y0, x1, y1]) => {
+                for (x, y) in drawn {
+                    prop_assert!(x0 <= x && x < x1 && y0 <= y && y < y1, "({}, {})", x, y);
+                }
+            }
+        }
+    }
+}

@@ -89,7 +89,8 @@ pub fn id_colour(id: u32) -> Colour {
 pub struct FrameStats {
     /// Polygons the traversal yielded.
     pub polygons_visited: u64,
-    /// Polygons left with at least 3 vertices after clipping (handed to the fill).
+    /// Polygons handed to the fill: left with at least 3 vertices after clipping, with a pixel
+    /// centre inside their box, and not culled as covered.
     pub polygons_drawn: u64,
     /// Pixels the fill emitted (overdraw counted).
     pub pixels_written: u64,
@@ -101,6 +102,9 @@ pub struct FrameStats {
     pub nodes_culled_covered: u64,
     /// One-sided polygons skipped because the eye is behind them.
     pub polygons_culled_back_face: u64,
+    /// Polygons skipped because every pixel they could draw was already covered (front to
+    /// back; tested on the rectangle of their sample points, before the fill).
+    pub polygons_culled_covered: u64,
     /// Distinct pixels written, when known: always in front-to-back mode (without fallback),
     /// and in back-to-front mode when span memory was given and sufficed.
     pub distinct_pixels: Option<u64>,
@@ -490,12 +494,12 @@ impl<const SUB: u32> Painter<'_, SUB> {
                 break;
             }
             let cov = coverage.as_deref();
-            let next = traversal.next_entering(|node| self.enter(scene, node, cov, stats));
-            let Some(index) = next else { break };
+            let next = traversal.next_polygon_entering(|node| self.enter(scene, node, cov, stats));
+            let Some((index, polygon)) = next else { break };
             if last != Some(index) {
                 tally(&mut stats.polygons_visited, 1);
             }
-            self.draw(scene, index, coverage.as_deref_mut(), sink, stats)?;
+            self.draw(scene, index, &polygon, coverage.as_deref_mut(), sink, stats)?;
             if last == Some(index) {
                 break;
             }
@@ -574,11 +578,11 @@ impl<const SUB: u32> Painter<'_, SUB> {
         &mut self,
         scene: &T,
         index: u32,
+        polygon: &Polygon,
         coverage: Option<&mut Coverage<'_>>,
         sink: &mut S,
         stats: &mut FrameStats,
     ) -> Result<(), RenderError> {
-        let polygon = scene.polygon(index);
         if self.cull && polygon.flags & ONE_SIDED != 0 {
             let plane = scene.plane(polygon.plane);
             let d = plane.distance(self.view.eye);
@@ -597,7 +601,7 @@ impl<const SUB: u32> Painter<'_, SUB> {
             });
         }
         for (i, slot) in (0..n).zip(self.clip_a.iter_mut()) {
-            *slot = self.view.to_camera(scene.polygon_vertex(&polygon, i));
+            *slot = self.view.to_camera(scene.polygon_vertex(polygon, i));
         }
         let clipped =
             clip::clip_polygon(self.frustum.planes(), n as usize, self.clip_a, self.clip_b)?;
@@ -609,14 +613,24 @@ impl<const SUB: u32> Painter<'_, SUB> {
             *slot = snap::<SUB>(self.view.project(c), self.max_x, self.max_y);
             count += 1;
         }
+        let pts = self.points.get(..count).unwrap_or(&[]);
+        let (width, height) = (self.view.width, self.view.height);
+        // No pixel centre inside: the fill would draw nothing. All covered: nothing shows.
+        let Some([x0, y0, x1, y1]) = fill::sample_rect::<SUB>(pts, width, height) else {
+            return Ok(());
+        };
+        if let Some(c) = coverage.as_deref() {
+            if c.mode() != Mode::Measure && c.covers(x0, y0, x1, y1) {
+                tally(&mut stats.polygons_culled_covered, 1);
+                return Ok(());
+            }
+        }
         let colour = match self.paint {
             Paint::Colours => polygon.colour,
             Paint::Ids if cfg!(feature = "ids") => id_colour(scene.id(index).unwrap_or(u32::MAX)),
             Paint::Ids => polygon.colour,
         };
         tally(&mut stats.polygons_drawn, 1);
-        let pts = self.points.get(..count).unwrap_or(&[]);
-        let (width, height) = (self.view.width, self.view.height);
         // One fill for both cases (with and without span memory): one copy in the binary.
         // Its checks hold: `count <= available <= min(VERTS, MAX_FILL_VERTICES)` edges, and
         // `snap` keeps every point in the window, which `window` kept within

@@ -147,6 +147,24 @@ fn front_to_back_draws_each_pixel_once_and_matches() {
 
 #[cfg(feature = "front-to-back")]
 #[test]
+fn polygons_behind_covered_pixels_skip_the_fill() {
+    // One box seen straight from the front: its front face hides the five others, whose
+    // sample rectangles lie inside the front face's square.
+    let t = boxes(&[(Vec3::ZERO, 1.0)]);
+    let cam = camera(DVec3::new(-5.0, 0.0, 6.0), DVec3::new(-5.0, 0.0, 0.0));
+    let (reference, _) = back_to_front(&t, &cam, false);
+    let (image, f2b) = front_to_back::<8>(&t, &cam, MockTarget::new());
+    assert!(same_image(&reference, &image), "{reference}\n{image}");
+    assert!(image.written_count() > 50);
+    if cfg!(feature = "stats") {
+        assert_eq!(f2b.polygons_visited, 6, "{f2b:?}");
+        assert_eq!(f2b.polygons_drawn, 1, "{f2b:?}");
+        assert_eq!(f2b.polygons_culled_covered, 5, "{f2b:?}");
+    }
+}
+
+#[cfg(feature = "front-to-back")]
+#[test]
 fn a_full_screen_stops_the_walk_and_culls_covered_subtrees() {
     // A big box right in front of the eye hides two boxes behind it.
     let mut t = TestTree::default();

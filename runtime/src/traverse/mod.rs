@@ -111,13 +111,17 @@ enum Task {
     /// Visit a node.
     Node(u32) = 1,
     /// Scan polygons `first .. first + count`, `done` of them already looked at, yielding
-    /// those with `sees_interior == interior`, then visit `then`.
+    /// those with `sees_interior == interior`, then visit `then`. A node's first scan sets
+    /// bit `k` of `yielded` for each polygon `k < 64` it yields and hands the mask to the
+    /// second scan (`known`), which then yields the others without testing their planes again.
     Scan {
         first: u32,
         count: u32,
         done: u32,
         interior: bool,
         then: Option<u32>,
+        yielded: u64,
+        known: bool,
     } = 2,
 }
 
@@ -197,10 +201,28 @@ impl<'t, 's, T: DisplayTree + ?Sized> Traversal<'t, 's, T> {
         self.stack.get(self.len).map_or(Task::Idle, |e| e.0)
     }
 
-    fn stop(&mut self) -> Option<u32> {
+    fn stop<R>(&mut self) -> Option<R> {
         self.active = Task::Idle;
         self.len = 0;
         None
+    }
+
+    /// A node's first scan is over: give the polygons it yielded to the node's second scan,
+    /// pushed just before the first scan started and so still on top of the stack.
+    fn hand_over(&mut self, first_polygon: u32, mask: u64) {
+        let top = self.len.checked_sub(1).and_then(|i| self.stack.get_mut(i));
+        if let Some(StackEntry(Task::Scan {
+            first,
+            yielded,
+            known,
+            ..
+        })) = top
+        {
+            if *first == first_polygon && !*known {
+                *yielded = mask;
+                *known = true;
+            }
+        }
     }
 }
 
@@ -212,11 +234,22 @@ impl<T: DisplayTree + ?Sized> Iterator for Traversal<'_, '_, T> {
     }
 }
 
+/// Polygons per convex node whose side the first scan remembers for the second (one bit each).
+const MASK_BITS: u32 = u64::BITS;
+
 impl<T: DisplayTree + ?Sized> Traversal<'_, '_, T> {
     /// The next polygon, asking `enter(node)` before walking into each node: `false` skips
     /// the node's whole subtree (the renderer's frustum and coverage culling). Asked once per
     /// node reached, in walk order, so the answer may depend on what was drawn so far.
-    pub fn next_entering<F: FnMut(u32) -> bool>(&mut self, mut enter: F) -> Option<u32> {
+    pub fn next_entering<F: FnMut(u32) -> bool>(&mut self, enter: F) -> Option<u32> {
+        self.next_polygon_entering(enter).map(|(index, _)| index)
+    }
+
+    /// [`Self::next_entering`] with the polygon's record, which the walk has read anyway.
+    pub fn next_polygon_entering<F: FnMut(u32) -> bool>(
+        &mut self,
+        mut enter: F,
+    ) -> Option<(u32, Polygon)> {
         let back_to_front = self.order == Order::BackToFront;
         loop {
             if self.error.is_some() {
@@ -272,6 +305,8 @@ impl<T: DisplayTree + ?Sized> Traversal<'_, '_, T> {
                                 done: 0,
                                 interior: !back_to_front,
                                 then: None,
+                                yielded: 0,
+                                known: false,
                             };
                             if !self.push(later) {
                                 return self.stop();
@@ -282,6 +317,8 @@ impl<T: DisplayTree + ?Sized> Traversal<'_, '_, T> {
                                 done: 0,
                                 interior: back_to_front,
                                 then: child,
+                                yielded: 0,
+                                known: false,
                             };
                         }
                     }
@@ -292,6 +329,8 @@ impl<T: DisplayTree + ?Sized> Traversal<'_, '_, T> {
                     mut done,
                     interior,
                     then,
+                    yielded,
+                    known,
                 } => {
                     while done < count {
                         // Back to front scans forwards, front to back backwards: exact reverse.
@@ -302,18 +341,30 @@ impl<T: DisplayTree + ?Sized> Traversal<'_, '_, T> {
                         };
                         done += 1;
                         let index = first.saturating_add(k);
+                        let bit = if k < MASK_BITS { 1u64 << k } else { 0 };
+                        if known && yielded & bit != 0 {
+                            continue; // the first scan yielded it
+                        }
                         let polygon = self.tree.polygon(index);
-                        let plane = self.tree.plane(polygon.plane);
-                        if sees_interior(&polygon, &plane, self.eye) == interior {
+                        let wanted = (known && bit != 0)
+                            || sees_interior(&polygon, &self.tree.plane(polygon.plane), self.eye)
+                                == interior;
+                        if wanted {
                             self.active = Task::Scan {
                                 first,
                                 count,
                                 done,
                                 interior,
                                 then,
+                                yielded: yielded | bit,
+                                known,
                             };
-                            return Some(index);
+                            return Some((index, polygon));
                         }
+                    }
+                    // The first scan of a node (its `interior` is `back_to_front`).
+                    if interior == back_to_front {
+                        self.hand_over(first, yielded);
                     }
                     self.active = then.map_or(Task::Idle, Task::Node);
                 }

@@ -334,3 +334,84 @@ fn scene_walks_like_the_in_memory_tree() {
         }
     }
 }
+
+/// Seed 000's display order written the obvious recursive way, as an oracle for the
+/// iterative walk (which remembers a node's first scan in a bit mask for the second).
+fn recursive_btf(t: &TestTree, node: Option<u32>, eye: Vec3, out: &mut Vec<u32>) {
+    let Some(i) = node else { return };
+    match t.node(i) {
+        Node::Split { plane, front, back } => {
+            let (first, second) = if t.plane(plane).distance(eye) >= 0.0 {
+                (back, front)
+            } else {
+                (front, back)
+            };
+            recursive_btf(t, first, eye, out);
+            recursive_btf(t, second, eye, out);
+        }
+        Node::Convex {
+            first,
+            count,
+            child,
+        } => {
+            let seen = |p: u32| sees_interior(&t.polygon(p), &t.plane(t.polygon(p).plane), eye);
+            out.extend((first..first + count).filter(|&p| seen(p)));
+            recursive_btf(t, child, eye, out);
+            out.extend((first..first + count).filter(|&p| !seen(p)));
+        }
+    }
+}
+
+/// Convex nodes of `n` triangles tangent to a sphere of radius `r` (Fibonacci directions),
+/// nested: `sizes[0]` outermost.
+fn nested_spheres(sizes: &[(u32, f32)]) -> TestTree {
+    let mut t = TestTree::default();
+    let mut ranges = Vec::new();
+    for &(n, r) in sizes {
+        let first = t.polygons.len() as u32;
+        for k in 0..n {
+            let z = 1.0 - 2.0 * (k as f32 + 0.5) / n as f32;
+            let phi = k as f32 * 2.399_963;
+            let d = Vec3::new(
+                (1.0 - z * z).sqrt() * phi.cos(),
+                (1.0 - z * z).sqrt() * phi.sin(),
+                z,
+            );
+            let u = d.any_orthonormal_vector();
+            let v = d.cross(u);
+            let c = d * r;
+            let s = 0.2 * r;
+            t.add_polygon(
+                &[c + u * s, c + v * s, c - u * s - v * s],
+                Vec3::ZERO,
+                Colour::default(),
+            );
+        }
+        ranges.push((first, n));
+    }
+    // Node `k` holds layer `k` (the root, node 0, the outermost); its child is node `k + 1`.
+    for (k, &range) in ranges.iter().enumerate() {
+        let child = (k + 1 < ranges.len()).then_some(k as u32 + 1);
+        convex(&mut t, range, child);
+    }
+    t
+}
+
+proptest! {
+    /// Convex nodes below, at and above the 64 polygons the first scan remembers: the walk
+    /// matches the recursive definition, front to back is its reverse.
+    #[test]
+    fn large_convex_nodes_match_the_recursive_order(
+        x in eye_coord(), y in eye_coord(), z in eye_coord(),
+        outer in 1u32..140, inner in 1u32..80,
+    ) {
+        let t = nested_spheres(&[(outer, 2.0), (inner, 1.0)]);
+        let eye = Vec3::new(x, y, z) * 1.5;
+        let mut want = Vec::new();
+        recursive_btf(&t, t.root(), eye, &mut want);
+        prop_assert_eq!(want.len(), t.polygons.len());
+        prop_assert_eq!(btf(&t, eye), want.clone());
+        want.reverse();
+        prop_assert_eq!(order_of(&t, eye, Order::FrontToBack), want);
+    }
+}
