@@ -86,6 +86,36 @@ impl Frustum {
     pub fn window(&self) -> &[ClipPlane] {
         &self.planes[1..]
     }
+
+    /// Whether every point of the box `[lo, hi]` (in the view's scene frame) passes every
+    /// plane in [`clip_polygon`]'s own `f32` test, so that clipping its polygons changes
+    /// nothing and can be skipped.
+    ///
+    /// Why a margin makes this exact: `to_camera` then `eval` is affine, so over the box its
+    /// exact value is at least its smallest value at a corner. Each `f32` evaluation (a
+    /// subtraction, three-term dot products) is within `8 * 2^-24 * S` of the exact value,
+    /// with `S = |n|_1 * 3 * |p - eye|_1 + |offset|` bounding the magnitudes involved (each
+    /// row of the rotation has length 1). Asking every corner for `2 * 2^-16 * S`, far more
+    /// than twice that error, leaves every point of the box at least `2^-16 * S` above zero
+    /// in exact arithmetic, hence `>= 0` once evaluated in `f32`.
+    pub fn contains_box(&self, view: &View, lo: Vec3, hi: Vec3) -> bool {
+        const MARGIN: f32 = 2.0 / 65_536.0;
+        let finite = lo.is_finite() && hi.is_finite();
+        finite
+            && (0..8).all(|k| {
+                let p = Vec3::new(
+                    if k & 1 == 0 { lo.x } else { hi.x },
+                    if k & 2 == 0 { lo.y } else { hi.y },
+                    if k & 4 == 0 { lo.z } else { hi.z },
+                );
+                let c = view.to_camera(p);
+                let reach = 3.0 * (p - view.eye).abs().element_sum();
+                self.planes.iter().all(|plane| {
+                    let scale = plane.normal.abs().element_sum() * reach + plane.offset.abs();
+                    plane.eval(c) >= MARGIN * scale
+                })
+            })
+    }
 }
 
 /// Vertices a polygon of `vertex_count` vertices needs in each clip buffer.
@@ -150,9 +180,8 @@ fn intersect(inside: Vec3, d_in: f32, outside: Vec3, d_out: f32) -> Vec3 {
 
 /// Clip the convex polygon held in `a[..len]` against every plane of `planes`, ping-ponging
 /// between `a` and `b`; returns the clipped polygon (a slice of one of them, possibly with
-/// fewer than 3 vertices when nothing is left). A polygon inside every plane comes back as
-/// `a[..len]` without a copy: most polygons of a frame are, and clipping would return the
-/// same points.
+/// fewer than 3 vertices when nothing is left). (A renderer that knows the whole scene is
+/// inside, by [`Frustum::contains_box`], skips clipping altogether.)
 pub fn clip_polygon<'b>(
     planes: &[ClipPlane],
     len: usize,
@@ -160,14 +189,6 @@ pub fn clip_polygon<'b>(
     b: &'b mut [Vec3],
 ) -> Result<&'b [Vec3], RenderError> {
     let mut len = len.min(a.len());
-    let input = a.get(..len).unwrap_or(&[]);
-    if input
-        .iter()
-        .all(|&p| planes.iter().all(|plane| plane.eval(p) >= 0.0))
-    {
-        let a: &'b [Vec3] = a;
-        return Ok(a.get(..len).unwrap_or(&[]));
-    }
     let (mut src, mut dst) = (a, b);
     for plane in planes {
         if len == 0 {
@@ -403,8 +424,8 @@ mod tests {
     }
 
     proptest! {
-        /// The no-copy path for polygons inside every plane returns what clipping plane by
-        /// plane returns, bit for bit, and so does the general path.
+        /// Clipping by the whole frustum (ping-ponging between two buffers) returns what
+        /// clipping plane by plane returns, bit for bit, for polygons inside, across and out.
         #[test]
         fn clip_polygon_equals_plane_by_plane(
             p in any_point(), q in any_point(), r in any_point(), s in any_point()
@@ -419,6 +440,46 @@ mod tests {
             }
             prop_assert_eq!(bits(&clip(f.planes(), &poly)), bits(&expected));
         }
+    }
+
+    proptest! {
+        /// A box the frustum contains holds no point that the clipper's own test would cut.
+        #[test]
+        fn contained_boxes_need_no_clipping(
+            c in (-3.0f32..3.0, -3.0f32..3.0, -30.0f32..-1.0),
+            half in (0.01f32..4.0, 0.01f32..4.0, 0.01f32..4.0),
+            t in proptest::collection::vec((0.0f32..=1.0, 0.0f32..=1.0, 0.0f32..=1.0), 64),
+        ) {
+            let v = view();
+            let f = Frustum::new(&v);
+            let (c, h) = (Vec3::new(c.0, c.1, c.2), Vec3::new(half.0, half.1, half.2));
+            let (lo, hi) = (c - h, c + h);
+            if f.contains_box(&v, lo, hi) {
+                for (a, b, z) in t {
+                    let p = lo + (hi - lo) * Vec3::new(a, b, z);
+                    let p = p.clamp(lo, hi);
+                    let cam = v.to_camera(p);
+                    for plane in f.planes() {
+                        prop_assert!(plane.eval(cam) >= 0.0, "{:?} at {:?}", plane, p);
+                    }
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn contains_box_cases() {
+        let v = view();
+        let f = Frustum::new(&v);
+        // Well inside: 10 in front, 1 wide (the window spans +-10 at that depth).
+        assert!(f.contains_box(&v, Vec3::new(-0.5, -0.5, -10.5), Vec3::new(0.5, 0.5, -9.5)));
+        // Crossing the near plane, the window's edge, or behind the eye: no.
+        assert!(!f.contains_box(&v, Vec3::new(-0.5, -0.5, -10.0), Vec3::new(0.5, 0.5, -0.5)));
+        assert!(!f.contains_box(&v, Vec3::new(9.0, -0.5, -10.5), Vec3::new(11.0, 0.5, -9.5)));
+        assert!(!f.contains_box(&v, Vec3::new(-0.5, -0.5, 1.0), Vec3::new(0.5, 0.5, 2.0)));
+        // Touching the window's edge exactly: the margin says no.
+        assert!(!f.contains_box(&v, Vec3::new(0.0, -0.5, -10.0), Vec3::new(10.0, 0.5, -10.0)));
+        assert!(!f.contains_box(&v, Vec3::splat(f32::NAN), Vec3::ONE));
     }
 
     /// Clip the segment `p -> q` by every plane with the same intersection rule.

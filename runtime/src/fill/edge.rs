@@ -61,6 +61,30 @@ pub(crate) fn first_centre_at_or_after<const SUB: u32>(v: i32) -> i64 {
     (2 * i64::from(v) + s - 1).div_euclid(2 * s)
 }
 
+/// [`first_centre_at_or_after`] in 32-bit arithmetic, for `0 <= v <=`
+/// [`super::coordinate_limit`] (beyond it the result is wrong, never a panic).
+#[cfg(any(test, not(feature = "wide-coordinates")))]
+#[inline]
+pub(crate) fn first_centre_narrow<const SUB: u32>(v: i32) -> i32 {
+    // ceil((2v - S) / 2S) = floor((2v + S - 1) / 2S): an arithmetic shift.
+    let s = 1i32 << SUB;
+    v.wrapping_mul(2).wrapping_add(s - 1) >> (SUB + 1)
+}
+
+/// [`first_centre_at_or_after`] as a [`Coord`]: `i64` arithmetic with `wide-coordinates`,
+/// else [`first_centre_narrow`] (the renderer's points are then within its range).
+#[inline]
+pub(crate) fn first_centre<const SUB: u32>(v: i32) -> Coord {
+    #[cfg(feature = "wide-coordinates")]
+    {
+        first_centre_at_or_after::<SUB>(v)
+    }
+    #[cfg(not(feature = "wide-coordinates"))]
+    {
+        first_centre_narrow::<SUB>(v)
+    }
+}
+
 /// An `i32` as a [`Coord`] (the identity without `wide-coordinates`).
 #[cfg(any(test, not(feature = "wide-coordinates")))]
 #[allow(clippy::useless_conversion)]
@@ -183,10 +207,9 @@ impl EdgeWalk {
     ) -> Option<Self> {
         let (top, bottom) = top_bottom(a, b)?;
         let s = 1i32 << SUB;
-        // ceil((2v - S) / 2S) = floor((2v + S - 1) / 2S): an arithmetic shift.
-        let first_centre = |v: i32| (2 * v + s - 1) >> (SUB + 1);
-        let first = first_centre(top.y).max(0);
-        let end = first_centre(bottom.y).min(i32::try_from(height).unwrap_or(i32::MAX));
+        let first = first_centre_narrow::<SUB>(top.y).max(0);
+        let end =
+            first_centre_narrow::<SUB>(bottom.y).min(i32::try_from(height).unwrap_or(i32::MAX));
         if first >= end {
             return None;
         }

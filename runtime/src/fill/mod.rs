@@ -126,7 +126,7 @@ fn round_f32(v: f32) -> i32 {
 /// `None` when there is none. Every pixel the fill draws for `points` is in it (a span
 /// `[x_left, x_right)` and an edge's rows `[y_top, y_bottom)` are half-open the same way), so
 /// `None` means the fill would draw nothing, and a rectangle already covered means the
-/// polygon cannot show.
+/// polygon cannot show. Points must be in the fill's range ([`coordinate_limit`]).
 pub fn sample_rect<const SUB: u32>(
     points: &[FixedPoint],
     width: u32,
@@ -138,16 +138,13 @@ pub fn sample_rect<const SUB: u32>(
         lo = FixedPoint::new(lo.x.min(p.x), lo.y.min(p.y));
         hi = FixedPoint::new(hi.x.max(p.x), hi.y.max(p.y));
     }
-    // Pixel `i`'s sample is at `(2i + 1) 2^SUB / 2`: in doubled units the first sample at or
-    // after `v` is pixel `ceil((2v - 2^SUB) / 2^(SUB+1))`.
-    let first_at = |v: i32, limit: u32| -> u32 {
-        let step = 1i64 << (SUB + 1);
-        let num = 2 * i64::from(v) - (1i64 << SUB);
-        let i = -((-num).div_euclid(step));
-        i.clamp(0, i64::from(limit)) as u32
+    let pixel = |v: i32, limit: u32| -> u32 {
+        #[allow(clippy::unnecessary_fallible_conversions)]
+        let limit = Coord::try_from(limit).unwrap_or(Coord::MAX);
+        edge::first_centre::<SUB>(v).clamp(0, limit) as u32
     };
-    let (x0, x1) = (first_at(lo.x, width), first_at(hi.x, width));
-    let (y0, y1) = (first_at(lo.y, height), first_at(hi.y, height));
+    let (x0, x1) = (pixel(lo.x, width), pixel(hi.x, width));
+    let (y0, y1) = (pixel(lo.y, height), pixel(hi.y, height));
     (x0 < x1 && y0 < y1).then_some([x0, y0, x1, y1])
 }
 

@@ -373,6 +373,15 @@ where
         c.clear();
     }
     let frustum = Frustum::new(&view);
+    // The whole scene inside the frustum (the usual case for an object in view): no subtree
+    // needs the frustum test and no polygon needs clipping. Bounds are only trusted when
+    // culling is on, as for every other use of them.
+    let all_inside = options.cull
+        && cfg!(feature = "bounds-culling")
+        && scene
+            .root()
+            .and_then(|root| scene.node_bounds(root))
+            .is_some_and(|(lo, hi)| frustum.contains_box(&view, lo, hi));
     let Workspace {
         stack,
         clip_a,
@@ -388,6 +397,7 @@ where
         available,
         paint: options.paint,
         cull: options.cull,
+        all_inside,
         clip_a,
         clip_b,
         points,
@@ -459,6 +469,8 @@ struct Painter<'w, const SUB: u32> {
     available: u32,
     paint: Paint,
     cull: bool,
+    /// Every polygon of the scene is inside the frustum (see [`Frustum::contains_box`]).
+    all_inside: bool,
     clip_a: &'w mut [Vec3],
     clip_b: &'w mut [Vec3],
     points: &'w mut [FixedPoint],
@@ -539,11 +551,12 @@ impl<const SUB: u32> Painter<'_, SUB> {
             *c = self.view.to_camera(p);
         }
         // Outside one half-space of the (convex) frustum: outside the frustum.
-        let outside = self
-            .frustum
-            .planes()
-            .iter()
-            .any(|plane| corners.iter().all(|&c| plane.eval(c) < 0.0));
+        let outside = !self.all_inside
+            && self
+                .frustum
+                .planes()
+                .iter()
+                .any(|plane| corners.iter().all(|&c| plane.eval(c) < 0.0));
         if outside {
             tally(&mut stats.nodes_culled_frustum, 1);
             return false;
@@ -561,8 +574,9 @@ impl<const SUB: u32> Painter<'_, SUB> {
             min = min.min(p);
             max = max.max(p);
         }
-        // One pixel of margin covers snapping; clamped to the frame.
-        let pixel = |v: f32, limit: u32| libm::floorf(v).clamp(0.0, limit as f32) as u32;
+        // One pixel of margin covers snapping; clamped to the frame. (`floor` clamped at 0:
+        // truncation is the floor of a non-negative value, and NaN becomes 0.)
+        let pixel = |v: f32, limit: u32| (v.max(0.0) as u32).min(limit);
         let (w, h) = (coverage.width(), coverage.height());
         let (x0, y0) = (pixel(min.x - 1.0, w), pixel(min.y - 1.0, h));
         let (x1, y1) = (pixel(max.x + 2.0, w), pixel(max.y + 2.0, h));
@@ -603,8 +617,11 @@ impl<const SUB: u32> Painter<'_, SUB> {
         for (i, slot) in (0..n).zip(self.clip_a.iter_mut()) {
             *slot = self.view.to_camera(scene.polygon_vertex(polygon, i));
         }
-        let clipped =
-            clip::clip_polygon(self.frustum.planes(), n as usize, self.clip_a, self.clip_b)?;
+        let clipped = if self.all_inside {
+            self.clip_a.get(..n as usize).unwrap_or(&[])
+        } else {
+            clip::clip_polygon(self.frustum.planes(), n as usize, self.clip_a, self.clip_b)?
+        };
         if clipped.len() < 3 {
             return Ok(());
         }

@@ -274,6 +274,7 @@ fn a_full_screen_stops_the_walk_and_culls_covered_subtrees() {
             available: 12,
             paint: Paint::Colours,
             cull: true,
+            all_inside: false,
             clip_a: &mut a,
             clip_b: &mut b,
             points: &mut pts,
@@ -287,6 +288,20 @@ fn a_full_screen_stops_the_walk_and_culls_covered_subtrees() {
     };
     let counted = cfg!(all(feature = "stats", feature = "bounds-culling"));
     assert_eq!(stats.nodes_culled_covered, u64::from(counted));
+}
+
+#[test]
+fn a_scene_wholly_in_view_is_drawn_unclipped_with_the_same_image() {
+    let t = boxes(&[(Vec3::ZERO, 1.0), (Vec3::ZERO, 1.5), (Vec3::ZERO, 0.7)]);
+    let cam = camera(DVec3::new(1.0, 3.0, 14.0), DVec3::new(-1.0, 0.0, 0.0));
+    let view = cam.view(t.centre);
+    let (lo, hi) = t.node_bounds(0).unwrap();
+    // The precondition of the unclipped path holds (with `bounds-culling`, the path is taken).
+    assert!(Frustum::new(&view).contains_box(&view, lo, hi));
+    let (clipped, _) = back_to_front(&t, &cam, false);
+    let (unclipped, _) = back_to_front(&t, &cam, true);
+    assert!(same_image(&clipped, &unclipped), "{clipped}\n{unclipped}");
+    assert!(clipped.written_count() > 50, "{}", clipped.written_count());
 }
 
 #[test]
