@@ -114,6 +114,49 @@ pub(crate) mod header_offset {
     pub const BOUNDS_COUNT: usize = 88;
 }
 
+/// A fixed-size record read once (one bounds check), whose fields are then decoded at constant
+/// offsets with no further check: the hot accessors read nodes, planes and polygons this way.
+#[derive(Clone, Copy)]
+pub(crate) struct Record<const N: usize>([u8; N]);
+
+impl<const N: usize> Record<N> {
+    /// The `N` bytes at `offset`, or `None` past the end (or on overflow).
+    #[inline]
+    pub(crate) fn at(bytes: &[u8], offset: usize) -> Option<Self> {
+        array_at(bytes, offset).map(Record)
+    }
+
+    /// `W` bytes at `offset` (zero past the end: offsets are constants within `N`).
+    #[inline]
+    fn bytes<const W: usize>(&self, offset: usize) -> [u8; W] {
+        let mut out = [0u8; W];
+        for (o, b) in out.iter_mut().zip(self.0.iter().skip(offset)) {
+            *o = *b;
+        }
+        out
+    }
+
+    #[inline]
+    pub(crate) fn u8(&self, offset: usize) -> u8 {
+        self.0.get(offset).copied().unwrap_or(0)
+    }
+
+    #[inline]
+    pub(crate) fn u16(&self, offset: usize) -> u16 {
+        u16::from_le_bytes(self.bytes(offset))
+    }
+
+    #[inline]
+    pub(crate) fn u32(&self, offset: usize) -> u32 {
+        u32::from_le_bytes(self.bytes(offset))
+    }
+
+    #[inline]
+    pub(crate) fn f32(&self, offset: usize) -> f32 {
+        f32::from_le_bytes(self.bytes(offset))
+    }
+}
+
 /// `N` bytes at `offset`, or `None` past the end (or on overflow).
 fn array_at<const N: usize>(bytes: &[u8], offset: usize) -> Option<[u8; N]> {
     bytes.get(offset..offset.checked_add(N)?)?.try_into().ok()

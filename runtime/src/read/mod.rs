@@ -14,7 +14,7 @@ use glam::Vec3;
 use crate::error::ReadError;
 use crate::target::Colour;
 use layout::{
-    element, f32_at, header_flags, node_kind, u16_at, u32_at, u8_at, BOUNDS_SIZE, ID_SIZE,
+    element, header_flags, node_kind, u16_at, u32_at, u8_at, Record, BOUNDS_SIZE, ID_SIZE,
     NODE_SIZE, NONE, PALETTE_SIZE, PLANE_SIZE, VERTEX_SIZE,
 };
 
@@ -212,12 +212,14 @@ impl<'a> Scene<'a> {
         let Some(at) = element(self.polygons, self.polygon_size, i) else {
             return Polygon::default();
         };
-        let b = self.bytes;
+        let Some(r) = Record::<11>::at(self.bytes, at) else {
+            return Polygon::default();
+        };
         Polygon {
-            plane: u32_at(b, at).unwrap_or(0),
-            first_index: u32_at(b, at + 4).unwrap_or(0),
-            vertex_count: u16_at(b, at + 8).unwrap_or(0),
-            flags: u8_at(b, at + 10).unwrap_or(0),
+            plane: r.u32(0),
+            first_index: r.u32(4),
+            vertex_count: r.u16(8),
+            flags: r.u8(10),
             colour: self.colour_at(at + 11),
         }
     }
@@ -303,10 +305,12 @@ impl<'a> Scene<'a> {
         if i >= self.header.plane_count {
             return Plane::default();
         }
-        element(self.planes, PLANE_SIZE, i).map_or(Plane::default(), |at| Plane {
-            normal: self.vec3_at(at),
-            d: f32_at(self.bytes, at + 12).unwrap_or(0.0),
-        })
+        element(self.planes, PLANE_SIZE, i)
+            .and_then(|at| Record::<PLANE_SIZE>::at(self.bytes, at))
+            .map_or(Plane::default(), |r| Plane {
+                normal: Vec3::new(r.f32(0), r.f32(4), r.f32(8)),
+                d: r.f32(12),
+            })
     }
 
     /// Source triangle id of polygon `i`, when the file has ids.
@@ -318,12 +322,8 @@ impl<'a> Scene<'a> {
     }
 
     fn vec3_at(&self, at: usize) -> Vec3 {
-        let b = self.bytes;
-        Vec3::new(
-            f32_at(b, at).unwrap_or(0.0),
-            f32_at(b, at.saturating_add(4)).unwrap_or(0.0),
-            f32_at(b, at.saturating_add(8)).unwrap_or(0.0),
-        )
+        Record::<12>::at(self.bytes, at)
+            .map_or(Vec3::ZERO, |r| Vec3::new(r.f32(0), r.f32(4), r.f32(8)))
     }
 
     fn raw_node(&self, i: u32) -> Option<RawNode> {
@@ -343,12 +343,13 @@ struct RawNode {
 
 impl RawNode {
     fn at(bytes: &[u8], at: usize) -> Option<RawNode> {
+        let r = Record::<NODE_SIZE>::at(bytes, at)?;
         Some(RawNode {
-            kind: u8_at(bytes, at)?,
-            a: u32_at(bytes, at.checked_add(1)?)?,
-            b: u32_at(bytes, at.checked_add(5)?)?,
-            c: u32_at(bytes, at.checked_add(9)?)?,
-            parent: u32_at(bytes, at.checked_add(13)?)?,
+            kind: r.u8(0),
+            a: r.u32(1),
+            b: r.u32(5),
+            c: r.u32(9),
+            parent: r.u32(13),
         })
     }
 

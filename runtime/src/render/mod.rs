@@ -538,6 +538,10 @@ impl<const SUB: u32> Painter<'_, SUB> {
         if !(self.cull && cfg!(feature = "bounds-culling")) {
             return true;
         }
+        let coverage = coverage.filter(|c| c.mode() != Mode::Measure);
+        if self.all_inside && coverage.is_none() {
+            return true; // nothing to test
+        }
         let Some((lo, hi)) = scene.node_bounds(node) else {
             return true;
         };
@@ -561,7 +565,7 @@ impl<const SUB: u32> Painter<'_, SUB> {
             tally(&mut stats.nodes_culled_frustum, 1);
             return false;
         }
-        let Some(coverage) = coverage.filter(|c| c.mode() != Mode::Measure) else {
+        let Some(coverage) = coverage else {
             return true;
         };
         // Doom's bbox check in 3D: only when the whole box is in front of the near plane.
