@@ -104,6 +104,8 @@ struct Prepared {
     bytes: Vec<u8>,
     naive: Option<Vec<u8>>,
     triangles: Vec<[DVec3; 3]>,
+    /// [`prepare::scene_box`] of `triangles`.
+    triangle_box: (glam::Vec3, glam::Vec3),
     views: Vec<(Camera, Reference)>,
 }
 
@@ -151,6 +153,7 @@ fn prepare_scene(
     Ok(Prepared {
         bytes,
         naive,
+        triangle_box: prepare::scene_box(&triangles, centre),
         triangles,
         views,
     })
@@ -206,7 +209,8 @@ fn draw<const SUB: u32>(
             let centre = scenes.peel.header().centre;
             let view = camera.view(centre);
             let tris = &mut work.triangles;
-            prepare::prepare::<SUB>(&p.triangles, DVec3::from_array(centre), &view, tris);
+            let centre = DVec3::from_array(centre);
+            prepare::prepare::<SUB>(&p.triangles, centre, p.triangle_box, &view, tris);
             let mut ids = vec![0u32; n];
             let written = match method {
                 "zbuffer-int" => {

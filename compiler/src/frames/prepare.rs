@@ -33,16 +33,31 @@ impl Prepared {
     }
 }
 
+/// The box of `triangles` as [`prepare`] sees them (relative to `centre`, in `f32`): computed
+/// once per scene, it lets a frame that sees the whole scene skip clipping, as Peel does.
+pub fn scene_box(triangles: &[[DVec3; 3]], centre: DVec3) -> (Vec3, Vec3) {
+    triangles.iter().flatten().fold(
+        (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY)),
+        |(lo, hi), p| {
+            let q = (*p - centre).as_vec3();
+            (lo.min(q), hi.max(q))
+        },
+    )
+}
+
 /// Clip and project `triangles` (world coordinates) for `view` (built for `centre`) into
-/// `out` (cleared first; its memory is reused from frame to frame).
+/// `out` (cleared first; its memory is reused from frame to frame). `bounds` is their
+/// [`scene_box`]: when the frustum contains it, nothing is clipped.
 pub fn prepare<const SUB: u32>(
     triangles: &[[DVec3; 3]],
     centre: DVec3,
+    bounds: (Vec3, Vec3),
     view: &View,
     out: &mut Vec<Prepared>,
 ) {
     out.clear();
     let frustum = Frustum::new(view);
+    let inside = frustum.contains_box(view, bounds.0, bounds.1);
     let (max_x, max_y) = ((view.width << SUB) as i32, (view.height << SUB) as i32);
     let mut a = [Vec3::ZERO; 16];
     let mut b = [Vec3::ZERO; 16];
@@ -50,8 +65,13 @@ pub fn prepare<const SUB: u32>(
         for (slot, p) in a.iter_mut().zip(t) {
             *slot = view.to_camera((*p - centre).as_vec3());
         }
-        let Ok(clipped) = clip_polygon(frustum.planes(), 3, &mut a, &mut b) else {
-            continue;
+        let clipped = if inside {
+            &a[..3]
+        } else {
+            let Ok(clipped) = clip_polygon(frustum.planes(), 3, &mut a, &mut b) else {
+                continue;
+            };
+            clipped
         };
         if clipped.len() < 3 || clipped.len() > MAX_CLIPPED {
             continue;
