@@ -298,15 +298,42 @@ fn median(mut v: Vec<f64>) -> f64 {
     }
 }
 
-fn measure<const SUB: u32>(
-    scene: &str,
-    label: &str,
+/// One timed row of a scene: a method at a fixed-point precision.
+struct Variant {
+    label: String,
+    method: &'static str,
+    sub: u32,
+}
+
+/// [`draw`] at the precision `sub` (0, 4, or else the default [`SUBPIXEL_BITS`]).
+///
+/// [`SUBPIXEL_BITS`]: peel_runtime::fill::SUBPIXEL_BITS
+fn draw_at(
+    sub: u32,
+    p: &Prepared,
+    scenes: &Scenes<'_>,
     method: &str,
+    camera: &Camera,
+    work: &mut Work,
+) -> Result<Drawn, String> {
+    match sub {
+        0 => draw::<0>(p, scenes, method, camera, work),
+        4 => draw::<4>(p, scenes, method, camera, work),
+        _ => draw::<{ peel_runtime::fill::SUBPIXEL_BITS }>(p, scenes, method, camera, work),
+    }
+}
+
+/// Every variant on every camera of a scene. Per camera: one untimed frame of each variant
+/// (for its pixels and errors), then three rounds timing one frame of each variant in turn,
+/// keeping each variant's fastest. Interleaving puts every method under the same machine load,
+/// so a busy moment of this shared machine cannot favour one method; the minimum filters out
+/// the machine's other work, and the median over cameras is taken next.
+fn measure_scene(
+    scene: &str,
+    variants: &[Variant],
     p: &Prepared,
     work: &mut Work,
-) -> Result<FrameRecord, String> {
-    let mut times = Vec::new();
-    let (mut written, mut robust, mut all, mut polygons) = (0u64, 0u64, 0u64, 0u64);
+) -> Result<Vec<FrameRecord>, String> {
     let scenes = Scenes {
         peel: Scene::parse(&p.bytes).map_err(|e| e.to_string())?,
         naive: match &p.naive {
@@ -314,32 +341,44 @@ fn measure<const SUB: u32>(
             None => None,
         },
     };
+    let n = variants.len();
+    let mut times: Vec<Vec<f64>> = vec![Vec::new(); n];
+    let mut totals = vec![(0u64, 0u64, 0u64, 0u64); n];
     for (camera, r) in &p.views {
-        // One untimed warm-up, then the fastest of three timed frames (a frame is short: the
-        // minimum filters out the machine's other work; the median over cameras is taken next).
-        let mut d = draw::<SUB>(p, &scenes, method, camera, work)?;
-        let mut best = f64::INFINITY;
-        for _ in 0..3 {
-            let start = Instant::now();
-            d = draw::<SUB>(p, &scenes, method, camera, work)?;
-            best = best.min(start.elapsed().as_secs_f64() * 1e3);
+        for (v, total) in variants.iter().zip(&mut totals) {
+            let d = draw_at(v.sub, p, &scenes, v.method, camera, work)?;
+            let (rb, al) = errors(r, &d.ids);
+            total.0 += d.written;
+            total.1 += d.polygons;
+            total.2 += rb;
+            total.3 += al;
         }
-        times.push(best);
-        written += d.written;
-        polygons += d.polygons;
-        let (rb, al) = errors(r, &d.ids);
-        robust += rb;
-        all += al;
+        let mut best = vec![f64::INFINITY; n];
+        for _ in 0..3 {
+            for (v, b) in variants.iter().zip(&mut best) {
+                let start = Instant::now();
+                draw_at(v.sub, p, &scenes, v.method, camera, work)?;
+                *b = b.min(start.elapsed().as_secs_f64() * 1e3);
+            }
+        }
+        for (t, b) in times.iter_mut().zip(best) {
+            t.push(b);
+        }
     }
-    Ok(FrameRecord {
-        scene: scene.into(),
-        method: label.into(),
-        median_frame_ms: median(times),
-        pixels_written: written / p.views.len().max(1) as u64,
-        robust_errors: robust,
-        all_errors: all,
-        polygons_drawn: polygons / p.views.len().max(1) as u64,
-    })
+    let views = p.views.len().max(1) as u64;
+    Ok(variants
+        .iter()
+        .zip(times.into_iter().zip(totals))
+        .map(|(v, (t, (written, polygons, robust, all)))| FrameRecord {
+            scene: scene.into(),
+            method: v.label.clone(),
+            median_frame_ms: median(t),
+            pixels_written: written / views,
+            robust_errors: robust,
+            all_errors: all,
+            polygons_drawn: polygons / views,
+        })
+        .collect())
 }
 
 /// One scene of the benchmark: its mesh and, when available, the naive BSP baseline's bytes.
@@ -438,31 +477,29 @@ pub fn run(
             &CompileOptions::default(),
         )?;
         let mut work = Work::new(height);
-        for m in METHODS {
-            if m == "naive-bsp" && p.naive.is_none() {
-                continue;
-            }
-            let r = measure::<{ peel_runtime::fill::SUBPIXEL_BITS }>(&s.name, m, m, &p, &mut work)?;
+        let mut variants: Vec<Variant> = METHODS
+            .iter()
+            .filter(|&&m| m != "naive-bsp" || p.naive.is_some())
+            .map(|&m| Variant {
+                label: m.to_string(),
+                method: m,
+                sub: peel_runtime::fill::SUBPIXEL_BITS,
+            })
+            .collect();
+        for sub in [0, 4] {
+            variants.push(Variant {
+                label: format!("peel-front-to-back/sub{sub}"),
+                method: "peel-front-to-back",
+                sub,
+            });
+        }
+        for r in measure_scene(&s.name, &variants, &p, &mut work)? {
             log(&format!(
-                "  {m}: {:.3} ms, {} robust errors",
-                r.median_frame_ms, r.robust_errors
+                "  {}: {:.3} ms, {} robust errors",
+                r.method, r.median_frame_ms, r.robust_errors
             ));
             out.push(r);
         }
-        out.push(measure::<0>(
-            &s.name,
-            "peel-front-to-back/sub0",
-            "peel-front-to-back",
-            &p,
-            &mut work,
-        )?);
-        out.push(measure::<4>(
-            &s.name,
-            "peel-front-to-back/sub4",
-            "peel-front-to-back",
-            &p,
-            &mut work,
-        )?);
     }
     Ok(out)
 }
@@ -613,13 +650,14 @@ pub fn candidates_knob(
         let seconds = start.elapsed().as_secs_f64();
         let p = prepare_scene(mesh, None, &cams, width, height, &options)?;
         let mut work = Work::new(height);
-        let r = measure::<{ peel_runtime::fill::SUBPIXEL_BITS }>(
-            name,
-            "peel-front-to-back",
-            "peel-front-to-back",
-            &p,
-            &mut work,
-        )?;
+        let front_to_back = Variant {
+            label: "peel-front-to-back".into(),
+            method: "peel-front-to-back",
+            sub: peel_runtime::fill::SUBPIXEL_BITS,
+        };
+        let r = measure_scene(name, &[front_to_back], &p, &mut work)?
+            .pop()
+            .ok_or("no frame")?;
         s += &format!(
             "| {name} | {k} | {seconds:.3} | {} | {:.3} | {:.3} |\n",
             tree.stats.output_polygons,
@@ -680,15 +718,20 @@ mod tests {
         let p =
             prepare_scene(&scene.mesh, None, &cams, 64, 64, &CompileOptions::default()).unwrap();
         let mut work = Work::new(64);
-        let peel = measure::<8>(
+        let variant = |m: &'static str| Variant {
+            label: m.into(),
+            method: m,
+            sub: 8,
+        };
+        let rows = measure_scene(
             "c",
-            "peel-front-to-back",
-            "peel-front-to-back",
+            &[variant("peel-front-to-back"), variant("newell")],
             &p,
             &mut work,
         )
         .unwrap();
-        let newell = measure::<8>("c", "newell", "newell", &p, &mut work).unwrap();
+        let (peel, newell) = (&rows[0], &rows[1]);
+        assert_eq!(peel.method, "peel-front-to-back");
         assert_eq!(peel.robust_errors, 0);
         assert!(newell.robust_errors > 0, "a cycle cannot be sorted");
     }
