@@ -187,6 +187,7 @@ pub fn render(args: &RenderArgs) -> Result<(), String> {
             "polygons culled (back face): {}",
             s.polygons_culled_back_face
         );
+        println!("polygons culled (covered): {}", s.polygons_culled_covered);
         println!("polygons drawn: {}", s.polygons_drawn);
         println!("pixels written: {}", s.pixels_written);
         match s.distinct_pixels {

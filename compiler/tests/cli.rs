@@ -248,6 +248,14 @@ fn render_orders_give_the_same_picture_and_stats_report_overdraw() {
             .expect("overdraw line")
             .to_owned();
         overdraws.push(line);
+        let covered: u64 = out
+            .lines()
+            .find_map(|l| l.strip_prefix("polygons culled (covered): "))
+            .expect("covered line")
+            .parse()
+            .unwrap();
+        // Only front to back knows what is covered: hidden faces skip the fill.
+        assert_eq!(covered > 0, order == "front-to-back", "{out}");
         pictures.push(std::fs::read(&png).unwrap());
     }
     assert_eq!(

@@ -323,11 +323,12 @@ fn draw_at(
     }
 }
 
-/// Every variant on every camera of a scene. Per camera: one untimed frame of each variant
-/// (for its pixels and errors), then three rounds timing one frame of each variant in turn,
-/// keeping each variant's fastest. Interleaving puts every method under the same machine load,
-/// so a busy moment of this shared machine cannot favour one method; the minimum filters out
-/// the machine's other work, and the median over cameras is taken next.
+/// Every variant on every camera of a scene. Per camera, each variant in turn: one untimed
+/// frame (for its pixels and errors, and to warm the caches with its own data, as a renderer
+/// drawing frame after frame has them), then the fastest of three timed frames. Taking the
+/// cameras in the outer loop spreads a busy moment of this shared machine over every method
+/// rather than one; the minimum filters out the machine's other work, and the median over
+/// cameras is taken next.
 fn measure_scene(
     scene: &str,
     variants: &[Variant],
@@ -345,24 +346,20 @@ fn measure_scene(
     let mut times: Vec<Vec<f64>> = vec![Vec::new(); n];
     let mut totals = vec![(0u64, 0u64, 0u64, 0u64); n];
     for (camera, r) in &p.views {
-        for (v, total) in variants.iter().zip(&mut totals) {
+        for ((v, total), t) in variants.iter().zip(&mut totals).zip(&mut times) {
             let d = draw_at(v.sub, p, &scenes, v.method, camera, work)?;
             let (rb, al) = errors(r, &d.ids);
             total.0 += d.written;
             total.1 += d.polygons;
             total.2 += rb;
             total.3 += al;
-        }
-        let mut best = vec![f64::INFINITY; n];
-        for _ in 0..3 {
-            for (v, b) in variants.iter().zip(&mut best) {
+            let mut best = f64::INFINITY;
+            for _ in 0..3 {
                 let start = Instant::now();
                 draw_at(v.sub, p, &scenes, v.method, camera, work)?;
-                *b = b.min(start.elapsed().as_secs_f64() * 1e3);
+                best = best.min(start.elapsed().as_secs_f64() * 1e3);
             }
-        }
-        for (t, b) in times.iter_mut().zip(best) {
-            t.push(b);
+            t.push(best);
         }
     }
     let views = p.views.len().max(1) as u64;
