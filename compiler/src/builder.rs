@@ -2,12 +2,13 @@
 
 use std::path::{Path, PathBuf};
 
-use crate::compile::{compile_obj, CompileOptions};
+use crate::compile::{compile_obj, CompileOptions, Compiled};
 use crate::error::CompileError;
 use crate::shade::Shading;
 
 /// Compiles an OBJ (and its MTL) into `OUT_DIR` from a `build.rs`, and tells cargo to rerun
-/// the build script when any of the files read changes.
+/// the build script when any of the files read changes, or an MTL file the OBJ names but that
+/// is missing appears.
 ///
 /// In `build.rs`:
 ///
@@ -99,7 +100,7 @@ impl Builder {
         // Rerun on the OBJ even if loading fails, so fixing it triggers a rebuild.
         println!("cargo:rerun-if-changed={}", self.obj.display());
         let compiled = compile_obj(&self.obj, &self.options, &|_| {})?;
-        for f in compiled.files.iter().filter(|f| **f != self.obj) {
+        for f in watched(&self.obj, &compiled) {
             println!("cargo:rerun-if-changed={}", f.display());
         }
         for w in &compiled.warnings {
@@ -108,5 +109,58 @@ impl Builder {
         let out = out_dir.join(name);
         crate::write::write_atomic(&out, &compiled.bytes)?;
         Ok(out)
+    }
+}
+
+/// The paths besides `obj` whose changes must rerun the build script: the MTL files read, and
+/// for each MTL file named but missing, the nearest folder on its path that exists (creating
+/// the file, or a folder towards it, changes that folder; the missing path itself would make
+/// cargo rerun the script on every build).
+fn watched(obj: &Path, compiled: &Compiled) -> Vec<PathBuf> {
+    let mut out: Vec<PathBuf> = compiled
+        .files
+        .iter()
+        .filter(|f| *f != obj)
+        .cloned()
+        .collect();
+    for m in &compiled.missing {
+        let dir = m
+            .ancestors()
+            .skip(1)
+            .find(|d| d.as_os_str().is_empty() || d.is_dir())
+            .filter(|d| !d.as_os_str().is_empty())
+            .map_or_else(|| PathBuf::from("."), Path::to_path_buf);
+        if !out.contains(&dir) {
+            out.push(dir);
+        }
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn missing_mtl_files_are_watched_through_their_nearest_folder() {
+        let dir = tempfile::tempdir().unwrap();
+        let obj = dir.path().join("scene.obj");
+        std::fs::write(
+            &obj,
+            "mtllib here.mtl\nmtllib gone.mtl\nmtllib sub/deeper/gone.mtl\n\
+             v 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl red\nf 1 2 3\n",
+        )
+        .unwrap();
+        let here = dir.path().join("here.mtl");
+        std::fs::write(&here, "newmtl red\nKd 1 0 0\n").unwrap();
+        let compiled = compile_obj(&obj, &CompileOptions::default(), &|_| {}).unwrap();
+        assert_eq!(compiled.files, [obj.clone(), here.clone()]);
+        assert_eq!(compiled.missing.len(), 2);
+        // The folder holds the missing file; `sub/deeper` does not exist, so its nearest
+        // existing ancestor (the same folder) is watched, once.
+        assert_eq!(watched(&obj, &compiled), [here, dir.path().to_path_buf()]);
+        // The Builder writes the file and still succeeds (missing MTL files only warn).
+        let out = Builder::new(&obj).out_dir(dir.path()).compile().unwrap();
+        assert!(out.exists());
     }
 }

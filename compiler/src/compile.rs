@@ -33,6 +33,8 @@ pub struct Compiled {
     pub warnings: Vec<String>,
     /// Files read (OBJ and MTL).
     pub files: Vec<PathBuf>,
+    /// MTL files named but absent (see [`Mesh::missing`]).
+    pub missing: Vec<PathBuf>,
 }
 
 /// Build, shade and encode an already loaded mesh.
@@ -82,5 +84,6 @@ pub fn compile_obj(
         seconds: start.elapsed().as_secs_f64(),
         warnings: mesh.warnings,
         files: mesh.files,
+        missing: mesh.missing,
     })
 }

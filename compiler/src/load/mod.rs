@@ -69,6 +69,10 @@ pub struct Mesh {
     pub warnings: Vec<String>,
     /// Every file read (the OBJ and its MTL files), for `cargo:rerun-if-changed`.
     pub files: Vec<PathBuf>,
+    /// MTL files the OBJ names but that do not exist: a build script watches these paths'
+    /// folders (a missing file itself would make cargo rerun it on every build), so adding
+    /// the file triggers a rebuild.
+    pub missing: Vec<PathBuf>,
 }
 
 /// Load an OBJ file (and its MTL files).
@@ -178,8 +182,13 @@ pub fn load_obj_text(path: &Path, text: &str) -> Result<Mesh, CompileError> {
                 })
             }
         }
-        if !matches!(outcome, MtlOutcome::Missing) && !mesh.files.contains(full) {
-            mesh.files.push(full.clone());
+        let list = if matches!(outcome, MtlOutcome::Missing) {
+            &mut mesh.missing
+        } else {
+            &mut mesh.files
+        };
+        if !list.contains(full) {
+            list.push(full.clone());
         }
     }
     let colours: Vec<Option<[u8; 3]>> = materials
