@@ -236,6 +236,9 @@ pub(crate) struct Sample<'a> {
     coords: Vec<[f64; 3]>,
     /// `coords[ends[i - 1]..ends[i]]` are fragment `i`'s vertices.
     ends: Vec<u32>,
+    /// The largest `|x| + |y| + |z|` of `coords`: with it one filter bound per plane holds for
+    /// every vertex (see [`Sample::filter_bound`]).
+    l1_max: f64,
 }
 
 impl<'a> Sample<'a> {
@@ -247,16 +250,31 @@ impl<'a> Sample<'a> {
             coords.extend(f.vertices.iter().map(Vertex::approx));
             ends.push(coords.len() as u32);
         }
+        let l1_max = coords
+            .iter()
+            .map(|c| c[0].abs() + c[1].abs() + c[2].abs())
+            .fold(0.0, f64::max);
         Sample {
             frags,
             coords,
             ends,
+            l1_max,
         }
     }
 
-    /// [`Fragment::placement`] of fragment `i`, filtered.
+    /// One f64 filter bound for `e` and every vertex of the sample: `FILTER_BOUND` is relative
+    /// to `Σ|n_k x_k| + |d|`, which is at most `max|n_k| * (|x| + |y| + |z|) + |d|`; twice
+    /// that over the sample's largest `|x| + |y| + |z|` covers the rounding of these sums.
+    /// Looser than the per-vertex bound only by what sends a vertex within ~2^-44 of the
+    /// plane's scale to the exact predicate, which nearly only vertices on the plane are.
+    fn filter_bound(&self, e: &PlaneEntry) -> f64 {
+        let n = e.nf[0].abs().max(e.nf[1].abs()).max(e.nf[2].abs());
+        2.0 * (n * self.l1_max + e.df.abs()) * FILTER_BOUND
+    }
+
+    /// [`Fragment::placement`] of fragment `i`, filtered with `bound` ([`Self::filter_bound`]).
     #[inline]
-    fn placement(&self, i: usize, plane: PlaneId, e: &PlaneEntry) -> Placement {
+    fn placement(&self, i: usize, plane: PlaneId, e: &PlaneEntry, bound: f64) -> Placement {
         let f = self.frags[i];
         if f.support == plane {
             return Placement::On;
@@ -267,9 +285,7 @@ impl<'a> Sample<'a> {
                 .iter()
                 .enumerate()
                 .map(|(k, c)| {
-                    let t = [e.nf[0] * c[0], e.nf[1] * c[1], e.nf[2] * c[2]];
-                    let s = t[0] + t[1] + t[2] - e.df;
-                    let bound = (t[0].abs() + t[1].abs() + t[2].abs() + e.df.abs()) * FILTER_BOUND;
+                    let s = e.nf[0] * c[0] + e.nf[1] * c[1] + e.nf[2] * c[2] - e.df;
                     if s > bound {
                         Side::Front
                     } else if s < -bound {
@@ -298,8 +314,9 @@ impl<'a> Sample<'a> {
         let e = table.get(plane);
         let n = self.frags.len() as u64;
         let (mut cuts, mut front, mut back) = (0u64, 0u64, 0u64);
+        let bound = self.filter_bound(e);
         for i in 0..self.frags.len() {
-            match self.placement(i, plane, e) {
+            match self.placement(i, plane, e, bound) {
                 Placement::Front => front += 1,
                 Placement::Back => back += 1,
                 Placement::On => {}

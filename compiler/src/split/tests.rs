@@ -77,3 +77,51 @@ fn sampling_is_deterministic() {
     assert_eq!(xs, (0..100).map(|_| b.below(7)).collect::<Vec<_>>());
     assert!(xs.iter().all(|&x| x < 7) && xs.contains(&6));
 }
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(256))]
+
+    /// The filtered cost (one f64 bound per plane, exact predicate near the plane) counts what
+    /// the exact placement counts: fragments cut by the plane and on each side, including
+    /// fragments touching it, lying in it, and cut pieces (homogeneous vertices) near it.
+    #[test]
+    fn filtered_cost_equals_the_exact_count(
+        tris in proptest::collection::vec([pt(), pt(), pt()], 2..12),
+        scale in 0u32..12,
+    ) {
+        let s = 1i32 << scale;
+        let mut table = PlaneTable::default();
+        // Corners on a coarse lattice so that many planes pass through other corners.
+        let frags: Vec<Fragment> = tris
+            .iter()
+            .filter_map(|t| triangle(&mut table, t.map(|p| p.map(|c| (c / 250) * s))))
+            .collect();
+        // Cut every fragment by the first support plane, so the list holds cut vertices too.
+        let Some(first) = frags.first().map(|f| f.support) else { return Ok(()) };
+        let mut list = Vec::new();
+        for f in &frags {
+            match f.clone().split(first, &table).expect("consistent") {
+                SplitResult::Cut(a, b) => list.extend([a, b]),
+                SplitResult::Front(f) | SplitResult::Back(f) | SplitResult::On(f) => list.push(f),
+            }
+        }
+        let refs: Vec<&Fragment> = list.iter().collect();
+        for plane in list.iter().map(|f| f.support) {
+            let (mut cuts, mut front, mut back) = (0u64, 0u64, 0u64);
+            for f in &list {
+                match f.placement(plane, &table) {
+                    Placement::Front => front += 1,
+                    Placement::Back => back += 1,
+                    Placement::On => {}
+                    Placement::Straddle => {
+                        cuts += 1;
+                        front += 1;
+                        back += 1;
+                    }
+                }
+            }
+            let want = cuts * CUT_WEIGHT + front.abs_diff(back);
+            prop_assert_eq!(cost(&refs, plane, &table, u64::MAX), want);
+        }
+    }
+}
