@@ -313,37 +313,56 @@ impl<'a> Sample<'a> {
     ) -> u64 {
         let e = table.get(plane);
         let n = self.frags.len() as u64;
-        let (mut cuts, mut front, mut back) = (0u64, 0u64, 0u64);
+        let mut tally = Tally::default();
         let bound = self.filter_bound(e);
         for i in 0..self.frags.len() {
-            match self.placement(i, plane, e, bound) {
-                Placement::Front => front += 1,
-                Placement::Back => back += 1,
-                Placement::On => {}
-                Placement::Straddle => {
-                    cuts += 1;
-                    front += 1;
-                    back += 1;
-                    if cuts * rule.cut_weight > limit {
-                        return u64::MAX;
-                    }
-                }
+            let placement = self.placement(i, plane, e, bound);
+            tally.add(placement);
+            if placement == Placement::Straddle && tally.cuts * rule.cut_weight > limit {
+                return u64::MAX;
             }
-            if i % 16 == 15 {
-                let left = n - 1 - i as u64;
-                let bound = cuts * rule.cut_weight
-                    + front.abs_diff(back).saturating_sub(left) * rule.balance_weight;
-                if bound > limit {
-                    return u64::MAX;
-                }
+            if i % 16 == 15 && tally.cost(rule, n - 1 - i as u64) > limit {
+                return u64::MAX;
             }
         }
-        let c = cuts * rule.cut_weight + front.abs_diff(back) * rule.balance_weight;
+        let c = tally.cost(rule, 0);
         if c > limit {
             u64::MAX
         } else {
             c
         }
+    }
+}
+
+/// Fragments counted against a plane: cut, and on each side (a cut piece counts on both
+/// sides, a fragment in the plane on neither).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub(crate) struct Tally {
+    cuts: u64,
+    front: u64,
+    back: u64,
+}
+
+impl Tally {
+    /// Count one fragment.
+    pub(crate) fn add(&mut self, placement: Placement) {
+        match placement {
+            Placement::Front => self.front += 1,
+            Placement::Back => self.back += 1,
+            Placement::On => {}
+            Placement::Straddle => {
+                self.cuts += 1;
+                self.front += 1;
+                self.back += 1;
+            }
+        }
+    }
+
+    /// `rule`'s cost of the count; with `left` fragments still to count, the least the final
+    /// cost can be (they can only make up that much imbalance).
+    pub(crate) fn cost(&self, rule: SplitRule, left: u64) -> u64 {
+        self.cuts * rule.cut_weight
+            + self.front.abs_diff(self.back).saturating_sub(left) * rule.balance_weight
     }
 }
 

@@ -107,20 +107,12 @@ proptest! {
         }
         let refs: Vec<&Fragment> = list.iter().collect();
         for plane in list.iter().map(|f| f.support) {
-            let (mut cuts, mut front, mut back) = (0u64, 0u64, 0u64);
+            // The oracle: the exact placement of every fragment, no filter.
+            let mut exact = Tally::default();
             for f in &list {
-                match f.placement(plane, &table) {
-                    Placement::Front => front += 1,
-                    Placement::Back => back += 1,
-                    Placement::On => {}
-                    Placement::Straddle => {
-                        cuts += 1;
-                        front += 1;
-                        back += 1;
-                    }
-                }
+                exact.add(f.placement(plane, &table));
             }
-            let want = cuts * CUT_WEIGHT + front.abs_diff(back);
+            let want = exact.cost(SplitRule::default(), 0);
             prop_assert_eq!(cost(&refs, plane, &table, u64::MAX), want);
         }
     }
