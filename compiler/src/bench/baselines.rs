@@ -272,8 +272,8 @@ pub fn greedy_triangles(
         input_triangles: input.input_triangles,
         ..BaselineStats::default()
     };
-    let mut stack = vec![(input.fragments, 1u64)];
-    while let Some((frags, depth)) = stack.pop() {
+    let mut stack = vec![(input.fragments, 1u64, Vec::new())];
+    while let Some((frags, depth, known)) = stack.pop() {
         if frags.is_empty() {
             continue;
         }
@@ -282,13 +282,13 @@ pub fn greedy_triangles(
         let mut planes: Vec<PlaneId> = frags.iter().map(|f| f.support).collect();
         planes.sort_unstable();
         planes.dedup();
-        let hull = hull_planes(&frags, &planes, table);
-        if hull.iter().any(Option::is_some) {
+        let hull = hull_planes(&frags, &planes, table, &known);
+        if hull.sides.iter().any(Option::is_some) {
             let (e, rest): (Vec<Fragment>, Vec<Fragment>) = frags.into_iter().partition(|f| {
-                hull[planes.binary_search(&f.support).expect("own plane")].is_some()
+                hull.sides[planes.binary_search(&f.support).expect("own plane")].is_some()
             });
             stats.output_polygons += triangles(&e);
-            stack.push((rest, depth + 1));
+            stack.push((rest, depth + 1, hull.witnesses));
             continue;
         }
         stats.split_nodes += 1;
@@ -308,8 +308,8 @@ pub fn greedy_triangles(
         } else {
             back.extend(on);
         }
-        stack.push((back, depth + 1));
-        stack.push((front, depth + 1));
+        stack.push((back, depth + 1, hull.witnesses.clone()));
+        stack.push((front, depth + 1, hull.witnesses));
     }
     Ok(stats)
 }

@@ -13,11 +13,17 @@
 //! touch it within the rounding margin (those around its own vertices, plus box corners
 //! poking through it). Worst case (every vertex within the margin of the plane, e.g. a
 //! nearly flat or highly symmetric scene) it degrades to the exact scan, O(m) per plane.
+//!
+//! Witnesses: a plane found off the hull comes with its proof, a vertex strictly on each
+//! side ([`Witness`]). A child node's list only loses vertices (peeling) or keeps part of
+//! them (a split), so a plane whose two witnesses are still vertices of the child is still
+//! off the hull there, and is not queried again; only planes that lost a witness are. Peeling
+//! one thin layer at a time would otherwise query every remaining plane again per layer.
 
 use rayon::prelude::*;
 
-use crate::planes::Vertex;
-use crate::planes::{side_of_hom, HomPoint, PlaneEntry, PlaneId, PlaneTable, Side};
+use crate::hash::FastSet;
+use crate::planes::{PlaneEntry, PlaneId, PlaneTable, Side, Vertex};
 use crate::split::Fragment;
 
 /// Points per leaf.
@@ -26,17 +32,31 @@ const LEAF: usize = 8;
 /// Extra safety factor on the f64 box bounds (on top of the per-vertex filter bound).
 const BOX_MARGIN: f64 = 1.0 / (1u64 << 40) as f64;
 
-#[derive(Clone, Copy)]
-enum Pt<'a> {
-    Int([i32; 3]),
-    Hom(&'a HomPoint),
+/// Why a plane is not on the hull of a list: a vertex of the list strictly on each side.
+#[derive(Debug, Clone)]
+pub struct Witness {
+    /// The plane.
+    pub plane: PlaneId,
+    /// A vertex strictly on its + side.
+    pub front: Vertex,
+    /// A vertex strictly on its − side.
+    pub back: Vertex,
 }
 
-impl Pt<'_> {
-    fn side(&self, e: &PlaneEntry) -> Side {
-        match self {
-            Pt::Int(p) => e.plane.side_of_point(*p),
-            Pt::Hom(h) => side_of_hom(h, e),
+/// The identity of a vertex: grid points by value, cut points by allocation. Two cut points
+/// at the same place may have different keys, which only costs a query; equal keys are
+/// always the same point (a witness holds its `Arc`, so its address is never reused).
+#[derive(Clone, Copy, PartialEq, Eq, Hash)]
+enum Key {
+    Int([i32; 3]),
+    Hom(usize),
+}
+
+impl Key {
+    fn of(v: &Vertex) -> Key {
+        match v {
+            Vertex::Int(p) => Key::Int(*p),
+            Vertex::Hom(h) => Key::Hom(std::sync::Arc::as_ptr(h) as usize),
         }
     }
 }
@@ -52,26 +72,26 @@ struct BvhNode {
 
 /// The vertices of a fragment list in a bounding-volume hierarchy.
 pub struct VertexSet<'a> {
-    pts: Vec<([f64; 3], Pt<'a>)>,
+    pts: Vec<([f64; 3], &'a Vertex)>,
     nodes: Vec<BvhNode>,
 }
 
 impl<'a> VertexSet<'a> {
     /// The distinct grid vertices and all cut vertices of `frags`.
     pub fn new(frags: &'a [Fragment]) -> VertexSet<'a> {
-        let mut ints: Vec<[i32; 3]> = Vec::new();
-        let mut pts: Vec<([f64; 3], Pt<'a>)> = Vec::new();
+        let mut ints: Vec<([i32; 3], &'a Vertex)> = Vec::new();
+        let mut pts: Vec<([f64; 3], &'a Vertex)> = Vec::new();
         for f in frags {
             for v in &f.vertices {
                 match v {
-                    Vertex::Int(p) => ints.push(*p),
-                    Vertex::Hom(h) => pts.push((h.approx, Pt::Hom(h))),
+                    Vertex::Int(p) => ints.push((*p, v)),
+                    Vertex::Hom(h) => pts.push((h.approx, v)),
                 }
             }
         }
-        ints.sort_unstable();
-        ints.dedup();
-        pts.extend(ints.into_iter().map(|p| (p.map(|c| c as f64), Pt::Int(p))));
+        ints.sort_unstable_by_key(|&(p, _)| p);
+        ints.dedup_by_key(|&mut (p, _)| p);
+        pts.extend(ints.into_iter().map(|(p, v)| (p.map(|c| c as f64), v)));
         let mut set = VertexSet {
             pts,
             nodes: Vec::new(),
@@ -129,10 +149,10 @@ impl<'a> VertexSet<'a> {
         (lo, hi, m * BOX_MARGIN)
     }
 
-    /// True when some vertex lies strictly on `side` (`Front` or `Back`) of `e`.
-    pub fn any_strictly(&self, e: &PlaneEntry, side: Side) -> bool {
+    /// A vertex lying strictly on `side` (`Front` or `Back`) of `e`, if there is one.
+    pub fn any_strictly(&self, e: &PlaneEntry, side: Side) -> Option<&'a Vertex> {
         if self.nodes.is_empty() {
-            return false;
+            return None;
         }
         let sign = if side == Side::Front { 1.0 } else { -1.0 };
         // The median split keeps the hierarchy's depth below 33 for any `u32` point count;
@@ -148,16 +168,21 @@ impl<'a> VertexSet<'a> {
             if hi < -m {
                 continue; // every vertex strictly on the other side
             }
-            if lo > m {
-                return true; // a non-empty box wholly, strictly on `side`
-            }
             if node.leaf {
-                if self.pts[node.start as usize..node.end as usize]
-                    .iter()
-                    .any(|(_, p)| p.side(e) == side)
-                {
-                    return true;
+                let pts = &self.pts[node.start as usize..node.end as usize];
+                if lo > m {
+                    return pts.first().map(|&(_, v)| v); // wholly, strictly on `side`
                 }
+                if let Some(&(_, v)) = pts.iter().find(|(_, v)| v.side(e) == side) {
+                    return Some(v);
+                }
+            } else if lo > m {
+                // Wholly, strictly on `side`: any of its points (the leftmost leaf's first).
+                let mut c = node.start;
+                while !self.nodes[c as usize].leaf {
+                    c = self.nodes[c as usize].start;
+                }
+                return Some(self.pts[self.nodes[c as usize].start as usize].1);
             } else {
                 // Visit the child reaching further to `side` first.
                 let (l, r) = (node.start, node.end);
@@ -176,35 +201,92 @@ impl<'a> VertexSet<'a> {
                 len += 2;
             }
         }
-        false
+        None
     }
 
-    /// `Some(interior_front)` when `e` is on the hull of the set: `interior_front` is true when
-    /// the rest lies on the + side (also when every vertex is in the plane); `None` otherwise.
-    pub fn hull_side(&self, e: &PlaneEntry) -> Option<bool> {
+    /// `Ok(interior_front)` when plane `p` is on the hull of the set: `interior_front` is true
+    /// when the rest lies on the + side (also when every vertex is in the plane); otherwise
+    /// `Err` with the witnesses that it is not.
+    pub fn hull_side(&self, p: PlaneId, table: &PlaneTable) -> Result<bool, Witness> {
+        let e = table.get(p);
         let front = self.any_strictly(e, Side::Front);
-        if front && self.any_strictly(e, Side::Back) {
-            None
-        } else {
-            Some(front || !self.any_strictly(e, Side::Back))
+        let back = self.any_strictly(e, Side::Back);
+        match (front, back) {
+            (Some(f), Some(b)) => Err(Witness {
+                plane: p,
+                front: f.clone(),
+                back: b.clone(),
+            }),
+            (f, b) => Ok(f.is_some() || b.is_none()),
         }
     }
 }
 
-/// For each plane of `planes` (the distinct support planes of `frags`): `Some(interior_front)`
-/// when it is on the convex hull of `frags`, else `None`.
+/// Seed 000's set E of a fragment list, and why the other planes are not in it.
+#[derive(Debug, Clone, Default)]
+pub struct Hull {
+    /// Per plane of `planes` (the list's distinct support planes): `Some(interior_front)` when
+    /// it is on the convex hull, else `None`.
+    pub sides: Vec<Option<bool>>,
+    /// A witness for every plane off the hull, sorted by plane (to pass to a child list).
+    pub witnesses: Vec<Witness>,
+}
+
+/// For each plane of `planes` (the distinct support planes of `frags`, sorted): is it on the
+/// convex hull of `frags`? `known` holds witnesses found for a list `frags` came from (sorted
+/// by plane): a plane whose two witnesses are still vertices of `frags` is off the hull
+/// without a query.
 pub fn hull_planes(
     frags: &[Fragment],
     planes: &[PlaneId],
     table: &PlaneTable,
-) -> Vec<Option<bool>> {
-    let set = VertexSet::new(frags);
-    let test = |&p: &PlaneId| set.hull_side(table.get(p));
-    if planes.len() > 64 && frags.len() > 512 {
-        planes.par_iter().map(test).collect()
-    } else {
-        planes.iter().map(test).collect()
+    known: &[Witness],
+) -> Hull {
+    // Planes off the hull by a still valid witness (indices into `known`), others to query.
+    let mut carried: Vec<Option<usize>> = vec![None; planes.len()];
+    if !known.is_empty() {
+        let present: FastSet<Key> = frags
+            .iter()
+            .flat_map(|f| f.vertices.iter().map(Key::of))
+            .collect();
+        let mut k = 0;
+        for (i, &p) in planes.iter().enumerate() {
+            while k < known.len() && known[k].plane < p {
+                k += 1;
+            }
+            if let Some(w) = known.get(k).filter(|w| w.plane == p) {
+                if present.contains(&Key::of(&w.front)) && present.contains(&Key::of(&w.back)) {
+                    carried[i] = Some(k);
+                }
+            }
+        }
     }
+    let queried = carried.iter().filter(|c| c.is_none()).count();
+    // Built only when some plane needs a query.
+    let set = VertexSet::new(if queried == 0 { &[] } else { frags });
+    let test = |(&p, c): (&PlaneId, &Option<usize>)| match c {
+        Some(k) => Err(known[*k].clone()),
+        None => set.hull_side(p, table),
+    };
+    let results: Vec<Result<bool, Witness>> = if queried > 64 && frags.len() > 512 {
+        planes.par_iter().zip(&carried).map(test).collect()
+    } else {
+        planes.iter().zip(&carried).map(test).collect()
+    };
+    let mut hull = Hull {
+        sides: Vec::with_capacity(planes.len()),
+        witnesses: Vec::with_capacity(planes.len()),
+    };
+    for r in results {
+        match r {
+            Ok(interior_front) => hull.sides.push(Some(interior_front)),
+            Err(w) => {
+                hull.sides.push(None);
+                hull.witnesses.push(w);
+            }
+        }
+    }
+    hull
 }
 
 #[cfg(test)]
@@ -225,6 +307,39 @@ mod tests {
             (false, true) => Some(false),
             (false, false) => Some(true),
         }
+    }
+
+    /// Triangles of `pts` (three points each) in a fresh table, then cut by the first one's
+    /// plane, so that the list also holds cut vertices.
+    fn soup(pts: &[[i32; 3]]) -> (PlaneTable, Vec<Fragment>) {
+        let mut table = PlaneTable::default();
+        let frags: Vec<Fragment> = pts
+            .chunks_exact(3)
+            .filter_map(|t| crate::split::triangle_fragment(&mut table, [t[0], t[1], t[2]]))
+            .collect();
+        let Some(cut) = frags.first().map(|f| f.support) else {
+            return (table, frags);
+        };
+        let mut out = Vec::new();
+        for f in frags {
+            match f.split(cut, &table) {
+                Some(crate::split::SplitResult::Cut(a, b)) => out.extend([a, b]),
+                Some(
+                    crate::split::SplitResult::Front(f)
+                    | crate::split::SplitResult::Back(f)
+                    | crate::split::SplitResult::On(f),
+                ) => out.push(f),
+                None => {}
+            }
+        }
+        (table, out)
+    }
+
+    fn support_planes(frags: &[Fragment]) -> Vec<PlaneId> {
+        let mut p: Vec<PlaneId> = frags.iter().map(|f| f.support).collect();
+        p.sort_unstable();
+        p.dedup();
+        p
     }
 
     proptest! {
@@ -252,10 +367,46 @@ mod tests {
                 }
             }
             let planes: Vec<PlaneId> = (0..table.len() as PlaneId).collect();
-            let got = hull_planes(&frags, &planes, &table);
+            let got = hull_planes(&frags, &planes, &table, &[]);
             for (i, &p) in planes.iter().enumerate() {
-                prop_assert_eq!(got[i], naive(&frags, table.get(p)));
+                prop_assert_eq!(got.sides[i], naive(&frags, table.get(p)));
             }
+        }
+
+        /// A child list (part of its parent's fragments) answers exactly like the exact scan
+        /// when given the parent's witnesses, which are vertices strictly on each side.
+        #[test]
+        fn witnesses_carried_to_a_child_keep_answers_exact(
+            pts in proptest::collection::vec([-30i32..30, -30i32..30, -4i32..4], 6..150),
+            keep in proptest::collection::vec(proptest::bool::weighted(0.8), 100),
+        ) {
+            let (table, frags) = soup(&pts);
+            let planes = support_planes(&frags);
+            let parent = hull_planes(&frags, &planes, &table, &[]);
+            for w in &parent.witnesses {
+                let e = table.get(w.plane);
+                prop_assert_eq!(w.front.side(e), Side::Front);
+                prop_assert_eq!(w.back.side(e), Side::Back);
+            }
+            let child: Vec<Fragment> = frags
+                .iter()
+                .enumerate()
+                .filter(|(i, _)| keep[i % keep.len()])
+                .map(|(_, f)| f.clone())
+                .collect();
+            let planes = support_planes(&child);
+            let got = hull_planes(&child, &planes, &table, &parent.witnesses);
+            for (i, &p) in planes.iter().enumerate() {
+                prop_assert_eq!(got.sides[i], naive(&child, table.get(p)));
+            }
+            let off: Vec<PlaneId> = got.witnesses.iter().map(|w| w.plane).collect();
+            let want: Vec<PlaneId> = planes
+                .iter()
+                .zip(&got.sides)
+                .filter(|(_, s)| s.is_none())
+                .map(|(&p, _)| p)
+                .collect();
+            prop_assert_eq!(off, want);
         }
     }
 }

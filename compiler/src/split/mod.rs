@@ -236,6 +236,10 @@ pub(crate) struct Sample<'a> {
     coords: Vec<[f64; 3]>,
     /// `coords[ends[i - 1]..ends[i]]` are fragment `i`'s vertices.
     ends: Vec<u32>,
+    /// Per fragment, a centre `c` and `r` with `|x − c_x| + |y − c_y| + |z − c_z| <= r` for
+    /// each of its vertices (one array per component, so that the test vectorises): one dot
+    /// product places most fragments (see [`Sample::cost_with`]).
+    balls: [Vec<f64>; 4],
     /// The largest `|x| + |y| + |z|` of `coords`: with it one filter bound per plane holds for
     /// every vertex (see [`Sample::filter_bound`]).
     l1_max: f64,
@@ -246,9 +250,14 @@ impl<'a> Sample<'a> {
         let frags: Vec<&Fragment> = frags.collect();
         let mut coords = Vec::with_capacity(frags.len() * 4);
         let mut ends = Vec::with_capacity(frags.len());
+        let mut balls: [Vec<f64>; 4] = Default::default();
         for f in &frags {
+            let lo = coords.len();
             coords.extend(f.vertices.iter().map(Vertex::approx));
             ends.push(coords.len() as u32);
+            for (v, b) in ball(&coords[lo..]).into_iter().zip(&mut balls) {
+                b.push(v);
+            }
         }
         let l1_max = coords
             .iter()
@@ -258,6 +267,7 @@ impl<'a> Sample<'a> {
             frags,
             coords,
             ends,
+            balls,
             l1_max,
         }
     }
@@ -273,7 +283,6 @@ impl<'a> Sample<'a> {
     }
 
     /// [`Fragment::placement`] of fragment `i`, filtered with `bound` ([`Self::filter_bound`]).
-    #[inline]
     fn placement(&self, i: usize, plane: PlaneId, e: &PlaneEntry, bound: f64) -> Placement {
         let f = self.frags[i];
         if f.support == plane {
@@ -312,16 +321,35 @@ impl<'a> Sample<'a> {
         limit: u64,
     ) -> u64 {
         let e = table.get(plane);
-        let n = self.frags.len() as u64;
+        let n = self.frags.len();
         let mut tally = Tally::default();
         let bound = self.filter_bound(e);
-        for i in 0..self.frags.len() {
-            let placement = self.placement(i, plane, e, bound);
-            tally.add(placement);
-            if placement == Placement::Straddle && tally.cuts * rule.cut_weight > limit {
-                return u64::MAX;
+        // Every vertex `v` of fragment `i` has `n·v − d` within `max|n_k|·r_i` of the value
+        // at its centre, up to roundings far below `bound` (`bound` is `2^-44` of the
+        // magnitudes involved, the roundings a few `2^-53`): past `max|n_k|·r_i + 2·bound`,
+        // every vertex's own filtered value is past `bound`, so the vertex loop would find the
+        // same side. (A fragment in the plane never gets past it: its values are all 0.)
+        let nmax = e.nf[0].abs().max(e.nf[1].abs()).max(e.nf[2].abs()) * BALL_SLACK;
+        let [cx, cy, cz, r] = &self.balls;
+        for start in (0..n).step_by(16) {
+            let end = (start + 16).min(n);
+            let (mut front, mut back, mut undecided) = (0, 0, 0u32);
+            for j in start..end {
+                let s = e.nf[0] * cx[j] + e.nf[1] * cy[j] + e.nf[2] * cz[j] - e.df;
+                let reach = nmax * r[j] + 2.0 * bound;
+                let (f, b) = (s > reach, s < -reach);
+                front += u64::from(f);
+                back += u64::from(b);
+                undecided |= u32::from(!(f | b)) << (j - start);
             }
-            if i % 16 == 15 && tally.cost(rule, n - 1 - i as u64) > limit {
+            tally.front += front;
+            tally.back += back;
+            while undecided != 0 {
+                let j = start + undecided.trailing_zeros() as usize;
+                undecided &= undecided - 1;
+                tally.add(self.placement(j, plane, e, bound));
+            }
+            if tally.cuts * rule.cut_weight > limit || tally.cost(rule, (n - end) as u64) > limit {
                 return u64::MAX;
             }
         }
@@ -332,6 +360,27 @@ impl<'a> Sample<'a> {
             c
         }
     }
+}
+
+/// Relative slack on the rounded `max|n_k|·r` of [`Sample::cost_with`] (a few ulps would do).
+const BALL_SLACK: f64 = 1.0 + 1.0 / (1u64 << 40) as f64;
+
+/// The centre (vertex mean) of `coords` and the largest L1 distance from it to one of them,
+/// rounded up by [`BALL_SLACK`] so that the rounding of the distances cannot make it short.
+fn ball(coords: &[[f64; 3]]) -> [f64; 4] {
+    let k = coords.len().max(1) as f64;
+    let mut c = [0.0; 3];
+    for p in coords {
+        for j in 0..3 {
+            c[j] += p[j];
+        }
+    }
+    let c = c.map(|v| v / k);
+    let r = coords
+        .iter()
+        .map(|p| (p[0] - c[0]).abs() + (p[1] - c[1]).abs() + (p[2] - c[2]).abs())
+        .fold(0.0, f64::max);
+    [c[0], c[1], c[2], r * BALL_SLACK]
 }
 
 /// Fragments counted against a plane: cut, and on each side (a cut piece counts on both
@@ -451,6 +500,30 @@ pub fn choose_split_with(
         cands.iter().map(costed).min()
     };
     best.map(|(_, p)| p).unwrap_or(planes[0])
+}
+
+/// The fragment of triangle `q` (its edge planes through the support's normal direction), as
+/// the input stage makes it; `None` when degenerate. For tests of the modules that cut and peel.
+#[cfg(test)]
+pub(crate) fn triangle_fragment(table: &mut PlaneTable, q: [[i32; 3]; 3]) -> Option<Fragment> {
+    let (plane, flipped) = crate::planes::Plane::through(q[0], q[1], q[2])?;
+    let support = table.insert(plane);
+    let edges = (0..3)
+        .map(|k| {
+            let e = crate::planes::edge_plane(q[k], q[(k + 1) % 3], plane.n);
+            Edge {
+                plane: table.insert(e),
+                inside: e.side_of_point(q[(k + 2) % 3]),
+            }
+        })
+        .collect();
+    Some(Fragment {
+        source: 0,
+        support,
+        flipped,
+        vertices: q.map(Vertex::Int).to_vec(),
+        edges,
+    })
 }
 
 #[cfg(test)]

@@ -1,29 +1,9 @@
 //! Exact cuts: pieces on their sides, sharing exactly the cut vertices.
 
+use super::triangle_fragment as triangle;
 use super::*;
-use crate::planes::{edge_plane, Plane};
+use crate::planes::Plane;
 use proptest::prelude::*;
-
-fn triangle(table: &mut PlaneTable, q: [[i32; 3]; 3]) -> Option<Fragment> {
-    let (plane, flipped) = Plane::through(q[0], q[1], q[2])?;
-    let support = table.insert(plane);
-    let edges = (0..3)
-        .map(|k| {
-            let e = edge_plane(q[k], q[(k + 1) % 3], plane.n);
-            Edge {
-                plane: table.insert(e),
-                inside: e.side_of_point(q[(k + 2) % 3]),
-            }
-        })
-        .collect();
-    Some(Fragment {
-        source: 0,
-        support,
-        flipped,
-        vertices: q.map(Vertex::Int).to_vec(),
-        edges,
-    })
-}
 
 fn pt() -> impl Strategy<Value = [i32; 3]> {
     [-1000i32..1000, -1000i32..1000, -1000i32..1000]

@@ -13,7 +13,7 @@ use rayon::prelude::*;
 use super::input::Input;
 use super::BuildOptions;
 use crate::error::CompileError;
-use crate::peel::hull_planes;
+use crate::peel::{hull_planes, Witness};
 use crate::planes::{PlaneId, PlaneTable};
 use crate::split::{choose_split, Fragment, SplitResult};
 
@@ -90,9 +90,10 @@ impl Limit {
 }
 
 enum Job {
-    /// `compile(L)`.
+    /// `compile(L)`. `known`: witnesses found for an ancestor's list (see [`hull_planes`]).
     Compile {
         frags: Vec<Fragment>,
+        known: Vec<Witness>,
         slot: Slot,
         limit: Limit,
     },
@@ -101,6 +102,7 @@ enum Job {
     InPlane {
         on: Vec<Fragment>,
         rest: Vec<Fragment>,
+        known: Vec<Witness>,
         interior_front: bool,
         slot: Slot,
         limit: Limit,
@@ -152,6 +154,7 @@ pub(crate) fn build_exact(
     };
     let root = Job::Compile {
         frags: input.fragments.clone(),
+        known: Vec::new(),
         slot: Slot::Root,
         limit: Limit {
             max: u32::MAX,
@@ -263,6 +266,7 @@ fn run(ctx: &Ctx, job: Job) -> Result<ExactTree, CompileError> {
             Job::InPlane {
                 on,
                 rest,
+                known,
                 interior_front,
                 slot,
                 limit,
@@ -284,24 +288,31 @@ fn run(ctx: &Ctx, job: Job) -> Result<ExactTree, CompileError> {
                     };
                     stack.push(Job::Compile {
                         frags: rest,
+                        known,
                         slot: Slot::Child(idx),
                         limit,
                     });
                 }
             }
-            Job::Compile { frags, slot, limit } => {
+            Job::Compile {
+                frags,
+                known,
+                slot,
+                limit,
+            } => {
                 if frags.is_empty() {
                     continue;
                 }
                 let planes = distinct_planes(frags.iter());
                 let k = planes.len() as u32;
                 limit.check(k, "node")?;
-                let hull = hull_planes(&frags, &planes, ctx.table);
-                if hull.iter().any(Option::is_some) {
+                let hull = hull_planes(&frags, &planes, ctx.table, &known);
+                drop(known);
+                if hull.sides.iter().any(Option::is_some) {
                     let (mut e, mut rest) = (Vec::new(), Vec::new());
                     for frag in frags {
                         let i = planes.binary_search(&frag.support).expect("own plane");
-                        match hull[i] {
+                        match hull.sides[i] {
                             Some(interior_front) => e.push(ExactPolygon {
                                 frag,
                                 interior_front,
@@ -317,6 +328,7 @@ fn run(ctx: &Ctx, job: Job) -> Result<ExactTree, CompileError> {
                         };
                         stack.push(Job::Compile {
                             frags: rest,
+                            known: hull.witnesses,
                             slot: Slot::Child(idx),
                             limit,
                         });
@@ -326,7 +338,8 @@ fn run(ctx: &Ctx, job: Job) -> Result<ExactTree, CompileError> {
                 // The child holding the split plane's fragments is laid out first: the
                 // order does not depend on the plane's sign, so mirrored scenes give the same
                 // tree up to the transform.
-                let (first, second) = split_node(ctx, &mut tree, frags, &planes, slot)?;
+                let (first, second) =
+                    split_node(ctx, &mut tree, frags, &planes, hull.witnesses, slot)?;
                 let (n1, n2) = (first.len(), second.len());
                 if n1.min(n2) >= PAR_MIN && n1.min(n2) * 8 >= n1 + n2 {
                     let (s1, s2) = (first.slot(), second.slot());
@@ -353,6 +366,7 @@ fn split_node(
     tree: &mut ExactTree,
     frags: Vec<Fragment>,
     planes: &[PlaneId],
+    known: Vec<Witness>,
     slot: Slot,
 ) -> Result<(Job, Job), CompileError> {
     let k = planes.len() as u32;
@@ -433,12 +447,14 @@ fn split_node(
             Job::InPlane {
                 on,
                 rest: front,
+                known: known.clone(),
                 interior_front: true,
                 slot: Slot::Front(idx),
                 limit: loose,
             },
             Job::Compile {
                 frags: back,
+                known,
                 slot: Slot::Back(idx),
                 limit: strict,
             },
@@ -448,12 +464,14 @@ fn split_node(
             Job::InPlane {
                 on,
                 rest: back,
+                known: known.clone(),
                 interior_front: false,
                 slot: Slot::Back(idx),
                 limit: loose,
             },
             Job::Compile {
                 frags: front,
+                known,
                 slot: Slot::Front(idx),
                 limit: strict,
             },
