@@ -79,8 +79,9 @@ pub struct VertexSet<'a> {
 impl<'a> VertexSet<'a> {
     /// The distinct grid vertices and all cut vertices of `frags`.
     pub fn new(frags: &'a [Fragment]) -> VertexSet<'a> {
-        let mut ints: Vec<([i32; 3], &'a Vertex)> = Vec::new();
-        let mut pts: Vec<([f64; 3], &'a Vertex)> = Vec::new();
+        let refs: usize = frags.iter().map(|f| f.vertices.len()).sum();
+        let mut ints: Vec<([i32; 3], &'a Vertex)> = Vec::with_capacity(refs);
+        let mut pts: Vec<([f64; 3], &'a Vertex)> = Vec::with_capacity(refs);
         for f in frags {
             for v in &f.vertices {
                 match v {
@@ -245,10 +246,9 @@ pub fn hull_planes(
     // Planes off the hull by a still valid witness (indices into `known`), others to query.
     let mut carried: Vec<Option<usize>> = vec![None; planes.len()];
     if !known.is_empty() {
-        let present: FastSet<Key> = frags
-            .iter()
-            .flat_map(|f| f.vertices.iter().map(Key::of))
-            .collect();
+        let refs: usize = frags.iter().map(|f| f.vertices.len()).sum();
+        let mut present: FastSet<Key> = FastSet::with_capacity_and_hasher(refs, Default::default());
+        present.extend(frags.iter().flat_map(|f| f.vertices.iter().map(Key::of)));
         let mut k = 0;
         for (i, &p) in planes.iter().enumerate() {
             while k < known.len() && known[k].plane < p {

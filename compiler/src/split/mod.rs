@@ -104,15 +104,14 @@ impl Fragment {
             return Some(SplitResult::On(self));
         }
         let e = table.get(plane);
-        let sides: Vec<Side> = self.vertices.iter().map(|v| v.side(e)).collect();
-        let front = sides.contains(&Side::Front);
-        let back = sides.contains(&Side::Back);
-        match (front, back) {
-            (true, false) => return Some(SplitResult::Front(self)),
-            (false, true) => return Some(SplitResult::Back(self)),
-            (false, false) => return Some(SplitResult::On(self)),
-            (true, true) => {}
+        // Most fragments are not cut: place them without collecting their sides.
+        match Placement::of_sides(self.vertices.iter().map(|v| v.side(e))) {
+            Placement::Front => return Some(SplitResult::Front(self)),
+            Placement::Back => return Some(SplitResult::Back(self)),
+            Placement::On => return Some(SplitResult::On(self)),
+            Placement::Straddle => {}
         }
+        let sides: Vec<Side> = self.vertices.iter().map(|v| v.side(e)).collect();
         let n = self.vertices.len();
         let cap = n + 2;
         let (mut fv, mut fe) = (Vec::with_capacity(cap), Vec::with_capacity(cap));
@@ -237,9 +236,9 @@ pub(crate) struct Sample<'a> {
     /// `coords[ends[i - 1]..ends[i]]` are fragment `i`'s vertices.
     ends: Vec<u32>,
     /// Per fragment, a centre `c` and `r` with `|x − c_x| + |y − c_y| + |z − c_z| <= r` for
-    /// each of its vertices (one array per component, so that the test vectorises): one dot
-    /// product places most fragments (see [`Sample::cost_with`]).
-    balls: [Vec<f64>; 4],
+    /// each of its vertices, as `[c_x, c_y, c_z, r]`: one dot product places most fragments
+    /// (see [`Sample::cost_with`]).
+    balls: Vec<[f64; 4]>,
     /// The largest `|x| + |y| + |z|` of `coords`: with it one filter bound per plane holds for
     /// every vertex (see [`Sample::filter_bound`]).
     l1_max: f64,
@@ -250,14 +249,12 @@ impl<'a> Sample<'a> {
         let frags: Vec<&Fragment> = frags.collect();
         let mut coords = Vec::with_capacity(frags.len() * 4);
         let mut ends = Vec::with_capacity(frags.len());
-        let mut balls: [Vec<f64>; 4] = Default::default();
+        let mut balls = Vec::with_capacity(frags.len());
         for f in &frags {
             let lo = coords.len();
             coords.extend(f.vertices.iter().map(Vertex::approx));
             ends.push(coords.len() as u32);
-            for (v, b) in ball(&coords[lo..]).into_iter().zip(&mut balls) {
-                b.push(v);
-            }
+            balls.push(ball(&coords[lo..]));
         }
         let l1_max = coords
             .iter()
@@ -289,21 +286,17 @@ impl<'a> Sample<'a> {
             return Placement::On;
         }
         let lo = if i == 0 { 0 } else { self.ends[i - 1] as usize };
-        Placement::of_sides(
-            self.coords[lo..self.ends[i] as usize]
-                .iter()
-                .enumerate()
-                .map(|(k, c)| {
-                    let s = e.nf[0] * c[0] + e.nf[1] * c[1] + e.nf[2] * c[2] - e.df;
-                    if s > bound {
-                        Side::Front
-                    } else if s < -bound {
-                        Side::Back
-                    } else {
-                        f.vertices[k].side(e)
-                    }
-                }),
-        )
+        let coords = self.coords.get(lo..self.ends[i] as usize).unwrap_or(&[]);
+        Placement::of_sides(coords.iter().zip(&f.vertices).map(|(c, v)| {
+            let s = e.nf[0] * c[0] + e.nf[1] * c[1] + e.nf[2] * c[2] - e.df;
+            if s > bound {
+                Side::Front
+            } else if s < -bound {
+                Side::Back
+            } else {
+                v.side(e)
+            }
+        }))
     }
 
     /// See [`cost`].
@@ -321,7 +314,6 @@ impl<'a> Sample<'a> {
         limit: u64,
     ) -> u64 {
         let e = table.get(plane);
-        let n = self.frags.len();
         let mut tally = Tally::default();
         let bound = self.filter_bound(e);
         // Every vertex `v` of fragment `i` has `n·v − d` within `max|n_k|·r_i` of the value
@@ -330,17 +322,17 @@ impl<'a> Sample<'a> {
         // every vertex's own filtered value is past `bound`, so the vertex loop would find the
         // same side. (A fragment in the plane never gets past it: its values are all 0.)
         let nmax = e.nf[0].abs().max(e.nf[1].abs()).max(e.nf[2].abs()) * BALL_SLACK;
-        let [cx, cy, cz, r] = &self.balls;
-        for start in (0..n).step_by(16) {
-            let end = (start + 16).min(n);
+        let n = self.balls.len();
+        for (chunk, balls) in self.balls.chunks(16).enumerate() {
+            let start = chunk * 16;
             let (mut front, mut back, mut undecided) = (0, 0, 0u32);
-            for j in start..end {
-                let s = e.nf[0] * cx[j] + e.nf[1] * cy[j] + e.nf[2] * cz[j] - e.df;
-                let reach = nmax * r[j] + 2.0 * bound;
+            for (j, &[cx, cy, cz, r]) in balls.iter().enumerate() {
+                let s = e.nf[0] * cx + e.nf[1] * cy + e.nf[2] * cz - e.df;
+                let reach = nmax * r + 2.0 * bound;
                 let (f, b) = (s > reach, s < -reach);
                 front += u64::from(f);
                 back += u64::from(b);
-                undecided |= u32::from(!(f | b)) << (j - start);
+                undecided |= u32::from(!(f | b)) << j;
             }
             tally.front += front;
             tally.back += back;
@@ -349,7 +341,8 @@ impl<'a> Sample<'a> {
                 undecided &= undecided - 1;
                 tally.add(self.placement(j, plane, e, bound));
             }
-            if tally.cuts * rule.cut_weight > limit || tally.cost(rule, (n - end) as u64) > limit {
+            let left = (n - start - balls.len()) as u64;
+            if tally.cuts * rule.cut_weight > limit || tally.cost(rule, left) > limit {
                 return u64::MAX;
             }
         }

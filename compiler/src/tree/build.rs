@@ -309,7 +309,7 @@ fn run(ctx: &Ctx, job: Job) -> Result<ExactTree, CompileError> {
                 let hull = hull_planes(&frags, &planes, ctx.table, &known);
                 drop(known);
                 if hull.sides.iter().any(Option::is_some) {
-                    let (mut e, mut rest) = (Vec::new(), Vec::new());
+                    let (mut e, mut rest) = (Vec::new(), Vec::with_capacity(frags.len()));
                     for frag in frags {
                         let i = planes.binary_search(&frag.support).expect("own plane");
                         match hull.sides[i] {
@@ -385,7 +385,8 @@ fn split_node(
     } else {
         frags.into_iter().map(|f| f.split(p, ctx.table)).collect()
     };
-    let (mut front, mut back, mut on) = (Vec::new(), Vec::new(), Vec::new());
+    let n = results.len();
+    let (mut front, mut back, mut on) = (Vec::with_capacity(n), Vec::with_capacity(n), Vec::new());
     for r in results {
         match r {
             Some(SplitResult::Front(f)) => front.push(f),
