@@ -235,10 +235,10 @@ pub(crate) struct Sample<'a> {
     coords: Vec<[f64; 3]>,
     /// `coords[ends[i - 1]..ends[i]]` are fragment `i`'s vertices.
     ends: Vec<u32>,
-    /// Per fragment, a centre `c` and `r` with `|x − c_x| + |y − c_y| + |z − c_z| <= r` for
-    /// each of its vertices, as `[c_x, c_y, c_z, r]`: one dot product places most fragments
-    /// (see [`Sample::cost_with`]).
-    balls: Vec<[f64; 4]>,
+    /// Per fragment, its first four vertices as `[xs, ys, zs]` (a triangle repeats its last
+    /// vertex), so that one branch-free pass places most fragments (see
+    /// [`Sample::cost_with`]); `None` for fragments with more vertices.
+    quads: Vec<Option<[[f64; 4]; 3]>>,
     /// The largest `|x| + |y| + |z|` of `coords`: with it one filter bound per plane holds for
     /// every vertex (see [`Sample::filter_bound`]).
     l1_max: f64,
@@ -249,12 +249,12 @@ impl<'a> Sample<'a> {
         let frags: Vec<&Fragment> = frags.collect();
         let mut coords = Vec::with_capacity(frags.len() * 4);
         let mut ends = Vec::with_capacity(frags.len());
-        let mut balls = Vec::with_capacity(frags.len());
+        let mut quads = Vec::with_capacity(frags.len());
         for f in &frags {
             let lo = coords.len();
             coords.extend(f.vertices.iter().map(Vertex::approx));
             ends.push(coords.len() as u32);
-            balls.push(ball(&coords[lo..]));
+            quads.push(quad(&coords[lo..]));
         }
         let l1_max = coords
             .iter()
@@ -264,7 +264,7 @@ impl<'a> Sample<'a> {
             frags,
             coords,
             ends,
-            balls,
+            quads,
             l1_max,
         }
     }
@@ -313,67 +313,74 @@ impl<'a> Sample<'a> {
         table: &PlaneTable,
         limit: u64,
     ) -> u64 {
+        let over =
+            |t: &Tally, left: u64| t.cuts * rule.cut_weight > limit || t.cost(rule, left) > limit;
+        match self.tally(plane, table, over) {
+            Some(t) if t.cost(rule, 0) <= limit => t.cost(rule, 0),
+            _ => u64::MAX,
+        }
+    }
+
+    /// The sample counted against `plane`; `None` as soon as `stop(count so far, fragments
+    /// left)` holds (it is asked every 16 fragments).
+    pub(crate) fn tally(
+        &self,
+        plane: PlaneId,
+        table: &PlaneTable,
+        stop: impl Fn(&Tally, u64) -> bool,
+    ) -> Option<Tally> {
         let e = table.get(plane);
         let mut tally = Tally::default();
         let bound = self.filter_bound(e);
-        // Every vertex `v` of fragment `i` has `n·v − d` within `max|n_k|·r_i` of the value
-        // at its centre, up to roundings far below `bound` (`bound` is `2^-44` of the
-        // magnitudes involved, the roundings a few `2^-53`): past `max|n_k|·r_i + 2·bound`,
-        // every vertex's own filtered value is past `bound`, so the vertex loop would find the
-        // same side. (A fragment in the plane never gets past it: its values are all 0.)
-        let nmax = e.nf[0].abs().max(e.nf[1].abs()).max(e.nf[2].abs()) * BALL_SLACK;
-        let n = self.balls.len();
-        for (chunk, balls) in self.balls.chunks(16).enumerate() {
+        // The filtered values of a fragment's vertices place it when each is past `bound` (or
+        // two are past it on opposite sides); otherwise (a vertex within `bound` of the plane,
+        // or more than four vertices) the vertex loop decides with the exact predicate.
+        let n = self.quads.len();
+        for (chunk, quads) in self.quads.chunks(16).enumerate() {
             let start = chunk * 16;
-            let (mut front, mut back, mut undecided) = (0, 0, 0u32);
-            for (j, &[cx, cy, cz, r]) in balls.iter().enumerate() {
-                let s = e.nf[0] * cx + e.nf[1] * cy + e.nf[2] * cz - e.df;
-                let reach = nmax * r + 2.0 * bound;
-                let (f, b) = (s > reach, s < -reach);
-                front += u64::from(f);
-                back += u64::from(b);
-                undecided |= u32::from(!(f | b)) << j;
+            let (mut front, mut back, mut cuts, mut undecided) = (0, 0, 0, 0u32);
+            for (j, q) in quads.iter().enumerate() {
+                let Some([xs, ys, zs]) = q else {
+                    undecided |= 1 << j;
+                    continue;
+                };
+                let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
+                for k in 0..4 {
+                    let s = e.nf[0] * xs[k] + e.nf[1] * ys[k] + e.nf[2] * zs[k] - e.df;
+                    lo = lo.min(s);
+                    hi = hi.max(s);
+                }
+                let (f, b) = (lo > bound, hi < -bound);
+                let c = hi > bound && lo < -bound;
+                front += u64::from(f | c);
+                back += u64::from(b | c);
+                cuts += u64::from(c);
+                undecided |= u32::from(!(f | b | c)) << j;
             }
             tally.front += front;
             tally.back += back;
+            tally.cuts += cuts;
             while undecided != 0 {
                 let j = start + undecided.trailing_zeros() as usize;
                 undecided &= undecided - 1;
                 tally.add(self.placement(j, plane, e, bound));
             }
-            let left = (n - start - balls.len()) as u64;
-            if tally.cuts * rule.cut_weight > limit || tally.cost(rule, left) > limit {
-                return u64::MAX;
+            if stop(&tally, (n - start - quads.len()) as u64) {
+                return None;
             }
         }
-        let c = tally.cost(rule, 0);
-        if c > limit {
-            u64::MAX
-        } else {
-            c
-        }
+        Some(tally)
     }
 }
 
-/// Relative slack on the rounded `max|n_k|·r` of [`Sample::cost_with`] (a few ulps would do).
-const BALL_SLACK: f64 = 1.0 + 1.0 / (1u64 << 40) as f64;
-
-/// The centre (vertex mean) of `coords` and the largest L1 distance from it to one of them,
-/// rounded up by [`BALL_SLACK`] so that the rounding of the distances cannot make it short.
-fn ball(coords: &[[f64; 3]]) -> [f64; 4] {
-    let k = coords.len().max(1) as f64;
-    let mut c = [0.0; 3];
-    for p in coords {
-        for j in 0..3 {
-            c[j] += p[j];
-        }
+/// The first four of `coords` as `[xs, ys, zs]`, the last repeated when there are three (a
+/// repeated vertex changes no placement); `None` beyond four.
+fn quad(coords: &[[f64; 3]]) -> Option<[[f64; 4]; 3]> {
+    if coords.is_empty() || coords.len() > 4 {
+        return None;
     }
-    let c = c.map(|v| v / k);
-    let r = coords
-        .iter()
-        .map(|p| (p[0] - c[0]).abs() + (p[1] - c[1]).abs() + (p[2] - c[2]).abs())
-        .fold(0.0, f64::max);
-    [c[0], c[1], c[2], r * BALL_SLACK]
+    let at = |k: usize| coords[k.min(coords.len() - 1)];
+    Some([0, 1, 2].map(|c| [at(0)[c], at(1)[c], at(2)[c], at(3)[c]]))
 }
 
 /// Fragments counted against a plane: cut, and on each side (a cut piece counts on both

@@ -61,8 +61,8 @@ fn sampling_is_deterministic() {
 proptest! {
     #![proptest_config(ProptestConfig::with_cases(256))]
 
-    /// The filtered cost (one f64 bound per plane, exact predicate near the plane) counts what
-    /// the exact placement counts: fragments cut by the plane and on each side, including
+    /// The filtered count (one f64 bound per plane, exact predicate near the plane) is what
+    /// the exact placement counts (and so is the cost): fragments cut by the plane and on each side, including
     /// fragments touching it, lying in it, and cut pieces (homogeneous vertices) near it.
     #[test]
     fn filtered_cost_equals_the_exact_count(
@@ -94,6 +94,8 @@ proptest! {
             }
             let want = exact.cost(SplitRule::default(), 0);
             prop_assert_eq!(cost(&refs, plane, &table, u64::MAX), want);
+            let sample = Sample::new(refs.iter().copied());
+            prop_assert_eq!(sample.tally(plane, &table, |_, _| false), Some(exact));
         }
     }
 }
