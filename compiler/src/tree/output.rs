@@ -11,6 +11,8 @@
 //! polygons. A vertex touching an edge transversally (no shared segment) cannot open a crack
 //! and is not inserted.
 
+use std::sync::Arc;
+
 use crate::hash::{FastMap, FastSet};
 
 use ethnum::{I256, U256};
@@ -124,20 +126,44 @@ impl Vertices {
     }
 
     /// Ids of every vertex of every polygon, keys computed in parallel (wide-integer gcds are
-    /// the costly part) and numbered in polygon order: the same on any thread count.
+    /// the costly part) and numbered in polygon order: the same on any thread count. A cut
+    /// point is one allocation shared by the pieces of its cut (and their later pieces), so
+    /// its key is computed and looked up once per allocation, not once per use.
     fn of(polys: &[&Fragment]) -> (Vertices, Vec<Vec<u32>>) {
-        let keys: Vec<Vec<Key>> = polys
-            .par_iter()
-            .map(|f| f.vertices.iter().map(key).collect())
-            .collect();
-        let mut vertices = Vertices::default();
-        let ids = polys
+        // Per use, an index into `distinct`: one entry per cut-point allocation, one per use of
+        // a grid point (cheap to key and look up).
+        let mut seen: FastMap<usize, u32> = FastMap::default();
+        let mut distinct: Vec<&Vertex> = Vec::new();
+        let uses: Vec<Vec<u32>> = polys
             .iter()
-            .zip(keys)
-            .map(|(f, ks)| {
-                ks.into_iter()
-                    .zip(&f.vertices)
-                    .map(|(k, v)| vertices.id(k, v))
+            .map(|f| {
+                f.vertices
+                    .iter()
+                    .map(|v| {
+                        let next = distinct.len() as u32;
+                        let i = match v {
+                            Vertex::Int(_) => next,
+                            Vertex::Hom(h) => *seen.entry(Arc::as_ptr(h) as usize).or_insert(next),
+                        };
+                        if i == next {
+                            distinct.push(v);
+                        }
+                        i
+                    })
+                    .collect()
+            })
+            .collect();
+        let keys: Vec<Key> = distinct.par_iter().map(|v| key(v)).collect();
+        let mut vertices = Vertices::default();
+        let mut id_of: Vec<Option<u32>> = vec![None; distinct.len()];
+        let ids = uses
+            .iter()
+            .map(|u| {
+                u.iter()
+                    .map(|&i| {
+                        let i = i as usize;
+                        *id_of[i].get_or_insert_with(|| vertices.id(keys[i].clone(), distinct[i]))
+                    })
                     .collect()
             })
             .collect();
