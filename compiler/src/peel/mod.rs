@@ -22,7 +22,6 @@
 
 use rayon::prelude::*;
 
-use crate::hash::FastSet;
 use crate::planes::{PlaneEntry, PlaneId, PlaneTable, Side, Vertex};
 use crate::split::Fragment;
 
@@ -46,7 +45,7 @@ pub struct Witness {
 /// The identity of a vertex: grid points by value, cut points by allocation. Two cut points
 /// at the same place may have different keys, which only costs a query; equal keys are
 /// always the same point (a witness holds its `Arc`, so its address is never reused).
-#[derive(Clone, Copy, PartialEq, Eq, Hash)]
+#[derive(Clone, Copy, PartialEq, Eq)]
 enum Key {
     Int([i32; 3]),
     Hom(usize),
@@ -70,38 +69,61 @@ struct BvhNode {
     leaf: bool,
 }
 
-/// The vertices of a fragment list in a bounding-volume hierarchy.
+/// The distinct vertices of a fragment list: sorted keys (to tell whether a vertex is one of
+/// them) and, once [`VertexSet::index`] is called, a bounding-volume hierarchy.
 pub struct VertexSet<'a> {
     pts: Vec<([f64; 3], &'a Vertex)>,
     nodes: Vec<BvhNode>,
+    /// Sorted grid points.
+    ints: Vec<[i32; 3]>,
+    /// Sorted cut-point allocations (see [`Key`]).
+    homs: Vec<usize>,
 }
 
 impl<'a> VertexSet<'a> {
-    /// The distinct grid vertices and all cut vertices of `frags`.
+    /// The distinct grid vertices and cut-point allocations of `frags`, not yet indexed.
     pub fn new(frags: &'a [Fragment]) -> VertexSet<'a> {
         let refs: usize = frags.iter().map(|f| f.vertices.len()).sum();
         let mut ints: Vec<([i32; 3], &'a Vertex)> = Vec::with_capacity(refs);
-        let mut pts: Vec<([f64; 3], &'a Vertex)> = Vec::with_capacity(refs);
+        let mut homs: Vec<(usize, &'a Vertex)> = Vec::with_capacity(refs);
         for f in frags {
             for v in &f.vertices {
                 match v {
                     Vertex::Int(p) => ints.push((*p, v)),
-                    Vertex::Hom(h) => pts.push((h.approx, v)),
+                    Vertex::Hom(h) => homs.push((std::sync::Arc::as_ptr(h) as usize, v)),
                 }
             }
         }
         ints.sort_unstable_by_key(|&(p, _)| p);
         ints.dedup_by_key(|&mut (p, _)| p);
-        pts.extend(ints.into_iter().map(|(p, v)| (p.map(|c| c as f64), v)));
-        let mut set = VertexSet {
+        homs.sort_unstable_by_key(|&(a, _)| a);
+        homs.dedup_by_key(|&mut (a, _)| a);
+        let mut pts = Vec::with_capacity(ints.len() + homs.len());
+        pts.extend(ints.iter().map(|&(p, v)| (p.map(|c| c as f64), v)));
+        pts.extend(homs.iter().map(|&(_, v)| (v.approx(), v)));
+        VertexSet {
             pts,
             nodes: Vec::new(),
-        };
-        if !set.pts.is_empty() {
-            let n = set.pts.len();
-            set.build(0, n);
+            ints: ints.into_iter().map(|(p, _)| p).collect(),
+            homs: homs.into_iter().map(|(a, _)| a).collect(),
         }
-        set
+    }
+
+    /// True when `v` is one of the set's vertices (a cut point: the same allocation).
+    pub fn contains(&self, v: &Vertex) -> bool {
+        match Key::of(v) {
+            Key::Int(p) => self.ints.binary_search(&p).is_ok(),
+            Key::Hom(a) => self.homs.binary_search(&a).is_ok(),
+        }
+    }
+
+    /// Build the hierarchy [`Self::any_strictly`] searches.
+    pub fn index(&mut self) {
+        if self.nodes.is_empty() && !self.pts.is_empty() {
+            self.nodes.reserve(2 * self.pts.len() / LEAF + 1);
+            let n = self.pts.len();
+            self.build(0, n);
+        }
     }
 
     fn build(&mut self, start: usize, end: usize) -> u32 {
@@ -152,6 +174,7 @@ impl<'a> VertexSet<'a> {
 
     /// A vertex lying strictly on `side` (`Front` or `Back`) of `e`, if there is one.
     pub fn any_strictly(&self, e: &PlaneEntry, side: Side) -> Option<&'a Vertex> {
+        debug_assert!(self.pts.is_empty() || !self.nodes.is_empty(), "not indexed");
         if self.nodes.is_empty() {
             return None;
         }
@@ -243,27 +266,24 @@ pub fn hull_planes(
     table: &PlaneTable,
     known: &[Witness],
 ) -> Hull {
+    let mut set = VertexSet::new(frags);
     // Planes off the hull by a still valid witness (indices into `known`), others to query.
     let mut carried: Vec<Option<usize>> = vec![None; planes.len()];
-    if !known.is_empty() {
-        let refs: usize = frags.iter().map(|f| f.vertices.len()).sum();
-        let mut present: FastSet<Key> = FastSet::with_capacity_and_hasher(refs, Default::default());
-        present.extend(frags.iter().flat_map(|f| f.vertices.iter().map(Key::of)));
-        let mut k = 0;
-        for (i, &p) in planes.iter().enumerate() {
-            while k < known.len() && known[k].plane < p {
-                k += 1;
-            }
-            if let Some(w) = known.get(k).filter(|w| w.plane == p) {
-                if present.contains(&Key::of(&w.front)) && present.contains(&Key::of(&w.back)) {
-                    carried[i] = Some(k);
-                }
+    let mut k = 0;
+    for (i, &p) in planes.iter().enumerate() {
+        while k < known.len() && known[k].plane < p {
+            k += 1;
+        }
+        if let Some(w) = known.get(k).filter(|w| w.plane == p) {
+            if set.contains(&w.front) && set.contains(&w.back) {
+                carried[i] = Some(k);
             }
         }
     }
     let queried = carried.iter().filter(|c| c.is_none()).count();
-    // Built only when some plane needs a query.
-    let set = VertexSet::new(if queried == 0 { &[] } else { frags });
+    if queried > 0 {
+        set.index();
+    }
     let test = |(&p, c): (&PlaneId, &Option<usize>)| match c {
         Some(k) => Err(known[*k].clone()),
         None => set.hull_side(p, table),

@@ -4,6 +4,8 @@
 //! cuts only intersect existing planes, so the table is read-only (and shared by all threads)
 //! during the build, and plane ids do not depend on scheduling.
 
+use rayon::prelude::*;
+
 use crate::error::CompileError;
 use crate::load::Mesh;
 use crate::planes::{edge_plane, Plane, PlaneTable, Side, Vertex};
@@ -43,20 +45,38 @@ pub(crate) fn prepare(mesh: &Mesh) -> Result<Input, CompileError> {
     // build breaks ties by plane id, and this numbering does not depend on the coordinate
     // axes (an edge plane's axis direction does), so axis swaps and mirrors give the same
     // tree up to the transform.
+    // The planes are computed in parallel (the gcds are the costly part), then numbered in
+    // order: the same ids on any thread count.
+    let supports: Vec<_> = mesh
+        .triangles
+        .par_iter()
+        .map(|t| {
+            let q = t.vertices.map(|p| quantiser.quantise(p));
+            Plane::through(q[0], q[1], q[2]).map(|(plane, flipped)| (q, plane, flipped))
+        })
+        .collect();
     let mut kept = Vec::with_capacity(mesh.triangles.len());
-    for (i, t) in mesh.triangles.iter().enumerate() {
-        let q = t.vertices.map(|p| quantiser.quantise(p));
-        let Some((plane, flipped)) = Plane::through(q[0], q[1], q[2]) else {
+    for (i, s) in supports.into_iter().enumerate() {
+        let Some((q, plane, flipped)) = s else {
             dropped += 1;
             continue;
         };
-        kept.push((i, q, plane, flipped, table.insert(plane)));
+        kept.push((i, q, flipped, table.insert(plane)));
     }
-    for (i, q, plane, flipped, support) in kept {
-        let edges = (0..3)
-            .map(|k| {
-                let e = edge_plane(q[k], q[(k + 1) % 3], plane.n);
-                let inside = e.side_of_point(q[(k + 2) % 3]);
+    let edge_planes: Vec<[(Plane, Side); 3]> = kept
+        .par_iter()
+        .map(|&(_, q, _, support)| {
+            let n = table.get(support).plane.n;
+            [0, 1, 2].map(|k| {
+                let e = edge_plane(q[k], q[(k + 1) % 3], n);
+                (e, e.side_of_point(q[(k + 2) % 3]))
+            })
+        })
+        .collect();
+    for ((i, q, flipped, support), edges) in kept.into_iter().zip(edge_planes) {
+        let edges = edges
+            .into_iter()
+            .map(|(e, inside)| {
                 debug_assert_ne!(inside, Side::On);
                 Edge {
                     plane: table.insert(e),
