@@ -11,6 +11,7 @@
 
 pub mod bench;
 pub mod builder;
+pub(crate) mod bvh;
 pub mod closed;
 pub mod compile;
 pub mod dump;

@@ -22,14 +22,12 @@
 
 use rayon::prelude::*;
 
+use crate::bvh::Bvh;
 use crate::planes::{PlaneEntry, PlaneId, PlaneTable, Side, Vertex};
 use crate::split::Fragment;
 
 /// Points per leaf.
 const LEAF: usize = 8;
-
-/// Extra safety factor on the f64 box bounds (on top of the per-vertex filter bound).
-const BOX_MARGIN: f64 = 1.0 / (1u64 << 40) as f64;
 
 /// Why a plane is not on the hull of a list: a vertex of the list strictly on each side.
 #[derive(Debug, Clone)]
@@ -60,20 +58,11 @@ impl Key {
     }
 }
 
-struct BvhNode {
-    min: [f64; 3],
-    max: [f64; 3],
-    /// Leaf: `start..end` into the points. Inner: children at `start` and `end`.
-    start: u32,
-    end: u32,
-    leaf: bool,
-}
-
 /// The distinct vertices of a fragment list: sorted keys (to tell whether a vertex is one of
 /// them) and, once [`VertexSet::index`] is called, a bounding-volume hierarchy.
 pub struct VertexSet<'a> {
     pts: Vec<([f64; 3], &'a Vertex)>,
-    nodes: Vec<BvhNode>,
+    bvh: Bvh,
     /// Sorted grid points.
     ints: Vec<[i32; 3]>,
     /// Sorted cut-point allocations (see [`Key`]).
@@ -103,7 +92,7 @@ impl<'a> VertexSet<'a> {
         pts.extend(homs.iter().map(|&(_, v)| (v.approx(), v)));
         VertexSet {
             pts,
-            nodes: Vec::new(),
+            bvh: Bvh::default(),
             ints: ints.into_iter().map(|(p, _)| p).collect(),
             homs: homs.into_iter().map(|(a, _)| a).collect(),
         }
@@ -119,63 +108,16 @@ impl<'a> VertexSet<'a> {
 
     /// Build the hierarchy [`Self::any_strictly`] searches.
     pub fn index(&mut self) {
-        if self.nodes.is_empty() && !self.pts.is_empty() {
-            self.nodes.reserve(2 * self.pts.len() / LEAF + 1);
-            let n = self.pts.len();
-            self.build(0, n);
+        if self.bvh.nodes.is_empty() {
+            self.bvh = Bvh::build(&mut self.pts, |&(p, _)| (p, p), LEAF);
         }
-    }
-
-    fn build(&mut self, start: usize, end: usize) -> u32 {
-        let mut min = [f64::INFINITY; 3];
-        let mut max = [f64::NEG_INFINITY; 3];
-        for (p, _) in &self.pts[start..end] {
-            for k in 0..3 {
-                min[k] = min[k].min(p[k]);
-                max[k] = max[k].max(p[k]);
-            }
-        }
-        let id = self.nodes.len() as u32;
-        self.nodes.push(BvhNode {
-            min,
-            max,
-            start: start as u32,
-            end: end as u32,
-            leaf: true,
-        });
-        if end - start > LEAF {
-            let axis = (0..3)
-                .max_by(|&a, &b| (max[a] - min[a]).total_cmp(&(max[b] - min[b])))
-                .unwrap_or(0);
-            let mid = (start + end) / 2;
-            self.pts[start..end]
-                .select_nth_unstable_by(mid - start, |a, b| a.0[axis].total_cmp(&b.0[axis]));
-            let l = self.build(start, mid);
-            let r = self.build(mid, end);
-            let node = &mut self.nodes[id as usize];
-            node.leaf = false;
-            node.start = l;
-            node.end = r;
-        }
-        id
-    }
-
-    /// Proven range of `n·p − d` over a box: `(lo, hi, margin)`.
-    fn range(node: &BvhNode, e: &PlaneEntry) -> (f64, f64, f64) {
-        let (mut lo, mut hi, mut m) = (-e.df, -e.df, e.df.abs());
-        for k in 0..3 {
-            let (a, b) = (e.nf[k] * node.min[k], e.nf[k] * node.max[k]);
-            lo += a.min(b);
-            hi += a.max(b);
-            m += a.abs().max(b.abs());
-        }
-        (lo, hi, m * BOX_MARGIN)
     }
 
     /// A vertex lying strictly on `side` (`Front` or `Back`) of `e`, if there is one.
     pub fn any_strictly(&self, e: &PlaneEntry, side: Side) -> Option<&'a Vertex> {
-        debug_assert!(self.pts.is_empty() || !self.nodes.is_empty(), "not indexed");
-        if self.nodes.is_empty() {
+        let nodes = &self.bvh.nodes;
+        debug_assert!(self.pts.is_empty() || !nodes.is_empty(), "not indexed");
+        if nodes.is_empty() {
             return None;
         }
         let sign = if side == Side::Front { 1.0 } else { -1.0 };
@@ -185,44 +127,41 @@ impl<'a> VertexSet<'a> {
         let mut len = 1;
         while len > 0 {
             len -= 1;
-            let i = stack[len];
-            let node = &self.nodes[i as usize];
-            let (lo, hi, m) = Self::range(node, e);
+            let node = &nodes[stack[len] as usize];
+            let (lo, hi, m) = Bvh::range(node, e);
             let (lo, hi) = if sign > 0.0 { (lo, hi) } else { (-hi, -lo) };
             if hi < -m {
                 continue; // every vertex strictly on the other side
             }
-            if node.leaf {
-                let pts = &self.pts[node.start as usize..node.end as usize];
-                if lo > m {
-                    return pts.first().map(|&(_, v)| v); // wholly, strictly on `side`
-                }
-                if let Some(&(_, v)) = pts.iter().find(|(_, v)| v.side(e) == side) {
-                    return Some(v);
-                }
-            } else if lo > m {
-                // Wholly, strictly on `side`: any of its points (the leftmost leaf's first).
-                let mut c = node.start;
-                while !self.nodes[c as usize].leaf {
-                    c = self.nodes[c as usize].start;
-                }
-                return Some(self.pts[self.nodes[c as usize].start as usize].1);
-            } else {
-                // Visit the child reaching further to `side` first.
-                let (l, r) = (node.start, node.end);
-                let reach_of = |c: u32| {
-                    let (lo, hi, _) = Self::range(&self.nodes[c as usize], e);
-                    if sign > 0.0 {
-                        hi
-                    } else {
-                        -lo
+            let pts = &self.pts[node.first as usize..node.end as usize];
+            if lo > m {
+                return pts.first().map(|&(_, v)| v); // wholly, strictly on `side`
+            }
+            match node.children {
+                None => {
+                    if let Some(&(_, v)) = pts.iter().find(|(_, v)| v.side(e) == side) {
+                        return Some(v);
                     }
-                };
-                let (rl, rr) = (reach_of(l), reach_of(r));
-                let (first, second) = if rl >= rr { (l, r) } else { (r, l) };
-                stack[len] = second;
-                stack[len + 1] = first;
-                len += 2;
+                }
+                Some([l, r]) => {
+                    // Visit the child reaching further to `side` first.
+                    let reach_of = |c: u32| {
+                        let (lo, hi, _) = Bvh::range(&nodes[c as usize], e);
+                        if sign > 0.0 {
+                            hi
+                        } else {
+                            -lo
+                        }
+                    };
+                    let (first, second) = if reach_of(l) >= reach_of(r) {
+                        (l, r)
+                    } else {
+                        (r, l)
+                    };
+                    stack[len] = second;
+                    stack[len + 1] = first;
+                    len += 2;
+                }
             }
         }
         None

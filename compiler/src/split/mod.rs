@@ -12,6 +12,7 @@ use rayon::prelude::*;
 
 use std::sync::atomic::{AtomicU64, Ordering};
 
+use crate::bvh::Bvh;
 use crate::planes::{intersect, PlaneEntry, PlaneId, PlaneTable, Side, Vertex, FILTER_BOUND};
 
 /// A bounding edge of a fragment: the plane it lies on and the side the fragment is on.
@@ -212,6 +213,9 @@ pub fn content_hash(frags: &[Fragment]) -> u64 {
     h
 }
 
+/// Fragments per leaf of a sample's hierarchy.
+const LEAF: usize = 8;
+
 /// Fragments costed per candidate at most; bigger nodes are sampled.
 pub const COST_SAMPLE: usize = 2000;
 
@@ -236,9 +240,14 @@ pub(crate) struct Sample<'a> {
     /// `coords[ends[i - 1]..ends[i]]` are fragment `i`'s vertices.
     ends: Vec<u32>,
     /// Per fragment, its first four vertices as `[xs, ys, zs]` (a triangle repeats its last
-    /// vertex), so that one branch-free pass places most fragments (see
-    /// [`Sample::cost_with`]); `None` for fragments with more vertices.
+    /// vertex), so that one branch-free pass places most fragments (see [`Sample::place`]);
+    /// `None` for fragments with more vertices.
     quads: Vec<Option<[[f64; 4]; 3]>>,
+    /// Fragment indices in the order of `bvh`'s leaves.
+    order: Vec<u32>,
+    /// The fragments' boxes in a hierarchy: a plane counts a whole box at once on the side
+    /// it proves the box on, and opens only the boxes it passes near (see [`Sample::tally`]).
+    bvh: Bvh,
     /// The largest `|x| + |y| + |z|` of `coords`: with it one filter bound per plane holds for
     /// every vertex (see [`Sample::filter_bound`]).
     l1_max: f64,
@@ -260,13 +269,37 @@ impl<'a> Sample<'a> {
             .iter()
             .map(|c| c[0].abs() + c[1].abs() + c[2].abs())
             .fold(0.0, f64::max);
-        Sample {
+        let mut sample = Sample {
             frags,
             coords,
             ends,
             quads,
+            order: Vec::new(),
+            bvh: Bvh::default(),
             l1_max,
-        }
+        };
+        let boxes: Vec<([f64; 3], [f64; 3])> = (0..sample.frags.len())
+            .map(|i| {
+                let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
+                for c in sample.vertices(i) {
+                    for k in 0..3 {
+                        lo[k] = lo[k].min(c[k]);
+                        hi[k] = hi[k].max(c[k]);
+                    }
+                }
+                (lo, hi)
+            })
+            .collect();
+        let mut order: Vec<u32> = (0..sample.frags.len() as u32).collect();
+        sample.bvh = Bvh::build(&mut order, |&i| boxes[i as usize], LEAF);
+        sample.order = order;
+        sample
+    }
+
+    /// Approximate coordinates of fragment `i`'s vertices.
+    fn vertices(&self, i: usize) -> &[[f64; 3]] {
+        let lo = if i == 0 { 0 } else { self.ends[i - 1] as usize };
+        self.coords.get(lo..self.ends[i] as usize).unwrap_or(&[])
     }
 
     /// One f64 filter bound for `e` and every vertex of the sample: `FILTER_BOUND` is relative
@@ -279,15 +312,39 @@ impl<'a> Sample<'a> {
         2.0 * (n * self.l1_max + e.df.abs()) * FILTER_BOUND
     }
 
-    /// [`Fragment::placement`] of fragment `i`, filtered with `bound` ([`Self::filter_bound`]).
+    /// [`Fragment::placement`] of fragment `i`, filtered with `bound` ([`Self::filter_bound`]):
+    /// its first four vertices' filtered values place it when each is past `bound` (or two are
+    /// past it on opposite sides); otherwise (a vertex within `bound` of the plane, or more
+    /// than four vertices) the vertex loop decides with the exact predicate.
+    #[inline]
+    fn place(&self, i: usize, plane: PlaneId, e: &PlaneEntry, bound: f64) -> Placement {
+        if let Some([xs, ys, zs]) = &self.quads[i] {
+            let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
+            for k in 0..4 {
+                let s = e.nf[0] * xs[k] + e.nf[1] * ys[k] + e.nf[2] * zs[k] - e.df;
+                lo = lo.min(s);
+                hi = hi.max(s);
+            }
+            if hi > bound && lo < -bound {
+                return Placement::Straddle;
+            }
+            if lo > bound {
+                return Placement::Front;
+            }
+            if hi < -bound {
+                return Placement::Back;
+            }
+        }
+        self.placement(i, plane, e, bound)
+    }
+
+    /// The vertex loop of [`Self::place`].
     fn placement(&self, i: usize, plane: PlaneId, e: &PlaneEntry, bound: f64) -> Placement {
         let f = self.frags[i];
         if f.support == plane {
             return Placement::On;
         }
-        let lo = if i == 0 { 0 } else { self.ends[i - 1] as usize };
-        let coords = self.coords.get(lo..self.ends[i] as usize).unwrap_or(&[]);
-        Placement::of_sides(coords.iter().zip(&f.vertices).map(|(c, v)| {
+        Placement::of_sides(self.vertices(i).iter().zip(&f.vertices).map(|(c, v)| {
             let s = e.nf[0] * c[0] + e.nf[1] * c[1] + e.nf[2] * c[2] - e.df;
             if s > bound {
                 Side::Front
@@ -330,42 +387,34 @@ impl<'a> Sample<'a> {
         stop: impl Fn(&Tally, u64) -> bool,
     ) -> Option<Tally> {
         let e = table.get(plane);
-        let mut tally = Tally::default();
         let bound = self.filter_bound(e);
-        // The filtered values of a fragment's vertices place it when each is past `bound` (or
-        // two are past it on opposite sides); otherwise (a vertex within `bound` of the plane,
-        // or more than four vertices) the vertex loop decides with the exact predicate.
-        let n = self.quads.len();
-        for (chunk, quads) in self.quads.chunks(16).enumerate() {
-            let start = chunk * 16;
-            let (mut front, mut back, mut cuts, mut undecided) = (0, 0, 0, 0u32);
-            for (j, q) in quads.iter().enumerate() {
-                let Some([xs, ys, zs]) = q else {
-                    undecided |= 1 << j;
-                    continue;
-                };
-                let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
-                for k in 0..4 {
-                    let s = e.nf[0] * xs[k] + e.nf[1] * ys[k] + e.nf[2] * zs[k] - e.df;
-                    lo = lo.min(s);
-                    hi = hi.max(s);
+        let nodes = &self.bvh.nodes;
+        let mut tally = Tally::default();
+        let mut left = self.frags.len() as u64;
+        // Depth below 33 (median splits); each level leaves at most one sibling on the stack.
+        let mut stack = [0u32; 80];
+        let mut len = usize::from(!nodes.is_empty());
+        while len > 0 {
+            len -= 1;
+            let node = &nodes[stack[len] as usize];
+            let (lo, hi, m) = Bvh::range(node, e);
+            let k = u64::from(node.end - node.first);
+            if lo > m {
+                tally.front += k; // every vertex strictly in front: every fragment Front
+            } else if hi < -m {
+                tally.back += k;
+            } else if let Some([l, r]) = node.children {
+                stack[len] = l;
+                stack[len + 1] = r;
+                len += 2;
+                continue;
+            } else {
+                for &i in &self.order[node.first as usize..node.end as usize] {
+                    tally.add(self.place(i as usize, plane, e, bound));
                 }
-                let (f, b) = (lo > bound, hi < -bound);
-                let c = hi > bound && lo < -bound;
-                front += u64::from(f | c);
-                back += u64::from(b | c);
-                cuts += u64::from(c);
-                undecided |= u32::from(!(f | b | c)) << j;
             }
-            tally.front += front;
-            tally.back += back;
-            tally.cuts += cuts;
-            while undecided != 0 {
-                let j = start + undecided.trailing_zeros() as usize;
-                undecided &= undecided - 1;
-                tally.add(self.placement(j, plane, e, bound));
-            }
-            if stop(&tally, (n - start - quads.len()) as u64) {
+            left -= k;
+            if stop(&tally, left) {
                 return None;
             }
         }

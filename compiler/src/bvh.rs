@@ -1,0 +1,147 @@
+//! A bounding-volume hierarchy over f64 boxes, for the questions "which items lie strictly on
+//! one side of this plane?" that the hull test (points) and the choice of the split plane
+//! (fragments) ask many times of the same set. A box proven strictly on one side of a plane
+//! (by [`Bvh::range`], with a margin far above the rounding of the approximate coordinates)
+//! answers for every item in it at once; only the boxes the plane passes near are opened.
+
+use crate::planes::PlaneEntry;
+
+/// Extra safety factor on the f64 box bounds, relative to the magnitudes involved (on top of
+/// [`crate::planes::FILTER_BOUND`], which bounds the error of one approximate coordinate).
+const BOX_MARGIN: f64 = 1.0 / (1u64 << 40) as f64;
+
+/// A node: the box of its items, their range in the reordered item list, its children.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct BvhNode {
+    /// Box corners.
+    pub min: [f64; 3],
+    /// Box corners.
+    pub max: [f64; 3],
+    /// The node's items are `items[first..end]`.
+    pub first: u32,
+    /// See `first`.
+    pub end: u32,
+    /// Children (node indices), `None` for a leaf.
+    pub children: Option<[u32; 2]>,
+}
+
+/// The hierarchy; node 0 is the root (none when there are no items).
+#[derive(Debug, Clone, Default)]
+pub(crate) struct Bvh {
+    pub nodes: Vec<BvhNode>,
+}
+
+impl Bvh {
+    /// Build over `items`, reordering them so that every node's items are contiguous; `bounds`
+    /// gives an item's box, `leaf` the most items a leaf holds. Splits at the median of the
+    /// box centres along the longest axis, so the depth stays below 33 for any `u32` count.
+    pub fn build<T>(
+        items: &mut [T],
+        bounds: impl Fn(&T) -> ([f64; 3], [f64; 3]),
+        leaf: usize,
+    ) -> Bvh {
+        let mut bvh = Bvh {
+            nodes: Vec::with_capacity(2 * items.len() / leaf.max(1) + 1),
+        };
+        if !items.is_empty() {
+            bvh.node(items, 0, &bounds, leaf.max(1));
+        }
+        bvh
+    }
+
+    fn node<T>(
+        &mut self,
+        items: &mut [T],
+        first: usize,
+        bounds: &impl Fn(&T) -> ([f64; 3], [f64; 3]),
+        leaf: usize,
+    ) -> u32 {
+        let mut min = [f64::INFINITY; 3];
+        let mut max = [f64::NEG_INFINITY; 3];
+        for item in items.iter() {
+            let (lo, hi) = bounds(item);
+            for k in 0..3 {
+                min[k] = min[k].min(lo[k]);
+                max[k] = max[k].max(hi[k]);
+            }
+        }
+        let id = self.nodes.len() as u32;
+        self.nodes.push(BvhNode {
+            min,
+            max,
+            first: first as u32,
+            end: (first + items.len()) as u32,
+            children: None,
+        });
+        if items.len() > leaf {
+            let axis = (0..3)
+                .max_by(|&a, &b| (max[a] - min[a]).total_cmp(&(max[b] - min[b])))
+                .unwrap_or(0);
+            let centre = |t: &T| {
+                let (lo, hi) = bounds(t);
+                lo[axis] + hi[axis]
+            };
+            let mid = items.len() / 2;
+            items.select_nth_unstable_by(mid, |a, b| centre(a).total_cmp(&centre(b)));
+            let (left, right) = items.split_at_mut(mid);
+            let l = self.node(left, first, bounds, leaf);
+            let r = self.node(right, first + mid, bounds, leaf);
+            self.nodes[id as usize].children = Some([l, r]);
+        }
+        id
+    }
+
+    /// Proven range of `n·p − d` over `node`'s box: `(lo, hi, margin)`. Every point of the box
+    /// (and every item whose approximate coordinates are in it) has its exact value in
+    /// `lo − margin ..= hi + margin`.
+    #[inline]
+    pub fn range(node: &BvhNode, e: &PlaneEntry) -> (f64, f64, f64) {
+        let (mut lo, mut hi, mut m) = (-e.df, -e.df, e.df.abs());
+        for k in 0..3 {
+            let (a, b) = (e.nf[k] * node.min[k], e.nf[k] * node.max[k]);
+            lo += a.min(b);
+            hi += a.max(b);
+            m += a.abs().max(b.abs());
+        }
+        (lo, hi, m * BOX_MARGIN)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use proptest::prelude::*;
+
+    proptest! {
+        /// Every node's box holds its items; leaves hold at most `leaf`; children split the
+        /// parent's range in two.
+        #[test]
+        fn boxes_hold_their_items(
+            pts in proptest::collection::vec([-1e3f64..1e3, -1e3f64..1e3, -1e3f64..1e3], 0..300),
+            leaf in 1usize..10,
+        ) {
+            let mut items = pts.clone();
+            let bvh = Bvh::build(&mut items, |p| (*p, *p), leaf);
+            prop_assert_eq!(bvh.nodes.is_empty(), pts.is_empty());
+            for node in &bvh.nodes {
+                for p in &items[node.first as usize..node.end as usize] {
+                    for (k, &c) in p.iter().enumerate() {
+                        prop_assert!(node.min[k] <= c && c <= node.max[k]);
+                    }
+                }
+                match node.children {
+                    None => prop_assert!((node.end - node.first) as usize <= leaf),
+                    Some([l, r]) => {
+                        let (l, r) = (bvh.nodes[l as usize], bvh.nodes[r as usize]);
+                        prop_assert_eq!((l.first, l.end, r.end), (node.first, r.first, node.end));
+                    }
+                }
+            }
+            let mut sorted = items.clone();
+            let mut want = pts.clone();
+            sorted.sort_by(|a, b| a.partial_cmp(b).unwrap());
+            want.sort_by(|a, b| a.partial_cmp(b).unwrap());
+            prop_assert_eq!(sorted, want);
+        }
+    }
+}
