@@ -14,8 +14,8 @@
 
 use crate::error::CompileError;
 use crate::load::Mesh;
-use crate::peel::hull_planes;
-use crate::planes::PlaneId;
+use crate::peel::{after_split, hull_planes, Known};
+use crate::planes::{PlaneId, Side};
 use crate::shade::Shading;
 use crate::split::{choose_split_with, Fragment, SplitResult, SplitRule};
 use crate::tree::build::{attach, ExactNode, ExactPolygon, ExactTree, Slot};
@@ -272,8 +272,8 @@ pub fn greedy_triangles(
         input_triangles: input.input_triangles,
         ..BaselineStats::default()
     };
-    let mut stack = vec![(input.fragments, 1u64, Vec::new())];
-    while let Some((frags, depth, known)) = stack.pop() {
+    let mut stack = vec![(input.fragments, 1u64, Vec::new(), true)];
+    while let Some((frags, depth, known, valid)) = stack.pop() {
         if frags.is_empty() {
             continue;
         }
@@ -282,13 +282,18 @@ pub fn greedy_triangles(
         let mut planes: Vec<PlaneId> = frags.iter().map(|f| f.support).collect();
         planes.sort_unstable();
         planes.dedup();
-        let hull = hull_planes(&frags, &planes, table, &known);
+        let known = if valid {
+            Known::Valid(&known)
+        } else {
+            Known::Inherited(&known)
+        };
+        let hull = hull_planes(&frags, &planes, table, known);
         if hull.sides.iter().any(Option::is_some) {
             let (e, rest): (Vec<Fragment>, Vec<Fragment>) = frags.into_iter().partition(|f| {
                 hull.sides[planes.binary_search(&f.support).expect("own plane")].is_some()
             });
             stats.output_polygons += triangles(&e);
-            stack.push((rest, depth + 1, hull.witnesses));
+            stack.push((rest, depth + 1, hull.witnesses, false));
             continue;
         }
         stats.split_nodes += 1;
@@ -308,8 +313,19 @@ pub fn greedy_triangles(
         } else {
             back.extend(on);
         }
-        stack.push((back, depth + 1, hull.witnesses.clone()));
-        stack.push((front, depth + 1, hull.witnesses));
+        let plane = table.get(p);
+        stack.push((
+            back,
+            depth + 1,
+            after_split(&hull.witnesses, plane, Side::Back),
+            true,
+        ));
+        stack.push((
+            front,
+            depth + 1,
+            after_split(&hull.witnesses, plane, Side::Front),
+            true,
+        ));
     }
     Ok(stats)
 }

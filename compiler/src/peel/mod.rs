@@ -185,6 +185,31 @@ impl<'a> VertexSet<'a> {
     }
 }
 
+/// [`VertexSet::hull_side`] by a scan of every vertex of `frags` (no set to build: for a few
+/// planes).
+fn scan(frags: &[Fragment], p: PlaneId, table: &PlaneTable) -> Result<bool, Witness> {
+    let e = table.get(p);
+    let (mut front, mut back) = (None, None);
+    for v in frags.iter().flat_map(|f| &f.vertices) {
+        match v.side(e) {
+            Side::Front => front = front.or(Some(v)),
+            Side::Back => back = back.or(Some(v)),
+            Side::On => {}
+        }
+        if front.is_some() && back.is_some() {
+            break;
+        }
+    }
+    match (front, back) {
+        (Some(f), Some(b)) => Err(Witness {
+            plane: p,
+            front: f.clone(),
+            back: b.clone(),
+        }),
+        (f, b) => Ok(f.is_some() || b.is_none()),
+    }
+}
+
 /// Seed 000's set E of a fragment list, and why the other planes are not in it.
 #[derive(Debug, Clone, Default)]
 pub struct Hull {
@@ -195,18 +220,55 @@ pub struct Hull {
     pub witnesses: Vec<Witness>,
 }
 
+/// Witnesses handed to a child list (sorted by plane), and what is known of them.
+#[derive(Debug, Clone, Copy)]
+pub enum Known<'w> {
+    /// Proven vertices of the list by the caller (see [`after_split`]): used as they are.
+    Valid(&'w [Witness]),
+    /// Found for a list this one came from: used where both vertices are still in it.
+    Inherited(&'w [Witness]),
+}
+
+/// The witnesses of a list that hold for the child on `side` of a split of it by `plane`:
+/// those whose two vertices lie strictly on that side (a cut keeps such a vertex in that
+/// side's piece, and no fragment in the plane has one). Sorted as given.
+pub fn after_split(witnesses: &[Witness], plane: &PlaneEntry, side: Side) -> Vec<Witness> {
+    witnesses
+        .iter()
+        .filter(|w| w.front.side(plane) == side && w.back.side(plane) == side)
+        .cloned()
+        .collect()
+}
+
+/// Planes queried by a scan of the list's vertices at most; more build the hierarchy.
+const SCAN_MAX: usize = 8;
+
 /// For each plane of `planes` (the distinct support planes of `frags`, sorted): is it on the
-/// convex hull of `frags`? `known` holds witnesses found for a list `frags` came from (sorted
-/// by plane): a plane whose two witnesses are still vertices of `frags` is off the hull
-/// without a query.
+/// convex hull of `frags`? A plane with a usable witness in `known` is off the hull without a
+/// query.
 pub fn hull_planes(
     frags: &[Fragment],
     planes: &[PlaneId],
     table: &PlaneTable,
-    known: &[Witness],
+    known: Known,
 ) -> Hull {
-    let mut set = VertexSet::new(frags);
-    // Planes off the hull by a still valid witness (indices into `known`), others to query.
+    let (known, valid) = match known {
+        Known::Valid(w) => (w, true),
+        Known::Inherited(w) => (w, false),
+    };
+    #[cfg(test)]
+    if valid {
+        let set = VertexSet::new(frags);
+        for w in known {
+            assert!(
+                set.contains(&w.front) && set.contains(&w.back),
+                "invalid witness"
+            );
+        }
+    }
+    // Needed to check inherited witnesses, or to query many planes.
+    let mut set = (!valid && !known.is_empty()).then(|| VertexSet::new(frags));
+    // Planes off the hull by a usable witness (indices into `known`), others to query.
     let mut carried: Vec<Option<usize>> = vec![None; planes.len()];
     let mut k = 0;
     for (i, &p) in planes.iter().enumerate() {
@@ -214,18 +276,26 @@ pub fn hull_planes(
             k += 1;
         }
         if let Some(w) = known.get(k).filter(|w| w.plane == p) {
-            if set.contains(&w.front) && set.contains(&w.back) {
+            if set
+                .as_ref()
+                .is_none_or(|s| s.contains(&w.front) && s.contains(&w.back))
+            {
                 carried[i] = Some(k);
             }
         }
     }
     let queried = carried.iter().filter(|c| c.is_none()).count();
-    if queried > 0 {
+    let set = if queried > SCAN_MAX {
+        let mut set = set.take().unwrap_or_else(|| VertexSet::new(frags));
         set.index();
-    }
-    let test = |(&p, c): (&PlaneId, &Option<usize>)| match c {
-        Some(k) => Err(known[*k].clone()),
-        None => set.hull_side(p, table),
+        Some(set)
+    } else {
+        None
+    };
+    let test = |(&p, c): (&PlaneId, &Option<usize>)| match (c, &set) {
+        (Some(k), _) => Err(known[*k].clone()),
+        (None, Some(set)) => set.hull_side(p, table),
+        (None, None) => scan(frags, p, table),
     };
     let results: Vec<Result<bool, Witness>> = if queried > 64 && frags.len() > 512 {
         planes.par_iter().zip(&carried).map(test).collect()
@@ -252,6 +322,7 @@ pub fn hull_planes(
 mod tests {
     use super::*;
     use crate::planes::Plane;
+    use crate::split::SplitResult;
     use proptest::prelude::*;
 
     fn naive(frags: &[Fragment], e: &PlaneEntry) -> Option<bool> {
@@ -294,6 +365,24 @@ mod tests {
         (table, out)
     }
 
+    /// `hull` answers like the exact scan on `frags`, with a witness for exactly the planes off
+    /// the hull.
+    fn check(frags: &[Fragment], table: &PlaneTable, hull: &Hull) -> Result<(), TestCaseError> {
+        let planes = support_planes(frags);
+        for (i, &p) in planes.iter().enumerate() {
+            prop_assert_eq!(hull.sides[i], naive(frags, table.get(p)));
+        }
+        let off: Vec<PlaneId> = hull.witnesses.iter().map(|w| w.plane).collect();
+        let want: Vec<PlaneId> = planes
+            .iter()
+            .zip(&hull.sides)
+            .filter(|(_, s)| s.is_none())
+            .map(|(&p, _)| p)
+            .collect();
+        prop_assert_eq!(off, want);
+        Ok(())
+    }
+
     fn support_planes(frags: &[Fragment]) -> Vec<PlaneId> {
         let mut p: Vec<PlaneId> = frags.iter().map(|f| f.support).collect();
         p.sort_unstable();
@@ -326,22 +415,27 @@ mod tests {
                 }
             }
             let planes: Vec<PlaneId> = (0..table.len() as PlaneId).collect();
-            let got = hull_planes(&frags, &planes, &table, &[]);
+            let got = hull_planes(&frags, &planes, &table, Known::Inherited(&[]));
             for (i, &p) in planes.iter().enumerate() {
                 prop_assert_eq!(got.sides[i], naive(&frags, table.get(p)));
             }
         }
 
-        /// A child list (part of its parent's fragments) answers exactly like the exact scan
-        /// when given the parent's witnesses, which are vertices strictly on each side.
+        /// A child list answers exactly like the exact scan when given its parent's
+        /// witnesses: after peeling (any part of the parent, inherited witnesses checked for
+        /// presence) and after a split (witnesses strictly on the child's side, used as they
+        /// are: `hull_planes` asserts under test that they are vertices of the child). Lists
+        /// of up to 50 planes take both the scan and the hierarchy.
         #[test]
         fn witnesses_carried_to_a_child_keep_answers_exact(
             pts in proptest::collection::vec([-30i32..30, -30i32..30, -4i32..4], 6..150),
             keep in proptest::collection::vec(proptest::bool::weighted(0.8), 100),
+            cut in 0usize..1000,
         ) {
             let (table, frags) = soup(&pts);
             let planes = support_planes(&frags);
-            let parent = hull_planes(&frags, &planes, &table, &[]);
+            let parent = hull_planes(&frags, &planes, &table, Known::Inherited(&[]));
+            check(&frags, &table, &parent)?;
             for w in &parent.witnesses {
                 let e = table.get(w.plane);
                 prop_assert_eq!(w.front.side(e), Side::Front);
@@ -354,18 +448,26 @@ mod tests {
                 .map(|(_, f)| f.clone())
                 .collect();
             let planes = support_planes(&child);
-            let got = hull_planes(&child, &planes, &table, &parent.witnesses);
-            for (i, &p) in planes.iter().enumerate() {
-                prop_assert_eq!(got.sides[i], naive(&child, table.get(p)));
+            let got = hull_planes(&child, &planes, &table, Known::Inherited(&parent.witnesses));
+            check(&child, &table, &got)?;
+            let Some(&p) = planes.get(cut % planes.len().max(1)) else { return Ok(()) };
+            let e = table.get(p);
+            for side in [Side::Front, Side::Back] {
+                let mut part = Vec::new();
+                for f in child.iter().cloned() {
+                    match f.split(p, &table) {
+                        Some(SplitResult::Cut(a, b)) => {
+                            part.push(if side == Side::Front { a } else { b })
+                        }
+                        Some(SplitResult::Front(f)) if side == Side::Front => part.push(f),
+                        Some(SplitResult::Back(f)) if side == Side::Back => part.push(f),
+                        _ => {}
+                    }
+                }
+                let known = after_split(&got.witnesses, e, side);
+                let planes = support_planes(&part);
+                check(&part, &table, &hull_planes(&part, &planes, &table, Known::Valid(&known)))?;
             }
-            let off: Vec<PlaneId> = got.witnesses.iter().map(|w| w.plane).collect();
-            let want: Vec<PlaneId> = planes
-                .iter()
-                .zip(&got.sides)
-                .filter(|(_, s)| s.is_none())
-                .map(|(&p, _)| p)
-                .collect();
-            prop_assert_eq!(off, want);
         }
     }
 }

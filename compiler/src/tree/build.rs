@@ -13,8 +13,8 @@ use rayon::prelude::*;
 use super::input::Input;
 use super::BuildOptions;
 use crate::error::CompileError;
-use crate::peel::{hull_planes, Witness};
-use crate::planes::{PlaneId, PlaneTable};
+use crate::peel::{after_split, hull_planes, Known, Witness};
+use crate::planes::{PlaneId, PlaneTable, Side};
 use crate::split::{choose_split, Fragment, SplitResult};
 
 /// Subtrees are built in parallel when both sides of a split hold at least this many
@@ -90,10 +90,12 @@ impl Limit {
 }
 
 enum Job {
-    /// `compile(L)`. `known`: witnesses found for an ancestor's list (see [`hull_planes`]).
+    /// `compile(L)`. `known`: witnesses found for an ancestor's list, proven vertices of `L`
+    /// when `valid` (see [`Known`]).
     Compile {
         frags: Vec<Fragment>,
         known: Vec<Witness>,
+        valid: bool,
         slot: Slot,
         limit: Limit,
     },
@@ -102,6 +104,7 @@ enum Job {
     InPlane {
         on: Vec<Fragment>,
         rest: Vec<Fragment>,
+        /// Proven vertices of `rest`.
         known: Vec<Witness>,
         interior_front: bool,
         slot: Slot,
@@ -155,6 +158,7 @@ pub(crate) fn build_exact(
     let root = Job::Compile {
         frags: input.fragments.clone(),
         known: Vec::new(),
+        valid: true,
         slot: Slot::Root,
         limit: Limit {
             max: u32::MAX,
@@ -289,6 +293,7 @@ fn run(ctx: &Ctx, job: Job) -> Result<ExactTree, CompileError> {
                     stack.push(Job::Compile {
                         frags: rest,
                         known,
+                        valid: true,
                         slot: Slot::Child(idx),
                         limit,
                     });
@@ -297,6 +302,7 @@ fn run(ctx: &Ctx, job: Job) -> Result<ExactTree, CompileError> {
             Job::Compile {
                 frags,
                 known,
+                valid,
                 slot,
                 limit,
             } => {
@@ -306,7 +312,16 @@ fn run(ctx: &Ctx, job: Job) -> Result<ExactTree, CompileError> {
                 let planes = distinct_planes(frags.iter());
                 let k = planes.len() as u32;
                 limit.check(k, "node")?;
-                let hull = hull_planes(&frags, &planes, ctx.table, &known);
+                let hull = hull_planes(
+                    &frags,
+                    &planes,
+                    ctx.table,
+                    if valid {
+                        Known::Valid(&known)
+                    } else {
+                        Known::Inherited(&known)
+                    },
+                );
                 drop(known);
                 if hull.sides.iter().any(Option::is_some) {
                     let (mut e, mut rest) = (Vec::new(), Vec::with_capacity(frags.len()));
@@ -329,6 +344,7 @@ fn run(ctx: &Ctx, job: Job) -> Result<ExactTree, CompileError> {
                         stack.push(Job::Compile {
                             frags: rest,
                             known: hull.witnesses,
+                            valid: false,
                             slot: Slot::Child(idx),
                             limit,
                         });
@@ -435,6 +451,12 @@ fn split_node(
     };
     // The split plane's fragments join the smaller side; a tie goes to the side whose
     // source ids come first (not to "front", which depends on the plane's sign).
+    let e = ctx.table.get(p);
+    let (known_front, known_back) = (
+        after_split(&known, e, Side::Front),
+        after_split(&known, e, Side::Back),
+    );
+    drop(known);
     let on_front = match front.len().cmp(&back.len()) {
         std::cmp::Ordering::Less => true,
         std::cmp::Ordering::Greater => false,
@@ -448,14 +470,15 @@ fn split_node(
             Job::InPlane {
                 on,
                 rest: front,
-                known: known.clone(),
+                known: known_front,
                 interior_front: true,
                 slot: Slot::Front(idx),
                 limit: loose,
             },
             Job::Compile {
                 frags: back,
-                known,
+                known: known_back,
+                valid: true,
                 slot: Slot::Back(idx),
                 limit: strict,
             },
@@ -465,14 +488,15 @@ fn split_node(
             Job::InPlane {
                 on,
                 rest: back,
-                known: known.clone(),
+                known: known_back,
                 interior_front: false,
                 slot: Slot::Back(idx),
                 limit: loose,
             },
             Job::Compile {
                 frags: front,
-                known,
+                known: known_front,
+                valid: true,
                 slot: Slot::Front(idx),
                 limit: strict,
             },
