@@ -368,6 +368,42 @@ impl View {
         Vec3::new(v.dot(self.right), v.dot(self.up), v.dot(self.forward))
     }
 
+    /// The camera-space box around the world box `lo..=hi`: its centre and half extents along
+    /// the camera axes (each axis gets `|axis|·h`, so every transformed corner is inside). One
+    /// transform instead of eight.
+    pub fn box_to_camera(&self, lo: Vec3, hi: Vec3) -> (Vec3, Vec3) {
+        let h = (hi - lo) * 0.5;
+        let e = Vec3::new(
+            self.right.abs().dot(h),
+            self.up.abs().dot(h),
+            self.forward.abs().dot(h),
+        );
+        (self.to_camera((lo + hi) * 0.5), e)
+    }
+
+    /// A screen rectangle `(min, max)` holding the projection of every point of the
+    /// camera-space box `c ± e`, up to `f32` rounding; `None` unless the whole box is at least
+    /// `near` away (also for NaN).
+    pub fn box_on_screen(&self, c: Vec3, e: Vec3) -> Option<(Vec2, Vec2)> {
+        let (a, b) = (c - e, c + e);
+        if a.z.is_nan() || a.z < self.near {
+            return None;
+        }
+        // `x / z` over the box is extreme at its corners (monotonic in each).
+        let least = |x: f32| (x / a.z).min(x / b.z);
+        let most = |x: f32| (x / a.z).max(x / b.z);
+        Some((
+            Vec2::new(
+                self.cx + self.fx * least(a.x),
+                self.cy - self.fy * most(b.y),
+            ),
+            Vec2::new(
+                self.cx + self.fx * most(b.x),
+                self.cy - self.fy * least(a.y),
+            ),
+        ))
+    }
+
     /// Screen position of a camera-space point that survived near clipping. `zc` is first
     /// raised to `near`: clipped points can land a rounding error short of the near plane and
     /// must never be projected from behind it.
@@ -383,6 +419,38 @@ mod tests {
 
     fn close(a: f64, b: f64) -> bool {
         (a - b).abs() <= 1e-9 * (1.0 + a.abs().max(b.abs()))
+    }
+
+    proptest::proptest! {
+        /// Every corner of a world box, transformed and projected, lies in the screen
+        /// rectangle of its camera-space box (to f32 rounding, far below the pixel of margin
+        /// the renderer adds).
+        #[test]
+        fn box_rectangle_holds_every_projected_corner(
+            eye in proptest::array::uniform3(-50.0f64..50.0),
+            target in proptest::array::uniform3(-5.0f64..5.0),
+            lo in proptest::array::uniform3(-10.0f32..10.0),
+            size in proptest::array::uniform3(0.0f32..8.0),
+        ) {
+            let pose = Pose::new(DVec3::from_array(eye), DVec3::from_array(target));
+            let Ok(cam) = Camera::look_at(pose, 60.0, 640, 480, 0.01) else { return Ok(()) };
+            let view = cam.view([0.0; 3]);
+            let lo = Vec3::from_array(lo);
+            let hi = lo + Vec3::from_array(size);
+            let (c, e) = view.box_to_camera(lo, hi);
+            let Some((min, max)) = view.box_on_screen(c, e) else { return Ok(()) };
+            for k in 0..8 {
+                let p = Vec3::new(
+                    if k & 1 == 0 { lo.x } else { hi.x },
+                    if k & 2 == 0 { lo.y } else { hi.y },
+                    if k & 4 == 0 { lo.z } else { hi.z },
+                );
+                let q = view.project(view.to_camera(p));
+                let tol = 1e-3 * (1.0 + q.x.abs().max(q.y.abs()));
+                proptest::prop_assert!(q.x >= min.x - tol && q.x <= max.x + tol, "{q} {min} {max}");
+                proptest::prop_assert!(q.y >= min.y - tol && q.y <= max.y + tol, "{q} {min} {max}");
+            }
+        }
     }
 
     fn simple() -> Camera {

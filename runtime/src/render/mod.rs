@@ -545,22 +545,15 @@ impl<const SUB: u32> Painter<'_, SUB> {
         let Some((lo, hi)) = scene.node_bounds(node) else {
             return true;
         };
-        let mut corners = [Vec3::ZERO; 8];
-        for (k, c) in corners.iter_mut().enumerate() {
-            let p = Vec3::new(
-                if k & 1 == 0 { lo.x } else { hi.x },
-                if k & 2 == 0 { lo.y } else { hi.y },
-                if k & 4 == 0 { lo.z } else { hi.z },
-            );
-            *c = self.view.to_camera(p);
-        }
-        // Outside one half-space of the (convex) frustum: outside the frustum.
+        let (c, e) = self.view.box_to_camera(lo, hi);
+        // Outside one half-space of the (convex) frustum: even the box's farthest corner
+        // along the plane's normal is outside.
         let outside = !self.all_inside
             && self
                 .frustum
                 .planes()
                 .iter()
-                .any(|plane| corners.iter().all(|&c| plane.eval(c) < 0.0));
+                .any(|plane| plane.eval(c) + plane.normal.abs().dot(e) < 0.0);
         if outside {
             tally(&mut stats.nodes_culled_frustum, 1);
             return false;
@@ -569,15 +562,9 @@ impl<const SUB: u32> Painter<'_, SUB> {
             return true;
         };
         // Doom's bbox check in 3D: only when the whole box is in front of the near plane.
-        if corners.iter().any(|c| c.z < self.view.near) {
+        let Some((min, max)) = self.view.box_on_screen(c, e) else {
             return true;
-        }
-        let (mut min, mut max) = (Vec2::splat(f32::INFINITY), Vec2::splat(f32::NEG_INFINITY));
-        for &c in &corners {
-            let p = self.view.project(c);
-            min = min.min(p);
-            max = max.max(p);
-        }
+        };
         // One pixel of margin covers snapping; clamped to the frame. (`floor` clamped at 0:
         // truncation is the floor of a non-negative value, and NaN becomes 0.)
         let pixel = |v: f32, limit: u32| (v.max(0.0) as u32).min(limit);
