@@ -172,16 +172,24 @@ impl<'a> VertexSet<'a> {
     /// `Err` with the witnesses that it is not.
     pub fn hull_side(&self, p: PlaneId, table: &PlaneTable) -> Result<bool, Witness> {
         let e = table.get(p);
-        let front = self.any_strictly(e, Side::Front);
-        let back = self.any_strictly(e, Side::Back);
-        match (front, back) {
-            (Some(f), Some(b)) => Err(Witness {
-                plane: p,
-                front: f.clone(),
-                back: b.clone(),
-            }),
-            (f, b) => Ok(f.is_some() || b.is_none()),
-        }
+        verdict(
+            p,
+            self.any_strictly(e, Side::Front),
+            self.any_strictly(e, Side::Back),
+        )
+    }
+}
+
+/// The hull answer for plane `p` from a vertex strictly on each side, if any (see
+/// [`VertexSet::hull_side`]).
+fn verdict(p: PlaneId, front: Option<&Vertex>, back: Option<&Vertex>) -> Result<bool, Witness> {
+    match (front, back) {
+        (Some(f), Some(b)) => Err(Witness {
+            plane: p,
+            front: f.clone(),
+            back: b.clone(),
+        }),
+        (f, b) => Ok(f.is_some() || b.is_none()),
     }
 }
 
@@ -200,14 +208,7 @@ fn scan(frags: &[Fragment], p: PlaneId, table: &PlaneTable) -> Result<bool, Witn
             break;
         }
     }
-    match (front, back) {
-        (Some(f), Some(b)) => Err(Witness {
-            plane: p,
-            front: f.clone(),
-            back: b.clone(),
-        }),
-        (f, b) => Ok(f.is_some() || b.is_none()),
-    }
+    verdict(p, front, back)
 }
 
 /// Seed 000's set E of a fragment list, and why the other planes are not in it.
