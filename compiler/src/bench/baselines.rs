@@ -272,8 +272,8 @@ pub fn greedy_triangles(
         input_triangles: input.input_triangles,
         ..BaselineStats::default()
     };
-    let mut stack = vec![(input.fragments, 1u64, Vec::new(), true)];
-    while let Some((frags, depth, known, valid)) = stack.pop() {
+    let mut stack = vec![(input.fragments, 1u64, Known::default())];
+    while let Some((frags, depth, known)) = stack.pop() {
         if frags.is_empty() {
             continue;
         }
@@ -282,18 +282,13 @@ pub fn greedy_triangles(
         let mut planes: Vec<PlaneId> = frags.iter().map(|f| f.support).collect();
         planes.sort_unstable();
         planes.dedup();
-        let known = if valid {
-            Known::Valid(&known)
-        } else {
-            Known::Inherited(&known)
-        };
-        let hull = hull_planes(&frags, &planes, table, known);
+        let hull = hull_planes(&frags, &planes, table, &known);
         if hull.sides.iter().any(Option::is_some) {
             let (e, rest): (Vec<Fragment>, Vec<Fragment>) = frags.into_iter().partition(|f| {
                 hull.sides[planes.binary_search(&f.support).expect("own plane")].is_some()
             });
             stats.output_polygons += triangles(&e);
-            stack.push((rest, depth + 1, hull.witnesses, false));
+            stack.push((rest, depth + 1, Known::Inherited(hull.witnesses)));
             continue;
         }
         stats.split_nodes += 1;
@@ -314,18 +309,9 @@ pub fn greedy_triangles(
             back.extend(on);
         }
         let plane = table.get(p);
-        stack.push((
-            back,
-            depth + 1,
-            after_split(&hull.witnesses, plane, Side::Back),
-            true,
-        ));
-        stack.push((
-            front,
-            depth + 1,
-            after_split(&hull.witnesses, plane, Side::Front),
-            true,
-        ));
+        let side = |s| Known::Valid(after_split(&hull.witnesses, plane, s));
+        stack.push((back, depth + 1, side(Side::Back)));
+        stack.push((front, depth + 1, side(Side::Front)));
     }
     Ok(stats)
 }

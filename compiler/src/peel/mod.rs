@@ -222,12 +222,19 @@ pub struct Hull {
 }
 
 /// Witnesses handed to a child list (sorted by plane), and what is known of them.
-#[derive(Debug, Clone, Copy)]
-pub enum Known<'w> {
+#[derive(Debug, Clone)]
+pub enum Known {
     /// Proven vertices of the list by the caller (see [`after_split`]): used as they are.
-    Valid(&'w [Witness]),
+    Valid(Vec<Witness>),
     /// Found for a list this one came from: used where both vertices are still in it.
-    Inherited(&'w [Witness]),
+    Inherited(Vec<Witness>),
+}
+
+impl Default for Known {
+    /// None.
+    fn default() -> Known {
+        Known::Valid(Vec::new())
+    }
 }
 
 /// The witnesses of a list that hold for the child on `side` of a split of it by `plane`:
@@ -251,11 +258,11 @@ pub fn hull_planes(
     frags: &[Fragment],
     planes: &[PlaneId],
     table: &PlaneTable,
-    known: Known,
+    known: &Known,
 ) -> Hull {
     let (known, valid) = match known {
-        Known::Valid(w) => (w, true),
-        Known::Inherited(w) => (w, false),
+        Known::Valid(w) => (w.as_slice(), true),
+        Known::Inherited(w) => (w.as_slice(), false),
     };
     #[cfg(test)]
     if valid {
@@ -416,7 +423,7 @@ mod tests {
                 }
             }
             let planes: Vec<PlaneId> = (0..table.len() as PlaneId).collect();
-            let got = hull_planes(&frags, &planes, &table, Known::Inherited(&[]));
+            let got = hull_planes(&frags, &planes, &table, &Known::default());
             for (i, &p) in planes.iter().enumerate() {
                 prop_assert_eq!(got.sides[i], naive(&frags, table.get(p)));
             }
@@ -435,7 +442,7 @@ mod tests {
         ) {
             let (table, frags) = soup(&pts);
             let planes = support_planes(&frags);
-            let parent = hull_planes(&frags, &planes, &table, Known::Inherited(&[]));
+            let parent = hull_planes(&frags, &planes, &table, &Known::default());
             check(&frags, &table, &parent)?;
             for w in &parent.witnesses {
                 let e = table.get(w.plane);
@@ -449,7 +456,7 @@ mod tests {
                 .map(|(_, f)| f.clone())
                 .collect();
             let planes = support_planes(&child);
-            let got = hull_planes(&child, &planes, &table, Known::Inherited(&parent.witnesses));
+            let got = hull_planes(&child, &planes, &table, &Known::Inherited(parent.witnesses.clone()));
             check(&child, &table, &got)?;
             let Some(&p) = planes.get(cut % planes.len().max(1)) else { return Ok(()) };
             let e = table.get(p);
@@ -467,7 +474,7 @@ mod tests {
                 }
                 let known = after_split(&got.witnesses, e, side);
                 let planes = support_planes(&part);
-                check(&part, &table, &hull_planes(&part, &planes, &table, Known::Valid(&known)))?;
+                check(&part, &table, &hull_planes(&part, &planes, &table, &Known::Valid(known)))?;
             }
         }
     }

@@ -379,7 +379,7 @@ impl<'a> Sample<'a> {
     }
 
     /// The sample counted against `plane`; `None` as soon as `stop(count so far, fragments
-    /// left)` holds (it is asked every 16 fragments).
+    /// left)` holds (it is asked after each box counted whole and each leaf opened).
     pub(crate) fn tally(
         &self,
         plane: PlaneId,

@@ -90,12 +90,10 @@ impl Limit {
 }
 
 enum Job {
-    /// `compile(L)`. `known`: witnesses found for an ancestor's list, proven vertices of `L`
-    /// when `valid` (see [`Known`]).
+    /// `compile(L)`. `known`: witnesses found for an ancestor's list.
     Compile {
         frags: Vec<Fragment>,
-        known: Vec<Witness>,
-        valid: bool,
+        known: Known,
         slot: Slot,
         limit: Limit,
     },
@@ -104,8 +102,8 @@ enum Job {
     InPlane {
         on: Vec<Fragment>,
         rest: Vec<Fragment>,
-        /// Proven vertices of `rest`.
-        known: Vec<Witness>,
+        /// Witnesses for `rest`.
+        known: Known,
         interior_front: bool,
         slot: Slot,
         limit: Limit,
@@ -157,8 +155,7 @@ pub(crate) fn build_exact(
     };
     let root = Job::Compile {
         frags: input.fragments.clone(),
-        known: Vec::new(),
-        valid: true,
+        known: Known::default(),
         slot: Slot::Root,
         limit: Limit {
             max: u32::MAX,
@@ -293,7 +290,6 @@ fn run(ctx: &Ctx, job: Job) -> Result<ExactTree, CompileError> {
                     stack.push(Job::Compile {
                         frags: rest,
                         known,
-                        valid: true,
                         slot: Slot::Child(idx),
                         limit,
                     });
@@ -302,7 +298,6 @@ fn run(ctx: &Ctx, job: Job) -> Result<ExactTree, CompileError> {
             Job::Compile {
                 frags,
                 known,
-                valid,
                 slot,
                 limit,
             } => {
@@ -312,16 +307,7 @@ fn run(ctx: &Ctx, job: Job) -> Result<ExactTree, CompileError> {
                 let planes = distinct_planes(frags.iter());
                 let k = planes.len() as u32;
                 limit.check(k, "node")?;
-                let hull = hull_planes(
-                    &frags,
-                    &planes,
-                    ctx.table,
-                    if valid {
-                        Known::Valid(&known)
-                    } else {
-                        Known::Inherited(&known)
-                    },
-                );
+                let hull = hull_planes(&frags, &planes, ctx.table, &known);
                 drop(known);
                 if hull.sides.iter().any(Option::is_some) {
                     let (mut e, mut rest) = (Vec::new(), Vec::with_capacity(frags.len()));
@@ -343,8 +329,7 @@ fn run(ctx: &Ctx, job: Job) -> Result<ExactTree, CompileError> {
                         };
                         stack.push(Job::Compile {
                             frags: rest,
-                            known: hull.witnesses,
-                            valid: false,
+                            known: Known::Inherited(hull.witnesses),
                             slot: Slot::Child(idx),
                             limit,
                         });
@@ -453,8 +438,8 @@ fn split_node(
     // source ids come first (not to "front", which depends on the plane's sign).
     let e = ctx.table.get(p);
     let (known_front, known_back) = (
-        after_split(&known, e, Side::Front),
-        after_split(&known, e, Side::Back),
+        Known::Valid(after_split(&known, e, Side::Front)),
+        Known::Valid(after_split(&known, e, Side::Back)),
     );
     drop(known);
     let on_front = match front.len().cmp(&back.len()) {
@@ -478,7 +463,6 @@ fn split_node(
             Job::Compile {
                 frags: back,
                 known: known_back,
-                valid: true,
                 slot: Slot::Back(idx),
                 limit: strict,
             },
@@ -496,7 +480,6 @@ fn split_node(
             Job::Compile {
                 frags: front,
                 known: known_front,
-                valid: true,
                 slot: Slot::Front(idx),
                 limit: strict,
             },
