@@ -15,10 +15,13 @@
 //! nearly flat or highly symmetric scene) it degrades to the exact scan, O(m) per plane.
 //!
 //! Witnesses: a plane found off the hull comes with its proof, a vertex strictly on each
-//! side ([`Witness`]). A child node's list only loses vertices (peeling) or keeps part of
-//! them (a split), so a plane whose two witnesses are still vertices of the child is still
-//! off the hull there, and is not queried again; only planes that lost a witness are. Peeling
-//! one thin layer at a time would otherwise query every remaining plane again per layer.
+//! side ([`Witness`]). A plane whose two witnesses are still vertices of a child's list is
+//! still off the hull there and is not queried again; peeling one thin layer at a time would
+//! otherwise query every remaining plane again per layer. After a split, the witnesses
+//! strictly on a child's side are proven vertices of that child (a cut keeps such vertices in
+//! that side's piece): [`Known::Valid`]. After a peel, a witness is looked up among the child's
+//! vertices: [`Known::Inherited`]. The few planes left to query are scanned; many, searched in
+//! the hierarchy.
 
 use rayon::prelude::*;
 
