@@ -15,7 +15,7 @@
 use crate::error::CompileError;
 use crate::load::Mesh;
 use crate::peel::{after_split, hull_planes, Known};
-use crate::planes::{PlaneId, Side};
+use crate::planes::PlaneId;
 use crate::shade::Shading;
 use crate::split::{choose_split_with, Fragment, SplitResult, SplitRule};
 use crate::tree::build::{attach, ExactNode, ExactPolygon, ExactTree, Slot};
@@ -308,10 +308,9 @@ pub fn greedy_triangles(
         } else {
             back.extend(on);
         }
-        let plane = table.get(p);
-        let side = |s| Known::Valid(after_split(&hull.witnesses, plane, s));
-        stack.push((back, depth + 1, side(Side::Back)));
-        stack.push((front, depth + 1, side(Side::Front)));
+        let (known_front, known_back) = after_split(hull.witnesses, table.get(p));
+        stack.push((back, depth + 1, known_back));
+        stack.push((front, depth + 1, known_front));
     }
     Ok(stats)
 }

@@ -240,15 +240,20 @@ impl Default for Known {
     }
 }
 
-/// The witnesses of a list that hold for the child on `side` of a split of it by `plane`:
-/// those whose two vertices lie strictly on that side (a cut keeps such a vertex in that
-/// side's piece, and no fragment in the plane has one). Sorted as given.
-pub fn after_split(witnesses: &[Witness], plane: &PlaneEntry, side: Side) -> Vec<Witness> {
-    witnesses
-        .iter()
-        .filter(|w| w.front.side(plane) == side && w.back.side(plane) == side)
-        .cloned()
-        .collect()
+/// The witnesses of a list that hold for the children of a split of it by `plane`, as
+/// `(front, back)`: those whose two vertices lie strictly on that child's side (a cut keeps
+/// such a vertex in that side's piece, and no fragment in the plane has one). Sorted as
+/// given; each vertex's side is computed once.
+pub fn after_split(witnesses: Vec<Witness>, plane: &PlaneEntry) -> (Known, Known) {
+    let (mut front, mut back) = (Vec::new(), Vec::new());
+    for w in witnesses {
+        match (w.front.side(plane), w.back.side(plane)) {
+            (Side::Front, Side::Front) => front.push(w),
+            (Side::Back, Side::Back) => back.push(w),
+            _ => {}
+        }
+    }
+    (Known::Valid(front), Known::Valid(back))
 }
 
 /// Planes queried by a scan of the list's vertices at most; more build the hierarchy.
@@ -462,8 +467,8 @@ mod tests {
             let got = hull_planes(&child, &planes, &table, &Known::Inherited(parent.witnesses.clone()));
             check(&child, &table, &got)?;
             let Some(&p) = planes.get(cut % planes.len().max(1)) else { return Ok(()) };
-            let e = table.get(p);
-            for side in [Side::Front, Side::Back] {
+            let (known_front, known_back) = after_split(got.witnesses, table.get(p));
+            for (side, known) in [(Side::Front, known_front), (Side::Back, known_back)] {
                 let mut part = Vec::new();
                 for f in child.iter().cloned() {
                     match f.split(p, &table) {
@@ -475,9 +480,8 @@ mod tests {
                         _ => {}
                     }
                 }
-                let known = after_split(&got.witnesses, e, side);
                 let planes = support_planes(&part);
-                check(&part, &table, &hull_planes(&part, &planes, &table, &Known::Valid(known)))?;
+                check(&part, &table, &hull_planes(&part, &planes, &table, &known))?;
             }
         }
     }

@@ -14,7 +14,7 @@ use super::input::Input;
 use super::BuildOptions;
 use crate::error::CompileError;
 use crate::peel::{after_split, hull_planes, Known, Witness};
-use crate::planes::{PlaneId, PlaneTable, Side};
+use crate::planes::{PlaneId, PlaneTable};
 use crate::split::{choose_split, Fragment, SplitResult};
 
 /// Subtrees are built in parallel when both sides of a split hold at least this many
@@ -436,12 +436,7 @@ fn split_node(
     };
     // The split plane's fragments join the smaller side; a tie goes to the side whose
     // source ids come first (not to "front", which depends on the plane's sign).
-    let e = ctx.table.get(p);
-    let (known_front, known_back) = (
-        Known::Valid(after_split(&known, e, Side::Front)),
-        Known::Valid(after_split(&known, e, Side::Back)),
-    );
-    drop(known);
+    let (known_front, known_back) = after_split(known, ctx.table.get(p));
     let on_front = match front.len().cmp(&back.len()) {
         std::cmp::Ordering::Less => true,
         std::cmp::Ordering::Greater => false,
