@@ -10,6 +10,29 @@ use crate::planes::PlaneEntry;
 /// [`crate::planes::FILTER_BOUND`], which bounds the error of one approximate coordinate).
 const BOX_MARGIN: f64 = 1.0 / (1u64 << 40) as f64;
 
+/// Order `centres` so that every range [`Bvh::node`] makes (halves, down to `leaf` items)
+/// holds the items on one side of its median along the axis its centres spread most on.
+fn split(centres: &mut [([f64; 3], u32)], leaf: usize) {
+    if centres.len() <= leaf {
+        return;
+    }
+    let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
+    for (c, _) in centres.iter() {
+        for k in 0..3 {
+            lo[k] = lo[k].min(c[k]);
+            hi[k] = hi[k].max(c[k]);
+        }
+    }
+    let axis = (0..3)
+        .max_by(|&a, &b| (hi[a] - lo[a]).total_cmp(&(hi[b] - lo[b])))
+        .unwrap_or(0);
+    let mid = centres.len() / 2;
+    centres.select_nth_unstable_by(mid, |a, b| a.0[axis].total_cmp(&b.0[axis]));
+    let (left, right) = centres.split_at_mut(mid);
+    split(left, leaf);
+    split(right, leaf);
+}
+
 /// A node: the box of its items, their range in the reordered item list, its children.
 #[derive(Debug, Clone, Copy)]
 pub(crate) struct BvhNode {
@@ -33,62 +56,80 @@ pub(crate) struct Bvh {
 
 impl Bvh {
     /// Build over `items`, reordering them so that every node's items are contiguous; `bounds`
-    /// gives an item's box, `leaf` the most items a leaf holds. Splits at the median of the
-    /// box centres along the longest axis, so the depth stays below 33 for any `u32` count.
-    pub fn build<T>(
+    /// gives an item's box, `leaf` the most items a leaf holds. Each node splits at the
+    /// median of its items' box centres along the axis they spread most on, so the depth
+    /// stays below 33 for any `u32` count. The split works on a flat list of centres and the
+    /// boxes are merged bottom-up: hierarchies are built for most nodes of the tree.
+    pub fn build<T: Clone>(
         items: &mut [T],
         bounds: impl Fn(&T) -> ([f64; 3], [f64; 3]),
         leaf: usize,
     ) -> Bvh {
+        let leaf = leaf.max(1);
         let mut bvh = Bvh {
-            nodes: Vec::with_capacity(2 * items.len() / leaf.max(1) + 1),
+            nodes: Vec::with_capacity(2 * items.len() / leaf + 1),
         };
-        if !items.is_empty() {
-            bvh.node(items, 0, &bounds, leaf.max(1));
+        if items.is_empty() {
+            return bvh;
         }
+        let boxes: Vec<([f64; 3], [f64; 3])> = items.iter().map(&bounds).collect();
+        let mut centres: Vec<([f64; 3], u32)> = boxes
+            .iter()
+            .enumerate()
+            .map(|(i, (a, b))| ([a[0] + b[0], a[1] + b[1], a[2] + b[2]], i as u32))
+            .collect();
+        split(&mut centres, leaf);
+        let sorted: Vec<T> = centres
+            .iter()
+            .map(|&(_, i)| items[i as usize].clone())
+            .collect();
+        items.clone_from_slice(&sorted);
+        let boxes: Vec<([f64; 3], [f64; 3])> =
+            centres.iter().map(|&(_, i)| boxes[i as usize]).collect();
+        bvh.node(&boxes, 0, items.len(), leaf);
         bvh
     }
 
-    fn node<T>(
+    /// The node over `boxes[first..end]` and its subtree; returns its index.
+    fn node(
         &mut self,
-        items: &mut [T],
+        boxes: &[([f64; 3], [f64; 3])],
         first: usize,
-        bounds: &impl Fn(&T) -> ([f64; 3], [f64; 3]),
+        end: usize,
         leaf: usize,
     ) -> u32 {
-        let mut min = [f64::INFINITY; 3];
-        let mut max = [f64::NEG_INFINITY; 3];
-        for item in items.iter() {
-            let (lo, hi) = bounds(item);
+        let id = self.nodes.len();
+        self.nodes.push(BvhNode {
+            min: [f64::INFINITY; 3],
+            max: [f64::NEG_INFINITY; 3],
+            first: first as u32,
+            end: end as u32,
+            children: None,
+        });
+        let (mut min, mut max) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
+        let mut add = |lo: &[f64; 3], hi: &[f64; 3]| {
             for k in 0..3 {
                 min[k] = min[k].min(lo[k]);
                 max[k] = max[k].max(hi[k]);
             }
+        };
+        if end - first > leaf {
+            let mid = first + (end - first) / 2;
+            let l = self.node(boxes, first, mid, leaf);
+            let r = self.node(boxes, mid, end, leaf);
+            for c in [l, r] {
+                let c = self.nodes[c as usize];
+                add(&c.min, &c.max);
+            }
+            self.nodes[id].children = Some([l, r]);
+        } else {
+            for (lo, hi) in &boxes[first..end] {
+                add(lo, hi);
+            }
         }
-        let id = self.nodes.len() as u32;
-        self.nodes.push(BvhNode {
-            min,
-            max,
-            first: first as u32,
-            end: (first + items.len()) as u32,
-            children: None,
-        });
-        if items.len() > leaf {
-            let axis = (0..3)
-                .max_by(|&a, &b| (max[a] - min[a]).total_cmp(&(max[b] - min[b])))
-                .unwrap_or(0);
-            let centre = |t: &T| {
-                let (lo, hi) = bounds(t);
-                lo[axis] + hi[axis]
-            };
-            let mid = items.len() / 2;
-            items.select_nth_unstable_by(mid, |a, b| centre(a).total_cmp(&centre(b)));
-            let (left, right) = items.split_at_mut(mid);
-            let l = self.node(left, first, bounds, leaf);
-            let r = self.node(right, first + mid, bounds, leaf);
-            self.nodes[id as usize].children = Some([l, r]);
-        }
-        id
+        self.nodes[id].min = min;
+        self.nodes[id].max = max;
+        id as u32
     }
 
     /// Proven range of `n·p − d` over `node`'s box: `(lo, hi, margin)`. Every point of the box

@@ -26,6 +26,7 @@
 use rayon::prelude::*;
 
 use crate::bvh::Bvh;
+use crate::hash::FastSet;
 use crate::planes::{PlaneEntry, PlaneId, PlaneTable, Side, Vertex};
 use crate::split::Fragment;
 
@@ -61,51 +62,51 @@ impl Key {
     }
 }
 
-/// The distinct vertices of a fragment list: sorted keys (to tell whether a vertex is one of
-/// them) and, once [`VertexSet::index`] is called, a bounding-volume hierarchy.
+/// The distinct vertices of a fragment list: hashed keys (to tell whether a vertex is one of
+/// them; hashing, not sorting, since this set is rebuilt for every hull test) and, once
+/// [`VertexSet::index`] is called, a bounding-volume hierarchy.
 pub struct VertexSet<'a> {
+    /// Each distinct vertex once, in order of first appearance, with its approximation.
     pts: Vec<([f64; 3], &'a Vertex)>,
     bvh: Bvh,
-    /// Sorted grid points.
-    ints: Vec<[i32; 3]>,
-    /// Sorted cut-point allocations (see [`Key`]).
-    homs: Vec<usize>,
+    /// Grid points.
+    ints: FastSet<[i32; 3]>,
+    /// Cut-point allocations (see [`Key`]).
+    homs: FastSet<usize>,
 }
 
 impl<'a> VertexSet<'a> {
     /// The distinct grid vertices and cut-point allocations of `frags`, not yet indexed.
     pub fn new(frags: &'a [Fragment]) -> VertexSet<'a> {
-        let refs: usize = frags.iter().map(|f| f.vertices.len()).sum();
-        let mut ints: Vec<([i32; 3], &'a Vertex)> = Vec::with_capacity(refs);
-        let mut homs: Vec<(usize, &'a Vertex)> = Vec::with_capacity(refs);
+        // Most vertices are shared by several fragments of a mesh.
+        let refs: usize = frags.iter().map(|f| f.vertices.len()).sum::<usize>() / 2;
+        let mut ints = FastSet::with_capacity_and_hasher(refs, Default::default());
+        let mut homs = FastSet::default();
+        let mut pts = Vec::with_capacity(refs);
         for f in frags {
             for v in &f.vertices {
-                match v {
-                    Vertex::Int(p) => ints.push((*p, v)),
-                    Vertex::Hom(h) => homs.push((std::sync::Arc::as_ptr(h) as usize, v)),
+                let new = match Key::of(v) {
+                    Key::Int(p) => ints.insert(p),
+                    Key::Hom(a) => homs.insert(a),
+                };
+                if new {
+                    pts.push((v.approx(), v));
                 }
             }
         }
-        ints.sort_unstable_by_key(|&(p, _)| p);
-        ints.dedup_by_key(|&mut (p, _)| p);
-        homs.sort_unstable_by_key(|&(a, _)| a);
-        homs.dedup_by_key(|&mut (a, _)| a);
-        let mut pts = Vec::with_capacity(ints.len() + homs.len());
-        pts.extend(ints.iter().map(|&(p, v)| (p.map(|c| c as f64), v)));
-        pts.extend(homs.iter().map(|&(_, v)| (v.approx(), v)));
         VertexSet {
             pts,
             bvh: Bvh::default(),
-            ints: ints.into_iter().map(|(p, _)| p).collect(),
-            homs: homs.into_iter().map(|(a, _)| a).collect(),
+            ints,
+            homs,
         }
     }
 
     /// True when `v` is one of the set's vertices (a cut point: the same allocation).
     pub fn contains(&self, v: &Vertex) -> bool {
         match Key::of(v) {
-            Key::Int(p) => self.ints.binary_search(&p).is_ok(),
-            Key::Hom(a) => self.homs.binary_search(&a).is_ok(),
+            Key::Int(p) => self.ints.contains(&p),
+            Key::Hom(a) => self.homs.contains(&a),
         }
     }
 

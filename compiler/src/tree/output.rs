@@ -11,9 +11,10 @@
 //! polygons. A vertex touching an edge transversally (no shared segment) cannot open a crack
 //! and is not inserted.
 
+use std::hash::{BuildHasher, Hash};
 use std::sync::Arc;
 
-use crate::hash::{FastMap, FastSet};
+use crate::hash::{FastMap, FastSet, FastState};
 
 use ethnum::{I256, U256};
 use glam::DVec3;
@@ -110,28 +111,51 @@ const LINE_SLACK: f64 = 1e-3;
 /// coordinates (grid units).
 #[derive(Default)]
 struct Vertices {
-    ids: FastMap<Key, u32>,
     list: Vec<(Vertex, DVec3)>,
 }
 
-impl Vertices {
-    /// The id of the exact point `k` (of vertex `v`), numbered in order of first call.
-    fn id(&mut self, k: Key, v: &Vertex) -> u32 {
-        let next = self.list.len() as u32;
-        let id = *self.ids.entry(k).or_insert(next);
-        if id == next {
-            self.list.push((v.clone(), DVec3::from_array(v.approx())));
-        }
-        id
-    }
+/// Hash shards of [`first_equal`] and [`watertight`] (parallel work units).
+const SHARDS: usize = 64;
 
-    /// Ids of every vertex of every polygon, keys computed in parallel (wide-integer gcds are
-    /// the costly part) and numbered in polygon order: the same on any thread count. A cut
-    /// point is one allocation shared by the pieces of its cut (and their later pieces), so
-    /// its key is computed and looked up once per allocation, not once per use.
+/// The shard of `key` (see [`SHARDS`]).
+fn shard_of<K: Hash>(key: &K) -> u8 {
+    (FastState::default().hash_one(key) % SHARDS as u64) as u8
+}
+
+/// For each of `keys`, the index of the first key equal to it. Keys are bucketed by hash
+/// and each bucket is searched in parallel, in index order.
+fn first_equal<K: Hash + Eq + Sync>(keys: &[K]) -> Vec<u32> {
+    let shards: Vec<u8> = keys.par_iter().map(shard_of).collect();
+    let mut buckets: Vec<Vec<u32>> = vec![Vec::new(); SHARDS];
+    for (i, &s) in shards.iter().enumerate() {
+        buckets[s as usize].push(i as u32);
+    }
+    let firsts: Vec<Vec<(u32, u32)>> = buckets
+        .into_par_iter()
+        .map(|bucket| {
+            let mut first: FastMap<&K, u32> = FastMap::default();
+            bucket
+                .into_iter()
+                .map(|i| (i, *first.entry(&keys[i as usize]).or_insert(i)))
+                .collect()
+        })
+        .collect();
+    let mut out = vec![0; keys.len()];
+    for (i, f) in firsts.into_iter().flatten() {
+        out[i as usize] = f;
+    }
+    out
+}
+
+impl Vertices {
+    /// Ids of every vertex of every polygon, numbered in order of first use in polygon order:
+    /// the same on any thread count. Keys (wide-integer gcds are the costly part) are
+    /// computed and matched in parallel. A cut point is one allocation shared by the pieces
+    /// of its cut (and their later pieces), so its key is computed once per allocation, not
+    /// once per use.
     fn of(polys: &[&Fragment]) -> (Vertices, Vec<Vec<u32>>) {
         // Per use, an index into `distinct`: one entry per cut-point allocation, one per use of
-        // a grid point (cheap to key and look up).
+        // a grid point (cheap to key), numbered in order of first use.
         let mut seen: FastMap<usize, u32> = FastMap::default();
         let mut distinct: Vec<&Vertex> = Vec::new();
         let uses: Vec<Vec<u32>> = polys
@@ -154,22 +178,28 @@ impl Vertices {
             })
             .collect();
         let keys: Vec<Key> = distinct.par_iter().map(|v| key(v)).collect();
-        let mut vertices = Vertices::default();
-        let mut id_of: Vec<Option<u32>> = vec![None; distinct.len()];
+        let first = first_equal(&keys);
+        // A point's first entry comes before its others, so it is numbered first.
+        let mut list = Vec::new();
+        let mut id_of = vec![0u32; distinct.len()];
+        for (i, &f) in first.iter().enumerate() {
+            if f as usize == i {
+                id_of[i] = list.len() as u32;
+                list.push((distinct[i].clone(), DVec3::from_array(distinct[i].approx())));
+            } else {
+                id_of[i] = id_of[f as usize];
+            }
+        }
         let ids = uses
             .iter()
-            .map(|u| {
-                u.iter()
-                    .map(|&i| {
-                        let i = i as usize;
-                        *id_of[i].get_or_insert_with(|| vertices.id(keys[i].clone(), distinct[i]))
-                    })
-                    .collect()
-            })
+            .map(|u| u.iter().map(|&i| id_of[i as usize]).collect())
             .collect();
-        (vertices, ids)
+        (Vertices { list }, ids)
     }
 }
+
+/// One shard's lines, and its edges as `(polygon, edge, line id within the shard)`.
+type ShardLines = (Vec<Line>, Vec<(u32, u32, u32)>);
 
 /// Every polygon's boundary with the collinear vertices of other polygons inserted: per
 /// polygon, the vertices (as [`Vertices`] ids) and the sides (collinear runs) each lies on —
@@ -182,57 +212,82 @@ fn watertight(
     vertices: &Vertices,
     ids: &[Vec<u32>],
 ) -> Vec<Boundary> {
-    let line_keys: Vec<Vec<Option<LineKey>>> = polys
+    // Lines are numbered per shard (by the hash of their key), shards in parallel: every edge
+    // of a line falls in one shard and is taken in polygon order there, so each line's point
+    // list is what one sequential pass would build; line ids are internal only.
+    let line_keys: Vec<Vec<Option<(u8, LineKey)>>> = polys
         .par_iter()
         .map(|f| {
             let support = &input.table.get(f.support).plane;
             f.edges
                 .iter()
                 .take(f.vertices.len())
-                .map(|e| line_key(support, &input.table.get(e.plane).plane))
+                .map(|e| {
+                    let lk = line_key(support, &input.table.get(e.plane).plane)?;
+                    Some((shard_of(&lk), lk))
+                })
                 .collect()
         })
         .collect();
-    let mut line_ids: FastMap<LineKey, u32> = FastMap::default();
-    let mut lines: Vec<Line> = Vec::new();
-    let mut seen: FastSet<(u32, u32)> = FastSet::default();
-    // Edge (polygon, k) -> its line.
+    let mut buckets: Vec<Vec<(u32, u32)>> = vec![Vec::new(); SHARDS];
     let mut edge_lines: Vec<Vec<Option<u32>>> = Vec::with_capacity(polys.len());
-    for (p, polygon_lines) in line_keys.into_iter().enumerate() {
-        let n = ids[p].len();
-        let mut edges = Vec::with_capacity(n);
-        for (k, lk) in polygon_lines.into_iter().enumerate() {
-            let Some(lk) = lk else {
-                edges.push(None);
-                continue;
-            };
-            let id = match line_ids.get(&lk) {
-                Some(&id) => id,
-                None => {
-                    let id = lines.len() as u32;
-                    let d = lk.dir.map(|c| c as f64);
-                    lines.push(Line {
-                        dir: DVec3::from_array(d).normalize(),
-                        points: Vec::new(),
-                    });
-                    line_ids.insert(lk, id);
-                    id
-                }
-            };
-            for j in [k, (k + 1) % n] {
-                let v = ids[p][j];
-                if seen.insert((id, v)) {
-                    let line = &mut lines[id as usize];
-                    line.points
-                        .push((vertices.list[v as usize].1.dot(line.dir), v));
-                }
+    for (p, polygon_lines) in line_keys.iter().enumerate() {
+        edge_lines.push(vec![None; polygon_lines.len()]);
+        for (k, lk) in polygon_lines.iter().enumerate() {
+            if let Some((shard, _)) = lk {
+                buckets[*shard as usize].push((p as u32, k as u32));
             }
-            edges.push(Some(id));
         }
-        edge_lines.push(edges);
     }
-    for line in &mut lines {
-        line.points.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let shards: Vec<ShardLines> = buckets
+        .into_par_iter()
+        .map(|bucket| {
+            let mut line_ids: FastMap<&LineKey, u32> = FastMap::default();
+            let mut lines: Vec<Line> = Vec::new();
+            let mut seen: FastSet<(u32, u32)> = FastSet::default();
+            let mut edges = Vec::with_capacity(bucket.len());
+            for (p, k) in bucket {
+                let Some((_, lk)) = &line_keys[p as usize][k as usize] else {
+                    continue;
+                };
+                let id = match line_ids.get(lk) {
+                    Some(&id) => id,
+                    None => {
+                        let id = lines.len() as u32;
+                        let d = lk.dir.map(|c| c as f64);
+                        lines.push(Line {
+                            dir: DVec3::from_array(d).normalize(),
+                            points: Vec::new(),
+                        });
+                        line_ids.insert(lk, id);
+                        id
+                    }
+                };
+                let own = &ids[p as usize];
+                let n = own.len();
+                for j in [k as usize, (k as usize + 1) % n] {
+                    let v = own[j];
+                    if seen.insert((id, v)) {
+                        let line = &mut lines[id as usize];
+                        line.points
+                            .push((vertices.list[v as usize].1.dot(line.dir), v));
+                    }
+                }
+                edges.push((p, k, id));
+            }
+            for line in &mut lines {
+                line.points.sort_by(|a, b| a.0.total_cmp(&b.0));
+            }
+            (lines, edges)
+        })
+        .collect();
+    let mut lines: Vec<Line> = Vec::new();
+    for (shard_lines, edges) in shards {
+        let offset = lines.len() as u32;
+        for (p, k, id) in edges {
+            edge_lines[p as usize][k as usize] = Some(offset + id);
+        }
+        lines.extend(shard_lines);
     }
     let boundary = |(p, f): (usize, &&Fragment)| {
         let n = f.vertices.len();
