@@ -124,7 +124,7 @@ fn shard_of<K: Hash>(key: &K) -> u8 {
 
 /// For each of `keys`, the index of the first key equal to it. Keys are bucketed by hash
 /// and each bucket is searched in parallel, in index order.
-fn first_equal<K: Hash + Eq + Sync>(keys: &[K]) -> Vec<u32> {
+pub(crate) fn first_equal<K: Hash + Eq + Sync>(keys: &[K]) -> Vec<u32> {
     let shards: Vec<u8> = keys.par_iter().map(shard_of).collect();
     let mut buckets: Vec<Vec<u32>> = vec![Vec::new(); SHARDS];
     for (i, &s) in shards.iter().enumerate() {
