@@ -10,12 +10,14 @@ use crate::planes::PlaneEntry;
 /// [`crate::planes::FILTER_BOUND`], which bounds the error of one approximate coordinate).
 const BOX_MARGIN: f64 = 1.0 / (1u64 << 40) as f64;
 
-/// Order `centres` so that every range [`Bvh::node`] makes (halves, down to `leaf` items)
-/// holds the items on one side of its median along the axis its centres spread most on.
-fn split(centres: &mut [([f64; 3], u32)], leaf: usize) {
-    if centres.len() <= leaf {
-        return;
-    }
+/// Deepest stack a search of a hierarchy needs: one entry per level plus one. A split keeps
+/// at least a quarter of its items on each side, so a `u32` count makes at most 79 levels.
+pub(crate) const STACK: usize = 96;
+
+/// Reorder `centres` (at least 2) into two non-empty parts and return the length of the first:
+/// split at the middle of the axis of widest spread, or at the median along it when that
+/// leaves less than a quarter on one side.
+fn split(centres: &mut [([f64; 3], u32)]) -> usize {
     let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
     for (c, _) in centres.iter() {
         for k in 0..3 {
@@ -26,11 +28,22 @@ fn split(centres: &mut [([f64; 3], u32)], leaf: usize) {
     let axis = (0..3)
         .max_by(|&a, &b| (hi[a] - lo[a]).total_cmp(&(hi[b] - lo[b])))
         .unwrap_or(0);
-    let mid = centres.len() / 2;
+    let middle = 0.5 * (lo[axis] + hi[axis]);
+    // Partition in place: items below the middle first.
+    let mut below = 0;
+    for i in 0..centres.len() {
+        if centres[i].0[axis] < middle {
+            centres.swap(i, below);
+            below += 1;
+        }
+    }
+    let n = centres.len();
+    if below >= n.div_ceil(4) && n - below >= n.div_ceil(4) {
+        return below;
+    }
+    let mid = n / 2;
     centres.select_nth_unstable_by(mid, |a, b| a.0[axis].total_cmp(&b.0[axis]));
-    let (left, right) = centres.split_at_mut(mid);
-    split(left, leaf);
-    split(right, leaf);
+    mid
 }
 
 /// A node: the box of its items, their range in the reordered item list, its children.
@@ -56,10 +69,11 @@ pub(crate) struct Bvh {
 
 impl Bvh {
     /// Build over `items`, reordering them so that every node's items are contiguous; `bounds`
-    /// gives an item's box, `leaf` the most items a leaf holds. Each node splits at the
-    /// median of its items' box centres along the axis they spread most on, so the depth
-    /// stays below 33 for any `u32` count. The split works on a flat list of centres and the
-    /// boxes are merged bottom-up: hierarchies are built for most nodes of the tree.
+    /// gives an item's box, `leaf` the most items a leaf holds. Each node splits its items'
+    /// box centres at the middle of the axis they spread most on (one pass), or at their
+    /// median along it when the middle leaves less than a quarter on one side, so the depth
+    /// stays below [`STACK`] − 1 for any `u32` count. Boxes are merged bottom-up. (Hierarchies
+    /// are built for most nodes of the tree, so their build cost counts.)
     pub fn build<T: Clone>(
         items: &mut [T],
         bounds: impl Fn(&T) -> ([f64; 3], [f64; 3]),
@@ -78,32 +92,31 @@ impl Bvh {
             .enumerate()
             .map(|(i, (a, b))| ([a[0] + b[0], a[1] + b[1], a[2] + b[2]], i as u32))
             .collect();
-        split(&mut centres, leaf);
+        bvh.node(&mut centres, 0, &boxes, leaf);
         let sorted: Vec<T> = centres
             .iter()
             .map(|&(_, i)| items[i as usize].clone())
             .collect();
         items.clone_from_slice(&sorted);
-        let boxes: Vec<([f64; 3], [f64; 3])> =
-            centres.iter().map(|&(_, i)| boxes[i as usize]).collect();
-        bvh.node(&boxes, 0, items.len(), leaf);
         bvh
     }
 
-    /// The node over `boxes[first..end]` and its subtree; returns its index.
+    /// The node over `centres` (items `first..` of the final order; `boxes` by item index)
+    /// and its subtree, reordering `centres`; returns its index.
     fn node(
         &mut self,
-        boxes: &[([f64; 3], [f64; 3])],
+        centres: &mut [([f64; 3], u32)],
         first: usize,
-        end: usize,
+        boxes: &[([f64; 3], [f64; 3])],
         leaf: usize,
     ) -> u32 {
         let id = self.nodes.len();
+        let n = centres.len();
         self.nodes.push(BvhNode {
             min: [f64::INFINITY; 3],
             max: [f64::NEG_INFINITY; 3],
             first: first as u32,
-            end: end as u32,
+            end: (first + n) as u32,
             children: None,
         });
         let (mut min, mut max) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
@@ -113,17 +126,19 @@ impl Bvh {
                 max[k] = max[k].max(hi[k]);
             }
         };
-        if end - first > leaf {
-            let mid = first + (end - first) / 2;
-            let l = self.node(boxes, first, mid, leaf);
-            let r = self.node(boxes, mid, end, leaf);
+        if n > leaf {
+            let mid = split(centres);
+            let (left, right) = centres.split_at_mut(mid);
+            let l = self.node(left, first, boxes, leaf);
+            let r = self.node(right, first + mid, boxes, leaf);
             for c in [l, r] {
                 let c = self.nodes[c as usize];
                 add(&c.min, &c.max);
             }
             self.nodes[id].children = Some([l, r]);
         } else {
-            for (lo, hi) in &boxes[first..end] {
+            for &(_, i) in centres.iter() {
+                let (lo, hi) = &boxes[i as usize];
                 add(lo, hi);
             }
         }
@@ -155,12 +170,19 @@ mod tests {
 
     proptest! {
         /// Every node's box holds its items; leaves hold at most `leaf`; children split the
-        /// parent's range in two.
+        /// parent's range in two, each with at least a quarter of it.
         #[test]
         fn boxes_hold_their_items(
             pts in proptest::collection::vec([-1e3f64..1e3, -1e3f64..1e3, -1e3f64..1e3], 0..300),
             leaf in 1usize..10,
+            skew in any::<bool>(),
         ) {
+            // Skewed points crowd near 0 with a few far out: the middle split is lopsided there.
+            let pts: Vec<[f64; 3]> = if skew {
+                pts.iter().map(|p| p.map(|c| c.powi(9) * 1e-24)).collect()
+            } else {
+                pts
+            };
             let mut items = pts.clone();
             let bvh = Bvh::build(&mut items, |p| (*p, *p), leaf);
             prop_assert_eq!(bvh.nodes.is_empty(), pts.is_empty());
@@ -175,6 +197,9 @@ mod tests {
                     Some([l, r]) => {
                         let (l, r) = (bvh.nodes[l as usize], bvh.nodes[r as usize]);
                         prop_assert_eq!((l.first, l.end, r.end), (node.first, r.first, node.end));
+                        // At least a quarter on each side: the depth bound behind `STACK`.
+                        let n = node.end - node.first;
+                        prop_assert!(4 * (l.end - l.first) >= n && 4 * (r.end - r.first) >= n);
                     }
                 }
             }

@@ -125,9 +125,8 @@ impl<'a> VertexSet<'a> {
             return None;
         }
         let sign = if side == Side::Front { 1.0 } else { -1.0 };
-        // The median split keeps the hierarchy's depth below 33 for any `u32` point count;
-        // each level leaves at most one sibling on the stack.
-        let mut stack = [0u32; 80];
+        // Each level leaves at most one sibling on the stack (see `STACK`).
+        let mut stack = [0u32; crate::bvh::STACK];
         let mut len = 1;
         while len > 0 {
             len -= 1;

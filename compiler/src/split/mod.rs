@@ -391,8 +391,8 @@ impl<'a> Sample<'a> {
         let nodes = &self.bvh.nodes;
         let mut tally = Tally::default();
         let mut left = self.frags.len() as u64;
-        // Depth below 33 (median splits); each level leaves at most one sibling on the stack.
-        let mut stack = [0u32; 80];
+        // Each level leaves at most one sibling on the stack.
+        let mut stack = [0u32; crate::bvh::STACK];
         let mut len = usize::from(!nodes.is_empty());
         while len > 0 {
             len -= 1;
