@@ -78,11 +78,11 @@ pub struct VertexSet<'a> {
 impl<'a> VertexSet<'a> {
     /// The distinct grid vertices and cut-point allocations of `frags`, not yet indexed.
     pub fn new(frags: &'a [Fragment]) -> VertexSet<'a> {
-        // Most vertices are shared by several fragments of a mesh.
-        let refs: usize = frags.iter().map(|f| f.vertices.len()).sum::<usize>() / 2;
-        let mut ints = FastSet::with_capacity_and_hasher(refs, Default::default());
+        // A guess at the distinct count: most vertices are shared by several fragments.
+        let expected: usize = frags.iter().map(|f| f.vertices.len()).sum::<usize>() / 2;
+        let mut ints = FastSet::with_capacity_and_hasher(expected, Default::default());
         let mut homs = FastSet::default();
-        let mut pts = Vec::with_capacity(refs);
+        let mut pts = Vec::with_capacity(expected);
         for f in frags {
             for v in &f.vertices {
                 let new = match Key::of(v) {
