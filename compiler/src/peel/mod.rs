@@ -30,8 +30,10 @@ use crate::hash::FastSet;
 use crate::planes::{PlaneEntry, PlaneId, PlaneTable, Side, Vertex};
 use crate::split::Fragment;
 
-/// Points per leaf.
-const LEAF: usize = 8;
+/// Points per leaf of the hierarchy. Scanning a leaf is cheap next to building levels that
+/// few queries reach: 64 gave the fewest instructions in total (8: +4%, 32: +1%, 128: within
+/// 1%, on the teapot and the cow).
+const LEAF: usize = 64;
 
 /// Why a plane is not on the hull of a list: a vertex of the list strictly on each side.
 #[derive(Debug, Clone)]
