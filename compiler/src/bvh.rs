@@ -69,11 +69,12 @@ pub(crate) struct Bvh {
 
 impl Bvh {
     /// Build over `items`, reordering them so that every node's items are contiguous; `bounds`
-    /// gives an item's box, `leaf` the most items a leaf holds. Each node splits its items'
-    /// box centres at the middle of the axis they spread most on (one pass), or at their
-    /// median along it when the middle leaves less than a quarter on one side, so the depth
-    /// stays below [`STACK`] − 1 for any `u32` count. Boxes are merged bottom-up. (Hierarchies
-    /// are built for most nodes of the tree, so their build cost counts.)
+    /// gives an item's box (asked once per item), `leaf` the most items a leaf holds. Each
+    /// node splits its items' box centres at the middle of the axis they spread most on (one
+    /// pass), or at their median along it when the middle leaves less than a quarter on one
+    /// side, so the depth stays below [`STACK`] − 1 for any `u32` count. Boxes are merged
+    /// bottom-up. (Hierarchies are built for most nodes of the tree, so their build cost
+    /// counts.)
     pub fn build<T: Clone>(
         items: &mut [T],
         bounds: impl Fn(&T) -> ([f64; 3], [f64; 3]),

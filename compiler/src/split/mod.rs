@@ -280,20 +280,19 @@ impl<'a> Sample<'a> {
             bvh: Bvh::default(),
             l1_max,
         };
-        let boxes: Vec<([f64; 3], [f64; 3])> = (0..sample.frags.len())
-            .map(|i| {
-                let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
-                for c in sample.vertices(i) {
-                    for k in 0..3 {
-                        lo[k] = lo[k].min(c[k]);
-                        hi[k] = hi[k].max(c[k]);
-                    }
-                }
-                (lo, hi)
-            })
-            .collect();
         let mut order: Vec<u32> = (0..sample.frags.len() as u32).collect();
-        sample.bvh = Bvh::build(&mut order, |&i| boxes[i as usize], LEAF);
+        let bounds = |&i: &u32| {
+            let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
+            for c in sample.vertices(i as usize) {
+                for k in 0..3 {
+                    lo[k] = lo[k].min(c[k]);
+                    hi[k] = hi[k].max(c[k]);
+                }
+            }
+            (lo, hi)
+        };
+        let bvh = Bvh::build(&mut order, bounds, LEAF);
+        sample.bvh = bvh;
         sample.order = order;
         sample
     }

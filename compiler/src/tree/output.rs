@@ -109,7 +109,6 @@ const LINE_SLACK: f64 = 1e-3;
 
 /// The distinct vertices of the output (one id per exact point), with their approximate
 /// coordinates (grid units).
-#[derive(Default)]
 struct Vertices {
     list: Vec<(Vertex, DVec3)>,
 }
