@@ -15,9 +15,13 @@
 use crate::hash::FastMap;
 use std::sync::Arc;
 
-use ethnum::{I256, U256};
+use ethnum::I256;
 
 use crate::quantise::IPoint;
+
+mod gcd;
+use gcd::gcd_u64;
+pub(crate) use gcd::{div_exact, gcd_u128, gcd_wide};
 
 /// Index of a plane in the [`PlaneTable`].
 pub type PlaneId = u32;
@@ -63,48 +67,6 @@ pub struct Plane {
     pub d: i128,
 }
 
-fn gcd_u128(mut a: u128, mut b: u128) -> u128 {
-    if a == 0 {
-        return b;
-    }
-    if b == 0 {
-        return a;
-    }
-    let shift = (a | b).trailing_zeros();
-    a >>= a.trailing_zeros();
-    loop {
-        b >>= b.trailing_zeros();
-        if a > b {
-            std::mem::swap(&mut a, &mut b);
-        }
-        b -= a;
-        if b == 0 {
-            return a << shift;
-        }
-    }
-}
-
-fn gcd_u256(mut a: U256, mut b: U256) -> U256 {
-    if a == U256::ZERO {
-        return b;
-    }
-    if b == U256::ZERO {
-        return a;
-    }
-    let shift = (a | b).trailing_zeros();
-    a >>= a.trailing_zeros();
-    loop {
-        b >>= b.trailing_zeros();
-        if a > b {
-            std::mem::swap(&mut a, &mut b);
-        }
-        b -= a;
-        if b == U256::ZERO {
-            return a << shift;
-        }
-    }
-}
-
 impl Plane {
     /// Canonical form of `n · p = d`: divided by the gcd of all four, first non-zero of `n`
     /// positive. Returns the plane and whether it was negated. `None` when `n` is zero.
@@ -112,13 +74,22 @@ impl Plane {
         if n == [0, 0, 0] {
             return None;
         }
-        let mut g = d.unsigned_abs();
-        for c in n {
-            g = gcd_u128(g, c.unsigned_abs() as u128);
+        // The normal's gcd first (64 bits, often 1 already), then the offset's remainder.
+        let mut g = n.iter().fold(0, |g, c| {
+            if g == 1 {
+                1
+            } else {
+                gcd_u64(g, c.unsigned_abs())
+            }
+        });
+        if g != 1 {
+            g = gcd_u64(g, (d.unsigned_abs() % u128::from(g)) as u64);
         }
-        let g = g as i128;
-        let mut n = n.map(|c| (c as i128 / g) as i64);
-        let mut d = d / g;
+        let (mut n, mut d) = if g == 1 {
+            (n, d)
+        } else {
+            (n.map(|c| c / g as i64), d / i128::from(g))
+        };
         let first = n.iter().copied().find(|&c| c != 0).unwrap_or(0);
         let negated = first < 0;
         if negated {
@@ -266,10 +237,9 @@ impl HomPoint {
     pub fn reduced(&self) -> ([I256; 3], I256) {
         let mut g = self.w.unsigned_abs();
         for c in self.xyz {
-            g = gcd_u256(g, c.unsigned_abs());
+            g = gcd_wide(g, c.unsigned_abs());
         }
-        let g = g.as_i256();
-        (self.xyz.map(|c| c / g), self.w / g)
+        (self.xyz.map(|c| div_exact(c, g)), div_exact(self.w, g))
     }
 }
 

@@ -1,6 +1,7 @@
 //! The predicates against an exact rational oracle (num-bigint), on near-degenerate inputs.
 
 use super::*;
+use ethnum::U256;
 use num_bigint::BigInt;
 use num_traits::{Signed, Zero};
 use proptest::prelude::*;

@@ -23,7 +23,7 @@ use rayon::prelude::*;
 use super::build::{ExactNode, ExactTree};
 use super::input::Input;
 use super::{BuildOptions, DisplayTree, TreeNode, TreePlane, TreePolygon, TreeStats};
-use crate::planes::{Plane, PlaneId, Vertex};
+use crate::planes::{div_exact, gcd_u128, gcd_wide, Plane, PlaneId, Vertex};
 use crate::split::Fragment;
 
 /// Exact identity of a vertex: grid point, or homogeneous coordinates in lowest terms.
@@ -48,13 +48,6 @@ fn key(v: &Vertex) -> Key {
     }
 }
 
-fn gcd_u128(mut a: u128, mut b: u128) -> u128 {
-    while b != 0 {
-        (a, b) = (b, a % b);
-    }
-    a
-}
-
 /// Exact identity of a line: the Plücker coordinates `(n1 × n2, d1 n2 − d2 n1)` of the two
 /// planes meeting in it (the same up to a factor for any two planes of the pencil), divided by
 /// their gcd, first non-zero direction component positive.
@@ -72,26 +65,41 @@ fn line_key(a: &Plane, b: &Plane) -> Option<LineKey> {
         u[2] * v[0] - u[0] * v[2],
         u[0] * v[1] - u[1] * v[0],
     ];
-    let mut moment: [I256; 3] = std::array::from_fn(|k| {
-        I256::from(a.d) * I256::from(b.n[k]) - I256::from(b.d) * I256::from(a.n[k])
-    });
     let mut g = dir.iter().fold(0u128, |g, c| gcd_u128(g, c.unsigned_abs()));
     if g == 0 {
         return None;
-    }
-    for m in &moment {
-        let r = m.unsigned_abs() % U256::from(g);
-        g = gcd_u128(g, r.as_u128());
     }
     let sign = if dir.iter().copied().find(|&c| c != 0).unwrap_or(0) < 0 {
         -1
     } else {
         1
     };
+    // The moment in 128 bits when it fits (an edge plane's small normal and offset keep it
+    // near 2^107), else in 256; the same integers either way.
+    let narrow = |k: usize| a.d.checked_mul(v[k])?.checked_sub(b.d.checked_mul(u[k])?);
+    let moment = match [narrow(0), narrow(1), narrow(2)] {
+        [Some(m0), Some(m1), Some(m2)] => {
+            let m = [m0, m1, m2];
+            for c in &m {
+                g = gcd_u128(g, c.unsigned_abs() % g);
+            }
+            let gi = g as i128 * sign;
+            m.map(|c| I256::from(c / gi))
+        }
+        _ => {
+            let wide: [I256; 3] = std::array::from_fn(|k| {
+                I256::from(a.d) * I256::from(b.n[k]) - I256::from(b.d) * I256::from(a.n[k])
+            });
+            let mut gw = U256::from(g);
+            for m in &wide {
+                gw = gcd_wide(gw, m.unsigned_abs());
+            }
+            g = gw.as_u128();
+            wide.map(|c| div_exact(c, gw) * I256::from(sign))
+        }
+    };
     let gi = g as i128 * sign;
     dir = dir.map(|c| c / gi);
-    let gw = I256::from(gi);
-    moment = moment.map(|c| c / gw);
     Some(LineKey { dir, moment })
 }
 
@@ -200,10 +208,34 @@ impl Vertices {
 /// One shard's lines, and its edges as `(polygon, edge, line id within the shard)`.
 type ShardLines = (Vec<Line>, Vec<(u32, u32, u32)>);
 
+/// The sides (collinear runs of a polygon's boundary) a boundary vertex lies on: side `k` is
+/// the polygon's edge `k`; a corner lies on two, a vertex inserted inside an edge on one
+/// (stored twice).
+type Sides = [u32; 2];
+
 /// Every polygon's boundary with the collinear vertices of other polygons inserted: per
-/// polygon, the vertices (as [`Vertices`] ids) and the sides (collinear runs) each lies on —
-/// side `k` is the polygon's edge `k`.
-type Boundary = Vec<(u32, Vec<u32>)>;
+/// polygon, the vertices (as [`Vertices`] ids) and the sides each lies on.
+type Boundary = Vec<(u32, Sides)>;
+
+/// A line key with its hash, computed once: it picks the shard and serves the shard's map.
+struct Hashed<'k> {
+    hash: u64,
+    key: &'k LineKey,
+}
+
+impl Hash for Hashed<'_> {
+    fn hash<H: std::hash::Hasher>(&self, state: &mut H) {
+        state.write_u64(self.hash);
+    }
+}
+
+impl PartialEq for Hashed<'_> {
+    fn eq(&self, other: &Self) -> bool {
+        self.hash == other.hash && self.key == other.key
+    }
+}
+
+impl Eq for Hashed<'_> {}
 
 fn watertight(
     polys: &[&Fragment],
@@ -211,57 +243,55 @@ fn watertight(
     vertices: &Vertices,
     ids: &[Vec<u32>],
 ) -> Vec<Boundary> {
+    // Edges are numbered flat: edge `k` of polygon `p` is `offsets[p] + k`.
+    let mut offsets = Vec::with_capacity(polys.len() + 1);
+    offsets.push(0usize);
+    for f in polys {
+        offsets.push(offsets.last().copied().unwrap_or(0) + f.vertices.len());
+    }
     // Lines are numbered per shard (by the hash of their key), shards in parallel: every edge
     // of a line falls in one shard and is taken in polygon order there, so each line's point
     // list is what one sequential pass would build; line ids are internal only.
-    let line_keys: Vec<Vec<Option<(u8, LineKey)>>> = polys
+    let line_keys: Vec<Option<(u64, LineKey)>> = polys
         .par_iter()
-        .map(|f| {
+        .flat_map_iter(|f| {
             let support = &input.table.get(f.support).plane;
-            f.edges
-                .iter()
-                .take(f.vertices.len())
-                .map(|e| {
-                    let lk = line_key(support, &input.table.get(e.plane).plane)?;
-                    Some((shard_of(&lk), lk))
-                })
-                .collect()
+            f.edges.iter().take(f.vertices.len()).map(|e| {
+                let lk = line_key(support, &input.table.get(e.plane).plane)?;
+                Some((FastState::default().hash_one(&lk), lk))
+            })
         })
         .collect();
     let mut buckets: Vec<Vec<(u32, u32)>> = vec![Vec::new(); SHARDS];
-    let mut edge_lines: Vec<Vec<Option<u32>>> = Vec::with_capacity(polys.len());
-    for (p, polygon_lines) in line_keys.iter().enumerate() {
-        edge_lines.push(vec![None; polygon_lines.len()]);
-        for (k, lk) in polygon_lines.iter().enumerate() {
-            if let Some((shard, _)) = lk {
-                buckets[*shard as usize].push((p as u32, k as u32));
+    for (p, f) in polys.iter().enumerate() {
+        for k in 0..f.vertices.len() {
+            if let Some((hash, _)) = &line_keys[offsets[p] + k] {
+                buckets[(hash % SHARDS as u64) as usize].push((p as u32, k as u32));
             }
         }
     }
     let shards: Vec<ShardLines> = buckets
         .into_par_iter()
         .map(|bucket| {
-            let mut line_ids: FastMap<&LineKey, u32> = FastMap::default();
+            let mut line_ids: FastMap<Hashed<'_>, u32> = FastMap::default();
             let mut lines: Vec<Line> = Vec::new();
             let mut seen: FastSet<(u32, u32)> = FastSet::default();
             let mut edges = Vec::with_capacity(bucket.len());
             for (p, k) in bucket {
-                let Some((_, lk)) = &line_keys[p as usize][k as usize] else {
+                let Some((hash, key)) = &line_keys[offsets[p as usize] + k as usize] else {
                     continue;
                 };
-                let id = match line_ids.get(lk) {
-                    Some(&id) => id,
-                    None => {
-                        let id = lines.len() as u32;
-                        let d = lk.dir.map(|c| c as f64);
-                        lines.push(Line {
-                            dir: DVec3::from_array(d).normalize(),
-                            points: Vec::new(),
-                        });
-                        line_ids.insert(lk, id);
-                        id
-                    }
-                };
+                let next_id = lines.len() as u32;
+                let id = *line_ids
+                    .entry(Hashed { hash: *hash, key })
+                    .or_insert(next_id);
+                if id == next_id {
+                    let d = key.dir.map(|c| c as f64);
+                    lines.push(Line {
+                        dir: DVec3::from_array(d).normalize(),
+                        points: Vec::new(),
+                    });
+                }
                 let own = &ids[p as usize];
                 let n = own.len();
                 for j in [k as usize, (k as usize + 1) % n] {
@@ -280,11 +310,12 @@ fn watertight(
             (lines, edges)
         })
         .collect();
+    let mut edge_lines: Vec<Option<u32>> = vec![None; offsets.last().copied().unwrap_or(0)];
     let mut lines: Vec<Line> = Vec::new();
     for (shard_lines, edges) in shards {
         let offset = lines.len() as u32;
         for (p, k, id) in edges {
-            edge_lines[p as usize][k as usize] = Some(offset + id);
+            edge_lines[offsets[p as usize] + k as usize] = Some(offset + id);
         }
         lines.extend(shard_lines);
     }
@@ -292,10 +323,11 @@ fn watertight(
         let n = f.vertices.len();
         let own = &ids[p];
         let mut boundary: Boundary = Vec::with_capacity(n);
+        let mut inserted: Vec<&(f64, u32)> = Vec::new();
         for k in 0..n {
             let prev = (k + n - 1) % n;
-            boundary.push((own[k], vec![prev as u32, k as u32]));
-            let Some(Some(id)) = edge_lines[p].get(k).copied() else {
+            boundary.push((own[k], [prev as u32, k as u32]));
+            let Some(id) = edge_lines[offsets[p] + k] else {
                 continue;
             };
             if n < 3 || f.edges.len() != n {
@@ -310,21 +342,21 @@ fn watertight(
             let start = line.points.partition_point(|q| q.0 < lo);
             let (e_prev, e_next) = (&f.edges[prev], &f.edges[next]);
             let (pl_prev, pl_next) = (input.table.get(e_prev.plane), input.table.get(e_next.plane));
-            let mut inserted: Vec<&(f64, u32)> = line.points[start..]
-                .iter()
-                .take_while(|q| q.0 <= hi)
-                .filter(|q| q.1 != own[k] && q.1 != own[next])
-                // On the line, strictly inside both neighbouring edges = strictly between the
-                // endpoints (the polygon is strictly convex).
-                .filter(|q| {
-                    let v = &vertices.list[q.1 as usize].0;
-                    v.side(pl_prev) == e_prev.inside && v.side(pl_next) == e_next.inside
-                })
-                .collect();
+            inserted.clear();
+            inserted.extend(
+                line.points[start..]
+                    .iter()
+                    .take_while(|q| q.0 <= hi)
+                    .filter(|q| q.1 != own[k] && q.1 != own[next])
+                    // On the line, strictly inside both neighbouring edges = strictly between
+                    // the endpoints (the polygon is strictly convex).
+                    .filter(|q| {
+                        let v = &vertices.list[q.1 as usize].0;
+                        v.side(pl_prev) == e_prev.inside && v.side(pl_next) == e_next.inside
+                    }),
+            );
             inserted.sort_by(|a, b| (a.0 - ta).abs().total_cmp(&(b.0 - ta).abs()));
-            for q in inserted {
-                boundary.push((q.1, vec![k as u32]));
-            }
+            boundary.extend(inserted.iter().map(|q| (q.1, [k as u32; 2])));
         }
         boundary
     };
@@ -336,7 +368,7 @@ fn plain_boundary(own: &[u32]) -> Boundary {
     let n = own.len();
     own.iter()
         .enumerate()
-        .map(|(k, &v)| (v, vec![((k + n - 1) % n) as u32, k as u32]))
+        .map(|(k, &v)| (v, [((k + n - 1) % n) as u32, k as u32]))
         .collect()
 }
 
@@ -501,17 +533,8 @@ pub(crate) fn to_display(exact: &ExactTree, input: &Input, options: &BuildOption
                 {
                     let f = &poly.frag;
                     let plane = out.plane(f.support);
-                    let pieces = if boundary.len() <= options.max_polygon_vertices.max(3) {
-                        vec![(0..boundary.len()).collect()]
-                    } else {
-                        let sides: Vec<Vec<u32>> = boundary.iter().map(|b| b.1.clone()).collect();
-                        convex_pieces(&sides, options.max_polygon_vertices)
-                    };
-                    for piece in pieces {
-                        let vertices = piece
-                            .iter()
-                            .map(|&i| out.vertex(&vertices, boundary[i].0))
-                            .collect();
+                    let add = |out: &mut Out<'_>, corners: &mut dyn Iterator<Item = u32>| {
+                        let vertices = corners.map(|v| out.vertex(&vertices, v)).collect();
                         out.tree.polygons.push(TreePolygon {
                             plane,
                             flipped: f.flipped,
@@ -519,6 +542,17 @@ pub(crate) fn to_display(exact: &ExactTree, input: &Input, options: &BuildOption
                             vertices,
                             source: f.source,
                         });
+                    };
+                    if boundary.len() <= options.max_polygon_vertices.max(3) {
+                        add(&mut out, &mut boundary.iter().map(|b| b.0));
+                    } else {
+                        let sides: Vec<Vec<u32>> = boundary
+                            .iter()
+                            .map(|&(_, [a, b])| if a == b { vec![a] } else { vec![a, b] })
+                            .collect();
+                        for piece in convex_pieces(&sides, options.max_polygon_vertices) {
+                            add(&mut out, &mut piece.iter().map(|&i| boundary[i].0));
+                        }
                     }
                 }
                 let polygon_count = out.tree.polygons.len() as u32 - start;
