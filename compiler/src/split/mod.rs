@@ -12,7 +12,7 @@ use rayon::prelude::*;
 
 use std::sync::atomic::{AtomicU64, Ordering};
 
-use crate::bvh::Bvh;
+use crate::bvh::{max_f, min_f, Bvh};
 use crate::planes::{intersect, PlaneEntry, PlaneId, PlaneTable, Side, Vertex, FILTER_BOUND};
 
 /// A bounding edge of a fragment: the plane it lies on and the side the fragment is on.
@@ -285,8 +285,8 @@ impl<'a> Sample<'a> {
             let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
             for c in sample.vertices(i as usize) {
                 for k in 0..3 {
-                    lo[k] = lo[k].min(c[k]);
-                    hi[k] = hi[k].max(c[k]);
+                    lo[k] = min_f(lo[k], c[k]);
+                    hi[k] = max_f(hi[k], c[k]);
                 }
             }
             (lo, hi)
@@ -323,8 +323,8 @@ impl<'a> Sample<'a> {
             let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
             for k in 0..4 {
                 let s = e.nf[0] * xs[k] + e.nf[1] * ys[k] + e.nf[2] * zs[k] - e.df;
-                lo = lo.min(s);
-                hi = hi.max(s);
+                lo = min_f(lo, s);
+                hi = max_f(hi, s);
             }
             if hi > bound && lo < -bound {
                 return Placement::Straddle;
