@@ -28,13 +28,19 @@ pub(crate) fn gcd_u64(mut a: u64, mut b: u64) -> u64 {
     }
 }
 
-/// `gcd(a, b)` (binary, in 64 bits once both fit).
+/// `gcd(a, b)` (binary, in 64 bits once both fit; one remainder first when only one does).
 pub(crate) fn gcd_u128(mut a: u128, mut b: u128) -> u128 {
     if a == 0 {
         return b;
     }
     if b == 0 {
         return a;
+    }
+    match (u64::try_from(a), u64::try_from(b)) {
+        (Ok(a), Ok(b)) => return u128::from(gcd_u64(a, b)),
+        (Ok(a64), Err(_)) => return u128::from(gcd_u64(a64, (b % a) as u64)),
+        (Err(_), Ok(b64)) => return u128::from(gcd_u64((a % b) as u64, b64)),
+        _ => {}
     }
     let shift = (a | b).trailing_zeros();
     a >>= a.trailing_zeros();

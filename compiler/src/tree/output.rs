@@ -11,10 +11,10 @@
 //! polygons. A vertex touching an edge transversally (no shared segment) cannot open a crack
 //! and is not inserted.
 
-use std::hash::{BuildHasher, Hash};
+use std::hash::Hash;
 use std::sync::Arc;
 
-use crate::hash::{FastMap, FastSet, FastState};
+use crate::hash::{FastMap, FastSet};
 
 use ethnum::{I256, U256};
 use glam::DVec3;
@@ -27,7 +27,7 @@ use crate::planes::{div_exact, gcd_u128, gcd_wide, Plane, PlaneId, Vertex};
 use crate::split::Fragment;
 
 /// Exact identity of a vertex: grid point, or homogeneous coordinates in lowest terms.
-#[derive(Debug, Clone, PartialEq, Eq, Hash)]
+#[derive(Debug, Clone, PartialEq, Eq)]
 enum Key {
     Int([i32; 3]),
     Hom([I256; 3], I256),
@@ -51,7 +51,7 @@ fn key(v: &Vertex) -> Key {
 /// Exact identity of a line: the Plücker coordinates `(n1 × n2, d1 n2 − d2 n1)` of the two
 /// planes meeting in it (the same up to a factor for any two planes of the pencil), divided by
 /// their gcd, first non-zero direction component positive.
-#[derive(Debug, Clone, PartialEq, Eq, Hash)]
+#[derive(Debug, Clone, PartialEq, Eq)]
 struct LineKey {
     dir: [i128; 3],
     moment: [I256; 3],
@@ -81,10 +81,10 @@ fn line_key(a: &Plane, b: &Plane) -> Option<LineKey> {
         [Some(m0), Some(m1), Some(m2)] => {
             let m = [m0, m1, m2];
             for c in &m {
-                g = gcd_u128(g, c.unsigned_abs() % g);
+                g = gcd_u128(g, c.unsigned_abs());
             }
             let gi = g as i128 * sign;
-            m.map(|c| I256::from(c / gi))
+            m.map(|c| I256::from(if gi == 1 { c } else { c / gi }))
         }
         _ => {
             let wide: [I256; 3] = std::array::from_fn(|k| {
@@ -99,7 +99,9 @@ fn line_key(a: &Plane, b: &Plane) -> Option<LineKey> {
         }
     };
     let gi = g as i128 * sign;
-    dir = dir.map(|c| c / gi);
+    if gi != 1 {
+        dir = dir.map(|c| c / gi);
+    }
     Some(LineKey { dir, moment })
 }
 
@@ -124,26 +126,102 @@ struct Vertices {
 /// Hash shards of [`first_equal`] and [`watertight`] (parallel work units).
 const SHARDS: usize = 64;
 
-/// The shard of `key` (see [`SHARDS`]).
-fn shard_of<K: Hash>(key: &K) -> u8 {
-    (FastState::default().hash_one(key) % SHARDS as u64) as u8
+/// A cheap hash of exact keys, from their integer words. Equal keys have equal words, so equal
+/// hashes; the hash only spreads keys over shards and map buckets (equality decides), and the
+/// output does not depend on it.
+pub(crate) trait ShardHash {
+    /// The hash.
+    fn shard_hash(&self) -> u64;
+}
+
+/// Mix 64-bit words (a multiply-rotate chain: every word reaches the low bits the shard uses).
+fn mix(words: impl IntoIterator<Item = u64>) -> u64 {
+    words.into_iter().fold(0x243F_6A88_85A3_08D3, |h, w| {
+        (h ^ w).wrapping_mul(0x9E37_79B9_7F4A_7C15).rotate_left(29)
+    })
+}
+
+impl ShardHash for Key {
+    fn shard_hash(&self) -> u64 {
+        match self {
+            Key::Int(p) => mix(p.map(|c| c as u64)),
+            Key::Hom(xyz, w) => mix([
+                1,
+                xyz[0].as_u64(),
+                xyz[1].as_u64(),
+                xyz[2].as_u64(),
+                w.as_u64(),
+            ]),
+        }
+    }
+}
+
+impl ShardHash for LineKey {
+    fn shard_hash(&self) -> u64 {
+        mix([
+            self.dir[0] as u64,
+            self.dir[1] as u64,
+            self.dir[2] as u64,
+            self.moment[0].as_u64(),
+            self.moment[1].as_u64(),
+            self.moment[2].as_u64(),
+        ])
+    }
+}
+
+#[cfg(test)]
+impl ShardHash for u8 {
+    fn shard_hash(&self) -> u64 {
+        mix([u64::from(*self)])
+    }
+}
+
+/// A key with its hash, computed once: it picks the shard and serves the shard's map.
+struct Hashed<'k, K> {
+    hash: u64,
+    key: &'k K,
+}
+
+impl<K> Hash for Hashed<'_, K> {
+    fn hash<H: std::hash::Hasher>(&self, state: &mut H) {
+        state.write_u64(self.hash);
+    }
+}
+
+impl<K: Eq> PartialEq for Hashed<'_, K> {
+    fn eq(&self, other: &Self) -> bool {
+        self.hash == other.hash && self.key == other.key
+    }
+}
+
+impl<K: Eq> Eq for Hashed<'_, K> {}
+
+/// The shard of a hash (see [`SHARDS`]).
+fn shard(hash: u64) -> usize {
+    (hash % SHARDS as u64) as usize
 }
 
 /// For each of `keys`, the index of the first key equal to it. Keys are bucketed by hash
 /// and each bucket is searched in parallel, in index order.
-pub(crate) fn first_equal<K: Hash + Eq + Sync>(keys: &[K]) -> Vec<u32> {
-    let shards: Vec<u8> = keys.par_iter().map(shard_of).collect();
+pub(crate) fn first_equal<K: ShardHash + Eq + Sync>(keys: &[K]) -> Vec<u32> {
+    let hashes: Vec<u64> = keys.par_iter().map(ShardHash::shard_hash).collect();
     let mut buckets: Vec<Vec<u32>> = vec![Vec::new(); SHARDS];
-    for (i, &s) in shards.iter().enumerate() {
-        buckets[s as usize].push(i as u32);
+    for (i, &h) in hashes.iter().enumerate() {
+        buckets[shard(h)].push(i as u32);
     }
     let firsts: Vec<Vec<(u32, u32)>> = buckets
         .into_par_iter()
         .map(|bucket| {
-            let mut first: FastMap<&K, u32> = FastMap::default();
+            let mut first: FastMap<Hashed<'_, K>, u32> = FastMap::default();
             bucket
                 .into_iter()
-                .map(|i| (i, *first.entry(&keys[i as usize]).or_insert(i)))
+                .map(|i| {
+                    let key = Hashed {
+                        hash: hashes[i as usize],
+                        key: &keys[i as usize],
+                    };
+                    (i, *first.entry(key).or_insert(i))
+                })
                 .collect()
         })
         .collect();
@@ -217,26 +295,6 @@ type Sides = [u32; 2];
 /// polygon, the vertices (as [`Vertices`] ids) and the sides each lies on.
 type Boundary = Vec<(u32, Sides)>;
 
-/// A line key with its hash, computed once: it picks the shard and serves the shard's map.
-struct Hashed<'k> {
-    hash: u64,
-    key: &'k LineKey,
-}
-
-impl Hash for Hashed<'_> {
-    fn hash<H: std::hash::Hasher>(&self, state: &mut H) {
-        state.write_u64(self.hash);
-    }
-}
-
-impl PartialEq for Hashed<'_> {
-    fn eq(&self, other: &Self) -> bool {
-        self.hash == other.hash && self.key == other.key
-    }
-}
-
-impl Eq for Hashed<'_> {}
-
 fn watertight(
     polys: &[&Fragment],
     input: &Input,
@@ -258,7 +316,7 @@ fn watertight(
             let support = &input.table.get(f.support).plane;
             f.edges.iter().take(f.vertices.len()).map(|e| {
                 let lk = line_key(support, &input.table.get(e.plane).plane)?;
-                Some((FastState::default().hash_one(&lk), lk))
+                Some((lk.shard_hash(), lk))
             })
         })
         .collect();
@@ -266,14 +324,14 @@ fn watertight(
     for (p, f) in polys.iter().enumerate() {
         for k in 0..f.vertices.len() {
             if let Some((hash, _)) = &line_keys[offsets[p] + k] {
-                buckets[(hash % SHARDS as u64) as usize].push((p as u32, k as u32));
+                buckets[shard(*hash)].push((p as u32, k as u32));
             }
         }
     }
     let shards: Vec<ShardLines> = buckets
         .into_par_iter()
         .map(|bucket| {
-            let mut line_ids: FastMap<Hashed<'_>, u32> = FastMap::default();
+            let mut line_ids: FastMap<Hashed<'_, LineKey>, u32> = FastMap::default();
             let mut lines: Vec<Line> = Vec::new();
             let mut seen: FastSet<(u32, u32)> = FastSet::default();
             let mut edges = Vec::with_capacity(bucket.len());
