@@ -1,4 +1,4 @@
-//! Hash maps keyed by exact geometry (planes, lines, vertices as wide integers). The standard
+//! The compiler's hash maps (exact geometry keys, mesh edges, palettes, bounds). The standard
 //! SipHash is built to resist adversarial keys, which a compiler of its own user's scenes does
 //! not need, and it dominated the output pass; foldhash with a fixed seed is several times
 //! faster on these keys. Nothing depends on iteration order, so output stays deterministic.

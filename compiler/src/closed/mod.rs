@@ -25,7 +25,7 @@
 //! so the file marks the polygons and the runtime's `RenderOptions::cull` (on by default, off
 //! with `peel render --no-cull`) decides.
 
-use std::collections::HashMap;
+use crate::hash::FastMap;
 
 use glam::DVec3;
 
@@ -61,7 +61,7 @@ impl Components {
 /// component (see the module docs), hence may be drawn one-sided.
 pub fn one_sided_triangles(triangles: &[SourceTriangle]) -> Vec<bool> {
     let n = triangles.len();
-    let mut ids: HashMap<[u64; 3], u32> = HashMap::new();
+    let mut ids: FastMap<[u64; 3], u32> = FastMap::default();
     let corners: Vec<[u32; 3]> = triangles
         .iter()
         .map(|t| {
@@ -73,7 +73,7 @@ pub fn one_sided_triangles(triangles: &[SourceTriangle]) -> Vec<bool> {
         .collect();
 
     // Undirected edge (low, high) -> its uses: (triangle, runs low -> high).
-    let mut edges: HashMap<(u32, u32), Vec<(u32, bool)>> = HashMap::new();
+    let mut edges: FastMap<(u32, u32), Vec<(u32, bool)>> = FastMap::default();
     let mut components = Components((0..n as u32).collect());
     let mut bad = vec![false; n];
     for (t, c) in corners.iter().enumerate() {
@@ -111,7 +111,7 @@ pub fn one_sided_triangles(triangles: &[SourceTriangle]) -> Vec<bool> {
         volume[root] += (a - o).dot((b - o).cross(c - o));
     }
     // A surface that crosses itself shows back faces from outside: two-sided.
-    let mut members: HashMap<usize, Vec<[DVec3; 3]>> = HashMap::new();
+    let mut members: FastMap<usize, Vec<[DVec3; 3]>> = FastMap::default();
     for (t, tri) in triangles.iter().enumerate() {
         let root = components.find(t as u32) as usize;
         if !spoiled[root] && volume[root] > 0.0 {

@@ -7,7 +7,7 @@
 //! statement, which lets the loader pair each tobj face with its line and check that the two
 //! parsers agree.
 
-use std::collections::HashMap;
+use crate::hash::FastMap;
 use std::path::Path;
 
 use crate::error::CompileError;
@@ -63,7 +63,7 @@ pub(super) fn scan(path: &Path, text: &str, limits: Limits) -> Result<Scan, Comp
         message,
     };
     let mut out = Scan::default();
-    let mut names: HashMap<String, u32> = HashMap::new();
+    let mut names: FastMap<String, u32> = FastMap::default();
     let mut counts = Counts::default();
     let mut material: Option<u32> = None;
     let mut coloured: Option<bool> = None;

@@ -82,8 +82,13 @@ impl<'a> VertexSet<'a> {
     pub fn new(frags: &'a [Fragment]) -> VertexSet<'a> {
         // A guess at the distinct count: most vertices are shared by several fragments.
         let expected: usize = frags.iter().map(|f| f.vertices.len()).sum::<usize>() / 2;
+        let homs_used: usize = frags
+            .iter()
+            .flat_map(|f| &f.vertices)
+            .filter(|v| matches!(v, Vertex::Hom(_)))
+            .count();
         let mut ints = FastSet::with_capacity_and_hasher(expected, Default::default());
-        let mut homs = FastSet::default();
+        let mut homs = FastSet::with_capacity_and_hasher(homs_used / 2, Default::default());
         let mut pts = Vec::with_capacity(expected);
         for f in frags {
             for v in &f.vertices {

@@ -10,7 +10,7 @@
 //!
 //! Equal boxes are stored once.
 
-use std::collections::HashMap;
+use crate::hash::FastMap;
 
 use super::format::{node_kind, Node, Polygon, NONE};
 
@@ -81,7 +81,7 @@ pub fn assign(nodes: &mut [Node], boxes: &[Option<Box3>]) -> Option<Vec<Box3>> {
         return None;
     }
     let mut stored = Vec::new();
-    let mut slots: HashMap<[u32; 6], u32> = HashMap::new();
+    let mut slots: FastMap<[u32; 6], u32> = FastMap::default();
     for (i, node) in nodes.iter_mut().enumerate() {
         let n = *node;
         let Some(b) = boxes.get(i).copied().flatten() else {

@@ -7,7 +7,7 @@
 //! 3 bytes per distinct colour and saves 2 (`u8` index) or 1 (`u16` index) byte per polygon,
 //! so it pays when colours repeat.
 
-use std::collections::HashMap;
+use crate::hash::FastMap;
 
 use super::format::{header_flags, ColourField};
 use crate::error::CompileError;
@@ -100,7 +100,7 @@ impl Encoding {
 
 /// The distinct colours of `rgb`, in order of first use.
 pub fn distinct_colours(rgb: &[[u8; 3]]) -> Vec<[u8; 3]> {
-    let mut seen = HashMap::new();
+    let mut seen = FastMap::default();
     let mut out = Vec::new();
     for &c in rgb {
         seen.entry(c).or_insert_with(|| {
@@ -123,7 +123,7 @@ pub fn colour_fields(
         ));
     }
     let palette = distinct_colours(rgb);
-    let index: HashMap<[u8; 3], usize> = palette.iter().enumerate().map(|(k, &c)| (c, k)).collect();
+    let index: FastMap<[u8; 3], usize> = palette.iter().enumerate().map(|(k, &c)| (c, k)).collect();
     let wide = flags & header_flags::PALETTE16 != 0;
     let fields = rgb
         .iter()
