@@ -236,6 +236,7 @@ pub fn cost(frags: &[&Fragment], plane: PlaneId, table: &PlaneTable, limit: u64)
 /// flattened so that most sides are decided by one filtered dot product (the exact
 /// predicate runs only when the filter cannot decide).
 pub(crate) struct Sample<'a> {
+    /// The fragments, in the order of `bvh`'s leaves (a node holds `first..end`).
     frags: Vec<&'a Fragment>,
     /// Vertex coordinates of all fragments, in order.
     coords: Vec<[f64; 3]>,
@@ -245,8 +246,6 @@ pub(crate) struct Sample<'a> {
     /// vertex), so that one branch-free pass places most fragments (see [`Sample::place`]);
     /// `None` for fragments with more vertices.
     quads: Vec<Option<[[f64; 4]; 3]>>,
-    /// Fragment indices in the order of `bvh`'s leaves.
-    order: Vec<u32>,
     /// The fragments' boxes in a hierarchy: a plane counts a whole box at once on the side
     /// it proves the box on, and opens only the boxes it passes near (see [`Sample::tally`]).
     bvh: Bvh,
@@ -257,7 +256,20 @@ pub(crate) struct Sample<'a> {
 
 impl<'a> Sample<'a> {
     pub(crate) fn new(frags: impl Iterator<Item = &'a Fragment>) -> Sample<'a> {
-        let frags: Vec<&Fragment> = frags.collect();
+        let mut frags: Vec<&Fragment> = frags.collect();
+        let bounds = |f: &&Fragment| {
+            let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
+            for c in f.vertices.iter().map(Vertex::approx) {
+                for k in 0..3 {
+                    lo[k] = min_f(lo[k], c[k]);
+                    hi[k] = max_f(hi[k], c[k]);
+                }
+            }
+            (lo, hi)
+        };
+        // The hierarchy puts the fragments in leaf order; the flat arrays follow it, so a leaf
+        // reads one contiguous run of them.
+        let bvh = Bvh::build(&mut frags, bounds, LEAF);
         let mut coords = Vec::with_capacity(frags.len() * 4);
         let mut ends = Vec::with_capacity(frags.len());
         let mut quads = Vec::with_capacity(frags.len());
@@ -271,30 +283,14 @@ impl<'a> Sample<'a> {
             .iter()
             .map(|c| c[0].abs() + c[1].abs() + c[2].abs())
             .fold(0.0, f64::max);
-        let mut sample = Sample {
+        Sample {
             frags,
             coords,
             ends,
             quads,
-            order: Vec::new(),
-            bvh: Bvh::default(),
+            bvh,
             l1_max,
-        };
-        let mut order: Vec<u32> = (0..sample.frags.len() as u32).collect();
-        let bounds = |&i: &u32| {
-            let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
-            for c in sample.vertices(i as usize) {
-                for k in 0..3 {
-                    lo[k] = min_f(lo[k], c[k]);
-                    hi[k] = max_f(hi[k], c[k]);
-                }
-            }
-            (lo, hi)
-        };
-        let bvh = Bvh::build(&mut order, bounds, LEAF);
-        sample.bvh = bvh;
-        sample.order = order;
-        sample
+        }
     }
 
     /// Approximate coordinates of fragment `i`'s vertices.
@@ -410,8 +406,8 @@ impl<'a> Sample<'a> {
                 len += 2;
                 continue;
             } else {
-                for &i in &self.order[node.first as usize..node.end as usize] {
-                    tally.add(self.place(i as usize, plane, e, bound));
+                for i in node.first as usize..node.end as usize {
+                    tally.add(self.place(i, plane, e, bound));
                 }
             }
             left -= k;
