@@ -43,7 +43,12 @@ pub fn compile_mesh(
     options: &CompileOptions,
     progress: &(dyn Fn(u64) + Sync),
 ) -> Result<(DisplayTree, Vec<u8>), CompileError> {
-    let tree = build(mesh, &options.build, progress)?;
+    // Which triangles are one-sided depends on the mesh alone: found while the tree builds.
+    let (tree, closed) = rayon::join(
+        || build(mesh, &options.build, progress),
+        || crate::closed::one_sided_triangles(&mesh.triangles),
+    );
+    let tree = tree?;
     let colours: Vec<[u8; 3]> = tree
         .polygons
         .iter()
@@ -54,7 +59,6 @@ pub fn compile_mesh(
                 .shade(kd, tree.planes[p.plane as usize].normal)
         })
         .collect();
-    let closed = crate::closed::one_sided_triangles(&mesh.triangles);
     let one_sided: Vec<bool> = tree
         .polygons
         .iter()

@@ -146,7 +146,11 @@ pub fn build(
 ) -> Result<DisplayTree, CompileError> {
     let input = input::prepare(mesh)?;
     let exact = build::build_exact(&input, options, progress)?;
-    Ok(output::to_display(&exact, &input, options))
+    let tree = output::to_display(&exact, &input, options);
+    // Freeing the exact tree (millions of small allocations) overlaps the caller's next steps
+    // on an idle worker.
+    rayon::spawn(move || drop((exact, input)));
+    Ok(tree)
 }
 
 /// The quantisation transform [`build`] uses for `mesh` (`centre` is its `offset`).
