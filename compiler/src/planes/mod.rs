@@ -20,8 +20,7 @@ use ethnum::I256;
 use crate::quantise::IPoint;
 
 mod gcd;
-use gcd::gcd_u64;
-pub(crate) use gcd::{div_exact, gcd_u128, gcd_wide};
+pub(crate) use gcd::{div_exact, gcd_u128, gcd_u64, gcd_wide};
 
 /// Index of a plane in the [`PlaneTable`].
 pub type PlaneId = u32;

@@ -23,7 +23,7 @@ use rayon::prelude::*;
 use super::build::{ExactNode, ExactTree};
 use super::input::Input;
 use super::{BuildOptions, DisplayTree, TreeNode, TreePlane, TreePolygon, TreeStats};
-use crate::planes::{div_exact, gcd_u128, gcd_wide, Plane, PlaneId, Vertex};
+use crate::planes::{div_exact, gcd_u128, gcd_u64, gcd_wide, Plane, PlaneId, Vertex};
 use crate::split::Fragment;
 
 /// Exact identity of a vertex: grid point, or homogeneous coordinates in lowest terms.
@@ -103,6 +103,32 @@ fn line_key(a: &Plane, b: &Plane) -> Option<LineKey> {
         dir = dir.map(|c| c / gi);
     }
     Some(LineKey { dir, moment })
+}
+
+/// [`line_key`] of the line through grid points `p` and `q` (`None` when they coincide),
+/// without wide integers: the primitive direction `d` (first non-zero component positive) and
+/// the moment `d × p`. This is the same key: the planes' `(L, M)` is `(λd, λ(d × p))` for an
+/// integer `λ` (`M = L × p` for any point `p` of the line), and `gcd(d) = 1` makes `|λ|` the
+/// gcd that [`line_key`] divides by.
+fn line_through(p: [i32; 3], q: [i32; 3]) -> Option<LineKey> {
+    let d: [i64; 3] = std::array::from_fn(|k| i64::from(q[k]) - i64::from(p[k]));
+    let g = d.iter().fold(0, |g, c| gcd_u64(g, c.unsigned_abs()));
+    if g == 0 {
+        return None;
+    }
+    let first = d.iter().copied().find(|&c| c != 0).unwrap_or(0);
+    let g = if first < 0 { -(g as i64) } else { g as i64 };
+    let d = d.map(|c| c / g);
+    let p = p.map(i64::from);
+    let moment = [
+        d[1] * p[2] - d[2] * p[1],
+        d[2] * p[0] - d[0] * p[2],
+        d[0] * p[1] - d[1] * p[0],
+    ];
+    Some(LineKey {
+        dir: d.map(i128::from),
+        moment: moment.map(I256::from),
+    })
 }
 
 /// The distinct vertices lying on one line (edge endpoints, as [`Vertices`] ids), sorted by
@@ -314,8 +340,13 @@ fn watertight(
         .par_iter()
         .flat_map_iter(|f| {
             let support = &input.table.get(f.support).plane;
-            f.edges.iter().take(f.vertices.len()).map(|e| {
-                let lk = line_key(support, &input.table.get(e.plane).plane)?;
+            let n = f.vertices.len();
+            f.edges.iter().take(n).enumerate().map(move |(k, e)| {
+                // An edge between two grid points (most edges) has the cheap key.
+                let lk = match (&f.vertices[k], &f.vertices[(k + 1) % n]) {
+                    (Vertex::Int(p), Vertex::Int(q)) => line_through(*p, *q),
+                    _ => line_key(support, &input.table.get(e.plane).plane),
+                }?;
                 Some((lk.shard_hash(), lk))
             })
         })
@@ -829,6 +860,31 @@ mod tests {
             line_key(&through([1, 0, 0]), &through([0, 1, 0])).unwrap(),
             key0
         );
+    }
+
+    proptest::proptest! {
+        /// The key of an edge between grid points, from the points, is the key its support and
+        /// edge planes give, in either direction (the quantised range, and small coordinates
+        /// where gcds are large).
+        #[test]
+        fn grid_edge_keys_match_plane_keys(
+            tri in proptest::prop_oneof![
+                proptest::array::uniform3(proptest::array::uniform3(-(1i32 << 25)..(1 << 25))),
+                proptest::array::uniform3(proptest::array::uniform3(-6i32..6)),
+            ],
+        ) {
+            let Some((support, _)) = Plane::through(tri[0], tri[1], tri[2]) else {
+                return Ok(());
+            };
+            for k in 0..3 {
+                let (a, b) = (tri[k], tri[(k + 1) % 3]);
+                let edge = crate::planes::edge_plane(a, b, support.n);
+                let want = line_key(&support, &edge);
+                proptest::prop_assert!(want.is_some());
+                proptest::prop_assert_eq!(line_through(a, b), want.clone());
+                proptest::prop_assert_eq!(line_through(b, a), want);
+            }
+        }
     }
 
     fn world_polygons(t: &DisplayTree) -> Vec<Vec<DVec3>> {
