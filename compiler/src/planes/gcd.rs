@@ -6,83 +6,95 @@
 
 use ethnum::{I256, U256};
 
-/// `gcd(a, b)` (binary, `gcd(0, b) = b`).
-pub(crate) fn gcd_u64(mut a: u64, mut b: u64) -> u64 {
-    if a == 0 {
+/// An unsigned word the binary gcd runs on.
+trait Word:
+    Copy
+    + Ord
+    + std::ops::Sub<Output = Self>
+    + std::ops::BitOr<Output = Self>
+    + std::ops::Shr<u32, Output = Self>
+    + std::ops::Shl<u32, Output = Self>
+{
+    const ZERO: Self;
+    fn trailing_zeros(self) -> u32;
+    /// `gcd(a, b)` of two odd words `a <= b` in a narrower type, once `b` fits one.
+    fn narrow(a: Self, b: Self) -> Option<Self>;
+}
+
+impl Word for u64 {
+    const ZERO: u64 = 0;
+    fn trailing_zeros(self) -> u32 {
+        u64::trailing_zeros(self)
+    }
+    fn narrow(_: u64, _: u64) -> Option<u64> {
+        None
+    }
+}
+
+impl Word for u128 {
+    const ZERO: u128 = 0;
+    fn trailing_zeros(self) -> u32 {
+        u128::trailing_zeros(self)
+    }
+    fn narrow(a: u128, b: u128) -> Option<u128> {
+        let b = u64::try_from(b).ok()?;
+        Some(u128::from(gcd_u64(a as u64, b)))
+    }
+}
+
+impl Word for U256 {
+    const ZERO: U256 = U256::ZERO;
+    fn trailing_zeros(self) -> u32 {
+        U256::trailing_zeros(self)
+    }
+    fn narrow(a: U256, b: U256) -> Option<U256> {
+        (*b.high() == 0).then(|| U256::from(gcd_u128(a.as_u128(), b.as_u128())))
+    }
+}
+
+/// Binary gcd (`gcd(0, b) = b`), handed to a narrower type as soon as both operands fit.
+fn binary_gcd<W: Word>(mut a: W, mut b: W) -> W {
+    if a == W::ZERO {
         return b;
     }
-    if b == 0 {
+    if b == W::ZERO {
         return a;
     }
     let shift = (a | b).trailing_zeros();
-    a >>= a.trailing_zeros();
+    a = a >> a.trailing_zeros();
     loop {
-        b >>= b.trailing_zeros();
+        b = b >> b.trailing_zeros();
         if a > b {
             std::mem::swap(&mut a, &mut b);
         }
-        b -= a;
-        if b == 0 {
+        // Both odd: their gcd is odd, and the shift restores the common powers of two.
+        if let Some(g) = W::narrow(a, b) {
+            return g << shift;
+        }
+        b = b - a;
+        if b == W::ZERO {
             return a << shift;
         }
     }
 }
 
+/// `gcd(a, b)` (binary, `gcd(0, b) = b`).
+pub(crate) fn gcd_u64(a: u64, b: u64) -> u64 {
+    binary_gcd(a, b)
+}
+
 /// `gcd(a, b)` (binary, in 64 bits once both fit; one remainder first when only one does).
-pub(crate) fn gcd_u128(mut a: u128, mut b: u128) -> u128 {
-    if a == 0 {
-        return b;
-    }
-    if b == 0 {
-        return a;
-    }
+pub(crate) fn gcd_u128(a: u128, b: u128) -> u128 {
     match (u64::try_from(a), u64::try_from(b)) {
-        (Ok(a), Ok(b)) => return u128::from(gcd_u64(a, b)),
-        (Ok(a64), Err(_)) => return u128::from(gcd_u64(a64, (b % a) as u64)),
-        (Err(_), Ok(b64)) => return u128::from(gcd_u64((a % b) as u64, b64)),
-        _ => {}
-    }
-    let shift = (a | b).trailing_zeros();
-    a >>= a.trailing_zeros();
-    loop {
-        b >>= b.trailing_zeros();
-        if a > b {
-            std::mem::swap(&mut a, &mut b);
-        }
-        if let Ok(b64) = u64::try_from(b) {
-            // Both odd: the gcd is odd, the shift restores the common powers of two.
-            return u128::from(gcd_u64(a as u64, b64)) << shift;
-        }
-        b -= a;
-        if b == 0 {
-            return a << shift;
-        }
+        (Ok(a64), Err(_)) if a64 != 0 => u128::from(gcd_u64(a64, (b % a) as u64)),
+        (Err(_), Ok(b64)) if b64 != 0 => u128::from(gcd_u64((a % b) as u64, b64)),
+        _ => binary_gcd(a, b),
     }
 }
 
 /// `gcd(a, b)` (binary, in 128 bits once both fit).
-fn gcd_u256(mut a: U256, mut b: U256) -> U256 {
-    if a == U256::ZERO {
-        return b;
-    }
-    if b == U256::ZERO {
-        return a;
-    }
-    let shift = (a | b).trailing_zeros();
-    a >>= a.trailing_zeros();
-    loop {
-        b >>= b.trailing_zeros();
-        if a > b {
-            std::mem::swap(&mut a, &mut b);
-        }
-        if *b.high() == 0 {
-            return U256::from(gcd_u128(a.as_u128(), b.as_u128())) << shift;
-        }
-        b -= a;
-        if b == U256::ZERO {
-            return a << shift;
-        }
-    }
+fn gcd_u256(a: U256, b: U256) -> U256 {
+    binary_gcd(a, b)
 }
 
 /// `a mod m` for `0 < m < 2^64`, from the two 128-bit halves of `a`.
