@@ -175,16 +175,15 @@ pub struct PlaneTable {
 impl PlaneTable {
     /// Id of `plane`, inserting it when new.
     pub fn insert(&mut self, plane: Plane) -> PlaneId {
-        if let Some(&id) = self.ids.get(&plane) {
-            return id;
+        let next = self.entries.len() as PlaneId;
+        let id = *self.ids.entry(plane).or_insert(next);
+        if id == next {
+            self.entries.push(PlaneEntry {
+                plane,
+                nf: plane.n.map(|c| c as f64),
+                df: plane.d as f64,
+            });
         }
-        let id = self.entries.len() as PlaneId;
-        self.entries.push(PlaneEntry {
-            plane,
-            nf: plane.n.map(|c| c as f64),
-            df: plane.d as f64,
-        });
-        self.ids.insert(plane, id);
         id
     }
 
