@@ -80,15 +80,16 @@ pub struct VertexSet<'a> {
 impl<'a> VertexSet<'a> {
     /// The distinct grid vertices and cut-point allocations of `frags`, not yet indexed.
     pub fn new(frags: &'a [Fragment]) -> VertexSet<'a> {
-        // A guess at the distinct count: most vertices are shared by several fragments.
-        let expected: usize = frags.iter().map(|f| f.vertices.len()).sum::<usize>() / 2;
-        let homs_used: usize = frags
+        // A guess at the distinct counts: most vertices are shared by several fragments.
+        let (uses, hom_uses) = frags
             .iter()
             .flat_map(|f| &f.vertices)
-            .filter(|v| matches!(v, Vertex::Hom(_)))
-            .count();
+            .fold((0, 0), |(n, h), v| {
+                (n + 1, h + usize::from(matches!(v, Vertex::Hom(_))))
+            });
+        let expected = uses / 2;
         let mut ints = FastSet::with_capacity_and_hasher(expected, Default::default());
-        let mut homs = FastSet::with_capacity_and_hasher(homs_used / 2, Default::default());
+        let mut homs = FastSet::with_capacity_and_hasher(hom_uses / 2, Default::default());
         let mut pts = Vec::with_capacity(expected);
         for f in frags {
             for v in &f.vertices {
