@@ -35,17 +35,23 @@ pub(crate) fn max_f(acc: f64, v: f64) -> f64 {
     }
 }
 
-/// Reorder `centres` (at least 2) into two non-empty parts and return the length of the first:
-/// split at the middle of the axis of widest spread, or at the median along it when that
-/// leaves less than a quarter on one side.
-fn split(centres: &mut [([f64; 3], u32)]) -> usize {
+/// The box `(min, max)` of `points` (infinite and empty when there are none).
+pub(crate) fn box_of(points: impl Iterator<Item = [f64; 3]>) -> ([f64; 3], [f64; 3]) {
     let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
-    for (c, _) in centres.iter() {
+    for c in points {
         for k in 0..3 {
             lo[k] = min_f(lo[k], c[k]);
             hi[k] = max_f(hi[k], c[k]);
         }
     }
+    (lo, hi)
+}
+
+/// Reorder `centres` (at least 2) into two non-empty parts and return the length of the first:
+/// split at the middle of the axis of widest spread, or at the median along it when that
+/// leaves less than a quarter on one side.
+fn split(centres: &mut [([f64; 3], u32)]) -> usize {
+    let (lo, hi) = box_of(centres.iter().map(|&(c, _)| c));
     let axis = (0..3)
         .max_by(|&a, &b| (hi[a] - lo[a]).total_cmp(&(hi[b] - lo[b])))
         .unwrap_or(0);

@@ -12,7 +12,7 @@ use rayon::prelude::*;
 
 use std::sync::atomic::{AtomicU64, Ordering};
 
-use crate::bvh::{max_f, min_f, Bvh};
+use crate::bvh::{box_of, max_f, min_f, Bvh};
 use crate::planes::{intersect, PlaneEntry, PlaneId, PlaneTable, Side, Vertex, FILTER_BOUND};
 
 /// A bounding edge of a fragment: the plane it lies on and the side the fragment is on.
@@ -257,16 +257,7 @@ pub(crate) struct Sample<'a> {
 impl<'a> Sample<'a> {
     pub(crate) fn new(frags: impl Iterator<Item = &'a Fragment>) -> Sample<'a> {
         let mut frags: Vec<&Fragment> = frags.collect();
-        let bounds = |f: &&Fragment| {
-            let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
-            for c in f.vertices.iter().map(Vertex::approx) {
-                for k in 0..3 {
-                    lo[k] = min_f(lo[k], c[k]);
-                    hi[k] = max_f(hi[k], c[k]);
-                }
-            }
-            (lo, hi)
-        };
+        let bounds = |f: &&Fragment| box_of(f.vertices.iter().map(Vertex::approx));
         // The hierarchy puts the fragments in leaf order; the flat arrays follow it, so a leaf
         // reads one contiguous run of them.
         let bvh = Bvh::build(&mut frags, bounds, LEAF);
