@@ -12,7 +12,7 @@
 //! A cut never builds a plane from rounded points: cut vertices are intersections of table
 //! planes, so precision never drifts however deep the cut.
 
-use crate::hash::FastMap;
+use crate::hash::{first_equal, mix, FastMap, ShardHash};
 use std::sync::Arc;
 
 use ethnum::I256;
@@ -172,19 +172,58 @@ pub struct PlaneTable {
     ids: FastMap<Plane, PlaneId>,
 }
 
+impl ShardHash for Plane {
+    fn shard_hash(&self) -> u64 {
+        let [a, b, c] = self.n.map(|x| x as u64);
+        mix([a, b, c, self.d as u64, (self.d >> 64) as u64])
+    }
+}
+
+impl PlaneEntry {
+    fn new(plane: Plane) -> PlaneEntry {
+        PlaneEntry {
+            plane,
+            nf: plane.n.map(|c| c as f64),
+            df: plane.d as f64,
+        }
+    }
+}
+
 impl PlaneTable {
     /// Id of `plane`, inserting it when new.
     pub fn insert(&mut self, plane: Plane) -> PlaneId {
+        if self.ids.len() < self.entries.len() {
+            // Filled by `insert_all`, which leaves the map to the first `insert`.
+            self.ids = (self.entries.iter().enumerate())
+                .map(|(i, e)| (e.plane, i as PlaneId))
+                .collect();
+        }
         let next = self.entries.len() as PlaneId;
         let id = *self.ids.entry(plane).or_insert(next);
         if id == next {
-            self.entries.push(PlaneEntry {
-                plane,
-                nf: plane.n.map(|c| c as f64),
-                df: plane.d as f64,
-            });
+            self.entries.push(PlaneEntry::new(plane));
         }
         id
+    }
+
+    /// The ids [`PlaneTable::insert`] would give `planes` one after the other, with the
+    /// planes matched in parallel (the same ids on any thread count).
+    pub fn insert_all(&mut self, planes: &[Plane]) -> Vec<PlaneId> {
+        if !self.is_empty() {
+            return planes.iter().map(|&p| self.insert(p)).collect();
+        }
+        let first = first_equal(planes);
+        let mut ids: Vec<PlaneId> = Vec::with_capacity(planes.len());
+        for (i, &f) in first.iter().enumerate() {
+            let id = if f as usize == i {
+                self.entries.push(PlaneEntry::new(planes[i]));
+                (self.entries.len() - 1) as PlaneId
+            } else {
+                ids[f as usize]
+            };
+            ids.push(id);
+        }
+        ids
     }
 
     /// The entry of `id`.

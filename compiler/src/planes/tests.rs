@@ -190,3 +190,31 @@ fn reduced_is_canonical() {
     );
     assert!(big(h.w).is_positive() && !big(h.w).is_zero());
 }
+
+proptest! {
+    /// Matching a batch in parallel gives the ids one-by-one insertion gives, in a fresh table
+    /// and after it (where the batch falls back to single inserts), and later single inserts
+    /// still find the batch's planes.
+    #[test]
+    fn insert_all_numbers_planes_as_insert_does(
+        picks in proptest::collection::vec(0usize..12, 0..200),
+        split in 0usize..200,
+    ) {
+        let pool: Vec<Plane> = (0..12)
+            .map(|i| Plane::canonical([1 + i % 3, i / 3, 2], i128::from(i) - 5).unwrap().0)
+            .collect();
+        let planes: Vec<Plane> = picks.iter().map(|&i| pool[i]).collect();
+        let mut one = PlaneTable::default();
+        let want: Vec<PlaneId> = planes.iter().map(|&p| one.insert(p)).collect();
+        let split = split.min(planes.len());
+        let mut batch = PlaneTable::default();
+        let mut got = batch.insert_all(&planes[..split]);
+        got.extend(batch.insert_all(&planes[split..]));
+        prop_assert_eq!(&got, &want);
+        prop_assert_eq!(batch.len(), one.len());
+        for (&p, &id) in planes.iter().zip(&want) {
+            prop_assert_eq!(batch.insert(p), id);
+            prop_assert_eq!(batch.get(id).plane, p);
+        }
+    }
+}

@@ -9,7 +9,7 @@ use rayon::prelude::*;
 use crate::error::CompileError;
 use crate::load::Mesh;
 use crate::planes::{edge_plane, Plane, PlaneTable, Side, Vertex};
-use crate::quantise::Quantiser;
+use crate::quantise::{IPoint, Quantiser};
 use crate::split::{Edge, Fragment};
 
 /// Quantised triangles ready to build.
@@ -38,15 +38,12 @@ pub(crate) fn prepare(mesh: &Mesh) -> Result<Input, CompileError> {
         });
     }
     let quantiser = Quantiser::fit(mesh);
-    let mut table = PlaneTable::default();
-    let mut fragments = Vec::with_capacity(mesh.triangles.len());
-    let mut dropped = 0;
     // Support planes take the first ids, in source order, and edge planes come after: the
     // build breaks ties by plane id, and this numbering does not depend on the coordinate
     // axes (an edge plane's axis direction does), so axis swaps and mirrors give the same
     // tree up to the transform.
-    // The planes are computed in parallel (the gcds are the costly part), then numbered in
-    // order: the same ids on any thread count.
+    // Planes are computed and matched in parallel (the gcds and the hashing are the costly
+    // part) and numbered in order: the same ids on any thread count.
     let supports: Vec<_> = mesh
         .triangles
         .par_iter()
@@ -55,43 +52,45 @@ pub(crate) fn prepare(mesh: &Mesh) -> Result<Input, CompileError> {
             Plane::through(q[0], q[1], q[2]).map(|(plane, flipped)| (q, plane, flipped))
         })
         .collect();
-    let mut kept = Vec::with_capacity(mesh.triangles.len());
-    for (i, s) in supports.into_iter().enumerate() {
-        let Some((q, plane, flipped)) = s else {
-            dropped += 1;
-            continue;
-        };
-        kept.push((i, q, flipped, table.insert(plane)));
-    }
-    let edge_planes: Vec<[(Plane, Side); 3]> = kept
+    let kept: Vec<(usize, [IPoint; 3], bool, Plane)> = (supports.into_iter().enumerate())
+        .filter_map(|(i, s)| s.map(|(q, plane, flipped)| (i, q, flipped, plane)))
+        .collect();
+    let dropped = (mesh.triangles.len() - kept.len()) as u64;
+    let edges: Vec<[(Plane, Side); 3]> = kept
         .par_iter()
         .map(|&(_, q, _, support)| {
-            let n = table.get(support).plane.n;
             [0, 1, 2].map(|k| {
-                let e = edge_plane(q[k], q[(k + 1) % 3], n);
+                let e = edge_plane(q[k], q[(k + 1) % 3], support.n);
                 (e, e.side_of_point(q[(k + 2) % 3]))
             })
         })
         .collect();
-    for ((i, q, flipped, support), edges) in kept.into_iter().zip(edge_planes) {
-        let edges = edges
-            .into_iter()
-            .map(|(e, inside)| {
-                debug_assert_ne!(inside, Side::On);
-                Edge {
-                    plane: table.insert(e),
-                    inside,
-                }
-            })
-            .collect();
-        fragments.push(Fragment {
-            source: i as u32,
-            support,
-            flipped,
-            vertices: q.iter().map(|&p| Vertex::Int(p)).collect(),
-            edges,
-        });
-    }
+    let planes: Vec<Plane> = (kept.iter().map(|k| k.3))
+        .chain(edges.iter().flat_map(|e| e.iter().map(|&(plane, _)| plane)))
+        .collect();
+    let mut table = PlaneTable::default();
+    let ids = table.insert_all(&planes);
+    let (support_ids, edge_ids) = ids.split_at(kept.len());
+    let fragments = (kept.par_iter().zip(&edges).enumerate())
+        .map(|(j, (&(i, q, flipped, _), edges))| {
+            let edges = (0..3)
+                .map(|k| {
+                    debug_assert_ne!(edges[k].1, Side::On);
+                    Edge {
+                        plane: edge_ids[3 * j + k],
+                        inside: edges[k].1,
+                    }
+                })
+                .collect();
+            Fragment {
+                source: i as u32,
+                support: support_ids[j],
+                flipped,
+                vertices: q.iter().map(|&p| Vertex::Int(p)).collect(),
+                edges,
+            }
+        })
+        .collect();
     Ok(Input {
         quantiser,
         table,

@@ -11,10 +11,9 @@
 //! polygons. A vertex touching an edge transversally (no shared segment) cannot open a crack
 //! and is not inserted.
 
-use std::hash::Hash;
 use std::sync::Arc;
 
-use crate::hash::{FastMap, FastSet};
+use crate::hash::{first_equal, mix, shard, FastMap, Hashed, ShardHash, SHARDS};
 
 use ethnum::{I256, U256};
 use glam::DVec3;
@@ -131,12 +130,12 @@ fn line_through(p: [i32; 3], q: [i32; 3]) -> Option<LineKey> {
     })
 }
 
-/// The distinct vertices lying on one line (edge endpoints, as [`Vertices`] ids), sorted by
-/// their approximate position `t` along it.
-#[derive(Default)]
+/// A line through more than two distinct vertices (edge endpoints): its unit direction and
+/// the range of its points `(t, vertex id)` in the shared point list, sorted by their
+/// approximate position `t` along it.
 struct Line {
     dir: DVec3,
-    points: Vec<(f64, u32)>,
+    points: std::ops::Range<usize>,
 }
 
 /// Slack of the approximate range search along a line, in grid units: vertex approximations
@@ -147,24 +146,6 @@ const LINE_SLACK: f64 = 1e-3;
 /// coordinates (grid units).
 struct Vertices {
     list: Vec<(Vertex, DVec3)>,
-}
-
-/// Hash shards of [`first_equal`] and [`watertight`] (parallel work units).
-const SHARDS: usize = 64;
-
-/// A cheap hash of exact keys, from their integer words. Equal keys have equal words, so equal
-/// hashes; the hash only spreads keys over shards and map buckets (equality decides), and the
-/// output does not depend on it.
-pub(crate) trait ShardHash {
-    /// The hash.
-    fn shard_hash(&self) -> u64;
-}
-
-/// Mix 64-bit words (a multiply-rotate chain: every word reaches the low bits the shard uses).
-fn mix(words: impl IntoIterator<Item = u64>) -> u64 {
-    words.into_iter().fold(0x243F_6A88_85A3_08D3, |h, w| {
-        (h ^ w).wrapping_mul(0x9E37_79B9_7F4A_7C15).rotate_left(29)
-    })
 }
 
 impl ShardHash for Key {
@@ -195,99 +176,34 @@ impl ShardHash for LineKey {
     }
 }
 
-#[cfg(test)]
-impl ShardHash for u8 {
-    fn shard_hash(&self) -> u64 {
-        mix([u64::from(*self)])
-    }
-}
-
-/// A key with its hash, computed once: it picks the shard and serves the shard's map.
-struct Hashed<'k, K> {
-    hash: u64,
-    key: &'k K,
-}
-
-impl<K> Hash for Hashed<'_, K> {
-    fn hash<H: std::hash::Hasher>(&self, state: &mut H) {
-        state.write_u64(self.hash);
-    }
-}
-
-impl<K: Eq> PartialEq for Hashed<'_, K> {
-    fn eq(&self, other: &Self) -> bool {
-        self.hash == other.hash && self.key == other.key
-    }
-}
-
-impl<K: Eq> Eq for Hashed<'_, K> {}
-
-/// The shard of a hash (see [`SHARDS`]).
-fn shard(hash: u64) -> usize {
-    (hash % SHARDS as u64) as usize
-}
-
-/// For each of `keys`, the index of the first key equal to it. Keys are bucketed by hash
-/// and each bucket is searched in parallel, in index order.
-pub(crate) fn first_equal<K: ShardHash + Eq + Sync>(keys: &[K]) -> Vec<u32> {
-    let hashes: Vec<u64> = keys.par_iter().map(ShardHash::shard_hash).collect();
-    let mut buckets: Vec<Vec<u32>> = vec![Vec::new(); SHARDS];
-    for (i, &h) in hashes.iter().enumerate() {
-        buckets[shard(h)].push(i as u32);
-    }
-    let firsts: Vec<Vec<(u32, u32)>> = buckets
-        .into_par_iter()
-        .map(|bucket| {
-            let mut first: FastMap<Hashed<'_, K>, u32> = FastMap::default();
-            bucket
-                .into_iter()
-                .map(|i| {
-                    let key = Hashed {
-                        hash: hashes[i as usize],
-                        key: &keys[i as usize],
-                    };
-                    (i, *first.entry(key).or_insert(i))
-                })
-                .collect()
-        })
-        .collect();
-    let mut out = vec![0; keys.len()];
-    for (i, f) in firsts.into_iter().flatten() {
-        out[i as usize] = f;
-    }
-    out
-}
-
 impl Vertices {
-    /// Ids of every vertex of every polygon, numbered in order of first use in polygon order:
+    /// Ids of every vertex of every polygon (flat: polygon `p`'s are at
+    /// `offsets[p]..offsets[p + 1]`), numbered in order of first use in polygon order:
     /// the same on any thread count. Keys (wide-integer gcds are the costly part) are
     /// computed and matched in parallel. A cut point is one allocation shared by the pieces
     /// of its cut (and their later pieces), so its key is computed once per allocation, not
     /// once per use.
-    fn of(polys: &[&Fragment]) -> (Vertices, Vec<Vec<u32>>) {
+    fn of(polys: &[&Fragment], offsets: &[usize]) -> (Vertices, Vec<u32>) {
         // Per use, an index into `distinct`: one entry per cut-point allocation, one per use of
         // a grid point (cheap to key), numbered in order of first use.
+        let homs = (polys.iter().flat_map(|f| &f.vertices))
+            .filter(|v| matches!(v, Vertex::Hom(_)))
+            .count();
         let mut seen: FastMap<usize, u32> = FastMap::default();
+        seen.reserve(homs);
         let mut distinct: Vec<&Vertex> = Vec::new();
-        let uses: Vec<Vec<u32>> = polys
-            .iter()
-            .map(|f| {
-                f.vertices
-                    .iter()
-                    .map(|v| {
-                        let next = distinct.len() as u32;
-                        let i = match v {
-                            Vertex::Int(_) => next,
-                            Vertex::Hom(h) => *seen.entry(Arc::as_ptr(h) as usize).or_insert(next),
-                        };
-                        if i == next {
-                            distinct.push(v);
-                        }
-                        i
-                    })
-                    .collect()
-            })
-            .collect();
+        let mut uses: Vec<u32> = Vec::with_capacity(offsets.last().copied().unwrap_or(0));
+        for v in polys.iter().flat_map(|f| &f.vertices) {
+            let next = distinct.len() as u32;
+            let i = match v {
+                Vertex::Int(_) => next,
+                Vertex::Hom(h) => *seen.entry(Arc::as_ptr(h) as usize).or_insert(next),
+            };
+            if i == next {
+                distinct.push(v);
+            }
+            uses.push(i);
+        }
         let keys: Vec<Key> = distinct.par_iter().map(|v| key(v)).collect();
         let first = first_equal(&keys);
         // A point's first entry comes before its others, so it is numbered first.
@@ -301,16 +217,15 @@ impl Vertices {
                 id_of[i] = id_of[f as usize];
             }
         }
-        let ids = uses
-            .iter()
-            .map(|u| u.iter().map(|&i| id_of[i as usize]).collect())
-            .collect();
+        let ids = uses.par_iter().map(|&i| id_of[i as usize]).collect();
         (Vertices { list }, ids)
     }
 }
 
-/// One shard's lines, and its edges as `(polygon, edge, line id within the shard)`.
-type ShardLines = (Vec<Line>, Vec<(u32, u32, u32)>);
+/// One shard's lines: their directions, their points as `(line, position along it, vertex)`
+/// grouped by line and sorted along it, and the edges as `(polygon, edge, line)`; line ids
+/// are within the shard.
+type ShardLines = (Vec<DVec3>, Vec<(u32, f64, u32)>, Vec<(u32, u32, u32)>);
 
 /// The sides (collinear runs of a polygon's boundary) a boundary vertex lies on: side `k` is
 /// the polygon's edge `k`; a corner lies on two, a vertex inserted inside an edge on one
@@ -325,36 +240,42 @@ fn watertight(
     polys: &[&Fragment],
     input: &Input,
     vertices: &Vertices,
-    ids: &[Vec<u32>],
+    ids: &[u32],
+    offsets: &[usize],
 ) -> Vec<Boundary> {
-    // Edges are numbered flat: edge `k` of polygon `p` is `offsets[p] + k`.
-    let mut offsets = Vec::with_capacity(polys.len() + 1);
-    offsets.push(0usize);
-    for f in polys {
-        offsets.push(offsets.last().copied().unwrap_or(0) + f.vertices.len());
-    }
+    // Edges are numbered as the vertices they start from: edge `k` of polygon `p` is
+    // `offsets[p] + k`.
     // Lines are numbered per shard (by the hash of their key), shards in parallel: every edge
-    // of a line falls in one shard and is taken in polygon order there, so each line's point
-    // list is what one sequential pass would build; line ids are internal only.
-    let line_keys: Vec<Option<(u64, LineKey)>> = polys
+    // of a line falls in one shard and is taken in polygon order there, and a line's points
+    // are sorted along it (ties by vertex id), so nothing depends on the thread count; line
+    // ids are internal only.
+    let owner: Vec<(u32, u32)> = polys
+        .iter()
+        .enumerate()
+        .flat_map(|(p, f)| (0..f.vertices.len() as u32).map(move |k| (p as u32, k)))
+        .collect();
+    let keys: Vec<Option<(u64, LineKey)>> = owner
         .par_iter()
-        .flat_map_iter(|f| {
-            let support = &input.table.get(f.support).plane;
+        .map(|&(p, k)| {
+            let f = polys[p as usize];
             let n = f.vertices.len();
-            f.edges.iter().take(n).enumerate().map(move |(k, e)| {
+            let k = k as usize;
+            let lk = match (&f.vertices[k], &f.vertices[(k + 1) % n]) {
                 // An edge between two grid points (most edges) has the cheap key.
-                let lk = match (&f.vertices[k], &f.vertices[(k + 1) % n]) {
-                    (Vertex::Int(p), Vertex::Int(q)) => line_through(*p, *q),
-                    _ => line_key(support, &input.table.get(e.plane).plane),
-                }?;
-                Some((lk.shard_hash(), lk))
-            })
+                (Vertex::Int(p), Vertex::Int(q)) => line_through(*p, *q),
+                _ => line_key(
+                    &input.table.get(f.support).plane,
+                    &input.table.get(f.edges.get(k)?.plane).plane,
+                ),
+            }?;
+            Some((lk.shard_hash(), lk))
         })
         .collect();
+    let key_of = |p: usize, k: usize| keys[offsets[p] + k].as_ref();
     let mut buckets: Vec<Vec<(u32, u32)>> = vec![Vec::new(); SHARDS];
     for (p, f) in polys.iter().enumerate() {
         for k in 0..f.vertices.len() {
-            if let Some((hash, _)) = &line_keys[offsets[p] + k] {
+            if let Some((hash, _)) = key_of(p, k) {
                 buckets[shard(*hash)].push((p as u32, k as u32));
             }
         }
@@ -363,54 +284,65 @@ fn watertight(
         .into_par_iter()
         .map(|bucket| {
             let mut line_ids: FastMap<Hashed<'_, LineKey>, u32> = FastMap::default();
-            let mut lines: Vec<Line> = Vec::new();
-            let mut seen: FastSet<(u32, u32)> = FastSet::default();
+            let mut dirs: Vec<DVec3> = Vec::new();
+            let mut points: Vec<(u32, f64, u32)> = Vec::with_capacity(2 * bucket.len());
             let mut edges = Vec::with_capacity(bucket.len());
             for (p, k) in bucket {
-                let Some((hash, key)) = &line_keys[offsets[p as usize] + k as usize] else {
+                let Some((hash, key)) = key_of(p as usize, k as usize) else {
                     continue;
                 };
-                let next_id = lines.len() as u32;
+                let next_id = dirs.len() as u32;
                 let id = *line_ids
                     .entry(Hashed { hash: *hash, key })
                     .or_insert(next_id);
                 if id == next_id {
-                    let d = key.dir.map(|c| c as f64);
-                    lines.push(Line {
-                        dir: DVec3::from_array(d).normalize(),
-                        points: Vec::new(),
-                    });
+                    dirs.push(DVec3::from_array(key.dir.map(|c| c as f64)).normalize());
                 }
-                let own = &ids[p as usize];
+                let own = &ids[offsets[p as usize]..offsets[p as usize + 1]];
                 let n = own.len();
                 for j in [k as usize, (k as usize + 1) % n] {
                     let v = own[j];
-                    if seen.insert((id, v)) {
-                        let line = &mut lines[id as usize];
-                        line.points
-                            .push((vertices.list[v as usize].1.dot(line.dir), v));
-                    }
+                    let t = vertices.list[v as usize].1.dot(dirs[id as usize]);
+                    points.push((id, t, v));
                 }
                 edges.push((p, k, id));
             }
-            for line in &mut lines {
-                line.points.sort_by(|a, b| a.0.total_cmp(&b.0));
-            }
-            (lines, edges)
+            // Grouped by line, sorted along it; a vertex has one position along a line, so
+            // its repeats are adjacent.
+            points.sort_unstable_by(|a, b| {
+                (a.0.cmp(&b.0))
+                    .then(a.1.total_cmp(&b.1))
+                    .then(a.2.cmp(&b.2))
+            });
+            points.dedup_by_key(|q| (q.0, q.2));
+            (dirs, points, edges)
         })
         .collect();
+    // Only lines with more than two points are kept: a line with two holds just the endpoints
+    // of each of its edges, so nothing is inserted there (most lines).
     let mut edge_lines: Vec<Option<u32>> = vec![None; offsets.last().copied().unwrap_or(0)];
     let mut lines: Vec<Line> = Vec::new();
-    for (shard_lines, edges) in shards {
-        let offset = lines.len() as u32;
-        for (p, k, id) in edges {
-            edge_lines[offsets[p as usize] + k as usize] = Some(offset + id);
+    let mut points: Vec<(f64, u32)> = Vec::new();
+    for (dirs, shard_points, edges) in shards {
+        let mut kept: Vec<Option<u32>> = vec![None; dirs.len()];
+        for run in shard_points.chunk_by(|a, b| a.0 == b.0) {
+            if run.len() > 2 {
+                kept[run[0].0 as usize] = Some(lines.len() as u32);
+                let start = points.len();
+                points.extend(run.iter().map(|&(_, t, v)| (t, v)));
+                lines.push(Line {
+                    dir: dirs[run[0].0 as usize],
+                    points: start..points.len(),
+                });
+            }
         }
-        lines.extend(shard_lines);
+        for (p, k, id) in edges {
+            edge_lines[offsets[p as usize] + k as usize] = kept[id as usize];
+        }
     }
     let boundary = |(p, f): (usize, &&Fragment)| {
         let n = f.vertices.len();
-        let own = &ids[p];
+        let own = &ids[offsets[p]..offsets[p + 1]];
         let mut boundary: Boundary = Vec::with_capacity(n);
         let mut inserted: Vec<&(f64, u32)> = Vec::new();
         for k in 0..n {
@@ -423,17 +355,18 @@ fn watertight(
                 continue;
             }
             let line = &lines[id as usize];
+            let on_line = &points[line.points.clone()];
             let next = (k + 1) % n;
             let along = |v: u32| vertices.list[v as usize].1.dot(line.dir);
             let (ta, tb) = (along(own[k]), along(own[next]));
             let slack = LINE_SLACK + 1e-12 * (ta.abs() + tb.abs());
             let (lo, hi) = (ta.min(tb) - slack, ta.max(tb) + slack);
-            let start = line.points.partition_point(|q| q.0 < lo);
+            let start = on_line.partition_point(|q| q.0 < lo);
             let (e_prev, e_next) = (&f.edges[prev], &f.edges[next]);
             let (pl_prev, pl_next) = (input.table.get(e_prev.plane), input.table.get(e_next.plane));
             inserted.clear();
             inserted.extend(
-                line.points[start..]
+                on_line[start..]
                     .iter()
                     .take_while(|q| q.0 <= hi)
                     .filter(|q| q.1 != own[k] && q.1 != own[next])
@@ -526,18 +459,9 @@ impl Out<'_> {
         if let Some(i) = self.vertex_ids[id as usize] {
             return i;
         }
-        let s = self.input.quantiser.scale;
-        let p = match &vertices.list[id as usize].0 {
-            Vertex::Int(p) => self.input.quantiser.relative(*p),
-            Vertex::Hom(h) => {
-                let w = h.w.as_f64();
-                DVec3::new(
-                    h.xyz[0].as_f64() / w,
-                    h.xyz[1].as_f64() / w,
-                    h.xyz[2].as_f64() / w,
-                ) * s
-            }
-        };
+        // The approximation is the exact point rounded once per coordinate (see
+        // `Vertex::approx`), in grid units.
+        let p = vertices.list[id as usize].1 * self.input.quantiser.scale;
         let i = self.tree.vertices.len() as u32;
         self.tree.vertices.push(p);
         self.vertex_ids[id as usize] = Some(i);
@@ -599,12 +523,19 @@ pub(crate) fn to_display(exact: &ExactTree, input: &Input, options: &BuildOption
         ..TreeStats::default()
     };
     let frags: Vec<&Fragment> = exact.polygons.iter().map(|p| &p.frag).collect();
-    let (vertices, ids) = Vertices::of(&frags);
+    let mut offsets = Vec::with_capacity(frags.len() + 1);
+    offsets.push(0usize);
+    for f in &frags {
+        offsets.push(offsets.last().copied().unwrap_or(0) + f.vertices.len());
+    }
+    let (vertices, ids) = Vertices::of(&frags, &offsets);
     out.vertex_ids = vec![None; vertices.list.len()];
     let boundaries = if options.watertight {
-        watertight(&frags, input, &vertices, &ids)
+        watertight(&frags, input, &vertices, &ids, &offsets)
     } else {
-        ids.iter().map(|own| plain_boundary(own)).collect()
+        (offsets.windows(2))
+            .map(|w| plain_boundary(&ids[w[0]..w[1]]))
+            .collect()
     };
     for node in &exact.nodes {
         let node = match *node {

@@ -448,16 +448,3 @@ fn shared_models_speed_and_ratio() {
         );
     }
 }
-
-proptest! {
-    /// The parallel, hash-sharded matching of the output pass gives, for each key, the index
-    /// of its first equal key, as a plain scan does.
-    #[test]
-    fn first_equal_finds_the_first_equal_key(keys in proptest::collection::vec(0u8..20, 0..400)) {
-        let want: Vec<u32> = keys
-            .iter()
-            .map(|k| keys.iter().position(|j| j == k).unwrap_or(0) as u32)
-            .collect();
-        prop_assert_eq!(super::output::first_equal(&keys), want);
-    }
-}
