@@ -122,34 +122,43 @@ pub fn load_obj_text(path: &Path, text: &str) -> Result<Mesh, CompileError> {
         vertices: MAX_VERTEX_STATEMENTS,
         triangles: MAX_TRIANGLES,
     };
-    let scanned = scan::scan(path, text, limits)?;
+    // The line scan (our validation, with line numbers) and tobj's parse read the same text
+    // independently: they run side by side, and the scan's verdict is taken first.
+    let (scanned, parsed) = rayon::join(
+        || scan::scan(path, text, limits),
+        || {
+            // tobj's loader callback is `Fn`: the record needs interior mutability.
+            let libraries: RefCell<Vec<(PathBuf, MtlOutcome)>> = RefCell::new(Vec::new());
+            let options = tobj::LoadOptions {
+                triangulate: false,
+                single_index: true,
+                // Points and lines stay in, so tobj emits one face per `f`/`l` line (see above).
+                ..Default::default()
+            };
+            let parsed = tobj::load_obj_buf(
+                &mut std::io::Cursor::new(text.as_bytes()),
+                &options,
+                |name| {
+                    let full = match path.parent() {
+                        Some(dir) => dir.join(name),
+                        None => name.to_path_buf(),
+                    };
+                    let (outcome, result) = read_mtl(&full);
+                    libraries.borrow_mut().push((full, outcome));
+                    result
+                },
+            );
+            (parsed, libraries.into_inner())
+        },
+    );
+    let scanned = scanned?;
     if scanned.polygon_faces == 0 {
         return Err(CompileError::NoFaces {
             path: path.to_path_buf(),
         });
     }
-
-    let libraries: RefCell<Vec<(PathBuf, MtlOutcome)>> = RefCell::new(Vec::new());
-    let options = tobj::LoadOptions {
-        triangulate: false,
-        single_index: true,
-        // Points and lines stay in, so tobj emits one face per `f`/`l` line (see above).
-        ..Default::default()
-    };
-    let (models, materials) = tobj::load_obj_buf(
-        &mut std::io::Cursor::new(text.as_bytes()),
-        &options,
-        |name| {
-            let full = match path.parent() {
-                Some(dir) => dir.join(name),
-                None => name.to_path_buf(),
-            };
-            let (outcome, result) = read_mtl(&full);
-            libraries.borrow_mut().push((full, outcome));
-            result
-        },
-    )
-    .map_err(|e| CompileError::Obj {
+    let (parsed, libraries) = parsed;
+    let (models, materials) = parsed.map_err(|e| CompileError::Obj {
         path: path.to_path_buf(),
         message: e.to_string(),
     })?;
@@ -161,7 +170,7 @@ pub fn load_obj_text(path: &Path, text: &str) -> Result<Mesh, CompileError> {
         ..Mesh::default()
     };
     let mut notes = Notes::default();
-    for ((full, outcome), &line) in libraries.into_inner().iter().zip(&scanned.mtllib_lines) {
+    for ((full, outcome), &line) in libraries.iter().zip(&scanned.mtllib_lines) {
         let at = format!("{}:{line}", path.display());
         match outcome {
             MtlOutcome::Loaded => {}
