@@ -222,10 +222,15 @@ impl Vertices {
     }
 }
 
-/// One shard's lines: their directions, their points as `(line, position along it, vertex)`
-/// grouped by line and sorted along it, and the edges as `(polygon, edge, line)`; line ids
-/// are within the shard.
-type ShardLines = (Vec<DVec3>, Vec<(u32, f64, u32)>, Vec<(u32, u32, u32)>);
+/// One shard's lines: their directions, the range of each one's points in the shard's point
+/// list, that list (`(position along the line, vertex)`, sorted along each line), and the
+/// edges as `(polygon, edge, line)`; line ids are within the shard.
+type ShardLines = (
+    Vec<DVec3>,
+    Vec<std::ops::Range<usize>>,
+    Vec<(f64, u32)>,
+    Vec<(u32, u32, u32)>,
+);
 
 /// The sides (collinear runs of a polygon's boundary) a boundary vertex lies on: side `k` is
 /// the polygon's edge `k`; a corner lies on two, a vertex inserted inside an edge on one
@@ -307,15 +312,38 @@ fn watertight(
                 }
                 edges.push((p, k, id));
             }
-            // Grouped by line, sorted along it; a vertex has one position along a line, so
-            // its repeats are adjacent.
-            points.sort_unstable_by(|a, b| {
-                (a.0.cmp(&b.0))
-                    .then(a.1.total_cmp(&b.1))
-                    .then(a.2.cmp(&b.2))
-            });
-            points.dedup_by_key(|q| (q.0, q.2));
-            (dirs, points, edges)
+            // Grouped by line (a counting sort: a line holds a few points), then sorted along
+            // it; a vertex has one position along a line, so its repeats are adjacent and are
+            // dropped.
+            let mut start = vec![0usize; dirs.len() + 1];
+            for &(id, _, _) in &points {
+                start[id as usize + 1] += 1;
+            }
+            for i in 0..dirs.len() {
+                start[i + 1] += start[i];
+            }
+            let mut fill = start.clone();
+            let mut grouped = vec![(0.0, 0u32); points.len()];
+            for &(id, t, v) in &points {
+                grouped[fill[id as usize]] = (t, v);
+                fill[id as usize] += 1;
+            }
+            let mut runs = Vec::with_capacity(dirs.len());
+            let mut out = 0;
+            for w in start.windows(2) {
+                grouped[w[0]..w[1]]
+                    .sort_unstable_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+                let first = out;
+                for i in w[0]..w[1] {
+                    if out == first || grouped[out - 1].1 != grouped[i].1 {
+                        grouped[out] = grouped[i];
+                        out += 1;
+                    }
+                }
+                runs.push(first..out);
+            }
+            grouped.truncate(out);
+            (dirs, runs, grouped, edges)
         })
         .collect();
     // Only lines with more than two points are kept: a line with two holds just the endpoints
@@ -323,15 +351,15 @@ fn watertight(
     let mut edge_lines: Vec<Option<u32>> = vec![None; offsets.last().copied().unwrap_or(0)];
     let mut lines: Vec<Line> = Vec::new();
     let mut points: Vec<(f64, u32)> = Vec::new();
-    for (dirs, shard_points, edges) in shards {
+    for (dirs, runs, shard_points, edges) in shards {
         let mut kept: Vec<Option<u32>> = vec![None; dirs.len()];
-        for run in shard_points.chunk_by(|a, b| a.0 == b.0) {
+        for (id, run) in runs.into_iter().enumerate() {
             if run.len() > 2 {
-                kept[run[0].0 as usize] = Some(lines.len() as u32);
+                kept[id] = Some(lines.len() as u32);
                 let start = points.len();
-                points.extend(run.iter().map(|&(_, t, v)| (t, v)));
+                points.extend_from_slice(&shard_points[run]);
                 lines.push(Line {
-                    dir: dirs[run[0].0 as usize],
+                    dir: dirs[id],
                     points: start..points.len(),
                 });
             }
