@@ -479,7 +479,8 @@ struct Out<'a> {
     tree: DisplayTree,
     /// Output index of each [`Vertices`] id, in order of first use.
     vertex_ids: Vec<Option<u32>>,
-    plane_ids: FastMap<PlaneId, u32>,
+    /// Output index of each table plane, in order of first use.
+    plane_ids: Vec<Option<u32>>,
 }
 
 impl Out<'_> {
@@ -497,7 +498,7 @@ impl Out<'_> {
     }
 
     fn plane(&mut self, id: PlaneId) -> u32 {
-        if let Some(&i) = self.plane_ids.get(&id) {
+        if let Some(i) = self.plane_ids[id as usize] {
             return i;
         }
         let p = self.input.table.get(id).plane;
@@ -508,7 +509,7 @@ impl Out<'_> {
             normal: n / len,
             offset: p.d as f64 / len * self.input.quantiser.scale,
         });
-        self.plane_ids.insert(id, i);
+        self.plane_ids[id as usize] = Some(i);
         i
     }
 }
@@ -542,7 +543,7 @@ pub(crate) fn to_display(exact: &ExactTree, input: &Input, options: &BuildOption
             ..DisplayTree::default()
         },
         vertex_ids: Vec::new(),
-        plane_ids: FastMap::default(),
+        plane_ids: vec![None; input.table.len()],
     };
     let mut stats = TreeStats {
         input_triangles: input.input_triangles,

@@ -10,6 +10,8 @@
 //!
 //! Equal boxes are stored once.
 
+use rayon::prelude::*;
+
 use crate::hash::FastMap;
 
 use super::format::{node_kind, Node, Polygon, NONE};
@@ -47,6 +49,24 @@ pub fn node_bounds(
     polygons: &[Polygon],
     nodes: &[Node],
 ) -> Vec<Option<Box3>> {
+    // Each convex node's own polygons (independent: in parallel), then the subtrees from the
+    // last node back.
+    let own: Vec<Option<Box3>> = nodes
+        .par_iter()
+        .map(|n| {
+            let mut b = None;
+            if n.kind == node_kind::CONVEX {
+                let owned = polygons.iter().skip(n.a as usize).take(n.b as usize);
+                for p in owned {
+                    let first = p.first_index as usize;
+                    for &v in indices.iter().skip(first).take(usize::from(p.vertex_count)) {
+                        b = union(b, vertices.get(v as usize).map(|&v| point(v)));
+                    }
+                }
+            }
+            b
+        })
+        .collect();
     let mut boxes: Vec<Option<Box3>> = vec![None; nodes.len()];
     let child_box = |boxes: &[Option<Box3>], c: u32| {
         if c == NONE {
@@ -57,18 +77,11 @@ pub fn node_bounds(
     };
     for i in (0..nodes.len()).rev() {
         let n = nodes[i];
-        let mut b = None;
-        if n.kind == node_kind::CONVEX {
-            let owned = polygons.iter().skip(n.a as usize).take(n.b as usize);
-            for p in owned {
-                let first = p.first_index as usize;
-                for &v in indices.iter().skip(first).take(usize::from(p.vertex_count)) {
-                    b = union(b, vertices.get(v as usize).map(|&v| point(v)));
-                }
-            }
+        let b = if n.kind == node_kind::CONVEX {
+            own[i]
         } else {
-            b = union(b, child_box(&boxes, n.b));
-        }
+            child_box(&boxes, n.b)
+        };
         boxes[i] = union(b, child_box(&boxes, n.c));
     }
     boxes
