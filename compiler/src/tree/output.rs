@@ -241,25 +241,18 @@ type Sides = [u32; 2];
 /// polygon, the vertices (as [`Vertices`] ids) and the sides each lies on.
 type Boundary = Vec<(u32, Sides)>;
 
-fn watertight(
-    polys: &[&Fragment],
-    input: &Input,
-    vertices: &Vertices,
-    ids: &[u32],
-    offsets: &[usize],
-) -> Vec<Boundary> {
-    // Edges are numbered as the vertices they start from: edge `k` of polygon `p` is
-    // `offsets[p] + k`.
-    // Lines are numbered per shard (by the hash of their key), shards in parallel: every edge
-    // of a line falls in one shard and is taken in polygon order there, and a line's points
-    // are sorted along it (ties by vertex id), so nothing depends on the thread count; line
-    // ids are internal only.
+/// Each edge's line key and its hash, numbered as the vertices the edges start from (edge `k`
+/// of polygon `p` is `offsets[p] + k`); `None` for an edge on no line (degenerate).
+type EdgeKeys = Vec<Option<(u64, LineKey)>>;
+
+/// The [`EdgeKeys`] of `polys`, in parallel.
+fn edge_keys(polys: &[&Fragment], input: &Input) -> EdgeKeys {
     let owner: Vec<(u32, u32)> = polys
         .iter()
         .enumerate()
         .flat_map(|(p, f)| (0..f.vertices.len() as u32).map(move |k| (p as u32, k)))
         .collect();
-    let keys: Vec<Option<(u64, LineKey)>> = owner
+    owner
         .par_iter()
         .map(|&(p, k)| {
             let f = polys[p as usize];
@@ -275,7 +268,21 @@ fn watertight(
             }?;
             Some((lk.shard_hash(), lk))
         })
-        .collect();
+        .collect()
+}
+
+fn watertight(
+    polys: &[&Fragment],
+    input: &Input,
+    vertices: &Vertices,
+    ids: &[u32],
+    offsets: &[usize],
+    keys: &EdgeKeys,
+) -> Vec<Boundary> {
+    // Lines are numbered per shard (by the hash of their key), shards in parallel: every edge
+    // of a line falls in one shard and is taken in polygon order there, and a line's points
+    // are sorted along it (ties by vertex id), so nothing depends on the thread count; line
+    // ids are internal only.
     let key_of = |p: usize, k: usize| keys[offsets[p] + k].as_ref();
     let mut buckets: Vec<Vec<(u32, u32)>> = vec![Vec::new(); SHARDS];
     for (p, f) in polys.iter().enumerate() {
@@ -557,10 +564,21 @@ pub(crate) fn to_display(exact: &ExactTree, input: &Input, options: &BuildOption
     for f in &frags {
         offsets.push(offsets.last().copied().unwrap_or(0) + f.vertices.len());
     }
-    let (vertices, ids) = Vertices::of(&frags, &offsets);
+    // The edges' line keys do not depend on the vertex numbering: they are computed alongside
+    // its sequential stretches.
+    let ((vertices, ids), keys) = rayon::join(
+        || Vertices::of(&frags, &offsets),
+        || {
+            if options.watertight {
+                edge_keys(&frags, input)
+            } else {
+                Vec::new()
+            }
+        },
+    );
     out.vertex_ids = vec![None; vertices.list.len()];
     let boundaries = if options.watertight {
-        watertight(&frags, input, &vertices, &ids, &offsets)
+        watertight(&frags, input, &vertices, &ids, &offsets, &keys)
     } else {
         (offsets.windows(2))
             .map(|w| plain_boundary(&ids[w[0]..w[1]]))
