@@ -4,6 +4,8 @@
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
+use rayon::prelude::*;
+
 use crate::error::CompileError;
 use crate::load::{load_obj, Mesh};
 use crate::shade::Shading;
@@ -50,7 +52,7 @@ pub fn compile_mesh(
     })?;
     let colours: Vec<[u8; 3]> = tree
         .polygons
-        .iter()
+        .par_iter()
         .map(|p| {
             let kd = mesh.triangles[p.source as usize].colour;
             options
