@@ -9,7 +9,7 @@ use rayon::prelude::*;
 use crate::error::CompileError;
 use crate::load::{load_obj, Mesh};
 use crate::shade::Shading;
-use crate::tree::{build_alongside, BuildOptions, DisplayTree, TreeStats};
+use crate::tree::{build, BuildOptions, DisplayTree, TreeStats};
 
 /// Everything a compile can be asked.
 #[derive(Debug, Clone, Default)]
@@ -45,11 +45,12 @@ pub fn compile_mesh(
     options: &CompileOptions,
     progress: &(dyn Fn(u64) + Sync),
 ) -> Result<(DisplayTree, Vec<u8>), CompileError> {
-    // Which triangles are one-sided depends on the mesh alone: found alongside the output
-    // pass.
-    let (tree, closed) = build_alongside(mesh, &options.build, progress, || {
-        crate::closed::one_sided_triangles(&mesh.triangles)
-    })?;
+    // Which triangles are one-sided depends on the mesh alone: found while the tree builds.
+    let (tree, closed) = rayon::join(
+        || build(mesh, &options.build, progress),
+        || crate::closed::one_sided_triangles(&mesh.triangles),
+    );
+    let tree = tree?;
     let colours: Vec<[u8; 3]> = tree
         .polygons
         .par_iter()

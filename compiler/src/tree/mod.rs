@@ -144,24 +144,13 @@ pub fn build(
     options: &BuildOptions,
     progress: &(dyn Fn(u64) + Sync),
 ) -> Result<DisplayTree, CompileError> {
-    build_alongside(mesh, options, progress, || ()).map(|(tree, ())| tree)
-}
-
-/// [`build`], running `side` alongside the output pass, whose sequential stretches leave a
-/// core idle (the build itself keeps every core busy).
-pub fn build_alongside<R: Send>(
-    mesh: &Mesh,
-    options: &BuildOptions,
-    progress: &(dyn Fn(u64) + Sync),
-    side: impl FnOnce() -> R + Send,
-) -> Result<(DisplayTree, R), CompileError> {
     let input = input::prepare(mesh)?;
     let exact = build::build_exact(&input, options, progress)?;
-    let (tree, side) = rayon::join(|| output::to_display(&exact, &input, options), side);
+    let tree = output::to_display(&exact, &input, options);
     // Freeing the exact tree (millions of small allocations) overlaps the caller's next steps
     // on an idle worker.
     rayon::spawn(move || drop((exact, input)));
-    Ok((tree, side))
+    Ok(tree)
 }
 
 /// The quantisation transform [`build`] uses for `mesh` (`centre` is its `offset`).
