@@ -16,6 +16,7 @@ use serde::Serialize;
 
 use crate::compile::{compile_mesh, CompileOptions};
 use crate::error::CompileError;
+use crate::frames::median;
 use crate::load::{load_obj, Mesh};
 use crate::tree::{build, BuildOptions};
 use baselines::{greedy_triangles, naive_bsp, BaselineStats};
@@ -56,9 +57,10 @@ pub struct BenchRow {
     pub split_nodes: u64,
     /// Peel's depth.
     pub depth: u64,
-    /// Peel's build time (wall): the tree alone, as the baselines are timed.
+    /// Peel's build time (wall, median of [`PEEL_RUNS`]): the tree alone, as the baselines are
+    /// timed.
     pub seconds: f64,
-    /// Peel's whole compile (wall): reading the OBJ (shared models; generated scenes have no
+    /// Peel's whole compile (wall, median of [`PEEL_RUNS`]): reading the OBJ (shared models; generated scenes have no
     /// file), the build, the closed-mesh test, shading and encoding: all `peel compile` does
     /// but write the file.
     pub compile_seconds: f64,
@@ -67,6 +69,9 @@ pub struct BenchRow {
     /// Seed 000's greedy rule with triangles (absent above [`BASELINE_MAX_TRIANGLES`]).
     pub greedy_triangles: Option<BaselineRow>,
 }
+
+/// Timed runs of Peel per scene (see [`bench_scene`]).
+pub const PEEL_RUNS: usize = 3;
 
 fn ratio(polygons: u64, triangles: u64) -> f64 {
     polygons as f64 / triangles.max(1) as f64
@@ -90,13 +95,21 @@ fn baseline(
 /// time its OBJ took to read (0 for a generated scene).
 pub fn bench_scene(name: &str, mesh: &Mesh, load_seconds: f64) -> Result<BenchRow, CompileError> {
     let options = BuildOptions::default();
-    let t = Instant::now();
-    let tree = build(mesh, &options, &|_| {})?;
-    let seconds = t.elapsed().as_secs_f64();
-    let t = Instant::now();
-    compile_mesh(mesh, &CompileOptions::default(), &|_| {})?;
-    let compile_seconds = load_seconds + t.elapsed().as_secs_f64();
-    let s = tree.stats;
+    // Peel's times are medians of PEEL_RUNS, build and compile alternating (the machine's
+    // speed drifts, and the first run of a process warms its allocator).
+    let (mut builds, mut compiles) = (Vec::new(), Vec::new());
+    let mut stats = None;
+    for _ in 0..PEEL_RUNS {
+        let t = Instant::now();
+        let tree = build(mesh, &options, &|_| {})?;
+        builds.push(t.elapsed().as_secs_f64());
+        stats = Some(tree.stats);
+        let t = Instant::now();
+        compile_mesh(mesh, &CompileOptions::default(), &|_| {})?;
+        compiles.push(load_seconds + t.elapsed().as_secs_f64());
+    }
+    let (seconds, compile_seconds) = (median(builds), median(compiles));
+    let s = stats.unwrap_or_default();
     let small = mesh.triangles.len() <= BASELINE_MAX_TRIANGLES;
     Ok(BenchRow {
         scene: name.to_string(),
@@ -171,6 +184,12 @@ pub fn markdown(rows: &[BenchRow]) -> String {
 /// one absent) and on the generated scenes; write the rows as JSON to `json` when given;
 /// return the markdown table.
 pub fn bench_compile(models_dir: &Path, json: Option<&Path>) -> Result<String, CompileError> {
+    // The generated scenes run first, though listed last: a build frees its tree on an idle
+    // worker, and the bunny's (the largest) would otherwise overlap the next scene's timing.
+    let generated = generated_scenes()
+        .into_iter()
+        .map(|(name, mesh)| bench_scene(&name, &mesh, 0.0))
+        .collect::<Result<Vec<_>, _>>()?;
     let mut rows = Vec::new();
     for name in MODELS {
         let path = models_dir.join(format!("{name}.obj"));
@@ -183,9 +202,7 @@ pub fn bench_compile(models_dir: &Path, json: Option<&Path>) -> Result<String, C
         let load_seconds = t.elapsed().as_secs_f64();
         rows.push(bench_scene(name, &mesh, load_seconds)?);
     }
-    for (name, mesh) in generated_scenes() {
-        rows.push(bench_scene(&name, &mesh, 0.0)?);
-    }
+    rows.extend(generated);
     if let Some(path) = json {
         let text =
             serde_json::to_string_pretty(&rows).map_err(|e| CompileError::Encode(e.to_string()))?;
