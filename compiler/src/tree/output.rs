@@ -17,6 +17,7 @@ use crate::hash::{first_equal, mix, shard, FastMap, Hashed, ShardHash, SHARDS};
 
 use ethnum::{I256, U256};
 use glam::DVec3;
+use rayon::iter::Either;
 use rayon::prelude::*;
 
 use super::build::{ExactNode, ExactTree};
@@ -50,10 +51,44 @@ fn key(v: &Vertex) -> Key {
 /// Exact identity of a line: the Plücker coordinates `(n1 × n2, d1 n2 − d2 n1)` of the two
 /// planes meeting in it (the same up to a factor for any two planes of the pencil), divided by
 /// their gcd, first non-zero direction component positive.
+///
+/// A key is stored narrow when all six integers fit in 64 bits (every line through two grid
+/// points, so most edges), wide (boxed) otherwise: the form is a function of the key, so equal
+/// keys have the same form, and the per-edge list is less than half the size.
 #[derive(Debug, Clone, PartialEq, Eq)]
-struct LineKey {
+enum LineKey {
+    Narrow { dir: [i64; 3], moment: [i64; 3] },
+    Wide(Box<WideLineKey>),
+}
+
+/// A [`LineKey`] that does not fit in 64-bit integers.
+#[derive(Debug, Clone, PartialEq, Eq)]
+struct WideLineKey {
     dir: [i128; 3],
     moment: [I256; 3],
+}
+
+impl LineKey {
+    /// The key of the reduced coordinates `dir`, `moment`, in its storage form.
+    fn new(dir: [i128; 3], moment: [I256; 3]) -> LineKey {
+        let small = |c: &I256| *c >= I256::from(i64::MIN) && *c <= I256::from(i64::MAX);
+        if dir.iter().all(|&c| i64::try_from(c).is_ok()) && moment.iter().all(small) {
+            LineKey::Narrow {
+                dir: dir.map(|c| c as i64),
+                moment: moment.map(|c| c.as_i64()),
+            }
+        } else {
+            LineKey::Wide(Box::new(WideLineKey { dir, moment }))
+        }
+    }
+
+    /// The direction (not normalised).
+    fn dir(&self) -> [f64; 3] {
+        match self {
+            LineKey::Narrow { dir, .. } => dir.map(|c| c as f64),
+            LineKey::Wide(w) => w.dir.map(|c| c as f64),
+        }
+    }
 }
 
 /// `None` when the planes are parallel (never for a support plane and one of its edge planes).
@@ -101,7 +136,7 @@ fn line_key(a: &Plane, b: &Plane) -> Option<LineKey> {
     if gi != 1 {
         dir = dir.map(|c| c / gi);
     }
-    Some(LineKey { dir, moment })
+    Some(LineKey::new(dir, moment))
 }
 
 /// [`line_key`] of the line through grid points `p` and `q` (`None` when they coincide),
@@ -124,10 +159,8 @@ fn line_through(p: [i32; 3], q: [i32; 3]) -> Option<LineKey> {
         d[2] * p[0] - d[0] * p[2],
         d[0] * p[1] - d[1] * p[0],
     ];
-    Some(LineKey {
-        dir: d.map(i128::from),
-        moment: moment.map(I256::from),
-    })
+    // |d| < 2^27 and |p| < 2^26: the moment is below 2^54, the key narrow.
+    Some(LineKey::Narrow { dir: d, moment })
 }
 
 /// A line through more than two distinct vertices (edge endpoints): its unit direction and
@@ -148,31 +181,87 @@ struct Vertices {
     list: Vec<(Vertex, DVec3)>,
 }
 
-impl ShardHash for Key {
+impl ShardHash for [i32; 3] {
     fn shard_hash(&self) -> u64 {
-        match self {
-            Key::Int(p) => mix(p.map(|c| c as u64)),
-            Key::Hom(xyz, w) => mix([
-                1,
-                xyz[0].as_u64(),
-                xyz[1].as_u64(),
-                xyz[2].as_u64(),
-                w.as_u64(),
-            ]),
+        mix(self.map(|c| c as u64))
+    }
+}
+
+impl ShardHash for ([I256; 3], I256) {
+    fn shard_hash(&self) -> u64 {
+        let (xyz, w) = self;
+        mix([
+            1,
+            xyz[0].as_u64(),
+            xyz[1].as_u64(),
+            xyz[2].as_u64(),
+            w.as_u64(),
+        ])
+    }
+}
+
+/// For each of `vertices`, the index of the first one at the same exact point (see
+/// [`first_equal`]). The keys go in two classes matched apart, grid points (most of them, as
+/// 12 bytes) and cut points that do not reduce to one: equal points are always in the same
+/// class, so this is one matching, with a third of the memory of one list of [`Key`]s.
+fn first_equal_points(vertices: &[&Vertex]) -> Vec<u32> {
+    let cut: Vec<usize> = (0..vertices.len())
+        .filter(|&i| matches!(vertices[i], Vertex::Hom(_)))
+        .collect();
+    let mut cut_keys = cut
+        .par_iter()
+        .map(|&i| key(vertices[i]))
+        .collect::<Vec<_>>()
+        .into_iter();
+    let (mut grid, mut grid_at) = (Vec::new(), Vec::new());
+    let (mut hom, mut hom_at) = (Vec::new(), Vec::new());
+    for (i, v) in vertices.iter().enumerate() {
+        let k = match v {
+            Vertex::Int(p) => Some(Key::Int(*p)),
+            // One key per cut point, in order: never `None`.
+            Vertex::Hom(_) => cut_keys.next(),
+        };
+        match k {
+            Some(Key::Int(p)) => {
+                grid.push(p);
+                grid_at.push(i as u32);
+            }
+            Some(Key::Hom(xyz, w)) => {
+                hom.push((xyz, w));
+                hom_at.push(i as u32);
+            }
+            None => {}
         }
     }
+    let mut first = vec![0u32; vertices.len()];
+    for (at, firsts) in [(grid_at, first_equal(&grid)), (hom_at, first_equal(&hom))] {
+        for (&i, &f) in at.iter().zip(&firsts) {
+            first[i as usize] = at[f as usize];
+        }
+    }
+    first
 }
 
 impl ShardHash for LineKey {
     fn shard_hash(&self) -> u64 {
-        mix([
-            self.dir[0] as u64,
-            self.dir[1] as u64,
-            self.dir[2] as u64,
-            self.moment[0].as_u64(),
-            self.moment[1].as_u64(),
-            self.moment[2].as_u64(),
-        ])
+        match self {
+            LineKey::Narrow { dir, moment } => mix([
+                dir[0] as u64,
+                dir[1] as u64,
+                dir[2] as u64,
+                moment[0] as u64,
+                moment[1] as u64,
+                moment[2] as u64,
+            ]),
+            LineKey::Wide(w) => mix([
+                w.dir[0] as u64,
+                w.dir[1] as u64,
+                w.dir[2] as u64,
+                w.moment[0].as_u64(),
+                w.moment[1].as_u64(),
+                w.moment[2].as_u64(),
+            ]),
+        }
     }
 }
 
@@ -204,8 +293,7 @@ impl Vertices {
             }
             uses.push(i);
         }
-        let keys: Vec<Key> = distinct.par_iter().map(|v| key(v)).collect();
-        let first = first_equal(&keys);
+        let first = first_equal_points(&distinct);
         // A point's first entry comes before its others, so it is numbered first.
         let mut list = Vec::new();
         let mut id_of = vec![0u32; distinct.len()];
@@ -308,7 +396,7 @@ fn watertight(
                     .entry(Hashed { hash: *hash, key })
                     .or_insert(next_id);
                 if id == next_id {
-                    dirs.push(DVec3::from_array(key.dir.map(|c| c as f64)).normalize());
+                    dirs.push(DVec3::from_array(key.dir()).normalize());
                 }
                 let own = &ids[offsets[p as usize]..offsets[p as usize + 1]];
                 let n = own.len();
@@ -584,6 +672,27 @@ pub(crate) fn to_display(exact: &ExactTree, input: &Input, options: &BuildOption
             .map(|w| plain_boundary(&ids[w[0]..w[1]]))
             .collect()
     };
+    // The wide keys are boxed: freed on an idle worker.
+    rayon::spawn(move || drop(keys));
+    // Polygons with more vertices than allowed are cut into convex pieces (index lists into
+    // their boundary); the others are one piece.
+    let max = options.max_polygon_vertices.max(3);
+    let pieces: Vec<Option<Vec<Vec<usize>>>> = boundaries
+        .par_iter()
+        .map(|boundary| {
+            (boundary.len() > max).then(|| {
+                let sides: Vec<Vec<u32>> = boundary
+                    .iter()
+                    .map(|&(_, [a, b])| if a == b { vec![a] } else { vec![a, b] })
+                    .collect();
+                convex_pieces(&sides, options.max_polygon_vertices)
+            })
+        })
+        .collect();
+    // Planes and vertices are numbered in order of first use, node by node (sequential and
+    // cheap); the polygons are then built in parallel, in that order.
+    let mut order: Vec<(usize, u32)> = Vec::with_capacity(exact.polygons.len());
+    let mut emitted = 0u32;
     for node in &exact.nodes {
         let node = match *node {
             ExactNode::Convex {
@@ -593,36 +702,30 @@ pub(crate) fn to_display(exact: &ExactTree, input: &Input, options: &BuildOption
                 support_planes,
             } => {
                 stats.convex_nodes += 1;
-                let start = out.tree.polygons.len() as u32;
-                for (poly, boundary) in exact.polygons[first as usize..(first + count) as usize]
-                    .iter()
-                    .zip(&boundaries[first as usize..(first + count) as usize])
-                {
-                    let f = &poly.frag;
-                    let plane = out.plane(f.support);
-                    let add = |out: &mut Out<'_>, corners: &mut dyn Iterator<Item = u32>| {
-                        let vertices = corners.map(|v| out.vertex(&vertices, v)).collect();
-                        out.tree.polygons.push(TreePolygon {
-                            plane,
-                            flipped: f.flipped,
-                            interior_front: poly.interior_front,
-                            vertices,
-                            source: f.source,
-                        });
-                    };
-                    if boundary.len() <= options.max_polygon_vertices.max(3) {
-                        add(&mut out, &mut boundary.iter().map(|b| b.0));
-                    } else {
-                        let sides: Vec<Vec<u32>> = boundary
-                            .iter()
-                            .map(|&(_, [a, b])| if a == b { vec![a] } else { vec![a, b] })
-                            .collect();
-                        for piece in convex_pieces(&sides, options.max_polygon_vertices) {
-                            add(&mut out, &mut piece.iter().map(|&i| boundary[i].0));
+                let mut polygon_count = 0;
+                for i in first as usize..(first + count) as usize {
+                    let plane = out.plane(exact.polygons[i].frag.support);
+                    let boundary = &boundaries[i];
+                    match &pieces[i] {
+                        None => {
+                            for b in boundary {
+                                out.vertex(&vertices, b.0);
+                            }
+                            polygon_count += 1;
+                        }
+                        Some(pieces) => {
+                            for piece in pieces {
+                                for &k in piece {
+                                    out.vertex(&vertices, boundary[k].0);
+                                }
+                                polygon_count += 1;
+                            }
                         }
                     }
+                    order.push((i, plane));
                 }
-                let polygon_count = out.tree.polygons.len() as u32 - start;
+                let start = emitted;
+                emitted += polygon_count;
                 TreeNode::Convex {
                     first_polygon: start,
                     polygon_count,
@@ -647,6 +750,31 @@ pub(crate) fn to_display(exact: &ExactTree, input: &Input, options: &BuildOption
         };
         out.tree.nodes.push(node);
     }
+    // Every vertex was numbered above (`MAX` would fail the writer's checks).
+    let vertex_ids = &out.vertex_ids;
+    let id = move |v: u32| vertex_ids[v as usize].unwrap_or(u32::MAX);
+    out.tree.polygons = order
+        .par_iter()
+        .flat_map_iter(|&(i, plane)| {
+            let (poly, boundary) = (&exact.polygons[i], &boundaries[i]);
+            let lists = match &pieces[i] {
+                None => Either::Left(std::iter::once(
+                    boundary.iter().map(|b| id(b.0)).collect::<Vec<u32>>(),
+                )),
+                Some(pieces) => Either::Right(
+                    (pieces.iter())
+                        .map(move |piece| piece.iter().map(|&k| id(boundary[k].0)).collect()),
+                ),
+            };
+            lists.map(move |vertices| TreePolygon {
+                plane,
+                flipped: poly.frag.flipped,
+                interior_front: poly.interior_front,
+                vertices,
+                source: poly.frag.source,
+            })
+        })
+        .collect();
     // Children come after their parents: depths from the last node back.
     let mut depth = vec![0u64; out.tree.nodes.len()];
     for i in (0..depth.len()).rev() {
