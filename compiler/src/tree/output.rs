@@ -217,20 +217,19 @@ fn first_equal_points(vertices: &[&Vertex]) -> Vec<u32> {
     let (mut hom, mut hom_at) = (Vec::new(), Vec::new());
     for (i, v) in vertices.iter().enumerate() {
         let k = match v {
-            Vertex::Int(p) => Some(Key::Int(*p)),
-            // One key per cut point, in order: never `None`.
-            Vertex::Hom(_) => cut_keys.next(),
+            Vertex::Int(p) => Key::Int(*p),
+            // One key per cut point, in order; the fallback only keeps this total.
+            Vertex::Hom(_) => cut_keys.next().unwrap_or_else(|| key(v)),
         };
         match k {
-            Some(Key::Int(p)) => {
+            Key::Int(p) => {
                 grid.push(p);
                 grid_at.push(i as u32);
             }
-            Some(Key::Hom(xyz, w)) => {
+            Key::Hom(xyz, w) => {
                 hom.push((xyz, w));
                 hom_at.push(i as u32);
             }
-            None => {}
         }
     }
     let mut first = vec![0u32; vertices.len()];
