@@ -244,22 +244,10 @@ fn first_equal_points(vertices: &[&Vertex]) -> Vec<u32> {
 impl ShardHash for LineKey {
     fn shard_hash(&self) -> u64 {
         match self {
-            LineKey::Narrow { dir, moment } => mix([
-                dir[0] as u64,
-                dir[1] as u64,
-                dir[2] as u64,
-                moment[0] as u64,
-                moment[1] as u64,
-                moment[2] as u64,
-            ]),
-            LineKey::Wide(w) => mix([
-                w.dir[0] as u64,
-                w.dir[1] as u64,
-                w.dir[2] as u64,
-                w.moment[0].as_u64(),
-                w.moment[1].as_u64(),
-                w.moment[2].as_u64(),
-            ]),
+            LineKey::Narrow { dir, moment } => mix(dir.iter().chain(moment).map(|&c| c as u64)),
+            LineKey::Wide(w) => {
+                mix((w.dir.iter().map(|&c| c as u64)).chain(w.moment.iter().map(|m| m.as_u64())))
+            }
         }
     }
 }
