@@ -15,6 +15,8 @@ use std::sync::atomic::{AtomicU64, Ordering};
 use crate::bvh::{box_of, max_f, min_f, Bvh};
 use crate::planes::{intersect, PlaneEntry, PlaneId, PlaneTable, Side, Vertex, FILTER_BOUND};
 
+pub mod lopsided;
+
 /// A bounding edge of a fragment: the plane it lies on and the side the fragment is on.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Edge {
@@ -404,6 +406,68 @@ impl<'a> Sample<'a> {
             left -= k;
             if stop(&tally, left) {
                 return None;
+            }
+        }
+        Some(tally)
+    }
+
+    /// The fragments in the order the searches number them.
+    pub(crate) fn leaf_order(&self) -> &[&'a Fragment] {
+        &self.frags
+    }
+
+    /// The fragments not wholly on the closed side opposite `small` of `plane` (as positions
+    /// in [`Self::leaf_order`]), into `out` (cleared first), counted (no
+    /// cuts); `None` as soon as there are more than `max` or one is cut. Boxes proven strictly
+    /// on the far side are skipped whole; a box proven strictly on `small`'s side with too
+    /// many fragments ends the search before any is placed (the usual answer when `small` is
+    /// the side most fragments are on).
+    pub(crate) fn touched(
+        &self,
+        plane: PlaneId,
+        small: Side,
+        table: &PlaneTable,
+        max: usize,
+        out: &mut Vec<u32>,
+    ) -> Option<Tally> {
+        out.clear();
+        let e = table.get(plane);
+        let bound = self.filter_bound(e);
+        let nodes = &self.bvh.nodes;
+        let mut tally = Tally::default();
+        let mut stack = [0u32; crate::bvh::STACK];
+        let mut len = usize::from(!nodes.is_empty());
+        while len > 0 {
+            len -= 1;
+            let node = &nodes[stack[len] as usize];
+            let (lo, hi, m) = Bvh::range(node, e);
+            let (beyond, near) = match small {
+                Side::Front => (hi < -m, lo > m),
+                _ => (lo > m, hi < -m),
+            };
+            if beyond {
+                continue;
+            }
+            if near && out.len() + (node.end - node.first) as usize > max {
+                return None;
+            }
+            if let Some([l, r]) = node.children {
+                stack[len] = l;
+                stack[len + 1] = r;
+                len += 2;
+                continue;
+            }
+            for i in node.first as usize..node.end as usize {
+                let placement = self.placement(i, plane, e, bound);
+                match (placement, small) {
+                    (Placement::Straddle, _) => return None,
+                    (Placement::Front, Side::Back) | (Placement::Back, Side::Front) => continue,
+                    _ => tally.add(placement),
+                }
+                out.push(i as u32);
+                if out.len() > max {
+                    return None;
+                }
             }
         }
         Some(tally)

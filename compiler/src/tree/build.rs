@@ -14,8 +14,9 @@ use super::input::Input;
 use super::BuildOptions;
 use crate::error::CompileError;
 use crate::peel::{after_split, hull_planes, Known, Witness};
-use crate::planes::{PlaneId, PlaneTable};
-use crate::split::{choose_split, Fragment, SplitResult};
+use crate::planes::{PlaneId, PlaneTable, Side};
+use crate::split::lopsided::{is_lopsided, lopsided_splits, Lopsided, CHAIN_AFTER};
+use crate::split::{choose_split, Fragment, Placement, SplitResult};
 
 /// Subtrees are built in parallel when both sides of a split hold at least this many
 /// fragments and at least an eighth of the node (which bounds the join recursion depth).
@@ -24,6 +25,10 @@ const PAR_MIN: usize = 2048;
 /// Subtrees built in parallel so far (tests check that the parallel path is exercised).
 #[cfg(test)]
 pub(crate) static JOINS: AtomicU64 = AtomicU64::new(0);
+
+/// Lopsided splits laid out from a batch so far (tests check that the path is exercised).
+#[cfg(test)]
+pub(crate) static CHAINED: AtomicU64 = AtomicU64::new(0);
 
 /// A node of the exact tree (indices local to its [`ExactTree`]).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -90,10 +95,23 @@ impl Limit {
 }
 
 enum Job {
-    /// `compile(L)`. `known`: witnesses found for an ancestor's list.
+    /// `compile(L)`. `known`: witnesses found for an ancestor's list. `lopsided`: how many
+    /// lopsided splits in a row left this list; from [`CHAIN_AFTER`] on, more are looked for
+    /// in one pass before one is chosen alone (see [`crate::split::lopsided`]).
     Compile {
         frags: Vec<Fragment>,
         known: Known,
+        slot: Slot,
+        limit: Limit,
+        lopsided: u32,
+    },
+    /// A chain of lopsided splits decided ahead (`steps`, the next one last), then
+    /// `compile(rest)`.
+    Chain {
+        steps: Vec<ChainStep>,
+        rest: Vec<Fragment>,
+        /// Witnesses for the list the chain starts from (checked against `rest`).
+        known: Vec<Witness>,
         slot: Slot,
         limit: Limit,
     },
@@ -110,11 +128,26 @@ enum Job {
     },
 }
 
+/// One split of a chain of lopsided splits, decided ahead.
+struct ChainStep {
+    plane: PlaneId,
+    /// The fragments in the plane.
+    on: Vec<Fragment>,
+    /// The small side's fragments.
+    small: Vec<Fragment>,
+    /// The small side is the + side.
+    small_front: bool,
+    /// Distinct support planes of the list the split divides.
+    support_planes: u32,
+}
+
 impl Job {
     /// Where the job's node goes.
     fn slot(&self) -> Slot {
         match self {
-            Job::Compile { slot, .. } | Job::InPlane { slot, .. } => *slot,
+            Job::Compile { slot, .. } | Job::InPlane { slot, .. } | Job::Chain { slot, .. } => {
+                *slot
+            }
         }
     }
 
@@ -123,13 +156,22 @@ impl Job {
         match self {
             Job::Compile { frags, .. } => frags.len(),
             Job::InPlane { on, rest, .. } => on.len() + rest.len(),
+            Job::Chain { steps, rest, .. } => {
+                rest.len()
+                    + steps
+                        .iter()
+                        .map(|s| s.on.len() + s.small.len())
+                        .sum::<usize>()
+            }
         }
     }
 
     /// The same job as the root of a separately built subtree.
     fn rooted(mut self) -> Job {
         match &mut self {
-            Job::Compile { slot, .. } | Job::InPlane { slot, .. } => *slot = Slot::Root,
+            Job::Compile { slot, .. } | Job::InPlane { slot, .. } | Job::Chain { slot, .. } => {
+                *slot = Slot::Root
+            }
         }
         self
     }
@@ -161,6 +203,7 @@ pub(crate) fn build_exact(
             max: u32::MAX,
             strict: false,
         },
+        lopsided: 0,
     };
     let tree = run(&ctx, root)?;
     (ctx.progress)(ctx.placed.load(Ordering::Relaxed));
@@ -292,14 +335,72 @@ fn run(ctx: &Ctx, job: Job) -> Result<ExactTree, CompileError> {
                         known,
                         slot: Slot::Child(idx),
                         limit,
+                        lopsided: 0,
                     });
                 }
+            }
+            Job::Chain {
+                mut steps,
+                rest,
+                known,
+                slot,
+                limit,
+            } => {
+                let Some(step) = steps.pop() else {
+                    stack.push(Job::Compile {
+                        frags: rest,
+                        known: Known::Inherited(known),
+                        slot,
+                        limit,
+                        lopsided: 0,
+                    });
+                    continue;
+                };
+                let k = step.support_planes;
+                limit.check(k, "lopsided split")?;
+                #[cfg(test)]
+                CHAINED.fetch_add(1, Ordering::Relaxed);
+                let idx = tree.nodes.len() as u32;
+                tree.nodes.push(ExactNode::Split {
+                    plane: step.plane,
+                    front: None,
+                    back: None,
+                    support_planes: k,
+                });
+                attach(&mut tree, slot, idx);
+                let (small_slot, big_slot) = if step.small_front {
+                    (Slot::Front(idx), Slot::Back(idx))
+                } else {
+                    (Slot::Back(idx), Slot::Front(idx))
+                };
+                stack.push(Job::Chain {
+                    steps,
+                    rest,
+                    known,
+                    slot: big_slot,
+                    limit: Limit {
+                        max: k,
+                        strict: true,
+                    },
+                });
+                stack.push(Job::InPlane {
+                    on: step.on,
+                    rest: step.small,
+                    known: Known::default(),
+                    interior_front: step.small_front,
+                    slot: small_slot,
+                    limit: Limit {
+                        max: k,
+                        strict: false,
+                    },
+                });
             }
             Job::Compile {
                 frags,
                 known,
                 slot,
                 limit,
+                lopsided,
             } => {
                 if frags.is_empty() {
                     continue;
@@ -332,15 +433,38 @@ fn run(ctx: &Ctx, job: Job) -> Result<ExactTree, CompileError> {
                             known: Known::Inherited(hull.witnesses),
                             slot: Slot::Child(idx),
                             limit,
+                            lopsided: 0,
                         });
                     }
                     continue;
                 }
+                if lopsided >= CHAIN_AFTER {
+                    let splits = lopsided_splits(&frags, &planes, ctx.table);
+                    if !splits.is_empty() {
+                        let (mut steps, rest) = chain(frags, &planes, splits, ctx.table)?;
+                        steps.reverse();
+                        stack.push(Job::Chain {
+                            steps,
+                            rest,
+                            known: hull.witnesses,
+                            slot,
+                            limit,
+                        });
+                        continue;
+                    }
+                }
                 // The child holding the split plane's fragments is laid out first: the
                 // order does not depend on the plane's sign, so mirrored scenes give the same
                 // tree up to the transform.
-                let (first, second) =
-                    split_node(ctx, &mut tree, frags, &planes, hull.witnesses, slot)?;
+                let (first, second) = split_node(
+                    ctx,
+                    &mut tree,
+                    frags,
+                    &planes,
+                    hull.witnesses,
+                    slot,
+                    lopsided,
+                )?;
                 let (n1, n2) = (first.len(), second.len());
                 if n1.min(n2) >= PAR_MIN && n1.min(n2) * 8 >= n1 + n2 {
                     let (s1, s2) = (first.slot(), second.slot());
@@ -369,6 +493,7 @@ fn split_node(
     planes: &[PlaneId],
     known: Vec<Witness>,
     slot: Slot,
+    lopsided: u32,
 ) -> Result<(Job, Job), CompileError> {
     let k = planes.len() as u32;
     let p = choose_split(
@@ -388,13 +513,14 @@ fn split_node(
     };
     let n = results.len();
     let (mut front, mut back, mut on) = (Vec::with_capacity(n), Vec::with_capacity(n), Vec::new());
+    let mut cuts = 0u64;
     for r in results {
         match r {
             Some(SplitResult::Front(f)) => front.push(f),
             Some(SplitResult::Back(f)) => back.push(f),
             Some(SplitResult::On(f)) => on.push(f),
             Some(SplitResult::Cut(f, b)) => {
-                tree.cuts += 1;
+                cuts += 1;
                 front.push(f);
                 back.push(b);
             }
@@ -405,6 +531,7 @@ fn split_node(
             }
         }
     }
+    tree.cuts += cuts;
     if on.iter().any(|f| f.support != p) {
         return Err(CompileError::Invariant(
             "a fragment lies in a plane that is not its support".into(),
@@ -437,6 +564,11 @@ fn split_node(
     // The split plane's fragments join the smaller side; a tie goes to the side whose
     // source ids come first (not to "front", which depends on the plane's sign).
     let (known_front, known_back) = after_split(known, ctx.table.get(p));
+    let lopsided = if is_lopsided(n, front.len().min(back.len()), on.len(), cuts as usize) {
+        lopsided + 1
+    } else {
+        0
+    };
     let on_front = match front.len().cmp(&back.len()) {
         std::cmp::Ordering::Less => true,
         std::cmp::Ordering::Greater => false,
@@ -460,6 +592,7 @@ fn split_node(
                 known: known_back,
                 slot: Slot::Back(idx),
                 limit: strict,
+                lopsided,
             },
         )
     } else {
@@ -477,7 +610,67 @@ fn split_node(
                 known: known_front,
                 slot: Slot::Front(idx),
                 limit: strict,
+                lopsided,
             },
         )
     })
+}
+
+/// The chain of `splits` ([`lopsided_splits`] of `frags`, whose distinct support planes are
+/// `planes`): each split's fragments sorted, and what is left after the last one (the
+/// untouched fragments, in their order). A split only touches fragments no earlier one
+/// touched, so each is a proper split of what the earlier ones leave: its plane's fragments
+/// are all still there (and leave with it, so the count of support planes strictly drops
+/// along the chain).
+fn chain(
+    frags: Vec<Fragment>,
+    planes: &[PlaneId],
+    splits: Vec<Lopsided>,
+    table: &PlaneTable,
+) -> Result<(Vec<ChainStep>, Vec<Fragment>), CompileError> {
+    let pos = |p: PlaneId| planes.binary_search(&p).expect("own plane");
+    let mut count = vec![0u32; planes.len()];
+    for f in &frags {
+        count[pos(f.support)] += 1;
+    }
+    let mut k = planes.len() as u32;
+    let mut slots: Vec<Option<Fragment>> = frags.into_iter().map(Some).collect();
+    let mut steps = Vec::with_capacity(splits.len());
+    let bad = |what: &str| CompileError::Invariant(format!("lopsided split: {what}"));
+    for s in splits {
+        let support_planes = k;
+        let small_front = s.small == Side::Front;
+        let (mut on, mut small) = (Vec::new(), Vec::new());
+        for &i in &s.touched {
+            let f = slots[i as usize]
+                .take()
+                .ok_or_else(|| bad("a fragment touched twice"))?;
+            let support = pos(f.support);
+            match f.placement(s.plane, table) {
+                Placement::On => on.push(f),
+                Placement::Front if small_front => small.push(f),
+                Placement::Back if !small_front => small.push(f),
+                _ => return Err(bad("a touched fragment is cut or on the far side")),
+            }
+            count[support] -= 1;
+            if count[support] == 0 {
+                k -= 1;
+            }
+        }
+        if on.is_empty() || small.is_empty() {
+            return Err(bad("not a proper split"));
+        }
+        steps.push(ChainStep {
+            plane: s.plane,
+            on,
+            small,
+            small_front,
+            support_planes,
+        });
+    }
+    let rest: Vec<Fragment> = slots.into_iter().flatten().collect();
+    if rest.is_empty() {
+        return Err(bad("nothing left on the far side"));
+    }
+    Ok((steps, rest))
 }

@@ -313,6 +313,38 @@ fn building_twice_and_on_any_thread_count_gives_identical_output() {
     super::check::area_partition(&tree, &input, 2, 1).unwrap();
 }
 
+/// A UV sphere is convex, but once quantised many of its quads fold very slightly inward, and
+/// each fold is split off alone: a chain as deep as there are folds. The build takes most of
+/// those splits in batches (once a few come in a row), and the tree keeps every invariant,
+/// cuts next to nothing, and is the same on any thread count.
+#[test]
+fn a_nearly_convex_sphere_is_split_off_fold_by_fold_in_batches() {
+    let mesh = crate::scenes::sphere(32, 64);
+    let chained = super::build::CHAINED.load(std::sync::atomic::Ordering::Relaxed);
+    let (_, tree) = checked(&mesh);
+    let batched = super::build::CHAINED.load(std::sync::atomic::Ordering::Relaxed) - chained;
+    let splits = tree
+        .nodes
+        .iter()
+        .filter(|n| matches!(n, super::build::ExactNode::Split { .. }))
+        .count() as u64;
+    assert!(splits > 500, "only {splits} splits: the folds are gone");
+    assert!(
+        batched * 2 > splits,
+        "{batched} of {splits} splits came from batches"
+    );
+    // Batches take only free splits; the few splits chosen alone between them may cut.
+    assert!(tree.cuts < 10, "{} cuts", tree.cuts);
+    let pool = |threads: usize| {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap()
+    };
+    let bytes = |threads: usize| pool(threads).install(|| encoded(&mesh));
+    assert_eq!(bytes(1), bytes(2));
+}
+
 #[test]
 fn output_is_consistent_and_relative_to_the_centre() {
     let offset = DVec3::new(1e6, -2e6, 3e5);
