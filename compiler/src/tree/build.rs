@@ -278,6 +278,19 @@ fn append(tree: &mut ExactTree, sub: ExactTree, slot: Slot) {
     attach(tree, slot, no);
 }
 
+/// Append a split node by `plane` (its children linked later) at `slot`; returns its index.
+fn push_split(tree: &mut ExactTree, plane: PlaneId, support_planes: u32, slot: Slot) -> u32 {
+    let idx = tree.nodes.len() as u32;
+    tree.nodes.push(ExactNode::Split {
+        plane,
+        front: None,
+        back: None,
+        support_planes,
+    });
+    attach(tree, slot, idx);
+    idx
+}
+
 fn push_convex(
     ctx: &Ctx,
     tree: &mut ExactTree,
@@ -360,14 +373,7 @@ fn run(ctx: &Ctx, job: Job) -> Result<ExactTree, CompileError> {
                 limit.check(k, "lopsided split")?;
                 #[cfg(test)]
                 CHAINED.fetch_add(1, Ordering::Relaxed);
-                let idx = tree.nodes.len() as u32;
-                tree.nodes.push(ExactNode::Split {
-                    plane: step.plane,
-                    front: None,
-                    back: None,
-                    support_planes: k,
-                });
-                attach(&mut tree, slot, idx);
+                let idx = push_split(&mut tree, step.plane, k, slot);
                 let (small_slot, big_slot) = if step.small_front {
                     (Slot::Front(idx), Slot::Back(idx))
                 } else {
@@ -545,14 +551,7 @@ fn split_node(
             on.len()
         )));
     }
-    let idx = tree.nodes.len() as u32;
-    tree.nodes.push(ExactNode::Split {
-        plane: p,
-        front: None,
-        back: None,
-        support_planes: k,
-    });
-    attach(tree, slot, idx);
+    let idx = push_split(tree, p, k, slot);
     let strict = Limit {
         max: k,
         strict: true,
