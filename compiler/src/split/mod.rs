@@ -12,7 +12,7 @@ use rayon::prelude::*;
 
 use std::sync::atomic::{AtomicU64, Ordering};
 
-use crate::bvh::{box_of, max_f, min_f, Bvh, BvhNode};
+use crate::bvh::{box_of, max_f, min_f, Bvh};
 use crate::planes::{intersect, PlaneEntry, PlaneId, PlaneTable, Side, Vertex, FILTER_BOUND};
 
 pub mod lopsided;
@@ -368,33 +368,6 @@ impl<'a> Sample<'a> {
         }
     }
 
-    /// Depth-first walk of the hierarchy for plane `e`: `visit` gets each node reached and its
-    /// proven range (see [`Bvh::range`]) and says what next. False when it stopped the walk.
-    #[inline(always)]
-    fn walk(&self, e: &PlaneEntry, mut visit: impl FnMut(&BvhNode, f64, f64, f64) -> Step) -> bool {
-        let nodes = &self.bvh.nodes;
-        // Each level leaves at most one sibling on the stack.
-        let mut stack = [0u32; crate::bvh::STACK];
-        let mut len = usize::from(!nodes.is_empty());
-        while len > 0 {
-            len -= 1;
-            let node = &nodes[stack[len] as usize];
-            let (lo, hi, m) = Bvh::range(node, e);
-            match visit(node, lo, hi, m) {
-                Step::Next => {}
-                Step::Stop => return false,
-                Step::Open => {
-                    if let Some([l, r]) = node.children {
-                        stack[len] = l;
-                        stack[len + 1] = r;
-                        len += 2;
-                    }
-                }
-            }
-        }
-        true
-    }
-
     /// The sample counted against `plane`; `None` as soon as `stop(count so far, fragments
     /// left)` holds (it is asked after each box counted whole and each leaf opened).
     pub(crate) fn tally(
@@ -405,16 +378,26 @@ impl<'a> Sample<'a> {
     ) -> Option<Tally> {
         let e = table.get(plane);
         let bound = self.filter_bound(e);
+        let nodes = &self.bvh.nodes;
         let mut tally = Tally::default();
         let mut left = self.frags.len() as u64;
-        let done = self.walk(e, |node, lo, hi, m| {
+        // Each level leaves at most one sibling on the stack.
+        let mut stack = [0u32; crate::bvh::STACK];
+        let mut len = usize::from(!nodes.is_empty());
+        while len > 0 {
+            len -= 1;
+            let node = &nodes[stack[len] as usize];
+            let (lo, hi, m) = Bvh::range(node, e);
             let k = u64::from(node.end - node.first);
             if lo > m {
                 tally.front += k; // every vertex strictly in front: every fragment Front
             } else if hi < -m {
                 tally.back += k;
-            } else if node.children.is_some() {
-                return Step::Open;
+            } else if let Some([l, r]) = node.children {
+                stack[len] = l;
+                stack[len + 1] = r;
+                len += 2;
+                continue;
             } else {
                 for i in node.first as usize..node.end as usize {
                     tally.add(self.place(i, plane, e, bound));
@@ -422,12 +405,10 @@ impl<'a> Sample<'a> {
             }
             left -= k;
             if stop(&tally, left) {
-                Step::Stop
-            } else {
-                Step::Next
+                return None;
             }
-        });
-        done.then_some(tally)
+        }
+        Some(tally)
     }
 
     /// The fragments in the order the searches number them.
@@ -436,11 +417,16 @@ impl<'a> Sample<'a> {
     }
 
     /// The fragments not wholly on the closed side opposite `small` of `plane` (as positions
-    /// in [`Self::leaf_order`]), into `out` (cleared first), counted (no cuts); `None` as
-    /// soon as there are more than `max` or one is cut. Boxes proven strictly on the far side
-    /// are skipped whole; a box proven strictly on `small`'s side with too many fragments ends
-    /// the search before any is placed (the usual answer when `small` is the side most
-    /// fragments are on).
+    /// in [`Self::leaf_order`]), into `out` (cleared first), counted (no
+    /// cuts); `None` as soon as there are more than `max` or one is cut. Boxes proven strictly
+    /// on the far side are skipped whole; a box proven strictly on `small`'s side with too
+    /// many fragments ends the search before any is placed (the usual answer when `small` is
+    /// the side most fragments are on).
+    ///
+    /// The walk is written out as in [`Self::tally`] rather than shared, and fragments are
+    /// placed by [`Fragment::placement`]: a shared walk, or a second caller of the costing's
+    /// own placement, made the compiler inline the costing loop worse (+3% to +4% of its
+    /// instructions on the cow), and this search runs far less often.
     pub(crate) fn touched(
         &self,
         plane: PlaneId,
@@ -451,48 +437,45 @@ impl<'a> Sample<'a> {
     ) -> Option<Tally> {
         out.clear();
         let e = table.get(plane);
-        let bound = self.filter_bound(e);
+        let nodes = &self.bvh.nodes;
         let mut tally = Tally::default();
-        let done = self.walk(e, |node, lo, hi, m| {
+        let mut stack = [0u32; crate::bvh::STACK];
+        let mut len = usize::from(!nodes.is_empty());
+        while len > 0 {
+            len -= 1;
+            let node = &nodes[stack[len] as usize];
+            let (lo, hi, m) = Bvh::range(node, e);
             let (beyond, near) = match small {
                 Side::Front => (hi < -m, lo > m),
                 _ => (lo > m, hi < -m),
             };
             if beyond {
-                return Step::Next;
+                continue;
             }
             if near && out.len() + (node.end - node.first) as usize > max {
-                return Step::Stop;
+                return None;
             }
-            if node.children.is_some() {
-                return Step::Open;
+            if let Some([l, r]) = node.children {
+                stack[len] = l;
+                stack[len + 1] = r;
+                len += 2;
+                continue;
             }
             for i in node.first as usize..node.end as usize {
-                let placement = self.placement(i, plane, e, bound);
+                let placement = self.frags[i].placement(plane, table);
                 match (placement, small) {
-                    (Placement::Straddle, _) => return Step::Stop,
+                    (Placement::Straddle, _) => return None,
                     (Placement::Front, Side::Back) | (Placement::Back, Side::Front) => continue,
                     _ => tally.add(placement),
                 }
                 out.push(i as u32);
                 if out.len() > max {
-                    return Step::Stop;
+                    return None;
                 }
             }
-            Step::Next
-        });
-        done.then_some(tally)
+        }
+        Some(tally)
     }
-}
-
-/// What a walk of a sample's hierarchy does after a node (see [`Sample::walk`]).
-enum Step {
-    /// Go on with the next node on the stack.
-    Next,
-    /// Visit the node's children (an inner node).
-    Open,
-    /// End the walk.
-    Stop,
 }
 
 /// The first four of `coords` as `[xs, ys, zs]`, the last repeated when there are three (a
