@@ -106,10 +106,12 @@ enum Job {
         lopsided: u32,
     },
     /// A chain of lopsided splits decided ahead (`steps`, the next one last), then
-    /// `compile(rest)`.
+    /// `compile(rest)`, which looks for the next batch at once when `again` (removing these
+    /// fragments frees more such splits: the ones they crossed).
     Chain {
         steps: Vec<ChainStep>,
         rest: Vec<Fragment>,
+        again: bool,
         /// Witnesses for the list the chain starts from (checked against `rest`).
         known: Vec<Witness>,
         slot: Slot,
@@ -355,6 +357,7 @@ fn run(ctx: &Ctx, job: Job) -> Result<ExactTree, CompileError> {
             Job::Chain {
                 mut steps,
                 rest,
+                again,
                 known,
                 slot,
                 limit,
@@ -365,7 +368,7 @@ fn run(ctx: &Ctx, job: Job) -> Result<ExactTree, CompileError> {
                         known: Known::Inherited(known),
                         slot,
                         limit,
-                        lopsided: 0,
+                        lopsided: if again { CHAIN_AFTER } else { 0 },
                     });
                     continue;
                 };
@@ -382,6 +385,7 @@ fn run(ctx: &Ctx, job: Job) -> Result<ExactTree, CompileError> {
                 stack.push(Job::Chain {
                     steps,
                     rest,
+                    again,
                     known,
                     slot: big_slot,
                     limit: Limit {
@@ -450,6 +454,7 @@ fn run(ctx: &Ctx, job: Job) -> Result<ExactTree, CompileError> {
                         let (mut steps, rest) = chain(frags, &planes, splits, ctx.table)?;
                         steps.reverse();
                         stack.push(Job::Chain {
+                            again: steps.len() >= CHAIN_AFTER as usize,
                             steps,
                             rest,
                             known: hull.witnesses,
