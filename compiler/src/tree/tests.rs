@@ -345,6 +345,30 @@ fn a_nearly_convex_sphere_is_split_off_fold_by_fold_in_batches() {
     assert_eq!(bytes(1), bytes(2));
 }
 
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(6))]
+    /// Spheres of other sizes, turned and moved (so other quads fold once quantised): the
+    /// batched chains keep every invariant.
+    #[test]
+    fn nearly_convex_spheres_keep_every_invariant(
+        rings in 24usize..34,
+        segments in 40usize..64,
+        turn in 0.0..std::f64::consts::PI,
+        offset in -1e3..1e3f64,
+    ) {
+        let mut mesh = crate::scenes::sphere(rings, segments);
+        let (sin, cos) = turn.sin_cos();
+        for t in &mut mesh.triangles {
+            for p in &mut t.vertices {
+                *p = DVec3::new(cos * p.x - sin * p.z, p.y, sin * p.x + cos * p.z) + offset;
+            }
+        }
+        let chained = super::build::CHAINED.load(std::sync::atomic::Ordering::Relaxed);
+        checked(&mesh);
+        prop_assert!(super::build::CHAINED.load(std::sync::atomic::Ordering::Relaxed) > chained);
+    }
+}
+
 #[test]
 fn output_is_consistent_and_relative_to_the_centre() {
     let offset = DVec3::new(1e6, -2e6, 3e5);
