@@ -95,6 +95,13 @@ fn flag_names(names: &[(bool, &str)]) -> String {
     format!("[{}]", set.join(", "))
 }
 
+/// Deepest indentation of the nested tree: a child that would be indented further is written
+/// as `name: {subtree: N}` and node `N` is printed, nested again from the left, as an entry of
+/// the top-level `subtrees` list. Nearly convex meshes give trees tens of thousands of nodes
+/// deep, where nesting all the way makes the output quadratic in the depth (gigabytes of
+/// spaces) and overflows the formatter's width.
+const MAX_INDENT: usize = 256;
+
 /// What is left to print, innermost last (an explicit stack: deep trees must not overflow).
 enum Item {
     /// A node's fields at this indentation.
@@ -104,7 +111,8 @@ enum Item {
 }
 
 /// The whole file as a YAML document: the header, the planes, then the tree as nested nodes
-/// with their polygons (plane, flags, colour, id if present, vertices).
+/// with their polygons (plane, flags, colour, id if present, vertices); subtrees nested deeper
+/// than [`MAX_INDENT`] follow in a `subtrees` list, in the order they are referred to.
 pub fn dump_yaml(bytes: &[u8]) -> Result<String, ReadError> {
     let scene = Scene::parse(bytes)?;
     let h = scene.header();
@@ -154,10 +162,28 @@ pub fn dump_yaml(bytes: &[u8]) -> Result<String, ReadError> {
         }
     }
     let mut stack = vec![Item::Child("tree", scene.root(), 0)];
-    while let Some(item) = stack.pop() {
+    // Subtrees moved to the `subtrees` list, and how many of them are printed.
+    let (mut moved, mut printed) = (Vec::new(), 0);
+    loop {
+        let Some(item) = stack.pop() else {
+            let Some(&node) = moved.get(printed) else {
+                break;
+            };
+            if printed == 0 {
+                out.push_str("subtrees:\n");
+            }
+            printed += 1;
+            out.push_str("  -\n");
+            stack.push(Item::Node(node, 4));
+            continue;
+        };
         match item {
             Item::Child(name, None, indent) => {
                 let _ = writeln!(out, "{:indent$}{name}: null", "");
+            }
+            Item::Child(name, Some(node), indent) if indent >= MAX_INDENT => {
+                let _ = writeln!(out, "{:indent$}{name}: {{subtree: {node}}}", "");
+                moved.push(node);
             }
             Item::Child(name, Some(node), indent) => {
                 let _ = writeln!(out, "{:indent$}{name}:", "");
@@ -255,12 +281,13 @@ mod tests {
     }
 
     #[test]
-    fn dump_of_a_deep_tree_does_not_recurse() {
-        // Run on a stack far too small for one frame per level (the output is quadratic in
-        // the depth because of the indentation, so the depth stays moderate).
-        let depth = 2000;
+    fn dump_of_a_deep_tree_does_not_recurse_and_stays_linear() {
+        // Run on a stack far too small for one frame per level, and deeper than the
+        // formatter's widest indentation (65,535) if it were nested all the way.
+        let depth = 40_000;
         let (tree, colours) = chain_tree(depth);
         let bytes = crate::write::encode(&tree, &colours, false).unwrap();
+        let nodes = Scene::parse(&bytes).unwrap().header().node_count as usize;
         let yaml = std::thread::Builder::new()
             .stack_size(48 * 1024)
             .spawn(move || dump_yaml(&bytes).unwrap())
@@ -268,8 +295,21 @@ mod tests {
             .join()
             .unwrap();
         assert_eq!(yaml.matches("kind: convex").count(), depth as usize);
-        let deepest = format!("\n{:1$}kind: convex\n", "", 2 * depth as usize);
-        assert!(yaml.contains(&deepest));
+        // Every node exactly once, every moved subtree referred to once and printed once.
+        let mut seen = vec![0u32; nodes];
+        for line in yaml.lines() {
+            if let Some(i) = line.trim_start().strip_prefix("node: ") {
+                seen[i.parse::<usize>().unwrap()] += 1;
+            }
+        }
+        assert!(seen.iter().all(|&k| k == 1));
+        let refs = yaml.matches("{subtree: ").count();
+        assert!(refs > 0);
+        assert_eq!(yaml.matches("\n  -\n").count(), refs);
+        // Linear in the depth: no line indented past the limit (plus a polygon's own levels).
+        let widest = yaml.lines().map(|l| l.len() - l.trim_start().len()).max();
+        assert!(widest.unwrap() <= MAX_INDENT + 8, "{widest:?}");
+        assert!(yaml.len() < 4096 * depth as usize, "{} bytes", yaml.len());
     }
 
     #[test]
