@@ -335,17 +335,7 @@ impl<'a> Sample<'a> {
                 return Placement::Back;
             }
         }
-        self.placement::<CALLER>(i, plane, e, bound)
-    }
-
-    /// The vertex loop of [`Self::place`].
-    fn placement<const CALLER: u8>(
-        &self,
-        i: usize,
-        plane: PlaneId,
-        e: &PlaneEntry,
-        bound: f64,
-    ) -> Placement {
+        // The vertex loop.
         let f = self.frags[i];
         if f.support == plane {
             return Placement::On;
