@@ -55,6 +55,14 @@ fn exact(mesh: &Mesh, options: &BuildOptions) -> (Input, ExactTree) {
     (input, tree)
 }
 
+/// A thread pool of `threads` workers (to compare outputs across thread counts).
+fn pool(threads: usize) -> rayon::ThreadPool {
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .unwrap()
+}
+
 /// Build and check every invariant; also compile twice to bytes and compare them.
 fn checked(mesh: &Mesh) -> (Input, ExactTree) {
     let (input, tree) = exact(mesh, &BuildOptions::default());
@@ -285,12 +293,6 @@ fn building_twice_and_on_any_thread_count_gives_identical_output() {
         .collect();
     let mesh = bumpy_sphere(60, 80, &radii);
     let options = BuildOptions::default();
-    let pool = |threads: usize| {
-        rayon::ThreadPoolBuilder::new()
-            .num_threads(threads)
-            .build()
-            .unwrap()
-    };
     let run = |threads: usize| pool(threads).install(|| build(&mesh, &options, &|_| {}).unwrap());
     let joins = super::build::JOINS.load(std::sync::atomic::Ordering::Relaxed);
     let a = run(1);
@@ -335,12 +337,6 @@ fn a_nearly_convex_sphere_is_split_off_fold_by_fold_in_batches() {
     );
     // Batches take only free splits; the few splits chosen alone between them may cut.
     assert!(tree.cuts < 10, "{} cuts", tree.cuts);
-    let pool = |threads: usize| {
-        rayon::ThreadPoolBuilder::new()
-            .num_threads(threads)
-            .build()
-            .unwrap()
-    };
     let bytes = |threads: usize| pool(threads).install(|| encoded(&mesh));
     assert_eq!(bytes(1), bytes(2));
 }
