@@ -20,6 +20,7 @@ use ethnum::I256;
 use crate::quantise::IPoint;
 
 mod gcd;
+pub(crate) mod same;
 pub(crate) use gcd::{div_exact, gcd_u128, gcd_u64, gcd_wide};
 
 /// Index of a plane in the [`PlaneTable`].

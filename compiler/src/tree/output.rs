@@ -23,30 +23,10 @@ use rayon::prelude::*;
 use super::build::{ExactNode, ExactTree};
 use super::input::Input;
 use super::{BuildOptions, DisplayTree, TreeNode, TreePlane, TreePolygon, TreeStats};
+use crate::planes::same::{residues, same_point};
 use crate::planes::{div_exact, gcd_u128, gcd_u64, gcd_wide, Plane, PlaneId, Vertex};
+use crate::quantise::IPoint;
 use crate::split::Fragment;
-
-/// Exact identity of a vertex: grid point, or homogeneous coordinates in lowest terms.
-#[derive(Debug, Clone, PartialEq, Eq)]
-enum Key {
-    Int([i32; 3]),
-    Hom([I256; 3], I256),
-}
-
-fn key(v: &Vertex) -> Key {
-    match v {
-        Vertex::Int(p) => Key::Int(*p),
-        Vertex::Hom(h) => {
-            let (xyz, w) = h.reduced();
-            let small = |c: &I256| *c >= I256::from(i32::MIN) && *c <= I256::from(i32::MAX);
-            if w == I256::ONE && xyz.iter().all(small) {
-                Key::Int(xyz.map(|c| c.as_i128() as i32))
-            } else {
-                Key::Hom(xyz, w)
-            }
-        }
-    }
-}
 
 /// Exact identity of a line: the Plücker coordinates `(n1 × n2, d1 n2 − d2 n1)` of the two
 /// planes meeting in it (the same up to a factor for any two planes of the pencil), divided by
@@ -99,7 +79,13 @@ fn line_key(a: &Plane, b: &Plane) -> Option<LineKey> {
         u[2] * v[0] - u[0] * v[2],
         u[0] * v[1] - u[1] * v[0],
     ];
-    let mut g = dir.iter().fold(0u128, |g, c| gcd_u128(g, c.unsigned_abs()));
+    let mut g = 0u128;
+    for c in &dir {
+        if g == 1 {
+            break;
+        }
+        g = gcd_u128(g, c.unsigned_abs());
+    }
     if g == 0 {
         return None;
     }
@@ -115,6 +101,9 @@ fn line_key(a: &Plane, b: &Plane) -> Option<LineKey> {
         [Some(m0), Some(m1), Some(m2)] => {
             let m = [m0, m1, m2];
             for c in &m {
+                if g == 1 {
+                    break;
+                }
                 g = gcd_u128(g, c.unsigned_abs());
             }
             let gi = g as i128 * sign;
@@ -146,13 +135,14 @@ fn line_key(a: &Plane, b: &Plane) -> Option<LineKey> {
 /// gcd that [`line_key`] divides by.
 fn line_through(p: [i32; 3], q: [i32; 3]) -> Option<LineKey> {
     let d: [i64; 3] = std::array::from_fn(|k| i64::from(q[k]) - i64::from(p[k]));
-    let g = d.iter().fold(0, |g, c| gcd_u64(g, c.unsigned_abs()));
+    let g = gcd_of(d.map(i64::unsigned_abs));
     if g == 0 {
         return None;
     }
     let first = d.iter().copied().find(|&c| c != 0).unwrap_or(0);
     let g = if first < 0 { -(g as i64) } else { g as i64 };
-    let d = d.map(|c| c / g);
+    // Most edge directions are primitive: no division.
+    let d = if g == 1 { d } else { d.map(|c| c / g) };
     let p = p.map(i64::from);
     let moment = [
         d[1] * p[2] - d[2] * p[1],
@@ -161,6 +151,18 @@ fn line_through(p: [i32; 3], q: [i32; 3]) -> Option<LineKey> {
     ];
     // |d| < 2^27 and |p| < 2^26: the moment is below 2^54, the key narrow.
     Some(LineKey::Narrow { dir: d, moment })
+}
+
+/// `gcd(a, b, c)`, stopping as soon as it is 1.
+fn gcd_of(v: [u64; 3]) -> u64 {
+    let mut g = 0;
+    for c in v {
+        if g == 1 {
+            break;
+        }
+        g = gcd_u64(g, c);
+    }
+    g
 }
 
 /// A line through more than two distinct vertices (edge endpoints): its unit direction and
@@ -181,64 +183,37 @@ struct Vertices {
     list: Vec<(Vertex, DVec3)>,
 }
 
-impl ShardHash for [i32; 3] {
-    fn shard_hash(&self) -> u64 {
-        mix(self.map(|c| c as u64))
+/// A vertex as [`first_equal`] matches it: hashed by its residues, equal when it is the same
+/// point exactly (see [`crate::planes::same`]).
+struct PointKey<'v> {
+    residues: Option<[u64; 3]>,
+    vertex: &'v Vertex,
+}
+
+impl PartialEq for PointKey<'_> {
+    fn eq(&self, other: &Self) -> bool {
+        self.residues == other.residues && same_point(self.vertex, other.vertex)
     }
 }
 
-impl ShardHash for ([I256; 3], I256) {
+impl Eq for PointKey<'_> {}
+
+impl ShardHash for PointKey<'_> {
     fn shard_hash(&self) -> u64 {
-        let (xyz, w) = self;
-        mix([
-            1,
-            xyz[0].as_u64(),
-            xyz[1].as_u64(),
-            xyz[2].as_u64(),
-            w.as_u64(),
-        ])
+        self.residues.map_or(0, mix)
     }
 }
 
 /// For each of `vertices`, the index of the first one at the same exact point (see
-/// [`first_equal`]). The keys go in two classes matched apart, grid points (most of them, as
-/// 12 bytes) and cut points that do not reduce to one: equal points are always in the same
-/// class, so this is one matching, with a third of the memory of one list of [`Key`]s.
+/// [`first_equal`]). The residues are computed in parallel chunks (each chunk shares one
+/// inversion).
 fn first_equal_points(vertices: &[&Vertex]) -> Vec<u32> {
-    let cut: Vec<usize> = (0..vertices.len())
-        .filter(|&i| matches!(vertices[i], Vertex::Hom(_)))
+    let residues: Vec<Option<[u64; 3]>> =
+        vertices.par_chunks(4096).flat_map_iter(residues).collect();
+    let keys: Vec<PointKey<'_>> = (residues.into_iter().zip(vertices))
+        .map(|(residues, &vertex)| PointKey { residues, vertex })
         .collect();
-    let mut cut_keys = cut
-        .par_iter()
-        .map(|&i| key(vertices[i]))
-        .collect::<Vec<_>>()
-        .into_iter();
-    let (mut grid, mut grid_at) = (Vec::new(), Vec::new());
-    let (mut hom, mut hom_at) = (Vec::new(), Vec::new());
-    for (i, v) in vertices.iter().enumerate() {
-        let k = match v {
-            Vertex::Int(p) => Key::Int(*p),
-            // One key per cut point, in order; the fallback only keeps this total.
-            Vertex::Hom(_) => cut_keys.next().unwrap_or_else(|| key(v)),
-        };
-        match k {
-            Key::Int(p) => {
-                grid.push(p);
-                grid_at.push(i as u32);
-            }
-            Key::Hom(xyz, w) => {
-                hom.push((xyz, w));
-                hom_at.push(i as u32);
-            }
-        }
-    }
-    let mut first = vec![0u32; vertices.len()];
-    for (at, firsts) in [(grid_at, first_equal(&grid)), (hom_at, first_equal(&hom))] {
-        for (&i, &f) in at.iter().zip(&firsts) {
-            first[i as usize] = at[f as usize];
-        }
-    }
-    first
+    first_equal(&keys)
 }
 
 impl ShardHash for LineKey {
@@ -255,10 +230,9 @@ impl ShardHash for LineKey {
 impl Vertices {
     /// Ids of every vertex of every polygon (flat: polygon `p`'s are at
     /// `offsets[p]..offsets[p + 1]`), numbered in order of first use in polygon order:
-    /// the same on any thread count. Keys (wide-integer gcds are the costly part) are
-    /// computed and matched in parallel. A cut point is one allocation shared by the pieces
-    /// of its cut (and their later pieces), so its key is computed once per allocation, not
-    /// once per use.
+    /// the same on any thread count. Points are hashed and matched in parallel. A cut point
+    /// is one allocation shared by the pieces of its cut (and their later pieces), so it is
+    /// matched once per allocation, not once per use.
     fn of(polys: &[&Fragment], offsets: &[usize]) -> (Vertices, Vec<u32>) {
         // Per use, an index into `distinct`: one entry per cut-point allocation, one per use of
         // a grid point (cheap to key), numbered in order of first use.
@@ -320,6 +294,19 @@ type Boundary = Vec<(u32, Sides)>;
 /// of polygon `p` is `offsets[p] + k`); `None` for an edge on no line (degenerate).
 type EdgeKeys = Vec<Option<(u64, LineKey)>>;
 
+/// The corners of the edge of source triangle `source` whose edge plane is `plane`, if one is.
+fn source_edge(input: &Input, source: u32, plane: PlaneId) -> Option<(IPoint, IPoint)> {
+    let at = (input.fragments)
+        .binary_search_by_key(&source, |f| f.source)
+        .ok()?;
+    let t = &input.fragments[at];
+    let k = t.edges.iter().position(|e| e.plane == plane)?;
+    match (&t.vertices[k], &t.vertices[(k + 1) % t.vertices.len()]) {
+        (Vertex::Int(p), Vertex::Int(q)) => Some((*p, *q)),
+        _ => None,
+    }
+}
+
 /// The [`EdgeKeys`] of `polys`, in parallel.
 fn edge_keys(polys: &[&Fragment], input: &Input) -> EdgeKeys {
     let owner: Vec<(u32, u32)> = polys
@@ -336,10 +323,18 @@ fn edge_keys(polys: &[&Fragment], input: &Input) -> EdgeKeys {
             let lk = match (&f.vertices[k], &f.vertices[(k + 1) % n]) {
                 // An edge between two grid points (most edges) has the cheap key.
                 (Vertex::Int(p), Vertex::Int(q)) => line_through(*p, *q),
-                _ => line_key(
-                    &input.table.get(f.support).plane,
-                    &input.table.get(f.edges.get(k)?.plane).plane,
-                ),
+                _ => {
+                    let plane = f.edges.get(k)?.plane;
+                    match source_edge(input, f.source, plane) {
+                        // Part of a source triangle's edge: the line through its corners.
+                        Some((p, q)) => line_through(p, q),
+                        // A cut edge.
+                        None => line_key(
+                            &input.table.get(f.support).plane,
+                            &input.table.get(plane).plane,
+                        ),
+                    }
+                }
             }?;
             Some((lk.shard_hash(), lk))
         })
