@@ -319,12 +319,12 @@ impl<'a> Sample<'a> {
         bound: f64,
     ) -> Placement {
         if let Some([xs, ys, zs]) = &self.quads[i] {
-            let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
-            for k in 0..4 {
-                let s = e.nf[0] * xs[k] + e.nf[1] * ys[k] + e.nf[2] * zs[k] - e.df;
-                lo = min_f(lo, s);
-                hi = max_f(hi, s);
-            }
+            // Lane-wise over the four vertices, paired, so the compiler can use packed
+            // arithmetic.
+            let s: [f64; 4] =
+                std::array::from_fn(|k| e.nf[0] * xs[k] + e.nf[1] * ys[k] + e.nf[2] * zs[k] - e.df);
+            let lo = min_f(min_f(s[0], s[2]), min_f(s[1], s[3]));
+            let hi = max_f(max_f(s[0], s[2]), max_f(s[1], s[3]));
             if hi > bound && lo < -bound {
                 return Placement::Straddle;
             }
