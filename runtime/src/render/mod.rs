@@ -141,9 +141,12 @@ pub struct RenderOptions {
     /// Colours or ids.
     pub paint: Paint,
     /// Skip subtrees outside the frustum or (front to back) already covered (with the
-    /// `bounds-culling` feature), and one-sided polygons seen from behind. Changes the image only where back faces of a closed mesh
-    /// are visible: with the eye inside it, or its inside opened by the near plane; turn it
-    /// off to look inside closed meshes (see `formats/peel.md`, `ONE_SIDED`).
+    /// `bounds-culling` feature), and one-sided polygons seen from behind. Changes the image
+    /// only where back faces of a closed mesh are visible: with the eye inside it, or its
+    /// inside opened by the near plane; turn it off to look inside closed meshes (see
+    /// `formats/peel.md`, `ONE_SIDED`). At a coarse precision (`SUB` 0 or 4) snapping can
+    /// also fold a sliver of a tiny front face over at a silhouette: a pixel centre in the
+    /// gap shows the back face behind it without culling, the background with it.
     pub cull: bool,
 }
 
@@ -452,6 +455,30 @@ where
     Ok(stats)
 }
 
+/// How far, in pixels, a snapped vertex may lie outside the screen rectangle of its node's
+/// box ([`View::box_on_screen`]): snapping moves it by at most `2^-(SUB+1)` of a pixel, and
+/// the box's and the vertex's `f32` projections differ by rounding errors far below the
+/// `1/64` pixel added (a thousandth of a pixel at the largest supported image size).
+fn slack<const SUB: u32>() -> f32 {
+    0.5 / (1u32 << SUB.min(30)) as f32 + 1.0 / 64.0
+}
+
+/// `ceil(v)` as a pixel index: 0 below zero and for NaN, saturating above.
+fn ceil_pixel(v: f32) -> u32 {
+    // `as` maps NaN and negatives to 0.
+    let t = v as u32;
+    if (t as f32) < v {
+        t.saturating_add(1)
+    } else {
+        t
+    }
+}
+
+/// `floor(v)` as a pixel index: 0 below zero and for NaN, saturating above.
+fn floor_pixel(v: f32) -> u32 {
+    v.max(0.0) as u32
+}
+
 /// `*counter += n` (saturating) with the `stats` feature; nothing without it.
 #[inline(always)]
 fn tally(counter: &mut u64, n: u64) {
@@ -565,13 +592,16 @@ impl<const SUB: u32> Painter<'_, SUB> {
         let Some((min, max)) = self.view.box_on_screen(c, e) else {
             return true;
         };
-        // One pixel of margin covers snapping; clamped to the frame. (`floor` clamped at 0:
-        // truncation is the floor of a non-negative value, and NaN becomes 0.)
-        let pixel = |v: f32, limit: u32| (v.max(0.0) as u32).min(limit);
+        // The pixels whose sample point `(x + 0.5, y + 0.5)` is within `SLACK` of the box:
+        // the only ones its polygons can draw. None: nothing to draw; all covered: nothing
+        // shows.
         let (w, h) = (coverage.width(), coverage.height());
-        let (x0, y0) = (pixel(min.x - 1.0, w), pixel(min.y - 1.0, h));
-        let (x1, y1) = (pixel(max.x + 2.0, w), pixel(max.y + 2.0, h));
-        if coverage.covers(x0, y0, x1, y1) {
+        let slack = slack::<SUB>();
+        let first = |v: f32, limit: u32| ceil_pixel(v - slack - 0.5).min(limit);
+        let past = |v: f32, limit: u32| floor_pixel(v + slack + 0.5).min(limit);
+        let (x0, y0) = (first(min.x, w), first(min.y, h));
+        let (x1, y1) = (past(max.x, w), past(max.y, h));
+        if x0 >= x1 || y0 >= y1 || coverage.covers(x0, y0, x1, y1) {
             tally(&mut stats.nodes_culled_covered, 1);
             return false;
         }

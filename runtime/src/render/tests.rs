@@ -680,3 +680,16 @@ fn whole_pixel_precision_renders_the_same_scene_up_to_edges() {
         }
     }
 }
+
+#[test]
+fn pixel_bounds_of_a_screen_box_round_outwards_and_saturate() {
+    use super::{ceil_pixel, floor_pixel};
+    assert_eq!(ceil_pixel(0.3), 1);
+    assert_eq!(ceil_pixel(2.0), 2);
+    assert_eq!(ceil_pixel(-1.5), 0);
+    assert_eq!(ceil_pixel(f32::NAN), 0);
+    assert_eq!(ceil_pixel(1e20), u32::MAX);
+    assert_eq!(floor_pixel(2.7), 2);
+    assert_eq!(floor_pixel(-0.5), 0);
+    assert_eq!(floor_pixel(f32::NAN), 0);
+}
