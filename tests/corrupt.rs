@@ -14,9 +14,10 @@ use peel_runtime::camera::{Camera, Pose};
 use peel_runtime::coverage::Coverage;
 use peel_runtime::read::layout::{HEADER_SIZE, MAGIC};
 use peel_runtime::read::{Node, Scene};
-use peel_runtime::render::{render_with_options, Paint, RenderOptions, Workspace};
+use peel_runtime::render::{render_with_options, FrameMemory, Paint, RenderOptions, Workspace};
 use peel_runtime::target::{Colour, SpanSink};
 use peel_runtime::traverse::Order;
+use peel_runtime::vertices::{CachedVertex, VertexCache};
 use peel_runtime::{ReadError, RenderError};
 use proptest::prelude::*;
 use proptest::sample::Index;
@@ -293,6 +294,10 @@ fn render_all(scene: &Scene<'_>) -> Result<usize, TestCaseError> {
             continue;
         };
         let mut images = Vec::new();
+        // The vertex memory is kept over the frames of a camera, as a renderer would.
+        let mut memory =
+            vec![CachedVertex::EMPTY; (scene.header().vertex_count as usize).min(1 << 20)];
+        let mut vertices = VertexCache::new(&mut memory);
         for (order, cull, paint) in [
             (Order::BackToFront, false, Paint::Colours),
             (Order::FrontToBack, false, Paint::Colours),
@@ -307,7 +312,10 @@ fn render_all(scene: &Scene<'_>) -> Result<usize, TestCaseError> {
                 &camera,
                 &mut workspace,
                 options,
-                Some(&mut coverage),
+                FrameMemory {
+                    coverage: Some(&mut coverage),
+                    vertices: Some(&mut vertices),
+                },
                 &mut frame,
             );
             match result {

@@ -1,8 +1,9 @@
-//! Culling never changes a front-to-back frame. Dense generated scenes drawn so small that most
-//! polygons cover no pixel centre, where subtree culling (outside the frustum, no pixel
-//! centre near the subtree's screen box, or every such pixel already covered) does the most:
-//! the image with culling equals the image without, pixel for pixel, and culling did skip
-//! subtrees.
+//! Culling and the vertex memory never change a front-to-back frame. Dense generated scenes
+//! drawn so small that most polygons cover no pixel centre, where subtree culling (outside the
+//! frustum, no pixel centre near the subtree's screen box, or every such pixel already covered)
+//! does the most: the image with culling equals the image without, pixel for pixel, and
+//! culling did skip subtrees; the image drawn with projected vertices kept from frame to frame
+//! (one memory for every camera of a scene) equals the image drawn without.
 
 use glam::DVec3;
 use peel_compiler::compile::{compile_mesh, CompileOptions};
@@ -12,12 +13,18 @@ use peel_compiler::scenes;
 use peel_runtime::camera::{Camera, Pose};
 use peel_runtime::coverage::Coverage;
 use peel_runtime::read::Scene;
-use peel_runtime::render::{render_with_options, Paint, RenderOptions, Workspace};
+use peel_runtime::render::{render_with_options, FrameMemory, Paint, RenderOptions, Workspace};
 use peel_runtime::target::{Framebuffer, Xrgb8888};
 use peel_runtime::traverse::Order;
+use peel_runtime::vertices::{CachedVertex, VertexCache};
 
 /// The id image of one front-to-back frame at `SUB` fractional bits, and the subtrees culled.
-fn frame<const SUB: u32>(scene: &Scene<'_>, camera: &Camera, cull: bool) -> (Vec<u32>, u64) {
+fn frame<const SUB: u32>(
+    scene: &Scene<'_>,
+    camera: &Camera,
+    cull: bool,
+    vertices: Option<&mut VertexCache<'_>>,
+) -> (Vec<u32>, u64) {
     let (w, h) = (camera.width(), camera.height());
     let mut ids = vec![0u32; (w * h) as usize];
     let mut fb = Framebuffer::<Xrgb8888>::new(&mut ids, w, h).expect("framebuffer");
@@ -35,7 +42,10 @@ fn frame<const SUB: u32>(scene: &Scene<'_>, camera: &Camera, cull: bool) -> (Vec
         camera,
         &mut workspace,
         options,
-        Some(&mut coverage),
+        FrameMemory {
+            coverage: Some(&mut coverage),
+            vertices,
+        },
         &mut fb,
     )
     .expect("render");
@@ -56,6 +66,8 @@ fn same_with_and_without<const SUB: u32>(name: &str, mesh: &Mesh) -> u64 {
     let c = DVec3::from_array(h.centre) + (lo + hi) / 2.0;
     let r = (hi - lo).length() / 2.0;
     let mut culled = 0;
+    let mut memory = vec![CachedVertex::EMPTY; h.vertex_count as usize];
+    let mut vertices = VertexCache::new(&mut memory);
     for (k, (w, ht)) in [(24, 18), (64, 48), (160, 120)].into_iter().enumerate() {
         for step in 0..6 {
             let a = 0.4 + step as f64 * 1.1 + k as f64 * 0.3;
@@ -65,8 +77,15 @@ fn same_with_and_without<const SUB: u32>(name: &str, mesh: &Mesh) -> u64 {
             let target = c + DVec3::new(0.3 * r * (step as f64 - 2.5) / 2.5, 0.0, 0.0);
             let near = Camera::default_near(h.bounds_min, h.bounds_max);
             let camera = Camera::look_at(Pose::new(eye, target), 60.0, w, ht, near).expect("cam");
-            let (with, n) = frame::<SUB>(&scene, &camera, true);
-            let (without, _) = frame::<SUB>(&scene, &camera, false);
+            let (with, n) = frame::<SUB>(&scene, &camera, true, None);
+            let (without, _) = frame::<SUB>(&scene, &camera, false, None);
+            let (cached, _) = frame::<SUB>(&scene, &camera, true, Some(&mut vertices));
+            let stale = with.iter().zip(&cached).filter(|(a, b)| a != b).count();
+            assert_eq!(
+                stale, 0,
+                "{name}, SUB = {SUB}, {w}x{ht}, camera {step}: {stale} pixels change with the \
+                 vertex memory"
+            );
             let differ = with.iter().zip(&without).filter(|(a, b)| a != b).count();
             assert_eq!(
                 differ, 0,

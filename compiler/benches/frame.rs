@@ -17,7 +17,7 @@ use peel_compiler::raster::{HOST_SPANS_PER_ROW, HOST_STACK, HOST_VERTS};
 use peel_runtime::camera::{Camera, Pose};
 use peel_runtime::coverage::Coverage;
 use peel_runtime::read::Scene;
-use peel_runtime::render::{render_with_options, Paint, RenderOptions, Workspace};
+use peel_runtime::render::{render_with_options, FrameMemory, Paint, RenderOptions, Workspace};
 use peel_runtime::target::{Colour, Framebuffer, Xrgb8888};
 use peel_runtime::traverse::Order;
 
@@ -70,7 +70,7 @@ fn frame(c: &mut Criterion) {
                     &camera,
                     &mut workspace,
                     options,
-                    Some(&mut coverage),
+                    FrameMemory::from(&mut coverage),
                     &mut fb,
                 )
                 .expect("render")

@@ -5,10 +5,13 @@ use glam::DVec3;
 use peel_runtime::camera::{Camera, Pose};
 use peel_runtime::coverage::Coverage;
 use peel_runtime::read::Scene;
-use peel_runtime::render::{render_with_options, FrameStats, Paint, RenderOptions, Workspace};
+use peel_runtime::render::{
+    render_with_options, FrameMemory, FrameStats, Paint, RenderOptions, Workspace,
+};
 use peel_runtime::target::Colour;
 use peel_runtime::target::{Framebuffer, Xrgb8888};
 use peel_runtime::traverse::Order;
+use peel_runtime::vertices::{CachedVertex, VertexCache};
 
 /// Traversal stack entries of the host workspace (trees deeper than this are refused).
 pub const HOST_STACK: usize = 1 << 14;
@@ -149,13 +152,18 @@ pub fn render_bytes_with(bytes: &[u8], view: &View, settings: &Settings) -> Resu
     let mut counts = vec![0u16; rows];
     let mut coverage = Coverage::new(&mut intervals, &mut counts, view.width, view.height)
         .map_err(|e| e.to_string())?;
+    let mut memory = vec![CachedVertex::EMPTY; scene.header().vertex_count as usize];
+    let mut vertices = VertexCache::new(&mut memory);
     let stats =
         render_with_options::<{ peel_runtime::fill::SUBPIXEL_BITS }, _, _, HOST_STACK, HOST_VERTS>(
             &scene,
             &camera,
             &mut workspace,
             options,
-            Some(&mut coverage),
+            FrameMemory {
+                coverage: Some(&mut coverage),
+                vertices: Some(&mut vertices),
+            },
             &mut fb,
         )
         .map_err(|e| e.to_string())?;

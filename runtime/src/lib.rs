@@ -19,5 +19,6 @@ pub mod read;
 pub mod render;
 pub mod target;
 pub mod traverse;
+pub mod vertices;
 
 pub use error::{ReadError, RenderError};

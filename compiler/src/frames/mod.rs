@@ -19,9 +19,10 @@ use glam::DVec3;
 use peel_runtime::camera::{Camera, Pose};
 use peel_runtime::coverage::Coverage;
 use peel_runtime::read::Scene;
-use peel_runtime::render::{render_with_options, Paint, RenderOptions, Workspace};
+use peel_runtime::render::{render_with_options, FrameMemory, Paint, RenderOptions, Workspace};
 use peel_runtime::target::{Framebuffer, Xrgb8888};
 use peel_runtime::traverse::Order;
+use peel_runtime::vertices::{CachedVertex, VertexCache};
 use serde::Serialize;
 
 use crate::compile::{compile_mesh, CompileOptions};
@@ -162,7 +163,7 @@ fn prepare_scene(
 /// Draw one frame with `method`; `SUB` is the fixed-point precision.
 fn draw<const SUB: u32>(
     p: &Prepared,
-    scenes: &Scenes<'_>,
+    scenes: &mut Scenes<'_, '_>,
     method: &str,
     camera: &Camera,
     work: &mut Work,
@@ -171,10 +172,11 @@ fn draw<const SUB: u32>(
     let n = (w * h) as usize;
     match method {
         "peel-front-to-back" | "peel-back-to-front" | "naive-bsp" => {
-            let scene = if method == "naive-bsp" {
-                scenes.naive.as_ref().ok_or("no naive BSP")?
+            let (scene, vertices) = if method == "naive-bsp" {
+                let scene = scenes.naive.as_ref().ok_or("no naive BSP")?;
+                (scene, &mut scenes.naive_vertices)
             } else {
-                &scenes.peel
+                (&scenes.peel, &mut scenes.peel_vertices)
             };
             let order = if method == "peel-front-to-back" {
                 Order::FrontToBack
@@ -195,7 +197,10 @@ fn draw<const SUB: u32>(
                 camera,
                 &mut work.workspace,
                 options,
-                Some(&mut coverage),
+                FrameMemory {
+                    coverage: Some(&mut coverage),
+                    vertices: Some(vertices),
+                },
                 &mut fb,
             )
             .map_err(|e| e.to_string())?;
@@ -254,10 +259,13 @@ struct Work {
 }
 
 /// A scene's files, validated once before any frame is timed (firmware parses a file once,
-/// then draws many frames from it).
-struct Scenes<'b> {
+/// then draws many frames from it), and the memory of their projected vertices, kept from
+/// frame to frame.
+struct Scenes<'b, 'v> {
     peel: Scene<'b>,
     naive: Option<Scene<'b>>,
+    peel_vertices: VertexCache<'v>,
+    naive_vertices: VertexCache<'v>,
 }
 
 impl Work {
@@ -312,7 +320,7 @@ struct Variant {
 fn draw_at(
     sub: u32,
     p: &Prepared,
-    scenes: &Scenes<'_>,
+    scenes: &mut Scenes<'_, '_>,
     method: &str,
     camera: &Camera,
     work: &mut Work,
@@ -336,19 +344,26 @@ fn measure_scene(
     p: &Prepared,
     work: &mut Work,
 ) -> Result<Vec<FrameRecord>, String> {
-    let scenes = Scenes {
-        peel: Scene::parse(&p.bytes).map_err(|e| e.to_string())?,
-        naive: match &p.naive {
-            Some(bytes) => Some(Scene::parse(bytes).map_err(|e| e.to_string())?),
-            None => None,
-        },
+    let peel = Scene::parse(&p.bytes).map_err(|e| e.to_string())?;
+    let naive = match &p.naive {
+        Some(bytes) => Some(Scene::parse(bytes).map_err(|e| e.to_string())?),
+        None => None,
+    };
+    let vertex_count = |s: &Scene<'_>| s.header().vertex_count as usize;
+    let mut peel_memory = vec![CachedVertex::EMPTY; vertex_count(&peel)];
+    let mut naive_memory = vec![CachedVertex::EMPTY; naive.as_ref().map_or(0, vertex_count)];
+    let mut scenes = Scenes {
+        peel,
+        naive,
+        peel_vertices: VertexCache::new(&mut peel_memory),
+        naive_vertices: VertexCache::new(&mut naive_memory),
     };
     let n = variants.len();
     let mut times: Vec<Vec<f64>> = vec![Vec::new(); n];
     let mut totals = vec![(0u64, 0u64, 0u64, 0u64); n];
     for (camera, r) in &p.views {
         for ((v, total), t) in variants.iter().zip(&mut totals).zip(&mut times) {
-            let d = draw_at(v.sub, p, &scenes, v.method, camera, work)?;
+            let d = draw_at(v.sub, p, &mut scenes, v.method, camera, work)?;
             let (rb, al) = errors(r, &d.ids);
             total.0 += d.written;
             total.1 += d.polygons;
@@ -357,7 +372,7 @@ fn measure_scene(
             let mut best = f64::INFINITY;
             for _ in 0..3 {
                 let start = Instant::now();
-                draw_at(v.sub, p, &scenes, v.method, camera, work)?;
+                draw_at(v.sub, p, &mut scenes, v.method, camera, work)?;
                 best = best.min(start.elapsed().as_secs_f64() * 1e3);
             }
             t.push(best);

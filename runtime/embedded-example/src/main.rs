@@ -12,7 +12,7 @@ use panic_halt as _;
 use peel_runtime::camera::{Camera, Pose, View};
 use peel_runtime::coverage::Coverage;
 use peel_runtime::read::Scene;
-use peel_runtime::render::{render_view, Paint, RenderOptions, Workspace};
+use peel_runtime::render::{render_view, FrameMemory, Paint, RenderOptions, Workspace};
 use peel_runtime::target::{Colour, Rgb565Framebuffer};
 use peel_runtime::traverse::Order;
 
@@ -114,7 +114,7 @@ fn main() -> ! {
                         &view,
                         workspace,
                         options(n),
-                        Some(&mut coverage),
+                        FrameMemory::from(&mut coverage),
                         &mut fb,
                     );
                 }

@@ -1,5 +1,6 @@
 //! Panic probe: calls the runtime's public render path (parse, camera, render back to front
-//! and front to back into a framebuffer; the trusted parse with the `f32` view) on inputs the
+//! and front to back into a framebuffer, with span and vertex memory; the trusted parse with
+//! the `f32` view) on inputs the
 //! optimiser cannot see through (`black_box`), so every panic the runtime could reach on some
 //! input stays in the program.
 //! The panic handler of `panic-never` references an undefined symbol: linking succeeds only
@@ -14,9 +15,12 @@ use panic_never as _;
 use peel_runtime::camera::{Camera, Pose, View};
 use peel_runtime::coverage::Coverage;
 use peel_runtime::read::Scene;
-use peel_runtime::render::{render, render_ordered, render_view, Paint, RenderOptions, Workspace};
+use peel_runtime::render::{
+    render, render_ordered, render_view, FrameMemory, Paint, RenderOptions, Workspace,
+};
 use peel_runtime::target::{Colour, Framebuffer, Rgb565};
 use peel_runtime::traverse::Order;
+use peel_runtime::vertices::{CachedVertex, VertexCache};
 
 /// Image size of the probe (any size: the runtime checks it).
 const W: u32 = 40;
@@ -54,6 +58,9 @@ fn probe() {
     ));
     let mut intervals = [(0u16, 0u16); 8 * H as usize];
     let mut counts = [0u16; H as usize];
+    // Projected vertices: any length, the file's vertex count is opaque.
+    let mut memory = [CachedVertex::EMPTY; 64];
+    let mut vertices = VertexCache::new(memory.get_mut(..black_box(64)).unwrap_or_default());
     if let Ok(mut coverage) = Coverage::new(&mut intervals, &mut counts, W, H) {
         let options = black_box(RenderOptions {
             order: Order::FrontToBack,
@@ -65,7 +72,10 @@ fn probe() {
             &camera,
             &mut workspace,
             options,
-            Some(&mut coverage),
+            FrameMemory {
+                coverage: Some(&mut coverage),
+                vertices: Some(&mut vertices),
+            },
             &mut fb,
         ));
     }
@@ -101,7 +111,7 @@ fn probe_trusted() {
             &view,
             &mut workspace,
             options,
-            Some(&mut coverage),
+            FrameMemory::from(&mut coverage),
             &mut fb,
         ));
     }

@@ -282,14 +282,19 @@ impl<'a> Scene<'a> {
     /// Vertex `i` of polygon `polygon` (`i < vertex_count`), relative to the centre
     /// (zero when out of range).
     pub fn polygon_vertex(&self, polygon: &Polygon, i: u32) -> Vec3 {
+        self.polygon_vertex_index(polygon, i)
+            .map_or(Vec3::ZERO, |v| self.vertex(v))
+    }
+
+    /// The index in the vertex list of vertex `i` of `polygon` (`None` when out of range).
+    pub fn polygon_vertex_index(&self, polygon: &Polygon, i: u32) -> Option<u32> {
         if i >= u32::from(polygon.vertex_count) {
-            return Vec3::ZERO;
+            return None;
         }
         polygon
             .first_index
             .checked_add(i)
             .and_then(|slot| self.index(slot))
-            .map_or(Vec3::ZERO, |v| self.vertex(v))
     }
 
     /// Vertex `i`, relative to the centre (zero when out of range).

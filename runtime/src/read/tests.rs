@@ -715,7 +715,7 @@ fn trusted_parse_checks_header_and_layout_only() {
 /// view: it must end (an image or a typed error), never panic or hang.
 fn render_untrusted(scene: &Scene<'_>) {
     use crate::coverage::Coverage;
-    use crate::render::{render_view, RenderOptions, Workspace};
+    use crate::render::{render_view, FrameMemory, RenderOptions, Workspace};
     use crate::target::SpanSink;
     use crate::traverse::Order;
     struct Count(u64);
@@ -744,7 +744,14 @@ fn render_untrusted(scene: &Scene<'_>) {
         };
         let mut sink = Count(0);
         let mut ws = Workspace::<8, 16>::new();
-        let _ = render_view(scene, &view, &mut ws, options, Some(&mut cov), &mut sink);
+        let _ = render_view(
+            scene,
+            &view,
+            &mut ws,
+            options,
+            FrameMemory::from(&mut cov),
+            &mut sink,
+        );
     }
 }
 

@@ -60,7 +60,7 @@ fn draw(order: Order, paint: Paint) -> (Result<FrameStats, RenderError>, Vec<Col
         &cam,
         &mut Workspace::<8, 16>::new(),
         options,
-        Some(&mut cov),
+        FrameMemory::from(&mut cov),
         &mut sink,
     );
     (stats, sink.1)
@@ -147,7 +147,15 @@ fn culled_cube(order: Order) -> (FrameStats, bool) {
         ..RenderOptions::default()
     };
     let mut ws = Workspace::<8, 16>::new();
-    let stats = render_ordered(&t, &cam, &mut ws, options, Some(&mut cov), &mut sink).unwrap();
+    let stats = render_ordered(
+        &t,
+        &cam,
+        &mut ws,
+        options,
+        FrameMemory::from(&mut cov),
+        &mut sink,
+    )
+    .unwrap();
     // Whether the walk enters the node, asked directly.
     let view = cam.view(t.centre);
     let (mut a, mut b) = ([Vec3::ZERO; 16], [Vec3::ZERO; 16]);
@@ -166,6 +174,7 @@ fn culled_cube(order: Order) -> (FrameStats, bool) {
         clip_b: &mut b,
         points: &mut points,
         edges: &mut edges,
+        vertices: None,
     };
     let entered = painter.enter(&t, 0, None, &mut FrameStats::default());
     assert!(sink.1.iter().all(|&c| c == Colour::default()));

@@ -22,6 +22,7 @@ use crate::read::layout::polygon_flags::{FLIPPED, ONE_SIDED};
 use crate::read::{Polygon, Scene};
 use crate::target::{Colour, SpanSink};
 use crate::traverse::{DisplayTree, Order, StackEntry, Traversal};
+use crate::vertices::VertexCache;
 
 /// Everything [`render`] reads from a scene; [`Scene`] implements it (tests use small
 /// in-memory trees).
@@ -41,6 +42,19 @@ pub trait Source: DisplayTree {
     fn node_bounds(&self, i: u32) -> Option<(Vec3, Vec3)> {
         let _ = i;
         None
+    }
+    /// The index of vertex `i` of `polygon` in the scene's shared vertex list, when it has one:
+    /// with [`Source::vertex`], a frame then projects each shared vertex once (see
+    /// [`crate::vertices`]). Implement both or neither.
+    fn vertex_index(&self, polygon: &Polygon, i: u32) -> Option<u32> {
+        let _ = (polygon, i);
+        None
+    }
+    /// Shared vertex `index`, relative to the centre (asked only for what
+    /// [`Source::vertex_index`] gave).
+    fn vertex(&self, index: u32) -> Vec3 {
+        let _ = index;
+        Vec3::ZERO
     }
 }
 
@@ -62,6 +76,12 @@ impl Source for Scene<'_> {
     }
     fn node_bounds(&self, i: u32) -> Option<(Vec3, Vec3)> {
         Scene::node_bounds(self, i)
+    }
+    fn vertex_index(&self, polygon: &Polygon, i: u32) -> Option<u32> {
+        Scene::polygon_vertex_index(self, polygon, i)
+    }
+    fn vertex(&self, index: u32) -> Vec3 {
+        Scene::vertex(self, index)
     }
 }
 
@@ -156,6 +176,26 @@ impl Default for RenderOptions {
             order: Order::FrontToBack,
             paint: Paint::Colours,
             cull: true,
+        }
+    }
+}
+
+/// Caller memory a frame may use besides its [`Workspace`], each part optional: span memory
+/// (front to back needs it: see [`Coverage`]) and projected vertices shared between polygons
+/// (see [`crate::vertices`]; used with the `vertex-cache` feature).
+#[derive(Debug, Default)]
+pub struct FrameMemory<'a, 'c, 'v> {
+    /// Span memory for the camera's `W x H`, cleared by the frame.
+    pub coverage: Option<&'a mut Coverage<'c>>,
+    /// Screen positions of the scene's vertices, kept from frame to frame.
+    pub vertices: Option<&'a mut VertexCache<'v>>,
+}
+
+impl<'a, 'c> From<&'a mut Coverage<'c>> for FrameMemory<'a, 'c, 'static> {
+    fn from(coverage: &'a mut Coverage<'c>) -> Self {
+        FrameMemory {
+            coverage: Some(coverage),
+            vertices: None,
         }
     }
 }
@@ -255,7 +295,14 @@ where
         paint,
         cull: true,
     };
-    render_with_options::<SUB, T, S, STACK, VERTS>(scene, camera, workspace, options, None, sink)
+    render_with_options::<SUB, T, S, STACK, VERTS>(
+        scene,
+        camera,
+        workspace,
+        options,
+        FrameMemory::default(),
+        sink,
+    )
 }
 
 /// [`render_with_options`] with the default fixed-point precision [`fill::SUBPIXEL_BITS`].
@@ -264,7 +311,7 @@ pub fn render_ordered<T, S, const STACK: usize, const VERTS: usize>(
     camera: &Camera,
     workspace: &mut Workspace<STACK, VERTS>,
     options: RenderOptions,
-    coverage: Option<&mut Coverage<'_>>,
+    memory: FrameMemory<'_, '_, '_>,
     sink: &mut S,
 ) -> Result<FrameStats, RenderError>
 where
@@ -272,25 +319,26 @@ where
     S: SpanSink + ?Sized,
 {
     render_with_options::<{ fill::SUBPIXEL_BITS }, T, S, STACK, VERTS>(
-        scene, camera, workspace, options, coverage, sink,
+        scene, camera, workspace, options, memory, sink,
     )
 }
 
-/// Draw `scene` seen by `camera` into `sink` as `options` say.
+/// Draw `scene` seen by `camera` into `sink` as `options` say, with the caller memory in
+/// `memory`.
 ///
-/// Front to back needs `coverage` (span memory for the camera's `W x H`, cleared here): every
+/// Front to back needs `memory.coverage` (span memory for the camera's `W x H`, cleared here): every
 /// pixel is then written exactly once and the walk stops when the frame is full. When the span
 /// memory runs out, or there is none, the polygons not drawn yet are painted back to front,
 /// clipped against what is covered (see [`crate::coverage`]): the image is the same, only
-/// with overdraw in that part ([`FrameStats::fallback`]). Back to front uses `coverage`, if
-/// given, only to count distinct pixels. Fails with [`RenderError::SpanMemory`] when the
+/// with overdraw in that part ([`FrameStats::fallback`]). Back to front uses the coverage, if
+/// given, only to count distinct pixels. `memory.vertices` saves work and changes no pixel. Fails with [`RenderError::SpanMemory`] when the
 /// coverage's size is not the camera's.
 pub fn render_with_options<const SUB: u32, T, S, const STACK: usize, const VERTS: usize>(
     scene: &T,
     camera: &Camera,
     workspace: &mut Workspace<STACK, VERTS>,
     options: RenderOptions,
-    coverage: Option<&mut Coverage<'_>>,
+    memory: FrameMemory<'_, '_, '_>,
     sink: &mut S,
 ) -> Result<FrameStats, RenderError>
 where
@@ -298,7 +346,7 @@ where
     S: SpanSink + ?Sized,
 {
     let view = camera.view(scene.centre());
-    draw_frame::<SUB, T, S, STACK, VERTS>(scene, view, workspace, options, coverage, sink)
+    draw_frame::<SUB, T, S, STACK, VERTS>(scene, view, workspace, options, memory, sink)
 }
 
 /// [`render_view_with_options`] with the default fixed-point precision
@@ -308,7 +356,7 @@ pub fn render_view<T, S, const STACK: usize, const VERTS: usize>(
     view: &View,
     workspace: &mut Workspace<STACK, VERTS>,
     options: RenderOptions,
-    coverage: Option<&mut Coverage<'_>>,
+    memory: FrameMemory<'_, '_, '_>,
     sink: &mut S,
 ) -> Result<FrameStats, RenderError>
 where
@@ -316,7 +364,7 @@ where
     S: SpanSink + ?Sized,
 {
     render_view_with_options::<{ fill::SUBPIXEL_BITS }, T, S, STACK, VERTS>(
-        scene, view, workspace, options, coverage, sink,
+        scene, view, workspace, options, memory, sink,
     )
 }
 
@@ -329,7 +377,7 @@ pub fn render_view_with_options<const SUB: u32, T, S, const STACK: usize, const 
     view: &View,
     workspace: &mut Workspace<STACK, VERTS>,
     options: RenderOptions,
-    coverage: Option<&mut Coverage<'_>>,
+    memory: FrameMemory<'_, '_, '_>,
     sink: &mut S,
 ) -> Result<FrameStats, RenderError>
 where
@@ -337,7 +385,7 @@ where
     S: SpanSink + ?Sized,
 {
     view.check()?;
-    draw_frame::<SUB, T, S, STACK, VERTS>(scene, *view, workspace, options, coverage, sink)
+    draw_frame::<SUB, T, S, STACK, VERTS>(scene, *view, workspace, options, memory, sink)
 }
 
 /// The frame of [`render_with_options`] for a view in the scene's frame.
@@ -346,16 +394,21 @@ fn draw_frame<const SUB: u32, T, S, const STACK: usize, const VERTS: usize>(
     view: View,
     workspace: &mut Workspace<STACK, VERTS>,
     options: RenderOptions,
-    coverage: Option<&mut Coverage<'_>>,
+    memory: FrameMemory<'_, '_, '_>,
     sink: &mut S,
 ) -> Result<FrameStats, RenderError>
 where
     T: Source + ?Sized,
     S: SpanSink + ?Sized,
 {
-    // Without the feature the span memory is never used: the optimiser drops that code.
+    // Without the features the memory is never used: the optimiser drops that code.
     let mut coverage = if cfg!(feature = "front-to-back") {
-        coverage
+        memory.coverage
+    } else {
+        None
+    };
+    let vertices = if cfg!(feature = "vertex-cache") {
+        memory.vertices
     } else {
         None
     };
@@ -392,6 +445,11 @@ where
         points,
         edges,
     } = workspace;
+    // Only frames without clipping use it (see `crate::vertices`).
+    let mut vertices = vertices.filter(|_| all_inside);
+    if let Some(v) = vertices.as_deref_mut() {
+        v.next_frame();
+    }
     let mut painter = Painter::<SUB> {
         view,
         frustum,
@@ -405,6 +463,7 @@ where
         clip_b,
         points,
         edges,
+        vertices,
     };
     let mut stats = FrameStats::default();
     let front_to_back = options.order == Order::FrontToBack;
@@ -488,7 +547,7 @@ fn tally(counter: &mut u64, n: u64) {
 }
 
 /// The per-polygon work of a frame, with its buffers.
-struct Painter<'w, const SUB: u32> {
+struct Painter<'w, 'v, const SUB: u32> {
     view: View,
     frustum: Frustum,
     max_x: i32,
@@ -502,9 +561,11 @@ struct Painter<'w, const SUB: u32> {
     clip_b: &'w mut [Vec3],
     points: &'w mut [FixedPoint],
     edges: &'w mut [fill::EdgeWalk],
+    /// Projected vertices, in frames without clipping.
+    vertices: Option<&'w mut VertexCache<'v>>,
 }
 
-impl<const SUB: u32> Painter<'_, SUB> {
+impl<const SUB: u32> Painter<'_, '_, SUB> {
     /// One walk of the tree in `order`, drawing every polygon it yields. In front-to-back
     /// mode ([`Mode::Exclusive`] coverage) it stops when the frame is full, or after the
     /// polygon whose span did not fit the span memory, which it returns. With `last` (the
@@ -635,21 +696,38 @@ impl<const SUB: u32> Painter<'_, SUB> {
                 available: self.available,
             });
         }
-        for (i, slot) in (0..n).zip(self.clip_a.iter_mut()) {
-            *slot = self.view.to_camera(scene.polygon_vertex(polygon, i));
-        }
-        let clipped = if self.all_inside {
-            self.clip_a.get(..n as usize).unwrap_or(&[])
+        let (view, max_x, max_y) = (&self.view, self.max_x, self.max_y);
+        let count = if let Some(cache) = self.vertices.as_deref_mut() {
+            // No clipping in this frame: each corner is its vertex's snapped projection,
+            // computed once per frame.
+            let screen = |v: Vec3| snap::<SUB>(view.project(view.to_camera(v)), max_x, max_y);
+            let mut count = 0usize;
+            for (i, slot) in (0..n).zip(self.points.iter_mut()) {
+                *slot = match scene.vertex_index(polygon, i) {
+                    Some(v) => cache.get(v, || screen(scene.vertex(v))),
+                    None => screen(scene.polygon_vertex(polygon, i)),
+                };
+                count += 1;
+            }
+            count
         } else {
-            clip::clip_polygon(self.frustum.planes(), n as usize, self.clip_a, self.clip_b)?
+            for (i, slot) in (0..n).zip(self.clip_a.iter_mut()) {
+                *slot = view.to_camera(scene.polygon_vertex(polygon, i));
+            }
+            let clipped = if self.all_inside {
+                self.clip_a.get(..n as usize).unwrap_or(&[])
+            } else {
+                clip::clip_polygon(self.frustum.planes(), n as usize, self.clip_a, self.clip_b)?
+            };
+            let mut count = 0usize;
+            for (slot, &c) in self.points.iter_mut().zip(clipped) {
+                *slot = snap::<SUB>(view.project(c), max_x, max_y);
+                count += 1;
+            }
+            count
         };
-        if clipped.len() < 3 {
+        if count < 3 {
             return Ok(());
-        }
-        let mut count = 0usize;
-        for (slot, &c) in self.points.iter_mut().zip(clipped) {
-            *slot = snap::<SUB>(self.view.project(c), self.max_x, self.max_y);
-            count += 1;
         }
         let pts = self.points.get(..count).unwrap_or(&[]);
         let (width, height) = (self.view.width, self.view.height);

@@ -88,7 +88,7 @@ fn back_to_front(t: &TestTree, cam: &Camera, cull: bool) -> (MockTarget<W, H>, F
         cam,
         &mut Workspace::<16, 12>::new(),
         options,
-        None,
+        FrameMemory::default(),
         &mut m,
     )
     .unwrap();
@@ -108,7 +108,7 @@ fn front_to_back<const SLOTS: usize>(
         cam,
         &mut Workspace::<16, 12>::new(),
         RenderOptions::default(),
-        Some(&mut cov),
+        FrameMemory::from(&mut cov),
         &mut target,
     )
     .unwrap();
@@ -279,6 +279,7 @@ fn a_full_screen_stops_the_walk_and_culls_covered_subtrees() {
             clip_b: &mut b,
             points: &mut pts,
             edges: &mut edges,
+            vertices: None,
         };
         let mut stats = FrameStats::default();
         // Without `bounds-culling` every subtree is entered.
@@ -355,7 +356,7 @@ fn exhausted_span_memory_falls_back_without_losing_polygons() {
         &cam,
         &mut Workspace::<16, 12>::new(),
         RenderOptions::default(),
-        None,
+        FrameMemory::default(),
         &mut none,
     )
     .unwrap();

@@ -436,8 +436,22 @@ fn a_view_draws_what_its_camera_draws() {
         };
         let mut ws = Workspace::<2, 9>::new();
         let stats = match view {
-            Some(v) => render_view(&scene, v, &mut ws, options, Some(&mut cov), &mut frame),
-            None => render_ordered(&scene, &cam, &mut ws, options, Some(&mut cov), &mut frame),
+            Some(v) => render_view(
+                &scene,
+                v,
+                &mut ws,
+                options,
+                FrameMemory::from(&mut cov),
+                &mut frame,
+            ),
+            None => render_ordered(
+                &scene,
+                &cam,
+                &mut ws,
+                options,
+                FrameMemory::from(&mut cov),
+                &mut frame,
+            ),
         };
         (stats, frame.pixels)
     };
@@ -630,7 +644,7 @@ fn whole_pixel_precision_renders_the_same_scene_up_to_edges() {
                     &cam,
                     &mut ws,
                     options,
-                    Some(&mut cov),
+                    FrameMemory::from(&mut cov),
                     frame,
                 )
             } else {
@@ -639,7 +653,7 @@ fn whole_pixel_precision_renders_the_same_scene_up_to_edges() {
                     &cam,
                     &mut ws,
                     options,
-                    Some(&mut cov),
+                    FrameMemory::from(&mut cov),
                     frame,
                 )
             }
