@@ -156,11 +156,14 @@ impl<'m> Coverage<'m> {
     /// Whether every pixel `x0 <= x < x1`, `y0 <= y < y1` is covered (an empty rectangle is).
     pub fn covers(&self, x0: u32, y0: u32, x1: u32, y1: u32) -> bool {
         (y0..y1.min(self.height)).all(|y| {
+            // The intervals are sorted and disjoint: only the first one ending past `x0` can
+            // hold `[x0, x1)` (a binary search; rows of a dense mesh hold dozens).
+            let row = self.row(y);
+            let i = row.partition_point(|&(_, b)| u32::from(b) <= x0);
             x0 >= x1
-                || self
-                    .row(y)
-                    .iter()
-                    .any(|&(a, b)| u32::from(a) <= x0 && x1 <= u32::from(b))
+                || row
+                    .get(i)
+                    .is_some_and(|&(a, b)| u32::from(a) <= x0 && x1 <= u32::from(b))
         })
     }
 

@@ -157,6 +157,17 @@ fn check_against_model(spans: &[(u32, u32, u32)], per_row: usize) {
             assert_eq!(in_list, model[y as usize][x as usize]);
             assert_eq!(target.written(x as usize, y as usize), in_list);
         }
+        // `covers` agrees with the model on every rectangle of this row (and of it with the
+        // next row).
+        for x0 in 0..=W {
+            for x1 in x0..=W {
+                let rows = |y0: u32, y1: u32| {
+                    (y0..y1.min(H)).all(|r| (x0..x1).all(|x| model[r as usize][x as usize]))
+                };
+                assert_eq!(cov.covers(x0, y, x1, y + 1), rows(y, y + 1));
+                assert_eq!(cov.covers(x0, y, x1, y + 2), rows(y, y + 2));
+            }
+        }
     }
 }
 
