@@ -68,7 +68,10 @@ fn same_with_and_without<const SUB: u32>(name: &str, mesh: &Mesh) -> u64 {
     let mut culled = 0;
     let mut memory = vec![CachedVertex::EMPTY; h.vertex_count as usize];
     let mut vertices = VertexCache::new(&mut memory);
-    for (k, (w, ht)) in [(24, 18), (64, 48), (160, 120)].into_iter().enumerate() {
+    for (k, (w, ht)) in [(24, 18), (64, 48), (160, 120), (1920, 1080)]
+        .into_iter()
+        .enumerate()
+    {
         for step in 0..6 {
             let a = 0.4 + step as f64 * 1.1 + k as f64 * 0.3;
             let dist = if step % 2 == 0 { 2.2 } else { 1.3 };

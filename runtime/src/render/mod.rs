@@ -326,13 +326,13 @@ where
 /// Draw `scene` seen by `camera` into `sink` as `options` say, with the caller memory in
 /// `memory`.
 ///
-/// Front to back needs `memory.coverage` (span memory for the camera's `W x H`, cleared here): every
-/// pixel is then written exactly once and the walk stops when the frame is full. When the span
+/// Front to back needs `memory.coverage` (span memory for the camera's `W x H`, cleared
+/// here): every pixel is then written exactly once and the walk stops when the frame is full. When the span
 /// memory runs out, or there is none, the polygons not drawn yet are painted back to front,
 /// clipped against what is covered (see [`crate::coverage`]): the image is the same, only
 /// with overdraw in that part ([`FrameStats::fallback`]). Back to front uses the coverage, if
-/// given, only to count distinct pixels. `memory.vertices` saves work and changes no pixel. Fails with [`RenderError::SpanMemory`] when the
-/// coverage's size is not the camera's.
+/// given, only to count distinct pixels. `memory.vertices` saves work and changes no pixel.
+/// Fails with [`RenderError::SpanMemory`] when the coverage's size is not the camera's.
 pub fn render_with_options<const SUB: u32, T, S, const STACK: usize, const VERTS: usize>(
     scene: &T,
     camera: &Camera,
@@ -514,12 +514,14 @@ where
     Ok(stats)
 }
 
-/// How far, in pixels, a snapped vertex may lie outside the screen rectangle of its node's
-/// box ([`View::box_on_screen`]): snapping moves it by at most `2^-(SUB+1)` of a pixel, and
-/// the box's and the vertex's `f32` projections differ by rounding errors far below the
-/// `1/64` pixel added (a thousandth of a pixel at the largest supported image size).
-fn slack<const SUB: u32>() -> f32 {
-    0.5 / (1u32 << SUB.min(30)) as f32 + 1.0 / 64.0
+/// How far, in pixels, a snapped vertex of an image `size` pixels wide (its larger side) may
+/// lie outside the screen rectangle of its node's box ([`View::box_on_screen`]): snapping
+/// moves it by at most `2^-(SUB+1)` of a pixel, and the box's and the vertex's `f32`
+/// projections each round by a few units in the last place of screen coordinates below
+/// `size`. `1/64` of a pixel plus `size · 2^-18` (64 such units) bounds that with room to
+/// spare: about 0.018 pixel at 640 pixels.
+fn slack<const SUB: u32>(size: u32) -> f32 {
+    0.5 / (1u32 << SUB.min(30)) as f32 + 1.0 / 64.0 + size as f32 / (1u32 << 18) as f32
 }
 
 /// `ceil(v)` as a pixel index: 0 below zero and for NaN, saturating above.
@@ -653,11 +655,11 @@ impl<const SUB: u32> Painter<'_, '_, SUB> {
         let Some((min, max)) = self.view.box_on_screen(c, e) else {
             return true;
         };
-        // The pixels whose sample point `(x + 0.5, y + 0.5)` is within `SLACK` of the box:
-        // the only ones its polygons can draw. None: nothing to draw; all covered: nothing
-        // shows.
+        // The pixels whose sample point `(x + 0.5, y + 0.5)` is within `slack` of the box's
+        // screen rectangle: the only ones its polygons can draw. None: nothing to draw; all
+        // covered: nothing shows.
         let (w, h) = (coverage.width(), coverage.height());
-        let slack = slack::<SUB>();
+        let slack = slack::<SUB>(w.max(h));
         let first = |v: f32, limit: u32| ceil_pixel(v - slack - 0.5).min(limit);
         let past = |v: f32, limit: u32| floor_pixel(v + slack + 0.5).min(limit);
         let (x0, y0) = (first(min.x, w), first(min.y, h));
@@ -697,15 +699,16 @@ impl<const SUB: u32> Painter<'_, '_, SUB> {
             });
         }
         let (view, max_x, max_y) = (&self.view, self.max_x, self.max_y);
+        let screen = |c: Vec3| snap::<SUB>(view.project(c), max_x, max_y);
         let count = if let Some(cache) = self.vertices.as_deref_mut() {
             // No clipping in this frame: each corner is its vertex's snapped projection,
             // computed once per frame.
-            let screen = |v: Vec3| snap::<SUB>(view.project(view.to_camera(v)), max_x, max_y);
+            let corner = |v: Vec3| screen(view.to_camera(v));
             let mut count = 0usize;
             for (i, slot) in (0..n).zip(self.points.iter_mut()) {
                 *slot = match scene.vertex_index(polygon, i) {
-                    Some(v) => cache.get(v, || screen(scene.vertex(v))),
-                    None => screen(scene.polygon_vertex(polygon, i)),
+                    Some(v) => cache.get(v, || corner(scene.vertex(v))),
+                    None => corner(scene.polygon_vertex(polygon, i)),
                 };
                 count += 1;
             }
@@ -721,7 +724,7 @@ impl<const SUB: u32> Painter<'_, '_, SUB> {
             };
             let mut count = 0usize;
             for (slot, &c) in self.points.iter_mut().zip(clipped) {
-                *slot = snap::<SUB>(view.project(c), max_x, max_y);
+                *slot = screen(c);
                 count += 1;
             }
             count
