@@ -16,6 +16,7 @@ trait Word:
     + std::ops::Shl<u32, Output = Self>
 {
     const ZERO: Self;
+    const ONE: Self;
     fn trailing_zeros(self) -> u32;
     /// `gcd(a, b)` of two odd words `a <= b` in a narrower type, once `b` fits one.
     fn narrow(a: Self, b: Self) -> Option<Self>;
@@ -23,6 +24,7 @@ trait Word:
 
 impl Word for u64 {
     const ZERO: u64 = 0;
+    const ONE: u64 = 1;
     fn trailing_zeros(self) -> u32 {
         u64::trailing_zeros(self)
     }
@@ -33,6 +35,7 @@ impl Word for u64 {
 
 impl Word for u128 {
     const ZERO: u128 = 0;
+    const ONE: u128 = 1;
     fn trailing_zeros(self) -> u32 {
         u128::trailing_zeros(self)
     }
@@ -44,6 +47,7 @@ impl Word for u128 {
 
 impl Word for U256 {
     const ZERO: U256 = U256::ZERO;
+    const ONE: U256 = U256::ONE;
     fn trailing_zeros(self) -> u32 {
         U256::trailing_zeros(self)
     }
@@ -59,6 +63,10 @@ fn binary_gcd<W: Word>(mut a: W, mut b: W) -> W {
     }
     if b == W::ZERO {
         return a;
+    }
+    // A running gcd that has reached 1 stays there (the binary steps would take one per bit).
+    if a == W::ONE || b == W::ONE {
+        return W::ONE;
     }
     let shift = (a | b).trailing_zeros();
     a = a >> a.trailing_zeros();
@@ -86,6 +94,7 @@ pub(crate) fn gcd_u64(a: u64, b: u64) -> u64 {
 /// `gcd(a, b)` (binary, in 64 bits once both fit; one remainder first when only one does).
 pub(crate) fn gcd_u128(a: u128, b: u128) -> u128 {
     match (u64::try_from(a), u64::try_from(b)) {
+        (Ok(1), _) | (_, Ok(1)) => 1,
         (Ok(a64), Err(_)) if a64 != 0 => u128::from(gcd_u64(a64, (b % a) as u64)),
         (Err(_), Ok(b64)) if b64 != 0 => u128::from(gcd_u64((a % b) as u64, b64)),
         _ => binary_gcd(a, b),
@@ -131,6 +140,7 @@ fn div_small(a: U256, m: u64) -> U256 {
 /// `gcd(a, b)`: one remainder when `a` is small (a running gcd soon is), else binary.
 pub(crate) fn gcd_wide(a: U256, b: U256) -> U256 {
     match u64::try_from(a) {
+        Ok(1) => U256::ONE,
         Ok(m) if m != 0 => U256::from(gcd_u64(m, rem_small(b, m))),
         _ => gcd_u256(a, b),
     }

@@ -79,13 +79,7 @@ fn line_key(a: &Plane, b: &Plane) -> Option<LineKey> {
         u[2] * v[0] - u[0] * v[2],
         u[0] * v[1] - u[1] * v[0],
     ];
-    let mut g = 0u128;
-    for c in &dir {
-        if g == 1 {
-            break;
-        }
-        g = gcd_u128(g, c.unsigned_abs());
-    }
+    let mut g = dir.iter().fold(0u128, |g, c| gcd_u128(g, c.unsigned_abs()));
     if g == 0 {
         return None;
     }
@@ -101,9 +95,6 @@ fn line_key(a: &Plane, b: &Plane) -> Option<LineKey> {
         [Some(m0), Some(m1), Some(m2)] => {
             let m = [m0, m1, m2];
             for c in &m {
-                if g == 1 {
-                    break;
-                }
                 g = gcd_u128(g, c.unsigned_abs());
             }
             let gi = g as i128 * sign;
@@ -135,7 +126,7 @@ fn line_key(a: &Plane, b: &Plane) -> Option<LineKey> {
 /// gcd that [`line_key`] divides by.
 fn line_through(p: [i32; 3], q: [i32; 3]) -> Option<LineKey> {
     let d: [i64; 3] = std::array::from_fn(|k| i64::from(q[k]) - i64::from(p[k]));
-    let g = gcd_of(d.map(i64::unsigned_abs));
+    let g = d.iter().fold(0, |g, c| gcd_u64(g, c.unsigned_abs()));
     if g == 0 {
         return None;
     }
@@ -151,18 +142,6 @@ fn line_through(p: [i32; 3], q: [i32; 3]) -> Option<LineKey> {
     ];
     // |d| < 2^27 and |p| < 2^26: the moment is below 2^54, the key narrow.
     Some(LineKey::Narrow { dir: d, moment })
-}
-
-/// `gcd(a, b, c)`, stopping as soon as it is 1.
-fn gcd_of(v: [u64; 3]) -> u64 {
-    let mut g = 0;
-    for c in v {
-        if g == 1 {
-            break;
-        }
-        g = gcd_u64(g, c);
-    }
-    g
 }
 
 /// A line through more than two distinct vertices (edge endpoints): its unit direction and
