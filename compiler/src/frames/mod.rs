@@ -104,9 +104,8 @@ pub const METHODS: [&str; 6] = [
 struct Prepared {
     bytes: Vec<u8>,
     naive: Option<Vec<u8>>,
-    triangles: Vec<[DVec3; 3]>,
-    /// [`prepare::scene_box`] of `triangles`.
-    triangle_box: (glam::Vec3, glam::Vec3),
+    /// The source triangles as the baselines draw them.
+    triangles: prepare::Triangles,
     views: Vec<(Camera, Reference)>,
 }
 
@@ -154,8 +153,7 @@ fn prepare_scene(
     Ok(Prepared {
         bytes,
         naive,
-        triangle_box: prepare::scene_box(&triangles, centre),
-        triangles,
+        triangles: prepare::Triangles::new(&triangles, centre),
         views,
     })
 }
@@ -211,11 +209,9 @@ fn draw<const SUB: u32>(
             })
         }
         "zbuffer-int" | "zbuffer-f32" | "newell" => {
-            let centre = scenes.peel.header().centre;
-            let view = camera.view(centre);
+            let view = camera.view(scenes.peel.header().centre);
             let tris = &mut work.triangles;
-            let centre = DVec3::from_array(centre);
-            prepare::prepare::<SUB>(&p.triangles, centre, p.triangle_box, &view, tris);
+            prepare::prepare::<SUB>(&p.triangles, &view, &mut work.projected, tris);
             let mut ids = vec![0u32; n];
             let written = match method {
                 "zbuffer-int" => {
@@ -256,6 +252,7 @@ struct Work {
     depth_u32: Vec<u32>,
     depth_f32: Vec<f32>,
     triangles: Vec<prepare::Prepared>,
+    projected: Vec<(glam::Vec3, peel_runtime::fill::FixedPoint)>,
 }
 
 /// A scene's files, validated once before any frame is timed (firmware parses a file once,
@@ -277,6 +274,7 @@ impl Work {
             depth_u32: Vec::new(),
             depth_f32: Vec::new(),
             triangles: Vec::new(),
+            projected: Vec::new(),
         }
     }
 }

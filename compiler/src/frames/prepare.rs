@@ -1,12 +1,16 @@
 //! The per-triangle front end shared by the baseline renderers: world -> camera (the runtime's
 //! `View`), near and window clipping (the runtime's `clip`), projection and snapping (the
-//! runtime's `snap`), so every method sees bit-identical screen polygons.
+//! runtime's `snap`), so every method sees bit-identical screen polygons. The triangles share
+//! a vertex list, so a frame that needs no clipping projects each vertex once, as Peel does
+//! with its vertex memory.
 
 use glam::{DVec3, Vec3};
 use peel_runtime::camera::View;
 use peel_runtime::clip::{clip_polygon, Frustum, CLIP_PLANES};
 use peel_runtime::fill::FixedPoint;
 use peel_runtime::render::snap;
+
+use crate::hash::FastMap;
 
 /// Most vertices of a clipped triangle: one more per clip plane.
 const MAX_CLIPPED: usize = 3 + CLIP_PLANES;
@@ -33,45 +37,91 @@ impl Prepared {
     }
 }
 
-/// The box of `triangles` as [`prepare`] sees them (relative to `centre`, in `f32`): computed
-/// once per scene, it lets a frame that sees the whole scene skip clipping, as Peel does.
-pub fn scene_box(triangles: &[[DVec3; 3]], centre: DVec3) -> (Vec3, Vec3) {
-    triangles.iter().flatten().fold(
-        (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY)),
-        |(lo, hi), p| {
-            let q = (*p - centre).as_vec3();
-            (lo.min(q), hi.max(q))
-        },
-    )
+/// Source triangles as the baselines draw them, built once per scene: their distinct corners
+/// relative to the scene centre in `f32` (as the runtime's scene stores vertices), each
+/// triangle's three corner indices, and the box of the corners, which lets a frame that sees
+/// the whole scene skip clipping, as Peel does.
+pub struct Triangles {
+    vertices: Vec<Vec3>,
+    corners: Vec<[u32; 3]>,
+    bounds: (Vec3, Vec3),
 }
 
-/// Clip and project `triangles` (world coordinates) for `view` (built for `centre`) into
-/// `out` (cleared first; its memory is reused from frame to frame). `bounds` is their
-/// [`scene_box`]: when the frustum contains it, nothing is clipped.
+impl Triangles {
+    /// `triangles` (world coordinates) relative to `centre`.
+    pub fn new(triangles: &[[DVec3; 3]], centre: DVec3) -> Self {
+        let mut index: FastMap<[u32; 3], u32> = FastMap::default();
+        let mut vertices = Vec::new();
+        let corners = triangles
+            .iter()
+            .map(|t| {
+                t.map(|p| {
+                    let q = (p - centre).as_vec3();
+                    *index
+                        .entry(q.to_array().map(f32::to_bits))
+                        .or_insert_with(|| {
+                            vertices.push(q);
+                            (vertices.len() - 1) as u32
+                        })
+                })
+            })
+            .collect();
+        let bounds = vertices.iter().fold(
+            (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY)),
+            |(lo, hi), &q| (lo.min(q), hi.max(q)),
+        );
+        Triangles {
+            vertices,
+            corners,
+            bounds,
+        }
+    }
+}
+
+/// Clip and project `triangles` for `view` (built for their centre) into `out` (cleared
+/// first; its memory, and that of `projected`, is reused from frame to frame). When the
+/// frustum contains their box nothing is clipped, and each vertex is projected once, into
+/// `projected`.
 pub fn prepare<const SUB: u32>(
-    triangles: &[[DVec3; 3]],
-    centre: DVec3,
-    bounds: (Vec3, Vec3),
+    triangles: &Triangles,
     view: &View,
+    projected: &mut Vec<(Vec3, FixedPoint)>,
     out: &mut Vec<Prepared>,
 ) {
     out.clear();
     let frustum = Frustum::new(view);
-    let inside = frustum.contains_box(view, bounds.0, bounds.1);
+    let (lo, hi) = triangles.bounds;
+    let inside = frustum.contains_box(view, lo, hi);
     let (max_x, max_y) = ((view.width << SUB) as i32, (view.height << SUB) as i32);
+    let screen = |c: Vec3| snap::<SUB>(view.project(c), max_x, max_y);
+    if inside {
+        projected.clear();
+        projected.extend(triangles.vertices.iter().map(|&v| {
+            let c = view.to_camera(v);
+            (c, screen(c))
+        }));
+        out.extend(triangles.corners.iter().enumerate().map(|(id, t)| {
+            let mut p = Prepared {
+                id: id as u32,
+                len: 3,
+                camera: [Vec3::ZERO; MAX_CLIPPED],
+                screen: [FixedPoint::default(); MAX_CLIPPED],
+            };
+            for (k, &i) in t.iter().enumerate() {
+                (p.camera[k], p.screen[k]) = projected[i as usize];
+            }
+            p
+        }));
+        return;
+    }
     let mut a = [Vec3::ZERO; 16];
     let mut b = [Vec3::ZERO; 16];
-    for (id, t) in triangles.iter().enumerate() {
-        for (slot, p) in a.iter_mut().zip(t) {
-            *slot = view.to_camera((*p - centre).as_vec3());
+    for (id, t) in triangles.corners.iter().enumerate() {
+        for (slot, &i) in a.iter_mut().zip(t) {
+            *slot = view.to_camera(triangles.vertices[i as usize]);
         }
-        let clipped = if inside {
-            &a[..3]
-        } else {
-            let Ok(clipped) = clip_polygon(frustum.planes(), 3, &mut a, &mut b) else {
-                continue;
-            };
-            clipped
+        let Ok(clipped) = clip_polygon(frustum.planes(), 3, &mut a, &mut b) else {
+            continue;
         };
         if clipped.len() < 3 || clipped.len() > MAX_CLIPPED {
             continue;
@@ -84,7 +134,7 @@ pub fn prepare<const SUB: u32>(
         };
         for (k, &c) in clipped.iter().enumerate() {
             t.camera[k] = c;
-            t.screen[k] = snap::<SUB>(view.project(c), max_x, max_y);
+            t.screen[k] = screen(c);
         }
         out.push(t);
     }
