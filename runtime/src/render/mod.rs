@@ -700,7 +700,13 @@ impl<const SUB: u32> Painter<'_, '_, SUB> {
         }
         let (view, max_x, max_y) = (&self.view, self.max_x, self.max_y);
         let screen = |c: Vec3| snap::<SUB>(view.project(c), max_x, max_y);
-        let count = if let Some(cache) = self.vertices.as_deref_mut() {
+        // Without the feature there is never a cache: the test keeps that path out of the
+        // binary (the optimiser cannot see through the painter's field).
+        let cache = self
+            .vertices
+            .as_deref_mut()
+            .filter(|_| cfg!(feature = "vertex-cache"));
+        let count = if let Some(cache) = cache {
             // No clipping in this frame: each corner is its vertex's snapped projection,
             // computed once per frame.
             let corner = |v: Vec3| screen(view.to_camera(v));
