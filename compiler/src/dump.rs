@@ -112,7 +112,7 @@ enum Item {
 
 /// The whole file as a YAML document: the header, the planes, then the tree as nested nodes
 /// with their polygons (plane, flags, colour, id if present, vertices); subtrees nested deeper
-/// than [`MAX_INDENT`] follow in a `subtrees` list, in the order they are referred to.
+/// than `MAX_INDENT` (256 spaces) follow in a `subtrees` list, in the order they are referred to.
 pub fn dump_yaml(bytes: &[u8]) -> Result<String, ReadError> {
     let scene = Scene::parse(bytes)?;
     let h = scene.header();
