@@ -213,19 +213,23 @@ impl Vertices {
     /// is one allocation shared by the pieces of its cut (and their later pieces), so it is
     /// matched once per allocation, not once per use.
     fn of(polys: &[&Fragment], offsets: &[usize]) -> (Vertices, Vec<u32>) {
-        // Per use, an index into `distinct`: one entry per cut-point allocation, one per use of
-        // a grid point (cheap to key), numbered in order of first use.
+        // Per use, an index into `distinct`: one entry per cut-point allocation and per grid
+        // point, numbered in order of first use.
         let homs = (polys.iter().flat_map(|f| &f.vertices))
             .filter(|v| matches!(v, Vertex::Hom(_)))
             .count();
+        let all = offsets.last().copied().unwrap_or(0);
         let mut seen: FastMap<usize, u32> = FastMap::default();
         seen.reserve(homs);
+        // Grid points by value: a mesh vertex is a corner of several triangles.
+        let mut grid: FastMap<[i32; 3], u32> = FastMap::default();
+        grid.reserve((all - homs) / 4);
         let mut distinct: Vec<&Vertex> = Vec::new();
-        let mut uses: Vec<u32> = Vec::with_capacity(offsets.last().copied().unwrap_or(0));
+        let mut uses: Vec<u32> = Vec::with_capacity(all);
         for v in polys.iter().flat_map(|f| &f.vertices) {
             let next = distinct.len() as u32;
             let i = match v {
-                Vertex::Int(_) => next,
+                Vertex::Int(p) => *grid.entry(*p).or_insert(next),
                 Vertex::Hom(h) => *seen.entry(Arc::as_ptr(h) as usize).or_insert(next),
             };
             if i == next {
