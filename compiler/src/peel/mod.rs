@@ -133,13 +133,14 @@ impl<'a> VertexSet<'a> {
             return None;
         }
         let sign = if side == Side::Front { 1.0 } else { -1.0 };
+        let m = self.bvh.margin(e);
         // Each level leaves at most one sibling on the stack (see `STACK`).
         let mut stack = [0u32; crate::bvh::STACK];
         let mut len = 1;
         while len > 0 {
             len -= 1;
             let node = &nodes[stack[len] as usize];
-            let (lo, hi, m) = Bvh::range(node, e);
+            let (lo, hi) = Bvh::span(node, e);
             let (lo, hi) = if sign > 0.0 { (lo, hi) } else { (-hi, -lo) };
             if hi < -m {
                 continue; // every vertex strictly on the other side
@@ -157,7 +158,7 @@ impl<'a> VertexSet<'a> {
                 Some([l, r]) => {
                     // Visit the child reaching further to `side` first.
                     let reach_of = |c: u32| {
-                        let (lo, hi, _) = Bvh::range(&nodes[c as usize], e);
+                        let (lo, hi) = Bvh::span(&nodes[c as usize], e);
                         if sign > 0.0 {
                             hi
                         } else {

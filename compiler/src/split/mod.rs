@@ -384,6 +384,7 @@ impl<'a> Sample<'a> {
     ) -> Option<Tally> {
         let e = table.get(plane);
         let bound = self.filter_bound(e);
+        let m = self.bvh.margin(e);
         let nodes = &self.bvh.nodes;
         let mut tally = Tally::default();
         let mut left = self.frags.len() as u64;
@@ -393,7 +394,7 @@ impl<'a> Sample<'a> {
         while len > 0 {
             len -= 1;
             let node = &nodes[stack[len] as usize];
-            let (lo, hi, m) = Bvh::range(node, e);
+            let (lo, hi) = Bvh::span(node, e);
             let k = u64::from(node.end - node.first);
             if lo > m {
                 tally.front += k; // every vertex strictly in front: every fragment Front
@@ -443,6 +444,7 @@ impl<'a> Sample<'a> {
         out.clear();
         let e = table.get(plane);
         let bound = self.filter_bound(e);
+        let m = self.bvh.margin(e);
         let nodes = &self.bvh.nodes;
         let mut tally = Tally::default();
         let mut stack = [0u32; crate::bvh::STACK];
@@ -450,7 +452,7 @@ impl<'a> Sample<'a> {
         while len > 0 {
             len -= 1;
             let node = &nodes[stack[len] as usize];
-            let (lo, hi, m) = Bvh::range(node, e);
+            let (lo, hi) = Bvh::span(node, e);
             let (beyond, near) = match small {
                 Side::Front => (hi < -m, lo > m),
                 _ => (lo > m, hi < -m),
