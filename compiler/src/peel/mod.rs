@@ -27,7 +27,7 @@ use rayon::prelude::*;
 
 use crate::bvh::Bvh;
 use crate::hash::FastSet;
-use crate::planes::{PlaneEntry, PlaneId, PlaneTable, Side, Vertex};
+use crate::planes::{l1_max, shared_filter_bound, PlaneEntry, PlaneId, PlaneTable, Side, Vertex};
 use crate::split::Fragment;
 
 /// Points per leaf of the hierarchy. Scanning a leaf is cheap next to building levels that
@@ -71,6 +71,9 @@ pub struct VertexSet<'a> {
     /// Each distinct vertex once, in order of first appearance, with its approximation.
     pts: Vec<([f64; 3], &'a Vertex)>,
     bvh: Bvh,
+    /// The largest `|x| + |y| + |z|` of `pts` (set by [`VertexSet::index`]; see
+    /// [`shared_filter_bound`]).
+    l1_max: f64,
     /// Grid points.
     ints: FastSet<[i32; 3]>,
     /// Cut-point allocations (see [`Key`]).
@@ -105,6 +108,7 @@ impl<'a> VertexSet<'a> {
         VertexSet {
             pts,
             bvh: Bvh::default(),
+            l1_max: 0.0,
             ints,
             homs,
         }
@@ -122,6 +126,7 @@ impl<'a> VertexSet<'a> {
     pub fn index(&mut self) {
         if self.bvh.nodes.is_empty() {
             self.bvh = Bvh::build(&mut self.pts, |&(p, _)| (p, p), LEAF);
+            self.l1_max = l1_max(self.pts.iter().map(|(p, _)| p));
         }
     }
 
@@ -134,6 +139,7 @@ impl<'a> VertexSet<'a> {
         }
         let sign = if side == Side::Front { 1.0 } else { -1.0 };
         let m = self.bvh.margin(e);
+        let bound = shared_filter_bound(e, self.l1_max);
         // Each level leaves at most one sibling on the stack (see `STACK`).
         let mut stack = [0u32; crate::bvh::STACK];
         let mut len = 1;
@@ -151,8 +157,13 @@ impl<'a> VertexSet<'a> {
             }
             match node.children {
                 None => {
-                    if let Some(&(_, v)) = pts.iter().find(|(_, v)| v.side(e) == side) {
-                        return Some(v);
+                    // The first point exactly on `side`, most decided by the filter on the
+                    // approximate coordinates at hand (the exact test reads the vertex).
+                    for &(c, v) in pts {
+                        let s = sign * (e.nf[0] * c[0] + e.nf[1] * c[1] + e.nf[2] * c[2] - e.df);
+                        if s > bound || (s >= -bound && v.side(e) == side) {
+                            return Some(v);
+                        }
                     }
                 }
                 Some([l, r]) => {
@@ -405,6 +416,11 @@ mod tests {
             .map(|(&p, _)| p)
             .collect();
         prop_assert_eq!(off, want);
+        // Each witness is a proof: its vertices lie strictly on the sides it claims.
+        for w in &hull.witnesses {
+            let e = table.get(w.plane);
+            prop_assert_eq!((w.front.side(e), w.back.side(e)), (Side::Front, Side::Back));
+        }
         Ok(())
     }
 

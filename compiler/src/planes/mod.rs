@@ -298,6 +298,24 @@ pub enum Vertex {
 /// is within ~16u of the computed one; 2^-45 = 256u leaves a wide margin.
 pub const FILTER_BOUND: f64 = 1.0 / (1u64 << 45) as f64;
 
+/// One f64 filter bound for `e` and every point whose approximate coordinates have
+/// `|x| + |y| + |z| <= l1_max`: [`FILTER_BOUND`] is relative to `Σ|n_k x_k| + |d|`, which is at
+/// most `max|n_k| * (|x| + |y| + |z|) + |d|`; twice that covers the rounding of these sums.
+/// Looser than the per-point bound only by what sends a point within ~2^-44 of the plane's
+/// scale to the exact predicate, which nearly only points on the plane are.
+#[inline]
+pub fn shared_filter_bound(e: &PlaneEntry, l1_max: f64) -> f64 {
+    let n = e.nf[0].abs().max(e.nf[1].abs()).max(e.nf[2].abs());
+    2.0 * (n * l1_max + e.df.abs()) * FILTER_BOUND
+}
+
+/// The largest `|x| + |y| + |z|` of `points` (see [`shared_filter_bound`]).
+pub fn l1_max<'p>(points: impl Iterator<Item = &'p [f64; 3]>) -> f64 {
+    points
+        .map(|c| c[0].abs() + c[1].abs() + c[2].abs())
+        .fold(0.0, f64::max)
+}
+
 impl Vertex {
     /// Approximate coordinates (exact for grid points).
     #[inline]

@@ -13,7 +13,9 @@ use rayon::prelude::*;
 use std::sync::atomic::{AtomicU64, Ordering};
 
 use crate::bvh::{box_of, max_f, min_f, Bvh};
-use crate::planes::{intersect, PlaneEntry, PlaneId, PlaneTable, Side, Vertex, FILTER_BOUND};
+use crate::planes::{
+    intersect, l1_max, shared_filter_bound, PlaneEntry, PlaneId, PlaneTable, Side, Vertex,
+};
 
 pub mod lopsided;
 
@@ -272,10 +274,7 @@ impl<'a> Sample<'a> {
             ends.push(coords.len() as u32);
             quads.push(quad(&coords[lo..]));
         }
-        let l1_max = coords
-            .iter()
-            .map(|c| c[0].abs() + c[1].abs() + c[2].abs())
-            .fold(0.0, f64::max);
+        let l1_max = l1_max(coords.iter());
         Sample {
             frags,
             coords,
@@ -292,14 +291,10 @@ impl<'a> Sample<'a> {
         self.coords.get(lo..self.ends[i] as usize).unwrap_or(&[])
     }
 
-    /// One f64 filter bound for `e` and every vertex of the sample: `FILTER_BOUND` is relative
-    /// to `Σ|n_k x_k| + |d|`, which is at most `max|n_k| * (|x| + |y| + |z|) + |d|`; twice
-    /// that over the sample's largest `|x| + |y| + |z|` covers the rounding of these sums.
-    /// Looser than the per-vertex bound only by what sends a vertex within ~2^-44 of the
-    /// plane's scale to the exact predicate, which nearly only vertices on the plane are.
+    /// One f64 filter bound for `e` and every vertex of the sample (see
+    /// [`shared_filter_bound`]).
     fn filter_bound(&self, e: &PlaneEntry) -> f64 {
-        let n = e.nf[0].abs().max(e.nf[1].abs()).max(e.nf[2].abs());
-        2.0 * (n * self.l1_max + e.df.abs()) * FILTER_BOUND
+        shared_filter_bound(e, self.l1_max)
     }
 
     /// [`Fragment::placement`] of fragment `i`, filtered with `bound` ([`Self::filter_bound`]):
