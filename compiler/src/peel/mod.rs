@@ -17,11 +17,13 @@
 //! Witnesses: a plane found off the hull comes with its proof, a vertex strictly on each
 //! side ([`Witness`]). A plane whose two witnesses are still vertices of a child's list is
 //! still off the hull there and is not queried again; peeling one thin layer at a time would
-//! otherwise query every remaining plane again per layer. After a split, the witnesses
+//! otherwise query every remaining plane again per layer. After a split, the witness vertices
 //! strictly on a child's side are proven vertices of that child (a cut keeps such vertices in
-//! that side's piece): [`Known::Valid`]. After a peel, a witness is looked up among the child's
-//! vertices: [`Known::Inherited`]. The few planes left to query are scanned; many, searched in
-//! the hierarchy.
+//! that side's piece): [`Known::Valid`], as [`Clue`]s, since a witness's two vertices often
+//! fall on different sides; a plane with half a witness is searched on its other side only.
+//! After a peel, each witness vertex is looked up among the child's vertices:
+//! [`Known::Inherited`]. The few planes left to query are scanned; many, searched in the
+//! hierarchy.
 
 use rayon::prelude::*;
 
@@ -44,6 +46,18 @@ pub struct Witness {
     pub front: Vertex,
     /// A vertex strictly on its − side.
     pub back: Vertex,
+}
+
+/// What a list is known to hold for a plane: vertices of the list strictly on its sides (at
+/// least one); both make a [`Witness`].
+#[derive(Debug, Clone)]
+pub struct Clue {
+    /// The plane.
+    pub plane: PlaneId,
+    /// A vertex strictly on its + side, if one is known.
+    pub front: Option<Vertex>,
+    /// A vertex strictly on its − side, if one is known.
+    pub back: Option<Vertex>,
 }
 
 /// The identity of a vertex: grid points by value, cut points by allocation. Two cut points
@@ -192,13 +206,20 @@ impl<'a> VertexSet<'a> {
 
     /// `Ok(interior_front)` when plane `p` is on the hull of the set: `interior_front` is true
     /// when the rest lies on the + side (also when every vertex is in the plane); otherwise
-    /// `Err` with the witnesses that it is not.
-    pub fn hull_side(&self, p: PlaneId, table: &PlaneTable) -> Result<bool, Witness> {
+    /// `Err` with the witnesses that it is not. `front` and `back` are vertices of the set
+    /// already known strictly on a side (that side is not searched).
+    pub fn hull_side<'v>(
+        &'v self,
+        p: PlaneId,
+        table: &PlaneTable,
+        front: Option<&'v Vertex>,
+        back: Option<&'v Vertex>,
+    ) -> Result<bool, Witness> {
         let e = table.get(p);
         verdict(
             p,
-            self.any_strictly(e, Side::Front),
-            self.any_strictly(e, Side::Back),
+            front.or_else(|| self.any_strictly(e, Side::Front)),
+            back.or_else(|| self.any_strictly(e, Side::Back)),
         )
     }
 }
@@ -218,17 +239,22 @@ fn verdict(p: PlaneId, front: Option<&Vertex>, back: Option<&Vertex>) -> Result<
 
 /// [`VertexSet::hull_side`] by a scan of every vertex of `frags` (no set to build: for a few
 /// planes).
-fn scan(frags: &[Fragment], p: PlaneId, table: &PlaneTable) -> Result<bool, Witness> {
+fn scan<'v>(
+    frags: &'v [Fragment],
+    p: PlaneId,
+    table: &PlaneTable,
+    mut front: Option<&'v Vertex>,
+    mut back: Option<&'v Vertex>,
+) -> Result<bool, Witness> {
     let e = table.get(p);
-    let (mut front, mut back) = (None, None);
     for v in frags.iter().flat_map(|f| &f.vertices) {
+        if front.is_some() && back.is_some() {
+            break;
+        }
         match v.side(e) {
             Side::Front => front = front.or(Some(v)),
             Side::Back => back = back.or(Some(v)),
             Side::On => {}
-        }
-        if front.is_some() && back.is_some() {
-            break;
         }
     }
     verdict(p, front, back)
@@ -244,12 +270,14 @@ pub struct Hull {
     pub witnesses: Vec<Witness>,
 }
 
-/// Witnesses handed to a child list (sorted by plane), and what is known of them.
+/// What a child list is handed of its planes (sorted by plane).
 #[derive(Debug, Clone)]
 pub enum Known {
-    /// Proven vertices of the list by the caller (see [`after_split`]): used as they are.
-    Valid(Vec<Witness>),
-    /// Found for a list this one came from: used where both vertices are still in it.
+    /// Vertices proven to be in the list by the caller (see [`after_split`]): used as they
+    /// are.
+    Valid(Vec<Clue>),
+    /// Witnesses found for a list this one came from: each vertex is used where it is still
+    /// in the list.
     Inherited(Vec<Witness>),
 }
 
@@ -260,17 +288,36 @@ impl Default for Known {
     }
 }
 
-/// The witnesses of a list that hold for the children of a split of it by `plane`, as
-/// `(front, back)`: those whose two vertices lie strictly on that child's side (a cut keeps
-/// such a vertex in that side's piece, and no fragment in the plane has one). Sorted as
-/// given; each vertex's side is computed once.
+/// What the witnesses of a list tell the children of a split of it by `plane`, as
+/// `(front, back)`: the witness vertices strictly on a child's side (a cut keeps such a vertex
+/// in that side's piece, and no fragment in the plane has one). Sorted as given; each
+/// vertex's side is computed once.
 pub fn after_split(witnesses: Vec<Witness>, plane: &PlaneEntry) -> (Known, Known) {
     let (mut front, mut back) = (Vec::new(), Vec::new());
     for w in witnesses {
-        match (w.front.side(plane), w.back.side(plane)) {
-            (Side::Front, Side::Front) => front.push(w),
-            (Side::Back, Side::Back) => back.push(w),
-            _ => {}
+        let (f, b) = (w.front.side(plane), w.back.side(plane));
+        let empty = || Clue {
+            plane: w.plane,
+            front: None,
+            back: None,
+        };
+        // Each vertex goes to the clue of the child it is in (moved, not cloned).
+        let (mut to_front, mut to_back) = (empty(), empty());
+        match f {
+            Side::Front => to_front.front = Some(w.front),
+            Side::Back => to_back.front = Some(w.front),
+            Side::On => {}
+        }
+        match b {
+            Side::Front => to_front.back = Some(w.back),
+            Side::Back => to_back.back = Some(w.back),
+            Side::On => {}
+        }
+        if to_front.front.is_some() || to_front.back.is_some() {
+            front.push(to_front);
+        }
+        if to_back.front.is_some() || to_back.back.is_some() {
+            back.push(to_back);
         }
     }
     (Known::Valid(front), Known::Valid(back))
@@ -280,63 +327,75 @@ pub fn after_split(witnesses: Vec<Witness>, plane: &PlaneEntry) -> (Known, Known
 const SCAN_MAX: usize = 8;
 
 /// For each plane of `planes` (the distinct support planes of `frags`, sorted): is it on the
-/// convex hull of `frags`? A plane with a usable witness in `known` is off the hull without a
-/// query.
+/// convex hull of `frags`? A plane with both vertices of a witness known in `known` is off the
+/// hull without a query; with one, only the other side is searched.
 pub fn hull_planes(
     frags: &[Fragment],
     planes: &[PlaneId],
     table: &PlaneTable,
     known: &Known,
 ) -> Hull {
-    let (known, valid) = match known {
-        Known::Valid(w) => (w.as_slice(), true),
-        Known::Inherited(w) => (w.as_slice(), false),
-    };
-    #[cfg(test)]
-    if valid {
-        let set = VertexSet::new(frags);
-        for w in known {
-            assert!(
-                set.contains(&w.front) && set.contains(&w.back),
-                "invalid witness"
-            );
-        }
-    }
-    // Needed to check inherited witnesses, or to query many planes.
-    let mut set = (!valid && !known.is_empty()).then(|| VertexSet::new(frags));
-    // Planes off the hull by a usable witness (indices into `known`), others to query.
-    let mut carried: Vec<Option<usize>> = vec![None; planes.len()];
-    let mut k = 0;
-    for (i, &p) in planes.iter().enumerate() {
-        while k < known.len() && known[k].plane < p {
-            k += 1;
-        }
-        if let Some(w) = known.get(k).filter(|w| w.plane == p) {
-            if set
-                .as_ref()
-                .is_none_or(|s| s.contains(&w.front) && s.contains(&w.back))
+    // What is known of each plane: vertices of `frags` strictly on its sides.
+    let mut parts: Vec<(Option<&Vertex>, Option<&Vertex>)> = vec![(None, None); planes.len()];
+    let set = match known {
+        Known::Valid(clues) => {
+            #[cfg(test)]
             {
-                carried[i] = Some(k);
+                let set = VertexSet::new(frags);
+                let parts = clues.iter().flat_map(|c| c.front.iter().chain(&c.back));
+                for v in parts {
+                    assert!(set.contains(v), "invalid clue");
+                }
             }
+            fill_parts(
+                planes,
+                clues,
+                |c| c.plane,
+                &mut parts,
+                |c| (c.front.as_ref(), c.back.as_ref()),
+            );
+            None
         }
-    }
-    let queried = carried.iter().filter(|c| c.is_none()).count();
+        // Witnesses are checked against the list's vertices.
+        Known::Inherited(witnesses) if !witnesses.is_empty() => {
+            let set = VertexSet::new(frags);
+            fill_parts(
+                planes,
+                witnesses,
+                |w| w.plane,
+                &mut parts,
+                |w| {
+                    (
+                        set.contains(&w.front).then_some(&w.front),
+                        set.contains(&w.back).then_some(&w.back),
+                    )
+                },
+            );
+            Some(set)
+        }
+        Known::Inherited(_) => None,
+    };
+    // Planes to search (both sides, or the one not known).
+    let queried = parts
+        .iter()
+        .filter(|(f, b)| f.is_none() || b.is_none())
+        .count();
     let set = if queried > SCAN_MAX {
-        let mut set = set.take().unwrap_or_else(|| VertexSet::new(frags));
+        let mut set = set.unwrap_or_else(|| VertexSet::new(frags));
         set.index();
         Some(set)
     } else {
         None
     };
-    let test = |(&p, c): (&PlaneId, &Option<usize>)| match (c, &set) {
-        (Some(k), _) => Err(known[*k].clone()),
-        (None, Some(set)) => set.hull_side(p, table),
-        (None, None) => scan(frags, p, table),
+    let test = |(&p, &(f, b)): (&PlaneId, &(Option<&Vertex>, Option<&Vertex>))| match &set {
+        _ if f.is_some() && b.is_some() => verdict(p, f, b),
+        Some(set) => set.hull_side(p, table, f, b),
+        None => scan(frags, p, table, f, b),
     };
     let results: Vec<Result<bool, Witness>> = if queried > 64 && frags.len() > 512 {
-        planes.par_iter().zip(&carried).map(test).collect()
+        planes.par_iter().zip(&parts).map(test).collect()
     } else {
-        planes.iter().zip(&carried).map(test).collect()
+        planes.iter().zip(&parts).map(test).collect()
     };
     let mut hull = Hull {
         sides: Vec::with_capacity(planes.len()),
@@ -352,6 +411,26 @@ pub fn hull_planes(
         }
     }
     hull
+}
+
+/// Sets `parts[i]` to `known(item)` for each of `items` (sorted by plane, as `planes` is) whose
+/// plane is `planes[i]`.
+fn fill_parts<'k, T>(
+    planes: &[PlaneId],
+    items: &'k [T],
+    plane_of: impl Fn(&T) -> PlaneId,
+    parts: &mut [(Option<&'k Vertex>, Option<&'k Vertex>)],
+    known: impl Fn(&'k T) -> (Option<&'k Vertex>, Option<&'k Vertex>),
+) {
+    let mut k = 0;
+    for (i, &p) in planes.iter().enumerate() {
+        while k < items.len() && plane_of(&items[k]) < p {
+            k += 1;
+        }
+        if let Some(item) = items.get(k).filter(|item| plane_of(item) == p) {
+            parts[i] = known(item);
+        }
+    }
 }
 
 #[cfg(test)]
