@@ -323,8 +323,15 @@ pub fn after_split(witnesses: Vec<Witness>, plane: &PlaneEntry) -> (Known, Known
     (Known::Valid(front), Known::Valid(back))
 }
 
-/// Planes queried by a scan of the list's vertices at most; more build the hierarchy.
+/// Planes queried by a scan of the list's vertices at most, whatever the list's size; more
+/// build the hierarchy, unless [`SCAN_WORK`] allows scans.
 const SCAN_MAX: usize = 8;
+
+/// More planes than [`SCAN_MAX`] are still scanned when `planes × fragments` is at most this:
+/// in small lists a scan (which stops at the first vertex found on each side searched) is
+/// cheaper than building the hierarchy. 8,192 gave the fewest instructions on the cow and the
+/// bunny (2,048: +0.5%, 64k: +0.4%; scanning only up to 8 planes: +1.5%).
+const SCAN_WORK: usize = 8192;
 
 /// For each plane of `planes` (the distinct support planes of `frags`, sorted): is it on the
 /// convex hull of `frags`? A plane with both vertices of a witness known in `known` is off the
@@ -380,7 +387,7 @@ pub fn hull_planes(
         .iter()
         .filter(|(f, b)| f.is_none() || b.is_none())
         .count();
-    let set = if queried > SCAN_MAX {
+    let set = if queried > SCAN_MAX && queried * frags.len() > SCAN_WORK {
         let mut set = set.unwrap_or_else(|| VertexSet::new(frags));
         set.index();
         Some(set)
@@ -538,6 +545,26 @@ mod tests {
             let got = hull_planes(&frags, &planes, &table, &Known::default());
             for (i, &p) in planes.iter().enumerate() {
                 prop_assert_eq!(got.sides[i], naive(&frags, table.get(p)));
+            }
+            // Lists this small are scanned (see `SCAN_WORK`): the hierarchy is asked directly.
+            let mut set = VertexSet::new(&frags);
+            set.index();
+            for &p in &planes {
+                let e = table.get(p);
+                match set.hull_side(p, &table, None, None) {
+                    Ok(interior_front) => prop_assert_eq!(Some(interior_front), naive(&frags, e)),
+                    Err(w) => {
+                        prop_assert_eq!(naive(&frags, e), None);
+                        prop_assert_eq!((w.front.side(e), w.back.side(e)), (Side::Front, Side::Back));
+                        // Half a witness known: the other side is searched, the known one kept.
+                        for (f, b) in [(Some(&w.front), None), (None, Some(&w.back))] {
+                            let Err(h) = set.hull_side(p, &table, f, b) else {
+                                return Err(TestCaseError::fail("a known side was lost"));
+                            };
+                            prop_assert_eq!((h.front.side(e), h.back.side(e)), (Side::Front, Side::Back));
+                        }
+                    }
+                }
             }
         }
 
