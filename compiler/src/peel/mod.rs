@@ -329,8 +329,8 @@ const SCAN_MAX: usize = 8;
 
 /// More planes than [`SCAN_MAX`] are still scanned when `planes × fragments` is at most this:
 /// in small lists a scan (which stops at the first vertex found on each side searched) is
-/// cheaper than building the hierarchy. 8,192 gave the fewest instructions on the cow and the
-/// bunny (2,048: +0.5%, 64k: +0.4%; scanning only up to 8 planes: +1.5%).
+/// cheaper than building the hierarchy. About 8,000 gave the fewest instructions on the cow
+/// and the bunny (2,000: +0.5%, 64,000: +0.4%; scanning only up to 8 planes: +1.6%).
 const SCAN_WORK: usize = 8192;
 
 /// For each plane of `planes` (the distinct support planes of `frags`, sorted): is it on the
