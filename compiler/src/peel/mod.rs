@@ -293,7 +293,10 @@ impl Default for Known {
 /// in that side's piece, and no fragment in the plane has one). Sorted as given; each
 /// vertex's side is computed once.
 pub fn after_split(witnesses: Vec<Witness>, plane: &PlaneEntry) -> (Known, Known) {
-    let (mut front, mut back) = (Vec::new(), Vec::new());
+    // Sized for the most each side can get: growing them by pushes cost 1% of the bunny's
+    // instructions (reallocations and copies).
+    let n = witnesses.len();
+    let (mut front, mut back) = (Vec::with_capacity(n), Vec::with_capacity(n));
     for w in witnesses {
         let (f, b) = (w.front.side(plane), w.back.side(plane));
         let empty = || Clue {
