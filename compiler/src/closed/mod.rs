@@ -57,6 +57,13 @@ impl Components {
     }
 }
 
+/// The uses of one undirected edge: the first two `(triangle, runs low -> high)`, and how many.
+#[derive(Default)]
+struct EdgeUses {
+    uses: [(u32, bool); 2],
+    count: u32,
+}
+
 /// Per source triangle: whether it belongs to a closed, consistently and outward oriented
 /// component (see the module docs), hence may be drawn one-sided.
 pub fn one_sided_triangles(triangles: &[SourceTriangle]) -> Vec<bool> {
@@ -72,8 +79,10 @@ pub fn one_sided_triangles(triangles: &[SourceTriangle]) -> Vec<bool> {
         })
         .collect();
 
-    // Undirected edge (low, high) -> its uses: (triangle, runs low -> high).
-    let mut edges: FastMap<(u32, u32), Vec<(u32, bool)>> = FastMap::default();
+    // Undirected edge (low, high) -> its first two uses (triangle, runs low -> high) and how
+    // many there are. All the triangles of an edge join one component, and one bad triangle
+    // spoils its component, so marking one of them bad is enough (no list per edge).
+    let mut edges: FastMap<(u32, u32), EdgeUses> = FastMap::default();
     let mut components = Components((0..n as u32).collect());
     let mut bad = vec![false; n];
     for (t, c) in corners.iter().enumerate() {
@@ -83,19 +92,22 @@ pub fn one_sided_triangles(triangles: &[SourceTriangle]) -> Vec<bool> {
         }
         for k in 0..3 {
             let (a, b) = (c[k], c[(k + 1) % 3]);
-            let uses = edges.entry((a.min(b), a.max(b))).or_default();
-            if let Some(&(other, _)) = uses.first() {
-                components.union(t as u32, other);
+            let e = edges.entry((a.min(b), a.max(b))).or_default();
+            match e.count {
+                0 => e.uses[0] = (t as u32, a < b),
+                1 => e.uses[1] = (t as u32, a < b),
+                _ => bad[t] = true, // a third use: not a manifold edge
             }
-            uses.push((t as u32, a < b));
+            if e.count > 0 {
+                components.union(t as u32, e.uses[0].0);
+            }
+            e.count = e.count.saturating_add(1);
         }
     }
-    for uses in edges.values() {
-        let closed = matches!(uses.as_slice(), [(_, x), (_, y)] if x != y);
-        if !closed {
-            for &(t, _) in uses {
-                bad[t as usize] = true;
-            }
+    for e in edges.values() {
+        // Open (one use), or two uses in the same direction.
+        if e.count == 1 || (e.count == 2 && e.uses[0].1 == e.uses[1].1) {
+            bad[e.uses[0].0 as usize] = true;
         }
     }
 
