@@ -221,7 +221,7 @@ fn draw<const SUB: u32>(
                         depth: &mut work.depth_u32,
                         width: w as usize,
                     };
-                    zbuffer::render_int::<SUB>(tris, &view, &mut f)
+                    zbuffer::render::<SUB, u32>(tris, &view, &mut f)
                 }
                 "zbuffer-f32" => {
                     work.depth_f32.resize(n, 0.0);
@@ -230,7 +230,7 @@ fn draw<const SUB: u32>(
                         depth: &mut work.depth_f32,
                         width: w as usize,
                     };
-                    zbuffer::render_f32::<SUB>(tris, &view, &mut f)
+                    zbuffer::render::<SUB, f32>(tris, &view, &mut f)
                 }
                 _ => newell::render::<SUB>(tris, &view, &mut ids),
             };

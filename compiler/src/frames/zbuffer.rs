@@ -1,6 +1,7 @@
 //! Z-buffer baselines (seeds 001 and 003) over the source triangles, with the runtime's fill and
 //! its top-left rule: per pixel, keep the nearest surface by interpolated `1/z`, in `f32` or in
-//! fixed-point integers.
+//! fixed-point integers. One frame loop serves both; a [`Depth`] type says how a triangle's
+//! `1/z` plane is stored and walked along a span.
 
 use peel_runtime::fill::fill_polygon;
 use peel_runtime::target::{Colour, SpanSink};
@@ -18,109 +19,129 @@ pub struct ZFrame<'a, D> {
     pub width: usize,
 }
 
-struct F32Sink<'f, 'a> {
-    frame: &'f mut ZFrame<'a, f32>,
-    plane: [f32; 3],
-    id: u32,
-    written: u64,
+/// A depth buffer's number format.
+pub trait Depth: Copy + Default + Sized {
+    /// A triangle's `1/z` as a function of the pixel, in this format.
+    type Plane: Copy;
+
+    /// The format's plane for `1/z = a x + b y + c` (screen pixels).
+    fn plane(abc: [f64; 3], view: &View) -> Self::Plane;
+
+    /// Depth-test the pixels `x0..x1` of row `y` against `plane`, writing `id + 1` where the
+    /// triangle is nearer; returns the pixels written.
+    fn span(
+        frame: &mut ZFrame<'_, Self>,
+        plane: &Self::Plane,
+        y: u32,
+        x0: u32,
+        x1: u32,
+        id: u32,
+    ) -> u64;
 }
 
-impl SpanSink for F32Sink<'_, '_> {
-    fn span(&mut self, y: u32, x0: u32, x1: u32, _: Colour) {
-        let [a, b, c] = self.plane;
-        let row = y as usize * self.frame.width;
+impl Depth for f32 {
+    type Plane = [f32; 3];
+
+    fn plane(abc: [f64; 3], _: &View) -> [f32; 3] {
+        abc.map(|v| v as f32)
+    }
+
+    fn span(
+        frame: &mut ZFrame<'_, f32>,
+        plane: &[f32; 3],
+        y: u32,
+        x0: u32,
+        x1: u32,
+        id: u32,
+    ) -> u64 {
+        let [a, b, c] = *plane;
+        let row = y as usize * frame.width;
         let yc = y as f32 + 0.5;
+        let mut written = 0;
         for x in x0..x1 {
             let z = a * (x as f32 + 0.5) + b * yc + c;
             let k = row + x as usize;
-            if z > self.frame.depth[k] {
-                self.frame.depth[k] = z;
-                self.frame.ids[k] = self.id + 1;
-                self.written += 1;
+            if z > frame.depth[k] {
+                frame.depth[k] = z;
+                frame.ids[k] = id + 1;
+                written += 1;
             }
         }
+        written
     }
-}
-
-/// The f32 z-buffer: returns the pixels written.
-pub fn render_f32<const SUB: u32>(
-    tris: &[Prepared],
-    view: &View,
-    frame: &mut ZFrame<'_, f32>,
-) -> u64 {
-    frame.ids.fill(0);
-    frame.depth.fill(0.0);
-    let mut written = 0;
-    for t in tris {
-        let Some(p) = inverse_depth_plane(t.camera(), view) else {
-            continue;
-        };
-        let mut sink = F32Sink {
-            frame,
-            plane: p.map(|v| v as f32),
-            id: t.id,
-            written: 0,
-        };
-        let _ = fill_polygon::<SUB, _>(
-            t.screen(),
-            view.width,
-            view.height,
-            Colour::default(),
-            &mut sink,
-        );
-        written += sink.written;
-    }
-    written
 }
 
 /// Fractional bits of the integer depth plane's coefficients.
 const DEPTH_FRACTION: u32 = 16;
 
-struct IntSink<'f, 'a> {
-    frame: &'f mut ZFrame<'a, u32>,
-    /// `1/z` scaled to `[0, 2^30]`, as `a x + b y + c` with `DEPTH_FRACTION` fractional bits.
-    plane: [i64; 3],
+/// The integer format: `1/z` scaled to `[0, 2^30]`, the plane `a x + b y + c` with
+/// [`DEPTH_FRACTION`] fractional bits, stepped with integer adds along spans.
+impl Depth for u32 {
+    type Plane = [i64; 3];
+
+    fn plane(abc: [f64; 3], view: &View) -> [i64; 3] {
+        let scale =
+            f64::from(1u32 << 30) * f64::from(view.near) * f64::from(1u32 << DEPTH_FRACTION);
+        abc.map(|v| (v * scale).round() as i64)
+    }
+
+    fn span(
+        frame: &mut ZFrame<'_, u32>,
+        plane: &[i64; 3],
+        y: u32,
+        x0: u32,
+        x1: u32,
+        id: u32,
+    ) -> u64 {
+        let [a, b, c] = *plane;
+        let row = y as usize * frame.width;
+        // Doubled coordinates put pixel centres on integers: value(x) = (a(2x+1) + b(2y+1) + 2c) / 2.
+        let mut v = a * (2 * i64::from(x0) + 1) + b * (2 * i64::from(y) + 1) + 2 * c;
+        let mut written = 0;
+        for x in x0..x1 {
+            let z = (v >> (DEPTH_FRACTION + 1)).clamp(0, i64::from(u32::MAX)) as u32;
+            let k = row + x as usize;
+            if z > frame.depth[k] {
+                frame.depth[k] = z;
+                frame.ids[k] = id + 1;
+                written += 1;
+            }
+            v += 2 * a;
+        }
+        written
+    }
+}
+
+/// One triangle's spans, depth-tested into the frame.
+struct Sink<'f, 'a, D: Depth> {
+    frame: &'f mut ZFrame<'a, D>,
+    plane: D::Plane,
     id: u32,
     written: u64,
 }
 
-impl SpanSink for IntSink<'_, '_> {
+impl<D: Depth> SpanSink for Sink<'_, '_, D> {
     fn span(&mut self, y: u32, x0: u32, x1: u32, _: Colour) {
-        let [a, b, c] = self.plane;
-        let row = y as usize * self.frame.width;
-        // Doubled coordinates put pixel centres on integers: value(x) = (a(2x+1) + b(2y+1) + 2c) / 2.
-        let mut v = a * (2 * i64::from(x0) + 1) + b * (2 * i64::from(y) + 1) + 2 * c;
-        for x in x0..x1 {
-            let z = (v >> (DEPTH_FRACTION + 1)).clamp(0, i64::from(u32::MAX)) as u32;
-            let k = row + x as usize;
-            if z > self.frame.depth[k] {
-                self.frame.depth[k] = z;
-                self.frame.ids[k] = self.id + 1;
-                self.written += 1;
-            }
-            v += 2 * a;
-        }
+        self.written += D::span(self.frame, &self.plane, y, x0, x1, self.id);
     }
 }
 
-/// The integer z-buffer (`1/z` in 30-bit fixed point, stepped with integer adds along spans).
-pub fn render_int<const SUB: u32>(
+/// The z-buffer in format `D` (`f32` or `u32`): returns the pixels written.
+pub fn render<const SUB: u32, D: Depth>(
     tris: &[Prepared],
     view: &View,
-    frame: &mut ZFrame<'_, u32>,
+    frame: &mut ZFrame<'_, D>,
 ) -> u64 {
     frame.ids.fill(0);
-    frame.depth.fill(0);
-    let scale = f64::from(1u32 << 30) * f64::from(view.near) * f64::from(1u32 << DEPTH_FRACTION);
+    frame.depth.fill(D::default());
     let mut written = 0;
     for t in tris {
-        let Some(p) = inverse_depth_plane(t.camera(), view) else {
+        let Some(abc) = inverse_depth_plane(t.camera(), view) else {
             continue;
         };
-        let plane = p.map(|v| (v * scale).round() as i64);
-        let mut sink = IntSink {
+        let mut sink = Sink {
             frame,
-            plane,
+            plane: D::plane(abc, view),
             id: t.id,
             written: 0,
         };
