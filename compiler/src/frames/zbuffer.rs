@@ -19,8 +19,23 @@ pub struct ZFrame<'a, D> {
     pub width: usize,
 }
 
+impl<D: Depth> ZFrame<'_, D> {
+    /// The depth test at pixel `k`: keeps `z` and `id + 1` there when `z` is nearer; returns
+    /// the pixels written (0 or 1).
+    #[inline]
+    fn keep(&mut self, k: usize, z: D, id: u32) -> u64 {
+        if z > self.depth[k] {
+            self.depth[k] = z;
+            self.ids[k] = id + 1;
+            1
+        } else {
+            0
+        }
+    }
+}
+
 /// A depth buffer's number format.
-pub trait Depth: Copy + Default + Sized {
+pub trait Depth: Copy + Default + PartialOrd {
     /// A triangle's `1/z` as a function of the pixel, in this format.
     type Plane: Copy;
 
@@ -60,12 +75,7 @@ impl Depth for f32 {
         let mut written = 0;
         for x in x0..x1 {
             let z = a * (x as f32 + 0.5) + b * yc + c;
-            let k = row + x as usize;
-            if z > frame.depth[k] {
-                frame.depth[k] = z;
-                frame.ids[k] = id + 1;
-                written += 1;
-            }
+            written += frame.keep(row + x as usize, z, id);
         }
         written
     }
@@ -100,12 +110,7 @@ impl Depth for u32 {
         let mut written = 0;
         for x in x0..x1 {
             let z = (v >> (DEPTH_FRACTION + 1)).clamp(0, i64::from(u32::MAX)) as u32;
-            let k = row + x as usize;
-            if z > frame.depth[k] {
-                frame.depth[k] = z;
-                frame.ids[k] = id + 1;
-                written += 1;
-            }
+            written += frame.keep(row + x as usize, z, id);
             v += 2 * a;
         }
         written
