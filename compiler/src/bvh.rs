@@ -106,9 +106,8 @@ impl Bvh {
     /// node splits its items' box centres at the middle of the axis they spread most on (one
     /// pass), or at their median along it when the middle leaves less than a quarter on one
     /// side, so the depth grows as the logarithm of the count (and stops at [`MAX_LEVELS`]).
-    /// Boxes are merged
-    /// bottom-up. (Hierarchies are built for most nodes of the tree, so their build cost
-    /// counts.)
+    /// Boxes are merged bottom-up. (Hierarchies are built for most nodes of the tree, so their
+    /// build cost counts.)
     pub fn build<T: Clone>(
         items: &mut [T],
         bounds: impl Fn(&T) -> ([f64; 3], [f64; 3]),
