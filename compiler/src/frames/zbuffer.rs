@@ -42,16 +42,8 @@ pub trait Depth: Copy + Default + PartialOrd {
     /// The format's plane for `1/z = a x + b y + c` (screen pixels).
     fn plane(abc: [f64; 3], view: &View) -> Self::Plane;
 
-    /// Depth-test the pixels `x0..x1` of row `y` against `plane`, writing `id + 1` where the
-    /// triangle is nearer; returns the pixels written.
-    fn span(
-        frame: &mut ZFrame<'_, Self>,
-        plane: &Self::Plane,
-        y: u32,
-        x0: u32,
-        x1: u32,
-        id: u32,
-    ) -> u64;
+    /// The plane's values at the pixel centres `x0, x0 + 1, ...` of row `y`.
+    fn along(plane: &Self::Plane, x0: u32, y: u32) -> impl Iterator<Item = Self>;
 }
 
 impl Depth for f32 {
@@ -61,23 +53,10 @@ impl Depth for f32 {
         abc.map(|v| v as f32)
     }
 
-    fn span(
-        frame: &mut ZFrame<'_, f32>,
-        plane: &[f32; 3],
-        y: u32,
-        x0: u32,
-        x1: u32,
-        id: u32,
-    ) -> u64 {
+    fn along(plane: &[f32; 3], x0: u32, y: u32) -> impl Iterator<Item = f32> {
         let [a, b, c] = *plane;
-        let row = y as usize * frame.width;
         let yc = y as f32 + 0.5;
-        let mut written = 0;
-        for x in x0..x1 {
-            let z = a * (x as f32 + 0.5) + b * yc + c;
-            written += frame.keep(row + x as usize, z, id);
-        }
-        written
+        (x0..).map(move |x| a * (x as f32 + 0.5) + b * yc + c)
     }
 }
 
@@ -95,25 +74,15 @@ impl Depth for u32 {
         abc.map(|v| (v * scale).round() as i64)
     }
 
-    fn span(
-        frame: &mut ZFrame<'_, u32>,
-        plane: &[i64; 3],
-        y: u32,
-        x0: u32,
-        x1: u32,
-        id: u32,
-    ) -> u64 {
+    fn along(plane: &[i64; 3], x0: u32, y: u32) -> impl Iterator<Item = u32> {
         let [a, b, c] = *plane;
-        let row = y as usize * frame.width;
         // Doubled coordinates put pixel centres on integers: value(x) = (a(2x+1) + b(2y+1) + 2c) / 2.
         let mut v = a * (2 * i64::from(x0) + 1) + b * (2 * i64::from(y) + 1) + 2 * c;
-        let mut written = 0;
-        for x in x0..x1 {
+        std::iter::from_fn(move || {
             let z = (v >> (DEPTH_FRACTION + 1)).clamp(0, i64::from(u32::MAX)) as u32;
-            written += frame.keep(row + x as usize, z, id);
             v += 2 * a;
-        }
-        written
+            Some(z)
+        })
     }
 }
 
@@ -127,7 +96,10 @@ struct Sink<'f, 'a, D: Depth> {
 
 impl<D: Depth> SpanSink for Sink<'_, '_, D> {
     fn span(&mut self, y: u32, x0: u32, x1: u32, _: Colour) {
-        self.written += D::span(self.frame, &self.plane, y, x0, x1, self.id);
+        let row = y as usize * self.frame.width;
+        for (x, z) in (x0..x1).zip(D::along(&self.plane, x0, y)) {
+            self.written += self.frame.keep(row + x as usize, z, self.id);
+        }
     }
 }
 
