@@ -134,7 +134,7 @@ struct Diff {
 
 /// A crack pixel: the reference covers it and all its neighbours with front faces, and the
 /// render leaves it at the background or shows a back face there (on a closed, outward-facing
-/// mesh a back face is only visible through a crack, unless back faces are culled).
+/// mesh a back face is only visible through a crack).
 fn compare(mesh: &Mesh, bytes: &[u8], polys: &[Vec<DVec3>], view: &View) -> Diff {
     let frame = render_bytes(bytes, view, true, [0, 0, 0]).expect("render");
     let scene = Scene::parse(bytes).unwrap();

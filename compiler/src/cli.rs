@@ -97,7 +97,7 @@ pub struct RenderArgs {
     /// painter's algorithm.
     #[arg(long, value_enum, default_value_t = OrderArg::FrontToBack)]
     pub order: OrderArg,
-    /// Draw everything: no frustum, covered-subtree or back-face culling.
+    /// Draw everything: no frustum or coverage culling (changes no pixel; for measuring).
     #[arg(long)]
     pub no_cull: bool,
     /// Print the frame's statistics (polygons visited, culled, drawn, pixels written, overdraw).
@@ -183,10 +183,6 @@ pub fn render(args: &RenderArgs) -> Result<(), String> {
         println!("polygons visited: {}", s.polygons_visited);
         println!("subtrees culled (frustum): {}", s.nodes_culled_frustum);
         println!("subtrees culled (covered): {}", s.nodes_culled_covered);
-        println!(
-            "polygons culled (back face): {}",
-            s.polygons_culled_back_face
-        );
         println!("polygons culled (covered): {}", s.polygons_culled_covered);
         println!("polygons drawn: {}", s.polygons_drawn);
         println!("pixels written: {}", s.pixels_written);

@@ -1,4 +1,4 @@
-//! The whole compile in one call: load -> build -> closed meshes + shade -> encode. Used by the CLI, the
+//! The whole compile in one call: load -> build -> shade -> encode. Used by the CLI, the
 //! [`crate::Builder`] for build scripts, the benchmark and the tests.
 
 use std::path::{Path, PathBuf};
@@ -45,12 +45,7 @@ pub fn compile_mesh(
     options: &CompileOptions,
     progress: &(dyn Fn(u64) + Sync),
 ) -> Result<(DisplayTree, Vec<u8>), CompileError> {
-    // Which triangles are one-sided depends on the mesh alone: found while the tree builds.
-    let (tree, closed) = rayon::join(
-        || build(mesh, &options.build, progress),
-        || crate::closed::one_sided_triangles(&mesh.triangles),
-    );
-    let tree = tree?;
+    let tree = build(mesh, &options.build, progress)?;
     let colours: Vec<[u8; 3]> = tree
         .polygons
         .par_iter()
@@ -61,14 +56,8 @@ pub fn compile_mesh(
                 .shade(kd, tree.planes[p.plane as usize].normal)
         })
         .collect();
-    let one_sided: Vec<bool> = tree
-        .polygons
-        .iter()
-        .map(|p| closed[p.source as usize])
-        .collect();
     let input = crate::write::WriteInput {
         colours: &colours,
-        one_sided: &one_sided,
         ids: options.ids,
     };
     let bytes = crate::write::encode_with(&tree, &input)?;

@@ -32,8 +32,6 @@ pub struct Inspect {
     pub vertices: u64,
     /// Whether source triangle ids are present.
     pub ids: bool,
-    /// Polygons flagged one-sided (back-face culled by the runtime).
-    pub one_sided_polygons: u64,
     /// Palette colours (0 without a palette).
     pub palette_colours: u64,
     /// Distinct node bounding boxes stored.
@@ -59,9 +57,6 @@ pub fn inspect(bytes: &[u8]) -> Result<Inspect, ReadError> {
         planes: header.plane_count.into(),
         vertices: header.vertex_count.into(),
         ids: header.flags & header_flags::IDS != 0,
-        one_sided_polygons: (0..header.polygon_count)
-            .filter(|&i| scene.polygon(i).flags & polygon_flags::ONE_SIDED != 0)
-            .count() as u64,
         palette_colours: header.palette_count.into(),
         node_bounds: header.bounds_count.into(),
         bytes: bytes.len() as u64,
@@ -233,7 +228,6 @@ fn write_polygon(out: &mut String, scene: &Scene<'_>, p: u32, indent: usize) {
             polygon.flags & polygon_flags::INTERIOR_FRONT != 0,
             "interior_front",
         ),
-        (polygon.flags & polygon_flags::ONE_SIDED != 0, "one_sided"),
     ]);
     let c = polygon.colour;
     let _ = writeln!(out, "{:indent$}- index: {p}", "");
@@ -336,7 +330,6 @@ mod tests {
             planes: 3,
             vertices: 7,
             ids: true,
-            one_sided_polygons: 0,
             palette_colours: 0,
             node_bounds: 1,
             bytes: bytes.len() as u64,

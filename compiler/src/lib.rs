@@ -4,15 +4,13 @@
 //! [`load`] (OBJ + MTL -> source triangles) -> [`quantise`] (power-of-two integer grid)
 //! -> [`planes`] (exact integer planes and predicates) -> [`peel`] (convex-hull layers) /
 //! [`split`] (exact cuts and the choice of the splitting plane) -> [`tree`] (the display
-//! tree and its invariants) -> [`closed`] (which polygons may be back-face culled) -> [`shade`]
-//! (baked Lambert colours) -> [`write`] (the `.peel` bytes, written atomically).
+//! tree and its invariants) -> [`shade`] (baked Lambert colours) -> [`write`] (the `.peel` bytes, written atomically).
 #![forbid(unsafe_code)]
 #![warn(missing_docs)]
 
 pub mod bench;
 pub mod builder;
 pub(crate) mod bvh;
-pub mod closed;
 pub mod compile;
 pub mod dump;
 pub mod error;

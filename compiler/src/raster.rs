@@ -88,7 +88,7 @@ pub const HOST_SPANS_PER_ROW: usize = 64;
 pub struct Settings {
     /// Front to back (each pixel written once) or back to front (painter's algorithm).
     pub order: Order,
-    /// Frustum, covered-subtree and back-face culling.
+    /// Culling that provably changes no pixel: frustum and covered subtrees, covered polygons.
     pub cull: bool,
     /// The id image (`id + 1`, background 0) instead of colours.
     pub ids: bool,

@@ -146,7 +146,6 @@ pub fn naive_bsp_file(
         .collect();
     let input = WriteInput {
         colours: &colours,
-        one_sided: &[],
         ids,
     };
     let bytes = encode_with(&tree, &input)?;

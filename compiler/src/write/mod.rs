@@ -50,8 +50,6 @@ fn to_f32(v: DVec3, what: &str) -> Result<[f32; 3], CompileError> {
 pub struct WriteInput<'a> {
     /// Colour of each tree polygon.
     pub colours: &'a [[u8; 3]],
-    /// Per tree polygon: one-sided (see `crate::closed`); empty means all two-sided.
-    pub one_sided: &'a [bool],
     /// Keep source triangle ids.
     pub ids: bool,
 }
@@ -64,14 +62,7 @@ pub fn peel_file(
     colours: &[[u8; 3]],
     ids: bool,
 ) -> Result<PeelFile, CompileError> {
-    peel_file_with(
-        tree,
-        &WriteInput {
-            colours,
-            one_sided: &[],
-            ids,
-        },
-    )
+    peel_file_with(tree, &WriteInput { colours, ids })
 }
 
 /// [`peel_file`] with every input, in the smallest encoding ([`Encoding::smallest`]).
@@ -89,22 +80,11 @@ pub fn peel_file_encoded(
     input: &WriteInput<'_>,
     encoding: Option<Encoding>,
 ) -> Result<PeelFile, CompileError> {
-    let WriteInput {
-        colours,
-        one_sided,
-        ids,
-    } = *input;
+    let WriteInput { colours, ids } = *input;
     if colours.len() != tree.polygons.len() {
         return Err(invariant(format!(
             "{} colours for {} polygons",
             colours.len(),
-            tree.polygons.len()
-        )));
-    }
-    if !one_sided.is_empty() && one_sided.len() != tree.polygons.len() {
-        return Err(invariant(format!(
-            "{} one-sided flags for {} polygons",
-            one_sided.len(),
             tree.polygons.len()
         )));
     }
@@ -132,7 +112,6 @@ pub fn peel_file_encoded(
 
     let mut out = Emitter {
         tree,
-        one_sided,
         ids,
         file_nodes: Vec::new(),
         polygons: Vec::new(),
@@ -230,7 +209,6 @@ fn bounds(vertices: &[[f32; 3]]) -> ([f32; 3], [f32; 3]) {
 /// Builds the node, polygon, index and id arrays in file order.
 struct Emitter<'t> {
     tree: &'t DisplayTree,
-    one_sided: &'t [bool],
     ids: bool,
     file_nodes: Vec<Node>,
     /// Polygons in file order, their colour field still RGB.
@@ -383,9 +361,6 @@ impl Emitter<'_> {
         if polygon.interior_front {
             flags |= polygon_flags::INTERIOR_FRONT;
         }
-        if self.one_sided.get(p as usize) == Some(&true) {
-            flags |= polygon_flags::ONE_SIDED;
-        }
         self.polygons.push(Polygon {
             plane: polygon.plane,
             first_index: count(self.indices.len(), "polygon vertices")?,
@@ -416,14 +391,7 @@ pub fn to_bytes(file: &PeelFile) -> Result<Vec<u8>, CompileError> {
 /// The `.peel` bytes of `tree` (see [`peel_file`]), checked by the runtime's own reader before
 /// they are returned, so a file this returns is one the runtime accepts.
 pub fn encode(tree: &DisplayTree, colours: &[[u8; 3]], ids: bool) -> Result<Vec<u8>, CompileError> {
-    encode_with(
-        tree,
-        &WriteInput {
-            colours,
-            one_sided: &[],
-            ids,
-        },
-    )
+    encode_with(tree, &WriteInput { colours, ids })
 }
 
 /// [`encode`] with every input (see [`peel_file_with`]).

@@ -200,7 +200,6 @@ fn record_sizes_match_the_spec() {
     let enc = |v: &dyn erased::Encode| v.encode();
     let input = WriteInput {
         colours: &colours,
-        one_sided: &[],
         ids: true,
     };
     for encoding in Encoding::ALL {
@@ -464,12 +463,8 @@ fn two_sided_tree(per_side: u32, colour: impl Fn(u32) -> [u8; 3]) -> (DisplayTre
     (tree, colours)
 }
 
-fn input<'a>(colours: &'a [[u8; 3]], one_sided: &'a [bool], ids: bool) -> WriteInput<'a> {
-    WriteInput {
-        colours,
-        one_sided,
-        ids,
-    }
+fn input(colours: &[[u8; 3]], ids: bool) -> WriteInput<'_> {
+    WriteInput { colours, ids }
 }
 
 #[test]
@@ -519,25 +514,14 @@ fn every_optional_part_round_trips() {
         chain_tree(50),
     ];
     for (tree, colours) in &trees {
-        let one_sided: Vec<bool> = (0..colours.len()).map(|k| k % 3 == 0).collect();
         for ids in [false, true] {
-            for sided in [&[][..], &one_sided[..]] {
-                let distinct = encoding::distinct_colours(colours).len();
-                for e in Encoding::ALL {
-                    if e.flags(tree.vertices.len(), distinct).is_err() {
-                        continue;
-                    }
-                    let file =
-                        peel_file_encoded(tree, &input(colours, sided, ids), Some(e)).unwrap();
-                    assert_reads_back(&file);
-                    let one_sided_out = file
-                        .polygons
-                        .iter()
-                        .filter(|p| p.flags & polygon_flags::ONE_SIDED != 0)
-                        .count();
-                    let expected = sided.iter().filter(|&&s| s).count();
-                    assert_eq!(one_sided_out, expected);
+            let distinct = encoding::distinct_colours(colours).len();
+            for e in Encoding::ALL {
+                if e.flags(tree.vertices.len(), distinct).is_err() {
+                    continue;
                 }
+                let file = peel_file_encoded(tree, &input(colours, ids), Some(e)).unwrap();
+                assert_reads_back(&file);
             }
         }
     }
@@ -567,7 +551,7 @@ fn the_chosen_encoding_is_the_smallest() {
     ];
     let mut chosen_palettes = Vec::new();
     for (name, (tree, colours)) in &cases {
-        let input = input(colours, &[], false);
+        let input = input(colours, false);
         let chosen = to_bytes(&peel_file_with(tree, &input).unwrap()).unwrap();
         let sizes: Vec<(Encoding, usize)> = Encoding::ALL
             .into_iter()
@@ -598,20 +582,5 @@ fn the_chosen_encoding_is_the_smallest() {
         index16: true,
         palette: None,
     };
-    assert!(peel_file_encoded(tree, &input(colours, &[], false), Some(u16_indices)).is_err());
-}
-
-#[test]
-fn one_sided_flags_must_match_the_polygons() {
-    let (tree, colours) = small_tree();
-    let err = peel_file_with(&tree, &input(&colours, &[true], false)).unwrap_err();
-    assert!(err.to_string().contains("one-sided"), "{err}");
-    let file = peel_file_with(&tree, &input(&colours, &[true, false, false], false)).unwrap();
-    // Tree polygon 0 is written last (see the_file_is_the_tree_in_pre_order).
-    let flags: Vec<bool> = file
-        .polygons
-        .iter()
-        .map(|p| p.flags & polygon_flags::ONE_SIDED != 0)
-        .collect();
-    assert_eq!(flags, [false, false, true]);
+    assert!(peel_file_encoded(tree, &input(colours, false), Some(u16_indices)).is_err());
 }

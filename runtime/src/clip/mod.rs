@@ -24,7 +24,7 @@
 
 use glam::Vec3;
 
-use crate::camera::View;
+use crate::camera::{CameraBox, View};
 use crate::error::RenderError;
 
 /// Number of planes a polygon is clipped against (near + four window edges).
@@ -115,6 +115,27 @@ impl Frustum {
                     plane.eval(c) >= MARGIN * scale
                 })
             })
+    }
+
+    /// Whether every point of `b` fails one plane in [`clip_polygon`]'s own `f32` test, so
+    /// that clipping leaves nothing of any polygon inside the box.
+    ///
+    /// Why the margin makes this exact: over the exact camera-space box, `eval` is at most
+    /// `eval(centre) + |normal|·extent`; the computed positions of the box's points (vertices
+    /// and points clipped from them by earlier planes) are within `error` of it per axis
+    /// ([`CameraBox`]), which moves `eval` by at most `|normal|₁ · error`; and `eval` itself
+    /// rounds by a few units of `2^-24` of `|normal|₁ · |p|₁ + |offset|`. Asking for twice
+    /// the first plus `2^-18` of the second leaves every such point below zero.
+    pub fn excludes_box(&self, b: &CameraBox) -> bool {
+        const ROUNDING: f32 = 1.0 / 262_144.0;
+        let size = b.centre.abs() + b.extent + Vec3::splat(b.error);
+        self.planes.iter().any(|plane| {
+            let n = plane.normal.abs();
+            let scale = n.element_sum();
+            let margin = 2.0 * scale * b.error
+                + ROUNDING * (n.dot(size) + scale * b.error + plane.offset.abs());
+            plane.eval(b.centre) + n.dot(b.extent) + margin < 0.0
+        })
     }
 }
 

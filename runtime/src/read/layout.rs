@@ -60,11 +60,11 @@ pub mod polygon_flags {
     pub const FLIPPED: u8 = 1 << 0;
     /// The rest of the polygon's convex set lies on the + side of its plane.
     pub const INTERIOR_FRONT: u8 = 1 << 1;
-    /// The polygon is one-sided (from a closed, consistently oriented mesh): the runtime may
-    /// skip it when the eye is behind its front side.
-    pub const ONE_SIDED: u8 = 1 << 2;
+    /// Set by earlier compilers on polygons of closed meshes, for a back-face culling that
+    /// could change pixels; readers accept and ignore it, writers leave it 0.
+    pub const LEGACY_ONE_SIDED: u8 = 1 << 2;
     /// Every bit this version defines; a reader refuses others.
-    pub const KNOWN: u8 = FLIPPED | INTERIOR_FRONT | ONE_SIDED;
+    pub const KNOWN: u8 = FLIPPED | INTERIOR_FRONT | LEGACY_ONE_SIDED;
 }
 
 /// Values of a node's `kind`.

@@ -533,6 +533,19 @@ fn non_finite_or_out_of_bounds_floats_are_refused() {
     }
 }
 
+/// Files from earlier compilers flag the polygons of closed meshes one-sided: they still read,
+/// and the flag is no more than a bit the renderer ignores.
+#[test]
+fn the_legacy_one_sided_flag_is_accepted() {
+    let mut spec = Spec::small();
+    for p in &mut spec.polygons {
+        p.3 |= polygon_flags::LEGACY_ONE_SIDED;
+    }
+    let bytes = spec.encode();
+    let scene = Scene::parse(&bytes).expect("a legacy flag is valid");
+    assert_ne!(scene.polygon(0).flags & polygon_flags::LEGACY_ONE_SIDED, 0);
+}
+
 #[test]
 fn out_of_range_records_are_refused_at_their_offset() {
     let node_cases: [fn(&mut Spec); 9] = [

@@ -10,6 +10,31 @@
 //! window `[0, W * 2^SUB] x [0, H * 2^SUB]` (clipped points may miss the window by a rounding
 //! error). Snapping is a function of the point alone, so polygons sharing an edge share its
 //! fixed-point ends bit for bit.
+//!
+//! # Culling
+//!
+//! With [`RenderOptions::cull`] (the default) a frame skips work that cannot change a pixel,
+//! for every camera the renderer accepts, inside or outside the scene, at every `SUB` and
+//! image size:
+//! - a subtree whose box lies outside one frustum plane ([`Frustum::excludes_box`]): with
+//!   that test's margin every vertex of the subtree fails the clipper's own `f32` test for
+//!   that plane, so clipping would leave nothing of its polygons;
+//! - front to back, a subtree whose screen box widened by the projection and snapping error
+//!   ([`slack`]) holds no uncovered pixel centre, and a polygon whose snapped points' sample
+//!   rectangle is all covered: in front-to-back order a covered pixel is never written again,
+//!   so these could only have written nothing;
+//! - clipping, when the whole scene passes every plane with margin
+//!   ([`Frustum::contains_box`]): clipping would return every polygon unchanged.
+//!
+//! There is deliberately no back-face culling. It is not pixel-neutral with snapped
+//! coordinates even for an eye outside a closed, outward-oriented mesh wholly in front of the
+//! near plane (where it is exact in real numbers): snapping can turn a tiny face near a
+//! silhouette over, and a pixel centre in the gap it leaves is covered by far-side faces
+//! only (the snapped images of a closed surface cover every point with orientations summing
+//! to zero, so there they come in pairs, one of them turned over). The display order decides
+//! which one shows, and a rule that judges one polygon at a time cannot tell it from the one
+//! it hides. Front to back, a closed mesh's far side comes after its near side has covered
+//! its pixels, and the coverage tests above, which are exact, skip it.
 
 use glam::{Vec2, Vec3};
 
@@ -18,7 +43,6 @@ use crate::clip::{self, Frustum};
 use crate::coverage::{Coverage, Mode};
 use crate::error::RenderError;
 use crate::fill::{self, FixedPoint};
-use crate::read::layout::polygon_flags::{FLIPPED, ONE_SIDED};
 use crate::read::{Polygon, Scene};
 use crate::target::{Colour, SpanSink};
 use crate::traverse::{DisplayTree, Order, StackEntry, Traversal};
@@ -120,8 +144,6 @@ pub struct FrameStats {
     /// Subtrees skipped because their screen rectangle was already covered (front to back;
     /// 0 without the `bounds-culling` feature).
     pub nodes_culled_covered: u64,
-    /// One-sided polygons skipped because the eye is behind them.
-    pub polygons_culled_back_face: u64,
     /// Polygons skipped because every pixel they could draw was already covered (front to
     /// back; tested on the rectangle of their sample points, before the fill).
     pub polygons_culled_covered: u64,
@@ -160,13 +182,9 @@ pub struct RenderOptions {
     pub order: Order,
     /// Colours or ids.
     pub paint: Paint,
-    /// Skip subtrees outside the frustum or (front to back) already covered (with the
-    /// `bounds-culling` feature), and one-sided polygons seen from behind. Changes the image
-    /// only where back faces of a closed mesh are visible: with the eye inside it, or its
-    /// inside opened by the near plane; turn it off to look inside closed meshes (see
-    /// `formats/peel.md`, `ONE_SIDED`). At a coarse precision (`SUB` 0 or 4) snapping can
-    /// also fold a sliver of a tiny front face over at a silhouette: a pixel centre in the
-    /// gap shows the back face behind it without culling, the background with it.
+    /// Skip work that provably draws nothing (see the module docs, "Culling"): subtrees
+    /// outside the frustum and, front to back, subtrees and polygons whose pixels are all
+    /// covered already. Never changes a pixel; off only to measure what it saves.
     pub cull: bool,
 }
 
@@ -515,11 +533,11 @@ where
 }
 
 /// How far, in pixels, a snapped vertex of an image `size` pixels wide (its larger side) may
-/// lie outside the screen rectangle of its node's box ([`View::box_on_screen`]): snapping
-/// moves it by at most `2^-(SUB+1)` of a pixel, and the box's and the vertex's `f32`
-/// projections each round by a few units in the last place of screen coordinates below
-/// `size`. `1/64` of a pixel plus `size · 2^-18` (64 such units) bounds that with room to
-/// spare: about 0.018 pixel at 640 pixels.
+/// lie outside the screen rectangle of its node's box ([`View::box_on_screen`], which already
+/// holds every computed camera-space position): snapping moves it by at most `2^-(SUB+1)` of
+/// a pixel, and the rectangle's and the vertex's screen values each round by a few units in
+/// their last place, below `size` where it matters. `1/64` of a pixel plus `size · 2^-18` (64
+/// such units) bounds that with room to spare: about 0.018 pixel at 640 pixels.
 fn slack<const SUB: u32>(size: u32) -> f32 {
     0.5 / (1u32 << SUB.min(30)) as f32 + 1.0 / 64.0 + size as f32 / (1u32 << 18) as f32
 }
@@ -616,8 +634,8 @@ impl<const SUB: u32> Painter<'_, '_, SUB> {
         }
     }
 
-    /// Whether the walk enters `node`: not when culling proves its subtree draws nothing
-    /// (always, without the `bounds-culling` feature).
+    /// Whether the walk enters `node`: not when culling proves its subtree draws nothing (see
+    /// the module docs). Always, without the `bounds-culling` feature.
     fn enter<T: Source + ?Sized>(
         &self,
         scene: &T,
@@ -635,16 +653,8 @@ impl<const SUB: u32> Painter<'_, '_, SUB> {
         let Some((lo, hi)) = scene.node_bounds(node) else {
             return true;
         };
-        let (c, e) = self.view.box_to_camera(lo, hi);
-        // Outside one half-space of the (convex) frustum: even the box's farthest corner
-        // along the plane's normal is outside.
-        let outside = !self.all_inside
-            && self
-                .frustum
-                .planes()
-                .iter()
-                .any(|plane| plane.eval(c) + plane.normal.abs().dot(e) < 0.0);
-        if outside {
+        let b = self.view.box_to_camera(lo, hi);
+        if !self.all_inside && self.frustum.excludes_box(&b) {
             tally(&mut stats.nodes_culled_frustum, 1);
             return false;
         }
@@ -652,7 +662,7 @@ impl<const SUB: u32> Painter<'_, '_, SUB> {
             return true;
         };
         // Doom's bbox check in 3D: only when the whole box is in front of the near plane.
-        let Some((min, max)) = self.view.box_on_screen(c, e) else {
+        let Some((min, max)) = self.view.box_on_screen(&b) else {
             return true;
         };
         // The pixels whose sample point `(x + 0.5, y + 0.5)` is within `slack` of the box's
@@ -681,15 +691,6 @@ impl<const SUB: u32> Painter<'_, '_, SUB> {
         sink: &mut S,
         stats: &mut FrameStats,
     ) -> Result<(), RenderError> {
-        if self.cull && polygon.flags & ONE_SIDED != 0 {
-            let plane = scene.plane(polygon.plane);
-            let d = plane.distance(self.view.eye);
-            let front = if polygon.flags & FLIPPED != 0 { -d } else { d };
-            if front < 0.0 {
-                tally(&mut stats.polygons_culled_back_face, 1);
-                return Ok(());
-            }
-        }
         let n = u32::from(polygon.vertex_count);
         if clip::buffer_len_for(n) > self.available {
             // Only a source contradicting its own maximum gets here.
