@@ -2,7 +2,9 @@
 //! brute-force f64 ray caster that follows the camera conventions to the letter.
 //!
 //! Every pixel whose sample point lies farther than 1/16 pixel from all projected edges must
-//! show exactly the reference's triangle id.
+//! show exactly the reference's triangle id, with culling on (the default) or off, in both
+//! orders, wherever the eye is: outside, inside a closed mesh, on its surface, or with the
+//! near plane cutting it open.
 
 use std::path::{Path, PathBuf};
 
@@ -10,7 +12,7 @@ use glam::DVec3;
 use peel_compiler::compile::{compile_mesh, CompileOptions};
 use peel_compiler::load::{load_obj, Mesh};
 use peel_compiler::raster::{render_bytes_with, Settings, View};
-use peel_e2e::{reference, RefCamera};
+use peel_e2e::{closed_sphere, mesh_closed_outward, reference, RefCamera};
 use peel_runtime::read::{Node, Scene};
 use peel_runtime::traverse::Order;
 
@@ -126,27 +128,19 @@ fn compare(
     c
 }
 
-/// Both drawing orders without culling, and front to back with culling when the eye is known
-/// to be outside every closed mesh.
-fn all_settings(outside: bool) -> Vec<Settings> {
-    let mut v = vec![
-        Settings {
-            order: Order::FrontToBack,
-            cull: false,
-            ..Settings::default()
-        },
-        Settings {
-            order: Order::BackToFront,
-            cull: false,
-            ..Settings::default()
-        },
-    ];
-    if outside {
-        v.push(Settings {
-            order: Order::FrontToBack,
-            cull: true,
-            ..Settings::default()
-        });
+/// Both drawing orders, with culling (the default) and without, for every camera: culling
+/// changes no pixel, wherever the eye is: outside, inside a closed mesh, on its surface, or
+/// with the near plane cutting it open.
+fn all_settings() -> Vec<Settings> {
+    let mut v = Vec::new();
+    for cull in [true, false] {
+        for order in [Order::FrontToBack, Order::BackToFront] {
+            v.push(Settings {
+                order,
+                cull,
+                ..Settings::default()
+            });
+        }
     }
     v
 }
@@ -235,10 +229,9 @@ fn check_scene(name: &str, mesh: &Mesh, extra: &[View], splits: Splits) {
     }
     let mut total_bad = 0;
     for (k, v) in views.iter().enumerate() {
-        // Back-face culling assumes the eye is outside closed meshes: only the orbit cameras
-        // (outside the bounding box) keep it on.
+        // The orbit cameras are outside the bounding box; the others are inside or very close.
         let outside = k < 8;
-        for settings in all_settings(outside) {
+        for settings in all_settings() {
             let c = compare(mesh, &bytes, &polys, v, &settings);
             if c.bad > 0 {
                 eprintln!(
@@ -298,7 +291,7 @@ fn near_plane_cuts_polygons() {
         90,
     );
     v.near = Some(0.08);
-    for settings in all_settings(false) {
+    for settings in all_settings() {
         let c = compare(&mesh, &bytes, &polys, &v, &settings);
         assert!(c.robust_scene > 1000, "{c:?}");
         assert_eq!(c.bad, 0, "{settings:?}");
@@ -311,7 +304,7 @@ fn large_image() {
     let bytes = compile(&mesh);
     let polys = polygons(&bytes);
     let v = view(DVec3::new(5.0, 3.5, 6.0), DVec3::ZERO, 4096, 4096);
-    for settings in all_settings(true) {
+    for settings in all_settings() {
         let c = compare(&mesh, &bytes, &polys, &v, &settings);
         assert!(c.robust_scene > 1_000_000, "{c:?}");
         assert_eq!(c.bad, 0, "{settings:?}");
@@ -320,10 +313,217 @@ fn large_image() {
 
 #[test]
 fn generated_closed_meshes_match() {
-    let sphere = peel_compiler::scenes::sphere(10, 16);
+    let sphere = closed_sphere(10, 16);
+    assert!(mesh_closed_outward(&sphere));
     check_scene("sphere", &sphere, &[], Splits::Expected);
     let torus = peel_compiler::scenes::torus(16, 8);
+    assert!(mesh_closed_outward(&torus));
     check_scene("torus", &torus, &[], Splits::Expected);
     let soup = peel_compiler::scenes::soup(60, 0.4, 3);
     check_scene("soup", &soup, &[], Splits::Expected);
+}
+
+/// A camera of [`culling_matches_inside_on_and_through_closed_meshes`]: a name, the view, and
+/// the least number of robust pixels showing the scene it must compare.
+struct Shot {
+    name: String,
+    view: View,
+    min_robust_scene: usize,
+}
+
+fn shot(name: &str, eye: DVec3, target: DVec3, near: Option<f64>, min_robust_scene: usize) -> Shot {
+    Shot {
+        name: name.to_string(),
+        view: View {
+            near,
+            ..view(eye, target, 96, 72)
+        },
+        min_robust_scene,
+    }
+}
+
+/// Render `shots` of `mesh` in both orders with culling (the default) and without, and compare
+/// every robust pixel with the ray caster; each shot must compare enough scene pixels. Returns
+/// a line per shot and setting whose robust pixels differ.
+fn check_shots(scene: &str, mesh: &Mesh, shots: &[Shot]) -> Vec<String> {
+    // Not vacuous: the mesh is closed, so the cameras inside it or cutting it see back faces.
+    assert!(mesh_closed_outward(mesh), "{scene}: the mesh is not closed");
+    let bytes = compile(mesh);
+    let polys = polygons(&bytes);
+    let mut failures = Vec::new();
+    for s in shots {
+        for settings in all_settings() {
+            let c = compare(mesh, &bytes, &polys, &s.view, &settings);
+            assert!(
+                c.robust_scene >= s.min_robust_scene,
+                "{scene}, {}: only {} robust scene pixels compared ({c:?}, {:?})",
+                s.name,
+                c.robust_scene,
+                s.view
+            );
+            if c.bad > 0 {
+                failures.push(format!(
+                    "{scene}, {} ({:?}, cull {}): {} of {} robust pixels ({} showing the scene) \
+                     differ",
+                    s.name, settings.order, settings.cull, c.bad, c.robust, c.robust_scene
+                ));
+            }
+        }
+    }
+    failures
+}
+
+/// A point on triangle `i` of `mesh` (its centroid, to f64 rounding) and the triangle's unit
+/// outward normal.
+fn on_triangle(mesh: &Mesh, i: usize) -> (DVec3, DVec3) {
+    let [a, b, c] = mesh.triangles[i].vertices;
+    ((a + b + c) / 3.0, (b - a).cross(c - a).normalize())
+}
+
+/// With culling on (the default) in both orders, cameras inside closed meshes, exactly on
+/// their surface and with the near plane cutting them open see what the ray caster sees:
+/// the back faces of the mesh's inside where it shows.
+#[test]
+fn culling_matches_inside_on_and_through_closed_meshes() {
+    // The cube [-1, 1]^3.
+    let cube = load_obj(&fixture("cube.obj")).unwrap();
+    let v = DVec3::new;
+    let mut failures = check_shots(
+        "cube.obj",
+        &cube,
+        &[
+            shot("inside", v(0.2, 0.1, 0.3), v(1.0, 0.2, 0.5), None, 5000),
+            shot(
+                "inside, down",
+                v(-0.5, 0.4, -0.3),
+                v(0.3, -0.9, 0.8),
+                None,
+                5000,
+            ),
+            shot(
+                "on z = 1, inwards",
+                v(0.2, 0.1, 1.0),
+                v(0.1, 0.0, -1.0),
+                None,
+                5000,
+            ),
+            shot(
+                "on z = 1, along it",
+                v(0.2, 0.1, 1.0),
+                v(-1.0, -0.2, 1.0),
+                None,
+                2000,
+            ),
+            shot(
+                "on z = 1, grazing in",
+                v(0.2, 0.1, 1.0),
+                v(-1.0, -0.2, 0.6),
+                None,
+                3000,
+            ),
+            shot(
+                "on z = 1, outwards",
+                v(0.2, 0.1, 1.0),
+                v(1.2, 0.3, 1.6),
+                None,
+                500,
+            ),
+            shot(
+                "on x = -1, inwards",
+                v(-1.0, 0.3, -0.2),
+                v(0.5, -0.4, 0.1),
+                None,
+                5000,
+            ),
+            shot(
+                "near cuts z = 1",
+                v(0.2, 0.1, 1.02),
+                v(0.1, 0.0, -1.0),
+                Some(0.08),
+                5000,
+            ),
+            shot(
+                "near cuts x = 1",
+                v(1.03, 0.3, -0.2),
+                v(-1.0, 0.1, 0.1),
+                Some(0.1),
+                5000,
+            ),
+        ],
+    );
+
+    // The unit sphere (10 rings, 16 segments): (0, 0, 1) is one of its vertices.
+    let sphere = closed_sphere(10, 16);
+    let (p, n) = on_triangle(&sphere, 70);
+    let tangent = n.any_orthogonal_vector();
+    failures.extend(check_shots(
+        "sphere",
+        &sphere,
+        &[
+            shot("inside", v(0.1, -0.2, 0.15), v(1.0, 0.3, 0.2), None, 5000),
+            shot(
+                "inside, down",
+                v(-0.3, 0.3, -0.2),
+                v(0.5, -1.0, 0.4),
+                None,
+                5000,
+            ),
+            shot("on a face, inwards", p, p - n, None, 5000),
+            shot(
+                "on a face, grazing in",
+                p,
+                p + tangent - 0.3 * n,
+                None,
+                3000,
+            ),
+            shot(
+                "near cuts",
+                v(0.05, 0.02, 1.03),
+                DVec3::ZERO,
+                Some(0.1),
+                5000,
+            ),
+        ],
+    ));
+
+    // The torus (major radius 1, tube radius 0.35, 16 x 8): the centre of the tube's cross
+    // section at a ring of vertices, and the outer equator's vertex (1.35, 0, 0).
+    let torus = peel_compiler::scenes::torus(16, 8);
+    let u = 2.0 * std::f64::consts::PI * 3.0 / 16.0;
+    let ring = v(u.cos(), 0.0, u.sin());
+    let along = v(-u.sin(), 0.0, u.cos());
+    let (p, n) = on_triangle(&torus, 50);
+    failures.extend(check_shots(
+        "torus",
+        &torus,
+        &[
+            shot(
+                "inside the tube, along it",
+                ring * 1.02 + v(0.0, 0.05, 0.0),
+                ring + along,
+                None,
+                5000,
+            ),
+            shot(
+                "inside the tube, across it",
+                ring * 0.98,
+                ring * 1.5 + v(0.0, 0.6, 0.0),
+                None,
+                5000,
+            ),
+            shot("on a face, inwards", p, p - n, None, 5000),
+            shot(
+                "near cuts the outside",
+                v(1.38, 0.03, 0.02),
+                DVec3::ZERO,
+                Some(0.1),
+                3000,
+            ),
+        ],
+    ));
+    assert!(
+        failures.is_empty(),
+        "robust pixels differ from the reference:\n{}",
+        failures.join("\n")
+    );
 }

@@ -433,3 +433,63 @@ fn the_demo_scene_needs_split_nodes() {
     let inspect: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
     assert_eq!(inspect["split_nodes"].as_u64(), Some(splits));
 }
+
+/// The decoded RGB bytes of a PNG.
+fn rgb(png: &Path) -> Vec<u8> {
+    image::open(png).unwrap().to_rgb8().into_raw()
+}
+
+/// The value of the `--stats` line `name: value`.
+fn stat(stdout: &[u8], name: &str) -> u64 {
+    let out = String::from_utf8_lossy(stdout);
+    out.lines()
+        .find_map(|l| l.strip_prefix(name)?.strip_prefix(": "))
+        .unwrap_or_else(|| panic!("no '{name}' line in:\n{out}"))
+        .parse()
+        .unwrap()
+}
+
+#[test]
+fn render_from_inside_a_closed_mesh_is_the_same_with_and_without_culling() {
+    let dir = tempfile::tempdir().unwrap();
+    let file = dir.path().join("cube.peel");
+    let o = peel(&["compile", &fixture("cube.obj"), "-o", s(&file)]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    // The eye inside the cube [-1, 1]^3: every pixel sees one of its faces from behind.
+    let render = |name: &str, extra: &[&str]| {
+        let png = dir.path().join(name);
+        let mut args = vec![
+            "render",
+            s(&file),
+            "--eye=0.2,0.1,0.3",
+            "--target=1,0.2,0.5",
+            "--size=64x48",
+            "--stats",
+            "-o",
+            s(&png),
+        ];
+        args.extend_from_slice(extra);
+        let o = peel(&args);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        (rgb(&png), o.stdout)
+    };
+    let (culled, stats) = render("culled.png", &[]);
+    let (all, all_stats) = render("all.png", &["--no-cull"]);
+    let differ = culled
+        .chunks(3)
+        .zip(all.chunks(3))
+        .filter(|(a, b)| a != b)
+        .count();
+    assert_eq!(
+        differ,
+        0,
+        "{differ} of {} pixels change with culling",
+        64 * 48
+    );
+    assert_eq!(stat(&all_stats, "pixels written"), 64 * 48);
+    assert_eq!(
+        stat(&stats, "pixels written"),
+        64 * 48,
+        "the default render (culling on) from inside the cube writes every pixel once"
+    );
+}
