@@ -7,6 +7,8 @@ use glam::DVec3;
 
 use peel_compiler::compile::CompileOptions;
 use peel_compiler::raster::{png, render_bytes, render_bytes_with, Frame, Settings, View};
+use peel_runtime::camera::Orbit;
+use peel_runtime::read::{Header, Scene};
 use peel_runtime::traverse::Order;
 
 /// Parse `x,y,z` (negative numbers allowed: `--eye=-1,2,3` or `--eye -1,2,3`).
@@ -69,12 +71,20 @@ pub fn parse_rgb(s: &str) -> Result<[u8; 3], String> {
 pub struct RenderArgs {
     /// The .peel file.
     pub file: PathBuf,
-    /// Eye position x,y,z.
-    #[arg(long, value_parser = parse_dvec3, allow_hyphen_values = true)]
-    pub eye: DVec3,
-    /// Point looked at x,y,z.
-    #[arg(long, value_parser = parse_dvec3, allow_hyphen_values = true)]
-    pub target: DVec3,
+    /// Eye position x,y,z (with --target; without both, the scene is framed by --orbit).
+    #[arg(long, value_parser = parse_dvec3, allow_hyphen_values = true, requires = "target")]
+    pub eye: Option<DVec3>,
+    /// Point looked at x,y,z (with --eye).
+    #[arg(long, value_parser = parse_dvec3, allow_hyphen_values = true, requires = "eye")]
+    pub target: Option<DVec3>,
+    /// Without --eye/--target: look at the centre of the scene's bounding box from these
+    /// angles in degrees, azimuth around the y axis (from +z towards +x) and elevation.
+    #[arg(long, value_parser = parse_orbit, allow_hyphen_values = true, conflicts_with = "eye")]
+    pub orbit: Option<(f64, f64)>,
+    /// Without --eye/--target: the eye's distance from the box centre in bounding radii
+    /// (default: the nearest at which the whole scene is in view).
+    #[arg(long, conflicts_with = "eye")]
+    pub distance: Option<f64>,
     /// Up direction x,y,z.
     #[arg(long, value_parser = parse_dvec3, allow_hyphen_values = true, default_value = "0,1,0")]
     pub up: DVec3,
@@ -103,9 +113,80 @@ pub struct RenderArgs {
     /// Print the frame's statistics (polygons visited, culled, drawn, pixels written, overdraw).
     #[arg(long)]
     pub stats: bool,
-    /// Output PNG.
+    /// Output PNG (the name must end in .png).
     #[arg(short, long)]
     pub output: PathBuf,
+}
+
+/// `--orbit` values: `azimuth,elevation` in degrees, the elevation strictly between -90 and 90.
+pub fn parse_orbit(s: &str) -> Result<(f64, f64), String> {
+    let parts: Vec<&str> = s.split(',').map(str::trim).collect();
+    let [az, el] = parts[..] else {
+        return Err(format!("expected azimuth,elevation in degrees, got '{s}'"));
+    };
+    let number = |p: &str| {
+        p.parse::<f64>()
+            .ok()
+            .filter(|v| v.is_finite())
+            .ok_or_else(|| format!("'{p}' is not a finite number (in '{s}')"))
+    };
+    let (az, el) = (number(az)?, number(el)?);
+    if !(el > -90.0 && el < 90.0) {
+        return Err(format!(
+            "elevation {el} is not strictly between -90 and 90 (straight up or down, the view \
+             would be parallel to the up direction)"
+        ));
+    }
+    Ok((az, el))
+}
+
+/// The camera `args` ask for over the scene with header `header`: `--eye`/`--target`, or an
+/// orbit that frames the scene.
+fn render_view(args: &RenderArgs, header: &Header) -> Result<View, String> {
+    let (eye, target) = match (args.eye, args.target) {
+        (Some(eye), Some(target)) => (eye, target),
+        _ => {
+            let (azimuth_deg, elevation_deg) = args.orbit.unwrap_or_else(|| {
+                let o = Orbit::default();
+                (o.azimuth_deg, o.elevation_deg)
+            });
+            let distance = args
+                .distance
+                .unwrap_or_else(|| Orbit::fitting_distance(args.fov, args.size.0, args.size.1));
+            if !(distance.is_finite() && distance > 0.0) {
+                return Err(format!("--distance {distance} is not a positive number"));
+            }
+            let pose = Orbit {
+                azimuth_deg,
+                elevation_deg,
+                distance,
+            }
+            .pose(header);
+            (pose.eye, pose.target)
+        }
+    };
+    Ok(View {
+        eye,
+        target,
+        up: args.up,
+        fov_y_deg: args.fov,
+        width: args.size.0,
+        height: args.size.1,
+        near: args.near,
+    })
+}
+
+/// Why a camera is degenerate, when it is for a reason the user can fix with one flag.
+fn camera_hint(view: &View) -> Option<&'static str> {
+    let forward = view.target - view.eye;
+    if forward.length_squared() == 0.0 {
+        return Some("--eye and --target are the same point");
+    }
+    let cross = forward.normalize().cross(view.up.normalize_or_zero());
+    (cross.length() < 1e-9).then_some(
+        "the view direction is parallel to --up (looking straight up or down?): pass another \
+         --up, e.g. --up=0,0,-1",
+    )
 }
 
 /// `--order` values.
@@ -156,16 +237,20 @@ pub fn dump(path: &Path) -> Result<(), String> {
 
 /// `peel render`.
 pub fn render(args: &RenderArgs) -> Result<(), String> {
+    let png_name = args
+        .output
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("png"));
+    if !png_name {
+        return Err(format!(
+            "{}: peel render writes PNG only: give the output a .png name",
+            args.output.display()
+        ));
+    }
     let bytes = read(&args.file)?;
-    let view = View {
-        eye: args.eye,
-        target: args.target,
-        up: args.up,
-        fov_y_deg: args.fov,
-        width: args.size.0,
-        height: args.size.1,
-        near: args.near,
-    };
+    let scene = Scene::parse(&bytes)
+        .map_err(|e| format!("{}: invalid .peel file: {e}", args.file.display()))?;
+    let view = render_view(args, &scene.header())?;
     let settings = Settings {
         order: match args.order {
             OrderArg::FrontToBack => Order::FrontToBack,
@@ -175,9 +260,19 @@ pub fn render(args: &RenderArgs) -> Result<(), String> {
         ids: args.ids,
         background: args.background,
     };
-    let frame = render_bytes_with(&bytes, &view, &settings)
-        .map_err(|e| format!("{}: {e}", args.file.display()))?;
+    let frame =
+        render_bytes_with(&bytes, &view, &settings).map_err(|e| match camera_hint(&view) {
+            Some(hint) => format!("{}: {e}: {hint}", args.file.display()),
+            None => format!("{}: {e}", args.file.display()),
+        })?;
     write_png(&args.output, &frame)?;
+    if frame.stats.pixels_written == 0 {
+        eprintln!(
+            "warning: {}: no pixel of the scene is in view (the image is all background); \
+             without --eye/--target the scene is framed for you",
+            args.output.display()
+        );
+    }
     if args.stats {
         let s = &frame.stats;
         println!("polygons visited: {}", s.polygons_visited);

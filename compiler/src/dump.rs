@@ -12,7 +12,7 @@ use serde::Serialize;
 const DECIMALS: usize = 6;
 
 /// Counters of `peel inspect`.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct Inspect {
     /// The file's format version.
     pub format_version: u16,
@@ -32,6 +32,15 @@ pub struct Inspect {
     pub vertices: u64,
     /// Whether source triangle ids are present.
     pub ids: bool,
+    /// World position of the centre of the scene's bounding box (what a framing camera looks
+    /// at).
+    pub centre: [f64; 3],
+    /// World lower corner of the scene's bounding box.
+    pub bounds_min: [f64; 3],
+    /// World upper corner of the scene's bounding box.
+    pub bounds_max: [f64; 3],
+    /// Half the box diagonal: the radius of a sphere holding the whole scene.
+    pub radius: f64,
     /// Palette colours (0 without a palette).
     pub palette_colours: u64,
     /// Distinct node bounding boxes stored.
@@ -44,6 +53,8 @@ pub struct Inspect {
 pub fn inspect(bytes: &[u8]) -> Result<Inspect, ReadError> {
     let scene = Scene::parse(bytes)?;
     let header = scene.header();
+    let origin = glam::DVec3::from_array(header.centre);
+    let (lo, hi) = (header.bounds_min.as_dvec3(), header.bounds_max.as_dvec3());
     let convex_nodes = (0..header.node_count)
         .filter(|&i| matches!(scene.node(i), Node::Convex { .. }))
         .count() as u64;
@@ -57,6 +68,10 @@ pub fn inspect(bytes: &[u8]) -> Result<Inspect, ReadError> {
         planes: header.plane_count.into(),
         vertices: header.vertex_count.into(),
         ids: header.flags & header_flags::IDS != 0,
+        centre: (origin + (lo + hi) * 0.5).to_array(),
+        bounds_min: (origin + lo).to_array(),
+        bounds_max: (origin + hi).to_array(),
+        radius: (hi - lo).length() * 0.5,
         palette_colours: header.palette_count.into(),
         node_bounds: header.bounds_count.into(),
         bytes: bytes.len() as u64,
@@ -330,6 +345,11 @@ mod tests {
             planes: 3,
             vertices: 7,
             ids: true,
+            // The tree's vertices span (-0.25, 0, 0)..(1, 1, 1) around (100, 200, 300).
+            centre: [100.375, 200.5, 300.5],
+            bounds_min: [99.75, 200.0, 300.0],
+            bounds_max: [101.0, 201.0, 301.0],
+            radius: 3.5625f64.sqrt() / 2.0,
             palette_colours: 0,
             node_bounds: 1,
             bytes: bytes.len() as u64,

@@ -493,3 +493,185 @@ fn render_from_inside_a_closed_mesh_is_the_same_with_and_without_culling() {
         "the default render (culling on) from inside the cube writes every pixel once"
     );
 }
+
+/// The pixels written, from `render --stats` output.
+fn pixels_written(stdout: &[u8]) -> u64 {
+    let text = String::from_utf8_lossy(stdout);
+    let line = text
+        .lines()
+        .find_map(|l| l.strip_prefix("pixels written: "))
+        .unwrap_or_else(|| panic!("no 'pixels written' line in: {text}"));
+    line.trim().parse().unwrap()
+}
+
+#[test]
+fn render_frames_the_scene_by_itself_and_inspect_prints_where_it_is() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = dir.path().join("demo.peel");
+    assert!(peel(&["compile", &fixture("demo.obj"), "-o", s(&scene)])
+        .status
+        .success());
+    // No --eye/--target: an orbit around the scene's box, at the distance that fits it.
+    let framed = dir.path().join("framed.png");
+    let o = peel(&[
+        "render",
+        s(&scene),
+        "--size=96x72",
+        "--stats",
+        "-o",
+        s(&framed),
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let seen = pixels_written(&o.stdout);
+    assert!(seen > 96 * 72 / 10, "only {seen} pixels of the scene");
+    // The scene fits: no pixel of its border row or column is covered (background is black).
+    let img = image::load_from_memory(&std::fs::read(&framed).unwrap())
+        .unwrap()
+        .to_rgb8();
+    let border = (0..96)
+        .flat_map(|x| [(x, 0), (x, 71)])
+        .chain((0..72).flat_map(|y| [(0, y), (95, y)]));
+    assert!(border
+        .into_iter()
+        .all(|(x, y)| img.get_pixel(x, y).0 == [0, 0, 0]));
+    // Other angles and distances; the orbit equals the camera it describes.
+    let side = dir.path().join("side.png");
+    let o = peel(&[
+        "render",
+        s(&scene),
+        "--orbit=90,0",
+        "--distance=3",
+        "--size=96x72",
+        "-o",
+        s(&side),
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let o = peel(&["inspect", s(&scene), "--json"]);
+    assert!(o.status.success());
+    let info: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    let v = |k: &str| -> Vec<f64> {
+        let a = info[k]
+            .as_array()
+            .unwrap_or_else(|| panic!("inspect lacks {k}"));
+        a.iter().map(|x| x.as_f64().unwrap()).collect()
+    };
+    let (c, r) = (v("centre"), info["radius"].as_f64().unwrap());
+    let (lo, hi) = (v("bounds_min"), v("bounds_max"));
+    for k in 0..3 {
+        assert!(lo[k] < hi[k] && ((lo[k] + hi[k]) / 2.0 - c[k]).abs() < 1e-9);
+    }
+    let eye = format!("--eye={},{},{}", c[0] + 3.0 * r, c[1], c[2]);
+    let target = format!("--target={},{},{}", c[0], c[1], c[2]);
+    let explicit = dir.path().join("explicit.png");
+    let o = peel(&[
+        "render",
+        s(&scene),
+        &eye,
+        &target,
+        "--size=96x72",
+        "-o",
+        s(&explicit),
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert_eq!(
+        std::fs::read(&side).unwrap(),
+        std::fs::read(&explicit).unwrap()
+    );
+}
+
+#[test]
+fn render_explains_what_it_cannot_do() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = dir.path().join("cube.peel");
+    assert!(peel(&["compile", &fixture("cube.obj"), "-o", s(&scene)])
+        .status
+        .success());
+    let fails = |args: &[&str], says: &str| {
+        let o = peel(args);
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert!(!o.status.success(), "{args:?} succeeded");
+        assert!(err.contains(says), "{args:?}: {err}");
+    };
+    // An extension it does not write: refused before anything is written.
+    let ppm = dir.path().join("x.ppm");
+    fails(&["render", s(&scene), "--size=8x8", "-o", s(&ppm)], ".png");
+    assert!(!ppm.exists());
+    // Looking straight down with the default up: the error says which flag fixes it.
+    let down = dir.path().join("down.png");
+    fails(
+        &[
+            "render",
+            s(&scene),
+            "--eye=0,5,0",
+            "--target=0,0,0",
+            "--size=8x8",
+            "-o",
+            s(&down),
+        ],
+        "--up",
+    );
+    assert!(!down.exists());
+    let o = peel(&[
+        "render",
+        s(&scene),
+        "--eye=0,5,0",
+        "--target=0,0,0",
+        "--up=0,0,-1",
+        "--size=8x8",
+        "-o",
+        s(&down),
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    // Half a camera, or a camera and an orbit, or an orbit straight down.
+    let out = dir.path().join("y.png");
+    fails(
+        &[
+            "render",
+            s(&scene),
+            "--eye=0,0,5",
+            "--size=8x8",
+            "-o",
+            s(&out),
+        ],
+        "--target",
+    );
+    fails(
+        &[
+            "render",
+            s(&scene),
+            "--eye=0,0,5",
+            "--target=0,0,0",
+            "--orbit=0,0",
+            "--size=8x8",
+            "-o",
+            s(&out),
+        ],
+        "--orbit",
+    );
+    fails(
+        &[
+            "render",
+            s(&scene),
+            "--orbit=0,90",
+            "--size=8x8",
+            "-o",
+            s(&out),
+        ],
+        "elevation",
+    );
+    // A camera looking away: the image is written, with a warning.
+    let away = dir.path().join("away.png");
+    let o = peel(&[
+        "render",
+        s(&scene),
+        "--eye=0,0,5",
+        "--target=0,0,10",
+        "--size=8x8",
+        "-o",
+        s(&away),
+    ]);
+    assert!(o.status.success());
+    assert!(away.exists());
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(err.contains("warning") && err.contains("no pixel"), "{err}");
+}

@@ -51,6 +51,7 @@
 use glam::{DVec3, Vec2, Vec3};
 
 use crate::error::RenderError;
+use crate::read::Header;
 
 /// Field of view used when the caller has no preference, in degrees.
 pub const DEFAULT_FOV_Y_DEG: f64 = 60.0;
@@ -78,6 +79,67 @@ impl Pose {
             target,
             up: DEFAULT_UP,
         }
+    }
+}
+
+/// A camera position that needs no knowledge of a scene's coordinates: on a sphere around the
+/// centre of the scene's bounding box (from its header), looking at that centre, up `0,1,0`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Orbit {
+    /// Degrees around the vertical (`y`) axis, from `+z` towards `+x`.
+    pub azimuth_deg: f64,
+    /// Degrees above the horizontal plane, strictly between -90 and 90 (straight up or down
+    /// the view direction would be parallel to `up`).
+    pub elevation_deg: f64,
+    /// Distance of the eye from the box centre, in bounding radii (half the box diagonal):
+    /// above 1 the eye is outside the whole scene.
+    pub distance: f64,
+}
+
+impl Default for Orbit {
+    /// A three-quarter view from slightly above, at 2.5 bounding radii: the whole scene fits
+    /// a 60° field of view with room to spare.
+    fn default() -> Self {
+        Orbit {
+            azimuth_deg: 30.0,
+            elevation_deg: 20.0,
+            distance: 2.5,
+        }
+    }
+}
+
+impl Orbit {
+    /// The smallest distance, in bounding radii, at which the bounding sphere fits a
+    /// `width x height` image with a vertical field of view `fov_y_deg`, plus 5% of margin.
+    pub fn fitting_distance(fov_y_deg: f64, width: u32, height: u32) -> f64 {
+        let half_y = (fov_y_deg * 0.5).to_radians();
+        let aspect = f64::from(width.max(1)) / f64::from(height.max(1));
+        let half_x = libm::atan(libm::tan(half_y) * aspect);
+        1.05 / libm::sin(half_y.min(half_x))
+    }
+
+    /// The world-space bounding sphere of a scene: its box's centre and half diagonal (1 for
+    /// a scene without extent, so that a pose can still be made).
+    pub fn bounding_sphere(header: &Header) -> (DVec3, f64) {
+        let (lo, hi) = (header.bounds_min.as_dvec3(), header.bounds_max.as_dvec3());
+        let centre = DVec3::from_array(header.centre) + (lo + hi) * 0.5;
+        let radius = (hi - lo).length() * 0.5;
+        (centre, if radius > 0.0 { radius } else { 1.0 })
+    }
+
+    /// The pose of this orbit around the scene whose header is `header`.
+    pub fn pose(&self, header: &Header) -> Pose {
+        let (centre, radius) = Orbit::bounding_sphere(header);
+        let (az, el) = (
+            self.azimuth_deg.to_radians(),
+            self.elevation_deg.to_radians(),
+        );
+        let dir = DVec3::new(
+            libm::cos(el) * libm::sin(az),
+            libm::sin(el),
+            libm::cos(el) * libm::cos(az),
+        );
+        Pose::new(centre + dir * (self.distance * radius), centre)
     }
 }
 
@@ -543,6 +605,87 @@ mod tests {
         assert!(cam.project(DVec3::new(0.0, 0.0, 6.0)).is_none()); // behind
         assert!(cam.project(DVec3::new(0.0, 0.0, 4.995)).is_none()); // zc = 0.005 < near
         assert!(cam.project(DVec3::new(0.0, 0.0, 4.98)).is_some()); // zc = 2 * near
+    }
+
+    fn header(centre: [f64; 3], lo: [f32; 3], hi: [f32; 3]) -> Header {
+        Header {
+            version: 1,
+            flags: 0,
+            vertex_count: 0,
+            plane_count: 0,
+            index_count: 0,
+            polygon_count: 0,
+            node_count: 0,
+            max_depth: 0,
+            max_polygon_vertices: 0,
+            centre,
+            bounds_min: Vec3::from_array(lo),
+            bounds_max: Vec3::from_array(hi),
+            palette_count: 0,
+            bounds_count: 0,
+        }
+    }
+
+    proptest::proptest! {
+        /// An orbit at the fitting distance sees every corner of the scene's box inside the
+        /// image, whatever the scene's position, size and aspect and the orbit's angles.
+        #[test]
+        fn an_orbit_at_the_fitting_distance_frames_the_whole_box(
+            centre in proptest::array::uniform3(-1e6f64..1e6),
+            lo in proptest::array::uniform3(-50.0f32..0.0),
+            size in proptest::array::uniform3(0.01f32..100.0),
+            azimuth in -360.0f64..360.0,
+            elevation in -85.0f64..85.0,
+            fov in 10.0f64..120.0,
+            width in 1u32..2000,
+            height in 1u32..2000,
+        ) {
+            let lo = Vec3::from_array(lo);
+            let hi = lo + Vec3::from_array(size);
+            let h = header(centre, lo.to_array(), hi.to_array());
+            let orbit = Orbit {
+                azimuth_deg: azimuth,
+                elevation_deg: elevation,
+                distance: Orbit::fitting_distance(fov, width, height),
+            };
+            let cam = Camera::look_at(orbit.pose(&h), fov, width, height, 1e-6).unwrap();
+            let (c, r) = Orbit::bounding_sphere(&h);
+            proptest::prop_assert!((cam.eye().distance(c) / r - orbit.distance).abs() < 1e-6);
+            for k in 0..8 {
+                let p = DVec3::new(
+                    f64::from(if k & 1 == 0 { lo.x } else { hi.x }),
+                    f64::from(if k & 2 == 0 { lo.y } else { hi.y }),
+                    f64::from(if k & 4 == 0 { lo.z } else { hi.z }),
+                ) + DVec3::from_array(centre);
+                let (sx, sy) = cam.project(p).unwrap();
+                let (w, ht) = (f64::from(width), f64::from(height));
+                proptest::prop_assert!(
+                    (0.0..=w).contains(&sx) && (0.0..=ht).contains(&sy),
+                    "corner {k} at ({sx}, {sy}) outside {width}x{height}"
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn the_default_orbit_looks_at_the_box_centre_from_the_front_right_and_above() {
+        let h = header([10.0, 0.0, 0.0], [-1.0, -2.0, -3.0], [1.0, 2.0, 3.0]);
+        let pose = Orbit::default().pose(&h);
+        assert_eq!(pose.target, DVec3::new(10.0, 0.0, 0.0));
+        let d = pose.eye - pose.target;
+        assert!(d.x > 0.0 && d.y > 0.0 && d.z > 0.0, "{d}");
+        assert!((d.length() - 2.5 * 14f64.sqrt()).abs() < 1e-9);
+        // A scene without extent still gets a pose one unit per radius away.
+        let point = header([1.0, 2.0, 3.0], [0.0; 3], [0.0; 3]);
+        assert!(
+            (Orbit::default()
+                .pose(&point)
+                .eye
+                .distance(DVec3::new(1.0, 2.0, 3.0))
+                - 2.5)
+                .abs()
+                < 1e-9
+        );
     }
 
     #[test]
