@@ -14,7 +14,7 @@ use peel_runtime::camera::{Camera, Pose};
 use peel_runtime::coverage::Coverage;
 use peel_runtime::read::layout::{HEADER_SIZE, MAGIC};
 use peel_runtime::read::{Node, Scene};
-use peel_runtime::render::{render_with_options, FrameMemory, Paint, RenderOptions, Workspace};
+use peel_runtime::render::{Paint, Renderer, Workspace};
 use peel_runtime::target::{Colour, SpanSink};
 use peel_runtime::traverse::Order;
 use peel_runtime::vertices::{CachedVertex, VertexCache};
@@ -294,30 +294,30 @@ fn render_all(scene: &Scene<'_>) -> Result<usize, TestCaseError> {
             continue;
         };
         let mut images = Vec::new();
-        // The vertex memory is kept over the frames of a camera, as a renderer would.
         let mut memory =
             vec![CachedVertex::EMPTY; (scene.header().vertex_count as usize).min(1 << 20)];
-        let mut vertices = VertexCache::new(&mut memory);
         for (order, cull, paint) in [
             (Order::BackToFront, false, Paint::Colours),
             (Order::FrontToBack, false, Paint::Colours),
             (Order::FrontToBack, true, Paint::Colours),
             (Order::BackToFront, true, Paint::Ids),
         ] {
-            let mut coverage = Coverage::new(&mut intervals, &mut counts, W, H).unwrap();
+            let coverage = Coverage::new(&mut intervals, &mut counts, W, H).unwrap();
             let mut frame = Frame::new();
-            let options = RenderOptions { order, paint, cull };
-            let result = render_with_options::<8, _, _, STACK, VERTS>(
-                scene,
-                &camera,
-                &mut workspace,
-                options,
-                FrameMemory {
-                    coverage: Some(&mut coverage),
-                    vertices: Some(&mut vertices),
-                },
-                &mut frame,
-            );
+            let options = (order, paint, cull);
+            let mut renderer = Renderer::new(&mut workspace)
+                .span_memory(coverage)
+                .vertex_memory(VertexCache::new(&mut memory));
+            if order == Order::BackToFront {
+                renderer = renderer.back_to_front();
+            }
+            if paint == Paint::Ids {
+                renderer = renderer.ids();
+            }
+            if !cull {
+                renderer = renderer.without_culling();
+            }
+            let result = renderer.draw(scene, &camera.view(scene.header().centre), &mut frame);
             match result {
                 Ok(stats) => {
                     drawn += 1;

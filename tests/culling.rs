@@ -17,7 +17,7 @@ use peel_e2e::{closed_outward, closed_sphere, mesh_closed_outward};
 use peel_runtime::camera::{Camera, Pose};
 use peel_runtime::coverage::Coverage;
 use peel_runtime::read::Scene;
-use peel_runtime::render::{render_with_options, FrameMemory, Paint, RenderOptions, Workspace};
+use peel_runtime::render::{Renderer, Workspace};
 use peel_runtime::target::{Framebuffer, Xrgb8888};
 use peel_runtime::traverse::Order;
 use peel_runtime::vertices::{CachedVertex, VertexCache};
@@ -25,38 +25,36 @@ use proptest::prelude::*;
 use proptest::test_runner::{TestCaseError, TestRunner};
 use std::cell::Cell;
 
-/// The id image of one front-to-back frame at `SUB` fractional bits, and the subtrees culled.
-fn frame<const SUB: u32>(
+/// The id image of one frame drawn by `renderer` (made for the camera's image size), and the
+/// subtrees culled.
+fn draw<const SUB: u32>(
+    renderer: &mut Renderer<'_, SUB>,
     scene: &Scene<'_>,
     camera: &Camera,
-    cull: bool,
-    vertices: Option<&mut VertexCache<'_>>,
 ) -> (Vec<u32>, u64) {
     let (w, h) = (camera.width(), camera.height());
     let mut ids = vec![0u32; (w * h) as usize];
     let mut fb = Framebuffer::<Xrgb8888>::new(&mut ids, w, h).expect("framebuffer");
+    let stats = renderer
+        .draw(scene, &camera.view(scene.header().centre), &mut fb)
+        .expect("render");
+    (ids, stats.nodes_culled_covered + stats.nodes_culled_frustum)
+}
+
+/// The id image of one front-to-back frame at `SUB` fractional bits, and the subtrees culled.
+fn frame<const SUB: u32>(scene: &Scene<'_>, camera: &Camera, cull: bool) -> (Vec<u32>, u64) {
+    let h = camera.height();
     let mut intervals = vec![(0u16, 0u16); HOST_SPANS_PER_ROW * h as usize];
     let mut counts = vec![0u16; h as usize];
-    let mut coverage = Coverage::new(&mut intervals, &mut counts, w, h).expect("coverage");
+    let coverage = Coverage::new(&mut intervals, &mut counts, camera.width(), h).expect("spans");
     let mut workspace: Box<Workspace<HOST_STACK, HOST_VERTS>> = Box::default();
-    let options = RenderOptions {
-        order: Order::FrontToBack,
-        paint: Paint::Ids,
-        cull,
-    };
-    let stats = render_with_options::<SUB, _, _, HOST_STACK, HOST_VERTS>(
-        scene,
-        camera,
-        &mut workspace,
-        options,
-        FrameMemory {
-            coverage: Some(&mut coverage),
-            vertices,
-        },
-        &mut fb,
-    )
-    .expect("render");
-    (ids, stats.nodes_culled_covered + stats.nodes_culled_frustum)
+    let mut renderer = Renderer::<SUB>::with_precision(&mut workspace)
+        .span_memory(coverage)
+        .ids();
+    if !cull {
+        renderer = renderer.without_culling();
+    }
+    draw(&mut renderer, scene, camera)
 }
 
 /// Frames of `mesh` from a ring of cameras at two distances and three image sizes, with and
@@ -74,11 +72,19 @@ fn same_with_and_without<const SUB: u32>(name: &str, mesh: &Mesh) -> u64 {
     let r = (hi - lo).length() / 2.0;
     let mut culled = 0;
     let mut memory = vec![CachedVertex::EMPTY; h.vertex_count as usize];
-    let mut vertices = VertexCache::new(&mut memory);
     for (k, (w, ht)) in [(24, 18), (64, 48), (160, 120), (1920, 1080)]
         .into_iter()
         .enumerate()
     {
+        // One renderer with vertex memory for every camera of this size, as firmware keeps it.
+        let mut intervals = vec![(0u16, 0u16); HOST_SPANS_PER_ROW * ht as usize];
+        let mut counts = vec![0u16; ht as usize];
+        let coverage = Coverage::new(&mut intervals, &mut counts, w, ht).expect("spans");
+        let mut workspace: Box<Workspace<HOST_STACK, HOST_VERTS>> = Box::default();
+        let mut cached = Renderer::<SUB>::with_precision(&mut workspace)
+            .span_memory(coverage)
+            .vertex_memory(VertexCache::new(&mut memory))
+            .ids();
         for step in 0..6 {
             let a = 0.4 + step as f64 * 1.1 + k as f64 * 0.3;
             let dist = if step % 2 == 0 { 2.2 } else { 1.3 };
@@ -87,9 +93,9 @@ fn same_with_and_without<const SUB: u32>(name: &str, mesh: &Mesh) -> u64 {
             let target = c + DVec3::new(0.3 * r * (step as f64 - 2.5) / 2.5, 0.0, 0.0);
             let near = Camera::default_near(h.bounds_min, h.bounds_max);
             let camera = Camera::look_at(Pose::new(eye, target), 60.0, w, ht, near).expect("cam");
-            let (with, n) = frame::<SUB>(&scene, &camera, true, None);
-            let (without, _) = frame::<SUB>(&scene, &camera, false, None);
-            let (cached, _) = frame::<SUB>(&scene, &camera, true, Some(&mut vertices));
+            let (with, n) = frame::<SUB>(&scene, &camera, true);
+            let (without, _) = frame::<SUB>(&scene, &camera, false);
+            let (cached, _) = draw(&mut cached, &scene, &camera);
             let stale = with.iter().zip(&cached).filter(|(a, b)| a != b).count();
             assert_eq!(
                 stale, 0,
@@ -166,26 +172,18 @@ fn ids_image<const SUB: u32>(
     let mut fb = Framebuffer::<Xrgb8888>::new(&mut ids, w, h).expect("framebuffer");
     let mut intervals = vec![(0u16, 0u16); HOST_SPANS_PER_ROW * h as usize];
     let mut counts = vec![0u16; h as usize];
-    let mut coverage = Coverage::new(&mut intervals, &mut counts, w, h).expect("coverage");
+    let coverage = Coverage::new(&mut intervals, &mut counts, w, h).expect("coverage");
     let mut workspace: Box<Workspace<HOST_STACK, HOST_VERTS>> = Box::default();
-    let options = RenderOptions {
-        order,
-        paint: Paint::Ids,
-        cull,
-    };
-    let memory = FrameMemory {
-        coverage: (order == Order::FrontToBack).then_some(&mut coverage),
-        vertices: None,
-    };
-    render_with_options::<SUB, _, _, HOST_STACK, HOST_VERTS>(
-        scene,
-        camera,
-        &mut workspace,
-        options,
-        memory,
-        &mut fb,
-    )
-    .expect("render");
+    let mut renderer = Renderer::<SUB>::with_precision(&mut workspace).ids();
+    if order == Order::FrontToBack {
+        renderer = renderer.span_memory(coverage);
+    }
+    if !cull {
+        renderer = renderer.without_culling();
+    }
+    renderer
+        .draw(scene, &camera.view(scene.header().centre), &mut fb)
+        .expect("render");
     ids
 }
 

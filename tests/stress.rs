@@ -654,7 +654,7 @@ fn fuzz_compile_obj(data: &[u8]) {
 /// `read_render`: arbitrary bytes -> reader -> render: never a panic.
 fn fuzz_read_render(data: &[u8]) {
     use peel_runtime::camera::{Camera, Pose};
-    use peel_runtime::render::{render, Paint, Workspace};
+    use peel_runtime::render::{Paint, Renderer, Workspace};
     use peel_runtime::target::testing::MockTarget;
     let Ok(scene) = Scene::parse(data) else {
         return;
@@ -675,7 +675,11 @@ fn fuzz_read_render(data: &[u8]) {
             continue;
         };
         let mut target = MockTarget::<32, 24>::allowing_overdraw();
-        let _ = render(&scene, &camera, &mut workspace, paint, &mut target);
+        let mut renderer = Renderer::new(&mut workspace);
+        if paint == Paint::Ids {
+            renderer = renderer.ids();
+        }
+        let _ = renderer.draw(&scene, &camera.view(scene.header().centre), &mut target);
     }
 }
 

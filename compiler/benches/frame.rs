@@ -17,7 +17,7 @@ use peel_compiler::raster::{HOST_SPANS_PER_ROW, HOST_STACK, HOST_VERTS};
 use peel_runtime::camera::{Camera, Pose};
 use peel_runtime::coverage::Coverage;
 use peel_runtime::read::Scene;
-use peel_runtime::render::{render_with_options, FrameMemory, Paint, RenderOptions, Workspace};
+use peel_runtime::render::{Renderer, Workspace};
 use peel_runtime::target::{Colour, Framebuffer, Xrgb8888};
 use peel_runtime::traverse::Order;
 
@@ -39,6 +39,7 @@ fn frame(c: &mut Criterion) {
         Camera::default_near(h.bounds_min, h.bounds_max),
     )
     .expect("camera");
+    let view = camera.view(scene.header().centre);
     let mut pixels = vec![0u32; (W * H) as usize];
     let mut workspace: Box<Workspace<HOST_STACK, HOST_VERTS>> = Box::default();
     let mut intervals = vec![(0u16, 0u16); HOST_SPANS_PER_ROW * H as usize];
@@ -48,33 +49,19 @@ fn frame(c: &mut Criterion) {
         ("front-to-back", Order::FrontToBack),
         ("back-to-front", Order::BackToFront),
     ] {
-        let options = RenderOptions {
-            order,
-            paint: Paint::Colours,
-            cull: true,
-        };
         g.bench_function(name, |b| {
             b.iter(|| {
                 let mut fb = Framebuffer::<Xrgb8888>::new(&mut pixels, W, H).expect("fb");
                 fb.clear(Colour::new(24, 26, 32));
-                let mut coverage =
-                    Coverage::new(&mut intervals, &mut counts, W, H).expect("coverage");
-                render_with_options::<
-                    { peel_runtime::fill::SUBPIXEL_BITS },
-                    _,
-                    _,
-                    HOST_STACK,
-                    HOST_VERTS,
-                >(
-                    black_box(&scene),
-                    &camera,
-                    &mut workspace,
-                    options,
-                    FrameMemory::from(&mut coverage),
-                    &mut fb,
-                )
-                .expect("render")
-                .pixels_written
+                let coverage = Coverage::new(&mut intervals, &mut counts, W, H).expect("coverage");
+                let mut renderer = Renderer::new(&mut workspace).span_memory(coverage);
+                if order == Order::BackToFront {
+                    renderer = renderer.back_to_front();
+                }
+                renderer
+                    .draw(black_box(&scene), &view, &mut fb)
+                    .expect("render")
+                    .pixels_written
             })
         });
     }

@@ -5,9 +5,7 @@ use glam::DVec3;
 use peel_runtime::camera::{Camera, Pose};
 use peel_runtime::coverage::Coverage;
 use peel_runtime::read::Scene;
-use peel_runtime::render::{
-    render_with_options, FrameMemory, FrameStats, Paint, RenderOptions, Workspace,
-};
+use peel_runtime::render::{FrameStats, Renderer, Workspace};
 use peel_runtime::target::Colour;
 use peel_runtime::target::{Framebuffer, Xrgb8888};
 use peel_runtime::traverse::Order;
@@ -141,31 +139,26 @@ pub fn render_bytes_with(bytes: &[u8], view: &View, settings: &Settings) -> Resu
     };
     fb.clear(bg);
     let mut workspace: Box<Workspace<HOST_STACK, HOST_VERTS>> = Box::default();
-    let paint = if ids { Paint::Ids } else { Paint::Colours };
-    let options = RenderOptions {
-        order: settings.order,
-        paint,
-        cull: settings.cull,
-    };
     let rows = view.height as usize;
     let mut intervals = vec![(0u16, 0u16); HOST_SPANS_PER_ROW * rows];
     let mut counts = vec![0u16; rows];
-    let mut coverage = Coverage::new(&mut intervals, &mut counts, view.width, view.height)
+    let coverage = Coverage::new(&mut intervals, &mut counts, view.width, view.height)
         .map_err(|e| e.to_string())?;
     let mut memory = vec![CachedVertex::EMPTY; scene.header().vertex_count as usize];
-    let mut vertices = VertexCache::new(&mut memory);
-    let stats =
-        render_with_options::<{ peel_runtime::fill::SUBPIXEL_BITS }, _, _, HOST_STACK, HOST_VERTS>(
-            &scene,
-            &camera,
-            &mut workspace,
-            options,
-            FrameMemory {
-                coverage: Some(&mut coverage),
-                vertices: Some(&mut vertices),
-            },
-            &mut fb,
-        )
+    let mut renderer = Renderer::new(&mut workspace)
+        .span_memory(coverage)
+        .vertex_memory(VertexCache::new(&mut memory));
+    if ids {
+        renderer = renderer.ids();
+    }
+    if settings.order == Order::BackToFront {
+        renderer = renderer.back_to_front();
+    }
+    if !settings.cull {
+        renderer = renderer.without_culling();
+    }
+    let stats = renderer
+        .draw(&scene, &camera.view(scene.header().centre), &mut fb)
         .map_err(|e| e.to_string())?;
     Ok(Frame {
         width: view.width,

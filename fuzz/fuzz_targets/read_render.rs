@@ -5,7 +5,7 @@ use glam::DVec3;
 use libfuzzer_sys::fuzz_target;
 use peel_runtime::camera::{Camera, Pose};
 use peel_runtime::read::Scene;
-use peel_runtime::render::{render, Paint, Workspace};
+use peel_runtime::render::{Paint, Renderer, Workspace};
 use peel_runtime::target::testing::MockTarget;
 
 fuzz_target!(|data: &[u8]| {
@@ -20,6 +20,10 @@ fuzz_target!(|data: &[u8]| {
             continue;
         };
         let mut target = MockTarget::<32, 24>::allowing_overdraw();
-        let _ = render(&scene, &camera, &mut workspace, paint, &mut target);
+        let mut renderer = Renderer::new(&mut workspace);
+        if paint == Paint::Ids {
+            renderer = renderer.ids();
+        }
+        let _ = renderer.draw(&scene, &camera.view(scene.header().centre), &mut target);
     }
 });

@@ -5,8 +5,11 @@ use std::path::PathBuf;
 
 fn main() {
     let out = PathBuf::from(std::env::var_os("OUT_DIR").expect("OUT_DIR"));
+    // The `full` configuration can paint ids: its scene keeps them.
+    let ids = std::env::var_os("CARGO_FEATURE_FULL").is_some();
     let scene = peel_compiler::Builder::new("../../fixtures/demo.obj")
         .out_name("scene.peel")
+        .ids(ids)
         .compile()
         .expect("compile the demo scene");
     // The firmware embeds exactly these bytes and, in its smallest configuration, reads them

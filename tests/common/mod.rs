@@ -50,3 +50,8 @@ pub fn mesh_closed_outward(mesh: &Mesh) -> bool {
     let triangles: Vec<[DVec3; 3]> = mesh.triangles.iter().map(|t| t.vertices).collect();
     closed_outward(&triangles)
 }
+
+/// The README's Rust examples, compiled by `cargo test` as doctests (run too, unless marked
+/// `no_run`), so that what a user copies builds.
+#[doc = include_str!("../../README.md")]
+mod readme {}

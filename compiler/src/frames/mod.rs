@@ -19,7 +19,7 @@ use glam::DVec3;
 use peel_runtime::camera::{Camera, Pose};
 use peel_runtime::coverage::Coverage;
 use peel_runtime::read::Scene;
-use peel_runtime::render::{render_with_options, FrameMemory, Paint, RenderOptions, Workspace};
+use peel_runtime::render::{Renderer, Workspace};
 use peel_runtime::target::{Framebuffer, Xrgb8888};
 use peel_runtime::traverse::Order;
 use peel_runtime::vertices::{CachedVertex, VertexCache};
@@ -161,7 +161,7 @@ fn prepare_scene(
 /// Draw one frame with `method`; `SUB` is the fixed-point precision.
 fn draw<const SUB: u32>(
     p: &Prepared,
-    scenes: &mut Scenes<'_, '_>,
+    scenes: &mut Scenes<'_>,
     method: &str,
     camera: &Camera,
     work: &mut Work,
@@ -170,11 +170,11 @@ fn draw<const SUB: u32>(
     let n = (w * h) as usize;
     match method {
         "peel-front-to-back" | "peel-back-to-front" | "naive-bsp" => {
-            let (scene, vertices) = if method == "naive-bsp" {
+            let (scene, memory) = if method == "naive-bsp" {
                 let scene = scenes.naive.as_ref().ok_or("no naive BSP")?;
-                (scene, &mut scenes.naive_vertices)
+                (scene, &mut scenes.naive_memory)
             } else {
-                (&scenes.peel, &mut scenes.peel_vertices)
+                (&scenes.peel, &mut scenes.peel_memory)
             };
             let order = if method == "peel-front-to-back" {
                 Order::FrontToBack
@@ -183,25 +183,21 @@ fn draw<const SUB: u32>(
             };
             let mut ids = vec![0u32; n];
             let mut fb = Framebuffer::<Xrgb8888>::new(&mut ids, w, h).map_err(|e| e.to_string())?;
-            let mut coverage = Coverage::new(&mut work.intervals, &mut work.counts, w, h)
+            let coverage = Coverage::new(&mut work.intervals, &mut work.counts, w, h)
                 .map_err(|e| e.to_string())?;
-            let options = RenderOptions {
-                order,
-                paint: Paint::Ids,
-                cull: true,
-            };
-            let stats = render_with_options::<SUB, _, _, HOST_STACK, HOST_VERTS>(
-                scene,
-                camera,
-                &mut work.workspace,
-                options,
-                FrameMemory {
-                    coverage: Some(&mut coverage),
-                    vertices: Some(vertices),
-                },
-                &mut fb,
-            )
-            .map_err(|e| e.to_string())?;
+            // A renderer per frame, as the method and precision change from frame to frame;
+            // its vertex memory is cleared here, which the timed frame pays for.
+            let mut renderer = Renderer::<SUB>::with_precision(&mut work.workspace)
+                .span_memory(coverage)
+                .vertex_memory(VertexCache::new(memory))
+                .ids();
+            if order == Order::BackToFront {
+                renderer = renderer.back_to_front();
+            }
+            let view = camera.view(scene.header().centre);
+            let stats = renderer
+                .draw(scene, &view, &mut fb)
+                .map_err(|e| e.to_string())?;
             Ok(Drawn {
                 ids,
                 written: stats.pixels_written,
@@ -256,13 +252,12 @@ struct Work {
 }
 
 /// A scene's files, validated once before any frame is timed (firmware parses a file once,
-/// then draws many frames from it), and the memory of their projected vertices, kept from
-/// frame to frame.
-struct Scenes<'b, 'v> {
+/// then draws many frames from it), and the memory of their projected vertices.
+struct Scenes<'b> {
     peel: Scene<'b>,
     naive: Option<Scene<'b>>,
-    peel_vertices: VertexCache<'v>,
-    naive_vertices: VertexCache<'v>,
+    peel_memory: Vec<CachedVertex>,
+    naive_memory: Vec<CachedVertex>,
 }
 
 impl Work {
@@ -318,7 +313,7 @@ struct Variant {
 fn draw_at(
     sub: u32,
     p: &Prepared,
-    scenes: &mut Scenes<'_, '_>,
+    scenes: &mut Scenes<'_>,
     method: &str,
     camera: &Camera,
     work: &mut Work,
@@ -348,13 +343,13 @@ fn measure_scene(
         None => None,
     };
     let vertex_count = |s: &Scene<'_>| s.header().vertex_count as usize;
-    let mut peel_memory = vec![CachedVertex::EMPTY; vertex_count(&peel)];
-    let mut naive_memory = vec![CachedVertex::EMPTY; naive.as_ref().map_or(0, vertex_count)];
+    let peel_memory = vec![CachedVertex::EMPTY; vertex_count(&peel)];
+    let naive_memory = vec![CachedVertex::EMPTY; naive.as_ref().map_or(0, vertex_count)];
     let mut scenes = Scenes {
         peel,
         naive,
-        peel_vertices: VertexCache::new(&mut peel_memory),
-        naive_vertices: VertexCache::new(&mut naive_memory),
+        peel_memory,
+        naive_memory,
     };
     let n = variants.len();
     let mut times: Vec<Vec<f64>> = vec![Vec::new(); n];

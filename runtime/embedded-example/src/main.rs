@@ -1,8 +1,10 @@
 //! Render frames of a scene compiled at build time into a static RGB565 framebuffer, front to
-//! back with span memory. With the `full` feature (default) the paint (colours or ids) and the
-//! order are chosen at run time, so every path of the runtime is linked; with `smallest` only
-//! front to back with colours is, with the camera computed in `f32` ([`View::look_at`]): a
-//! Cortex-M4F has no `f64` hardware.
+//! back with span memory: the scene is read once, each frame's renderer borrows the same
+//! static memory (making one costs a few stores), and every error stops the program with the
+//! error at hand (where firmware would show it). With the `full` feature (default) the paint (colours or ids) and the order are
+//! chosen at run time, so every path of the runtime is linked; with `smallest` only front to
+//! back with colours is, with the camera computed in `f32` ([`View::look_at`]): a Cortex-M4F
+//! has no `f64` hardware.
 #![no_std]
 #![no_main]
 
@@ -12,9 +14,8 @@ use panic_halt as _;
 use peel_runtime::camera::{Camera, Pose, View};
 use peel_runtime::coverage::Coverage;
 use peel_runtime::read::Scene;
-use peel_runtime::render::{render_view, FrameMemory, Paint, RenderOptions, Workspace};
+use peel_runtime::render::{Renderer, Workspace};
 use peel_runtime::target::{Colour, Rgb565Framebuffer};
-use peel_runtime::traverse::Order;
 
 /// The scene, compiled by build.rs.
 static SCENE: &[u8] = include_bytes!(concat!(env!("OUT_DIR"), "/scene.peel"));
@@ -25,20 +26,20 @@ const PIXELS: usize = (WIDTH * HEIGHT) as usize;
 /// Span memory: covered intervals per row.
 const SLOTS: usize = 16;
 
-/// How this frame is drawn.
-fn options(frame: u32) -> RenderOptions {
-    let mut options = RenderOptions::default();
-    if cfg!(feature = "full") {
-        // Opaque to the optimiser: both orders and both paints stay reachable.
-        let k = core::hint::black_box(frame);
-        if k % 3 == 1 {
-            options.order = Order::BackToFront;
-        }
-        if k % 5 == 4 {
-            options.paint = Paint::Ids;
-        }
+/// What went wrong, kept where a debugger (or a display) finds it.
+#[derive(Debug)]
+#[allow(dead_code)] // Read by a debugger, not by the program.
+enum Failure {
+    Read(peel_runtime::ReadError),
+    Render(peel_runtime::RenderError),
+    Target(peel_runtime::target::TargetError),
+}
+
+/// Stop with `failure` (a real device would show it, or reset).
+fn fail(failure: Failure) -> ! {
+    loop {
+        core::hint::black_box(&failure);
     }
-    options
 }
 
 /// Vertical field of view of the `full` configuration's `f64` camera, in degrees.
@@ -60,15 +61,15 @@ const STEP_COS: f32 = 0.998_750_26;
 /// The camera of a frame, looking from `eye` at `target` (scene coordinates, relative to the
 /// centre). With `full` the `f64` [`Camera`] (world coordinates) is linked too; otherwise the
 /// view is built in `f32`, and the binary holds no `f64` arithmetic.
-fn view(scene: &Scene<'_>, eye: Vec3, target: Vec3) -> Option<View> {
+fn view(scene: &Scene<'_>, eye: Vec3, target: Vec3) -> Result<View, peel_runtime::RenderError> {
     if cfg!(feature = "full") {
         let centre = scene.header().centre;
         let c = DVec3::from_array(centre);
         let pose = Pose::new(eye.as_dvec3() + c, target.as_dvec3() + c);
-        let camera = Camera::look_at(pose, FOV_Y_DEG, WIDTH, HEIGHT, f64::from(NEAR)).ok()?;
-        Some(camera.view(centre))
+        let camera = Camera::look_at(pose, FOV_Y_DEG, WIDTH, HEIGHT, f64::from(NEAR))?;
+        Ok(camera.view(centre))
     } else {
-        View::look_at(eye, target, Vec3::Y, FOCAL, WIDTH, HEIGHT, NEAR).ok()
+        View::look_at(eye, target, Vec3::Y, FOCAL, WIDTH, HEIGHT, NEAR)
     }
 }
 
@@ -83,6 +84,26 @@ fn parse() -> Result<Scene<'static>, peel_runtime::ReadError> {
     }
 }
 
+/// A frame's renderer over the static memory: span memory (front to back, each pixel once).
+/// With `full`, a setting opaque to the optimiser may ask for back to front or ids (the build
+/// script compiles the scene with ids), so those paths stay linked. Made per frame rather
+/// than once: the same pixels, and the smallest configuration's code stays under 8 KiB (the
+/// per-frame clear of span memory known to be word-aligned is cheaper).
+#[inline(always)]
+fn renderer<'m>(workspace: &'m mut Workspace<64, 24>, coverage: Coverage<'m>) -> Renderer<'m> {
+    let mut renderer = Renderer::new(workspace).span_memory(coverage);
+    if cfg!(feature = "full") {
+        let setting = core::hint::black_box(0u32);
+        if setting & 1 != 0 {
+            renderer = renderer.back_to_front();
+        }
+        if setting & 2 != 0 {
+            renderer = renderer.ids();
+        }
+    }
+    renderer
+}
+
 #[entry]
 fn main() -> ! {
     // cortex-m-rt turns these `static mut` into safe `&'static mut` owned by `main`.
@@ -95,36 +116,27 @@ fn main() -> ! {
     let intervals: &'static mut [(u16, u16); SLOTS * HEIGHT as usize] = INTERVALS;
     let counts: &'static mut [u16; HEIGHT as usize] = COUNTS;
     let workspace: &'static mut Workspace<64, 24> = WORKSPACE;
+    let scene = parse().unwrap_or_else(|e| fail(Failure::Read(e)));
     // The orbit angle as its sine and cosine, turned by a fixed rotation each frame (no
     // trigonometry on the device) and pulled back to the unit circle so rounding cannot drift.
     let (mut s, mut c) = (0.0f32, 1.0f32);
-    let mut n = 0u32;
     loop {
-        if let Ok(scene) = parse() {
-            let eye = Vec3::new(RADIUS * s, EYE_Y, RADIUS * c);
-            let target = Vec3::new(0.0, TARGET_Y, 0.0);
-            if let (Some(view), Ok(mut coverage)) = (
-                view(&scene, eye, target),
-                Coverage::new(&mut intervals[..], &mut counts[..], WIDTH, HEIGHT),
-            ) {
-                if let Ok(mut fb) = Rgb565Framebuffer::new(&mut frame[..], WIDTH, HEIGHT) {
-                    fb.clear(Colour::new(24, 26, 32));
-                    let _ = render_view(
-                        &scene,
-                        &view,
-                        workspace,
-                        options(n),
-                        FrameMemory::from(&mut coverage),
-                        &mut fb,
-                    );
-                }
-            }
+        let eye = Vec3::new(RADIUS * s, EYE_Y, RADIUS * c);
+        let target = Vec3::new(0.0, TARGET_Y, 0.0);
+        let view = view(&scene, eye, target).unwrap_or_else(|e| fail(Failure::Render(e)));
+        let mut fb = Rgb565Framebuffer::new(&mut frame[..], WIDTH, HEIGHT)
+            .unwrap_or_else(|e| fail(Failure::Target(e)));
+        fb.clear(Colour::new(24, 26, 32));
+        let coverage = Coverage::new(&mut intervals[..], &mut counts[..], WIDTH, HEIGHT)
+            .unwrap_or_else(|e| fail(Failure::Render(e)));
+        let mut renderer = renderer(workspace, coverage);
+        if let Err(e) = renderer.draw(&scene, &view, &mut fb) {
+            fail(Failure::Render(e));
         }
         // Hand the frame to the "display": keeps the optimiser from dropping the drawing.
         core::hint::black_box(&*frame);
         (s, c) = (s * STEP_COS + c * STEP_SIN, c * STEP_COS - s * STEP_SIN);
         let k = 1.5 - 0.5 * (s * s + c * c);
         (s, c) = (s * k, c * k);
-        n = n.wrapping_add(1);
     }
 }

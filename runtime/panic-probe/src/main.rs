@@ -15,11 +15,8 @@ use panic_never as _;
 use peel_runtime::camera::{Camera, Pose, View};
 use peel_runtime::coverage::Coverage;
 use peel_runtime::read::Scene;
-use peel_runtime::render::{
-    render, render_ordered, render_view, FrameMemory, Paint, RenderOptions, Workspace,
-};
+use peel_runtime::render::{Renderer, Workspace};
 use peel_runtime::target::{Colour, Framebuffer, Rgb565};
-use peel_runtime::traverse::Order;
 use peel_runtime::vertices::{CachedVertex, VertexCache};
 
 /// Image size of the probe (any size: the runtime checks it).
@@ -48,36 +45,29 @@ fn probe() {
         return;
     };
     fb.clear(black_box(Colour::new(1, 2, 3)));
+    let view = camera.view(scene.header().centre);
     let mut workspace: Workspace<64, 32> = Workspace::new();
-    let _ = black_box(render(
-        &scene,
-        &camera,
-        &mut workspace,
-        black_box(Paint::Colours),
-        &mut fb,
-    ));
+    let mut painter = Renderer::new(&mut workspace);
+    if black_box(false) {
+        painter = painter.without_culling();
+    }
+    let _ = black_box(painter.draw(&scene, &view, &mut fb));
     let mut intervals = [(0u16, 0u16); 8 * H as usize];
     let mut counts = [0u16; H as usize];
     // Projected vertices: any length, the file's vertex count is opaque.
     let mut memory = [CachedVertex::EMPTY; 64];
-    let mut vertices = VertexCache::new(memory.get_mut(..black_box(64)).unwrap_or_default());
-    if let Ok(mut coverage) = Coverage::new(&mut intervals, &mut counts, W, H) {
-        let options = black_box(RenderOptions {
-            order: Order::FrontToBack,
-            paint: Paint::Ids,
-            cull: true,
-        });
-        let _ = black_box(render_ordered(
-            &scene,
-            &camera,
-            &mut workspace,
-            options,
-            FrameMemory {
-                coverage: Some(&mut coverage),
-                vertices: Some(&mut vertices),
-            },
-            &mut fb,
-        ));
+    let vertices = VertexCache::new(memory.get_mut(..black_box(64)).unwrap_or_default());
+    if let Ok(coverage) = Coverage::new(&mut intervals, &mut counts, W, H) {
+        let mut renderer = Renderer::new(&mut workspace)
+            .span_memory(coverage)
+            .vertex_memory(vertices);
+        if black_box(true) {
+            renderer = renderer.ids();
+        }
+        if black_box(false) {
+            renderer = renderer.back_to_front();
+        }
+        let _ = black_box(renderer.draw(&scene, &view, &mut fb));
     }
     black_box(&pixels);
 }
@@ -92,7 +82,7 @@ fn probe_trusted() {
     };
     let (eye, target, up) = black_box((Vec3::new(3.0, 2.0, 5.0), Vec3::ZERO, Vec3::Y));
     let (focal, width, height, near) = black_box((50.0, W, H, 1e-3));
-    // Any view, even one `look_at` would refuse: `render_view` checks it.
+    // Any view, even one `look_at` would refuse: `Renderer::draw` checks it.
     let view = black_box(
         View::look_at(eye, target, up, focal, width, height, near)
             .unwrap_or_else(|_| black_box(view_from_nothing())),
@@ -104,16 +94,9 @@ fn probe_trusted() {
     let mut workspace: Workspace<64, 32> = Workspace::new();
     let mut intervals = [(0u16, 0u16); 8 * H as usize];
     let mut counts = [0u16; H as usize];
-    if let Ok(mut coverage) = Coverage::new(&mut intervals, &mut counts, W, H) {
-        let options = black_box(RenderOptions::default());
-        let _ = black_box(render_view(
-            &scene,
-            &view,
-            &mut workspace,
-            options,
-            FrameMemory::from(&mut coverage),
-            &mut fb,
-        ));
+    if let Ok(coverage) = Coverage::new(&mut intervals, &mut counts, W, H) {
+        let mut renderer = Renderer::new(&mut workspace).span_memory(coverage);
+        let _ = black_box(renderer.draw(&scene, &view, &mut fb));
     }
     black_box(&pixels);
 }

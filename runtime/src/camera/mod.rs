@@ -42,7 +42,7 @@
 //! A core without `f64` hardware (Cortex-M4F) pays for the `f64` camera in software floating
 //! point. [`View::look_at`] builds the renderer's [`View`] directly in `f32`, in the scene's
 //! local frame (coordinates relative to the header's `centre`), from a focal length in
-//! pixels (no `tan`); [`crate::render::render_view`] draws with it. It is the look-at camera
+//! pixels (no `tan`); [`crate::render::Renderer::draw`] takes it. It is the look-at camera
 //! above with `fpx = focal` and the principal point at the image centre, rounded to `f32`
 //! one step earlier (the basis is normalised in `f32`): fine for a scene near its centre,
 //! which is where the compiler puts it. Firmware that never calls [`Camera`] links no `f64`
@@ -429,7 +429,7 @@ impl View {
 
     /// Whether the view is usable: every value finite, a non-empty image, positive focal
     /// lengths and near distance ([`RenderError::BadCamera`] otherwise). The fields are
-    /// public, so [`crate::render::render_view`] checks this before drawing; a view from
+    /// public, so [`crate::render::Renderer::draw`] checks this before drawing; a view from
     /// [`View::look_at`] always passes. The basis is not checked for orthonormality: a skewed
     /// one draws a skewed image, nothing worse.
     pub fn check(&self) -> Result<(), RenderError> {

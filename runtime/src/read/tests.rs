@@ -728,7 +728,7 @@ fn trusted_parse_checks_header_and_layout_only() {
 /// view: it must end (an image or a typed error), never panic or hang.
 fn render_untrusted(scene: &Scene<'_>) {
     use crate::coverage::Coverage;
-    use crate::render::{render_view, FrameMemory, RenderOptions, Workspace};
+    use crate::render::{Renderer, Workspace};
     use crate::target::SpanSink;
     use crate::traverse::Order;
     struct Count(u64);
@@ -750,21 +750,14 @@ fn render_untrusted(scene: &Scene<'_>) {
     for order in [Order::BackToFront, Order::FrontToBack] {
         let mut intervals = [(0u16, 0u16); 2 * 12];
         let mut counts = [0u16; 12];
-        let mut cov = Coverage::new(&mut intervals, &mut counts, 16, 12).unwrap();
-        let options = RenderOptions {
-            order,
-            ..RenderOptions::default()
-        };
+        let cov = Coverage::new(&mut intervals, &mut counts, 16, 12).unwrap();
         let mut sink = Count(0);
         let mut ws = Workspace::<8, 16>::new();
-        let _ = render_view(
-            scene,
-            &view,
-            &mut ws,
-            options,
-            FrameMemory::from(&mut cov),
-            &mut sink,
-        );
+        let mut renderer = Renderer::new(&mut ws).span_memory(cov);
+        if order == Order::BackToFront {
+            renderer = renderer.back_to_front();
+        }
+        let _ = renderer.draw(scene, &view, &mut sink);
     }
 }
 

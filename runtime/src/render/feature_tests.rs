@@ -6,8 +6,9 @@ use glam::{DVec3, Vec3};
 use std::vec;
 use std::vec::Vec;
 
+use super::testing::*;
 use super::*;
-use crate::camera::Pose;
+use crate::camera::{Camera, Pose};
 use crate::read::Node;
 use crate::traverse::testing::{box_faces, TestTree};
 
@@ -48,9 +49,9 @@ fn draw(order: Order, paint: Paint) -> (Result<FrameStats, RenderError>, Vec<Col
     .unwrap();
     let mut intervals = vec![(0u16, 0u16); 8 * h as usize];
     let mut counts = vec![0u16; h as usize];
-    let mut cov = Coverage::new(&mut intervals, &mut counts, w, h).unwrap();
+    let cov = Coverage::new(&mut intervals, &mut counts, w, h).unwrap();
     let mut sink = Pixels(w, vec![Colour::default(); (w * h) as usize]);
-    let options = RenderOptions {
+    let options = Options {
         order,
         paint,
         cull: true,
@@ -60,7 +61,7 @@ fn draw(order: Order, paint: Paint) -> (Result<FrameStats, RenderError>, Vec<Col
         &cam,
         &mut Workspace::<8, 16>::new(),
         options,
-        FrameMemory::from(&mut cov),
+        Memory::from(cov),
         &mut sink,
     );
     (stats, sink.1)
@@ -140,29 +141,21 @@ fn culled_cube(order: Order) -> (FrameStats, bool) {
     .unwrap();
     let mut intervals = vec![(0u16, 0u16); 4 * 12];
     let mut counts = vec![0u16; 12];
-    let mut cov = Coverage::new(&mut intervals, &mut counts, 16, 12).unwrap();
+    let cov = Coverage::new(&mut intervals, &mut counts, 16, 12).unwrap();
     let mut sink = Pixels(16, vec![Colour::default(); 16 * 12]);
-    let options = RenderOptions {
+    let options = Options {
         order,
-        ..RenderOptions::default()
+        ..Options::default()
     };
     let mut ws = Workspace::<8, 16>::new();
-    let stats = render_ordered(
-        &t,
-        &cam,
-        &mut ws,
-        options,
-        FrameMemory::from(&mut cov),
-        &mut sink,
-    )
-    .unwrap();
+    let stats = render_ordered(&t, &cam, &mut ws, options, Memory::from(cov), &mut sink).unwrap();
     // Whether the walk enters the node, asked directly.
     let view = cam.view(t.centre);
     let (mut a, mut b) = ([Vec3::ZERO; 16], [Vec3::ZERO; 16]);
     let mut points = [FixedPoint::default(); 16];
     let mut edges = [fill::EdgeWalk::default(); 16];
     let painter = Painter::<8> {
-        view,
+        view: &view,
         frustum: Frustum::new(&view),
         max_x: 16 << 8,
         max_y: 12 << 8,

@@ -13,14 +13,15 @@
 //!
 //! # Culling
 //!
-//! With [`RenderOptions::cull`] (the default) a frame skips work that cannot change a pixel,
+//! With culling on (the default; [`Renderer::without_culling`] turns it off) a frame skips
+//! work that cannot change a pixel,
 //! for every camera the renderer accepts, inside or outside the scene, at every `SUB` and
 //! image size:
 //! - a subtree whose box lies outside one frustum plane ([`Frustum::excludes_box`]): with
 //!   that test's margin every vertex of the subtree fails the clipper's own `f32` test for
 //!   that plane, so clipping would leave nothing of its polygons;
 //! - front to back, a subtree whose screen box widened by the projection and snapping error
-//!   ([`slack`]) holds no uncovered pixel centre, and a polygon whose snapped points' sample
+//!   (`slack`) holds no uncovered pixel centre, and a polygon whose snapped points' sample
 //!   rectangle is all covered: in front-to-back order a covered pixel is never written again,
 //!   so these could only have written nothing;
 //! - clipping, when the whole scene passes every plane with margin
@@ -38,7 +39,7 @@
 
 use glam::{Vec2, Vec3};
 
-use crate::camera::{Camera, View};
+use crate::camera::View;
 use crate::clip::{self, Frustum};
 use crate::coverage::{Coverage, Mode};
 use crate::error::RenderError;
@@ -48,7 +49,7 @@ use crate::target::{Colour, SpanSink};
 use crate::traverse::{DisplayTree, Order, StackEntry, Traversal};
 use crate::vertices::VertexCache;
 
-/// Everything [`render`] reads from a scene; [`Scene`] implements it (tests use small
+/// Everything a [`Renderer`] reads from a scene; [`Scene`] implements it (tests use small
 /// in-memory trees).
 pub trait Source: DisplayTree {
     /// World position the scene's coordinates are relative to.
@@ -173,51 +174,6 @@ impl FrameStats {
     }
 }
 
-/// How a frame is drawn. The default is what the CLI's default is: front to back with all
-/// culling.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct RenderOptions {
-    /// Back to front (painter's algorithm, overdraw) or front to back (each pixel once,
-    /// needs span memory: see [`Coverage`]).
-    pub order: Order,
-    /// Colours or ids.
-    pub paint: Paint,
-    /// Skip work that provably draws nothing (see the module docs, "Culling"): subtrees
-    /// outside the frustum and, front to back, subtrees and polygons whose pixels are all
-    /// covered already. Never changes a pixel; off only to measure what it saves.
-    pub cull: bool,
-}
-
-impl Default for RenderOptions {
-    fn default() -> Self {
-        RenderOptions {
-            order: Order::FrontToBack,
-            paint: Paint::Colours,
-            cull: true,
-        }
-    }
-}
-
-/// Caller memory a frame may use besides its [`Workspace`], each part optional: span memory
-/// (front to back needs it: see [`Coverage`]) and projected vertices shared between polygons
-/// (see [`crate::vertices`]; used with the `vertex-cache` feature).
-#[derive(Debug, Default)]
-pub struct FrameMemory<'a, 'c, 'v> {
-    /// Span memory for the camera's `W x H`, cleared by the frame.
-    pub coverage: Option<&'a mut Coverage<'c>>,
-    /// Screen positions of the scene's vertices, kept from frame to frame.
-    pub vertices: Option<&'a mut VertexCache<'v>>,
-}
-
-impl<'a, 'c> From<&'a mut Coverage<'c>> for FrameMemory<'a, 'c, 'static> {
-    fn from(coverage: &'a mut Coverage<'c>) -> Self {
-        FrameMemory {
-            coverage: Some(coverage),
-            vertices: None,
-        }
-    }
-}
-
 /// The memory of a frame, fixed-size: a traversal stack of `STACK` entries (at least the
 /// tree's `max_depth`) and clip buffers of `VERTS` vertices (at least the largest polygon
 /// plus [`clip::CLIP_PLANES`], and at most [`fill::MAX_FILL_VERTICES`] are used).
@@ -278,258 +234,298 @@ fn window<const SUB: u32>(width: u32, height: u32) -> Result<(i32, i32), RenderE
     }
 }
 
-/// [`render_with`] with the default fixed-point precision [`fill::SUBPIXEL_BITS`].
-pub fn render<T, S, const STACK: usize, const VERTS: usize>(
-    scene: &T,
-    camera: &Camera,
-    workspace: &mut Workspace<STACK, VERTS>,
-    paint: Paint,
-    sink: &mut S,
-) -> Result<FrameStats, RenderError>
-where
-    T: Source + ?Sized,
-    S: SpanSink + ?Sized,
-{
-    render_with::<{ fill::SUBPIXEL_BITS }, T, S, STACK, VERTS>(
-        scene, camera, workspace, paint, sink,
-    )
-}
-
-/// Draw `scene` seen by `camera` back to front into `sink`, snapping to `SUB` fractional
-/// bits, with culling. Checks everything up front (see the module docs) and never panics.
-pub fn render_with<const SUB: u32, T, S, const STACK: usize, const VERTS: usize>(
-    scene: &T,
-    camera: &Camera,
-    workspace: &mut Workspace<STACK, VERTS>,
-    paint: Paint,
-    sink: &mut S,
-) -> Result<FrameStats, RenderError>
-where
-    T: Source + ?Sized,
-    S: SpanSink + ?Sized,
-{
-    let options = RenderOptions {
-        order: Order::BackToFront,
-        paint,
-        cull: true,
-    };
-    render_with_options::<SUB, T, S, STACK, VERTS>(
-        scene,
-        camera,
-        workspace,
-        options,
-        FrameMemory::default(),
-        sink,
-    )
-}
-
-/// [`render_with_options`] with the default fixed-point precision [`fill::SUBPIXEL_BITS`].
-pub fn render_ordered<T, S, const STACK: usize, const VERTS: usize>(
-    scene: &T,
-    camera: &Camera,
-    workspace: &mut Workspace<STACK, VERTS>,
-    options: RenderOptions,
-    memory: FrameMemory<'_, '_, '_>,
-    sink: &mut S,
-) -> Result<FrameStats, RenderError>
-where
-    T: Source + ?Sized,
-    S: SpanSink + ?Sized,
-{
-    render_with_options::<{ fill::SUBPIXEL_BITS }, T, S, STACK, VERTS>(
-        scene, camera, workspace, options, memory, sink,
-    )
-}
-
-/// Draw `scene` seen by `camera` into `sink` as `options` say, with the caller memory in
-/// `memory`.
+/// Draws frames: made once from caller memory, reused for every frame, never allocating.
 ///
-/// Front to back needs `memory.coverage` (span memory for the camera's `W x H`, cleared
-/// here): every pixel is then written exactly once and the walk stops when the frame is full. When the span
-/// memory runs out, or there is none, the polygons not drawn yet are painted back to front,
-/// clipped against what is covered (see [`crate::coverage`]): the image is the same, only
-/// with overdraw in that part ([`FrameStats::fallback`]). Back to front uses the coverage, if
-/// given, only to count distinct pixels. `memory.vertices` saves work and changes no pixel.
-/// Fails with [`RenderError::SpanMemory`] when the coverage's size is not the camera's.
-pub fn render_with_options<const SUB: u32, T, S, const STACK: usize, const VERTS: usize>(
-    scene: &T,
-    camera: &Camera,
-    workspace: &mut Workspace<STACK, VERTS>,
-    options: RenderOptions,
-    memory: FrameMemory<'_, '_, '_>,
-    sink: &mut S,
-) -> Result<FrameStats, RenderError>
-where
-    T: Source + ?Sized,
-    S: SpanSink + ?Sized,
-{
-    let view = camera.view(scene.centre());
-    draw_frame::<SUB, T, S, STACK, VERTS>(scene, view, workspace, options, memory, sink)
+/// ```no_run
+/// use peel_runtime::camera::{Camera, Orbit};
+/// use peel_runtime::coverage::Coverage;
+/// use peel_runtime::read::Scene;
+/// use peel_runtime::render::{Renderer, Workspace};
+/// use peel_runtime::target::{Framebuffer, Xrgb8888};
+/// # let bytes: &[u8] = &[];
+/// let scene = Scene::parse(bytes).expect("a valid .peel file");
+/// let header = scene.header();
+/// let near = Camera::default_near(header.bounds_min, header.bounds_max);
+/// let pose = Orbit::default().pose(&header);
+/// let camera = Camera::look_at(pose, 60.0, 320, 240, near).expect("a camera");
+/// // Stack for the tree's depth, clip buffers for its largest polygon (see `Workspace`).
+/// let mut workspace = Box::new(Workspace::<512, 32>::new());
+/// // Span memory: front to back, every pixel written once (see `Coverage`).
+/// let (mut spans, mut rows) = (vec![(0, 0); 64 * 240], vec![0; 240]);
+/// let coverage = Coverage::new(&mut spans, &mut rows, 320, 240).expect("span memory");
+/// let mut renderer = Renderer::new(&mut workspace).span_memory(coverage);
+/// let mut pixels = vec![0u32; 320 * 240];
+/// let mut target = Framebuffer::<Xrgb8888>::new(&mut pixels, 320, 240).expect("a target");
+/// let stats = renderer
+///     .draw(&scene, &camera.view(header.centre), &mut target)
+///     .expect("a frame");
+/// assert!(!stats.fallback);
+/// ```
+///
+/// What is drawn follows from the memory given and a few switches, and the result says what
+/// happened:
+/// - with span memory ([`Renderer::span_memory`]) front to back: each pixel is written once
+///   and the walk stops when the frame is full; if the span memory runs out mid-frame, the
+///   rest is painted back to front, clipped against what is covered: the same image with
+///   some overdraw, reported as [`FrameStats::fallback`];
+/// - without it (or with [`Renderer::back_to_front`]) back to front, the painter's algorithm
+///   (span memory, if given, then only counts distinct pixels);
+/// - vertex memory ([`Renderer::vertex_memory`]) saves work and changes no pixel;
+/// - colours, or ids with [`Renderer::ids`] (a scene without ids is an error, not a blank);
+/// - culling on, which never changes a pixel ([`Renderer::without_culling`] to measure it).
+///
+/// `SUB` is the fixed-point precision of screen coordinates (fractional bits): the default
+/// [`fill::SUBPIXEL_BITS`] with [`Renderer::new`], another with [`Renderer::with_precision`].
+#[derive(Debug)]
+pub struct Renderer<'m, const SUB: u32 = { fill::SUBPIXEL_BITS }> {
+    stack: &'m mut [StackEntry],
+    clip_a: &'m mut [Vec3],
+    clip_b: &'m mut [Vec3],
+    points: &'m mut [FixedPoint],
+    edges: &'m mut [fill::EdgeWalk],
+    coverage: Option<Coverage<'m>>,
+    vertices: Option<VertexCache<'m>>,
+    back_to_front: bool,
+    paint: Paint,
+    cull: bool,
 }
 
-/// [`render_view_with_options`] with the default fixed-point precision
-/// [`fill::SUBPIXEL_BITS`].
-pub fn render_view<T, S, const STACK: usize, const VERTS: usize>(
-    scene: &T,
-    view: &View,
-    workspace: &mut Workspace<STACK, VERTS>,
-    options: RenderOptions,
-    memory: FrameMemory<'_, '_, '_>,
-    sink: &mut S,
-) -> Result<FrameStats, RenderError>
-where
-    T: Source + ?Sized,
-    S: SpanSink + ?Sized,
-{
-    render_view_with_options::<{ fill::SUBPIXEL_BITS }, T, S, STACK, VERTS>(
-        scene, view, workspace, options, memory, sink,
-    )
-}
-
-/// [`render_with_options`] for a camera given as a [`View`] in the scene's local `f32` frame
-/// (see [`View::look_at`]): no `f64` arithmetic, for cores without `f64` hardware. The view
-/// is checked first ([`View::check`], else [`RenderError::BadCamera`]); a view made by
-/// [`Camera::view`] for this scene's centre draws exactly what the camera draws.
-pub fn render_view_with_options<const SUB: u32, T, S, const STACK: usize, const VERTS: usize>(
-    scene: &T,
-    view: &View,
-    workspace: &mut Workspace<STACK, VERTS>,
-    options: RenderOptions,
-    memory: FrameMemory<'_, '_, '_>,
-    sink: &mut S,
-) -> Result<FrameStats, RenderError>
-where
-    T: Source + ?Sized,
-    S: SpanSink + ?Sized,
-{
-    view.check()?;
-    draw_frame::<SUB, T, S, STACK, VERTS>(scene, *view, workspace, options, memory, sink)
-}
-
-/// The frame of [`render_with_options`] for a view in the scene's frame.
-fn draw_frame<const SUB: u32, T, S, const STACK: usize, const VERTS: usize>(
-    scene: &T,
-    view: View,
-    workspace: &mut Workspace<STACK, VERTS>,
-    options: RenderOptions,
-    memory: FrameMemory<'_, '_, '_>,
-    sink: &mut S,
-) -> Result<FrameStats, RenderError>
-where
-    T: Source + ?Sized,
-    S: SpanSink + ?Sized,
-{
-    // Without the features the memory is never used: the optimiser drops that code.
-    let mut coverage = if cfg!(feature = "front-to-back") {
-        memory.coverage
-    } else {
-        None
-    };
-    let vertices = if cfg!(feature = "vertex-cache") {
-        memory.vertices
-    } else {
-        None
-    };
-    let (width, height) = (view.width, view.height);
-    let (max_x, max_y) = window::<SUB>(width, height)?;
-    if options.paint == Paint::Ids && !(cfg!(feature = "ids") && scene.has_ids()) {
-        return Err(RenderError::NoIds);
+impl<'m> Renderer<'m> {
+    /// A renderer at the default precision [`fill::SUBPIXEL_BITS`] using `workspace`'s stack
+    /// and clip buffers: back to front, colours, culling on.
+    #[inline(always)]
+    pub fn new<const STACK: usize, const VERTS: usize>(
+        workspace: &'m mut Workspace<STACK, VERTS>,
+    ) -> Self {
+        Renderer::with_precision(workspace)
     }
-    let needed = clip::buffer_len_for(scene.max_polygon_vertices());
-    let available = u32::try_from(VERTS.min(fill::MAX_FILL_VERTICES)).unwrap_or(u32::MAX);
-    if needed > available {
-        return Err(RenderError::PolygonTooLarge { needed, available });
-    }
-    if let Some(c) = coverage.as_deref_mut() {
-        if c.width() != width || c.height() != height {
-            return Err(RenderError::SpanMemory);
+}
+
+impl<'m, const SUB: u32> Renderer<'m, SUB> {
+    /// [`Renderer::new`] at `SUB` fractional bits: `Renderer::<4>::with_precision(&mut ws)`.
+    #[inline(always)]
+    pub fn with_precision<const STACK: usize, const VERTS: usize>(
+        workspace: &'m mut Workspace<STACK, VERTS>,
+    ) -> Self {
+        let Workspace {
+            stack,
+            clip_a,
+            clip_b,
+            points,
+            edges,
+        } = workspace;
+        Renderer {
+            stack,
+            clip_a,
+            clip_b,
+            points,
+            edges,
+            coverage: None,
+            vertices: None,
+            back_to_front: false,
+            paint: Paint::Colours,
+            cull: true,
         }
-        c.clear();
     }
-    let frustum = Frustum::new(&view);
-    // The whole scene inside the frustum (the usual case for an object in view): no subtree
-    // needs the frustum test and no polygon needs clipping. Bounds are only trusted when
-    // culling is on, as for every other use of them.
-    let all_inside = options.cull
-        && cfg!(feature = "bounds-culling")
-        && scene
-            .root()
-            .and_then(|root| scene.node_bounds(root))
-            .is_some_and(|(lo, hi)| frustum.contains_box(&view, lo, hi));
-    let Workspace {
-        stack,
-        clip_a,
-        clip_b,
-        points,
-        edges,
-    } = workspace;
-    // Only frames without clipping use it (see `crate::vertices`).
-    let mut vertices = vertices.filter(|_| all_inside);
-    if let Some(v) = vertices.as_deref_mut() {
-        v.next_frame();
+
+    /// Span memory for images of the coverage's size: frames are then drawn front to back,
+    /// each pixel written once (with the `front-to-back` feature; without it the memory is
+    /// unused and every frame reports [`FrameStats::fallback`]).
+    #[inline(always)]
+    pub fn span_memory(mut self, coverage: Coverage<'m>) -> Self {
+        self.coverage = Some(coverage);
+        self
     }
-    let mut painter = Painter::<SUB> {
-        view,
-        frustum,
-        max_x,
-        max_y,
-        available,
-        paint: options.paint,
-        cull: options.cull,
-        all_inside,
-        clip_a,
-        clip_b,
-        points,
-        edges,
-        vertices,
-    };
-    let mut stats = FrameStats::default();
-    let front_to_back = options.order == Order::FrontToBack;
-    if let Some(c) = coverage.as_deref_mut() {
-        c.set_mode(if front_to_back {
-            Mode::Exclusive
+
+    /// Screen positions of the scene's vertices, kept from frame to frame (with the
+    /// `vertex-cache` feature; see [`crate::vertices`]): the same pixels for less work.
+    #[inline(always)]
+    pub fn vertex_memory(mut self, vertices: VertexCache<'m>) -> Self {
+        self.vertices = Some(vertices);
+        self
+    }
+
+    /// Paint source triangle ids (`id + 1` as 24-bit RGB, see [`id_colour`]) instead of
+    /// colours; a scene without ids then fails with [`RenderError::NoIds`].
+    #[inline(always)]
+    pub fn ids(mut self) -> Self {
+        self.paint = Paint::Ids;
+        self
+    }
+
+    /// Paint back to front even with span memory (which then only counts distinct pixels).
+    #[inline(always)]
+    pub fn back_to_front(mut self) -> Self {
+        self.back_to_front = true;
+        self
+    }
+
+    /// Draw without culling (see the module docs, "Culling"): the same pixels, more work;
+    /// only to measure what culling saves.
+    #[inline(always)]
+    pub fn without_culling(mut self) -> Self {
+        self.cull = false;
+        self
+    }
+
+    /// The order frames are drawn in: front to back exactly when span memory was given and
+    /// back to front was not asked for.
+    pub fn order(&self) -> Order {
+        if self.coverage.is_some() && !self.back_to_front && cfg!(feature = "front-to-back") {
+            Order::FrontToBack
         } else {
-            Mode::Measure
-        });
+            Order::BackToFront
+        }
     }
-    let first_order = if front_to_back && coverage.is_none() {
-        stats.fallback = true;
-        Order::BackToFront
-    } else {
-        options.order
-    };
 
-    // Pass 1: the requested order (or back to front when there is no span memory).
-    let overflow = painter.walk(
-        scene,
-        first_order,
-        &mut stack[..],
-        coverage.as_deref_mut(),
-        sink,
-        &mut stats,
-        None,
-    )?;
+    /// The span memory, if any (after a frame: what it covered).
+    pub fn coverage(&self) -> Option<&Coverage<'m>> {
+        self.coverage.as_ref()
+    }
 
-    // Pass 2 (span memory exhausted at polygon `last`): the polygons from the farthest up to
-    // `last`, back to front, clipped against the frozen coverage.
-    if let (Some(last), Some(c)) = (overflow, coverage.as_deref_mut()) {
-        stats.fallback = true;
-        c.freeze();
-        painter.walk(
+    /// Draw `scene` seen by `view` into `target`. Everything is checked before the first
+    /// pixel (see the module docs) and the frame is drawn completely or not at all: an error
+    /// for a view that is degenerate ([`View::check`]), an image too large for the
+    /// fixed-point range, a stack or clip buffers too small for the scene, span memory of
+    /// another size than the view's image, or ids asked of a scene without them. Never panics.
+    pub fn draw<T, S>(
+        &mut self,
+        scene: &T,
+        view: &View,
+        target: &mut S,
+    ) -> Result<FrameStats, RenderError>
+    where
+        T: Source + ?Sized,
+        S: SpanSink + ?Sized,
+    {
+        view.check()?;
+        self.frame(scene, view, target)
+    }
+
+    fn frame<T, S>(
+        &mut self,
+        scene: &T,
+        view: &View,
+        sink: &mut S,
+    ) -> Result<FrameStats, RenderError>
+    where
+        T: Source + ?Sized,
+        S: SpanSink + ?Sized,
+    {
+        let order = self.order();
+        let paint = self.paint;
+        let cull = self.cull;
+        // Without the features the memory is never used: the optimiser drops that code.
+        let asked_front_to_back = self.coverage.is_some() && !self.back_to_front;
+        let mut coverage = if cfg!(feature = "front-to-back") {
+            self.coverage.as_mut()
+        } else {
+            None
+        };
+        let vertices = if cfg!(feature = "vertex-cache") {
+            self.vertices.as_mut()
+        } else {
+            None
+        };
+        let (width, height) = (view.width, view.height);
+        let (max_x, max_y) = window::<SUB>(width, height)?;
+        if paint == Paint::Ids && !(cfg!(feature = "ids") && scene.has_ids()) {
+            return Err(RenderError::NoIds);
+        }
+        let needed = clip::buffer_len_for(scene.max_polygon_vertices());
+        let buffers = [
+            self.clip_a.len(),
+            self.clip_b.len(),
+            self.points.len(),
+            self.edges.len(),
+            fill::MAX_FILL_VERTICES,
+        ];
+        let shortest = buffers.into_iter().min().unwrap_or(0);
+        let available = u32::try_from(shortest).unwrap_or(u32::MAX);
+        if needed > available {
+            return Err(RenderError::PolygonTooLarge { needed, available });
+        }
+        if let Some(c) = coverage.as_deref_mut() {
+            if c.width() != width || c.height() != height {
+                return Err(RenderError::SpanMemory);
+            }
+            c.clear();
+        }
+        let frustum = Frustum::new(view);
+        // The whole scene inside the frustum (the usual case for an object in view): no
+        // subtree needs the frustum test and no polygon needs clipping. Bounds are only trusted
+        // when culling is on, as for every other use of them.
+        let all_inside = cull
+            && cfg!(feature = "bounds-culling")
+            && scene
+                .root()
+                .and_then(|root| scene.node_bounds(root))
+                .is_some_and(|(lo, hi)| frustum.contains_box(view, lo, hi));
+        // Only frames without clipping use it (see `crate::vertices`).
+        let mut vertices = vertices.filter(|_| all_inside);
+        if let Some(v) = vertices.as_deref_mut() {
+            v.next_frame();
+        }
+        let mut painter = Painter::<SUB> {
+            view,
+            frustum,
+            max_x,
+            max_y,
+            available,
+            paint,
+            cull,
+            all_inside,
+            clip_a: &mut self.clip_a[..],
+            clip_b: &mut self.clip_b[..],
+            points: &mut self.points[..],
+            edges: &mut self.edges[..],
+            vertices,
+        };
+        let mut stats = FrameStats {
+            // Front to back was asked for, but the feature is off: painted back to front.
+            fallback: asked_front_to_back && order == Order::BackToFront,
+            ..FrameStats::default()
+        };
+        if let Some(c) = coverage.as_deref_mut() {
+            c.set_mode(if order == Order::FrontToBack {
+                Mode::Exclusive
+            } else {
+                Mode::Measure
+            });
+        }
+
+        // Pass 1: the frame's order.
+        let overflow = painter.walk(
             scene,
-            Order::BackToFront,
-            &mut stack[..],
+            order,
+            &mut self.stack[..],
             coverage.as_deref_mut(),
             sink,
             &mut stats,
-            Some(last),
+            None,
         )?;
+
+        // Pass 2 (span memory exhausted at polygon `last`): the polygons from the farthest up
+        // to `last`, back to front, clipped against the frozen coverage.
+        if let (Some(last), Some(c)) = (overflow, coverage.as_deref_mut()) {
+            stats.fallback = true;
+            c.freeze();
+            painter.walk(
+                scene,
+                Order::BackToFront,
+                &mut self.stack[..],
+                coverage.as_deref_mut(),
+                sink,
+                &mut stats,
+                Some(last),
+            )?;
+        }
+        stats.distinct_pixels = match coverage.as_deref() {
+            Some(c) if !c.exhausted() && !stats.fallback => Some(c.covered()),
+            _ => None,
+        };
+        Ok(stats)
     }
-    stats.distinct_pixels = match coverage.as_deref() {
-        Some(c) if !c.exhausted() && !stats.fallback => Some(c.covered()),
-        _ => None,
-    };
-    Ok(stats)
 }
 
 /// How far, in pixels, a snapped vertex of an image `size` pixels wide (its larger side) may
@@ -568,7 +564,7 @@ fn tally(counter: &mut u64, n: u64) {
 
 /// The per-polygon work of a frame, with its buffers.
 struct Painter<'w, 'v, const SUB: u32> {
-    view: View,
+    view: &'w View,
     frustum: Frustum,
     max_x: i32,
     max_y: i32,
@@ -699,7 +695,7 @@ impl<const SUB: u32> Painter<'_, '_, SUB> {
                 available: self.available,
             });
         }
-        let (view, max_x, max_y) = (&self.view, self.max_x, self.max_y);
+        let (view, max_x, max_y) = (self.view, self.max_x, self.max_y);
         let screen = |c: Vec3| snap::<SUB>(view.project(c), max_x, max_y);
         // Without the feature there is never a cache: the test keeps that path out of the
         // binary (the optimiser cannot see through the painter's field).
@@ -794,6 +790,9 @@ impl<S: SpanSink + ?Sized> SpanSink for Through<'_, '_, S> {
         }
     }
 }
+
+#[cfg(test)]
+pub(crate) mod testing;
 
 #[cfg(test)]
 mod tests;

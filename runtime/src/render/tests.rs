@@ -5,8 +5,9 @@ use proptest::prelude::*;
 use std::vec;
 use std::vec::Vec;
 
+use super::testing::*;
 use super::*;
-use crate::camera::Pose;
+use crate::camera::{Camera, Pose};
 use crate::read::Node;
 use crate::target::testing::MockTarget;
 use crate::traverse::testing::{box_faces, TestTree};
@@ -429,27 +430,20 @@ fn a_view_draws_what_its_camera_draws() {
         let mut frame = Frame::new(w, h);
         let mut intervals = vec![(0u16, 0u16); 8 * h as usize];
         let mut counts = vec![0u16; h as usize];
-        let mut cov = Coverage::new(&mut intervals, &mut counts, w, h).unwrap();
-        let options = RenderOptions {
+        let cov = Coverage::new(&mut intervals, &mut counts, w, h).unwrap();
+        let options = Options {
             order,
-            ..RenderOptions::default()
+            ..Options::default()
         };
         let mut ws = Workspace::<2, 9>::new();
         let stats = match view {
-            Some(v) => render_view(
-                &scene,
-                v,
-                &mut ws,
-                options,
-                FrameMemory::from(&mut cov),
-                &mut frame,
-            ),
+            Some(v) => render_view(&scene, v, &mut ws, options, Memory::from(cov), &mut frame),
             None => render_ordered(
                 &scene,
                 &cam,
                 &mut ws,
                 options,
-                FrameMemory::from(&mut cov),
+                Memory::from(cov),
                 &mut frame,
             ),
         };
@@ -635,16 +629,16 @@ fn whole_pixel_precision_renders_the_same_scene_up_to_edges() {
         for (k, (frame, stats)) in frames.iter_mut().zip(&mut all_stats).enumerate() {
             let mut intervals = vec![(0u16, 0u16); 8 * H];
             let mut counts = [0u16; H];
-            let mut cov = Coverage::new(&mut intervals, &mut counts, W as u32, H as u32).unwrap();
+            let cov = Coverage::new(&mut intervals, &mut counts, W as u32, H as u32).unwrap();
             let mut ws = Workspace::<4, 16>::new();
-            let options = RenderOptions::default();
+            let options = Options::default();
             *stats = if k == 0 {
                 render_with_options::<0, _, _, 4, 16>(
                     &t,
                     &cam,
                     &mut ws,
                     options,
-                    FrameMemory::from(&mut cov),
+                    Memory::from(cov),
                     frame,
                 )
             } else {
@@ -653,7 +647,7 @@ fn whole_pixel_precision_renders_the_same_scene_up_to_edges() {
                     &cam,
                     &mut ws,
                     options,
-                    FrameMemory::from(&mut cov),
+                    Memory::from(cov),
                     frame,
                 )
             }

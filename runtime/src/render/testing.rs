@@ -1,0 +1,176 @@
+//! Shorthands for the render tests: one frame drawn by a fresh [`Renderer`].
+
+use super::*;
+use crate::camera::Camera;
+
+/// How a test frame is drawn: front to back (given span memory), colours, culling on.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) struct Options {
+    pub order: Order,
+    pub paint: Paint,
+    pub cull: bool,
+}
+
+impl Default for Options {
+    fn default() -> Self {
+        Options {
+            order: Order::FrontToBack,
+            paint: Paint::Colours,
+            cull: true,
+        }
+    }
+}
+
+/// The memory a test frame's renderer gets besides its workspace.
+#[derive(Debug, Default)]
+pub(crate) struct Memory<'m> {
+    pub coverage: Option<Coverage<'m>>,
+    pub vertices: Option<VertexCache<'m>>,
+}
+
+impl<'m> From<Coverage<'m>> for Memory<'m> {
+    fn from(coverage: Coverage<'m>) -> Self {
+        Memory {
+            coverage: Some(coverage),
+            vertices: None,
+        }
+    }
+}
+
+/// Back to front at the default precision, with culling.
+pub(crate) fn render<T, S, const STACK: usize, const VERTS: usize>(
+    scene: &T,
+    camera: &Camera,
+    workspace: &mut Workspace<STACK, VERTS>,
+    paint: Paint,
+    sink: &mut S,
+) -> Result<FrameStats, RenderError>
+where
+    T: Source + ?Sized,
+    S: SpanSink + ?Sized,
+{
+    render_with::<{ fill::SUBPIXEL_BITS }, T, S, STACK, VERTS>(
+        scene, camera, workspace, paint, sink,
+    )
+}
+
+/// Back to front at `SUB` fractional bits, with culling.
+pub(crate) fn render_with<const SUB: u32, T, S, const STACK: usize, const VERTS: usize>(
+    scene: &T,
+    camera: &Camera,
+    workspace: &mut Workspace<STACK, VERTS>,
+    paint: Paint,
+    sink: &mut S,
+) -> Result<FrameStats, RenderError>
+where
+    T: Source + ?Sized,
+    S: SpanSink + ?Sized,
+{
+    let options = Options {
+        order: Order::BackToFront,
+        paint,
+        cull: true,
+    };
+    render_with_options::<SUB, T, S, STACK, VERTS>(
+        scene,
+        camera,
+        workspace,
+        options,
+        Memory::default(),
+        sink,
+    )
+}
+
+/// As `options` say, at the default precision.
+pub(crate) fn render_ordered<T, S, const STACK: usize, const VERTS: usize>(
+    scene: &T,
+    camera: &Camera,
+    workspace: &mut Workspace<STACK, VERTS>,
+    options: Options,
+    memory: Memory<'_>,
+    sink: &mut S,
+) -> Result<FrameStats, RenderError>
+where
+    T: Source + ?Sized,
+    S: SpanSink + ?Sized,
+{
+    render_with_options::<{ fill::SUBPIXEL_BITS }, T, S, STACK, VERTS>(
+        scene, camera, workspace, options, memory, sink,
+    )
+}
+
+/// As `options` say, at `SUB` fractional bits, for a camera.
+pub(crate) fn render_with_options<const SUB: u32, T, S, const STACK: usize, const VERTS: usize>(
+    scene: &T,
+    camera: &Camera,
+    workspace: &mut Workspace<STACK, VERTS>,
+    options: Options,
+    memory: Memory<'_>,
+    sink: &mut S,
+) -> Result<FrameStats, RenderError>
+where
+    T: Source + ?Sized,
+    S: SpanSink + ?Sized,
+{
+    let view = camera.view(scene.centre());
+    render_view_with_options::<SUB, T, S, STACK, VERTS>(
+        scene, &view, workspace, options, memory, sink,
+    )
+}
+
+/// As `options` say, at the default precision, for a view.
+pub(crate) fn render_view<T, S, const STACK: usize, const VERTS: usize>(
+    scene: &T,
+    view: &View,
+    workspace: &mut Workspace<STACK, VERTS>,
+    options: Options,
+    memory: Memory<'_>,
+    sink: &mut S,
+) -> Result<FrameStats, RenderError>
+where
+    T: Source + ?Sized,
+    S: SpanSink + ?Sized,
+{
+    render_view_with_options::<{ fill::SUBPIXEL_BITS }, T, S, STACK, VERTS>(
+        scene, view, workspace, options, memory, sink,
+    )
+}
+
+/// One frame by a renderer made for it: span memory only when `options` ask for front to
+/// back, so that back to front draws without it as a caller would.
+pub(crate) fn render_view_with_options<
+    const SUB: u32,
+    T,
+    S,
+    const STACK: usize,
+    const VERTS: usize,
+>(
+    scene: &T,
+    view: &View,
+    workspace: &mut Workspace<STACK, VERTS>,
+    options: Options,
+    memory: Memory<'_>,
+    sink: &mut S,
+) -> Result<FrameStats, RenderError>
+where
+    T: Source + ?Sized,
+    S: SpanSink + ?Sized,
+{
+    let mut renderer = Renderer::<SUB>::with_precision(workspace);
+    if let Some(c) = memory.coverage {
+        renderer = renderer.span_memory(c);
+    }
+    if let Some(v) = memory.vertices {
+        renderer = renderer.vertex_memory(v);
+    }
+    if options.order == Order::BackToFront {
+        renderer = renderer.back_to_front();
+    }
+    if options.paint == Paint::Ids {
+        renderer = renderer.ids();
+    }
+    if !options.cull {
+        renderer = renderer.without_culling();
+    }
+    renderer.draw(scene, view, sink)
+}
