@@ -8,12 +8,14 @@
 #![forbid(unsafe_code)]
 #![warn(missing_docs)]
 
+#[cfg(feature = "bench")]
 pub mod bench;
 pub mod builder;
 pub(crate) mod bvh;
 pub mod compile;
 pub mod dump;
 pub mod error;
+#[cfg(feature = "bench")]
 pub mod frames;
 pub(crate) mod hash;
 pub mod load;
