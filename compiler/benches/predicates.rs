@@ -14,7 +14,9 @@ use std::hint::black_box;
 use std::time::Duration;
 
 use criterion::{criterion_group, criterion_main, Criterion};
-use peel_compiler::planes::{intersect, side_of_hom, side_of_hom_exact, Plane, PlaneTable, Side};
+use peel_compiler::predicates::{
+    intersect, side_of_hom, side_of_hom_exact, Plane, PlaneTable, Side,
+};
 
 /// A plane through three grid points (coordinates `|q| < 2^26` like the compiler's grid).
 fn plane(a: [i32; 3], b: [i32; 3], c: [i32; 3]) -> Plane {

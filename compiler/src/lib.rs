@@ -1,32 +1,48 @@
 //! Peel's offline scene compiler.
 //!
-//! Pipeline (one module per stage):
-//! [`load`] (OBJ + MTL -> source triangles) -> [`quantise`] (power-of-two integer grid)
-//! -> [`planes`] (exact integer planes and predicates) -> [`peel`] (convex-hull layers) /
-//! [`split`] (exact cuts and the choice of the splitting plane) -> [`tree`] (the display
-//! tree and its invariants) -> [`shade`] (baked Lambert colours) -> [`write`] (the `.peel` bytes, written atomically).
+//! Pipeline (one module per stage, see ARCHITECTURE.md): `load` (OBJ + MTL -> source
+//! triangles) -> `quantise` (power-of-two integer grid) -> `planes` (exact integer planes and
+//! predicates) -> `peel` (convex-hull layers) / `split` (exact cuts and the choice of the
+//! splitting plane) -> `tree` (the display tree and its invariants) -> `shade` (baked Lambert
+//! colours) -> `write` (the `.peel` bytes, written atomically).
+//!
+//! The public API is what a build script or a tool needs: [`Builder`] (compile an OBJ from
+//! `build.rs`), [`compile`] and [`load`] (the whole compile in one call, of a file or of a
+//! mesh), the [`tree`] and [`shade`] types those take and return, [`write`](mod@write) (the
+//! atomic file write), [`dump`] (a `.peel` file as YAML or counters), the host tools [`raster`],
+//! [`reference`](mod@reference) and [`scenes`]. The `bench` feature adds `bench` and `frames`
+//! (`peel bench`), the `png` feature `raster::png`. The other stages are private.
 #![forbid(unsafe_code)]
 #![warn(missing_docs)]
 
+#[cfg(feature = "bench")]
 pub mod bench;
-pub mod builder;
-pub(crate) mod bvh;
+mod builder;
+mod bvh;
 pub mod compile;
 pub mod dump;
-pub mod error;
+mod error;
+#[cfg(feature = "bench")]
 pub mod frames;
-pub(crate) mod hash;
+mod hash;
 pub mod load;
-pub mod peel;
-pub mod planes;
-pub mod quantise;
+mod peel;
+mod planes;
+mod quantise;
 pub mod raster;
 pub mod reference;
 pub mod scenes;
 pub mod shade;
-pub mod split;
+mod split;
 pub mod tree;
 pub mod write;
 
 pub use builder::Builder;
 pub use error::CompileError;
+
+/// The exact side-of-plane predicates, for the criterion benchmark (`benches/predicates.rs`).
+/// Not part of the supported API.
+#[doc(hidden)]
+pub mod predicates {
+    pub use crate::planes::{intersect, side_of_hom, side_of_hom_exact, Plane, PlaneTable, Side};
+}

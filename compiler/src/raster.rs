@@ -169,6 +169,7 @@ pub fn render_bytes_with(bytes: &[u8], view: &View, settings: &Settings) -> Resu
 }
 
 /// Encode a frame as PNG bytes.
+#[cfg(feature = "png")]
 pub fn png(frame: &Frame) -> Result<Vec<u8>, String> {
     use image::ImageEncoder;
     let mut out = Vec::new();

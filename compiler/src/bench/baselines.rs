@@ -101,7 +101,7 @@ pub enum NaiveBsp {
 }
 
 /// Seed 004's naive BSP of `mesh` as a display tree, encoded like Peel's own output
-/// ([`crate::write::encode_with`]), so the runtime draws it: two-sided polygons (no culling
+/// (`write::encode_with`), so the runtime draws it: two-sided polygons (no culling
 /// flags), colours baked with `shading`, source ids kept when `ids` is set. The build stops
 /// (without running out of memory) once the polygons exceed `max_polygons`.
 ///

@@ -6,7 +6,7 @@
 //!
 //! How a file is read:
 //! - The OBJ text is parsed by `tobj` with its triangulation off, after a light line scan
-//!   ([`scan`]) that validates what tobj does not (NaN/inf coordinates, index ranges, syntax)
+//!   (`scan`) that validates what tobj does not (NaN/inf coordinates, index ranges, syntax)
 //!   and reports the line. tobj groups faces into models (a new one at each `o`, `g` or
 //!   material change) but keeps them in file order; the loader pairs each tobj face with its
 //!   scanned `f`/`l` line and fails with [`CompileError::Invariant`] if the two disagree, so
@@ -15,7 +15,7 @@
 //!   A face without material, with an undefined material, with a material without `Kd`, or
 //!   whose MTL file is missing gets [`DEFAULT_COLOUR`] and a warning.
 //! - A triangle face gives one triangle, its corners in file order. A face with more corners is
-//!   triangulated in its own plane ([`triangulate`]): every triangle is written starting at
+//!   triangulated in its own plane (`triangulate`): every triangle is written starting at
 //!   its smallest corner index in the face, keeping the face's winding, and the triangles of
 //!   the face are sorted by these index triples. Consecutive repeated corners are merged first
 //!   (so a face can give fewer than n - 2 triangles). A polygon that is not simple (repeated
@@ -28,8 +28,8 @@
 //!   more than [`MAX_VERTEX_STATEMENTS`] `v`/`vt`/`vn` statements nor produce more than
 //!   [`MAX_TRIANGLES`] triangles; otherwise [`CompileError::TooLarge`].
 
-pub mod scan;
-pub mod triangulate;
+mod scan;
+mod triangulate;
 
 use glam::DVec3;
 use std::cell::RefCell;

@@ -68,6 +68,7 @@ impl Quantiser {
     }
 
     /// Grid point -> world point relative to `offset` (exact: a power-of-two scale).
+    #[cfg(test)]
     pub fn relative(&self, q: IPoint) -> DVec3 {
         DVec3::new(q[0] as f64, q[1] as f64, q[2] as f64) * self.scale
     }

@@ -232,6 +232,7 @@ pub const CUT_WEIGHT: u64 = 8;
 /// sides, fragments in the plane on neither). Returns `u64::MAX` as soon as the cost is
 /// proven to exceed `limit` (the cuts so far plus the imbalance the remaining fragments
 /// cannot undo), which never changes which plane is cheapest.
+#[cfg(test)]
 pub fn cost(frags: &[&Fragment], plane: PlaneId, table: &PlaneTable, limit: u64) -> u64 {
     Sample::new(frags.iter().copied()).cost(plane, table, limit)
 }
@@ -348,6 +349,7 @@ impl<'a> Sample<'a> {
     }
 
     /// See [`cost`].
+    #[cfg(test)]
     pub(crate) fn cost(&self, plane: PlaneId, table: &PlaneTable, limit: u64) -> u64 {
         self.cost_with(SplitRule::default(), plane, table, limit)
     }
@@ -549,6 +551,7 @@ impl Default for SplitRule {
 
 impl SplitRule {
     /// Seed 000's rule: the fewest cuts, balance ignored (ties to the smaller plane id).
+    #[cfg(feature = "bench")]
     pub const FEWEST_CUTS: SplitRule = SplitRule {
         cut_weight: 1,
         balance_weight: 0,

@@ -1,6 +1,6 @@
 //! Tree: the display-tree build (seed 000's `compile(L)`), its statistics and invariants.
 //!
-//! CONTRACT (owned by the core helper): [`build`] turns a [`Mesh`] into a [`DisplayTree`].
+//! CONTRACT (owned by the core helper): `build` turns a [`Mesh`] into a [`DisplayTree`].
 //! Everything in the `DisplayTree` is relative to `centre` (the quantisation offset), in
 //! world units, f64.
 
@@ -8,7 +8,6 @@ use glam::DVec3;
 
 use crate::error::CompileError;
 use crate::load::Mesh;
-use crate::quantise::Quantiser;
 
 pub(crate) mod build;
 mod check;
@@ -139,7 +138,7 @@ pub struct DisplayTree {
 /// of fragments placed in convex nodes so far (for a progress bar).
 ///
 /// Deterministic: the same mesh and options give the same tree, whatever the thread count.
-pub fn build(
+pub(crate) fn build(
     mesh: &Mesh,
     options: &BuildOptions,
     progress: &(dyn Fn(u64) + Sync),
@@ -154,6 +153,7 @@ pub fn build(
 }
 
 /// The quantisation transform [`build`] uses for `mesh` (`centre` is its `offset`).
-pub fn quantisation(mesh: &Mesh) -> Quantiser {
-    Quantiser::fit(mesh)
+#[cfg(test)]
+pub(crate) fn quantisation(mesh: &Mesh) -> crate::quantise::Quantiser {
+    crate::quantise::Quantiser::fit(mesh)
 }

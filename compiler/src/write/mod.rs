@@ -1,17 +1,17 @@
-//! Write: [`DisplayTree`] -> [`format::PeelFile`] -> bytes, and the atomic file write.
+//! Write: [`DisplayTree`] -> `format::PeelFile` -> bytes, and the atomic file write.
 //!
 //! The file is canonical whatever the order of the tree's nodes: nodes are renumbered in
 //! pre-order (front before back), polygons follow the convex nodes that own them and their
 //! vertex lists follow the polygons, so the reader can check ownership in one pass.
 //!
-//! It also carries only what the scene needs ([`encoding`]): `u16` indices when the vertex count
+//! It also carries only what the scene needs (`encoding`): `u16` indices when the vertex count
 //! allows, a colour palette when it makes the file smaller, ids only when asked, and node
 //! bounding boxes where they can let the runtime skip work.
 
 mod atomic;
 mod bounds;
-pub mod encoding;
-pub mod format;
+pub(crate) mod encoding;
+pub(crate) mod format;
 
 use glam::DVec3;
 
@@ -47,7 +47,7 @@ fn to_f32(v: DVec3, what: &str) -> Result<[f32; 3], CompileError> {
 
 /// What the writer stores besides the tree.
 #[derive(Debug, Clone, Copy, Default)]
-pub struct WriteInput<'a> {
+pub(crate) struct WriteInput<'a> {
     /// Colour of each tree polygon.
     pub colours: &'a [[u8; 3]],
     /// Keep source triangle ids.
@@ -57,7 +57,8 @@ pub struct WriteInput<'a> {
 /// The file for `tree`, `colours[i]` being the colour of `tree.polygons[i]`; source triangle
 /// ids are kept when `ids` is set. Fails on a tree that breaks its invariants (a node reached
 /// twice or never, an empty convex set, an index out of range).
-pub fn peel_file(
+#[cfg(test)]
+pub(crate) fn peel_file(
     tree: &DisplayTree,
     colours: &[[u8; 3]],
     ids: bool,
@@ -66,7 +67,7 @@ pub fn peel_file(
 }
 
 /// [`peel_file`] with every input, in the smallest encoding ([`Encoding::smallest`]).
-pub fn peel_file_with(
+pub(crate) fn peel_file_with(
     tree: &DisplayTree,
     input: &WriteInput<'_>,
 ) -> Result<PeelFile, CompileError> {
@@ -75,7 +76,7 @@ pub fn peel_file_with(
 
 /// [`peel_file_with`] in `encoding` (`None`: the smallest). Fails when `encoding` cannot hold
 /// the scene (too many vertices for `u16` indices, colours for the palette width).
-pub fn peel_file_encoded(
+pub(crate) fn peel_file_encoded(
     tree: &DisplayTree,
     input: &WriteInput<'_>,
     encoding: Option<Encoding>,
@@ -383,19 +384,27 @@ impl Emitter<'_> {
 }
 
 /// The bincode bytes of `file`, with [`format::config`].
-pub fn to_bytes(file: &PeelFile) -> Result<Vec<u8>, CompileError> {
+pub(crate) fn to_bytes(file: &PeelFile) -> Result<Vec<u8>, CompileError> {
     bincode::serde::encode_to_vec(file, format::config())
         .map_err(|e| CompileError::Encode(e.to_string()))
 }
 
 /// The `.peel` bytes of `tree` (see [`peel_file`]), checked by the runtime's own reader before
 /// they are returned, so a file this returns is one the runtime accepts.
-pub fn encode(tree: &DisplayTree, colours: &[[u8; 3]], ids: bool) -> Result<Vec<u8>, CompileError> {
+#[cfg(test)]
+pub(crate) fn encode(
+    tree: &DisplayTree,
+    colours: &[[u8; 3]],
+    ids: bool,
+) -> Result<Vec<u8>, CompileError> {
     encode_with(tree, &WriteInput { colours, ids })
 }
 
 /// [`encode`] with every input (see [`peel_file_with`]).
-pub fn encode_with(tree: &DisplayTree, input: &WriteInput<'_>) -> Result<Vec<u8>, CompileError> {
+pub(crate) fn encode_with(
+    tree: &DisplayTree,
+    input: &WriteInput<'_>,
+) -> Result<Vec<u8>, CompileError> {
     let bytes = to_bytes(&peel_file_with(tree, input)?)?;
     peel_runtime::read::Scene::parse(&bytes)
         .map_err(|e| invariant(format!("the runtime refuses the encoded file: {e}")))?;
