@@ -19,6 +19,9 @@ pub const RECOMMENDED_SPANS_PER_ROW: usize = 64;
 /// The text of the sizes file of `header` (a `.peel` file of `bytes` bytes named `peel_name`,
 /// compiled from `source`).
 pub fn sizes_file(header: &Header, bytes: usize, peel_name: &str, source: &str) -> String {
+    // The names go into comments and string literals.
+    let peel_name = &peel_name.escape_default().to_string();
+    let source = &source.escape_default().to_string();
     let stack = header.max_depth as usize;
     let verts = clip::buffer_len_for(header.max_polygon_vertices) as usize;
     let vertices = header.vertex_count as usize;
