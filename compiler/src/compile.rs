@@ -7,13 +7,15 @@ use std::time::Instant;
 use rayon::prelude::*;
 
 use crate::error::CompileError;
-use crate::load::{load_obj, Mesh};
+use crate::load::{load_obj_bytes, read_obj, LoadOptions, Mesh};
 use crate::shade::Shading;
 use crate::tree::{build, BuildOptions, DisplayTree, TreeStats};
 
 /// Everything a compile can be asked.
 #[derive(Debug, Clone, Default)]
 pub struct CompileOptions {
+    /// How the OBJ is read (the default colour).
+    pub load: LoadOptions,
     /// Tree-building knobs.
     pub build: BuildOptions,
     /// Store each polygon's source triangle id (for id images).
@@ -37,6 +39,8 @@ pub struct Compiled {
     pub files: Vec<PathBuf>,
     /// MTL files named but absent (see [`Mesh::missing`]).
     pub missing: Vec<PathBuf>,
+    /// The bytes of the MTL files read (see [`Mesh::mtl_bytes`]).
+    pub mtl_bytes: Vec<(PathBuf, Vec<u8>)>,
 }
 
 /// Build, shade and encode an already loaded mesh.
@@ -71,7 +75,19 @@ pub fn compile_obj(
     progress: &(dyn Fn(u64) + Sync),
 ) -> Result<Compiled, CompileError> {
     let start = Instant::now();
-    let mesh = load_obj(path)?;
+    compile_obj_bytes(path, read_obj(path)?, options, progress, start)
+}
+
+/// [`compile_obj`] for OBJ bytes read already ([`read_obj`]); `path` names the file and
+/// locates its MTL files. `start` is when the compile began (for [`Compiled::seconds`]).
+pub fn compile_obj_bytes(
+    path: &Path,
+    bytes: Vec<u8>,
+    options: &CompileOptions,
+    progress: &(dyn Fn(u64) + Sync),
+    start: Instant,
+) -> Result<Compiled, CompileError> {
+    let mesh = load_obj_bytes(path, bytes, &options.load)?;
     // On a pool thread, the encoding reuses the memory the build's threads have freed (each
     // thread allocates from its own arena): about 10% fewer fresh pages for the bunny.
     let (tree, bytes) = rayon::scope(|_| compile_mesh(&mesh, options, progress))?;
@@ -82,5 +98,6 @@ pub fn compile_obj(
         warnings: mesh.warnings,
         files: mesh.files,
         missing: mesh.missing,
+        mtl_bytes: mesh.mtl_bytes,
     })
 }

@@ -37,7 +37,7 @@ mod split;
 pub mod tree;
 pub mod write;
 
-pub use builder::Builder;
+pub use builder::{Builder, Output};
 pub use error::CompileError;
 
 /// The exact side-of-plane predicates, for the criterion benchmark (`benches/predicates.rs`).

@@ -118,6 +118,7 @@ fn compile(args: &CompileArgs) -> Result<(), String> {
         } else {
             Shading::Lambert(args.light.unwrap_or(DEFAULT_LIGHT))
         },
+        ..CompileOptions::default()
     };
     compile_to(
         &args.scene,

@@ -13,7 +13,9 @@
 //!   source ids always follow the `f` lines.
 //! - A face's colour is its material's diffuse `Kd`, clamped to [0, 1] and rounded to RGB888.
 //!   A face without material, with an undefined material, with a material without `Kd`, or
-//!   whose MTL file is missing gets [`DEFAULT_COLOUR`] and a warning.
+//!   whose MTL file is missing gets [`DEFAULT_COLOUR`] (or [`LoadOptions::default_colour`])
+//!   and a warning; with [`LoadOptions::default_colour`] set, faces without any material are
+//!   taken as meant and give no warning.
 //! - A triangle face gives one triangle, its corners in file order. A face with more corners is
 //!   triangulated in its own plane (`triangulate`): every triangle is written starting at
 //!   its smallest corner index in the face, keeping the face's winding, and the triangles of
@@ -60,6 +62,16 @@ pub struct SourceTriangle {
     pub colour: [u8; 3],
 }
 
+/// How a file is loaded.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct LoadOptions {
+    /// The colour of faces whose colour the files do not give (no material, an undefined
+    /// material, a material without `Kd`, a missing MTL file); `None` is [`DEFAULT_COLOUR`].
+    /// When set, faces without any material (no `usemtl` before them) are taken as meant:
+    /// they give no warning. The other cases still warn (they are mistakes in the files).
+    pub default_colour: Option<[u8; 3]>,
+}
+
 /// A loaded scene.
 #[derive(Debug, Clone, Default)]
 pub struct Mesh {
@@ -69,6 +81,10 @@ pub struct Mesh {
     pub warnings: Vec<String>,
     /// Every file read (the OBJ and its MTL files), for `cargo:rerun-if-changed`.
     pub files: Vec<PathBuf>,
+    /// The bytes of each MTL file read, as the loader parsed them, in the order of `files`
+    /// (a build cache keys on exactly what was compiled). A file that could not be read has
+    /// no entry.
+    pub mtl_bytes: Vec<(PathBuf, Vec<u8>)>,
     /// MTL files the OBJ names but that do not exist: a build script watches these paths'
     /// folders (a missing file itself would make cargo rerun it on every build), so adding
     /// the file triggers a rebuild.
@@ -77,6 +93,17 @@ pub struct Mesh {
 
 /// Load an OBJ file (and its MTL files).
 pub fn load_obj(path: &Path) -> Result<Mesh, CompileError> {
+    load_obj_with(path, &LoadOptions::default())
+}
+
+/// [`load_obj`] with options.
+pub fn load_obj_with(path: &Path, options: &LoadOptions) -> Result<Mesh, CompileError> {
+    load_obj_bytes(path, read_obj(path)?, options)
+}
+
+/// The bytes of the OBJ file at `path`, refusing a file over [`MAX_INPUT_BYTES`] before
+/// reading it.
+pub fn read_obj(path: &Path) -> Result<Vec<u8>, CompileError> {
     let io = |source| CompileError::Io {
         path: path.to_path_buf(),
         source,
@@ -84,6 +111,17 @@ pub fn load_obj(path: &Path) -> Result<Mesh, CompileError> {
     let size = std::fs::metadata(path).map_err(io)?.len();
     check_size(path, size)?;
     let bytes = std::fs::read(path).map_err(io)?;
+    check_size(path, bytes.len() as u64)?;
+    Ok(bytes)
+}
+
+/// Load an OBJ file whose bytes were read already ([`read_obj`]); `path` names it in messages
+/// and locates its MTL files.
+pub fn load_obj_bytes(
+    path: &Path,
+    bytes: Vec<u8>,
+    options: &LoadOptions,
+) -> Result<Mesh, CompileError> {
     check_size(path, bytes.len() as u64)?;
     let text = String::from_utf8(bytes).map_err(|e| {
         let valid = &e.as_bytes()[..e.utf8_error().valid_up_to()];
@@ -93,7 +131,7 @@ pub fn load_obj(path: &Path) -> Result<Mesh, CompileError> {
             message: "the file is not valid UTF-8 text".into(),
         }
     })?;
-    load_obj_text(path, &text)
+    load_obj_text_with(path, &text, options)
 }
 
 fn check_size(path: &Path, size: u64) -> Result<(), CompileError> {
@@ -106,10 +144,11 @@ fn check_size(path: &Path, size: u64) -> Result<(), CompileError> {
     Ok(())
 }
 
-/// What happened to one `mtllib` statement.
+/// What happened to one `mtllib` statement (with the bytes read, when the file was read).
 #[derive(Debug)]
 enum MtlOutcome {
-    Loaded,
+    Loaded(Vec<u8>),
+    Malformed(Vec<u8>, String),
     Missing,
     Unreadable(String),
     TooLarge(u64),
@@ -118,6 +157,15 @@ enum MtlOutcome {
 /// Load OBJ text already in memory; `path` names it in messages and locates its MTL files
 /// (relative `mtllib` paths are resolved next to it). Used by fuzzing and in-memory callers.
 pub fn load_obj_text(path: &Path, text: &str) -> Result<Mesh, CompileError> {
+    load_obj_text_with(path, text, &LoadOptions::default())
+}
+
+/// [`load_obj_text`] with options.
+pub fn load_obj_text_with(
+    path: &Path,
+    text: &str,
+    options: &LoadOptions,
+) -> Result<Mesh, CompileError> {
     let limits = scan::Limits {
         vertices: MAX_VERTEX_STATEMENTS,
         triangles: MAX_TRIANGLES,
@@ -173,7 +221,11 @@ pub fn load_obj_text(path: &Path, text: &str) -> Result<Mesh, CompileError> {
     for ((full, outcome), &line) in libraries.iter().zip(&scanned.mtllib_lines) {
         let at = format!("{}:{line}", path.display());
         match outcome {
-            MtlOutcome::Loaded => {}
+            MtlOutcome::Loaded(_) => {}
+            MtlOutcome::Malformed(_, why) => mesh.warnings.push(format!(
+                "{at}: material library {} cannot be read ({why}); faces using its materials get the default colour",
+                full.display()
+            )),
             MtlOutcome::Missing => mesh.warnings.push(format!(
                 "{at}: material library {} not found; faces using its materials get the default colour",
                 full.display()
@@ -198,8 +250,12 @@ pub fn load_obj_text(path: &Path, text: &str) -> Result<Mesh, CompileError> {
         };
         if !list.contains(full) {
             list.push(full.clone());
+            if let MtlOutcome::Loaded(bytes) | MtlOutcome::Malformed(bytes, _) = outcome {
+                mesh.mtl_bytes.push((full.clone(), bytes.clone()));
+            }
         }
     }
+    let default_colour = options.default_colour.unwrap_or(DEFAULT_COLOUR);
     let colours: Vec<Option<[u8; 3]>> = materials
         .iter()
         .map(|m| m.diffuse.and_then(kd_to_rgb))
@@ -239,7 +295,13 @@ pub fn load_obj_text(path: &Path, text: &str) -> Result<Mesh, CompileError> {
                 notes.short_faces.add(statement.line);
                 continue;
             }
-            let colour = face_colour(m.material_id, &colours, statement, &mut notes);
+            let colour = face_colour(
+                m.material_id,
+                &colours,
+                statement,
+                default_colour,
+                &mut notes,
+            );
             let corners: Vec<DVec3> = indices
                 .iter()
                 .map(|&i| {
@@ -278,11 +340,15 @@ pub fn load_obj_text(path: &Path, text: &str) -> Result<Mesh, CompileError> {
             path: path.to_path_buf(),
         });
     }
+    if options.default_colour.is_some() {
+        // Faces without a material were meant to get the caller's colour.
+        notes.no_material = Tally::default();
+    }
     notes.into_warnings(path, &scanned, &materials, &mut mesh.warnings);
     Ok(mesh)
 }
 
-/// Reads one MTL file for tobj, recording what happened.
+/// Reads one MTL file for tobj, recording what happened and the bytes parsed.
 fn read_mtl(full: &Path) -> (MtlOutcome, tobj::MTLLoadResult) {
     let failed = Err(tobj::LoadError::OpenFileFailed);
     let size = match std::fs::metadata(full) {
@@ -294,9 +360,16 @@ fn read_mtl(full: &Path) -> (MtlOutcome, tobj::MTLLoadResult) {
     if size > MAX_INPUT_BYTES {
         return (MtlOutcome::TooLarge(size), failed);
     }
-    match tobj::load_mtl(full) {
-        Ok(result) => (MtlOutcome::Loaded, Ok(result)),
-        Err(e) => (MtlOutcome::Unreadable(e.to_string()), Err(e)),
+    let bytes = match std::fs::read(full) {
+        Ok(bytes) => bytes,
+        Err(e) => return (MtlOutcome::Unreadable(e.to_string()), failed),
+    };
+    if bytes.len() as u64 > MAX_INPUT_BYTES {
+        return (MtlOutcome::TooLarge(bytes.len() as u64), failed);
+    }
+    match tobj::load_mtl_buf(&mut std::io::Cursor::new(&bytes)) {
+        Ok(result) => (MtlOutcome::Loaded(bytes), Ok(result)),
+        Err(e) => (MtlOutcome::Malformed(bytes, e.to_string()), Err(e)),
     }
 }
 
@@ -308,11 +381,13 @@ fn kd_to_rgb(kd: [f64; 3]) -> Option<[u8; 3]> {
     Some(kd.map(|c| (c.clamp(0.0, 1.0) * 255.0).round() as u8))
 }
 
-/// The colour of one face, noting why it falls back to [`DEFAULT_COLOUR`].
+/// The colour of one face, noting why it falls back to `default` ([`DEFAULT_COLOUR`] unless
+/// the caller chose one).
 fn face_colour(
     material_id: Option<usize>,
     colours: &[Option<[u8; 3]>],
     statement: &scan::Statement,
+    default: [u8; 3],
     notes: &mut Notes,
 ) -> [u8; 3] {
     match (material_id, statement.material) {
@@ -320,16 +395,16 @@ fn face_colour(
             Some(colour) => colour,
             None => {
                 notes.no_kd.entry(id).or_default().add(statement.line);
-                DEFAULT_COLOUR
+                default
             }
         },
         (None, Some(name)) => {
             notes.undefined.entry(name).or_default().add(statement.line);
-            DEFAULT_COLOUR
+            default
         }
         (None, None) => {
             notes.no_material.add(statement.line);
-            DEFAULT_COLOUR
+            default
         }
     }
 }

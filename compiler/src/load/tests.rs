@@ -156,6 +156,50 @@ fn faces_without_material_or_kd_warn() {
 }
 
 #[test]
+fn a_chosen_default_colour_is_meant_for_faces_without_material_and_silences_their_warning() {
+    let dir = write_files(&[
+        (
+            "m.obj",
+            "mtllib m.mtl\nmtllib gone.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n\
+             usemtl plain\nf 1 2 3\nusemtl undefined\nf 1 2 3\nusemtl red\nf 1 2 3\n",
+        ),
+        ("m.mtl", "newmtl plain\nNs 10\nnewmtl red\nKd 1 0 0\n"),
+    ]);
+    let obj = dir.path().join("m.obj");
+    let options = LoadOptions {
+        default_colour: Some([1, 2, 3]),
+    };
+    let mesh = load_obj_with(&obj, &options).unwrap();
+    let colours: Vec<_> = mesh.triangles.iter().map(|t| t.colour).collect();
+    assert_eq!(colours, [[1, 2, 3], [1, 2, 3], [1, 2, 3], [255, 0, 0]]);
+    // No warning for the face without material; the mistakes in the files still warn.
+    let text = mesh.warnings.join("\n");
+    assert!(!text.contains("no material"), "{text}");
+    assert!(
+        text.contains("`plain` has no usable diffuse colour"),
+        "{text}"
+    );
+    assert!(text.contains("`undefined` is not defined"), "{text}");
+    assert!(
+        text.contains("gone.mtl") && text.contains("not found"),
+        "{text}"
+    );
+    assert_eq!(mesh.warnings.len(), 3, "{text}");
+    // Without the option: the grey, and the warning.
+    let plain = load_obj(&obj).unwrap();
+    assert_eq!(plain.triangles[0].colour, DEFAULT_COLOUR);
+    assert_eq!(plain.warnings.len(), 4);
+    // The MTL bytes parsed are kept, for a build cache.
+    assert_eq!(
+        mesh.mtl_bytes,
+        [(
+            dir.path().join("m.mtl"),
+            b"newmtl plain\nNs 10\nnewmtl red\nKd 1 0 0\n".to_vec()
+        )]
+    );
+}
+
+#[test]
 fn ids_follow_f_lines_across_material_and_group_changes() {
     // Materials switch back and forth, with objects and groups in between: tobj makes a model
     // per switch, and the ids must still follow the `f` lines.

@@ -20,6 +20,17 @@ use peel_runtime::target::{Colour, Rgb565Framebuffer};
 /// The scene, compiled by build.rs.
 static SCENE: &[u8] = include_bytes!(concat!(env!("OUT_DIR"), "/scene.peel"));
 
+/// The scene's sizes, written beside it by build.rs.
+mod scene {
+    include!(concat!(env!("OUT_DIR"), "/scene.rs"));
+}
+
+/// The workspace: a traversal stack of `STACK` entries and clip buffers of `VERTS` vertices,
+/// checked against the scene when this program compiles.
+const STACK: usize = 64;
+const VERTS: usize = 24;
+const _: () = scene::check_workspace(STACK, VERTS);
+
 const WIDTH: u32 = 160;
 const HEIGHT: u32 = 120;
 const PIXELS: usize = (WIDTH * HEIGHT) as usize;
@@ -90,7 +101,10 @@ fn parse() -> Result<Scene<'static>, peel_runtime::ReadError> {
 /// than once: the same pixels, and the smallest configuration's code stays under 8 KiB (the
 /// per-frame clear of span memory known to be word-aligned is cheaper).
 #[inline(always)]
-fn renderer<'m>(workspace: &'m mut Workspace<64, 24>, coverage: Coverage<'m>) -> Renderer<'m> {
+fn renderer<'m>(
+    workspace: &'m mut Workspace<STACK, VERTS>,
+    coverage: Coverage<'m>,
+) -> Renderer<'m> {
     let mut renderer = Renderer::new(workspace).span_memory(coverage);
     if cfg!(feature = "full") {
         let setting = core::hint::black_box(0u32);
@@ -111,11 +125,11 @@ fn main() -> ! {
     static mut INTERVALS: [(u16, u16); SLOTS * HEIGHT as usize] = [(0, 0); SLOTS * HEIGHT as usize];
     static mut COUNTS: [u16; HEIGHT as usize] = [0; HEIGHT as usize];
     // Traversal stack and clip/fill buffers: zero bytes, in `.bss`, no code to set them up.
-    static mut WORKSPACE: Workspace<64, 24> = Workspace::new();
+    static mut WORKSPACE: Workspace<STACK, VERTS> = Workspace::new();
     let frame: &'static mut [u16; PIXELS] = FRAME;
     let intervals: &'static mut [(u16, u16); SLOTS * HEIGHT as usize] = INTERVALS;
     let counts: &'static mut [u16; HEIGHT as usize] = COUNTS;
-    let workspace: &'static mut Workspace<64, 24> = WORKSPACE;
+    let workspace: &'static mut Workspace<STACK, VERTS> = WORKSPACE;
     let scene = parse().unwrap_or_else(|e| fail(Failure::Read(e)));
     // The orbit angle as its sine and cosine, turned by a fixed rotation each frame (no
     // trigonometry on the device) and pulled back to the unit circle so rounding cannot drift.

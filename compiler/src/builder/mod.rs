@@ -1,0 +1,323 @@
+//! Builder: compile OBJ assets from a build script, as `prost-build` and `cc` do.
+//!
+//! Besides the `.peel` file it writes a sizes file ([`sizes`]) and keeps a compile cache
+//! ([`cache`]) that every cargo profile of a target directory shares.
+
+pub mod cache;
+pub mod sizes;
+
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use crate::compile::{compile_obj_bytes, CompileOptions};
+use crate::error::CompileError;
+use crate::shade::Shading;
+
+/// Compiles an OBJ (and its MTL) into `OUT_DIR` from a `build.rs`, writes a sizes file beside
+/// it, and tells cargo to rerun the build script when any of the files read changes, or an MTL
+/// file the OBJ names but that is missing appears.
+///
+/// Compiles are cached (see [`cache`]): `cargo build`, `cargo test` and `cargo build
+/// --release` compile each asset once between them.
+///
+/// In `build.rs`:
+///
+/// ```no_run
+/// let out = peel_compiler::Builder::new("assets/scene.obj")
+///     .compile()
+///     .expect("compile assets/scene.obj");
+/// // $OUT_DIR/scene.peel; the firmware embeds it with
+/// // include_bytes!(concat!(env!("OUT_DIR"), "/scene.peel"))
+/// assert!(out.peel.ends_with("scene.peel"));
+/// // $OUT_DIR/scene.rs: the sizes, for
+/// // mod scene { include!(concat!(env!("OUT_DIR"), "/scene.rs")); }
+/// assert!(out.sizes.ends_with("scene.rs"));
+/// ```
+#[derive(Debug, Clone)]
+pub struct Builder {
+    obj: PathBuf,
+    out_dir: Option<PathBuf>,
+    out_name: Option<String>,
+    options: CompileOptions,
+    cache: bool,
+    cache_dir: Option<PathBuf>,
+}
+
+/// A compile, from the cache or not.
+struct Done {
+    entry: cache::Entry,
+    /// The MTL files read (readable or not).
+    mtl_files: Vec<PathBuf>,
+    /// What happened, for the builder's plain line.
+    note: String,
+    from_cache: bool,
+}
+
+/// What [`Builder::compile`] wrote. Its [`AsRef<Path>`] is the `.peel` file.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Output {
+    /// The `.peel` file.
+    pub peel: PathBuf,
+    /// The sizes file (see [`sizes`]): `<stem>.rs` beside the `.peel` file.
+    pub sizes: PathBuf,
+    /// Whether the bytes came from the cache (no compile ran).
+    pub from_cache: bool,
+}
+
+impl AsRef<Path> for Output {
+    fn as_ref(&self) -> &Path {
+        &self.peel
+    }
+}
+
+impl Builder {
+    /// Compile `obj` with the default options.
+    pub fn new(obj: impl AsRef<Path>) -> Self {
+        Builder {
+            obj: obj.as_ref().to_path_buf(),
+            out_dir: None,
+            out_name: None,
+            options: CompileOptions::default(),
+            cache: true,
+            cache_dir: None,
+        }
+    }
+
+    /// Write into `dir` instead of `$OUT_DIR`.
+    pub fn out_dir(mut self, dir: impl AsRef<Path>) -> Self {
+        self.out_dir = Some(dir.as_ref().to_path_buf());
+        self
+    }
+
+    /// Output file name (default: the OBJ's stem + `.peel`). The sizes file is named after its
+    /// stem: `<stem>.rs`.
+    pub fn out_name(mut self, name: impl Into<String>) -> Self {
+        self.out_name = Some(name.into());
+        self
+    }
+
+    /// Keep source triangle ids (for id images).
+    pub fn ids(mut self, ids: bool) -> Self {
+        self.options.ids = ids;
+        self
+    }
+
+    /// Candidate planes costed per split node.
+    pub fn candidates(mut self, k: usize) -> Self {
+        self.options.build.candidates = k;
+        self
+    }
+
+    /// Largest output polygon.
+    pub fn max_polygon_vertices(mut self, n: usize) -> Self {
+        self.options.build.max_polygon_vertices = n;
+        self
+    }
+
+    /// How colours are baked.
+    pub fn shading(mut self, shading: Shading) -> Self {
+        self.options.shading = shading;
+        self
+    }
+
+    /// The colour of faces the files give no colour (instead of the grey
+    /// [`crate::load::DEFAULT_COLOUR`]). It says faces without a material are meant: the
+    /// warning about them is no longer printed. Undefined materials, materials without `Kd`
+    /// and missing MTL files still warn (see [`crate::load::LoadOptions`]).
+    pub fn default_colour(mut self, rgb: [u8; 3]) -> Self {
+        self.options.load.default_colour = Some(rgb);
+        self
+    }
+
+    /// Use the compile cache (default: on). Off, every run compiles.
+    pub fn cache(mut self, on: bool) -> Self {
+        self.cache = on;
+        self
+    }
+
+    /// Keep the compile cache in `dir` (default: `PEEL_CACHE_DIR` if set, else `peel-cache` in
+    /// the cargo target directory; see [`cache::dir_from_out_dir`]).
+    pub fn cache_dir(mut self, dir: impl AsRef<Path>) -> Self {
+        self.cache_dir = Some(dir.as_ref().to_path_buf());
+        self
+    }
+
+    /// The cache folder this builder uses, if any: [`Builder::cache_dir`], else
+    /// `PEEL_CACHE_DIR`, else the target directory's `peel-cache` found from `OUT_DIR`.
+    pub fn cache_location(&self) -> Option<PathBuf> {
+        if !self.cache {
+            return None;
+        }
+        if let Some(dir) = &self.cache_dir {
+            return Some(dir.clone());
+        }
+        if let Some(dir) = std::env::var_os(cache::CACHE_DIR_ENV).filter(|d| !d.is_empty()) {
+            return Some(PathBuf::from(dir));
+        }
+        let out_dir = PathBuf::from(std::env::var_os("OUT_DIR")?);
+        let target = std::env::var("TARGET").ok();
+        cache::dir_from_out_dir(&out_dir, target.as_deref())
+    }
+
+    /// Compile (or take the compile from the cache), print `cargo:rerun-if-changed` for every
+    /// file read and `cargo:warning` for every loader warning (the same lines either way),
+    /// write the `.peel` file and its sizes file atomically, and return their paths.
+    ///
+    /// It also prints a plain line (cargo ignores it; `cargo build -vv` shows it) saying
+    /// whether it compiled or used the cache: `peel: <obj>: compiled in <s> s (...)` or
+    /// `peel: <obj>: cache hit (...)`.
+    pub fn compile(&self) -> Result<Output, CompileError> {
+        let out_dir =
+            match &self.out_dir {
+                Some(d) => d.clone(),
+                None => PathBuf::from(std::env::var_os("OUT_DIR").ok_or_else(|| {
+                    CompileError::Write {
+                        path: PathBuf::from("$OUT_DIR"),
+                        source: std::io::Error::other(
+                            "OUT_DIR is not set (not in a build script?)",
+                        ),
+                    }
+                })?),
+            };
+        let name = self.out_name.clone().unwrap_or_else(|| {
+            let stem = self
+                .obj
+                .file_stem()
+                .map(|s| s.to_string_lossy().into_owned());
+            format!("{}.peel", stem.unwrap_or_else(|| "scene".into()))
+        });
+        let sizes_name = sizes::sizes_name(&name);
+        if sizes_name == name {
+            return Err(CompileError::Write {
+                path: out_dir.join(&name),
+                source: std::io::Error::other("the .peel file cannot be named like its sizes file"),
+            });
+        }
+        // Rerun on the OBJ even if loading fails, so fixing it triggers a rebuild.
+        println!("cargo:rerun-if-changed={}", self.obj.display());
+        let start = Instant::now();
+        let obj_bytes = crate::load::read_obj(&self.obj)?;
+        let Done {
+            entry: result,
+            mtl_files,
+            note,
+            from_cache,
+        } = self.cached_compile(obj_bytes, start)?;
+        for f in watched(&mtl_files, &result.missing) {
+            println!("cargo:rerun-if-changed={}", f.display());
+        }
+        for w in &result.warnings {
+            println!("cargo:warning={w}");
+        }
+        println!("peel: {}: {note}", self.obj.display());
+        let scene = peel_runtime::read::Scene::parse(&result.peel).map_err(|e| {
+            CompileError::Invariant(format!("the compiled scene fails validation: {e}"))
+        })?;
+        let text = sizes::sizes_file(
+            &scene.header(),
+            result.peel.len(),
+            &name,
+            &self.obj.display().to_string(),
+        );
+        let out = out_dir.join(&name);
+        let sizes = out_dir.join(&sizes_name);
+        crate::write::write_atomic(&out, &result.peel)?;
+        crate::write::write_atomic(&sizes, text.as_bytes())?;
+        Ok(Output {
+            peel: out,
+            sizes,
+            from_cache,
+        })
+    }
+
+    /// The compile of `obj_bytes`, from the cache when it holds it, else compiled (and stored).
+    fn cached_compile(&self, obj_bytes: Vec<u8>, start: Instant) -> Result<Done, CompileError> {
+        let Some(dir) = self.cache_location() else {
+            return self.compile_now(obj_bytes, start, |_| "cache off".into());
+        };
+        let Some(key) = cache::Key::new(&self.obj, &obj_bytes, &self.options) else {
+            return self.compile_now(obj_bytes, start, |_| {
+                "not cached: a path is not UTF-8".into()
+            });
+        };
+        let miss = match cache::lookup(&dir, &key) {
+            Ok(entry) => {
+                let note = format!(
+                    "cache hit in {:.3} s ({})",
+                    start.elapsed().as_secs_f64(),
+                    dir.join(key.file_name()).display()
+                );
+                return Ok(Done {
+                    mtl_files: entry.mtl.iter().map(|(p, _)| p.clone()).collect(),
+                    entry,
+                    note,
+                    from_cache: true,
+                });
+            }
+            Err(miss) => miss,
+        };
+        self.compile_now(obj_bytes, start, |done| {
+            let stored = if done.entry.mtl.len() < done.mtl_files.len() {
+                "not cached: an MTL file could not be read".to_string()
+            } else {
+                match cache::store(&dir, &key, &done.entry) {
+                    Ok(Some(p)) => format!("cached in {}", p.display()),
+                    Ok(None) => "not cached: a path is not UTF-8".into(),
+                    Err(e) => format!("not cached: {e}"),
+                }
+            };
+            format!("{}; {stored}", miss.describe())
+        })
+    }
+
+    /// Compile now; `then` says (and does) what follows, for the note.
+    fn compile_now(
+        &self,
+        obj_bytes: Vec<u8>,
+        start: Instant,
+        then: impl FnOnce(&Done) -> String,
+    ) -> Result<Done, CompileError> {
+        let compiled = compile_obj_bytes(&self.obj, obj_bytes, &self.options, &|_| {}, start)?;
+        let mut done = Done {
+            mtl_files: compiled
+                .files
+                .iter()
+                .filter(|f| **f != self.obj)
+                .cloned()
+                .collect(),
+            entry: cache::Entry {
+                mtl: compiled.mtl_bytes,
+                missing: compiled.missing,
+                warnings: compiled.warnings,
+                peel: compiled.bytes,
+            },
+            note: String::new(),
+            from_cache: false,
+        };
+        done.note = format!("compiled in {:.2} s ({})", compiled.seconds, then(&done));
+        Ok(done)
+    }
+}
+
+/// The paths besides the OBJ whose changes must rerun the build script: the MTL files read, and
+/// for each MTL file named but missing, the nearest folder on its path that exists (creating
+/// the file, or a folder towards it, changes that folder; the missing path itself would make
+/// cargo rerun the script on every build).
+fn watched(mtl_files: &[PathBuf], missing: &[PathBuf]) -> Vec<PathBuf> {
+    let mut out = mtl_files.to_vec();
+    for m in missing {
+        let dir = m
+            .ancestors()
+            .skip(1)
+            .find(|d| d.as_os_str().is_empty() || d.is_dir())
+            .filter(|d| !d.as_os_str().is_empty())
+            .map_or_else(|| PathBuf::from("."), Path::to_path_buf);
+        if !out.contains(&dir) {
+            out.push(dir);
+        }
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests;

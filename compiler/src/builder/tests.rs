@@ -1,0 +1,353 @@
+//! Builder tests: watched paths, the cache (key, hits, damaged and stale entries, MTL
+//! changes, warnings), the sizes file and the default colour.
+
+use super::cache::{self, Key, Miss};
+use super::*;
+use crate::compile::compile_obj;
+use peel_runtime::read::Scene;
+use std::fs;
+
+/// A cube without materials (its faces get the default colour, with a warning).
+const CUBE: &str = include_str!("../../../fixtures/cube.obj");
+
+/// A triangle with a material from `m.mtl`.
+const RED_TRIANGLE: &str = "mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl red\nf 1 2 3\n";
+
+fn write(dir: &Path, name: &str, text: &str) -> PathBuf {
+    let path = dir.join(name);
+    fs::write(&path, text).unwrap();
+    path
+}
+
+/// A builder writing into `dir/out` with its cache in `dir/cache`.
+fn builder(dir: &Path, obj: &Path) -> Builder {
+    Builder::new(obj).out_dir(dir).cache_dir(dir.join("cache"))
+}
+
+/// The cache's entry files.
+fn entries(dir: &Path) -> Vec<PathBuf> {
+    let mut v: Vec<PathBuf> = fs::read_dir(dir.join("cache"))
+        .map(|d| d.flatten().map(|e| e.path()).collect())
+        .unwrap_or_default();
+    v.sort();
+    v
+}
+
+#[test]
+fn missing_mtl_files_are_watched_through_their_nearest_folder() {
+    let dir = tempfile::tempdir().unwrap();
+    let obj = write(
+        dir.path(),
+        "scene.obj",
+        "mtllib here.mtl\nmtllib gone.mtl\nmtllib sub/deeper/gone.mtl\n\
+         v 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl red\nf 1 2 3\n",
+    );
+    let here = write(dir.path(), "here.mtl", "newmtl red\nKd 1 0 0\n");
+    let compiled = compile_obj(&obj, &CompileOptions::default(), &|_| {}).unwrap();
+    assert_eq!(compiled.files, [obj.clone(), here.clone()]);
+    assert_eq!(compiled.missing.len(), 2);
+    // The folder holds the missing file; `sub/deeper` does not exist, so its nearest
+    // existing ancestor (the same folder) is watched, once.
+    assert_eq!(
+        watched(&compiled.files[1..], &compiled.missing),
+        [here.clone(), dir.path().to_path_buf()]
+    );
+    // The Builder writes the file and still succeeds (missing MTL files only warn), and a hit
+    // watches the same paths.
+    for from_cache in [false, true] {
+        let done = builder(dir.path(), &obj)
+            .cached_compile(fs::read(&obj).unwrap(), Instant::now())
+            .unwrap();
+        assert_eq!(done.from_cache, from_cache);
+        assert_eq!(
+            watched(&done.mtl_files, &done.entry.missing),
+            [here.clone(), dir.path().to_path_buf()]
+        );
+    }
+    let out = builder(dir.path(), &obj).compile().unwrap();
+    assert!(out.peel.exists() && out.sizes.exists() && out.from_cache);
+}
+
+#[test]
+fn the_key_is_the_compiler_the_options_and_the_obj() {
+    let dir = tempfile::tempdir().unwrap();
+    let obj = write(dir.path(), "cube.obj", CUBE);
+    let other = write(dir.path(), "other.obj", CUBE);
+    let bytes = CUBE.as_bytes();
+    let options = CompileOptions::default();
+    let key =
+        |obj: &Path, bytes: &[u8], options: &CompileOptions| Key::new(obj, bytes, options).unwrap();
+    let base = key(&obj, bytes, &options);
+    // Same inputs, same key and entry.
+    assert_eq!(base, key(&obj, bytes, &options));
+    assert_eq!(base.file_name(), key(&obj, bytes, &options).file_name());
+    // Other bytes: another key, the same entry file (a new compile replaces the old one).
+    let mut edited = bytes.to_vec();
+    edited.extend_from_slice(b"\n");
+    assert_ne!(base, key(&obj, &edited, &options));
+    assert_eq!(base.file_name(), key(&obj, &edited, &options).file_name());
+    // Every option and the path: another key and another entry.
+    let mut variants = Vec::new();
+    let mut o = options.clone();
+    o.ids = true;
+    variants.push(o);
+    let mut o = options.clone();
+    o.build.candidates += 1;
+    variants.push(o);
+    let mut o = options.clone();
+    o.build.seed = 1;
+    variants.push(o);
+    let mut o = options.clone();
+    o.build.max_polygon_vertices = 3;
+    variants.push(o);
+    let mut o = options.clone();
+    o.build.watertight = false;
+    variants.push(o);
+    let mut o = options.clone();
+    o.shading = Shading::Flat;
+    variants.push(o);
+    let mut o = options.clone();
+    o.shading = Shading::Lambert(glam::DVec3::new(1.0, 2.0, 3.0));
+    variants.push(o);
+    let mut o = options.clone();
+    o.load.default_colour = Some([1, 2, 3]);
+    variants.push(o);
+    let mut keys = vec![base.clone(), key(&other, bytes, &options)];
+    keys.extend(variants.iter().map(|o| key(&obj, bytes, o)));
+    for (i, a) in keys.iter().enumerate() {
+        for b in &keys[i + 1..] {
+            assert_ne!(a, b);
+            assert_ne!(a.file_name(), b.file_name());
+        }
+    }
+}
+
+#[test]
+fn the_second_compile_comes_from_the_cache_with_the_same_bytes_and_warnings() {
+    let dir = tempfile::tempdir().unwrap();
+    let obj = write(dir.path(), "cube.obj", CUBE);
+    let b = builder(dir.path(), &obj);
+    let first = b.cached_compile(CUBE.into(), Instant::now()).unwrap();
+    let second = b.cached_compile(CUBE.into(), Instant::now()).unwrap();
+    assert!(!first.from_cache && second.from_cache, "{}", second.note);
+    assert_eq!(first.entry, second.entry);
+    assert!(first.entry.warnings[0].contains("no material"));
+    assert_eq!(entries(dir.path()).len(), 1);
+    // The files written are the same either way.
+    let out = b.compile().unwrap();
+    assert!(out.from_cache);
+    assert_eq!(fs::read(&out.peel).unwrap(), first.entry.peel);
+    let uncached = Builder::new(&obj)
+        .out_dir(dir.path().join("uncached"))
+        .cache(false);
+    fs::create_dir(dir.path().join("uncached")).unwrap();
+    let plain = uncached.compile().unwrap();
+    assert!(!plain.from_cache);
+    assert_eq!(fs::read(&plain.peel).unwrap(), first.entry.peel);
+    assert_eq!(
+        fs::read(&plain.sizes).unwrap(),
+        fs::read(&out.sizes).unwrap()
+    );
+}
+
+#[test]
+fn a_damaged_entry_is_compiled_again_and_replaced() {
+    let dir = tempfile::tempdir().unwrap();
+    let obj = write(dir.path(), "cube.obj", CUBE);
+    let b = builder(dir.path(), &obj);
+    let good = b.cached_compile(CUBE.into(), Instant::now()).unwrap().entry;
+    let [entry] = &entries(dir.path())[..] else {
+        panic!("one entry expected");
+    };
+    let stored = fs::read(entry).unwrap();
+    let key = Key::new(&obj, CUBE.as_bytes(), &b.options).unwrap();
+    let dir_cache = dir.path().join("cache");
+    let mut flipped = stored.clone();
+    let last = flipped.len() - 1;
+    flipped[last] ^= 1;
+    let damages: Vec<(&str, Vec<u8>, Miss)> = vec![
+        ("empty", Vec::new(), Miss::Corrupt),
+        (
+            "truncated",
+            stored[..stored.len() / 2].to_vec(),
+            Miss::Corrupt,
+        ),
+        ("one bit", flipped, Miss::Corrupt),
+        ("garbage", vec![7; 4096], Miss::Corrupt),
+    ];
+    for (what, bytes, miss) in damages {
+        fs::write(entry, &bytes).unwrap();
+        assert_eq!(cache::lookup(&dir_cache, &key), Err(miss), "{what}");
+        let done = b.cached_compile(CUBE.into(), Instant::now()).unwrap();
+        assert!(!done.from_cache, "{what}");
+        assert_eq!(done.entry, good, "{what}");
+        assert_eq!(
+            fs::read(entry).unwrap(),
+            stored,
+            "{what}: the entry is rewritten"
+        );
+        assert!(
+            b.cached_compile(CUBE.into(), Instant::now())
+                .unwrap()
+                .from_cache
+        );
+    }
+    // A checksum that matches damaged `.peel` bytes (a bad writer): the full validation
+    // refuses them.
+    let mut bad = good.clone();
+    bad.peel.truncate(40);
+    cache::store(&dir_cache, &key, &bad).unwrap();
+    assert_eq!(cache::lookup(&dir_cache, &key), Err(Miss::Corrupt));
+    let done = b.cached_compile(CUBE.into(), Instant::now()).unwrap();
+    assert!(!done.from_cache);
+    assert!(Scene::parse(&fs::read(entry).unwrap()).is_err());
+    assert_eq!(cache::lookup(&dir_cache, &key), Ok(good));
+}
+
+#[test]
+fn an_edited_obj_or_mtl_or_a_new_mtl_is_compiled_again() {
+    let dir = tempfile::tempdir().unwrap();
+    let obj = write(dir.path(), "t.obj", RED_TRIANGLE);
+    let b = builder(dir.path(), &obj);
+    let run = |bytes: &str| b.cached_compile(bytes.into(), Instant::now()).unwrap();
+    // The MTL is missing: default colour and a warning; its appearance invalidates.
+    let missing = run(RED_TRIANGLE);
+    assert!(!missing.from_cache && !missing.entry.warnings.is_empty());
+    assert!(run(RED_TRIANGLE).from_cache);
+    write(dir.path(), "m.mtl", "newmtl red\nKd 1 0 0\n");
+    let red = run(RED_TRIANGLE);
+    assert!(!red.from_cache, "{}", red.note);
+    assert!(red.note.contains("MTL"), "{}", red.note);
+    assert_ne!(red.entry.peel, missing.entry.peel);
+    assert!(run(RED_TRIANGLE).from_cache);
+    // An edited MTL.
+    write(dir.path(), "m.mtl", "newmtl red\nKd 0 0 1\n");
+    let blue = run(RED_TRIANGLE);
+    assert!(!blue.from_cache);
+    assert_ne!(blue.entry.peel, red.entry.peel);
+    assert!(run(RED_TRIANGLE).from_cache);
+    // Edited OBJ bytes (the builder passes what it read).
+    let edited = format!("{RED_TRIANGLE}v 0 0 1\nf 1 2 4\n");
+    let more = run(&edited);
+    assert!(
+        !more.from_cache && more.note.contains("other OBJ bytes"),
+        "{}",
+        more.note
+    );
+    assert!(run(&edited).from_cache);
+    // Each change replaced the asset's one entry.
+    assert_eq!(entries(dir.path()).len(), 1);
+}
+
+#[test]
+fn the_cache_folder_is_in_the_target_directory_for_every_profile_and_target() {
+    let target = Path::new("/work/project/target");
+    for profile in ["debug", "release", "custom"] {
+        let out = target.join(profile).join("build/app-0123abcd/out");
+        assert_eq!(
+            cache::dir_from_out_dir(&out, Some("x86_64-unknown-linux-gnu")),
+            Some(target.join("peel-cache"))
+        );
+        let cross = target
+            .join("thumbv7em-none-eabihf")
+            .join(profile)
+            .join("build/app-0123abcd/out");
+        assert_eq!(
+            cache::dir_from_out_dir(&cross, Some("thumbv7em-none-eabihf")),
+            Some(target.join("peel-cache"))
+        );
+    }
+    assert_eq!(cache::dir_from_out_dir(Path::new("/tmp/out"), None), None);
+    assert_eq!(
+        cache::dir_from_out_dir(Path::new("/a/b/debug/deps/x/out"), None),
+        None
+    );
+    // Off, or explicit.
+    let b = Builder::new("x.obj").cache(false).cache_dir("/somewhere");
+    assert_eq!(b.cache_location(), None);
+    let b = Builder::new("x.obj").cache_dir("/somewhere");
+    assert_eq!(b.cache_location(), Some(PathBuf::from("/somewhere")));
+}
+
+#[test]
+fn the_sizes_file_has_the_header_s_figures() {
+    let dir = tempfile::tempdir().unwrap();
+    let obj = write(dir.path(), "cube.obj", CUBE);
+    let out = builder(dir.path(), &obj)
+        .out_name("box.peel")
+        .compile()
+        .unwrap();
+    assert_eq!(out.sizes, dir.path().join("box.rs"));
+    let bytes = fs::read(&out.peel).unwrap();
+    let h = Scene::parse(&bytes).unwrap().header();
+    let text = fs::read_to_string(&out.sizes).unwrap();
+    let has = |line: String| assert!(text.contains(&line), "{line} not in\n{text}");
+    has(format!("pub const STACK: usize = {};", h.max_depth));
+    has(format!("pub const MAX_DEPTH: usize = {};", h.max_depth));
+    has(format!(
+        "pub const VERTS: usize = {};",
+        h.max_polygon_vertices as usize + peel_runtime::clip::CLIP_PLANES
+    ));
+    has(format!(
+        "pub const MAX_POLYGON_VERTICES: usize = {};",
+        h.max_polygon_vertices
+    ));
+    has(format!("pub const VERTICES: usize = {};", h.vertex_count));
+    has(format!(
+        "pub const VERTEX_MEMORY: usize = {};",
+        h.vertex_count
+    ));
+    has(format!("pub const POLYGONS: usize = {};", h.polygon_count));
+    has(format!("pub const NODES: usize = {};", h.node_count));
+    has(format!("pub const BYTES: usize = {};", bytes.len()));
+    has(format!(
+        "pub const CENTRE: [f64; 3] = [{:?}, {:?}, {:?}];",
+        h.centre[0], h.centre[1], h.centre[2]
+    ));
+    has(format!(
+        "pub const BOUNDS_MIN: [f32; 3] = [{:?}, {:?}, {:?}];",
+        h.bounds_min.x, h.bounds_min.y, h.bounds_min.z
+    ));
+    has(format!(
+        "pub const SPANS_PER_ROW: usize = {};",
+        crate::raster::HOST_SPANS_PER_ROW
+    ));
+    has("pub const fn check_workspace(stack: usize, verts: usize)".into());
+    // Every item may go unused in the firmware.
+    let items = text.lines().filter(|l| l.starts_with("pub ")).count();
+    let allowed = text
+        .lines()
+        .filter(|l| l.starts_with("#[allow(dead_code"))
+        .count();
+    assert_eq!(items, allowed);
+    // A name that would be its own sizes file is refused.
+    assert!(builder(dir.path(), &obj)
+        .out_name("box.rs")
+        .compile()
+        .is_err());
+}
+
+#[test]
+fn a_default_colour_silences_the_warning_about_faces_without_material() {
+    let dir = tempfile::tempdir().unwrap();
+    let obj = write(dir.path(), "cube.obj", CUBE);
+    let grey = builder(dir.path(), &obj)
+        .cached_compile(CUBE.into(), Instant::now())
+        .unwrap();
+    assert_eq!(grey.entry.warnings.len(), 1, "{:?}", grey.entry.warnings);
+    let b = builder(dir.path(), &obj)
+        .default_colour([10, 20, 30])
+        .shading(Shading::Flat);
+    for from_cache in [false, true] {
+        let done = b.cached_compile(CUBE.into(), Instant::now()).unwrap();
+        assert_eq!(done.from_cache, from_cache);
+        assert!(done.entry.warnings.is_empty(), "{:?}", done.entry.warnings);
+        let scene = Scene::parse(&done.entry.peel).unwrap();
+        let p = scene.polygon(0);
+        assert_eq!(
+            (p.colour.r, p.colour.g, p.colour.b),
+            (10, 20, 30),
+            "the faces get the colour"
+        );
+    }
+}
