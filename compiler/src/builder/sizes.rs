@@ -133,7 +133,7 @@ pub fn sizes_file(header: &Header, bytes: usize, peel_name: &str, source: &str) 
         "Intervals per row that can never run out at `width`: each polygon covers one span of\n\
          a row, and a row holds at most `(width + 1) / 2` disjoint intervals.",
         "pub const fn spans_per_row_bound(width: u32) -> usize {\n    \
-             let half = (width as usize + 1) / 2;\n    \
+             let half = (width as usize).div_ceil(2);\n    \
              if POLYGONS < half { POLYGONS } else { half }\n\
          }"
         .to_string(),
