@@ -6,7 +6,7 @@ use glam::DVec3;
 use peel_runtime::camera::{Camera, Pose};
 use peel_runtime::coverage::Coverage;
 use peel_runtime::read::Scene;
-use peel_runtime::render::{render_ordered, FrameMemory, FrameStats, RenderOptions, Workspace};
+use peel_runtime::render::{FrameStats, Renderer, Workspace};
 use peel_runtime::target::{Colour, Rgb565Framebuffer};
 use peel_runtime::vertices::{CachedVertex, VertexCache};
 
@@ -38,7 +38,10 @@ const _: () = demo::check_workspace(STACK, VERTS);
 const _: () = cube::check_workspace(STACK, VERTS);
 
 /// Span memory and vertex memory for both.
-const SPANS: usize = max(demo::span_memory(WIDTH, HEIGHT), cube::span_memory(WIDTH, HEIGHT));
+const SPANS: usize = max(
+    demo::span_memory(WIDTH, HEIGHT),
+    cube::span_memory(WIDTH, HEIGHT),
+);
 const VERTICES: usize = max(demo::VERTEX_MEMORY, cube::VERTEX_MEMORY);
 const _: () = demo::check_vertex_memory(VERTICES);
 
@@ -57,18 +60,16 @@ fn draw(bytes: &[u8], workspace: &mut Workspace<STACK, VERTS>) -> FrameStats {
         .expect("a camera");
     let mut intervals = vec![(0u16, 0u16); SPANS];
     let mut counts = [0u16; HEIGHT as usize];
-    let mut coverage =
-        Coverage::new(&mut intervals, &mut counts, WIDTH, HEIGHT).expect("span memory");
+    let coverage = Coverage::new(&mut intervals, &mut counts, WIDTH, HEIGHT).expect("span memory");
     let mut memory = vec![CachedVertex::EMPTY; VERTICES];
-    let mut vertices = VertexCache::new(&mut memory);
     let mut pixels = vec![0u16; (WIDTH * HEIGHT) as usize];
     let mut fb = Rgb565Framebuffer::new(&mut pixels, WIDTH, HEIGHT).expect("a framebuffer");
     fb.clear(Colour::new(0, 0, 0));
-    let memory = FrameMemory {
-        coverage: Some(&mut coverage),
-        vertices: Some(&mut vertices),
-    };
-    render_ordered(&scene, &camera, workspace, RenderOptions::default(), memory, &mut fb)
+    let mut renderer = Renderer::new(workspace)
+        .span_memory(coverage)
+        .vertex_memory(VertexCache::new(&mut memory));
+    renderer
+        .draw(&scene, &camera.view(h.centre), &mut fb)
         .expect("the frame fits the memory sized from the sizes file")
 }
 
