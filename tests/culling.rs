@@ -10,10 +10,10 @@
 
 use glam::{DMat3, DVec3};
 use peel_compiler::compile::{compile_mesh, CompileOptions};
-use peel_compiler::load::{Mesh, SourceTriangle, DEFAULT_COLOUR};
+use peel_compiler::load::Mesh;
 use peel_compiler::raster::{HOST_SPANS_PER_ROW, HOST_STACK, HOST_VERTS};
 use peel_compiler::scenes;
-use peel_e2e::{closed_outward, closed_sphere, mesh_closed_outward};
+use peel_e2e::{bounds, closed_outward, closed_sphere, mesh_closed_outward};
 use peel_runtime::camera::{Camera, Pose};
 use peel_runtime::coverage::Coverage;
 use peel_runtime::read::Scene;
@@ -478,17 +478,7 @@ impl Solids {
             tris.push(t.map(|o| p + DVec3::from_array(o) * r));
         }
         let solid = (0..tris.len()).map(|i| i < closed).collect();
-        let mesh = Mesh {
-            triangles: tris
-                .into_iter()
-                .map(|vertices| SourceTriangle {
-                    vertices,
-                    colour: DEFAULT_COLOUR,
-                })
-                .collect(),
-            ..Mesh::default()
-        };
-        (mesh, solid)
+        (scenes::mesh(tris), solid)
     }
 }
 
@@ -698,7 +688,7 @@ impl Shot {
                 distance,
                 aim,
             } => {
-                let (lo, hi) = scene_bounds(scene);
+                let (lo, hi) = bounds(&scene.mesh().0);
                 let c = (lo + hi) / 2.0;
                 let r = (hi - lo).length() / 2.0;
                 let eye = c + DVec3::from_array(*direction).normalize() * (distance * r);
@@ -706,20 +696,6 @@ impl Shot {
             }
         }
     }
-}
-
-/// Bounds of a scene's triangles.
-fn scene_bounds(scene: &Solids) -> (DVec3, DVec3) {
-    let (mesh, _) = scene.mesh();
-    let mut lo = DVec3::splat(f64::INFINITY);
-    let mut hi = DVec3::splat(f64::NEG_INFINITY);
-    for t in &mesh.triangles {
-        for v in t.vertices {
-            lo = lo.min(v);
-            hi = hi.max(v);
-        }
-    }
-    (lo, hi)
 }
 
 /// What one case of [`culling_is_pixel_neutral_for_every_camera`] saw: cameras inside a solid

@@ -12,7 +12,7 @@ use glam::DVec3;
 use peel_compiler::compile::{compile_mesh, CompileOptions};
 use peel_compiler::load::{load_obj, Mesh};
 use peel_compiler::raster::{render_bytes_with, Settings, View};
-use peel_e2e::{closed_sphere, mesh_closed_outward, reference, RefCamera};
+use peel_e2e::{bounds, closed_sphere, mesh_closed_outward, reference, RefCamera};
 use peel_runtime::read::{Node, Scene};
 use peel_runtime::traverse::Order;
 
@@ -43,19 +43,6 @@ fn polygons(bytes: &[u8]) -> Vec<Vec<DVec3>> {
                 .collect()
         })
         .collect()
-}
-
-/// Scene bounds of the source triangles.
-fn bounds(mesh: &Mesh) -> (DVec3, DVec3) {
-    let mut lo = DVec3::splat(f64::INFINITY);
-    let mut hi = DVec3::splat(f64::NEG_INFINITY);
-    for t in &mesh.triangles {
-        for v in t.vertices {
-            lo = lo.min(v);
-            hi = hi.max(v);
-        }
-    }
-    (lo, hi)
 }
 
 /// What [`compare`] counted.

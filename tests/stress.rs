@@ -14,7 +14,7 @@ use peel_compiler::load::{load_obj, Mesh, SourceTriangle, DEFAULT_COLOUR};
 use peel_compiler::raster::{render_bytes, View};
 use peel_compiler::scenes::{self, SplitMix};
 use peel_compiler::tree::{verify, BuildOptions, DisplayTree, TreeNode};
-use peel_e2e::{reference, RefCamera};
+use peel_e2e::{bounds, reference, RefCamera};
 use peel_runtime::read::Scene;
 
 fn mesh_of(tris: Vec<[DVec3; 3]>) -> Mesh {
@@ -68,18 +68,6 @@ fn same_tree(a: &DisplayTree, b: &DisplayTree) -> bool {
         && a.polygons == b.polygons
         && a.nodes == b.nodes
         && a.stats == b.stats
-}
-
-fn bounds(mesh: &Mesh) -> (DVec3, DVec3) {
-    let mut lo = DVec3::splat(f64::INFINITY);
-    let mut hi = DVec3::splat(f64::NEG_INFINITY);
-    for t in &mesh.triangles {
-        for v in t.vertices {
-            lo = lo.min(v);
-            hi = hi.max(v);
-        }
-    }
-    (lo, hi)
 }
 
 /// World-space polygons of a compiled file (their edges include every cut).

@@ -5,7 +5,8 @@ use glam::DVec3;
 
 use crate::load::{Mesh, SourceTriangle, DEFAULT_COLOUR};
 
-fn mesh(triangles: Vec<[DVec3; 3]>) -> Mesh {
+/// A mesh of `triangles` in the default colour.
+pub fn mesh(triangles: Vec<[DVec3; 3]>) -> Mesh {
     Mesh {
         triangles: triangles
             .into_iter()

@@ -3,6 +3,19 @@
 
 pub use peel_compiler::reference::*;
 
+/// Bounds of a mesh's source triangles.
+pub fn bounds(mesh: &Mesh) -> (DVec3, DVec3) {
+    let mut lo = DVec3::splat(f64::INFINITY);
+    let mut hi = DVec3::splat(f64::NEG_INFINITY);
+    for t in &mesh.triangles {
+        for v in t.vertices {
+            lo = lo.min(v);
+            hi = hi.max(v);
+        }
+    }
+    (lo, hi)
+}
+
 use std::collections::HashMap;
 
 use glam::DVec3;

@@ -113,38 +113,12 @@ where
     S: SpanSink + ?Sized,
 {
     let view = camera.view(scene.centre());
-    render_view_with_options::<SUB, T, S, STACK, VERTS>(
-        scene, &view, workspace, options, memory, sink,
-    )
+    draw::<SUB, T, S, STACK, VERTS>(scene, &view, workspace, options, memory, sink)
 }
 
-/// As `options` say, at the default precision, for a view.
-pub(crate) fn render_view<T, S, const STACK: usize, const VERTS: usize>(
-    scene: &T,
-    view: &View,
-    workspace: &mut Workspace<STACK, VERTS>,
-    options: Options,
-    memory: Memory<'_>,
-    sink: &mut S,
-) -> Result<FrameStats, RenderError>
-where
-    T: Source + ?Sized,
-    S: SpanSink + ?Sized,
-{
-    render_view_with_options::<{ fill::SUBPIXEL_BITS }, T, S, STACK, VERTS>(
-        scene, view, workspace, options, memory, sink,
-    )
-}
-
-/// One frame by a renderer made for it: span memory only when `options` ask for front to
-/// back, so that back to front draws without it as a caller would.
-pub(crate) fn render_view_with_options<
-    const SUB: u32,
-    T,
-    S,
-    const STACK: usize,
-    const VERTS: usize,
->(
+/// One frame by a renderer made for it, for a view: span memory only when `options` ask for
+/// front to back, so that back to front draws without it as a caller would.
+pub(crate) fn draw<const SUB: u32, T, S, const STACK: usize, const VERTS: usize>(
     scene: &T,
     view: &View,
     workspace: &mut Workspace<STACK, VERTS>,

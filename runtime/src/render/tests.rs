@@ -437,7 +437,14 @@ fn a_view_draws_what_its_camera_draws() {
         };
         let mut ws = Workspace::<2, 9>::new();
         let stats = match view {
-            Some(v) => render_view(&scene, v, &mut ws, options, Memory::from(cov), &mut frame),
+            Some(v) => draw::<{ fill::SUBPIXEL_BITS }, _, _, 2, 9>(
+                &scene,
+                v,
+                &mut ws,
+                options,
+                Memory::from(cov),
+                &mut frame,
+            ),
             None => render_ordered(
                 &scene,
                 &cam,
