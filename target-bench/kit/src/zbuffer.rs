@@ -1,0 +1,338 @@
+//! The z-buffer baseline as firmware would write it: the source triangles of a [`Mesh`], each
+//! transformed, clipped, projected, snapped and filled exactly as Peel's renderer does its
+//! polygons (the runtime's [`View`], [`clip_polygon`], [`snap`] and [`fill_polygon`], top-left
+//! rule included), into an RGB565 framebuffer with a **16-bit depth buffer**: per pixel the
+//! interpolated `1/z` wins when nearer (larger), ties going to the triangle drawn first.
+//!
+//! Depth is `1/z` mapped linearly onto `1..=65535` over the scene's depth range in this view
+//! (its box in camera space, as a GPU's near and far planes would be fitted), 0 meaning empty.
+//! Each triangle's depth is a plane `a x + b y + c` over the screen in fixed point
+//! ([`FRACTION`] bits), set up once per triangle in `f32` and stepped with one integer add per
+//! pixel, in 32 bits whenever a span's values allow (always, in practice).
+//!
+//! Everything is `f32`, integer or the runtime's code, so the host (the runner's reference
+//! pixels) and both Cortex-M cores compute the same bits.
+
+use glam::Vec3;
+use peel_runtime::camera::View;
+use peel_runtime::clip::{clip_polygon, Frustum, CLIP_PLANES};
+use peel_runtime::fill::{coordinate_limit, fill_polygon, FixedPoint, SUBPIXEL_BITS};
+use peel_runtime::render::snap;
+use peel_runtime::target::{Colour, SpanSink};
+use peel_runtime::RenderError;
+
+use crate::mesh::Mesh;
+
+/// Fractional bits of the depth planes: a depth of 65535 with one more bit for the doubled
+/// coordinates fits in 30 bits.
+pub const FRACTION: u32 = 13;
+/// A clipped triangle's most vertices.
+const CLIPPED: usize = 3 + CLIP_PLANES;
+/// Bound on a plane coefficient in fixed point: only a triangle seen nearly edge-on comes
+/// close, and every product below then still fits an `i64`.
+const LIMIT: i64 = 1 << 40;
+
+/// Why a frame was not drawn.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ZError {
+    /// The colour or depth buffer holds fewer than `needed` pixels.
+    Buffer {
+        /// Pixels of the image.
+        needed: usize,
+    },
+    /// The view is unusable or the image too large (as the renderer would say).
+    Render(RenderError),
+}
+
+impl From<RenderError> for ZError {
+    fn from(e: RenderError) -> Self {
+        ZError::Render(e)
+    }
+}
+
+impl core::fmt::Display for ZError {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        match self {
+            ZError::Buffer { needed } => write!(f, "z-buffer memory under {needed} pixels"),
+            ZError::Render(e) => write!(f, "{e}"),
+        }
+    }
+}
+
+/// The linear map from `1/z` to depth values for one view.
+#[derive(Debug, Clone, Copy)]
+struct DepthRange {
+    inv_far: f32,
+    scale: f32,
+}
+
+impl DepthRange {
+    /// The range of the box `lo..hi` (the scene's bounds) seen by `view`.
+    fn new(view: &View, lo: Vec3, hi: Vec3) -> DepthRange {
+        let b = view.box_to_camera(lo, hi);
+        let near = (b.centre.z - b.extent.z - b.error).max(view.near);
+        let mut far = b.centre.z + b.extent.z + b.error;
+        if !(far > near) {
+            far = near * 2.0;
+        }
+        let inv_far = 1.0 / far;
+        DepthRange {
+            inv_far,
+            scale: 65534.0 / (1.0 / near - inv_far),
+        }
+    }
+
+    /// The depth plane of the camera-space polygon `camera` (`1 + (1/z - 1/far) * scale` at
+    /// a screen point) in fixed point, or `None` when its plane passes through the eye.
+    fn plane(&self, camera: &[Vec3], view: &View) -> Option<[i64; 3]> {
+        let p0 = *camera.first()?;
+        let mut n = Vec3::ZERO;
+        for w in camera.get(1..)?.windows(2) {
+            n += (w[0] - p0).cross(w[1] - p0);
+        }
+        let d = n.dot(p0);
+        if d == 0.0 || !d.is_finite() {
+            return None;
+        }
+        // The ray through (x, y) is ((x - cx)/fx, -(y - cy)/fy, 1); it meets the plane at
+        // zc = d / (n . ray), so 1/zc = (n . ray) / d, linear in x and y.
+        let a = n.x / (view.fx * d);
+        let b = -n.y / (view.fy * d);
+        let c = (n.z - n.x * view.cx / view.fx + n.y * view.cy / view.fy) / d;
+        let fixed = |v: f32| {
+            let scaled = libm::roundf(v * (1u32 << FRACTION) as f32);
+            // `as` saturates (NaN to 0).
+            (scaled as i64).clamp(-LIMIT, LIMIT)
+        };
+        Some([
+            fixed(a * self.scale),
+            fixed(b * self.scale),
+            fixed((c - self.inv_far) * self.scale + 1.0),
+        ])
+    }
+}
+
+/// One triangle's spans, depth-tested into the frame.
+struct DepthSink<'f> {
+    colour: &'f mut [u16],
+    depth: &'f mut [u16],
+    width: usize,
+    plane: [i64; 3],
+    rgb: u16,
+}
+
+impl SpanSink for DepthSink<'_> {
+    #[inline]
+    fn span(&mut self, y: u32, x0: u32, x1: u32, _: Colour) {
+        let [a, b, c] = self.plane;
+        let row = y as usize * self.width;
+        let (first, past) = (row + x0 as usize, row + x1 as usize);
+        let (Some(colours), Some(depths)) = (
+            self.colour.get_mut(first..past),
+            self.depth.get_mut(first..past),
+        ) else {
+            return;
+        };
+        // Doubled coordinates put pixel centres on integers: the value at pixel x is
+        // (a (2x + 1) + b (2y + 1) + 2c) / 2, with FRACTION fractional bits.
+        let start = a * i64::from(2 * x0 + 1) + b * i64::from(2 * y + 1) + 2 * c;
+        let step = 2 * a;
+        let end = start + step * i64::from(x1 - x0 - 1);
+        let rgb = self.rgb;
+        let cells = colours.iter_mut().zip(depths.iter_mut());
+        const FAST: i64 = 1 << 30;
+        if start.abs() < FAST && end.abs() < FAST {
+            // Every value lies between the ends; `step` fits whenever there are two pixels.
+            let (mut v, step) = (start as i32, step as i32);
+            for (c, d) in cells {
+                let z = (v >> (FRACTION + 1)).clamp(1, 65535) as u16;
+                if z > *d {
+                    *d = z;
+                    *c = rgb;
+                }
+                v = v.wrapping_add(step);
+            }
+        } else {
+            let mut v = start;
+            for (c, d) in cells {
+                let z = (v >> (FRACTION + 1)).clamp(1, 65535) as u16;
+                if z > *d {
+                    *d = z;
+                    *c = rgb;
+                }
+                v += step;
+            }
+        }
+    }
+}
+
+/// Draw `mesh` seen by `view` into `colour` (RGB565, cleared to `background` first) with the
+/// depth buffer `depth` (cleared to empty first), both `view.width x view.height`, packed.
+///
+/// # Errors
+/// [`ZError`] for a buffer too small, an unusable view or an image too large for the fill;
+/// nothing is drawn then.
+pub fn draw(
+    mesh: &Mesh<'_>,
+    view: &View,
+    background: u16,
+    colour: &mut [u16],
+    depth: &mut [u16],
+) -> Result<(), ZError> {
+    const SUB: u32 = SUBPIXEL_BITS;
+    view.check()?;
+    let (width, height) = (view.width, view.height);
+    let too_large = RenderError::ImageTooLarge { width, height };
+    let fixed = |v: u32| {
+        i32::try_from(v)
+            .ok()
+            .and_then(|v| v.checked_mul(1 << SUB))
+            .filter(|&v| v <= coordinate_limit::<SUB>())
+            .ok_or(too_large)
+    };
+    let (max_x, max_y) = (fixed(width)?, fixed(height)?);
+    let needed = width as usize * height as usize;
+    let (Some(colour), Some(depth)) = (colour.get_mut(..needed), depth.get_mut(..needed)) else {
+        return Err(ZError::Buffer { needed });
+    };
+    colour.fill(background);
+    depth.fill(0);
+    let frustum = Frustum::new(view);
+    let (lo, hi) = mesh.bounds();
+    // As the renderer does: a scene wholly inside the frustum needs no clipping.
+    let inside = frustum.contains_box(view, lo, hi);
+    let range = DepthRange::new(view, lo, hi);
+    let mut a = [Vec3::ZERO; CLIPPED];
+    let mut b = [Vec3::ZERO; CLIPPED];
+    let mut points = [FixedPoint::default(); CLIPPED];
+    for t in 0..mesh.triangle_count() {
+        let (corners, rgb) = mesh.triangle(t);
+        for (slot, &i) in a.iter_mut().zip(&corners) {
+            *slot = view.to_camera(mesh.vertex(i));
+        }
+        let clipped: &[Vec3] = if inside {
+            &a[..3]
+        } else {
+            clip_polygon(frustum.planes(), 3, &mut a, &mut b)?
+        };
+        if clipped.len() < 3 {
+            continue;
+        }
+        let Some(plane) = range.plane(clipped, view) else {
+            continue;
+        };
+        let mut count = 0;
+        for (slot, &c) in points.iter_mut().zip(clipped) {
+            *slot = snap::<SUB>(view.project(c), max_x, max_y);
+            count += 1;
+        }
+        let mut sink = DepthSink {
+            colour: &mut *colour,
+            depth: &mut *depth,
+            width: width as usize,
+            plane,
+            rgb,
+        };
+        // At most CLIPPED points, all snapped into the window checked above: cannot fail.
+        let _ = fill_polygon::<SUB, _>(
+            &points[..count],
+            width,
+            height,
+            Colour::default(),
+            &mut sink,
+        );
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::mesh::encode;
+    use peel_runtime::camera::{Camera, Orbit};
+    use std::vec;
+
+    /// Two overlapping squares facing +z, the front one (z = 0.5) red and drawn second, the
+    /// back one (z = -0.5) blue; the bounds are the unit cube.
+    fn two_squares(front_first: bool) -> std::vec::Vec<u8> {
+        let mut vertices = vec![];
+        let mut tris = vec![];
+        let mut square = |z: f32, size: f32, rgb: u16| {
+            let base = vertices.len() as u32;
+            for (x, y) in [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)] {
+                vertices.push(Vec3::new(x * size, y * size, z));
+            }
+            tris.push(([base, base + 1, base + 2], rgb));
+            tris.push(([base, base + 2, base + 3], rgb));
+        };
+        if front_first {
+            square(0.5, 0.5, 0xf800);
+            square(-0.5, 1.0, 0x001f);
+        } else {
+            square(-0.5, 1.0, 0x001f);
+            square(0.5, 0.5, 0xf800);
+        }
+        let header = crate::mesh::test_header([0.0; 3], Vec3::splat(-1.0), Vec3::splat(1.0));
+        encode(&header, &vertices, &tris).unwrap()
+    }
+
+    fn frame(bytes: &[u8], azimuth: f64) -> std::vec::Vec<u16> {
+        let mesh = Mesh::parse(bytes).unwrap();
+        let h = mesh.header();
+        let orbit = Orbit {
+            azimuth_deg: azimuth,
+            elevation_deg: 0.0,
+            distance: Orbit::fitting_distance(60.0, 32, 24),
+        };
+        let near = Camera::default_near(h.bounds_min, h.bounds_max);
+        let camera = Camera::look_at(orbit.pose(&h), 60.0, 32, 24, near).unwrap();
+        let (mut colour, mut depth) = (vec![0u16; 32 * 24], vec![0u16; 32 * 24]);
+        draw(&mesh, &camera.view(h.centre), 7, &mut colour, &mut depth).unwrap();
+        assert!(colour
+            .iter()
+            .zip(&depth)
+            .all(|(&c, &d)| (c == 7) == (d == 0)));
+        colour
+    }
+
+    #[test]
+    fn nearest_wins_whatever_the_order() {
+        let (a, b) = (
+            frame(&two_squares(true), 0.0),
+            frame(&two_squares(false), 0.0),
+        );
+        assert_eq!(a, b);
+        // The centre shows the front square, a corner region the back one, and the border
+        // the background.
+        assert_eq!(a[12 * 32 + 16], 0xf800);
+        assert!(a.contains(&0x001f));
+        assert_eq!(a[0], 7);
+        // Seen from behind, the blue square hides the red one.
+        let back = frame(&two_squares(true), 180.0);
+        assert!(!back.contains(&0xf800) && back.contains(&0x001f));
+    }
+
+    #[test]
+    fn refuses_small_buffers_and_large_images() {
+        let bytes = two_squares(true);
+        let mesh = Mesh::parse(&bytes).unwrap();
+        let h = mesh.header();
+        let pose = Orbit::default().pose(&h);
+        let camera = Camera::look_at(pose, 60.0, 32, 24, 0.01).unwrap();
+        let view = camera.view(h.centre);
+        let mut small = vec![0u16; 10];
+        let mut depth = vec![0u16; 32 * 24];
+        assert_eq!(
+            draw(&mesh, &view, 0, &mut small, &mut depth),
+            Err(ZError::Buffer { needed: 32 * 24 })
+        );
+        let huge = View {
+            width: 1 << 24,
+            ..view
+        };
+        assert!(matches!(
+            draw(&mesh, &huge, 0, &mut small, &mut depth),
+            Err(ZError::Render(RenderError::ImageTooLarge { .. }))
+        ));
+    }
+}
