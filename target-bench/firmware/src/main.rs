@@ -1,0 +1,250 @@
+//! The on-target benchmark's firmware. QEMU loads the scene (or the z-buffer's mesh) and a
+//! config block into code memory ([`peel_target_kit::layout`]); for each camera of the block
+//! the firmware computes the view, paints the stack, times one frame with SysTick (drawing it
+//! and sending it to the mock display, nothing else), measures the stack's high-water mark and
+//! reports over semihosting:
+//!
+//! ```text
+//! peel-target variant=<variant> target=<target triple>
+//! frame <k> ticks=<SysTick ticks> display_bytes=<bytes> fallback=<0|1>
+//! memory pool_used=<bytes> pool_capacity=<bytes> framebuffer=<bytes> stack_peak=<bytes>
+//! done
+//! ```
+//!
+//! and, when the block asks, writes what the panel received to the host file
+//! `frame-<k>.rgb565` (after the timed region). Any failure prints `error: ...` and exits with
+//! a non-zero code; a panic or a fault does too.
+#![no_std]
+#![no_main]
+
+mod clock;
+mod display;
+mod host;
+mod method;
+mod pool;
+mod stack;
+
+use core::fmt;
+
+use cortex_m_rt::{entry, exception, ExceptionFrame};
+use cortex_m_semihosting::{debug, hprintln};
+use peel_target_kit::config::{Config, ConfigError, Variant, WRITE_FRAMES};
+
+use display::Panel;
+use pool::Pool;
+
+#[cfg(feature = "ftb-framebuffer")]
+const VARIANT: Variant = Variant::FtbFramebuffer;
+#[cfg(feature = "ftb-stream")]
+const VARIANT: Variant = Variant::FtbStream;
+#[cfg(feature = "ftb-bands")]
+const VARIANT: Variant = Variant::FtbBands;
+#[cfg(feature = "b2f-framebuffer")]
+const VARIANT: Variant = Variant::B2fFramebuffer;
+#[cfg(feature = "b2f-bands")]
+const VARIANT: Variant = Variant::B2fBands;
+#[cfg(feature = "zbuffer")]
+const VARIANT: Variant = Variant::Zbuffer;
+#[cfg(not(any(
+    feature = "ftb-framebuffer",
+    feature = "ftb-stream",
+    feature = "ftb-bands",
+    feature = "b2f-framebuffer",
+    feature = "b2f-bands",
+    feature = "zbuffer"
+)))]
+compile_error!("build with exactly one variant feature, e.g. --features ftb-framebuffer");
+
+/// The largest image the panel memory holds.
+const MAX_PIXELS: usize = 320 * 240;
+/// Pixel memory (framebuffers, band buffers, depth buffers) handed out by size at boot.
+const PIXEL_POOL: usize = 2 * MAX_PIXELS + 4096;
+/// Span-memory intervals handed out by size at boot.
+const SPAN_POOL: usize = 64 * 240;
+
+/// Why a run stopped.
+#[derive(Debug)]
+pub enum Failure {
+    /// The config block.
+    Config(ConfigError),
+    /// A block written for another build.
+    WrongVariant(Variant),
+    /// The scene.
+    Read(peel_runtime::ReadError),
+    /// The z-buffer's mesh.
+    Mesh(peel_target_kit::mesh::MeshError),
+    /// The renderer.
+    Render(peel_runtime::RenderError),
+    /// A framebuffer.
+    Target(peel_runtime::target::TargetError),
+    /// The z-buffer.
+    ZBuffer(peel_target_kit::zbuffer::ZError),
+    /// A pool too small for what the block asks.
+    OutOfMemory {
+        /// What was asked for.
+        what: &'static str,
+        /// Elements asked for.
+        needed: usize,
+        /// Elements left.
+        free: usize,
+    },
+    /// The stack grew into the statics: its paint is gone down to its bottom.
+    StackOverflow,
+    /// A semihosting call failed.
+    Host(&'static str),
+}
+
+impl fmt::Display for Failure {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Failure::Config(e) => write!(f, "config block: {e}"),
+            Failure::WrongVariant(v) => write!(
+                f,
+                "config block for {}, this build is {}",
+                v.name(),
+                VARIANT.name()
+            ),
+            Failure::Read(e) => write!(f, "scene: {e}"),
+            Failure::Mesh(e) => write!(f, "mesh: {e}"),
+            Failure::Render(e) => write!(f, "render: {e}"),
+            Failure::Target(e) => write!(f, "framebuffer: {e}"),
+            Failure::ZBuffer(e) => write!(f, "z-buffer: {e}"),
+            Failure::OutOfMemory { what, needed, free } => {
+                write!(
+                    f,
+                    "{what}: {needed} elements asked, {free} left in the pool"
+                )
+            }
+            Failure::StackOverflow => write!(f, "stack overflow: the stack reached the statics"),
+            Failure::Host(what) => write!(f, "semihosting: {what}"),
+        }
+    }
+}
+
+macro_rules! from {
+    ($($variant:ident($error:ty)),*) => {
+        $(impl From<$error> for Failure {
+            fn from(e: $error) -> Self {
+                Failure::$variant(e)
+            }
+        })*
+    };
+}
+
+from!(
+    Config(ConfigError),
+    Read(peel_runtime::ReadError),
+    Mesh(peel_target_kit::mesh::MeshError),
+    Render(peel_runtime::RenderError),
+    Target(peel_runtime::target::TargetError),
+    ZBuffer(peel_target_kit::zbuffer::ZError)
+);
+
+/// The mock display's panel memory (its GRAM, see [`display`]): in its own memory region
+/// (memory.x, not loaded or zeroed), outside the statics counted as the firmware's RAM.
+#[link_section = ".panel"]
+static mut PANEL: [u16; MAX_PIXELS] = [0; MAX_PIXELS];
+
+#[entry]
+fn main() -> ! {
+    // cortex-m-rt turns these into `&'static mut` owned by `main`.
+    static mut PIXELS: [u16; PIXEL_POOL] = [0; PIXEL_POOL];
+    static mut SPANS: [(u16, u16); SPAN_POOL] = [(0, 0); SPAN_POOL];
+    let pools = (Pool::new(&mut PIXELS[..]), Pool::new(&mut SPANS[..]));
+    // SAFETY: `main` runs once and is the only user of the panel memory.
+    let panel = unsafe { &mut *core::ptr::addr_of_mut!(PANEL) };
+    let code = match run(&mut panel[..], pools) {
+        Ok(()) => debug::EXIT_SUCCESS,
+        Err(e) => {
+            hprintln!("error: {}", e);
+            debug::EXIT_FAILURE
+        }
+    };
+    debug::exit(code);
+    loop {
+        cortex_m::asm::wfi();
+    }
+}
+
+fn run(
+    panel: &'static mut [u16],
+    (mut pixels, mut spans): (Pool<u16>, Pool<(u16, u16)>),
+) -> Result<(), Failure> {
+    let config = Config::decode(host::config_block())?;
+    if config.variant != VARIANT {
+        return Err(Failure::WrongVariant(config.variant));
+    }
+    let (width, height) = (config.width, config.height);
+    let pixel_count = width as usize * height as usize;
+    let free = panel.len();
+    let panel = panel.get_mut(..pixel_count).ok_or(Failure::OutOfMemory {
+        what: "panel memory",
+        needed: pixel_count,
+        free,
+    })?;
+    let mut display = Panel::new(panel, width, height);
+    let mut method = method::Method::new(
+        host::asset(config.asset_len),
+        &config,
+        &mut pixels,
+        &mut spans,
+    )?;
+    let header = method.header();
+    let peripherals = cortex_m::Peripherals::take().ok_or(Failure::Host("no peripherals"))?;
+    let clock = clock::Clock::start(peripherals.SYST);
+    hprintln!(
+        "peel-target variant={} target={}",
+        VARIANT.name(),
+        env!("FIRMWARE_TARGET")
+    );
+    let mut stack_peak = 0;
+    for (k, &angles) in config.cameras().iter().enumerate() {
+        // The camera (f64 maths) is set up before the timed region.
+        let view = peel_target_kit::orbit_view(&header, angles, config.fov_y_deg, width, height)?;
+        display.start_frame();
+        stack::paint();
+        let start = clock.ticks();
+        let fallback = method.frame(&view, &mut display)?;
+        let ticks = clock.ticks() - start;
+        stack_peak = stack_peak.max(stack::high_water()?);
+        hprintln!(
+            "frame {} ticks={} display_bytes={} fallback={}",
+            k,
+            ticks,
+            display.bytes(),
+            u8::from(fallback)
+        );
+        if config.flags & WRITE_FRAMES != 0 {
+            host::write_frame(k, display.pixels())?;
+        }
+    }
+    let used = pixels.used_bytes() + spans.used_bytes();
+    let capacity = pixels.capacity_bytes() + spans.capacity_bytes();
+    hprintln!(
+        "memory pool_used={} pool_capacity={} framebuffer={} stack_peak={}",
+        used,
+        capacity,
+        method.framebuffer_bytes(),
+        stack_peak
+    );
+    hprintln!("done");
+    Ok(())
+}
+
+#[panic_handler]
+fn panic(info: &core::panic::PanicInfo) -> ! {
+    hprintln!("error: panic: {}", info);
+    debug::exit(debug::EXIT_FAILURE);
+    loop {
+        cortex_m::asm::wfi();
+    }
+}
+
+#[exception]
+unsafe fn HardFault(frame: &ExceptionFrame) -> ! {
+    hprintln!("error: hard fault at pc {:#010x}", frame.pc());
+    debug::exit(debug::EXIT_FAILURE);
+    loop {
+        cortex_m::asm::wfi();
+    }
+}
