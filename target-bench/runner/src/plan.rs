@@ -1,0 +1,215 @@
+//! What a run measures: cores, image sizes, display paths and cameras, and the command line.
+
+use std::path::PathBuf;
+
+use peel_target_kit::config::{OrbitAngles, Variant};
+
+/// A core class and how QEMU emulates it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum Core {
+    /// Cortex-M4F: `thumbv7em-none-eabihf` on `mps2-an386`.
+    M4f,
+    /// Cortex-M0+: `thumbv6m-none-eabi` (ARMv6-M code runs unchanged on the Cortex-M3 of
+    /// `mps2-an385`, which has the same memory map as `mps2-an386`).
+    M0Plus,
+}
+
+impl Core {
+    /// The `core` of the records.
+    pub fn name(self) -> &'static str {
+        match self {
+            Core::M4f => "cortex-m4f",
+            Core::M0Plus => "cortex-m0plus",
+        }
+    }
+
+    /// The Rust target.
+    pub fn triple(self) -> &'static str {
+        match self {
+            Core::M4f => "thumbv7em-none-eabihf",
+            Core::M0Plus => "thumbv6m-none-eabi",
+        }
+    }
+
+    /// QEMU's machine.
+    pub fn machine(self) -> &'static str {
+        match self {
+            Core::M4f => "mps2-an386",
+            Core::M0Plus => "mps2-an385",
+        }
+    }
+
+    /// QEMU's CPU.
+    pub fn qemu_cpu(self) -> &'static str {
+        match self {
+            Core::M4f => "cortex-m4",
+            Core::M0Plus => "cortex-m3",
+        }
+    }
+
+    /// Image sizes measured on this core: 320x240 on both, 160x120 too on the M0+ class.
+    pub fn sizes(self) -> &'static [(u32, u32)] {
+        match self {
+            Core::M4f => &[(320, 240)],
+            Core::M0Plus => &[(320, 240), (160, 120)],
+        }
+    }
+}
+
+/// A firmware variant and, when banded, its band height.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Setup {
+    /// The build.
+    pub variant: Variant,
+    /// Rows per band (0: whole frames).
+    pub band_rows: u32,
+}
+
+impl Setup {
+    /// A short name for directories and messages, e.g. `ftb-bands-16`.
+    pub fn label(&self) -> String {
+        if self.band_rows > 0 {
+            format!("{}-{}", self.variant.name(), self.band_rows)
+        } else {
+            self.variant.name().to_string()
+        }
+    }
+}
+
+/// Every display path: front to back into a framebuffer, streamed and in bands of 8, 16 and
+/// 30 rows; back to front into a framebuffer and in bands of 16 rows; the z-buffer.
+pub fn setups(only: Option<&[Variant]>) -> Vec<Setup> {
+    let whole = |variant| Setup {
+        variant,
+        band_rows: 0,
+    };
+    let band = |variant, band_rows| Setup { variant, band_rows };
+    let all = [
+        whole(Variant::FtbFramebuffer),
+        whole(Variant::FtbStream),
+        band(Variant::FtbBands, 8),
+        band(Variant::FtbBands, 16),
+        band(Variant::FtbBands, 30),
+        whole(Variant::B2fFramebuffer),
+        band(Variant::B2fBands, 16),
+        whole(Variant::Zbuffer),
+    ];
+    all.into_iter()
+        .filter(|s| only.is_none_or(|o| o.contains(&s.variant)))
+        .collect()
+}
+
+/// Orbit elevation of the camera path, in degrees (the CLI's default).
+pub const ELEVATION_DEG: f64 = 20.0;
+/// Vertical field of view, in degrees (the CLI's default).
+pub const FOV_Y_DEG: f64 = 60.0;
+
+/// The camera path: `count` cameras of the orbit at azimuths 0, 45, 90, ... degrees.
+pub fn cameras(count: usize) -> Vec<OrbitAngles> {
+    (0..count)
+        .map(|k| OrbitAngles {
+            azimuth_deg: 45.0 * k as f64,
+            elevation_deg: ELEVATION_DEG,
+        })
+        .collect()
+}
+
+/// The command line.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct Args {
+    /// The CI run: the demo scene, two cameras, both cores, 320x240, every display path.
+    pub quick: bool,
+    /// Where the shared models are (default `../shared/models` from the repository root).
+    pub models: Option<PathBuf>,
+    /// Only these variants (for working on one).
+    pub only: Option<Vec<Variant>>,
+}
+
+/// Usage text.
+pub const USAGE: &str = "\
+usage: bash .ci/target [--quick] [--models DIR] [--only VARIANT,...]
+
+Runs Peel's renderer in qemu-system-arm (Cortex-M4F and Cortex-M0+ builds), checks its pixels
+against the host and writes target/peel-target/results.json and results.md.
+
+  --quick         the demo scene, two cameras, 320x240, both cores, every method (CI)
+  --models DIR    the shared models (default: ../shared/models from the repository root)
+  --only LIST     only these firmware variants: ftb-framebuffer, ftb-stream, ftb-bands,
+                  b2f-framebuffer, b2f-bands, zbuffer";
+
+/// Parse the arguments after the program name; `Ok(None)` for `--help`.
+pub fn parse_args<I: IntoIterator<Item = String>>(args: I) -> Result<Option<Args>, String> {
+    let mut parsed = Args::default();
+    let mut args = args.into_iter();
+    while let Some(arg) = args.next() {
+        let (flag, inline) = match arg.split_once('=') {
+            Some((f, v)) => (f.to_string(), Some(v.to_string())),
+            None => (arg.clone(), None),
+        };
+        let mut value = |name: &str| {
+            inline
+                .clone()
+                .or_else(|| args.next())
+                .ok_or_else(|| format!("{name} needs a value"))
+        };
+        match flag.as_str() {
+            "--quick" if inline.is_none() => parsed.quick = true,
+            "--models" => parsed.models = Some(value("--models")?.into()),
+            "--only" => {
+                let list = value("--only")?;
+                let variants = list
+                    .split(',')
+                    .map(|name| {
+                        Variant::ALL
+                            .into_iter()
+                            .find(|v| v.name() == name)
+                            .ok_or_else(|| format!("--only: unknown variant {name:?}"))
+                    })
+                    .collect::<Result<Vec<_>, _>>()?;
+                parsed.only = Some(variants);
+            }
+            "-h" | "--help" => return Ok(None),
+            _ => return Err(format!("unknown argument {arg:?}\n{USAGE}")),
+        }
+    }
+    Ok(Some(parsed))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn parse(args: &[&str]) -> Result<Option<Args>, String> {
+        parse_args(args.iter().map(|s| s.to_string()))
+    }
+
+    #[test]
+    fn arguments() {
+        assert_eq!(parse(&[]).unwrap(), Some(Args::default()));
+        let a = parse(&["--quick", "--models", "m", "--only=zbuffer,ftb-stream"])
+            .unwrap()
+            .unwrap();
+        assert!(a.quick);
+        assert_eq!(a.models, Some(PathBuf::from("m")));
+        assert_eq!(a.only, Some(vec![Variant::Zbuffer, Variant::FtbStream]));
+        assert_eq!(parse(&["--help"]).unwrap(), None);
+        assert!(parse(&["--models"]).unwrap_err().contains("needs a value"));
+        assert!(parse(&["--only", "zbuf"]).unwrap_err().contains("zbuf"));
+        assert!(parse(&["--fast"]).unwrap_err().contains("--fast"));
+        assert!(parse(&["--quick=1"]).is_err());
+    }
+
+    #[test]
+    fn camera_path_and_setups() {
+        let c = cameras(8);
+        assert_eq!(c.len(), 8);
+        assert_eq!(c[7].azimuth_deg, 315.0);
+        assert!(c.iter().all(|c| c.elevation_deg == 20.0));
+        assert_eq!(setups(None).len(), 8);
+        let z = setups(Some(&[Variant::FtbBands]));
+        assert_eq!(
+            z.iter().map(Setup::label).collect::<Vec<_>>(),
+            ["ftb-bands-8", "ftb-bands-16", "ftb-bands-30"]
+        );
+    }
+}

@@ -1,0 +1,274 @@
+//! The benchmark's scenes: which OBJ files (the demo, the shared models or generated stand-ins
+//! of similar size), compiled with `peel compile` at its default settings, and for the z-buffer
+//! the same source triangles as an indexed mesh with the colours the compiler baked.
+
+use std::collections::HashMap;
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+
+use glam::{DVec3, Vec3};
+use peel_compiler::compile::{compile_mesh, CompileOptions};
+use peel_compiler::load::{load_obj, Mesh};
+use peel_compiler::scenes;
+use peel_runtime::coverage::Coverage;
+use peel_runtime::read::Scene;
+use peel_runtime::render::{Renderer, Workspace};
+use peel_runtime::target::{Colour, SpanSink};
+use peel_target_kit::config::OrbitAngles;
+
+use crate::tools::Tools;
+
+/// A scene to benchmark.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SceneSpec {
+    /// The name in the records.
+    pub name: String,
+    /// Its OBJ file.
+    pub obj: PathBuf,
+}
+
+/// The shared models, and the generated mesh standing in for each when it is absent: closed
+/// meshes with about as many triangles (suzanne 968, teapot 6320, cow 5804).
+const MODELS: [(&str, fn() -> Mesh); 3] = [
+    ("suzanne", || scenes::sphere(23, 22)),
+    ("teapot", || scenes::torus(79, 40)),
+    ("cow", || scenes::sphere(51, 58)),
+];
+
+/// The scenes: the demo, then (unless `quick`) each model from `models`, or its generated
+/// stand-in written as an OBJ file into `dir`.
+pub fn list(root: &Path, models: &Path, quick: bool, dir: &Path) -> Result<Vec<SceneSpec>, String> {
+    let mut list = vec![SceneSpec {
+        name: "demo".into(),
+        obj: root.join("fixtures/demo.obj"),
+    }];
+    if quick {
+        return Ok(list);
+    }
+    for (name, generate) in MODELS {
+        let model = models.join(format!("{name}.obj"));
+        if model.is_file() {
+            list.push(SceneSpec {
+                name: name.into(),
+                obj: model,
+            });
+            continue;
+        }
+        println!(
+            "{}: absent, a generated mesh of similar size stands in",
+            model.display()
+        );
+        let obj = dir.join(format!("{name}-generated.obj"));
+        write_obj(&generate(), &obj)?;
+        list.push(SceneSpec {
+            name: format!("{name} (generated)"),
+            obj,
+        });
+    }
+    Ok(list)
+}
+
+/// `mesh` as an OBJ file (shared corners merged; coordinates printed exactly).
+fn write_obj(mesh: &Mesh, path: &Path) -> Result<(), String> {
+    let mut index: HashMap<[u64; 3], usize> = HashMap::new();
+    let (mut vertices, mut faces) = (String::new(), String::new());
+    for t in &mesh.triangles {
+        let ids = t.vertices.map(|v| {
+            let n = index.len();
+            *index
+                .entry(v.to_array().map(f64::to_bits))
+                .or_insert_with(|| {
+                    let _ = writeln!(vertices, "v {} {} {}", v.x, v.y, v.z);
+                    n
+                })
+                + 1
+        });
+        let _ = writeln!(faces, "f {} {} {}", ids[0], ids[1], ids[2]);
+    }
+    std::fs::write(path, vertices + &faces)
+        .map_err(|e| format!("{}: cannot write: {e}", path.display()))
+}
+
+/// A compiled scene.
+#[derive(Debug, Clone)]
+pub struct Compiled {
+    /// The scene.
+    pub spec: SceneSpec,
+    /// The `.peel` file.
+    pub peel: PathBuf,
+    /// Its bytes.
+    pub peel_bytes: Vec<u8>,
+    /// The z-buffer's mesh file ([`peel_target_kit::mesh`]).
+    pub mesh: PathBuf,
+    /// Its bytes.
+    pub mesh_bytes: Vec<u8>,
+    /// Source triangles (`input_triangles` of `peel compile --stats-json`).
+    pub triangles: u64,
+}
+
+/// Compile `spec` into `dir` with `peel compile` and export its mesh.
+pub fn compile(tools: &Tools, spec: &SceneSpec, dir: &Path) -> Result<Compiled, String> {
+    let stem = spec.name.replace(" (generated)", "-generated");
+    let peel = dir.join(format!("{stem}.peel"));
+    let stats = dir.join(format!("{stem}.json"));
+    tools.peel(&[
+        "compile".as_ref(),
+        spec.obj.as_os_str(),
+        "-o".as_ref(),
+        peel.as_os_str(),
+        "--stats-json".as_ref(),
+        stats.as_os_str(),
+    ])?;
+    let read =
+        |p: &Path| std::fs::read(p).map_err(|e| format!("{}: cannot read: {e}", p.display()));
+    let peel_bytes = read(&peel)?;
+    let json: serde_json::Value =
+        serde_json::from_slice(&read(&stats)?).map_err(|e| format!("{}: {e}", stats.display()))?;
+    let triangles = json["input_triangles"]
+        .as_u64()
+        .ok_or_else(|| format!("{}: no input_triangles", stats.display()))?;
+    let mesh_bytes = export_mesh(&spec.obj, &peel_bytes)?;
+    let mesh = dir.join(format!("{stem}.mesh"));
+    std::fs::write(&mesh, &mesh_bytes)
+        .map_err(|e| format!("{}: cannot write: {e}", mesh.display()))?;
+    Ok(Compiled {
+        spec: spec.clone(),
+        peel,
+        peel_bytes,
+        mesh,
+        mesh_bytes,
+        triangles,
+    })
+}
+
+/// The source triangles of `obj` as the z-buffer's mesh, framed by the header of its `.peel`
+/// file `peel_bytes`: vertices relative to its centre in `f32` (as the `.peel` file stores
+/// them), each triangle in the colour the compiler baked into its polygons. The colours come
+/// from compiling the OBJ again with the library (the same default settings), which must give
+/// the very bytes `peel compile` wrote.
+pub fn export_mesh(obj: &Path, peel_bytes: &[u8]) -> Result<Vec<u8>, String> {
+    let fail = |e: String| format!("{}: {e}", obj.display());
+    let mesh = load_obj(obj).map_err(|e| fail(e.to_string()))?;
+    let options = CompileOptions::default();
+    let (tree, bytes) = compile_mesh(&mesh, &options, &|_| {}).map_err(|e| fail(e.to_string()))?;
+    if bytes != peel_bytes {
+        return Err(fail(
+            "compiling it with the library does not give the bytes `peel compile` wrote".into(),
+        ));
+    }
+    let mut baked: Vec<Option<[u8; 3]>> = vec![None; mesh.triangles.len()];
+    for p in &tree.polygons {
+        let kd = mesh.triangles[p.source as usize].colour;
+        baked[p.source as usize] = Some(
+            options
+                .shading
+                .shade(kd, tree.planes[p.plane as usize].normal),
+        );
+    }
+    let header = Scene::parse(peel_bytes)
+        .map_err(|e| fail(format!("its .peel file: {e}")))?
+        .header();
+    let centre = DVec3::from_array(header.centre);
+    let mut index: HashMap<[u32; 3], u32> = HashMap::new();
+    let mut vertices: Vec<Vec3> = Vec::new();
+    let triangles: Vec<([u32; 3], u16)> = mesh
+        .triangles
+        .iter()
+        .zip(&baked)
+        .map(|(t, baked)| {
+            let corners = t.vertices.map(|p| {
+                let q = (p - centre).as_vec3();
+                *index
+                    .entry(q.to_array().map(f32::to_bits))
+                    .or_insert_with(|| {
+                        vertices.push(q);
+                        (vertices.len() - 1) as u32
+                    })
+            });
+            // A triangle the compiler dropped (degenerate) draws nothing; shade it anyway.
+            let [a, b, c] = t.vertices;
+            let normal = (b - a).cross(c - a).normalize_or_zero();
+            let [r, g, b] = baked.unwrap_or_else(|| options.shading.shade(t.colour, normal));
+            (corners, Colour::new(r, g, b).to_rgb565())
+        })
+        .collect();
+    peel_target_kit::mesh::encode(&header, &vertices, &triangles).ok_or_else(|| {
+        fail(format!(
+            "{} vertices: the mesh format holds 65536",
+            vertices.len()
+        ))
+    })
+}
+
+/// Span-memory intervals per row tried, smallest first.
+const SPANS_PER_ROW: [u32; 4] = [8, 16, 32, 64];
+
+/// A sink that draws nothing.
+struct Nowhere;
+
+impl SpanSink for Nowhere {
+    fn span(&mut self, _: u32, _: u32, _: u32, _: Colour) {}
+}
+
+/// The fewest span-memory intervals per row (of 8, 16, 32, 64) with which no frame of
+/// `cameras` runs out of span memory front to back, found on the host with the runtime
+/// itself (64 when none suffices: the firmware then reports the fallback, same pixels).
+pub fn spans_per_row(
+    peel_bytes: &[u8],
+    cameras: &[OrbitAngles],
+    fov_y_deg: f64,
+    (width, height): (u32, u32),
+) -> Result<u32, String> {
+    let scene = Scene::parse(peel_bytes).map_err(|e| e.to_string())?;
+    let header = scene.header();
+    let mut workspace: Box<Workspace<{ 1 << 14 }, 64>> = Box::default();
+    for per_row in SPANS_PER_ROW {
+        let mut intervals = vec![(0u16, 0u16); per_row as usize * height as usize];
+        let mut counts = vec![0u16; height as usize];
+        let mut enough = true;
+        for &angles in cameras {
+            let view = peel_target_kit::orbit_view(&header, angles, fov_y_deg, width, height)
+                .map_err(|e| e.to_string())?;
+            let coverage = Coverage::new(&mut intervals, &mut counts, width, height)
+                .map_err(|e| e.to_string())?;
+            let stats = Renderer::new(&mut workspace)
+                .span_memory(coverage)
+                .draw(&scene, &view, &mut Nowhere)
+                .map_err(|e| e.to_string())?;
+            enough &= !stats.fallback;
+        }
+        if enough {
+            return Ok(per_row);
+        }
+    }
+    Ok(SPANS_PER_ROW[SPANS_PER_ROW.len() - 1])
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn generated_obj_files_load_back_exactly() {
+        let dir = std::env::temp_dir().join(format!("peel-target-scenes-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join("sphere.obj");
+        let mesh = scenes::sphere(5, 6);
+        write_obj(&mesh, &path).unwrap();
+        let back = load_obj(&path).unwrap();
+        let corners = |m: &Mesh| m.triangles.iter().map(|t| t.vertices).collect::<Vec<_>>();
+        assert_eq!(corners(&back), corners(&mesh));
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    #[test]
+    fn stand_ins_are_of_similar_size() {
+        for ((name, generate), real) in MODELS.iter().zip([968usize, 6320, 5804]) {
+            let n = generate().triangles.len();
+            assert!(
+                n.abs_diff(real) * 100 <= real,
+                "{name}: {n} triangles for {real}"
+            );
+        }
+    }
+}

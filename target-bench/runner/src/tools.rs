@@ -1,0 +1,231 @@
+//! The programs the runner drives: cargo (the `peel` binary and the firmware builds), `peel`
+//! and `qemu-system-arm`. Each failure names the command and shows what it printed.
+
+use std::ffi::{OsStr, OsString};
+use std::fs::File;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Stdio};
+
+use peel_target_kit::config::Variant;
+use peel_target_kit::layout::{ASSET_ADDR, CONFIG_ADDR};
+
+use crate::plan::Core;
+
+/// Paths of the tools and of the workspace.
+pub struct Tools {
+    /// The repository's root.
+    pub root: PathBuf,
+    /// The workspace's target directory (cargo's, `CARGO_TARGET_DIR` respected).
+    pub target_dir: PathBuf,
+    cargo: OsString,
+    peel: PathBuf,
+}
+
+/// Run `command`; its stdout, or an error naming `what` with the tail of its output.
+fn output(mut command: Command, what: &str) -> Result<String, String> {
+    let out = command
+        .stdin(Stdio::null())
+        .output()
+        .map_err(|e| format!("{what}: cannot start: {e}"))?;
+    let text = |b: &[u8]| String::from_utf8_lossy(b).into_owned();
+    if !out.status.success() {
+        let stderr = text(&out.stderr);
+        let tail: Vec<&str> = stderr.lines().rev().take(30).collect();
+        let tail: Vec<&str> = tail.into_iter().rev().collect();
+        return Err(format!(
+            "{what} failed ({}):\n{}",
+            out.status,
+            tail.join("\n")
+        ));
+    }
+    Ok(text(&out.stdout))
+}
+
+impl Tools {
+    /// Cargo as the runner was started by it (`CARGO`), and the workspace's target directory.
+    pub fn find(root: &Path) -> Result<Tools, String> {
+        let cargo = std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into());
+        let mut metadata = Command::new(&cargo);
+        metadata
+            .args(["metadata", "--format-version", "1", "--no-deps"])
+            .current_dir(root);
+        let json = output(metadata, "cargo metadata")?;
+        let value: serde_json::Value =
+            serde_json::from_str(&json).map_err(|e| format!("cargo metadata: {e}"))?;
+        let target_dir = value["target_directory"]
+            .as_str()
+            .ok_or("cargo metadata: no target_directory")?
+            .into();
+        Ok(Tools {
+            root: root.to_path_buf(),
+            peel: PathBuf::new(),
+            target_dir,
+            cargo,
+        })
+    }
+
+    /// Build the `peel` binary (release), the one the host references come from.
+    pub fn build_peel(&mut self) -> Result<(), String> {
+        let mut build = Command::new(&self.cargo);
+        build
+            .args([
+                "build",
+                "--release",
+                "--quiet",
+                "-p",
+                "peel-compiler",
+                "--bin",
+                "peel",
+            ])
+            .current_dir(&self.root);
+        output(build, "cargo build -p peel-compiler --bin peel")?;
+        self.peel = self.target_dir.join("release").join("peel");
+        Ok(())
+    }
+
+    /// Run `peel` with `args`.
+    pub fn peel(&self, args: &[&OsStr]) -> Result<String, String> {
+        let mut peel = Command::new(&self.peel);
+        peel.args(args);
+        let shown: Vec<String> = args
+            .iter()
+            .map(|a| a.to_string_lossy().into_owned())
+            .collect();
+        output(peel, &format!("peel {}", shown.join(" ")))
+    }
+
+    /// Build the firmware for `variant` on `core` and copy its ELF into `dir`. The firmware
+    /// has its own workspace and target directory (under this workspace's), and its own
+    /// rustflags (the linker script), so flags meant for the workspace are not passed on.
+    pub fn build_firmware(
+        &self,
+        core: Core,
+        variant: Variant,
+        dir: &Path,
+    ) -> Result<PathBuf, String> {
+        let crate_dir = self.root.join("target-bench/firmware");
+        let build_dir = self.target_dir.join("peel-target/firmware-build");
+        let mut build = Command::new(&self.cargo);
+        build
+            .args(["build", "--release", "--quiet", "--locked", "--target"])
+            .arg(core.triple())
+            .args(["--features", variant.name()])
+            .current_dir(&crate_dir)
+            .env("CARGO_TARGET_DIR", &build_dir)
+            .env_remove("RUSTFLAGS")
+            .env_remove("CARGO_ENCODED_RUSTFLAGS")
+            .env_remove("CARGO_BUILD_TARGET");
+        let what = format!(
+            "firmware build (target-bench/firmware: cargo build --release --target {} --features {})",
+            core.triple(),
+            variant.name()
+        );
+        output(build, &what)?;
+        let elf = build_dir
+            .join(core.triple())
+            .join("release/peel-target-firmware");
+        let copy = dir.join(format!("{}-{}.elf", core.name(), variant.name()));
+        std::fs::copy(&elf, &copy).map_err(|e| format!("{}: cannot copy: {e}", elf.display()))?;
+        Ok(copy)
+    }
+}
+
+/// A QEMU run's result: its stdout (the firmware's semihosting output).
+pub struct QemuRun<'a> {
+    /// The core (machine and CPU).
+    pub core: Core,
+    /// The firmware.
+    pub elf: &'a Path,
+    /// The asset loaded at [`ASSET_ADDR`].
+    pub asset: &'a Path,
+    /// The config block loaded at [`CONFIG_ADDR`].
+    pub config: &'a Path,
+    /// QEMU's working directory (where the firmware's frame files land) and its logs.
+    pub dir: &'a Path,
+    /// Seconds before the run is killed.
+    pub timeout_s: u32,
+}
+
+/// Run QEMU as `run` says, under `timeout` (a QEMU left alone with a closed pipe can spin),
+/// its output in files of `run.dir`; the firmware's output, or an error naming the run.
+pub fn qemu(run: &QemuRun<'_>) -> Result<String, String> {
+    let stdout_path = run.dir.join("qemu.out");
+    let stderr_path = run.dir.join("qemu.err");
+    let create = |p: &Path| File::create(p).map_err(|e| format!("{}: {e}", p.display()));
+    let (stdout, stderr) = (create(&stdout_path)?, create(&stderr_path)?);
+    let loader = |file: &Path, addr: u32| {
+        let mut arg = OsString::from("loader,file=");
+        arg.push(file.as_os_str());
+        arg.push(format!(",addr={addr:#010x}"));
+        arg
+    };
+    let mut command = Command::new("timeout");
+    command
+        .args([
+            "--kill-after=5",
+            &run.timeout_s.to_string(),
+            "qemu-system-arm",
+        ])
+        .args(["-machine", run.core.machine(), "-cpu", run.core.qemu_cpu()])
+        .args(["-display", "none", "-serial", "none", "-monitor", "none"])
+        .args(["-semihosting-config", "enable=on,target=native"])
+        .args(["-icount", "shift=0"])
+        .arg("-kernel")
+        .arg(run.elf)
+        .arg("-device")
+        .arg(loader(run.asset, ASSET_ADDR))
+        .arg("-device")
+        .arg(loader(run.config, CONFIG_ADDR))
+        .current_dir(run.dir)
+        .stdin(Stdio::null())
+        .stdout(stdout)
+        .stderr(stderr);
+    let what = format!("QEMU run in {}", run.dir.display());
+    let status = command
+        .status()
+        .map_err(|e| format!("{what}: cannot start `timeout qemu-system-arm`: {e}"))?;
+    let read = |p: &Path| std::fs::read_to_string(p).unwrap_or_default();
+    let out = read(&stdout_path);
+    match status.code() {
+        Some(0) => Ok(out),
+        Some(124) | Some(137) => Err(format!("{what}: timed out after {} s", run.timeout_s)),
+        _ => {
+            let firmware = out
+                .lines()
+                .find(|l| l.starts_with("error:"))
+                .map(|l| format!(": the firmware says {l:?}"))
+                .unwrap_or_default();
+            let err = read(&stderr_path);
+            Err(format!(
+                "{what}: failed ({status}){firmware}{}",
+                if err.is_empty() {
+                    String::new()
+                } else {
+                    format!("\nQEMU: {}", err.trim())
+                }
+            ))
+        }
+    }
+}
+
+/// Whether `qemu-system-arm` and `timeout` can be run.
+pub fn check_qemu() -> Result<(), String> {
+    let ok = |program: &str, arg: &str| {
+        Command::new(program)
+            .arg(arg)
+            .stdout(Stdio::null())
+            .stderr(Stdio::null())
+            .status()
+            .is_ok_and(|s| s.success())
+    };
+    if !ok("qemu-system-arm", "--version") {
+        return Err(
+            "qemu-system-arm not found: run `bash .ci/setup` (or apt-get install qemu-system-arm)"
+                .into(),
+        );
+    }
+    if !ok("timeout", "--version") {
+        return Err("`timeout` (coreutils) not found".into());
+    }
+    Ok(())
+}
