@@ -13,7 +13,7 @@ pub mod testing;
 mod embedded;
 
 #[cfg(feature = "embedded-graphics")]
-pub use embedded::DrawTargetSink;
+pub use embedded::{DisplayFormat, DrawTargetSink};
 pub use framebuffer::{
     Framebuffer, Gray8, Gray8Framebuffer, PixelFormat, Rgb565, Rgb565Framebuffer, TargetError,
     Xrgb8888, Xrgb8888Framebuffer,
