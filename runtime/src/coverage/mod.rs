@@ -1,6 +1,7 @@
 //! Coverage: which pixels of the frame are already drawn, as a span buffer in caller memory.
 //!
-//! Front-to-back rendering (seed 004: "draw a pixel only if it has not been drawn yet") keeps,
+//! Front-to-back rendering (the reverse painter's algorithm: draw a pixel only if it has not
+//! been drawn yet, as in Quake's span buffer described by Abrash) keeps,
 //! per scanline, the sorted list of covered intervals. Every span the fill emits goes through
 //! [`Coverage::span`]: the covered parts are subtracted, only the uncovered pieces reach the
 //! real sink, and the span is merged into the row's list. So each pixel is written at most

@@ -1,9 +1,9 @@
-//! Fill: integer scanline fill of a polygon already clipped to the screen window.
-//! CONTRACT (owned by the fill helper): [`fill_polygon`] below.
+//! Fill: integer scanline fill of a polygon already clipped to the screen window
+//! ([`fill_polygon`]).
 //!
-//! Seed 001's fill, generalised to fixed point: every non-horizontal edge is walked down the
-//! scanlines with the seed's `Parcours` (see `edge.rs`, no float and no division per row);
-//! on each row the crossings of the active edges are sorted and paired (the seed's XG/XD),
+//! The classic scanline fill, in fixed point: every non-horizontal edge is walked down the
+//! scanlines with an integer quotient-and-remainder walk (see `edge.rs`, no float and no
+//! division per row); on each row the crossings of the active edges are sorted and paired,
 //! and each pair `[x_left, x_right)` becomes one span. Sorting and pairing (even-odd) also
 //! copes with polygons that snapping made slightly non-convex, self-touching or degenerate.
 //!
@@ -12,8 +12,8 @@
 //! edge belongs to the polygon on the edge's right: spans are `[first centre >= x_left,
 //! first centre >= x_right)`, so left edges are drawn and right edges not. An edge covers the
 //! scanlines whose centre `y` satisfies `y_top <= y < y_bottom` and horizontal edges none, so
-//! a vertex counts only for the edge it is the top of (seed 001's "ordonnée minimale" rule
-//! with y down), and a horizontal top edge is drawn while a bottom one is not. Because the
+//! a vertex counts only for the edge it is the top of (the rule of the minimal ordinate, with
+//! y down, as in the Direct3D rasterization rules), and a horizontal top edge is drawn while a bottom one is not. Because the
 //! crossing of a shared edge is computed exactly (rationals, not floats) and identically from
 //! both sides, two polygons sharing an edge never both draw a pixel nor both skip one.
 

@@ -14,7 +14,7 @@ pub trait PixelFormat {
     fn encode(colour: Colour) -> Self::Raw;
 }
 
-/// 256 grey levels (seed 001's display), one byte per pixel: [`Colour::luma`].
+/// 256 grey levels, one byte per pixel: [`Colour::luma`].
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub struct Gray8;
 
