@@ -117,6 +117,16 @@ pub enum RenderError {
     /// The span memory does not match the frame: fewer row counters than rows, or a width
     /// beyond `u16`.
     SpanMemory,
+    /// [`crate::render::Renderer::draw_rows`] was given rows that are not a range of the
+    /// image's rows.
+    RowsOutsideImage {
+        /// First row asked for.
+        start: u32,
+        /// Row past the last asked for.
+        end: u32,
+        /// Image height.
+        height: u32,
+    },
 }
 
 impl fmt::Display for RenderError {
@@ -144,6 +154,10 @@ impl fmt::Display for RenderError {
             RenderError::SpanMemory => write!(
                 f,
                 "the span memory needs one counter per row and a width of at most 65535"
+            ),
+            RenderError::RowsOutsideImage { start, end, height } => write!(
+                f,
+                "rows {start}..{end} are not rows of an image {height} rows high"
             ),
         }
     }

@@ -3,8 +3,8 @@
 //! static memory (making one costs a few stores), and every error stops the program with the
 //! error at hand (where firmware would show it). With the `full` feature (default) the paint (colours or ids) and the order are
 //! chosen at run time, so every path of the runtime is linked; with `smallest` only front to
-//! back with colours is, with the camera computed in `f32` ([`View::look_at`]): a Cortex-M4F
-//! has no `f64` hardware.
+//! back with colours is, with the camera computed in `f32`: a Cortex-M4F has no `f64`
+//! hardware.
 #![no_std]
 #![no_main]
 
@@ -69,10 +69,19 @@ const TARGET_Y: f32 = -0.2;
 const STEP_SIN: f32 = 0.049_979_17;
 const STEP_COS: f32 = 0.998_750_26;
 
-/// The camera of a frame, looking from `eye` at `target` (scene coordinates, relative to the
-/// centre). With `full` the `f64` [`Camera`] (world coordinates) is linked too; otherwise the
-/// view is built in `f32`, and the binary holds no `f64` arithmetic.
-fn view(scene: &Scene<'_>, eye: Vec3, target: Vec3) -> Result<View, peel_runtime::RenderError> {
+/// `|target - eye|`, the same on the whole orbit: `sqrt(RADIUS^2 + (EYE_Y - TARGET_Y)^2)`.
+const DISTANCE: f32 = 8.616_264;
+
+/// The camera of the frame whose orbit angle has sine `s` and cosine `c`, looking from
+/// `eye = (RADIUS s, EYE_Y, RADIUS c)` at `(0, TARGET_Y, 0)` (scene coordinates, relative to
+/// the centre). With `full` the `f64` [`Camera`] (world coordinates) is linked too.
+/// Otherwise the view is built in `f32` with its basis written out, since the orbit fixes it
+/// (`forward = (target - eye) / DISTANCE`, `right = (c, 0, -s)`): the binary then holds
+/// neither `f64` arithmetic nor a square root, which a Cortex-M4F would run in software
+/// (libm's); [`View::look_at`] computes the same basis for any eye.
+fn view(scene: &Scene<'_>, s: f32, c: f32) -> Result<View, peel_runtime::RenderError> {
+    let eye = Vec3::new(RADIUS * s, EYE_Y, RADIUS * c);
+    let target = Vec3::new(0.0, TARGET_Y, 0.0);
     if cfg!(feature = "full") {
         let centre = scene.header().centre;
         let c = DVec3::from_array(centre);
@@ -80,7 +89,21 @@ fn view(scene: &Scene<'_>, eye: Vec3, target: Vec3) -> Result<View, peel_runtime
         let camera = Camera::look_at(pose, FOV_Y_DEG, WIDTH, HEIGHT, f64::from(NEAR))?;
         Ok(camera.view(centre))
     } else {
-        View::look_at(eye, target, Vec3::Y, FOCAL, WIDTH, HEIGHT, NEAR)
+        let forward = (target - eye) * (1.0 / DISTANCE);
+        let right = Vec3::new(c, 0.0, -s);
+        Ok(View {
+            eye,
+            right,
+            up: right.cross(forward),
+            forward,
+            fx: FOCAL,
+            fy: FOCAL,
+            cx: WIDTH as f32 * 0.5,
+            cy: HEIGHT as f32 * 0.5,
+            width: WIDTH,
+            height: HEIGHT,
+            near: NEAR,
+        })
     }
 }
 
@@ -135,9 +158,7 @@ fn main() -> ! {
     // trigonometry on the device) and pulled back to the unit circle so rounding cannot drift.
     let (mut s, mut c) = (0.0f32, 1.0f32);
     loop {
-        let eye = Vec3::new(RADIUS * s, EYE_Y, RADIUS * c);
-        let target = Vec3::new(0.0, TARGET_Y, 0.0);
-        let view = view(&scene, eye, target).unwrap_or_else(|e| fail(Failure::Render(e)));
+        let view = view(&scene, s, c).unwrap_or_else(|e| fail(Failure::Render(e)));
         let mut fb = Rgb565Framebuffer::new(&mut frame[..], WIDTH, HEIGHT)
             .unwrap_or_else(|e| fail(Failure::Target(e)));
         fb.clear(Colour::new(24, 26, 32));

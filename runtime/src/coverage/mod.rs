@@ -1,6 +1,7 @@
 //! Coverage: which pixels of the frame are already drawn, as a span buffer in caller memory.
 //!
-//! Front-to-back rendering (seed 004: "draw a pixel only if it has not been drawn yet") keeps,
+//! Front-to-back rendering (the reverse painter's algorithm: draw a pixel only if it has not
+//! been drawn yet, as in Quake's span buffer described by Abrash) keeps,
 //! per scanline, the sorted list of covered intervals. Every span the fill emits goes through
 //! [`Coverage::span`]: the covered parts are subtracted, only the uncovered pieces reach the
 //! real sink, and the span is merged into the row's list. So each pixel is written at most
@@ -45,6 +46,8 @@ pub struct Coverage<'m> {
     per_row: usize,
     width: u16,
     height: u32,
+    /// Rows of the frame or band being drawn (`<= height`): full when all of them are.
+    in_use: u32,
     full_rows: u32,
     covered: u64,
     mode: Mode,
@@ -77,6 +80,7 @@ impl<'m> Coverage<'m> {
             per_row,
             width: w,
             height,
+            in_use: height,
             full_rows: 0,
             covered: 0,
             mode: Mode::Exclusive,
@@ -92,6 +96,7 @@ impl<'m> Coverage<'m> {
             *c = 0;
         }
         self.full_rows = 0;
+        self.in_use = self.height;
         self.covered = 0;
         self.mode = Mode::Exclusive;
         self.exhausted = false;
@@ -138,9 +143,16 @@ impl<'m> Coverage<'m> {
         self.covered
     }
 
-    /// Whether every pixel of the frame is covered.
+    /// Whether every pixel of the frame is covered (of its first `rows` rows after
+    /// [`Coverage::use_rows`]).
     pub fn is_full(&self) -> bool {
-        self.full_rows == self.height || self.width == 0
+        self.full_rows == self.in_use || self.width == 0
+    }
+
+    /// Draw only the first `rows` rows until the next [`Coverage::clear`] (a band shorter than
+    /// the memory): the frame is full when they are.
+    pub fn use_rows(&mut self, rows: u32) {
+        self.in_use = rows.min(self.height);
     }
 
     /// The covered intervals of row `y` (empty outside the frame).

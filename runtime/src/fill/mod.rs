@@ -1,9 +1,9 @@
-//! Fill: integer scanline fill of a polygon already clipped to the screen window.
-//! CONTRACT (owned by the fill helper): [`fill_polygon`] below.
+//! Fill: integer scanline fill of a polygon already clipped to the screen window
+//! ([`fill_polygon`]).
 //!
-//! Seed 001's fill, generalised to fixed point: every non-horizontal edge is walked down the
-//! scanlines with the seed's `Parcours` (see `edge.rs`, no float and no division per row);
-//! on each row the crossings of the active edges are sorted and paired (the seed's XG/XD),
+//! The classic scanline fill, in fixed point: every non-horizontal edge is walked down the
+//! scanlines with an integer quotient-and-remainder walk (see `edge.rs`, no float and no
+//! division per row); on each row the crossings of the active edges are sorted and paired,
 //! and each pair `[x_left, x_right)` becomes one span. Sorting and pairing (even-odd) also
 //! copes with polygons that snapping made slightly non-convex, self-touching or degenerate.
 //!
@@ -12,8 +12,8 @@
 //! edge belongs to the polygon on the edge's right: spans are `[first centre >= x_left,
 //! first centre >= x_right)`, so left edges are drawn and right edges not. An edge covers the
 //! scanlines whose centre `y` satisfies `y_top <= y < y_bottom` and horizontal edges none, so
-//! a vertex counts only for the edge it is the top of (seed 001's "ordonnée minimale" rule
-//! with y down), and a horizontal top edge is drawn while a bottom one is not. Because the
+//! a vertex counts only for the edge it is the top of (the rule of the minimal ordinate, with
+//! y down, as in the Direct3D rasterization rules), and a horizontal top edge is drawn while a bottom one is not. Because the
 //! crossing of a shared edge is computed exactly (rationals, not floats) and identically from
 //! both sides, two polygons sharing an edge never both draw a pixel nor both skip one.
 
@@ -235,27 +235,31 @@ pub fn fill_polygon<const SUB: u32, S: SpanSink + ?Sized>(
     // full-size ones would cost more than filling a small polygon.
     Ok(if points.len() <= SMALL_POLYGON {
         let mut edges = [EdgeWalk::default(); SMALL_POLYGON];
-        fill_in::<SUB, S>(points, &mut edges, width, height, colour, sink)
+        fill_in::<SUB, S>(points, &mut edges, width, 0..height, colour, sink)
     } else {
         let mut edges = [EdgeWalk::default(); MAX_FILL_VERTICES];
-        fill_in::<SUB, S>(points, &mut edges, width, height, colour, sink)
+        fill_in::<SUB, S>(points, &mut edges, width, 0..height, colour, sink)
     })
 }
 
 /// Vertex count up to which [`fill_polygon`] uses its small arrays.
 const SMALL_POLYGON: usize = 16;
 
-/// [`fill_polygon`] (without its checks) with room for `edges.len()` edges, at most
-/// [`MAX_FILL_VERTICES`]; edges past that are ignored. The renderer passes the edge memory of
-/// its workspace, so nothing is initialised per polygon and the binary holds one fill.
+/// [`fill_polygon`] (without its checks) of rows `rows` only, with room for `edges.len()`
+/// edges, at most [`MAX_FILL_VERTICES`]; edges past that are ignored. The renderer passes the
+/// edge memory of its workspace, so nothing is initialised per polygon and the binary holds
+/// one fill. An edge starting above `rows` is walked down to it row by row: the same crossings
+/// as the whole polygon's fill, so a frame drawn in bands has the same pixels.
 pub(crate) fn fill_in<const SUB: u32, S: SpanSink + ?Sized>(
     points: &[FixedPoint],
     edges: &mut [EdgeWalk],
     width: u32,
-    height: u32,
+    rows: core::ops::Range<u32>,
     colour: Colour,
     sink: &mut S,
 ) -> u64 {
+    #[allow(clippy::unnecessary_fallible_conversions)]
+    let first_row = Coord::try_from(rows.start).unwrap_or(Coord::MAX);
     const N: usize = MAX_FILL_VERTICES;
     let room = edges.len().min(N);
     // Edges that cross at least one row centre of the window, sorted by first row.
@@ -264,7 +268,13 @@ pub(crate) fn fill_in<const SUB: u32, S: SpanSink + ?Sized>(
         // Every index below is in range (`count < room <= edges.len()`); `get` keeps the
         // fill panic-free.
         let b = points.get(i + 1).or(points.first()).copied().unwrap_or(a);
-        if let Some(walk) = EdgeWalk::for_edge::<SUB>(a, b, height) {
+        if let Some(mut walk) = EdgeWalk::for_edge::<SUB>(a, b, rows.end) {
+            while walk.row < first_row.min(walk.row_end) {
+                walk.step();
+            }
+            if walk.row >= walk.row_end {
+                continue;
+            }
             if count >= room {
                 break;
             }

@@ -156,6 +156,7 @@ fn culled_cube(order: Order) -> (FrameStats, bool) {
     let mut edges = [fill::EdgeWalk::default(); 16];
     let painter = Painter::<8> {
         view: &view,
+        rows: 0..view.height,
         frustum: Frustum::new(&view),
         max_x: 16 << 8,
         max_y: 12 << 8,

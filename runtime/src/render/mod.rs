@@ -288,6 +288,7 @@ pub struct Renderer<'m, const SUB: u32 = { fill::SUBPIXEL_BITS }> {
     back_to_front: bool,
     paint: Paint,
     cull: bool,
+    background: Option<Colour>,
 }
 
 impl<'m> Renderer<'m> {
@@ -325,6 +326,7 @@ impl<'m, const SUB: u32> Renderer<'m, SUB> {
             back_to_front: false,
             paint: Paint::Colours,
             cull: true,
+            background: None,
         }
     }
 
@@ -357,6 +359,16 @@ impl<'m, const SUB: u32> Renderer<'m, SUB> {
     #[inline(always)]
     pub fn back_to_front(mut self) -> Self {
         self.back_to_front = true;
+        self
+    }
+
+    /// Write every pixel of every frame, those no polygon covers in `colour`: front to back
+    /// each exactly once (the uncovered spans are emitted last, or before the fallback pass,
+    /// from the span memory), back to front with the rows painted first. A display then needs
+    /// no clear and no framebuffer: spans can go straight to it.
+    #[inline(always)]
+    pub fn background(mut self, colour: Colour) -> Self {
+        self.background = Some(colour);
         self
     }
 
@@ -399,13 +411,45 @@ impl<'m, const SUB: u32> Renderer<'m, SUB> {
         S: SpanSink + ?Sized,
     {
         view.check()?;
-        self.frame(scene, view, target)
+        self.frame(scene, view, 0..view.height, target)
+    }
+
+    /// [`Renderer::draw`] of frame rows `rows` only: a band, for firmware that sends a frame
+    /// to its display band by band instead of keeping a framebuffer. The target gets the same
+    /// spans as in the whole frame's draw, with frame row numbers (a [`Framebuffer::band`]
+    /// takes them), and subtrees whose screen box misses the band are skipped. Span memory,
+    /// if given, is for the band: a [`Coverage`] `view.width` wide and at least `rows.len()`
+    /// high (its first rows are used, so one serves every band, the shorter last one too).
+    /// Also an error: rows outside the image ([`RenderError::RowsOutsideImage`]).
+    ///
+    /// [`Framebuffer::band`]: crate::target::Framebuffer::band
+    pub fn draw_rows<T, S>(
+        &mut self,
+        scene: &T,
+        view: &View,
+        rows: core::ops::Range<u32>,
+        target: &mut S,
+    ) -> Result<FrameStats, RenderError>
+    where
+        T: Source + ?Sized,
+        S: SpanSink + ?Sized,
+    {
+        view.check()?;
+        if rows.start > rows.end || rows.end > view.height {
+            return Err(RenderError::RowsOutsideImage {
+                start: rows.start,
+                end: rows.end,
+                height: view.height,
+            });
+        }
+        self.frame(scene, view, rows, target)
     }
 
     fn frame<T, S>(
         &mut self,
         scene: &T,
         view: &View,
+        rows: core::ops::Range<u32>,
         sink: &mut S,
     ) -> Result<FrameStats, RenderError>
     where
@@ -446,10 +490,11 @@ impl<'m, const SUB: u32> Renderer<'m, SUB> {
             return Err(RenderError::PolygonTooLarge { needed, available });
         }
         if let Some(c) = coverage.as_deref_mut() {
-            if c.width() != width || c.height() != height {
+            if c.width() != width || c.height() < rows.end - rows.start {
                 return Err(RenderError::SpanMemory);
             }
             c.clear();
+            c.use_rows(rows.end - rows.start);
         }
         let frustum = Frustum::new(view);
         // The whole scene inside the frustum (the usual case for an object in view): no
@@ -466,8 +511,10 @@ impl<'m, const SUB: u32> Renderer<'m, SUB> {
         if let Some(v) = vertices.as_deref_mut() {
             v.next_frame();
         }
+        let (first_row, end_row) = (rows.start, rows.end);
         let mut painter = Painter::<SUB> {
             view,
+            rows,
             frustum,
             max_x,
             max_y,
@@ -493,6 +540,11 @@ impl<'m, const SUB: u32> Renderer<'m, SUB> {
                 Mode::Measure
             });
         }
+        let background = self.background;
+        // Back to front: the background first, then every polygon over it.
+        if let (Some(colour), Order::BackToFront) = (background, order) {
+            paint_uncovered(None, width, first_row..end_row, colour, sink);
+        }
 
         // Pass 1: the frame's order.
         let overflow = painter.walk(
@@ -510,6 +562,10 @@ impl<'m, const SUB: u32> Renderer<'m, SUB> {
         if let (Some(last), Some(c)) = (overflow, coverage.as_deref_mut()) {
             stats.fallback = true;
             c.freeze();
+            // What pass 2 draws, it draws over this (it paints back to front).
+            if let Some(colour) = background {
+                paint_uncovered(Some(c), width, first_row..end_row, colour, sink);
+            }
             painter.walk(
                 scene,
                 Order::BackToFront,
@@ -520,11 +576,42 @@ impl<'m, const SUB: u32> Renderer<'m, SUB> {
                 Some(last),
             )?;
         }
+        if let (Some(colour), Order::FrontToBack, None) = (background, order, overflow) {
+            if let Some(c) = coverage.as_deref() {
+                paint_uncovered(Some(c), width, first_row..end_row, colour, sink);
+            }
+        }
         stats.distinct_pixels = match coverage.as_deref() {
             Some(c) if !c.exhausted() && !stats.fallback => Some(c.covered()),
             _ => None,
         };
         Ok(stats)
+    }
+}
+
+/// Paint in `colour` the pixels of frame rows `rows`, `width` wide, that `coverage` does not
+/// cover (its row `y` being frame row `rows.start + y`): all of them without one. (One copy
+/// for its three callers.)
+#[inline(never)]
+fn paint_uncovered<S: SpanSink + ?Sized>(
+    coverage: Option<&Coverage<'_>>,
+    width: u32,
+    rows: core::ops::Range<u32>,
+    colour: Colour,
+    sink: &mut S,
+) {
+    let first_row = rows.start;
+    for y in 0..rows.end - rows.start {
+        let mut at = 0;
+        for &(a, b) in coverage.map_or(&[][..], |c| c.row(y)) {
+            if at < u32::from(a) {
+                sink.span(first_row + y, at, u32::from(a), colour);
+            }
+            at = u32::from(b);
+        }
+        if at < width {
+            sink.span(first_row + y, at, width, colour);
+        }
     }
 }
 
@@ -565,6 +652,8 @@ fn tally(counter: &mut u64, n: u64) {
 /// The per-polygon work of a frame, with its buffers.
 struct Painter<'w, 'v, const SUB: u32> {
     view: &'w View,
+    /// The frame rows drawn (all of them, or a band).
+    rows: core::ops::Range<u32>,
     frustum: Frustum,
     max_x: i32,
     max_y: i32,
@@ -643,7 +732,10 @@ impl<const SUB: u32> Painter<'_, '_, SUB> {
             return true;
         }
         let coverage = coverage.filter(|c| c.mode() != Mode::Measure);
-        if self.all_inside && coverage.is_none() {
+        let (w, h) = (self.view.width, self.view.height);
+        let (r0, r1) = (self.rows.start, self.rows.end);
+        let banded = r0 != 0 || r1 != h;
+        if self.all_inside && coverage.is_none() && !banded {
             return true; // nothing to test
         }
         let Some((lo, hi)) = scene.node_bounds(node) else {
@@ -654,23 +746,23 @@ impl<const SUB: u32> Painter<'_, '_, SUB> {
             tally(&mut stats.nodes_culled_frustum, 1);
             return false;
         }
-        let Some(coverage) = coverage else {
+        if coverage.is_none() && !banded {
             return true;
-        };
+        }
         // Doom's bbox check in 3D: only when the whole box is in front of the near plane.
         let Some((min, max)) = self.view.box_on_screen(&b) else {
             return true;
         };
-        // The pixels whose sample point `(x + 0.5, y + 0.5)` is within `slack` of the box's
-        // screen rectangle: the only ones its polygons can draw. None: nothing to draw; all
-        // covered: nothing shows.
-        let (w, h) = (coverage.width(), coverage.height());
+        // The pixels of the rows drawn whose sample point `(x + 0.5, y + 0.5)` is within
+        // `slack` of the box's screen rectangle: the only ones its polygons can draw. None:
+        // nothing to draw; all covered: nothing shows.
         let slack = slack::<SUB>(w.max(h));
         let first = |v: f32, limit: u32| ceil_pixel(v - slack - 0.5).min(limit);
         let past = |v: f32, limit: u32| floor_pixel(v + slack + 0.5).min(limit);
-        let (x0, y0) = (first(min.x, w), first(min.y, h));
-        let (x1, y1) = (past(max.x, w), past(max.y, h));
-        if x0 >= x1 || y0 >= y1 || coverage.covers(x0, y0, x1, y1) {
+        let (x0, y0) = (first(min.x, w), first(min.y, h).max(r0));
+        let (x1, y1) = (past(max.x, w), past(max.y, h).min(r1));
+        let covered = |c: &Coverage<'_>| c.covers(x0, y0 - r0, x1, y1 - r0);
+        if x0 >= x1 || y0 >= y1 || coverage.is_some_and(covered) {
             tally(&mut stats.nodes_culled_covered, 1);
             return false;
         }
@@ -741,8 +833,13 @@ impl<const SUB: u32> Painter<'_, '_, SUB> {
         let Some([x0, y0, x1, y1]) = fill::sample_rect::<SUB>(pts, width, height) else {
             return Ok(());
         };
+        let (r0, r1) = (self.rows.start, self.rows.end);
+        let (y0, y1) = (y0.max(r0), y1.min(r1));
+        if y0 >= y1 {
+            return Ok(());
+        }
         if let Some(c) = coverage.as_deref() {
-            if c.mode() != Mode::Measure && c.covers(x0, y0, x1, y1) {
+            if c.mode() != Mode::Measure && c.covers(x0, y0 - r0, x1, y1 - r0) {
                 tally(&mut stats.polygons_culled_covered, 1);
                 return Ok(());
             }
@@ -760,19 +857,23 @@ impl<const SUB: u32> Painter<'_, '_, SUB> {
         let mut through = Through {
             coverage,
             sink,
+            first_row: r0,
             pixels: 0,
         };
-        fill::fill_in::<SUB, _>(pts, self.edges, width, height, colour, &mut through);
+        let rows = self.rows.clone();
+        fill::fill_in::<SUB, _>(pts, self.edges, width, rows, colour, &mut through);
         tally(&mut stats.pixels_written, through.pixels);
         Ok(())
     }
 }
 
 /// The sink the fill draws into: through the coverage when there is one (see
-/// [`crate::coverage::CoverageSink`]), else straight to `sink`; counts the pixels forwarded.
+/// [`crate::coverage::CoverageSink`]; its row 0 is frame row `first_row`), else straight to
+/// `sink`; counts the pixels forwarded.
 struct Through<'c, 'm, S: SpanSink + ?Sized> {
     coverage: Option<&'c mut Coverage<'m>>,
     sink: &'c mut S,
+    first_row: u32,
     pixels: u64,
 }
 
@@ -780,7 +881,12 @@ impl<S: SpanSink + ?Sized> SpanSink for Through<'_, '_, S> {
     fn span(&mut self, y: u32, x_start: u32, x_end: u32, colour: Colour) {
         match self.coverage.as_deref_mut() {
             Some(c) => {
-                let n = c.span(y, x_start, x_end, colour, self.sink);
+                let mut sink = Shifted {
+                    sink: &mut *self.sink,
+                    by: self.first_row,
+                };
+                let local = y.wrapping_sub(self.first_row);
+                let n = c.span(local, x_start, x_end, colour, &mut sink);
                 tally(&mut self.pixels, n);
             }
             None => {
@@ -788,6 +894,21 @@ impl<S: SpanSink + ?Sized> SpanSink for Through<'_, '_, S> {
                 tally(&mut self.pixels, u64::from(x_end.saturating_sub(x_start)));
             }
         }
+    }
+}
+
+/// A sink whose rows are `by` below the rows it is given: from a band's coverage rows back
+/// to frame rows.
+struct Shifted<'s, S: SpanSink + ?Sized> {
+    sink: &'s mut S,
+    by: u32,
+}
+
+impl<S: SpanSink + ?Sized> SpanSink for Shifted<'_, S> {
+    #[inline]
+    fn span(&mut self, y: u32, x_start: u32, x_end: u32, colour: Colour) {
+        self.sink
+            .span(y.wrapping_add(self.by), x_start, x_end, colour);
     }
 }
 

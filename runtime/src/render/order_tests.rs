@@ -269,6 +269,7 @@ fn a_full_screen_stops_the_walk_and_culls_covered_subtrees() {
         let mut edges = [crate::fill::EdgeWalk::default(); 12];
         let painter = Painter::<8> {
             view: &view,
+            rows: 0..view.height,
             frustum: painter_frustum,
             max_x: 0,
             max_y: 0,

@@ -708,3 +708,84 @@ fn pixel_bounds_of_a_screen_box_round_outwards_and_saturate() {
     assert_eq!(floor_pixel(-0.5), 0);
     assert_eq!(floor_pixel(f32::NAN), 0);
 }
+
+/// The box seen from a corner, 24 x 12, front to back with the background: a mock target that
+/// panics on overdraw gets every pixel once, the background (`D`, drawn last) around the three
+/// faces; drawn in bands of 5 rows (the last one of 2), or of 1, the same picture.
+#[test]
+fn a_streamed_frame_writes_every_pixel_once_whole_or_in_bands() {
+    const W: usize = 24;
+    const H: usize = 12;
+    let t = coloured_box();
+    let view = camera(DVec3::new(1.5, 1.2, 2.0), W as u32, H as u32).view([0.0; 3]);
+    let background = Colour::new(1, 2, 3);
+    let picture = |band: u32| {
+        let mut target = MockTarget::<W, H>::new();
+        let (mut intervals, mut counts) = ([(0u16, 0u16); 8 * H], [0u16; H]);
+        let coverage = Coverage::new(&mut intervals, &mut counts, W as u32, band).unwrap();
+        let mut ws = Workspace::<4, 16>::new();
+        let mut renderer = Renderer::new(&mut ws)
+            .span_memory(coverage)
+            .background(background);
+        for first in (0..H as u32).step_by(band as usize) {
+            let rows = first..(first + band).min(H as u32);
+            let stats = renderer.draw_rows(&t, &view, rows, &mut target).unwrap();
+            assert!(!stats.fallback);
+        }
+        assert_eq!(target.written_count(), W * H);
+        let colours: Vec<_> = (0..H * W).map(|k| target.get(k % W, k / W)).collect();
+        (std::format!("{target}"), colours)
+    };
+    let (whole, colours) = picture(H as u32);
+    insta::assert_snapshot!(whole, @r"
+    DDDDDDDDDDDDDDDDDDDDDDDD
+    DDDDDDDDDDDDDDDDDDDDDDDD
+    DDDDDAAAABBBBBBBCCDDDDDD
+    DDDDDDAAAAAAAACCCDDDDDDD
+    DDDDDDAAAAAAAACCCDDDDDDD
+    DDDDDDAAAAAAAACCCDDDDDDD
+    DDDDDDAAAAAAAACCCDDDDDDD
+    DDDDDDDAAAAAAACCCDDDDDDD
+    DDDDDDDAAAAAAACCDDDDDDDD
+    DDDDDDDAAAAAACCCDDDDDDDD
+    DDDDDDDDDAAAACCDDDDDDDDD
+    DDDDDDDDDDAAACCDDDDDDDDD
+    ");
+    // (Compared by colour: the letters follow the order colours are first drawn.)
+    assert_eq!(picture(5).1, colours);
+    assert_eq!(picture(1).1, colours);
+}
+
+#[test]
+fn rows_outside_the_image_or_span_memory_shorter_than_the_band_are_errors() {
+    let t = coloured_box();
+    let view = camera(DVec3::new(3.0, 2.5, 4.0), 16, 8).view([0.0; 3]);
+    let mut target = MockTarget::<16, 8>::new();
+    let mut ws = Workspace::<4, 16>::new();
+    let mut renderer = Renderer::new(&mut ws);
+    assert_eq!(
+        renderer.draw_rows(&t, &view, 4..9, &mut target),
+        Err(RenderError::RowsOutsideImage {
+            start: 4,
+            end: 9,
+            height: 8
+        })
+    );
+    #[allow(clippy::reversed_empty_ranges)]
+    let backwards = 5..4;
+    assert!(renderer
+        .draw_rows(&t, &view, backwards, &mut target)
+        .is_err());
+    // No rows: nothing drawn, not an error.
+    assert!(renderer.draw_rows(&t, &view, 3..3, &mut target).is_ok());
+    assert_eq!(target.written_count(), 0);
+    let (mut intervals, mut counts) = ([(0u16, 0u16); 8 * 4], [0u16; 4]);
+    let coverage = Coverage::new(&mut intervals, &mut counts, 16, 4).unwrap();
+    let mut renderer = Renderer::new(&mut ws).span_memory(coverage);
+    assert_eq!(
+        renderer.draw_rows(&t, &view, 0..5, &mut target),
+        Err(RenderError::SpanMemory)
+    );
+    assert!(renderer.draw_rows(&t, &view, 4..8, &mut target).is_ok());
+    assert!(target.written_count() > 0);
+}

@@ -7,6 +7,7 @@ use embedded_graphics_core::geometry::{Point, Size};
 use embedded_graphics_core::pixelcolor::Rgb888;
 use embedded_graphics_core::primitives::Rectangle;
 
+use super::framebuffer::{Framebuffer, Gray8, PixelFormat, Rgb565, Xrgb8888};
 use super::{Colour, SpanSink};
 
 /// Forwards spans to a [`DrawTarget`] whose colour converts from `Rgb888` (all of
@@ -70,6 +71,61 @@ where
         if let Err(e) = self.target.fill_solid(&area, c) {
             self.error = Some(e);
         }
+    }
+}
+
+/// A [`PixelFormat`] whose stored pixels are an embedded-graphics colour as they are: a
+/// framebuffer of it goes to a display without conversion ([`Framebuffer::draw_to`]).
+pub trait DisplayFormat: PixelFormat {
+    /// The embedded-graphics colour.
+    type Color: embedded_graphics_core::pixelcolor::PixelColor;
+    /// A stored pixel as that colour.
+    fn color(raw: Self::Raw) -> Self::Color;
+}
+
+impl DisplayFormat for Rgb565 {
+    type Color = embedded_graphics_core::pixelcolor::Rgb565;
+    #[inline]
+    fn color(raw: u16) -> Self::Color {
+        embedded_graphics_core::pixelcolor::raw::RawU16::new(raw).into()
+    }
+}
+
+impl DisplayFormat for Gray8 {
+    type Color = embedded_graphics_core::pixelcolor::Gray8;
+    #[inline]
+    fn color(raw: u8) -> Self::Color {
+        embedded_graphics_core::pixelcolor::Gray8::new(raw)
+    }
+}
+
+impl DisplayFormat for Xrgb8888 {
+    type Color = Rgb888;
+    #[inline]
+    fn color(raw: u32) -> Self::Color {
+        Rgb888::new((raw >> 16) as u8, (raw >> 8) as u8, raw as u8)
+    }
+}
+
+impl<P: DisplayFormat> Framebuffer<'_, P> {
+    /// Send the image, or the band, to `display` at its frame rows: one `fill_contiguous`,
+    /// which display drivers turn into one address window and one burst.
+    ///
+    /// # Errors
+    /// The display's.
+    pub fn draw_to<D: DrawTarget<Color = P::Color>>(
+        &self,
+        display: &mut D,
+    ) -> Result<(), D::Error> {
+        let Ok(y) = i32::try_from(self.rows().start) else {
+            return Ok(());
+        };
+        let stride = self.stride();
+        let (w, h) = (self.width(), self.height());
+        let area = Rectangle::new(Point::new(0, y), Size::new(w, h));
+        let rows = self.as_slice().chunks(stride.max(1)).take(h as usize);
+        let pixels = rows.flat_map(|row| row.iter().take(w as usize).map(|&raw| P::color(raw)));
+        display.fill_contiguous(&area, pixels)
     }
 }
 
@@ -158,6 +214,57 @@ mod tests {
             let raw = embedded_graphics_core::pixelcolor::IntoStorage::into_storage(eg);
             assert_eq!(raw, c.to_rgb565(), "{c:?}");
         }
+    }
+
+    /// Keeps the last `fill_contiguous` call.
+    #[derive(Default)]
+    struct Panel {
+        area: Option<Rectangle>,
+        pixels: [u16; 12],
+    }
+
+    impl OriginDimensions for Panel {
+        fn size(&self) -> Size {
+            Size::new(3, 8)
+        }
+    }
+
+    impl DrawTarget for Panel {
+        type Color = Rgb565;
+        type Error = core::convert::Infallible;
+
+        fn draw_iter<I: IntoIterator<Item = Pixel<Rgb565>>>(
+            &mut self,
+            _: I,
+        ) -> Result<(), Self::Error> {
+            panic!("a band goes as one fill_contiguous");
+        }
+
+        fn fill_contiguous<I>(&mut self, area: &Rectangle, colors: I) -> Result<(), Self::Error>
+        where
+            I: IntoIterator<Item = Rgb565>,
+        {
+            self.area = Some(*area);
+            for (slot, c) in self.pixels.iter_mut().zip(colors) {
+                *slot = embedded_graphics_core::pixelcolor::IntoStorage::into_storage(c);
+            }
+            Ok(())
+        }
+    }
+
+    #[test]
+    fn a_band_goes_to_its_rows_in_one_call() {
+        let mut buf = [0u16; 6];
+        let mut band = crate::target::Rgb565Framebuffer::band(&mut buf, 3, 5..7).unwrap();
+        band.span(5, 1, 3, Colour::new(255, 0, 0));
+        band.span(6, 0, 1, Colour::new(0, 0, 255));
+        let mut panel = Panel::default();
+        band.draw_to(&mut panel).unwrap();
+        assert_eq!(
+            panel.area,
+            Some(Rectangle::new(Point::new(0, 5), Size::new(3, 2)))
+        );
+        assert_eq!(panel.pixels[..6], [0, 0xf800, 0xf800, 0x001f, 0, 0]);
     }
 
     #[test]

@@ -14,7 +14,7 @@ pub trait PixelFormat {
     fn encode(colour: Colour) -> Self::Raw;
 }
 
-/// 256 grey levels (seed 001's display), one byte per pixel: [`Colour::luma`].
+/// 256 grey levels, one byte per pixel: [`Colour::luma`].
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub struct Gray8;
 
@@ -91,13 +91,16 @@ impl fmt::Display for TargetError {
 #[cfg(feature = "std")]
 impl std::error::Error for TargetError {}
 
-/// A `width x height` image in a caller's slice, row `y` starting at `y * stride`.
+/// A `width x height` image in a caller's slice, row `y` starting at `y * stride`; or a band
+/// of a larger frame's rows ([`Framebuffer::band`]).
 #[derive(Debug)]
 pub struct Framebuffer<'a, P: PixelFormat> {
     buf: &'a mut [P::Raw],
     width: u32,
     height: u32,
     stride: usize,
+    /// The frame row stored first: spans and [`Framebuffer::pixel`] use frame rows.
+    first_row: u32,
     format: PhantomData<P>,
 }
 
@@ -148,8 +151,26 @@ impl<'a, P: PixelFormat> Framebuffer<'a, P> {
             width,
             height,
             stride,
+            first_row: 0,
             format: PhantomData,
         })
+    }
+
+    /// A band: rows `rows` of a `width`-pixel-wide frame, packed. Spans and
+    /// [`Framebuffer::pixel`] take frame rows, so a renderer drawing those rows
+    /// ([`crate::render::Renderer::draw_rows`]) draws into it unchanged, and a frame needs one
+    /// band of memory instead of a whole image.
+    ///
+    /// # Errors
+    /// [`TargetError`] if `buf` is too small.
+    pub fn band(
+        buf: &'a mut [P::Raw],
+        width: u32,
+        rows: core::ops::Range<u32>,
+    ) -> Result<Self, TargetError> {
+        let mut band = Self::new(buf, width, rows.end.saturating_sub(rows.start))?;
+        band.first_row = rows.start;
+        Ok(band)
     }
 
     /// Width in pixels.
@@ -157,9 +178,14 @@ impl<'a, P: PixelFormat> Framebuffer<'a, P> {
         self.width
     }
 
-    /// Height in pixels.
+    /// Height in pixels (rows held).
     pub fn height(&self) -> u32 {
         self.height
+    }
+
+    /// The frame rows held: `0..height`, or a band's rows.
+    pub fn rows(&self) -> core::ops::Range<u32> {
+        self.first_row..self.first_row.saturating_add(self.height)
     }
 
     /// Distance between rows, in pixels.
@@ -182,10 +208,11 @@ impl<'a, P: PixelFormat> Framebuffer<'a, P> {
         }
     }
 
-    /// The stored value of pixel `(x, y)`, `None` outside the image.
+    /// The stored value of pixel `(x, y)` (`y` a frame row), `None` outside the rows held.
     pub fn pixel(&self, x: u32, y: u32) -> Option<P::Raw> {
-        if x < self.width && y < self.height {
-            Some(self.buf[y as usize * self.stride + x as usize])
+        let y = y.checked_sub(self.first_row).filter(|&y| y < self.height)?;
+        if x < self.width {
+            self.buf.get(y as usize * self.stride + x as usize).copied()
         } else {
             None
         }
@@ -203,7 +230,10 @@ impl<P: PixelFormat> SpanSink for Framebuffer<'_, P> {
     #[inline]
     fn span(&mut self, y: u32, x_start: u32, x_end: u32, colour: Colour) {
         let x_end = x_end.min(self.width);
-        if y >= self.height || x_start >= x_end {
+        let Some(y) = y.checked_sub(self.first_row).filter(|&y| y < self.height) else {
+            return;
+        };
+        if x_start >= x_end {
             return;
         }
         let row = y as usize * self.stride;
@@ -273,6 +303,32 @@ mod tests {
         for y in 0..3 {
             assert_eq!(&raw[y * 6 + 4..y * 6 + 6], &[0xaaaa, 0xaaaa]);
         }
+    }
+
+    #[test]
+    fn a_band_takes_frame_rows() {
+        let mut buf = [0u16; 3 * 2];
+        let mut band = Rgb565Framebuffer::band(&mut buf, 3, 4..6).unwrap();
+        assert_eq!((band.rows(), band.height()), (4..6, 2));
+        band.span(4, 0, 2, Colour::new(255, 0, 0));
+        band.span(5, 1, 3, Colour::new(0, 0, 255));
+        // Rows outside the band are not the band's: ignored, not wrapped or panicking.
+        band.span(3, 0, 3, Colour::new(255, 255, 255));
+        band.span(6, 0, 3, Colour::new(255, 255, 255));
+        assert_eq!(
+            (band.pixel(0, 4), band.pixel(2, 4)),
+            (Some(0xf800), Some(0))
+        );
+        assert_eq!(
+            (band.pixel(0, 5), band.pixel(2, 5)),
+            (Some(0), Some(0x001f))
+        );
+        assert_eq!((band.pixel(0, 3), band.pixel(0, 6)), (None, None));
+        assert_eq!(buf, [0xf800, 0xf800, 0, 0, 0x001f, 0x001f]);
+        assert_eq!(
+            Rgb565Framebuffer::band(&mut [0; 5], 3, 4..6).unwrap_err(),
+            TargetError::BufferTooSmall { needed: 6, len: 5 }
+        );
     }
 
     #[test]

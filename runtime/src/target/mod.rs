@@ -1,5 +1,5 @@
-//! Target: where spans land. CONTRACT: the [`SpanSink`] trait and [`Colour`] are shared by
-//! `fill` (producer) and the framebuffers (consumers); the fill helper owns this module.
+//! Target: where spans land. The fill produces spans ([`SpanSink`], in [`Colour`]); the
+//! framebuffers, a display or a test's mock consume them.
 //!
 //! [`Framebuffer`] writes into a caller's slice in one of three pixel formats ([`Gray8`],
 //! [`Rgb565`], [`Xrgb8888`]); with the `embedded-graphics` feature, [`DrawTargetSink`] forwards
@@ -13,7 +13,7 @@ pub mod testing;
 mod embedded;
 
 #[cfg(feature = "embedded-graphics")]
-pub use embedded::DrawTargetSink;
+pub use embedded::{DisplayFormat, DrawTargetSink};
 pub use framebuffer::{
     Framebuffer, Gray8, Gray8Framebuffer, PixelFormat, Rgb565, Rgb565Framebuffer, TargetError,
     Xrgb8888, Xrgb8888Framebuffer,
@@ -36,7 +36,7 @@ impl Colour {
         Colour { r, g, b }
     }
 
-    /// A grey level (seed 001's 256 levels), as a colour.
+    /// A grey level (of 256), as a colour.
     pub const fn grey(level: u8) -> Self {
         Colour::new(level, level, level)
     }
