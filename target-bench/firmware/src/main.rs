@@ -57,10 +57,9 @@ compile_error!("build with exactly one variant feature, e.g. --features ftb-fram
 
 /// The largest image the panel memory holds.
 const MAX_PIXELS: usize = 320 * 240;
-/// Pixel memory (framebuffers, band buffers, depth buffers) handed out by size at boot.
-const PIXEL_POOL: usize = 2 * MAX_PIXELS + 4096;
-/// Span-memory intervals handed out by size at boot.
-const SPAN_POOL: usize = 64 * 240;
+/// Words of memory handed out by size at boot: a framebuffer and a depth buffer at the largest
+/// size, or a framebuffer and span memory (up to 64 intervals per row).
+const POOL_WORDS: usize = MAX_PIXELS + 4096;
 
 /// Why a run stopped.
 #[derive(Debug)]
@@ -82,7 +81,7 @@ pub enum Failure {
     /// A pool too small for what the block asks.
     OutOfMemory {
         /// What was asked for.
-        what: &'static str,
+        what: pool::Use,
         /// Elements asked for.
         needed: usize,
         /// Elements left.
@@ -148,12 +147,11 @@ static mut PANEL: [u16; MAX_PIXELS] = [0; MAX_PIXELS];
 #[entry]
 fn main() -> ! {
     // cortex-m-rt turns these into `&'static mut` owned by `main`.
-    static mut PIXELS: [u16; PIXEL_POOL] = [0; PIXEL_POOL];
-    static mut SPANS: [(u16, u16); SPAN_POOL] = [(0, 0); SPAN_POOL];
-    let pools = (Pool::new(&mut PIXELS[..]), Pool::new(&mut SPANS[..]));
+    static mut POOL: [u32; POOL_WORDS] = [0; POOL_WORDS];
+    let pool = Pool::new(&mut POOL[..]);
     // SAFETY: `main` runs once and is the only user of the panel memory.
     let panel = unsafe { &mut *core::ptr::addr_of_mut!(PANEL) };
-    let code = match run(&mut panel[..], pools) {
+    let code = match run(&mut panel[..], pool) {
         Ok(()) => debug::EXIT_SUCCESS,
         Err(e) => {
             hprintln!("error: {}", e);
@@ -166,10 +164,7 @@ fn main() -> ! {
     }
 }
 
-fn run(
-    panel: &'static mut [u16],
-    (mut pixels, mut spans): (Pool<u16>, Pool<(u16, u16)>),
-) -> Result<(), Failure> {
+fn run(panel: &'static mut [u16], mut pool: Pool) -> Result<(), Failure> {
     let config = Config::decode(host::config_block())?;
     if config.variant != VARIANT {
         return Err(Failure::WrongVariant(config.variant));
@@ -178,17 +173,12 @@ fn run(
     let pixel_count = width as usize * height as usize;
     let free = panel.len();
     let panel = panel.get_mut(..pixel_count).ok_or(Failure::OutOfMemory {
-        what: "panel memory",
+        what: pool::Use::PanelMemory,
         needed: pixel_count,
         free,
     })?;
     let mut display = Panel::new(panel, width, height);
-    let mut method = method::Method::new(
-        host::asset(config.asset_len),
-        &config,
-        &mut pixels,
-        &mut spans,
-    )?;
+    let mut method = method::Method::new(host::asset(config.asset_len), &config, &mut pool)?;
     let header = method.header();
     let peripherals = cortex_m::Peripherals::take().ok_or(Failure::Host("no peripherals"))?;
     let clock = clock::Clock::start(peripherals.SYST);
@@ -218,8 +208,7 @@ fn run(
             host::write_frame(k, display.pixels())?;
         }
     }
-    let used = pixels.used_bytes() + spans.used_bytes();
-    let capacity = pixels.capacity_bytes() + spans.capacity_bytes();
+    let (used, capacity) = (pool.used_bytes(), pool.capacity_bytes());
     hprintln!(
         "memory pool_used={} pool_capacity={} framebuffer={} stack_peak={}",
         used,

@@ -1,32 +1,10 @@
 //! One frame of each variant, from the view to the last byte sent to the panel: what the
-//! SysTick measurement covers. Memory comes from the pools, sized by the config block.
-
-use core::ops::Range;
-
-use embedded_graphics_core::draw_target::DrawTarget;
-use embedded_graphics_core::geometry::{Point, Size};
-use embedded_graphics_core::pixelcolor::raw::RawU16;
-use embedded_graphics_core::pixelcolor::Rgb565;
-use embedded_graphics_core::primitives::Rectangle;
-
-use crate::display::Panel;
+//! SysTick measurement covers. Memory comes from the pool, sized by the config block.
 
 #[cfg(not(feature = "zbuffer"))]
 pub use peel::Method;
 #[cfg(feature = "zbuffer")]
 pub use zbuffer::Method;
-
-/// Send `pixels`, frame rows `rows` of a `width`-pixel-wide image, to the panel in one
-/// `fill_contiguous` (one address window and one burst).
-#[allow(dead_code)] // Not every variant sends a buffer.
-fn send(pixels: &[u16], width: u32, rows: Range<u32>, panel: &mut Panel) {
-    let area = Rectangle::new(
-        Point::new(0, rows.start as i32),
-        Size::new(width, rows.end - rows.start),
-    );
-    let colours = pixels.iter().map(|&raw| Rgb565::from(RawU16::new(raw)));
-    let Ok(()) = panel.fill_contiguous(&area, colours);
-}
 
 #[cfg(not(feature = "zbuffer"))]
 mod peel {
@@ -34,11 +12,11 @@ mod peel {
     use peel_runtime::coverage::Coverage;
     use peel_runtime::read::{Header, Scene};
     use peel_runtime::render::{Renderer, Workspace};
-    use peel_runtime::target::{Colour, Rgb565Framebuffer};
-    use peel_target_kit::config::Config;
+    use peel_runtime::target::{DrawTargetSink, Rgb565Framebuffer};
+    use peel_target_kit::config::{Config, Variant};
 
     use crate::display::Panel;
-    use crate::pool::Pool;
+    use crate::pool::{Pool, Use};
     use crate::{Failure, VARIANT};
 
     /// Traversal stack entries and clip-buffer vertices of the renderer's workspace: enough for
@@ -46,30 +24,27 @@ mod peel {
     const STACK: usize = 128;
     const VERTS: usize = 24;
 
-    /// A Peel variant's scene and memory.
+    /// A Peel variant's scene, renderer and pixel memory.
     pub struct Method {
         scene: Scene<'static>,
-        workspace: &'static mut Workspace<STACK, VERTS>,
+        /// Made once, draws every frame (and band): the background set, span memory for one
+        /// frame or band when front to back.
+        renderer: Renderer<'static>,
         /// The framebuffer, or the band buffer; empty when streaming.
         pixels: &'static mut [u16],
-        /// Span memory (front to back): intervals and per-row counts of one frame or band.
-        spans: &'static mut [(u16, u16)],
-        counts: &'static mut [u16],
-        spans_per_row: usize,
         width: u32,
         height: u32,
         /// Rows per band (the height when not banded).
         band: u32,
-        background: Colour,
     }
 
     impl Method {
-        /// Validate the scene (once, at boot) and take the variant's memory.
+        /// Validate the scene (once, at boot), take the variant's memory and make the
+        /// renderer.
         pub fn new(
             asset: &'static [u8],
             config: &Config,
-            pixels: &mut Pool<u16>,
-            spans: &mut Pool<(u16, u16)>,
+            pool: &mut Pool,
         ) -> Result<Method, Failure> {
             let scene = Scene::parse(asset)?;
             let (width, height) = (config.width, config.height);
@@ -78,31 +53,28 @@ mod peel {
             } else {
                 height
             };
-            let buffered = !matches!(VARIANT, peel_target_kit::config::Variant::FtbStream);
-            let pixel_count = if buffered {
-                width as usize * band as usize
-            } else {
-                0
-            };
-            let spans_per_row = config.spans_per_row as usize;
-            let (intervals, counts) = if VARIANT.front_to_back() {
-                (spans_per_row * band as usize, band as usize)
-            } else {
-                (0, 0)
-            };
             let workspace = cortex_m::singleton!(: Workspace<STACK, VERTS> = Workspace::new())
                 .ok_or(Failure::Host("workspace taken twice"))?;
+            let mut renderer = Renderer::new(workspace).background(config.background_colour());
+            if VARIANT.front_to_back() {
+                let rows = band as usize;
+                let intervals =
+                    pool.pairs(config.spans_per_row as usize * rows, Use::SpanMemory)?;
+                let counts = pool.u16s(rows, Use::RowCounts)?;
+                renderer = renderer.span_memory(Coverage::new(intervals, counts, width, band)?);
+            }
+            let pixel_count = if VARIANT == Variant::FtbStream {
+                0
+            } else {
+                width as usize * band as usize
+            };
             Ok(Method {
                 scene,
-                workspace,
-                pixels: pixels.take(pixel_count, "framebuffer")?,
-                spans: spans.take(intervals, "span memory")?,
-                counts: pixels.take(counts, "span memory row counts")?,
-                spans_per_row,
+                renderer,
+                pixels: pool.u16s(pixel_count, Use::Framebuffer)?,
                 width,
                 height,
                 band,
-                background: config.background_colour(),
             })
         }
 
@@ -120,42 +92,35 @@ mod peel {
         /// back ran out of span memory (the frame is then finished back to front: the same
         /// pixels, with overdraw).
         pub fn frame(&mut self, view: &View, panel: &mut Panel) -> Result<bool, Failure> {
-            self.draw(view, panel)
-        }
-
-        /// Span memory for `rows` rows.
-        #[allow(dead_code)]
-        fn coverage(&mut self, rows: u32) -> Result<Coverage<'_>, Failure> {
-            let n = rows as usize;
-            Ok(Coverage::new(
-                &mut self.spans[..self.spans_per_row * n],
-                &mut self.counts[..n],
-                self.width,
-                rows,
-            )?)
-        }
-
-        #[cfg(feature = "ftb-framebuffer")]
-        fn draw(&mut self, view: &View, panel: &mut Panel) -> Result<bool, Failure> {
             let (w, h) = (self.width, self.height);
-            let coverage = Coverage::new(&mut self.spans[..], &mut self.counts[..], w, h)?;
-            let mut fb = Rgb565Framebuffer::new(&mut self.pixels[..], w, h)?;
-            fb.clear(self.background);
-            let stats = Renderer::new(&mut *self.workspace)
-                .span_memory(coverage)
-                .draw(&self.scene, view, &mut fb)?;
-            super::send(self.pixels, w, 0..h, panel);
-            Ok(stats.fallback)
-        }
-
-        #[cfg(feature = "b2f-framebuffer")]
-        fn draw(&mut self, view: &View, panel: &mut Panel) -> Result<bool, Failure> {
-            let (w, h) = (self.width, self.height);
-            let mut fb = Rgb565Framebuffer::new(&mut self.pixels[..], w, h)?;
-            fb.clear(self.background);
-            Renderer::new(&mut *self.workspace).draw(&self.scene, view, &mut fb)?;
-            super::send(self.pixels, w, 0..h, panel);
-            Ok(false)
+            let scene = &self.scene;
+            if VARIANT == Variant::FtbStream {
+                // Every span straight to the panel, the uncovered ones last.
+                let mut sink = DrawTargetSink::new(panel);
+                let stats = self.renderer.draw(scene, view, &mut sink)?;
+                let Ok(()) = sink.finish();
+                return Ok(stats.fallback);
+            }
+            if !VARIANT.banded() {
+                let mut fb = Rgb565Framebuffer::new(&mut self.pixels[..], w, h)?;
+                let stats = self.renderer.draw(scene, view, &mut fb)?;
+                let Ok(()) = fb.draw_to(panel);
+                return Ok(stats.fallback);
+            }
+            // Band by band, each sent when drawn.
+            let mut fallback = false;
+            let mut first = 0;
+            while first < h {
+                let rows = first..(first + self.band).min(h);
+                let mut fb = Rgb565Framebuffer::band(&mut self.pixels[..], w, rows.clone())?;
+                let stats = self
+                    .renderer
+                    .draw_rows(scene, view, rows.clone(), &mut fb)?;
+                let Ok(()) = fb.draw_to(panel);
+                fallback |= stats.fallback;
+                first = rows.end;
+            }
+            Ok(fallback)
         }
     }
 }
@@ -164,11 +129,12 @@ mod peel {
 mod zbuffer {
     use peel_runtime::camera::View;
     use peel_runtime::read::Header;
+    use peel_runtime::target::Rgb565Framebuffer;
     use peel_target_kit::config::Config;
     use peel_target_kit::mesh::Mesh;
 
     use crate::display::Panel;
-    use crate::pool::Pool;
+    use crate::pool::{Pool, Use};
     use crate::Failure;
 
     /// The mesh, the framebuffer and the depth buffer.
@@ -186,14 +152,13 @@ mod zbuffer {
         pub fn new(
             asset: &'static [u8],
             config: &Config,
-            pixels: &mut Pool<u16>,
-            _: &mut Pool<(u16, u16)>,
+            pool: &mut Pool,
         ) -> Result<Method, Failure> {
             let n = config.width as usize * config.height as usize;
             Ok(Method {
                 mesh: Mesh::parse(asset)?,
-                colour: pixels.take(n, "framebuffer")?,
-                depth: pixels.take(n, "depth buffer")?,
+                colour: pool.u16s(n, Use::Framebuffer)?,
+                depth: pool.u16s(n, Use::DepthBuffer)?,
                 width: config.width,
                 height: config.height,
                 background: config.background_colour().to_rgb565(),
@@ -219,7 +184,8 @@ mod zbuffer {
                 self.colour,
                 self.depth,
             )?;
-            super::send(self.colour, self.width, 0..self.height, panel);
+            let fb = Rgb565Framebuffer::new(&mut self.colour[..], self.width, self.height)?;
+            let Ok(()) = fb.draw_to(panel);
             Ok(false)
         }
     }

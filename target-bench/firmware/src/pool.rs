@@ -1,18 +1,51 @@
 //! Memory handed out by size at boot: one build serves every image size and band height, and
-//! what a run takes from a pool is exactly what a firmware sized for that run would hold in
-//! statics (the runner counts the pools' used part as RAM, not their capacity).
+//! what a run takes from the pool is exactly what a firmware sized for that run would hold in
+//! statics (the runner counts the pool's used part as RAM, not its capacity). One pool of
+//! words for every buffer, so that every build links all of it and the runner can subtract
+//! its whole capacity from the statics.
 
 use crate::Failure;
 
-/// A `'static` slice from which buffers are taken, front first, never given back.
-pub struct Pool<T: 'static> {
-    free: &'static mut [T],
+/// What a buffer is for (named when the pool is too small).
+#[derive(Debug, Clone, Copy)]
+pub enum Use {
+    /// A framebuffer or band buffer.
+    Framebuffer,
+    /// The z-buffer's depth buffer.
+    DepthBuffer,
+    /// Span-memory intervals.
+    SpanMemory,
+    /// Span memory's per-row counts.
+    RowCounts,
+    /// The mock display's panel memory (not from the pool).
+    PanelMemory,
+}
+
+impl core::fmt::Display for Use {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        f.write_str(match self {
+            Use::Framebuffer => "framebuffer",
+            Use::DepthBuffer => "depth buffer",
+            Use::SpanMemory => "span memory",
+            Use::RowCounts => "span memory row counts",
+            Use::PanelMemory => "panel memory",
+        })
+    }
+}
+
+/// A `'static` word slice from which buffers are taken, front first, never given back.
+pub struct Pool {
+    free: &'static mut [u32],
     capacity: usize,
 }
 
-impl<T> Pool<T> {
+// Span memory is handed out as words: a pair of `u16` must be one word, with no padding.
+const _: () =
+    assert!(core::mem::size_of::<(u16, u16)>() == 4 && core::mem::align_of::<(u16, u16)>() <= 4);
+
+impl Pool {
     /// A pool over `all`.
-    pub fn new(all: &'static mut [T]) -> Self {
+    pub fn new(all: &'static mut [u32]) -> Self {
         let capacity = all.len();
         Pool {
             free: all,
@@ -20,8 +53,8 @@ impl<T> Pool<T> {
         }
     }
 
-    /// The next `n` elements, for `what` (named in the error).
-    pub fn take(&mut self, n: usize, what: &'static str) -> Result<&'static mut [T], Failure> {
+    /// The next `n` words, for `what` (named in the error).
+    fn words(&mut self, n: usize, what: Use) -> Result<&'static mut [u32], Failure> {
         let free = core::mem::take(&mut self.free);
         if n > free.len() {
             let left = free.len();
@@ -37,13 +70,30 @@ impl<T> Pool<T> {
         Ok(taken)
     }
 
+    /// `n` halfwords (pixels, depths, row counts).
+    pub fn u16s(&mut self, n: usize, what: Use) -> Result<&'static mut [u16], Failure> {
+        let words = self.words(n.div_ceil(2), what)?;
+        // SAFETY: the words are ours for good, aligned for `u16`, hold at least `n` of them,
+        // and every bit pattern is a `u16`.
+        Ok(unsafe { core::slice::from_raw_parts_mut(words.as_mut_ptr().cast::<u16>(), n) })
+    }
+
+    /// `n` pairs of halfwords (span-memory intervals).
+    #[cfg(not(feature = "zbuffer"))]
+    pub fn pairs(&mut self, n: usize, what: Use) -> Result<&'static mut [(u16, u16)], Failure> {
+        let words = self.words(n, what)?;
+        // SAFETY: as for `u16s`; a pair is one word without padding (checked above), so every
+        // bit pattern is a pair.
+        Ok(unsafe { core::slice::from_raw_parts_mut(words.as_mut_ptr().cast(), n) })
+    }
+
     /// Bytes handed out.
     pub fn used_bytes(&self) -> usize {
-        (self.capacity - self.free.len()) * core::mem::size_of::<T>()
+        (self.capacity - self.free.len()) * 4
     }
 
     /// Bytes of the whole pool.
     pub fn capacity_bytes(&self) -> usize {
-        self.capacity * core::mem::size_of::<T>()
+        self.capacity * 4
     }
 }

@@ -71,10 +71,9 @@ impl DepthRange {
     fn new(view: &View, lo: Vec3, hi: Vec3) -> DepthRange {
         let b = view.box_to_camera(lo, hi);
         let near = (b.centre.z - b.extent.z - b.error).max(view.near);
-        let mut far = b.centre.z + b.extent.z + b.error;
-        if !(far > near) {
-            far = near * 2.0;
-        }
+        let far = b.centre.z + b.extent.z + b.error;
+        // A flat scene facing the eye, or NaN: any range that keeps the map finite.
+        let far = if far > near { far } else { near * 2.0 };
         let inv_far = 1.0 / far;
         DepthRange {
             inv_far,

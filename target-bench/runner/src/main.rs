@@ -18,7 +18,7 @@ mod results;
 mod scenes;
 mod tools;
 
-use std::collections::HashMap;
+use std::collections::hash_map::{Entry, HashMap};
 use std::path::Path;
 use std::process::ExitCode;
 use std::time::Instant;
@@ -137,16 +137,19 @@ fn run(args: &Args) -> Result<Vec<String>, String> {
                 core.sizes()
             };
             for &size in sizes {
-                if !references.contains_key(&size) {
-                    let dir = out
-                        .join("references")
-                        .join(stem(&scene))
-                        .join(size_name(size));
-                    mkdir(&dir)?;
-                    let refs = References::new(&tools, &scene, size, &cameras, &setups, &dir)?;
-                    references.insert(size, refs);
-                }
-                let refs = &references[&size];
+                let refs = match references.entry(size) {
+                    Entry::Occupied(e) => e.into_mut(),
+                    Entry::Vacant(e) => {
+                        let dir = out
+                            .join("references")
+                            .join(stem(&scene))
+                            .join(size_name(size));
+                        mkdir(&dir)?;
+                        e.insert(References::new(
+                            &tools, &scene, size, &cameras, &setups, &dir,
+                        )?)
+                    }
+                };
                 for setup in &setups {
                     let run = Measure {
                         scene: &scene,
@@ -400,7 +403,14 @@ impl Measure<'_> {
         let size = |name| elf::size(&sections, name);
         let statics = size(".data") + size(".bss") + size(".uninit");
         let report = &first.report;
-        let ram = statics - report.pool_capacity + report.pool_used + report.stack_peak;
+        // The pool is all in the statics; only what the run took from it counts.
+        let ram = statics.checked_sub(report.pool_capacity).ok_or_else(|| {
+            format!(
+                "{}: statics smaller than the pool reported",
+                self.elf.display()
+            )
+        })? + report.pool_used
+            + report.stack_peak;
         let flash = size(".vector_table")
             + size(".text")
             + size(".rodata")

@@ -29,7 +29,8 @@ pub struct SceneSpec {
 
 /// The shared models, and the generated mesh standing in for each when it is absent: closed
 /// meshes with about as many triangles (suzanne 968, teapot 6320, cow 5804).
-const MODELS: [(&str, fn() -> Mesh); 3] = [
+type Generator = fn() -> Mesh;
+const MODELS: [(&str, Generator); 3] = [
     ("suzanne", || scenes::sphere(23, 22)),
     ("teapot", || scenes::torus(79, 40)),
     ("cow", || scenes::sphere(51, 58)),
