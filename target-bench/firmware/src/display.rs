@@ -2,10 +2,13 @@
 //! a frame would send to an ILI9341/ST7789 panel over SPI and keeps the pixels it received in
 //! its panel memory (the panel's GRAM, which the runner compares with the host's pixels).
 //!
-//! Such a panel takes a write as an address window, CASET (1 command byte + 4 data bytes) and
-//! RASET (1 + 4), then RAMWR (1) and 2 bytes per pixel: [`WINDOW_BYTES`] per `fill_solid` or
-//! `fill_contiguous` call, and a window per pixel for `draw_iter`. Storing the pixels is the
-//! stand-in for the transfer and is timed with the frame, as the transfer would be.
+//! Such a panel takes a write as an address window, CASET (1 command byte + 4 data bytes) for
+//! the columns and RASET (1 + 4) for the rows, then RAMWR (1) and 2 bytes per pixel, for each
+//! `fill_solid` or `fill_contiguous` call and for each pixel of `draw_iter`. The panel keeps
+//! its window between writes, so the driver sends CASET only when the columns change and RASET
+//! only when the rows do (a span on the same row as the last write needs no RASET): at most
+//! [`WINDOW_BYTES`] per write. Storing the pixels is the stand-in for the transfer and is
+//! timed with the frame, as the transfer would be.
 
 use core::convert::Infallible;
 
@@ -16,7 +19,13 @@ use embedded_graphics_core::primitives::{PointsIter, Rectangle};
 use embedded_graphics_core::Pixel;
 
 /// Bytes of one address-window set-up: CASET 1 + 4, RASET 1 + 4, RAMWR 1.
-pub const WINDOW_BYTES: u64 = 11;
+pub const WINDOW_BYTES: u64 = CASET_BYTES + RASET_BYTES + RAMWR_BYTES;
+/// Bytes of CASET (the window's columns): command and two 16-bit columns.
+const CASET_BYTES: u64 = 5;
+/// Bytes of RASET (the window's rows): command and two 16-bit rows.
+const RASET_BYTES: u64 = 5;
+/// Bytes of RAMWR (start writing at the window's first pixel).
+const RAMWR_BYTES: u64 = 1;
 /// Bytes per RGB565 pixel.
 pub const PIXEL_BYTES: u64 = 2;
 /// What the panel memory holds before each frame: a pixel the frame does not write keeps it,
@@ -29,6 +38,8 @@ pub struct Panel {
     width: u32,
     height: u32,
     bytes: u64,
+    /// The panel's window (first and last column, first and last row), once set.
+    window: Option<[u32; 4]>,
 }
 
 impl Panel {
@@ -39,6 +50,7 @@ impl Panel {
             width,
             height,
             bytes: 0,
+            window: None,
         }
     }
 
@@ -46,6 +58,7 @@ impl Panel {
     pub fn start_frame(&mut self) {
         self.memory.fill(UNWRITTEN);
         self.bytes = 0;
+        self.window = None;
     }
 
     /// Bytes sent since [`Panel::start_frame`].
@@ -70,8 +83,19 @@ impl Panel {
         Some((first, a.size.width as usize, a.size.height as usize))
     }
 
-    fn count(&mut self, pixels: u64) {
-        self.bytes += WINDOW_BYTES + PIXEL_BYTES * pixels;
+    /// Count a write of `area` (its pixels on the panel: `pixels`): the window commands that
+    /// change it, RAMWR, the pixels.
+    fn count(&mut self, area: &Rectangle, pixels: u64) {
+        let (x, y) = (area.top_left.x as u32, area.top_left.y as u32);
+        let (w, h) = (area.size.width.max(1), area.size.height.max(1));
+        let window = [x, x + w - 1, y, y + h - 1];
+        let last = self.window.replace(window);
+        let columns = last.map(|l| [l[0], l[1]]) != Some([window[0], window[1]]);
+        let rows = last.map(|l| [l[2], l[3]]) != Some([window[2], window[3]]);
+        self.bytes += RAMWR_BYTES
+            + if columns { CASET_BYTES } else { 0 }
+            + if rows { RASET_BYTES } else { 0 }
+            + PIXEL_BYTES * pixels;
     }
 }
 
@@ -90,7 +114,7 @@ impl DrawTarget for Panel {
         I: IntoIterator<Item = Pixel<Rgb565>>,
     {
         for Pixel(p, colour) in pixels {
-            self.count(1);
+            self.count(&Rectangle::new(p, Size::new(1, 1)), 1);
             let (Ok(x), Ok(y)) = (u32::try_from(p.x), u32::try_from(p.y)) else {
                 continue;
             };
@@ -108,7 +132,7 @@ impl DrawTarget for Panel {
         let Some((first, w, h)) = self.clipped(area) else {
             return Ok(());
         };
-        self.count((w * h) as u64);
+        self.count(area, (w * h) as u64);
         if (w, h) == (area.size.width as usize, area.size.height as usize) {
             // Wholly on the panel (the usual case): row by row, no per-pixel checks.
             let stride = self.width as usize;
@@ -136,7 +160,7 @@ impl DrawTarget for Panel {
         let Some((first, w, h)) = self.clipped(area) else {
             return Ok(());
         };
-        self.count((w * h) as u64);
+        self.count(area, (w * h) as u64);
         let raw = colour.into_storage();
         let stride = self.width as usize;
         for row in 0..h {

@@ -19,10 +19,7 @@ mod peel {
     use crate::pool::{Pool, Use};
     use crate::{Failure, VARIANT};
 
-    /// Traversal stack entries and clip-buffer vertices of the renderer's workspace: enough for
-    /// the benchmark's scenes (the renderer refuses a scene that needs more before drawing).
-    const STACK: usize = 128;
-    const VERTS: usize = 24;
+    use peel_target_kit::{STACK, VERTS};
 
     /// A Peel variant's scene, renderer and pixel memory.
     pub struct Method {

@@ -11,6 +11,13 @@
 #[cfg(any(feature = "std", test))]
 extern crate std;
 
+/// Traversal stack entries of the firmware's renderer workspace: the shared models need at most
+/// about 100; the runner skips a scene deeper than this, with a notice, rather than fail on the
+/// target (the renderer refuses it before drawing).
+pub const STACK: usize = 128;
+/// Clip-buffer vertices of the firmware's renderer workspace.
+pub const VERTS: usize = 24;
+
 pub mod config;
 pub mod mesh;
 pub mod zbuffer;

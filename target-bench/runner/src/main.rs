@@ -125,10 +125,24 @@ fn run(args: &Args) -> Result<Vec<String>, String> {
         .unwrap_or_else(|| root.join("../shared/models"));
     let scenes = scenes::list(&root, &models, args.quick, &scene_dir)?;
     let cameras = plan::cameras(if args.quick { 2 } else { 8 });
-    let (mut records, mut problems) = (Vec::new(), Vec::new());
+    let (mut records, mut problems, mut skipped) = (Vec::new(), Vec::new(), Vec::new());
     for spec in &scenes {
         println!("== scene {}", spec.name);
         let scene = scenes::compile(&tools, spec, &scene_dir)?;
+        let depth = peel_runtime::read::Scene::parse(&scene.peel_bytes)
+            .map_err(|e| format!("{}: {e}", scene.peel.display()))?
+            .header()
+            .max_depth;
+        if depth as usize > peel_target_kit::STACK {
+            let notice = format!(
+                "{}: skipped, its tree is {depth} deep and the firmware's stack holds {}",
+                spec.name,
+                peel_target_kit::STACK
+            );
+            println!("   {notice}");
+            skipped.push(notice);
+            continue;
+        }
         let mut references: HashMap<(u32, u32), References> = HashMap::new();
         for core in cores {
             let sizes = if args.quick {
@@ -178,7 +192,12 @@ fn run(args: &Args) -> Result<Vec<String>, String> {
     write(&out.join("results.json"), json.as_bytes())?;
     write(
         &out.join("results.md"),
-        results::markdown(&records).as_bytes(),
+        (results::markdown(&records)
+            + &skipped
+                .iter()
+                .map(|n| format!("\n{n}\n"))
+                .collect::<String>())
+            .as_bytes(),
     )?;
     println!("\n{}", results::markdown(&records));
     println!(
