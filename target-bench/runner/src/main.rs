@@ -115,6 +115,9 @@ fn run(args: &Args) -> Result<Vec<String>, String> {
         for &variant in &variants {
             println!("== build: firmware {} for {}", variant.name(), core.name());
             let elf = tools.build_firmware(core, variant, &firmware_dir)?;
+            if core == Core::M0Plus {
+                tools::check_armv6m(&elf)?;
+            }
             firmware.insert((core, variant), elf);
         }
     }

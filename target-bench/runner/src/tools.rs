@@ -130,6 +130,53 @@ impl Tools {
     }
 }
 
+/// Whether `elf` holds only ARMv6-M instructions: `llvm-objdump` (rustup's `llvm-tools`)
+/// decodes its code as `thumbv6m`, and an instruction it cannot decode (`<unknown>`) is one of
+/// ARMv7-M (QEMU's Cortex-M3 board would run it, a Cortex-M0+ would fault). An error names the
+/// first such instruction.
+pub fn check_armv6m(elf: &Path) -> Result<(), String> {
+    let rustc = std::env::var_os("RUSTC").unwrap_or_else(|| "rustc".into());
+    let mut sysroot = Command::new(&rustc);
+    sysroot.args(["--print", "sysroot"]);
+    let sysroot = output(sysroot, "rustc --print sysroot")?;
+    let mut version = Command::new(&rustc);
+    version.arg("-vV");
+    let version = output(version, "rustc -vV")?;
+    let host = version
+        .lines()
+        .find_map(|l| l.strip_prefix("host: "))
+        .ok_or("rustc -vV: no host line")?;
+    let objdump = Path::new(sysroot.trim())
+        .join("lib/rustlib")
+        .join(host)
+        .join("bin/llvm-objdump");
+    let mut disassemble = Command::new(&objdump);
+    disassemble
+        .args(["--triple=thumbv6m-none-eabi", "-d", "--no-show-raw-insn"])
+        .arg(elf);
+    let what = format!(
+        "{} -d {} (llvm-tools, see .ci/setup)",
+        objdump.display(),
+        elf.display()
+    );
+    let listing = output(disassemble, &what)?;
+    match unknown_instruction(&listing) {
+        Some(line) => Err(format!(
+            "{}: not ARMv6-M code, llvm-objdump cannot decode `{line}` as thumbv6m",
+            elf.display()
+        )),
+        None => Ok(()),
+    }
+}
+
+/// The first line of a disassembly listing with an instruction the decoder did not know.
+fn unknown_instruction(listing: &str) -> Option<&str> {
+    listing
+        .lines()
+        .find(|l| l.contains("<unknown>"))
+        .map(str::trim)
+}
+
 /// A QEMU run's result: its stdout (the firmware's semihosting output).
 pub struct QemuRun<'a> {
     /// The core (machine and CPU).
@@ -228,4 +275,17 @@ pub fn check_qemu() -> Result<(), String> {
         return Err("`timeout` (coreutils) not found".into());
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::unknown_instruction;
+
+    #[test]
+    fn an_undecodable_instruction_is_found() {
+        let v6 = "00000400 <Reset>:\n     400:      \tbl\t0x500\n     404:      \tmovs\tr0, #0x0\n";
+        assert_eq!(unknown_instruction(v6), None);
+        let v7 = "     400:      \tbl\t0x500\n     404:      \t<unknown>\n";
+        assert_eq!(unknown_instruction(v7), Some("404:      \t<unknown>"));
+    }
 }
