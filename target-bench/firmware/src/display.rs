@@ -7,7 +7,7 @@
 //! `fill_solid` or `fill_contiguous` call and for each pixel of `draw_iter`. The panel keeps
 //! its window between writes, so the driver sends CASET only when the columns change and RASET
 //! only when the rows do (a span on the same row as the last write needs no RASET): at most
-//! [`WINDOW_BYTES`] per write. Storing the pixels is the stand-in for the transfer and is
+//! 11 bytes of set-up per write. Storing the pixels is the stand-in for the transfer and is
 //! timed with the frame, as the transfer would be.
 
 use core::convert::Infallible;
@@ -18,8 +18,6 @@ use embedded_graphics_core::pixelcolor::{IntoStorage, Rgb565};
 use embedded_graphics_core::primitives::{PointsIter, Rectangle};
 use embedded_graphics_core::Pixel;
 
-/// Bytes of one address-window set-up: CASET 1 + 4, RASET 1 + 4, RAMWR 1.
-pub const WINDOW_BYTES: u64 = CASET_BYTES + RASET_BYTES + RAMWR_BYTES;
 /// Bytes of CASET (the window's columns): command and two 16-bit columns.
 const CASET_BYTES: u64 = 5;
 /// Bytes of RASET (the window's rows): command and two 16-bit rows.
