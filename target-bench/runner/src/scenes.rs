@@ -27,13 +27,15 @@ pub struct SceneSpec {
     pub obj: PathBuf,
 }
 
-/// The shared models, and the generated mesh standing in for each when it is absent: closed
-/// meshes with about as many triangles (suzanne 968, teapot 6320, cow 5804).
+/// The shared models, and the generated mesh standing in for each when it is absent: grids
+/// of closed boxes with about as many triangles (suzanne 968: 768; teapot 6,320 and cow
+/// 5,804: 6,144). Spheres and tori of those sizes compile to trees 151 to 1,346 deep, more
+/// than the firmware's traversal stack ([`peel_target_kit::STACK`]); these are about 20.
 type Generator = fn() -> Mesh;
 const MODELS: [(&str, Generator); 3] = [
-    ("suzanne", || scenes::sphere(23, 22)),
-    ("teapot", || scenes::torus(79, 40)),
-    ("cow", || scenes::sphere(51, 58)),
+    ("suzanne", || scenes::box_grid(4)),
+    ("teapot", || scenes::box_grid(8)),
+    ("cow", || scenes::box_grid(8)),
 ];
 
 /// The scenes: the demo, then (unless `quick`) each model from `models`, or its generated
