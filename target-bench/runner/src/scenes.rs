@@ -268,8 +268,9 @@ mod tests {
     fn stand_ins_are_of_similar_size() {
         for ((name, generate), real) in MODELS.iter().zip([968usize, 6320, 5804]) {
             let n = generate().triangles.len();
+            // Within a quarter: grids of boxes come in sizes of 12 k^3 triangles.
             assert!(
-                n.abs_diff(real) * 100 <= real,
+                n.abs_diff(real) * 4 <= real,
                 "{name}: {n} triangles for {real}"
             );
         }
