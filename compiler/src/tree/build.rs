@@ -5,6 +5,9 @@
 //! fragments (ties: front), and that child is built directly as a convex node holding exactly
 //! them, its interior being that side of P; the seed's termination argument then holds by
 //! construction, and is checked on every node (`CompileError::Invariant`, never a hang).
+//!
+//! One file for one loop: the work stack, the split and convex steps it runs, and the subtrees
+//! it hands to rayon share the job and slot types and the pre-order bookkeeping.
 
 use std::sync::atomic::{AtomicU64, Ordering};
 

@@ -14,7 +14,7 @@ mod check;
 pub(crate) mod input;
 pub(crate) mod output;
 #[doc(hidden)]
-pub use output::verify;
+pub use check::verify;
 #[cfg(test)]
 mod tests;
 

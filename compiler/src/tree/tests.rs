@@ -425,20 +425,6 @@ fn output_is_consistent_and_relative_to_the_centre() {
     }
 }
 
-#[test]
-fn fans_cover_the_polygon() {
-    use super::output::fan_pieces;
-    assert_eq!(fan_pieces(5, 12), vec![vec![0, 1, 2, 3, 4]]);
-    assert_eq!(
-        fan_pieces(5, 3),
-        vec![vec![0, 1, 2], vec![0, 2, 3], vec![0, 3, 4]]
-    );
-    assert_eq!(
-        fan_pieces(7, 4),
-        vec![vec![0, 1, 2, 3], vec![0, 3, 4, 5], vec![0, 5, 6]]
-    );
-}
-
 /// A minimal OBJ reader for the shared models (`v` and polygon `f` lines only).
 fn read_obj(path: &std::path::Path) -> Option<Mesh> {
     let text = std::fs::read_to_string(path).ok()?;
