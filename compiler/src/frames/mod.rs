@@ -140,7 +140,7 @@ pub struct BenchScene {
     pub name: String,
     /// Source triangles.
     pub mesh: Mesh,
-    /// Seed 004's naive BSP of the mesh, as a `.peel` file with ids.
+    /// The naive BSP of the mesh (Fuchs, Kedem and Naylor's), as a `.peel` file with ids.
     pub naive_bsp: Option<Vec<u8>>,
 }
 
@@ -148,7 +148,7 @@ pub struct BenchScene {
 /// per input triangle (the scene then has no `naive-bsp` row, and a notice says so).
 pub const NAIVE_BSP_MAX_RATIO: u64 = 20;
 
-/// A scene of the benchmark, with seed 004's naive BSP compiled to `.peel` bytes (ids on,
+/// A scene of the benchmark, with its naive BSP compiled to `.peel` bytes (ids on,
 /// two-sided) unless it exceeds [`NAIVE_BSP_MAX_RATIO`] or is deeper than the host renderer's
 /// stack; `log` gets a notice when it is skipped, and the build's figures otherwise.
 pub fn bench_scene(

@@ -1,4 +1,5 @@
-//! Peel: which support planes of a fragment list lie on its convex hull (seed 000's set E).
+//! Peel: which support planes of a fragment list lie on its convex hull (the planes of its
+//! convex node, see [`crate::tree`]).
 //!
 //! A plane is on the hull iff no vertex of the list lies strictly on one of its sides. The
 //! naive test scans every vertex for every plane (O(n²) per node). Instead the distinct
@@ -260,7 +261,7 @@ fn scan<'v>(
     verdict(p, front, back)
 }
 
-/// Seed 000's set E of a fragment list, and why the other planes are not in it.
+/// The support planes of a fragment list on its convex hull, and why the others are not.
 #[derive(Debug, Clone, Default)]
 pub struct Hull {
     /// Per plane of `planes` (the list's distinct support planes): `Some(interior_front)` when

@@ -550,7 +550,7 @@ impl Default for SplitRule {
 }
 
 impl SplitRule {
-    /// Seed 000's rule: the fewest cuts, balance ignored (ties to the smaller plane id).
+    /// The greedy rule: the fewest cuts, balance ignored (ties to the smaller plane id).
     #[cfg(feature = "bench")]
     pub const FEWEST_CUTS: SplitRule = SplitRule {
         cut_weight: 1,
@@ -559,7 +559,7 @@ impl SplitRule {
 }
 
 /// Choose the splitting plane among `planes` (the distinct support planes of `frags`, sorted):
-/// the seed's rule (fewest cuts) weighed with balance, see [`cost`]. A plane that cuts nothing
+/// the greedy rule (fewest cuts) weighed with balance, see [`cost`]. A plane that cuts nothing
 /// (a free split: it adds no polygon) costs only its imbalance, so it wins whenever that
 /// imbalance is below what the cheapest cutting plane costs; candidates are support planes
 /// only, so every split also takes its plane's fragments out of both children (the

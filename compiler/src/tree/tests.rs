@@ -211,7 +211,7 @@ fn nested_cubes_are_two_convex_nodes() {
 
 #[test]
 fn a_staircase_needs_no_split() {
-    // Seed 000's example of complexity zero: n steps, n convex nodes.
+    // Complexity zero: a staircase of n steps needs no split, only n convex nodes.
     let mut tris = Vec::new();
     for s in 0..4 {
         let (y, z) = (s as f64, s as f64);
