@@ -33,7 +33,10 @@ pub struct BuildOptions {
     /// Output polygons with more vertices are split into convex pieces.
     pub max_polygon_vertices: usize,
     /// Close T-junctions (see the watertight pass of the output). Always on in the CLI; off
-    /// only to show the cracks it prevents (the stress suite's control test).
+    /// only to show the cracks it prevents (the stress suite's control test). Hidden from the
+    /// docs, not private: that test is in another crate (`tests/stress.rs`), and a file built
+    /// without it may show cracks, so no user should turn it off.
+    #[doc(hidden)]
     pub watertight: bool,
 }
 
