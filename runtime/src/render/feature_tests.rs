@@ -6,11 +6,19 @@ use glam::{DVec3, Vec3};
 use std::vec;
 use std::vec::Vec;
 
+use super::painter::Painter;
+use super::renderer::window;
 use super::testing::*;
 use super::*;
 use crate::camera::{Camera, Pose};
+use crate::clip::Frustum;
+use crate::coverage::Coverage;
+use crate::error::RenderError;
+use crate::fill::{self, FixedPoint};
 use crate::read::Node;
+use crate::target::{Colour, SpanSink};
 use crate::traverse::testing::{box_faces, TestTree};
+use crate::traverse::Order;
 
 struct Pixels(u32, Vec<Colour>);
 

@@ -7,14 +7,19 @@ use proptest::prelude::*;
 use std::vec;
 use std::vec::Vec;
 
+use super::painter::Painter;
 use super::testing::*;
 use super::*;
 use crate::camera::{Camera, Pose};
+use crate::clip::Frustum;
 use crate::coverage::Coverage;
+use crate::fill::FixedPoint;
 use crate::read::layout::polygon_flags::{FLIPPED, LEGACY_ONE_SIDED};
 use crate::read::Node;
 use crate::target::testing::MockTarget;
+use crate::target::{Colour, SpanSink};
 use crate::traverse::testing::{box_faces, TestTree};
+use crate::traverse::Order;
 
 const W: usize = 48;
 const H: usize = 36;

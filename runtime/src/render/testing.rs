@@ -1,7 +1,13 @@
 //! Shorthands for the render tests: one frame drawn by a fresh [`Renderer`].
 
 use super::*;
-use crate::camera::Camera;
+use crate::camera::{Camera, View};
+use crate::coverage::Coverage;
+use crate::error::RenderError;
+use crate::fill;
+use crate::target::SpanSink;
+use crate::traverse::Order;
+use crate::vertices::VertexCache;
 
 /// How a test frame is drawn: front to back (given span memory), colours, culling on.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

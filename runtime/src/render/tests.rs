@@ -7,10 +7,16 @@ use std::vec::Vec;
 
 use super::testing::*;
 use super::*;
-use crate::camera::{Camera, Pose};
+use crate::camera::{Camera, Pose, View};
+use crate::coverage::Coverage;
+use crate::error::RenderError;
+use crate::fill::{self, FixedPoint};
 use crate::read::Node;
+use crate::read::Scene;
 use crate::target::testing::MockTarget;
+use crate::target::{Colour, SpanSink};
 use crate::traverse::testing::{box_faces, TestTree};
+use crate::traverse::Order;
 
 /// A framebuffer that also counts how often each pixel is written.
 struct Frame {
@@ -698,7 +704,7 @@ fn whole_pixel_precision_renders_the_same_scene_up_to_edges() {
 
 #[test]
 fn pixel_bounds_of_a_screen_box_round_outwards_and_saturate() {
-    use super::{ceil_pixel, floor_pixel};
+    use super::painter::{ceil_pixel, floor_pixel};
     assert_eq!(ceil_pixel(0.3), 1);
     assert_eq!(ceil_pixel(2.0), 2);
     assert_eq!(ceil_pixel(-1.5), 0);

@@ -1,0 +1,328 @@
+//! The painter: snapping, and [`Painter`], the per-polygon work of a frame (the traversal
+//! walk with node culling, then cull, clip, project, snap and fill each polygon, through the
+//! span memory when there is one). It exists apart from [`super::renderer`] because it is
+//! the hot loop: one copy of it serves both passes of a frame, and its rules (the module
+//! docs' "Culling", the snapping slack) are what keep culling pixel-neutral.
+
+use glam::{Vec2, Vec3};
+
+use super::renderer::id_colour;
+use super::{FrameStats, Paint, Source};
+use crate::camera::View;
+use crate::clip::{self, Frustum};
+use crate::coverage::{Coverage, Mode};
+use crate::error::RenderError;
+use crate::fill::{self, FixedPoint};
+use crate::read::Polygon;
+use crate::target::{Colour, SpanSink};
+use crate::traverse::{Order, StackEntry, Traversal};
+use crate::vertices::VertexCache;
+
+/// Snap a screen point to fixed point with `SUB` fractional bits (see the module docs);
+/// `max_x`, `max_y` are `W * 2^SUB`, `H * 2^SUB`. A NaN lands on 0.
+pub fn snap<const SUB: u32>(p: Vec2, max_x: i32, max_y: i32) -> FixedPoint {
+    // Saturating and NaN-safe: no overflow, no panic.
+    let q = FixedPoint::snap::<SUB>(p.x, p.y);
+    FixedPoint {
+        x: q.x.clamp(0, max_x.max(0)),
+        y: q.y.clamp(0, max_y.max(0)),
+    }
+}
+
+/// How far, in pixels, a snapped vertex of an image `size` pixels wide (its larger side) may
+/// lie outside the screen rectangle of its node's box ([`View::box_on_screen`], which already
+/// holds every computed camera-space position): snapping moves it by at most `2^-(SUB+1)` of
+/// a pixel, and the rectangle's and the vertex's screen values each round by a few units in
+/// their last place, below `size` where it matters. `1/64` of a pixel plus `size · 2^-18` (64
+/// such units) bounds that with room to spare: about 0.018 pixel at 640 pixels.
+fn slack<const SUB: u32>(size: u32) -> f32 {
+    0.5 / (1u32 << SUB.min(30)) as f32 + 1.0 / 64.0 + size as f32 / (1u32 << 18) as f32
+}
+
+/// `ceil(v)` as a pixel index: 0 below zero and for NaN, saturating above.
+pub(super) fn ceil_pixel(v: f32) -> u32 {
+    // `as` maps NaN and negatives to 0.
+    let t = v as u32;
+    if (t as f32) < v {
+        t.saturating_add(1)
+    } else {
+        t
+    }
+}
+
+/// `floor(v)` as a pixel index: 0 below zero and for NaN, saturating above.
+pub(super) fn floor_pixel(v: f32) -> u32 {
+    v.max(0.0) as u32
+}
+
+/// `*counter += n` (saturating) with the `stats` feature; nothing without it.
+#[inline(always)]
+fn tally(counter: &mut u64, n: u64) {
+    if cfg!(feature = "stats") {
+        *counter = counter.saturating_add(n);
+    }
+}
+
+/// The per-polygon work of a frame, with its buffers.
+pub(super) struct Painter<'w, 'v, const SUB: u32> {
+    pub(super) view: &'w View,
+    /// The frame rows drawn (all of them, or a band).
+    pub(super) rows: core::ops::Range<u32>,
+    pub(super) frustum: Frustum,
+    pub(super) max_x: i32,
+    pub(super) max_y: i32,
+    pub(super) available: u32,
+    pub(super) paint: Paint,
+    pub(super) cull: bool,
+    /// Every polygon of the scene is inside the frustum (see [`Frustum::contains_box`]).
+    pub(super) all_inside: bool,
+    pub(super) clip_a: &'w mut [Vec3],
+    pub(super) clip_b: &'w mut [Vec3],
+    pub(super) points: &'w mut [FixedPoint],
+    pub(super) edges: &'w mut [fill::EdgeWalk],
+    /// Projected vertices, in frames without clipping.
+    pub(super) vertices: Option<&'w mut VertexCache<'v>>,
+}
+
+impl<const SUB: u32> Painter<'_, '_, SUB> {
+    /// One walk of the tree in `order`, drawing every polygon it yields. In front-to-back
+    /// mode ([`Mode::Exclusive`] coverage) it stops when the frame is full, or after the
+    /// polygon whose span did not fit the span memory, which it returns. With `last` (the
+    /// fallback pass) it stops after polygon `last`, which the first pass already counted.
+    /// One function for both passes keeps one copy of the loop in the binary.
+    #[allow(clippy::too_many_arguments)]
+    #[inline(never)]
+    pub(super) fn walk<T: Source + ?Sized, S: SpanSink + ?Sized>(
+        &mut self,
+        scene: &T,
+        order: Order,
+        stack: &mut [StackEntry],
+        mut coverage: Option<&mut Coverage<'_>>,
+        sink: &mut S,
+        stats: &mut FrameStats,
+        last: Option<u32>,
+    ) -> Result<Option<u32>, RenderError> {
+        let exclusive = coverage
+            .as_deref()
+            .is_some_and(|c| c.mode() == Mode::Exclusive);
+        let mut overflow = None;
+        let mut traversal = Traversal::new(scene, self.view.eye, order, stack)?;
+        loop {
+            if exclusive && coverage.as_deref().is_some_and(|c| c.is_full()) {
+                stats.stopped_full = true;
+                break;
+            }
+            let cov = coverage.as_deref();
+            let next = traversal.next_polygon_entering(|node| self.enter(scene, node, cov, stats));
+            let Some((index, polygon)) = next else { break };
+            if last != Some(index) {
+                tally(&mut stats.polygons_visited, 1);
+            }
+            self.draw(scene, index, &polygon, coverage.as_deref_mut(), sink, stats)?;
+            if last == Some(index) {
+                break;
+            }
+            if exclusive && coverage.as_deref().is_some_and(|c| c.exhausted()) {
+                overflow = Some(index);
+                break;
+            }
+        }
+        match traversal.error() {
+            Some(e) => Err(e),
+            None => Ok(overflow),
+        }
+    }
+
+    /// Whether the walk enters `node`: not when culling proves its subtree draws nothing (see
+    /// the module docs). Always, without the `bounds-culling` feature.
+    pub(super) fn enter<T: Source + ?Sized>(
+        &self,
+        scene: &T,
+        node: u32,
+        coverage: Option<&Coverage<'_>>,
+        stats: &mut FrameStats,
+    ) -> bool {
+        if !(self.cull && cfg!(feature = "bounds-culling")) {
+            return true;
+        }
+        let coverage = coverage.filter(|c| c.mode() != Mode::Measure);
+        let (w, h) = (self.view.width, self.view.height);
+        let (r0, r1) = (self.rows.start, self.rows.end);
+        let banded = r0 != 0 || r1 != h;
+        if self.all_inside && coverage.is_none() && !banded {
+            return true; // nothing to test
+        }
+        let Some((lo, hi)) = scene.node_bounds(node) else {
+            return true;
+        };
+        let b = self.view.box_to_camera(lo, hi);
+        if !self.all_inside && self.frustum.excludes_box(&b) {
+            tally(&mut stats.nodes_culled_frustum, 1);
+            return false;
+        }
+        if coverage.is_none() && !banded {
+            return true;
+        }
+        // Doom's bbox check in 3D: only when the whole box is in front of the near plane.
+        let Some((min, max)) = self.view.box_on_screen(&b) else {
+            return true;
+        };
+        // The pixels of the rows drawn whose sample point `(x + 0.5, y + 0.5)` is within
+        // `slack` of the box's screen rectangle: the only ones its polygons can draw. None:
+        // nothing to draw; all covered: nothing shows.
+        let slack = slack::<SUB>(w.max(h));
+        let first = |v: f32, limit: u32| ceil_pixel(v - slack - 0.5).min(limit);
+        let past = |v: f32, limit: u32| floor_pixel(v + slack + 0.5).min(limit);
+        let (x0, y0) = (first(min.x, w), first(min.y, h).max(r0));
+        let (x1, y1) = (past(max.x, w), past(max.y, h).min(r1));
+        let covered = |c: &Coverage<'_>| c.covers(x0, y0 - r0, x1, y1 - r0);
+        if x0 >= x1 || y0 >= y1 || coverage.is_some_and(covered) {
+            tally(&mut stats.nodes_culled_covered, 1);
+            return false;
+        }
+        true
+    }
+
+    /// Cull, clip, project, snap and fill polygon `index`, through `coverage` when given.
+    fn draw<T: Source + ?Sized, S: SpanSink + ?Sized>(
+        &mut self,
+        scene: &T,
+        index: u32,
+        polygon: &Polygon,
+        coverage: Option<&mut Coverage<'_>>,
+        sink: &mut S,
+        stats: &mut FrameStats,
+    ) -> Result<(), RenderError> {
+        let n = u32::from(polygon.vertex_count);
+        if clip::buffer_len_for(n) > self.available {
+            // Only a source contradicting its own maximum gets here.
+            return Err(RenderError::PolygonTooLarge {
+                needed: clip::buffer_len_for(n),
+                available: self.available,
+            });
+        }
+        let (view, max_x, max_y) = (self.view, self.max_x, self.max_y);
+        let screen = |c: Vec3| snap::<SUB>(view.project(c), max_x, max_y);
+        // Without the feature there is never a cache: the test keeps that path out of the
+        // binary (the optimiser cannot see through the painter's field).
+        let cache = self
+            .vertices
+            .as_deref_mut()
+            .filter(|_| cfg!(feature = "vertex-cache"));
+        let count = if let Some(cache) = cache {
+            // No clipping in this frame: each corner is its vertex's snapped projection,
+            // computed once per frame.
+            let corner = |v: Vec3| screen(view.to_camera(v));
+            let mut count = 0usize;
+            for (i, slot) in (0..n).zip(self.points.iter_mut()) {
+                let position = || scene.polygon_vertex(polygon, i);
+                *slot = match scene.vertex_index(polygon, i) {
+                    Some(v) => cache.get(v, || corner(position())),
+                    None => corner(position()),
+                };
+                count += 1;
+            }
+            count
+        } else {
+            for (i, slot) in (0..n).zip(self.clip_a.iter_mut()) {
+                *slot = view.to_camera(scene.polygon_vertex(polygon, i));
+            }
+            let clipped = if self.all_inside {
+                self.clip_a.get(..n as usize).unwrap_or(&[])
+            } else {
+                clip::clip_polygon(self.frustum.planes(), n as usize, self.clip_a, self.clip_b)?
+            };
+            let mut count = 0usize;
+            for (slot, &c) in self.points.iter_mut().zip(clipped) {
+                *slot = screen(c);
+                count += 1;
+            }
+            count
+        };
+        if count < 3 {
+            return Ok(());
+        }
+        let pts = self.points.get(..count).unwrap_or(&[]);
+        let (width, height) = (self.view.width, self.view.height);
+        // No pixel centre inside: the fill would draw nothing. All covered: nothing shows.
+        let Some([x0, y0, x1, y1]) = fill::sample_rect::<SUB>(pts, width, height) else {
+            return Ok(());
+        };
+        let (r0, r1) = (self.rows.start, self.rows.end);
+        let (y0, y1) = (y0.max(r0), y1.min(r1));
+        if y0 >= y1 {
+            return Ok(());
+        }
+        if let Some(c) = coverage.as_deref() {
+            if c.mode() != Mode::Measure && c.covers(x0, y0 - r0, x1, y1 - r0) {
+                tally(&mut stats.polygons_culled_covered, 1);
+                return Ok(());
+            }
+        }
+        let colour = match self.paint {
+            Paint::Colours => polygon.colour,
+            Paint::Ids if cfg!(feature = "ids") => id_colour(scene.id(index).unwrap_or(u32::MAX)),
+            Paint::Ids => polygon.colour,
+        };
+        tally(&mut stats.polygons_drawn, 1);
+        // One fill for both cases (with and without span memory): one copy in the binary.
+        // Its checks hold: `count <= available <= min(VERTS, MAX_FILL_VERTICES)` edges, and
+        // `snap` keeps every point in the window, which `window` kept within
+        // `fill::coordinate_limit`.
+        let mut through = Through {
+            coverage,
+            sink,
+            first_row: r0,
+            pixels: 0,
+        };
+        let rows = self.rows.clone();
+        fill::fill_in::<SUB, _>(pts, self.edges, width, rows, colour, &mut through);
+        tally(&mut stats.pixels_written, through.pixels);
+        Ok(())
+    }
+}
+
+/// The sink the fill draws into: through the coverage when there is one (see
+/// [`crate::coverage::CoverageSink`]; its row 0 is frame row `first_row`), else straight to
+/// `sink`; counts the pixels forwarded.
+struct Through<'c, 'm, S: SpanSink + ?Sized> {
+    coverage: Option<&'c mut Coverage<'m>>,
+    sink: &'c mut S,
+    first_row: u32,
+    pixels: u64,
+}
+
+impl<S: SpanSink + ?Sized> SpanSink for Through<'_, '_, S> {
+    fn span(&mut self, y: u32, x_start: u32, x_end: u32, colour: Colour) {
+        match self.coverage.as_deref_mut() {
+            Some(c) => {
+                let mut sink = Shifted {
+                    sink: &mut *self.sink,
+                    by: self.first_row,
+                };
+                let local = y.wrapping_sub(self.first_row);
+                let n = c.span(local, x_start, x_end, colour, &mut sink);
+                tally(&mut self.pixels, n);
+            }
+            None => {
+                self.sink.span(y, x_start, x_end, colour);
+                tally(&mut self.pixels, u64::from(x_end.saturating_sub(x_start)));
+            }
+        }
+    }
+}
+
+/// A sink whose rows are `by` below the rows it is given: from a band's coverage rows back
+/// to frame rows.
+struct Shifted<'s, S: SpanSink + ?Sized> {
+    sink: &'s mut S,
+    by: u32,
+}
+
+impl<S: SpanSink + ?Sized> SpanSink for Shifted<'_, S> {
+    #[inline]
+    fn span(&mut self, y: u32, x_start: u32, x_end: u32, colour: Colour) {
+        self.sink
+            .span(y.wrapping_add(self.by), x_start, x_end, colour);
+    }
+}

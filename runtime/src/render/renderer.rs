@@ -1,0 +1,431 @@
+//! The renderer: [`Renderer`], made once from a [`Workspace`] and optional span and vertex
+//! memory, its switches ([`Paint`], back to front, background, culling), and a frame's
+//! checks and passes. It exists apart from the per-polygon work ([`super::painter`]) so
+//! that what a caller chooses and what is checked before the first pixel read in one
+//! place; the painter only draws.
+
+use glam::Vec3;
+
+use super::painter::Painter;
+use super::{FrameStats, Source, Workspace};
+use crate::camera::View;
+use crate::clip::{self, Frustum};
+use crate::coverage::{Coverage, Mode};
+use crate::error::RenderError;
+use crate::fill::{self, FixedPoint};
+use crate::target::{Colour, SpanSink};
+use crate::traverse::{Order, StackEntry};
+use crate::vertices::VertexCache;
+
+/// What a polygon is painted with.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Paint {
+    /// Its baked colour.
+    #[default]
+    Colours,
+    /// Its source triangle id plus one, as 24 bits (red the high byte); needs a file with ids.
+    Ids,
+}
+
+/// The colour of an id image pixel for triangle `id`: `id + 1` in 24 bits, red high
+/// (ids past `2^24 - 2` wrap: the format's ids are far below that).
+pub fn id_colour(id: u32) -> Colour {
+    let v = id.wrapping_add(1);
+    Colour::new((v >> 16) as u8, (v >> 8) as u8, v as u8)
+}
+
+/// The window in fixed point, or [`RenderError::ImageTooLarge`] (beyond `i32`, or beyond
+/// [`fill::coordinate_limit`] without the `wide-coordinates` feature).
+pub(super) fn window<const SUB: u32>(width: u32, height: u32) -> Result<(i32, i32), RenderError> {
+    let scaled = |v: u32| {
+        i32::try_from(v)
+            .ok()
+            .and_then(|v| v.checked_mul(1i32.checked_shl(SUB)?))
+            .filter(|&v| SUB <= 30 && v <= fill::coordinate_limit::<SUB>())
+    };
+    match (scaled(width), scaled(height)) {
+        (Some(x), Some(y)) => Ok((x, y)),
+        _ => Err(RenderError::ImageTooLarge { width, height }),
+    }
+}
+
+/// Draws frames: made once from caller memory, reused for every frame, never allocating.
+///
+/// ```no_run
+/// use peel_runtime::camera::{Camera, Orbit};
+/// use peel_runtime::coverage::Coverage;
+/// use peel_runtime::read::Scene;
+/// use peel_runtime::render::{Renderer, Workspace};
+/// use peel_runtime::target::{Framebuffer, Xrgb8888};
+/// # let bytes: &[u8] = &[];
+/// let scene = Scene::parse(bytes).expect("a valid .peel file");
+/// let header = scene.header();
+/// let near = Camera::default_near(header.bounds_min, header.bounds_max);
+/// let pose = Orbit::default().pose(&header);
+/// let camera = Camera::look_at(pose, 60.0, 320, 240, near).expect("a camera");
+/// // Stack for the tree's depth, clip buffers for its largest polygon (see `Workspace`).
+/// let mut workspace = Box::new(Workspace::<512, 32>::new());
+/// // Span memory: front to back, every pixel written once (see `Coverage`).
+/// let (mut spans, mut rows) = (vec![(0, 0); 64 * 240], vec![0; 240]);
+/// let coverage = Coverage::new(&mut spans, &mut rows, 320, 240).expect("span memory");
+/// let mut renderer = Renderer::new(&mut workspace).span_memory(coverage);
+/// let mut pixels = vec![0u32; 320 * 240];
+/// let mut target = Framebuffer::<Xrgb8888>::new(&mut pixels, 320, 240).expect("a target");
+/// let stats = renderer
+///     .draw(&scene, &camera.view(header.centre), &mut target)
+///     .expect("a frame");
+/// assert!(!stats.fallback);
+/// ```
+///
+/// What is drawn follows from the memory given and a few switches, and the result says what
+/// happened:
+/// - with span memory ([`Renderer::span_memory`]) front to back: each pixel is written once
+///   and the walk stops when the frame is full; if the span memory runs out mid-frame, the
+///   rest is painted back to front, clipped against what is covered: the same image with
+///   some overdraw, reported as [`FrameStats::fallback`];
+/// - without it (or with [`Renderer::back_to_front`]) back to front, the painter's algorithm
+///   (span memory, if given, then only counts distinct pixels);
+/// - vertex memory ([`Renderer::vertex_memory`]) saves work and changes no pixel;
+/// - colours, or ids with [`Renderer::ids`] (a scene without ids is an error, not a blank);
+/// - culling on, which never changes a pixel ([`Renderer::without_culling`] to measure it).
+///
+/// `SUB` is the fixed-point precision of screen coordinates (fractional bits): the default
+/// [`fill::SUBPIXEL_BITS`] with [`Renderer::new`], another with [`Renderer::with_precision`].
+#[derive(Debug)]
+pub struct Renderer<'m, const SUB: u32 = { fill::SUBPIXEL_BITS }> {
+    stack: &'m mut [StackEntry],
+    clip_a: &'m mut [Vec3],
+    clip_b: &'m mut [Vec3],
+    points: &'m mut [FixedPoint],
+    edges: &'m mut [fill::EdgeWalk],
+    coverage: Option<Coverage<'m>>,
+    vertices: Option<VertexCache<'m>>,
+    back_to_front: bool,
+    paint: Paint,
+    cull: bool,
+    background: Option<Colour>,
+}
+
+impl<'m> Renderer<'m> {
+    /// A renderer at the default precision [`fill::SUBPIXEL_BITS`] using `workspace`'s stack
+    /// and clip buffers: back to front, colours, culling on.
+    #[inline(always)]
+    pub fn new<const STACK: usize, const VERTS: usize>(
+        workspace: &'m mut Workspace<STACK, VERTS>,
+    ) -> Self {
+        Renderer::with_precision(workspace)
+    }
+}
+
+impl<'m, const SUB: u32> Renderer<'m, SUB> {
+    /// [`Renderer::new`] at `SUB` fractional bits: `Renderer::<4>::with_precision(&mut ws)`.
+    #[inline(always)]
+    pub fn with_precision<const STACK: usize, const VERTS: usize>(
+        workspace: &'m mut Workspace<STACK, VERTS>,
+    ) -> Self {
+        let Workspace {
+            stack,
+            clip_a,
+            clip_b,
+            points,
+            edges,
+        } = workspace;
+        Renderer {
+            stack,
+            clip_a,
+            clip_b,
+            points,
+            edges,
+            coverage: None,
+            vertices: None,
+            back_to_front: false,
+            paint: Paint::Colours,
+            cull: true,
+            background: None,
+        }
+    }
+
+    /// Span memory for images of the coverage's size: frames are then drawn front to back,
+    /// each pixel written once (with the `front-to-back` feature; without it the memory is
+    /// unused and every frame reports [`FrameStats::fallback`]).
+    #[inline(always)]
+    pub fn span_memory(mut self, coverage: Coverage<'m>) -> Self {
+        self.coverage = Some(coverage);
+        self
+    }
+
+    /// Screen positions of the scene's vertices, kept from frame to frame (with the
+    /// `vertex-cache` feature; see [`crate::vertices`]): the same pixels for less work.
+    #[inline(always)]
+    pub fn vertex_memory(mut self, vertices: VertexCache<'m>) -> Self {
+        self.vertices = Some(vertices);
+        self
+    }
+
+    /// Paint source triangle ids (`id + 1` as 24-bit RGB, see [`id_colour`]) instead of
+    /// colours; a scene without ids then fails with [`RenderError::NoIds`].
+    #[inline(always)]
+    pub fn ids(mut self) -> Self {
+        self.paint = Paint::Ids;
+        self
+    }
+
+    /// Paint back to front even with span memory (which then only counts distinct pixels).
+    #[inline(always)]
+    pub fn back_to_front(mut self) -> Self {
+        self.back_to_front = true;
+        self
+    }
+
+    /// Write every pixel of every frame, those no polygon covers in `colour`: front to back
+    /// each exactly once (the uncovered spans are emitted last, or before the fallback pass,
+    /// from the span memory), back to front with the rows painted first. A display then needs
+    /// no clear and no framebuffer: spans can go straight to it.
+    #[inline(always)]
+    pub fn background(mut self, colour: Colour) -> Self {
+        self.background = Some(colour);
+        self
+    }
+
+    /// Draw without culling (see the module docs, "Culling"): the same pixels, more work;
+    /// only to measure what culling saves.
+    #[inline(always)]
+    pub fn without_culling(mut self) -> Self {
+        self.cull = false;
+        self
+    }
+
+    /// The order frames are drawn in: front to back exactly when span memory was given and
+    /// back to front was not asked for.
+    pub fn order(&self) -> Order {
+        if self.coverage.is_some() && !self.back_to_front && cfg!(feature = "front-to-back") {
+            Order::FrontToBack
+        } else {
+            Order::BackToFront
+        }
+    }
+
+    /// The span memory, if any (after a frame: what it covered).
+    pub fn coverage(&self) -> Option<&Coverage<'m>> {
+        self.coverage.as_ref()
+    }
+
+    /// Draw `scene` seen by `view` into `target`. Everything is checked before the first
+    /// pixel (see the module docs) and the frame is drawn completely or not at all: an error
+    /// for a view that is degenerate ([`View::check`]), an image too large for the
+    /// fixed-point range, a stack or clip buffers too small for the scene, span memory of
+    /// another size than the view's image, or ids asked of a scene without them. Never panics.
+    pub fn draw<T, S>(
+        &mut self,
+        scene: &T,
+        view: &View,
+        target: &mut S,
+    ) -> Result<FrameStats, RenderError>
+    where
+        T: Source + ?Sized,
+        S: SpanSink + ?Sized,
+    {
+        view.check()?;
+        self.frame(scene, view, 0..view.height, target)
+    }
+
+    /// [`Renderer::draw`] of frame rows `rows` only: a band, for firmware that sends a frame
+    /// to its display band by band instead of keeping a framebuffer. The target gets the same
+    /// spans as in the whole frame's draw, with frame row numbers (a [`Framebuffer::band`]
+    /// takes them), and subtrees whose screen box misses the band are skipped. Span memory,
+    /// if given, is for the band: a [`Coverage`] `view.width` wide and at least `rows.len()`
+    /// high (its first rows are used, so one serves every band, the shorter last one too).
+    /// Also an error: rows outside the image ([`RenderError::RowsOutsideImage`]).
+    ///
+    /// [`Framebuffer::band`]: crate::target::Framebuffer::band
+    pub fn draw_rows<T, S>(
+        &mut self,
+        scene: &T,
+        view: &View,
+        rows: core::ops::Range<u32>,
+        target: &mut S,
+    ) -> Result<FrameStats, RenderError>
+    where
+        T: Source + ?Sized,
+        S: SpanSink + ?Sized,
+    {
+        view.check()?;
+        if rows.start > rows.end || rows.end > view.height {
+            return Err(RenderError::RowsOutsideImage {
+                start: rows.start,
+                end: rows.end,
+                height: view.height,
+            });
+        }
+        self.frame(scene, view, rows, target)
+    }
+
+    fn frame<T, S>(
+        &mut self,
+        scene: &T,
+        view: &View,
+        rows: core::ops::Range<u32>,
+        sink: &mut S,
+    ) -> Result<FrameStats, RenderError>
+    where
+        T: Source + ?Sized,
+        S: SpanSink + ?Sized,
+    {
+        let order = self.order();
+        let paint = self.paint;
+        let cull = self.cull;
+        // Without the features the memory is never used: the optimiser drops that code.
+        let asked_front_to_back = self.coverage.is_some() && !self.back_to_front;
+        let mut coverage = if cfg!(feature = "front-to-back") {
+            self.coverage.as_mut()
+        } else {
+            None
+        };
+        let vertices = if cfg!(feature = "vertex-cache") {
+            self.vertices.as_mut()
+        } else {
+            None
+        };
+        let (width, height) = (view.width, view.height);
+        let (max_x, max_y) = window::<SUB>(width, height)?;
+        if paint == Paint::Ids && !(cfg!(feature = "ids") && scene.has_ids()) {
+            return Err(RenderError::NoIds);
+        }
+        let needed = clip::buffer_len_for(scene.max_polygon_vertices());
+        let buffers = [
+            self.clip_a.len(),
+            self.clip_b.len(),
+            self.points.len(),
+            self.edges.len(),
+            fill::MAX_FILL_VERTICES,
+        ];
+        let shortest = buffers.into_iter().min().unwrap_or(0);
+        let available = u32::try_from(shortest).unwrap_or(u32::MAX);
+        if needed > available {
+            return Err(RenderError::PolygonTooLarge { needed, available });
+        }
+        if let Some(c) = coverage.as_deref_mut() {
+            if c.width() != width || c.height() < rows.end - rows.start {
+                return Err(RenderError::SpanMemory);
+            }
+            c.clear();
+            c.use_rows(rows.end - rows.start);
+        }
+        let frustum = Frustum::new(view);
+        // The whole scene inside the frustum (the usual case for an object in view): no
+        // subtree needs the frustum test and no polygon needs clipping. Bounds are only trusted
+        // when culling is on, as for every other use of them.
+        let all_inside = cull
+            && cfg!(feature = "bounds-culling")
+            && scene
+                .root()
+                .and_then(|root| scene.node_bounds(root))
+                .is_some_and(|(lo, hi)| frustum.contains_box(view, lo, hi));
+        // Only frames without clipping use it (see `crate::vertices`).
+        let mut vertices = vertices.filter(|_| all_inside);
+        if let Some(v) = vertices.as_deref_mut() {
+            v.next_frame();
+        }
+        let (first_row, end_row) = (rows.start, rows.end);
+        let mut painter = Painter::<SUB> {
+            view,
+            rows,
+            frustum,
+            max_x,
+            max_y,
+            available,
+            paint,
+            cull,
+            all_inside,
+            clip_a: &mut self.clip_a[..],
+            clip_b: &mut self.clip_b[..],
+            points: &mut self.points[..],
+            edges: &mut self.edges[..],
+            vertices,
+        };
+        let mut stats = FrameStats {
+            // Front to back was asked for, but the feature is off: painted back to front.
+            fallback: asked_front_to_back && order == Order::BackToFront,
+            ..FrameStats::default()
+        };
+        if let Some(c) = coverage.as_deref_mut() {
+            c.set_mode(if order == Order::FrontToBack {
+                Mode::Exclusive
+            } else {
+                Mode::Measure
+            });
+        }
+        let background = self.background;
+        // Back to front: the background first, then every polygon over it.
+        if let (Some(colour), Order::BackToFront) = (background, order) {
+            paint_uncovered(None, width, first_row..end_row, colour, sink);
+        }
+
+        // Pass 1: the frame's order.
+        let overflow = painter.walk(
+            scene,
+            order,
+            &mut self.stack[..],
+            coverage.as_deref_mut(),
+            sink,
+            &mut stats,
+            None,
+        )?;
+
+        // Pass 2 (span memory exhausted at polygon `last`): the polygons from the farthest up
+        // to `last`, back to front, clipped against the frozen coverage.
+        if let (Some(last), Some(c)) = (overflow, coverage.as_deref_mut()) {
+            stats.fallback = true;
+            c.freeze();
+            // What pass 2 draws, it draws over this (it paints back to front).
+            if let Some(colour) = background {
+                paint_uncovered(Some(c), width, first_row..end_row, colour, sink);
+            }
+            painter.walk(
+                scene,
+                Order::BackToFront,
+                &mut self.stack[..],
+                coverage.as_deref_mut(),
+                sink,
+                &mut stats,
+                Some(last),
+            )?;
+        }
+        if let (Some(colour), Order::FrontToBack, None) = (background, order, overflow) {
+            if let Some(c) = coverage.as_deref() {
+                paint_uncovered(Some(c), width, first_row..end_row, colour, sink);
+            }
+        }
+        stats.distinct_pixels = match coverage.as_deref() {
+            Some(c) if !c.exhausted() && !stats.fallback => Some(c.covered()),
+            _ => None,
+        };
+        Ok(stats)
+    }
+}
+
+/// Paint in `colour` the pixels of frame rows `rows`, `width` wide, that `coverage` does not
+/// cover (its row `y` being frame row `rows.start + y`): all of them without one. (One copy
+/// for its three callers.)
+#[inline(never)]
+fn paint_uncovered<S: SpanSink + ?Sized>(
+    coverage: Option<&Coverage<'_>>,
+    width: u32,
+    rows: core::ops::Range<u32>,
+    colour: Colour,
+    sink: &mut S,
+) {
+    let first_row = rows.start;
+    for y in 0..rows.end - rows.start {
+        let mut at = 0;
+        for &(a, b) in coverage.map_or(&[][..], |c| c.row(y)) {
+            if at < u32::from(a) {
+                sink.span(first_row + y, at, u32::from(a), colour);
+            }
+            at = u32::from(b);
+        }
+        if at < width {
+            sink.span(first_row + y, at, width, colour);
+        }
+    }
+}

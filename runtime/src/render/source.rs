@@ -1,0 +1,64 @@
+//! What a [`Renderer`](super::Renderer) reads from a scene: the [`Source`] trait, on top of
+//! the traversal's [`Tree`], and its implementation for a parsed [`Scene`]. It exists apart
+//! so that the renderer depends on this small interface, not on the file format: tests draw
+//! small in-memory trees through it, and a scene stored another way needs only this trait.
+
+use glam::Vec3;
+
+use crate::read::{Polygon, Scene};
+use crate::traverse::DisplayTree;
+
+/// Everything a [`Renderer`] reads from a scene; [`Scene`] implements it (tests use small
+/// in-memory trees).
+///
+/// [`Renderer`]: super::Renderer
+pub trait Source: DisplayTree {
+    /// World position the scene's coordinates are relative to.
+    fn centre(&self) -> [f64; 3];
+    /// Largest polygon vertex count.
+    fn max_polygon_vertices(&self) -> u32;
+    /// Vertex `i` of `polygon`, relative to the centre.
+    fn polygon_vertex(&self, polygon: &Polygon, i: u32) -> Vec3;
+    /// Whether the scene holds triangle ids.
+    fn has_ids(&self) -> bool;
+    /// Source triangle id of polygon `i`.
+    fn id(&self, i: u32) -> Option<u32>;
+    /// Bounding box `(min, max)` of the polygons of node `i`'s subtree, relative to the
+    /// centre, when the scene stores one (it is never required).
+    fn node_bounds(&self, i: u32) -> Option<(Vec3, Vec3)> {
+        let _ = i;
+        None
+    }
+    /// The index of vertex `i` of `polygon` in the scene's shared vertex list, when it has one:
+    /// a frame then projects each shared vertex once, the first time its index comes, from the
+    /// position [`Source::polygon_vertex`] gives (see [`crate::vertices`]). Equal indices must
+    /// therefore mean equal positions.
+    fn vertex_index(&self, polygon: &Polygon, i: u32) -> Option<u32> {
+        let _ = (polygon, i);
+        None
+    }
+}
+
+impl Source for Scene<'_> {
+    fn centre(&self) -> [f64; 3] {
+        self.header().centre
+    }
+    fn max_polygon_vertices(&self) -> u32 {
+        self.header().max_polygon_vertices
+    }
+    fn polygon_vertex(&self, polygon: &Polygon, i: u32) -> Vec3 {
+        Scene::polygon_vertex(self, polygon, i)
+    }
+    fn has_ids(&self) -> bool {
+        self.header().flags & crate::read::layout::header_flags::IDS != 0
+    }
+    fn id(&self, i: u32) -> Option<u32> {
+        Scene::id(self, i)
+    }
+    fn node_bounds(&self, i: u32) -> Option<(Vec3, Vec3)> {
+        Scene::node_bounds(self, i)
+    }
+    fn vertex_index(&self, polygon: &Polygon, i: u32) -> Option<u32> {
+        Scene::polygon_vertex_index(self, polygon, i)
+    }
+}
