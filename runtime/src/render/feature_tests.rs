@@ -64,7 +64,7 @@ fn draw(order: Order, paint: Paint) -> (Result<FrameStats, RenderError>, Vec<Col
         paint,
         cull: true,
     };
-    let stats = render_ordered(
+    let stats = draw_test_frame_with(
         &cube(),
         &cam,
         &mut Workspace::<8, 16>::new(),
@@ -156,7 +156,8 @@ fn culled_cube(order: Order) -> (FrameStats, bool) {
         ..Options::default()
     };
     let mut ws = Workspace::<8, 16>::new();
-    let stats = render_ordered(&t, &cam, &mut ws, options, Memory::from(cov), &mut sink).unwrap();
+    let stats =
+        draw_test_frame_with(&t, &cam, &mut ws, options, Memory::from(cov), &mut sink).unwrap();
     // Whether the walk enters the node, asked directly.
     let view = cam.view(t.centre);
     let (mut a, mut b) = ([Vec3::ZERO; 16], [Vec3::ZERO; 16]);
@@ -230,7 +231,7 @@ fn image_size_limit_follows_wide_coordinates() {
     )
     .unwrap();
     let mut sink = Pixels(8192, vec![Colour::default(); 8192 * 2]);
-    let r = render(
+    let r = draw_test_frame(
         &cube(),
         &cam,
         &mut Workspace::<8, 16>::new(),

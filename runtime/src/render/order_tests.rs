@@ -89,7 +89,7 @@ fn back_to_front(t: &TestTree, cam: &Camera, cull: bool) -> (MockTarget<W, H>, F
         paint: Paint::Colours,
         cull,
     };
-    let stats = render_ordered(
+    let stats = draw_test_frame_with(
         t,
         cam,
         &mut Workspace::<16, 12>::new(),
@@ -109,7 +109,7 @@ fn front_to_back<const SLOTS: usize>(
     let mut intervals = vec![(0u16, 0u16); SLOTS * H];
     let mut counts = [0u16; H];
     let cov = Coverage::new(&mut intervals, &mut counts, W as u32, H as u32).unwrap();
-    let stats = render_ordered(
+    let stats = draw_test_frame_with(
         t,
         cam,
         &mut Workspace::<16, 12>::new(),

@@ -44,7 +44,7 @@ impl<'m> From<Coverage<'m>> for Memory<'m> {
 }
 
 /// Back to front at the default precision, with culling.
-pub(crate) fn render<T, S, const STACK: usize, const VERTS: usize>(
+pub(crate) fn draw_test_frame<T, S, const STACK: usize, const VERTS: usize>(
     scene: &T,
     camera: &Camera,
     workspace: &mut Workspace<STACK, VERTS>,
@@ -55,13 +55,13 @@ where
     T: Source + ?Sized,
     S: SpanSink + ?Sized,
 {
-    render_with::<{ fill::SUBPIXEL_BITS }, T, S, STACK, VERTS>(
+    draw_test_frame_at::<{ fill::SUBPIXEL_BITS }, T, S, STACK, VERTS>(
         scene, camera, workspace, paint, sink,
     )
 }
 
 /// Back to front at `SUB` fractional bits, with culling.
-pub(crate) fn render_with<const SUB: u32, T, S, const STACK: usize, const VERTS: usize>(
+pub(crate) fn draw_test_frame_at<const SUB: u32, T, S, const STACK: usize, const VERTS: usize>(
     scene: &T,
     camera: &Camera,
     workspace: &mut Workspace<STACK, VERTS>,
@@ -77,7 +77,7 @@ where
         paint,
         cull: true,
     };
-    render_with_options::<SUB, T, S, STACK, VERTS>(
+    draw_test_frame_with_at::<SUB, T, S, STACK, VERTS>(
         scene,
         camera,
         workspace,
@@ -88,7 +88,7 @@ where
 }
 
 /// As `options` say, at the default precision.
-pub(crate) fn render_ordered<T, S, const STACK: usize, const VERTS: usize>(
+pub(crate) fn draw_test_frame_with<T, S, const STACK: usize, const VERTS: usize>(
     scene: &T,
     camera: &Camera,
     workspace: &mut Workspace<STACK, VERTS>,
@@ -100,13 +100,19 @@ where
     T: Source + ?Sized,
     S: SpanSink + ?Sized,
 {
-    render_with_options::<{ fill::SUBPIXEL_BITS }, T, S, STACK, VERTS>(
+    draw_test_frame_with_at::<{ fill::SUBPIXEL_BITS }, T, S, STACK, VERTS>(
         scene, camera, workspace, options, memory, sink,
     )
 }
 
 /// As `options` say, at `SUB` fractional bits, for a camera.
-pub(crate) fn render_with_options<const SUB: u32, T, S, const STACK: usize, const VERTS: usize>(
+pub(crate) fn draw_test_frame_with_at<
+    const SUB: u32,
+    T,
+    S,
+    const STACK: usize,
+    const VERTS: usize,
+>(
     scene: &T,
     camera: &Camera,
     workspace: &mut Workspace<STACK, VERTS>,

@@ -97,7 +97,7 @@ fn the_nearest_face_wins() {
     ] {
         let mut ws = Workspace::<4, 16>::new();
         let mut frame = Frame::new(64, 48);
-        let stats = render(
+        let stats = draw_test_frame(
             &t,
             &camera(eye, 64, 48),
             &mut ws,
@@ -134,7 +134,7 @@ fn polygons_drawn_counts_only_what_survives_clipping() {
     )
     .unwrap();
     let mut frame = Frame::new(32, 32);
-    let stats = render(&t, &cam, &mut ws, Paint::Colours, &mut frame).unwrap();
+    let stats = draw_test_frame(&t, &cam, &mut ws, Paint::Colours, &mut frame).unwrap();
     // The whole image is the +z face.
     assert!(frame.pixels.iter().all(|&c| c == FACE_COLOURS[5]));
     // Without the `stats` feature the counters read 0.
@@ -150,7 +150,7 @@ fn id_images_hold_id_plus_one() {
     let t = coloured_box();
     let mut ws = Workspace::<4, 16>::new();
     let mut frame = Frame::new(40, 40);
-    render(
+    draw_test_frame(
         &t,
         &camera(DVec3::new(0.0, 0.0, 6.0), 40, 40),
         &mut ws,
@@ -169,7 +169,7 @@ fn refusals_happen_before_any_pixel() {
     let cam = camera(DVec3::new(0.0, 0.0, 6.0), 16, 16);
     let mut frame = Frame::new(16, 16);
     // Stack too small for the depth-1 tree.
-    let r = render(
+    let r = draw_test_frame(
         &t,
         &cam,
         &mut Workspace::<0, 16>::new(),
@@ -184,7 +184,7 @@ fn refusals_happen_before_any_pixel() {
         })
     );
     // Quads need 4 + 5 clip vertices.
-    let r = render(
+    let r = draw_test_frame(
         &t,
         &cam,
         &mut Workspace::<1, 8>::new(),
@@ -198,7 +198,7 @@ fn refusals_happen_before_any_pixel() {
             available: 8
         })
     );
-    assert!(render(
+    assert!(draw_test_frame(
         &t,
         &cam,
         &mut Workspace::<1, 9>::new(),
@@ -208,7 +208,7 @@ fn refusals_happen_before_any_pixel() {
     .is_ok());
     // Larger buffers than the fill takes are capped at its maximum.
     t.polygons[0].vertex_count = 62;
-    let r = render(
+    let r = draw_test_frame(
         &t,
         &cam,
         &mut Workspace::<1, 100>::new(),
@@ -225,7 +225,7 @@ fn refusals_happen_before_any_pixel() {
     t.polygons[0].vertex_count = 4;
     // Ids asked of a file without ids.
     t.ids = None;
-    let r = render(
+    let r = draw_test_frame(
         &t,
         &cam,
         &mut Workspace::<1, 9>::new(),
@@ -235,7 +235,7 @@ fn refusals_happen_before_any_pixel() {
     assert_eq!(r, Err(RenderError::NoIds));
     // An image too wide for 8 fractional bits in an i32.
     let wide = camera(DVec3::new(0.0, 0.0, 6.0), 1 << 23, 1);
-    let r = render(
+    let r = draw_test_frame(
         &t,
         &wide,
         &mut Workspace::<1, 9>::new(),
@@ -253,14 +253,14 @@ fn refusals_happen_before_any_pixel() {
     // added any.
     let spans = frame.spans;
     let mut fresh = Frame::new(16, 16);
-    let _ = render(
+    let _ = draw_test_frame(
         &t,
         &cam,
         &mut Workspace::<0, 16>::new(),
         Paint::Colours,
         &mut fresh,
     );
-    let _ = render(
+    let _ = draw_test_frame(
         &t,
         &cam,
         &mut Workspace::<1, 8>::new(),
@@ -341,7 +341,7 @@ proptest! {
         let cam = Camera::look_at(Pose::new(eye, DVec3::new(0.0, 0.0, 0.0)), 70.0, w, h, 0.05).unwrap();
         let mut ws = Workspace::<2, 8>::new();
         let mut frame = Frame::new(w, h);
-        let stats = render(&t, &cam, &mut ws, Paint::Colours, &mut frame).unwrap();
+        let stats = draw_test_frame(&t, &cam, &mut ws, Paint::Colours, &mut frame).unwrap();
         prop_assert!(frame.writes.iter().all(|&n| n <= 1), "a pixel painted twice");
         if cfg!(feature = "stats") {
             prop_assert_eq!(stats.pixels_written, frame.writes.iter().map(|&n| u64::from(n)).sum::<u64>());
@@ -400,15 +400,16 @@ fn scene_renders_like_the_in_memory_tree() {
     };
     for &paint in paints {
         let (mut a, mut b) = (Frame::new(40, 30), Frame::new(40, 30));
-        let sa = render(&t, &cam, &mut Workspace::<2, 9>::new(), paint, &mut a).unwrap();
-        let sb = render(&scene, &cam, &mut Workspace::<2, 9>::new(), paint, &mut b).unwrap();
+        let sa = draw_test_frame(&t, &cam, &mut Workspace::<2, 9>::new(), paint, &mut a).unwrap();
+        let sb =
+            draw_test_frame(&scene, &cam, &mut Workspace::<2, 9>::new(), paint, &mut b).unwrap();
         assert_eq!(sa, sb);
         assert_eq!(a.pixels, b.pixels);
         assert!(sa.polygons_drawn >= 3 || !cfg!(feature = "stats"), "{sa:?}");
     }
     // The box is centred on the scene centre, so the image centre shows it.
     let mut f = Frame::new(40, 30);
-    render(
+    draw_test_frame(
         &scene,
         &cam,
         &mut Workspace::<2, 9>::new(),
@@ -451,7 +452,7 @@ fn a_view_draws_what_its_camera_draws() {
                 Memory::from(cov),
                 &mut frame,
             ),
-            None => render_ordered(
+            None => draw_test_frame_with(
                 &scene,
                 &cam,
                 &mut ws,
@@ -581,7 +582,7 @@ fn whole_pixel_precision_renders_the_same_scene_up_to_edges() {
         for eye in [DVec3::new(0.4, 0.3, 5.0), DVec3::new(-3.0, 1.2, 4.1)] {
             let cam = camera(eye, W as u32, H as u32);
             let mut coarse = MockTarget::<W, H>::new();
-            let stats = render_with::<0, TestTree, MockTarget<W, H>, 2, 8>(
+            let stats = draw_test_frame_at::<0, TestTree, MockTarget<W, H>, 2, 8>(
                 &t,
                 &cam,
                 &mut Workspace::new(),
@@ -590,7 +591,7 @@ fn whole_pixel_precision_renders_the_same_scene_up_to_edges() {
             )
             .unwrap();
             let mut fine = MockTarget::<W, H>::new();
-            render_with::<8, TestTree, MockTarget<W, H>, 2, 8>(
+            draw_test_frame_at::<8, TestTree, MockTarget<W, H>, 2, 8>(
                 &t,
                 &cam,
                 &mut Workspace::new(),
@@ -646,7 +647,7 @@ fn whole_pixel_precision_renders_the_same_scene_up_to_edges() {
             let mut ws = Workspace::<4, 16>::new();
             let options = Options::default();
             *stats = if k == 0 {
-                render_with_options::<0, _, _, 4, 16>(
+                draw_test_frame_with_at::<0, _, _, 4, 16>(
                     &t,
                     &cam,
                     &mut ws,
@@ -655,7 +656,7 @@ fn whole_pixel_precision_renders_the_same_scene_up_to_edges() {
                     frame,
                 )
             } else {
-                render_with_options::<8, _, _, 4, 16>(
+                draw_test_frame_with_at::<8, _, _, 4, 16>(
                     &t,
                     &cam,
                     &mut ws,
@@ -686,7 +687,7 @@ fn whole_pixel_precision_renders_the_same_scene_up_to_edges() {
         );
         // Back to front at SUB = 0 paints the same picture (with overdraw).
         let mut painter = MockTarget::<W, H>::allowing_overdraw();
-        render_with::<0, TestTree, MockTarget<W, H>, 4, 16>(
+        draw_test_frame_at::<0, TestTree, MockTarget<W, H>, 4, 16>(
             &t,
             &cam,
             &mut Workspace::new(),

@@ -144,7 +144,7 @@ fn draw<const SUB: u32>(
                         depth: &mut work.depth_u32,
                         width: w as usize,
                     };
-                    zbuffer::render::<SUB, u32>(tris, &view, &mut f)
+                    zbuffer::draw::<SUB, u32>(tris, &view, &mut f)
                 }
                 Method::ZbufferF32 => {
                     work.depth_f32.resize(n, 0.0);
@@ -153,9 +153,9 @@ fn draw<const SUB: u32>(
                         depth: &mut work.depth_f32,
                         width: w as usize,
                     };
-                    zbuffer::render::<SUB, f32>(tris, &view, &mut f)
+                    zbuffer::draw::<SUB, f32>(tris, &view, &mut f)
                 }
-                _ => newell::render::<SUB>(tris, &view, &mut ids),
+                _ => newell::draw::<SUB>(tris, &view, &mut ids),
             };
             Ok(Drawn {
                 ids,

@@ -104,7 +104,7 @@ impl<D: Depth> SpanSink for Sink<'_, '_, D> {
 }
 
 /// The z-buffer in format `D` (`f32` or `u32`): returns the pixels written.
-pub fn render<const SUB: u32, D: Depth>(
+pub fn draw<const SUB: u32, D: Depth>(
     tris: &[Prepared],
     view: &View,
     frame: &mut ZFrame<'_, D>,
