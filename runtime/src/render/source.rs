@@ -6,13 +6,13 @@
 use glam::Vec3;
 
 use crate::read::{Polygon, Scene};
-use crate::traverse::DisplayTree;
+use crate::traverse::Tree;
 
 /// Everything a [`Renderer`] reads from a scene; [`Scene`] implements it (tests use small
 /// in-memory trees).
 ///
 /// [`Renderer`]: super::Renderer
-pub trait Source: DisplayTree {
+pub trait Source: Tree {
     /// World position the scene's coordinates are relative to.
     fn centre(&self) -> [f64; 3];
     /// Largest polygon vertex count.

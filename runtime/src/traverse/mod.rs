@@ -27,7 +27,7 @@ pub const INTERIOR_FRONT: u8 = 1 << 1;
 
 /// The tree as the traversal sees it. [`Scene`] implements it; tests implement it on small
 /// hand-made trees. Accessors must be total (any default for an out-of-range index).
-pub trait DisplayTree {
+pub trait Tree {
     /// Root node, if the tree is not empty.
     fn root(&self) -> Option<u32>;
     /// Node `i`.
@@ -48,7 +48,7 @@ pub trait DisplayTree {
     }
 }
 
-impl DisplayTree for Scene<'_> {
+impl Tree for Scene<'_> {
     fn root(&self) -> Option<u32> {
         Scene::root(self)
     }
@@ -131,7 +131,7 @@ enum Task {
 /// (malformed) tree turned out deeper than it declares, or had more visits than nodes, the
 /// walk stops early and [`Traversal::error`] says why; a validated [`Scene`] never does.
 #[derive(Debug)]
-pub struct Traversal<'t, 's, T: DisplayTree + ?Sized> {
+pub struct Traversal<'t, 's, T: Tree + ?Sized> {
     tree: &'t T,
     eye: Vec3,
     order: Order,
@@ -142,7 +142,7 @@ pub struct Traversal<'t, 's, T: DisplayTree + ?Sized> {
     error: Option<RenderError>,
 }
 
-impl<'t, 's, T: DisplayTree + ?Sized> Traversal<'t, 's, T> {
+impl<'t, 's, T: Tree + ?Sized> Traversal<'t, 's, T> {
     /// Walk `tree` for an eye at `eye` (in the tree's coordinates: relative to the scene
     /// centre). Fails with [`RenderError::StackTooSmall`] if `stack` is shorter than the
     /// tree's `max_depth`.
@@ -226,7 +226,7 @@ impl<'t, 's, T: DisplayTree + ?Sized> Traversal<'t, 's, T> {
     }
 }
 
-impl<T: DisplayTree + ?Sized> Iterator for Traversal<'_, '_, T> {
+impl<T: Tree + ?Sized> Iterator for Traversal<'_, '_, T> {
     type Item = u32;
 
     fn next(&mut self) -> Option<u32> {
@@ -237,7 +237,7 @@ impl<T: DisplayTree + ?Sized> Iterator for Traversal<'_, '_, T> {
 /// Polygons per convex node whose side the first scan remembers for the second (one bit each).
 const MASK_BITS: u32 = u64::BITS;
 
-impl<T: DisplayTree + ?Sized> Traversal<'_, '_, T> {
+impl<T: Tree + ?Sized> Traversal<'_, '_, T> {
     /// The next polygon, asking `enter(node)` before walking into each node: `false` skips
     /// the node's whole subtree (the renderer's frustum and coverage culling). Asked once per
     /// node reached, in walk order, so the answer may depend on what was drawn so far.

@@ -5,7 +5,7 @@ extern crate std;
 use glam::Vec3;
 use std::vec::Vec;
 
-use super::{DisplayTree, INTERIOR_FRONT};
+use super::{Tree, INTERIOR_FRONT};
 use crate::read::{Node, Plane, Polygon};
 use crate::render::Source;
 use crate::target::Colour;
@@ -76,7 +76,7 @@ impl TestTree {
     }
 }
 
-impl DisplayTree for TestTree {
+impl Tree for TestTree {
     fn root(&self) -> Option<u32> {
         if self.nodes.is_empty() {
             None
@@ -102,7 +102,7 @@ impl DisplayTree for TestTree {
     }
     fn max_depth(&self) -> u32 {
         self.declared_depth
-            .unwrap_or_else(|| self.depth_of(DisplayTree::root(self), self.nodes.len() as u32))
+            .unwrap_or_else(|| self.depth_of(Tree::root(self), self.nodes.len() as u32))
     }
 }
 
@@ -223,7 +223,7 @@ pub(crate) fn encode(tree: &TestTree) -> Vec<u8> {
         tree.indices.len() as u32,
         tree.polygons.len() as u32,
         tree.nodes.len() as u32,
-        DisplayTree::max_depth(tree),
+        Tree::max_depth(tree),
         Source::max_polygon_vertices(tree),
     ] {
         out.extend(v.to_le_bytes());
