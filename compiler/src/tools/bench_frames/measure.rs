@@ -138,22 +138,10 @@ fn draw<const SUB: u32>(
             let mut ids = vec![0u32; n];
             let written = match method {
                 Method::ZbufferInt => {
-                    work.depth_u32.resize(n, 0);
-                    let mut f = zbuffer::ZFrame {
-                        ids: &mut ids,
-                        depth: &mut work.depth_u32,
-                        width: w as usize,
-                    };
-                    zbuffer::draw::<SUB, u32>(tris, &view, &mut f)
+                    zbuffer::draw_ids::<SUB, u32>(tris, &view, &mut ids, &mut work.depth_u32)
                 }
                 Method::ZbufferF32 => {
-                    work.depth_f32.resize(n, 0.0);
-                    let mut f = zbuffer::ZFrame {
-                        ids: &mut ids,
-                        depth: &mut work.depth_f32,
-                        width: w as usize,
-                    };
-                    zbuffer::draw::<SUB, f32>(tris, &view, &mut f)
+                    zbuffer::draw_ids::<SUB, f32>(tris, &view, &mut ids, &mut work.depth_f32)
                 }
                 _ => newell::draw::<SUB>(tris, &view, &mut ids),
             };

@@ -103,6 +103,23 @@ impl<D: Depth> SpanSink for Sink<'_, '_, D> {
     }
 }
 
+/// [`draw`] into `ids` (`view.width` x `view.height`), with `depth` (reused from frame to
+/// frame) sized to match.
+pub fn draw_ids<const SUB: u32, D: Depth>(
+    tris: &[Prepared],
+    view: &View,
+    ids: &mut [u32],
+    depth: &mut Vec<D>,
+) -> u64 {
+    depth.resize(ids.len(), D::default());
+    let mut frame = ZFrame {
+        ids,
+        depth,
+        width: view.width as usize,
+    };
+    draw::<SUB, D>(tris, view, &mut frame)
+}
+
 /// The z-buffer in format `D` (`f32` or `u32`): returns the pixels written.
 pub fn draw<const SUB: u32, D: Depth>(
     tris: &[Prepared],
