@@ -71,7 +71,9 @@ fn same_with_and_without<const SUB: u32>(name: &str, mesh: &Mesh) -> u64 {
     let c = DVec3::from_array(h.centre) + (lo + hi) / 2.0;
     let r = (hi - lo).length() / 2.0;
     let mut culled = 0;
-    let mut memory = vec![CachedVertex::EMPTY; h.vertex_count as usize];
+    let mut memory = vec![CachedVertex::EMPTY; (h.vertex_count as usize).next_power_of_two()];
+    // Direct-mapped memory far smaller than the scene: vertices keep replacing each other.
+    let mut small_memory = [CachedVertex::EMPTY; 16];
     for (k, (w, ht)) in [(24, 18), (64, 48), (160, 120), (1920, 1080)]
         .into_iter()
         .enumerate()
@@ -85,6 +87,15 @@ fn same_with_and_without<const SUB: u32>(name: &str, mesh: &Mesh) -> u64 {
             .span_memory(coverage)
             .vertex_memory(VertexCache::new(&mut memory))
             .ids();
+        let mut small_intervals = vec![(0u16, 0u16); HOST_SPANS_PER_ROW * ht as usize];
+        let mut small_counts = vec![0u16; ht as usize];
+        let small_coverage =
+            Coverage::new(&mut small_intervals, &mut small_counts, w, ht).expect("spans");
+        let mut small_workspace: Box<Workspace<HOST_STACK, HOST_VERTS>> = Box::default();
+        let mut small = Renderer::<SUB>::with_precision(&mut small_workspace)
+            .span_memory(small_coverage)
+            .vertex_memory(VertexCache::new(&mut small_memory))
+            .ids();
         for step in 0..6 {
             let a = 0.4 + step as f64 * 1.1 + k as f64 * 0.3;
             let dist = if step % 2 == 0 { 2.2 } else { 1.3 };
@@ -96,12 +107,17 @@ fn same_with_and_without<const SUB: u32>(name: &str, mesh: &Mesh) -> u64 {
             let (with, n) = frame::<SUB>(&scene, &camera, true);
             let (without, _) = frame::<SUB>(&scene, &camera, false);
             let (cached, _) = draw(&mut cached, &scene, &camera);
-            let stale = with.iter().zip(&cached).filter(|(a, b)| a != b).count();
-            assert_eq!(
-                stale, 0,
-                "{name}, SUB = {SUB}, {w}x{ht}, camera {step}: {stale} pixels change with the \
-                 vertex memory"
-            );
+            let (small, _) = draw(&mut small, &scene, &camera);
+            for (images, what) in [
+                (&cached, "the vertex memory"),
+                (&small, "a small vertex memory"),
+            ] {
+                let stale = with.iter().zip(images).filter(|(a, b)| a != b).count();
+                assert_eq!(
+                    stale, 0,
+                    "{name}, SUB = {SUB}, {w}x{ht}, camera {step}: {stale} pixels change with {what}"
+                );
+            }
             let differ = with.iter().zip(&without).filter(|(a, b)| a != b).count();
             assert_eq!(
                 differ, 0,

@@ -25,6 +25,8 @@ pub fn sizes_file(header: &Header, bytes: usize, peel_name: &str, source: &str) 
     let stack = header.max_depth as usize;
     let verts = clip::buffer_len_for(header.max_polygon_vertices) as usize;
     let vertices = header.vertex_count as usize;
+    // The vertex memory is direct-mapped over a power of two of entries.
+    let vertex_memory = vertices.next_power_of_two();
     let entry = std::mem::size_of::<CachedVertex>();
     let mut s = String::new();
     let mut line = |text: &str| {
@@ -118,10 +120,11 @@ pub fn sizes_file(header: &Header, bytes: usize, peel_name: &str, source: &str) 
     item(
         &format!(
             "Vertex memory entries (`vertices::CachedVertex`, {entry} bytes each: {} bytes): one\n\
-             per vertex.",
-            vertices * entry
+             per vertex, rounded up to a power of two, keeps every vertex (fewer keep those used\n\
+             close together).",
+            vertex_memory * entry
         ),
-        format!("pub const VERTEX_MEMORY: usize = {vertices};"),
+        format!("pub const VERTEX_MEMORY: usize = {vertex_memory};"),
     );
     item(
         "Span-memory intervals per row recommended for front-to-back rendering (the host's\n\
@@ -169,10 +172,10 @@ pub fn sizes_file(header: &Header, bytes: usize, peel_name: &str, source: &str) 
     item(
         "Fails to compile when used in a constant with vertex memory too small for this scene:\n\
          `const _: () = scene::check_vertex_memory(1024);` (smaller memory works, but projects\n\
-         the vertices past its end once per polygon).",
+         some vertices once per polygon).",
         format!(
             "pub const fn check_vertex_memory(entries: usize) {{\n    \
-                 assert!(entries >= VERTEX_MEMORY, \"the vertex memory is smaller than {peel_name}'s vertex count, VERTEX_MEMORY = {vertices}\");\n\
+                 assert!(entries >= VERTEX_MEMORY, \"the vertex memory cannot keep every vertex of {peel_name}, VERTEX_MEMORY = {vertex_memory}\");\n\
              }}"
         ),
     );

@@ -295,7 +295,7 @@ fn the_sizes_file_has_the_header_s_figures() {
     has(format!("pub const VERTICES: usize = {};", h.vertex_count));
     has(format!(
         "pub const VERTEX_MEMORY: usize = {};",
-        h.vertex_count
+        (h.vertex_count as usize).next_power_of_two()
     ));
     has(format!("pub const POLYGONS: usize = {};", h.polygon_count));
     has(format!("pub const NODES: usize = {};", h.node_count));

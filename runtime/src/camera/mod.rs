@@ -485,9 +485,25 @@ impl View {
         if a.z.is_nan() || a.z < self.near {
             return None;
         }
-        // `x / z` over the box is extreme at its corners (monotonic in each).
-        let least = |x: f32| (x / a.z).min(x / b.z);
-        let most = |x: f32| (x / a.z).max(x / b.z);
+        // `x / z` over the box is extreme at its corners (monotonic in each). `min` and `max`
+        // as `f32::min` and `f32::max` (a NaN gives the other) without their library call on
+        // cores without a minimum instruction.
+        let least = |x: f32| {
+            let (p, q) = (x / a.z, x / b.z);
+            if p < q || q.is_nan() {
+                p
+            } else {
+                q
+            }
+        };
+        let most = |x: f32| {
+            let (p, q) = (x / a.z, x / b.z);
+            if p > q || q.is_nan() {
+                p
+            } else {
+                q
+            }
+        };
         Some((
             Vec2::new(
                 self.cx + self.fx * least(a.x),
@@ -504,7 +520,8 @@ impl View {
     /// raised to `near`: clipped points can land a rounding error short of the near plane and
     /// must never be projected from behind it.
     pub fn project(&self, c: Vec3) -> Vec2 {
-        let z = c.z.max(self.near);
+        // `c.z.max(self.near)` (NaN gives `near`) without a library call.
+        let z = if c.z >= self.near { c.z } else { self.near };
         Vec2::new(self.cx + self.fx * (c.x / z), self.cy - self.fy * (c.y / z))
     }
 }

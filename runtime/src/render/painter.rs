@@ -52,7 +52,8 @@ pub(super) fn ceil_pixel(v: f32) -> u32 {
 
 /// `floor(v)` as a pixel index: 0 below zero and for NaN, saturating above.
 pub(super) fn floor_pixel(v: f32) -> u32 {
-    v.max(0.0) as u32
+    // `as` maps NaN and negatives to 0 and truncates the rest.
+    v as u32
 }
 
 /// `*counter += n` (saturating) with the `stats` feature; nothing without it.

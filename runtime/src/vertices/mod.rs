@@ -1,5 +1,5 @@
-//! Vertices: the screen position of each of a scene's vertices, projected and snapped once per
-//! frame, in caller memory.
+//! Vertices: the screen positions of a scene's vertices, projected and snapped once per frame,
+//! in caller memory.
 //!
 //! A compiled scene shares its vertices between polygons (a vertex of a closed mesh is in about
 //! six). Without this memory every polygon transforms, projects and snaps its own corners; with
@@ -9,84 +9,95 @@
 //! It is used only in frames that need no clipping (the scene's box inside the view frustum,
 //! the usual case of an object in view): a clipped polygon's corners are new points.
 //!
-//! Each entry carries the number of the frame that wrote it, so a new frame starts without
-//! clearing the memory: entries of older frames are simply stale.
+//! The memory is direct-mapped: vertex `v` has the one entry `v mod n` (`n` the largest power
+//! of two the memory holds), which remembers which vertex it holds. One entry per vertex of
+//! the scene keeps every vertex; fewer (firmware with a few kilobytes to spare) keep the
+//! vertices used close together in the walk, which the compiler numbers in the order of first
+//! use. A frame starts by clearing the entries it will use.
 
 #[cfg(test)]
 mod tests;
 
 use crate::fill::FixedPoint;
 
-/// One vertex's snapped screen position and the frame that computed it (0: none yet).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+/// One vertex's snapped screen position, and which vertex it is ([`CachedVertex::EMPTY`]:
+/// none).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct CachedVertex {
-    frame: u32,
+    vertex: u32,
     point: FixedPoint,
 }
 
 impl CachedVertex {
     /// An empty entry (the [`Default`]); `const`, for memory in a `static`.
     pub const EMPTY: CachedVertex = CachedVertex {
-        frame: 0,
+        vertex: u32::MAX,
         point: FixedPoint::new(0, 0),
     };
 }
 
-/// Screen positions of vertices `0 .. entries.len()` of a scene (see the module docs); vertices
-/// past the end are computed every time, as without the cache. Keep it from frame to frame:
-/// [`VertexCache::new`] clears the memory, a new frame does not.
+impl Default for CachedVertex {
+    fn default() -> Self {
+        CachedVertex::EMPTY
+    }
+}
+
+/// Screen positions of a scene's vertices (see the module docs), in the first power-of-two
+/// entries of the memory given. Keep it from frame to frame: it is made once.
 #[derive(Debug)]
 pub struct VertexCache<'m> {
     entries: &'m mut [CachedVertex],
-    frame: u32,
+    /// `entries.len() - 1`: the entry of vertex `v` is `v & mask`.
+    mask: u32,
 }
 
 impl<'m> VertexCache<'m> {
-    /// A cache over `entries` (cleared here), ideally one per vertex of the scene
-    /// ([`crate::read::Header::vertex_count`]).
+    /// A cache over the largest power-of-two prefix of `entries` (up to `2^31` entries); one
+    /// per vertex of the scene ([`crate::read::Header::vertex_count`], rounded up to a power of
+    /// two) keeps every vertex, fewer keep those used close together.
     pub fn new(entries: &'m mut [CachedVertex]) -> Self {
+        let len = entries.len().min(1 << 31);
+        let used = if len == 0 { 0 } else { 1 << len.ilog2() };
+        let entries = match entries.get_mut(..used) {
+            Some(e) => e,
+            None => &mut [],
+        };
         entries.fill(CachedVertex::EMPTY);
-        VertexCache { entries, frame: 0 }
+        let mask = (used as u32).wrapping_sub(1);
+        VertexCache { entries, mask }
     }
 
-    /// Number of vertices it holds.
+    /// Number of entries in use (a power of two, or 0).
     pub fn len(&self) -> usize {
         self.entries.len()
     }
 
-    /// Whether it holds no vertex.
+    /// Whether it holds no entry.
     pub fn is_empty(&self) -> bool {
         self.entries.is_empty()
     }
 
-    /// Start a frame: every entry is stale. The frame number wraps after `2^32 - 1` frames;
-    /// the memory is then cleared once.
+    /// Start a frame: the camera may have moved, so every entry is cleared.
     pub(crate) fn next_frame(&mut self) {
-        self.frame = self.frame.wrapping_add(1);
-        if self.frame == 0 {
-            self.entries.fill(CachedVertex::EMPTY);
-            self.frame = 1;
-        }
+        self.entries.fill(CachedVertex::EMPTY);
     }
 
-    /// The position of vertex `index` in this frame: computed by `compute` the first time and
-    /// kept (when `index` is in range).
+    /// The position of vertex `index` in this frame: kept from an earlier call of the frame, or
+    /// computed by `compute` and kept (replacing the vertex that shared its entry).
     #[inline]
     pub(crate) fn get(&mut self, index: u32, compute: impl FnOnce() -> FixedPoint) -> FixedPoint {
-        let frame = self.frame;
-        match self.entries.get_mut(index as usize) {
-            Some(e) if e.frame == frame => e.point,
+        match self.entries.get_mut((index & self.mask) as usize) {
+            // `u32::MAX` marks an empty entry: that vertex is never kept.
+            Some(e) if e.vertex == index && index != u32::MAX => e.point,
             Some(e) => {
                 let point = compute();
-                *e = CachedVertex { frame, point };
+                *e = CachedVertex {
+                    vertex: index,
+                    point,
+                };
                 point
             }
             None => compute(),
         }
-    }
-
-    #[cfg(test)]
-    fn set_frame(&mut self, frame: u32) {
-        self.frame = frame;
     }
 }

@@ -4,34 +4,54 @@ fn point(v: i32) -> FixedPoint {
     FixedPoint::new(v, -v)
 }
 
+/// Calls `get` for `index` and says whether `compute` ran.
+fn computed(cache: &mut VertexCache<'_>, index: u32, value: i32) -> (FixedPoint, bool) {
+    let mut ran = false;
+    let p = cache.get(index, || {
+        ran = true;
+        point(value)
+    });
+    (p, ran)
+}
+
 #[test]
 fn computed_once_per_frame() {
     let mut memory = [CachedVertex::EMPTY; 4];
     let mut cache = VertexCache::new(&mut memory);
     cache.next_frame();
-    let mut calls = 0;
-    for _ in 0..3 {
-        let p = cache.get(2, || {
-            calls += 1;
-            point(7)
-        });
-        assert_eq!(p, point(7));
-    }
-    assert_eq!(calls, 1);
+    assert_eq!(computed(&mut cache, 2, 7), (point(7), true));
+    assert_eq!(computed(&mut cache, 2, 8), (point(7), false));
+    assert_eq!(computed(&mut cache, 2, 9), (point(7), false));
     // A new frame recomputes (the camera may have moved).
     cache.next_frame();
-    assert_eq!(cache.get(2, || point(9)), point(9));
-    assert_eq!(cache.get(2, || point(1)), point(9));
+    assert_eq!(computed(&mut cache, 2, 9), (point(9), true));
+    assert_eq!(computed(&mut cache, 2, 1), (point(9), false));
 }
 
 #[test]
-fn out_of_range_vertices_are_computed_every_time() {
-    let mut memory = [CachedVertex::EMPTY; 2];
+fn vertices_sharing_an_entry_replace_each_other() {
+    let mut memory = [CachedVertex::EMPTY; 4];
     let mut cache = VertexCache::new(&mut memory);
     cache.next_frame();
-    assert_eq!(cache.get(5, || point(3)), point(3));
-    assert_eq!(cache.get(5, || point(4)), point(4));
-    assert_eq!(cache.len(), 2);
+    // 1 and 5 share entry 1 of 4; 2 has its own.
+    assert_eq!(computed(&mut cache, 1, 10), (point(10), true));
+    assert_eq!(computed(&mut cache, 2, 20), (point(20), true));
+    assert_eq!(computed(&mut cache, 5, 50), (point(50), true));
+    assert_eq!(computed(&mut cache, 1, 11), (point(11), true));
+    assert_eq!(computed(&mut cache, 2, 21), (point(20), false));
+}
+
+#[test]
+fn only_a_power_of_two_of_the_memory_is_used() {
+    let mut memory = [CachedVertex::EMPTY; 6];
+    let cache = VertexCache::new(&mut memory);
+    assert_eq!(cache.len(), 4);
+    let mut none: [CachedVertex; 0] = [];
+    let mut cache = VertexCache::new(&mut none);
+    assert!(cache.is_empty());
+    cache.next_frame();
+    assert_eq!(computed(&mut cache, 0, 3), (point(3), true));
+    assert_eq!(computed(&mut cache, 0, 4), (point(4), true));
 }
 
 #[test]
@@ -40,21 +60,17 @@ fn a_new_cache_clears_what_another_left() {
     let mut cache = VertexCache::new(&mut memory);
     cache.next_frame();
     cache.get(0, || point(3));
-    // The same memory in a new cache starts again at frame 1: the old entry must not count.
+    // The same memory in a new cache: the old entry must not count.
     let mut cache = VertexCache::new(&mut memory);
     cache.next_frame();
-    assert_eq!(cache.get(0, || point(8)), point(8));
+    assert_eq!(computed(&mut cache, 0, 8), (point(8), true));
 }
 
 #[test]
-fn the_frame_number_wraps_with_a_clear() {
+fn the_empty_marker_is_never_a_hit() {
     let mut memory = [CachedVertex::EMPTY; 2];
     let mut cache = VertexCache::new(&mut memory);
-    cache.next_frame(); // frame 1
-    assert_eq!(cache.get(1, || point(5)), point(5));
-    // 2^32 - 1 frames later the number is 1 again: the entry of the first frame 1 must not
-    // count.
-    cache.set_frame(u32::MAX);
     cache.next_frame();
-    assert_eq!(cache.get(1, || point(6)), point(6));
+    assert_eq!(computed(&mut cache, u32::MAX, 3), (point(3), true));
+    assert_eq!(computed(&mut cache, u32::MAX, 4), (point(4), true));
 }

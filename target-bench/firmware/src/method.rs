@@ -13,6 +13,7 @@ mod peel {
     use peel_runtime::read::{Header, Scene};
     use peel_runtime::render::{Renderer, Workspace};
     use peel_runtime::target::{DrawTargetSink, Rgb565Framebuffer};
+    use peel_runtime::vertices::{CachedVertex, VertexCache};
     use peel_target_kit::config::{Config, Variant};
 
     use crate::display::Panel;
@@ -20,6 +21,9 @@ mod peel {
     use crate::{Failure, VARIANT};
 
     use peel_target_kit::{STACK, VERTS};
+
+    /// Vertex memory entries (12 bytes each): the vertices used close together in the walk.
+    const VERTEX_MEMORY: usize = 256;
 
     /// A Peel variant's scene, renderer and pixel memory.
     pub struct Method {
@@ -60,6 +64,9 @@ mod peel {
                 let counts = pool.u16s(rows, Use::RowCounts)?;
                 renderer = renderer.span_memory(Coverage::new(intervals, counts, width, band)?);
             }
+            let vertices = cortex_m::singleton!(: [CachedVertex; VERTEX_MEMORY] = [CachedVertex::EMPTY; VERTEX_MEMORY])
+                .ok_or(Failure::Host("vertex memory taken twice"))?;
+            renderer = renderer.vertex_memory(VertexCache::new(vertices));
             let pixel_count = if VARIANT == Variant::FtbStream {
                 0
             } else {

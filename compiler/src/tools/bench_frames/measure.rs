@@ -276,7 +276,8 @@ pub(super) fn measure_scene(
         Some(bytes) => Some(Scene::parse(bytes).map_err(|e| e.to_string())?),
         None => None,
     };
-    let vertex_count = |s: &Scene<'_>| s.header().vertex_count as usize;
+    // One entry per vertex (rounded up to the power of two the memory uses): every vertex kept.
+    let vertex_count = |s: &Scene<'_>| (s.header().vertex_count as usize).next_power_of_two();
     let peel_memory = vec![CachedVertex::EMPTY; vertex_count(&peel)];
     let naive_memory = vec![CachedVertex::EMPTY; naive.as_ref().map_or(0, vertex_count)];
     let mut scenes = Scenes {
