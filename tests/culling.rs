@@ -41,8 +41,19 @@ fn draw<const SUB: u32>(
     (ids, stats.nodes_culled_covered + stats.nodes_culled_frustum)
 }
 
+/// How much of the culling a frame does.
+#[derive(Clone, Copy, PartialEq)]
+enum Culling {
+    /// All of it (the default).
+    All,
+    /// All but the subtree box tests (`Renderer::without_subtree_culling`).
+    NoSubtrees,
+    /// None (`Renderer::without_culling`).
+    Off,
+}
+
 /// The id image of one front-to-back frame at `SUB` fractional bits, and the subtrees culled.
-fn frame<const SUB: u32>(scene: &Scene<'_>, camera: &Camera, cull: bool) -> (Vec<u32>, u64) {
+fn frame<const SUB: u32>(scene: &Scene<'_>, camera: &Camera, culling: Culling) -> (Vec<u32>, u64) {
     let h = camera.height();
     let mut intervals = vec![(0u16, 0u16); HOST_SPANS_PER_ROW * h as usize];
     let mut counts = vec![0u16; h as usize];
@@ -51,9 +62,11 @@ fn frame<const SUB: u32>(scene: &Scene<'_>, camera: &Camera, cull: bool) -> (Vec
     let mut renderer = Renderer::<SUB>::with_precision(&mut workspace)
         .span_memory(coverage)
         .ids();
-    if !cull {
-        renderer = renderer.without_culling();
-    }
+    renderer = match culling {
+        Culling::All => renderer,
+        Culling::NoSubtrees => renderer.without_subtree_culling(),
+        Culling::Off => renderer.without_culling(),
+    };
     draw(&mut renderer, scene, camera)
 }
 
@@ -104,8 +117,20 @@ fn same_with_and_without<const SUB: u32>(name: &str, mesh: &Mesh) -> u64 {
             let target = c + DVec3::new(0.3 * r * (step as f64 - 2.5) / 2.5, 0.0, 0.0);
             let near = Camera::default_near(h.bounds_min, h.bounds_max);
             let camera = Camera::look_at(Pose::new(eye, target), 60.0, w, ht, near).expect("cam");
-            let (with, n) = frame::<SUB>(&scene, &camera, true);
-            let (without, _) = frame::<SUB>(&scene, &camera, false);
+            let (with, n) = frame::<SUB>(&scene, &camera, Culling::All);
+            let (without, _) = frame::<SUB>(&scene, &camera, Culling::Off);
+            let (no_subtrees, none) = frame::<SUB>(&scene, &camera, Culling::NoSubtrees);
+            assert_eq!(none, 0, "{name}: subtrees culled without subtree culling");
+            let differ = with
+                .iter()
+                .zip(&no_subtrees)
+                .filter(|(a, b)| a != b)
+                .count();
+            assert_eq!(
+                differ, 0,
+                "{name}, SUB = {SUB}, {w}x{ht}, camera {step}: {differ} pixels change without \
+                 subtree culling"
+            );
             let (cached, _) = draw(&mut cached, &scene, &camera);
             let (small, _) = draw(&mut small, &scene, &camera);
             for (images, what) in [

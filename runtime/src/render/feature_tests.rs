@@ -172,6 +172,7 @@ fn culled_cube(order: Order) -> (FrameStats, bool) {
         available: 16,
         paint: Paint::Colours,
         cull: true,
+        cull_subtrees: true,
         all_inside: false,
         clip_a: &mut a,
         clip_b: &mut b,

@@ -281,6 +281,7 @@ fn a_full_screen_stops_the_walk_and_culls_covered_subtrees() {
             available: 12,
             paint: Paint::Colours,
             cull: true,
+            cull_subtrees: true,
             all_inside: false,
             clip_a: &mut a,
             clip_b: &mut b,

@@ -75,6 +75,8 @@ pub(super) struct Painter<'w, 'v, const SUB: u32> {
     pub(super) available: u32,
     pub(super) paint: Paint,
     pub(super) cull: bool,
+    /// Subtrees are tested against their boxes (see [`super::Renderer::without_subtree_culling`]).
+    pub(super) cull_subtrees: bool,
     /// Every polygon of the scene is inside the frustum (see [`Frustum::contains_box`]).
     pub(super) all_inside: bool,
     pub(super) clip_a: &'w mut [Vec3],
@@ -143,7 +145,7 @@ impl<const SUB: u32> Painter<'_, '_, SUB> {
         coverage: Option<&Coverage<'_>>,
         stats: &mut FrameStats,
     ) -> bool {
-        if !(self.cull && cfg!(feature = "bounds-culling")) {
+        if !(self.cull && self.cull_subtrees && cfg!(feature = "bounds-culling")) {
             return true;
         }
         let coverage = coverage.filter(|c| c.mode() != Mode::Measure);

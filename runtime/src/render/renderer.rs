@@ -103,6 +103,7 @@ pub struct Renderer<'m, const SUB: u32 = { fill::SUBPIXEL_BITS }> {
     back_to_front: bool,
     paint: Paint,
     cull: bool,
+    cull_subtrees: bool,
     background: Option<Colour>,
 }
 
@@ -141,6 +142,7 @@ impl<'m, const SUB: u32> Renderer<'m, SUB> {
             back_to_front: false,
             paint: Paint::Colours,
             cull: true,
+            cull_subtrees: true,
             background: None,
         }
     }
@@ -192,6 +194,17 @@ impl<'m, const SUB: u32> Renderer<'m, SUB> {
     #[inline(always)]
     pub fn without_culling(mut self) -> Self {
         self.cull = false;
+        self
+    }
+
+    /// Walk every subtree without testing its box (culling polygons and clipping as before):
+    /// the same pixels. On a core without an FPU a box test (some forty `f32` operations in
+    /// software) costs more than the subtrees it skips save; with one it pays (see
+    /// BENCHMARKS.md, "On the target"). The scene's box is still tested once per frame, to
+    /// skip clipping when the scene is inside the view.
+    #[inline(always)]
+    pub fn without_subtree_culling(mut self) -> Self {
+        self.cull_subtrees = false;
         self
     }
 
@@ -336,6 +349,7 @@ impl<'m, const SUB: u32> Renderer<'m, SUB> {
             available,
             paint,
             cull,
+            cull_subtrees: self.cull_subtrees,
             all_inside,
             clip_a: &mut self.clip_a[..],
             clip_b: &mut self.clip_b[..],

@@ -57,6 +57,10 @@ mod peel {
             let workspace = cortex_m::singleton!(: Workspace<STACK, VERTS> = Workspace::new())
                 .ok_or(Failure::Host("workspace taken twice"))?;
             let mut renderer = Renderer::new(workspace).background(config.background_colour());
+            // Without an FPU (a soft-float ABI) a subtree's box test costs more than it saves.
+            if !cfg!(target_abi = "eabihf") {
+                renderer = renderer.without_subtree_culling();
+            }
             if VARIANT.front_to_back() {
                 let rows = band as usize;
                 let intervals =
