@@ -78,7 +78,8 @@ const DISTANCE: f32 = 8.616_264;
 /// Otherwise the view is built in `f32` with its basis written out, since the orbit fixes it
 /// (`forward = (target - eye) / DISTANCE`, `right = (c, 0, -s)`): the binary then holds
 /// neither `f64` arithmetic nor a square root, which a Cortex-M4F would run in software
-/// (libm's); [`View::look_at`] computes the same basis for any eye.
+/// (libm's): [`View::from_basis`] takes it as it is, where [`View::look_at`] computes it
+/// for any eye.
 fn view(scene: &Scene<'_>, s: f32, c: f32) -> Result<View, peel_runtime::RenderError> {
     let eye = Vec3::new(RADIUS * s, EYE_Y, RADIUS * c);
     let target = Vec3::new(0.0, TARGET_Y, 0.0);
@@ -91,19 +92,9 @@ fn view(scene: &Scene<'_>, s: f32, c: f32) -> Result<View, peel_runtime::RenderE
     } else {
         let forward = (target - eye) * (1.0 / DISTANCE);
         let right = Vec3::new(c, 0.0, -s);
-        Ok(View {
-            eye,
-            right,
-            up: right.cross(forward),
-            forward,
-            fx: FOCAL,
-            fy: FOCAL,
-            cx: WIDTH as f32 * 0.5,
-            cy: HEIGHT as f32 * 0.5,
-            width: WIDTH,
-            height: HEIGHT,
-            near: NEAR,
-        })
+        Ok(View::from_basis(
+            eye, right, forward, FOCAL, WIDTH, HEIGHT, NEAR,
+        ))
     }
 }
 

@@ -194,16 +194,15 @@ impl Camera {
         }
         let half = (fov_y_deg * 0.5).to_radians();
         let fpx = (f64::from(height) * 0.5) / libm::tan(half);
-        Camera::build(
-            pose,
-            fpx,
-            fpx,
-            f64::from(width) * 0.5,
-            f64::from(height) * 0.5,
-            width,
-            height,
-            near,
-        )
+        // Square pixels of unit size: `f / rx = f / ry = fpx` exactly.
+        let intrinsics = Intrinsics {
+            f: fpx,
+            rx: 1.0,
+            ry: 1.0,
+            i0: f64::from(width) * 0.5,
+            j0: f64::from(height) * 0.5,
+        };
+        Camera::from_intrinsics(pose, intrinsics, width, height, near)
     }
 
     /// The focal/pixel-ratio camera (see the module docs), oriented by `pose` like
@@ -216,32 +215,17 @@ impl Camera {
         near: f64,
     ) -> Result<Camera, RenderError> {
         let Intrinsics { f, rx, ry, i0, j0 } = intrinsics;
-        if !(f > 0.0 && rx > 0.0 && ry > 0.0) {
-            return Err(RenderError::BadCamera);
-        }
-        Camera::build(pose, f / rx, f / ry, i0, j0, width, height, near)
-    }
-
-    #[allow(clippy::too_many_arguments)]
-    fn build(
-        pose: Pose,
-        fx: f64,
-        fy: f64,
-        cx: f64,
-        cy: f64,
-        width: u32,
-        height: u32,
-        near: f64,
-    ) -> Result<Camera, RenderError> {
+        let (fx, fy) = (f / rx, f / ry);
         let finite = pose.eye.is_finite()
             && pose.target.is_finite()
             && pose.up.is_finite()
             && fx.is_finite()
             && fy.is_finite()
-            && cx.is_finite()
-            && cy.is_finite()
+            && i0.is_finite()
+            && j0.is_finite()
             && near.is_finite();
-        if !finite || width == 0 || height == 0 || near <= 0.0 || fx <= 0.0 || fy <= 0.0 {
+        let positive = f > 0.0 && rx > 0.0 && ry > 0.0 && fx > 0.0 && fy > 0.0 && near > 0.0;
+        if !(finite && positive) || width == 0 || height == 0 {
             return Err(RenderError::BadCamera);
         }
         let forward = (pose.target - pose.eye)
@@ -259,8 +243,8 @@ impl Camera {
             forward,
             fx,
             fy,
-            cx,
-            cy,
+            cx: i0,
+            cy: j0,
             width,
             height,
             near,
@@ -410,7 +394,26 @@ impl View {
             .cross(up)
             .try_normalize()
             .ok_or(RenderError::BadCamera)?;
-        let view = View {
+        let view = View::from_basis(eye, right, forward, focal, width, height, near);
+        view.check()?;
+        Ok(view)
+    }
+
+    /// The look-at view of [`View::look_at`] from its basis already computed: `right` and
+    /// `forward` unit and orthogonal (the true up is their cross product), square pixels of
+    /// focal length `focal`, the principal point at the image centre. For firmware whose
+    /// orbit fixes the basis, so that it needs no square root. Not checked: as for a view
+    /// written field by field, [`crate::render::Renderer::draw`] checks it ([`View::check`]).
+    pub fn from_basis(
+        eye: Vec3,
+        right: Vec3,
+        forward: Vec3,
+        focal: f32,
+        width: u32,
+        height: u32,
+        near: f32,
+    ) -> View {
+        View {
             eye,
             right,
             up: right.cross(forward),
@@ -422,9 +425,7 @@ impl View {
             width,
             height,
             near,
-        };
-        view.check()?;
-        Ok(view)
+        }
     }
 
     /// Whether the view is usable: every value finite, a non-empty image, positive focal

@@ -102,20 +102,10 @@ fn points_closer_than_near_do_not_project() {
 
 fn header(centre: [f64; 3], lo: [f32; 3], hi: [f32; 3]) -> Header {
     Header {
-        version: 1,
-        flags: 0,
-        vertex_count: 0,
-        plane_count: 0,
-        index_count: 0,
-        polygon_count: 0,
-        node_count: 0,
-        max_depth: 0,
-        max_polygon_vertices: 0,
         centre,
         bounds_min: Vec3::from_array(lo),
         bounds_max: Vec3::from_array(hi),
-        palette_count: 0,
-        bounds_count: 0,
+        ..Header::default()
     }
 }
 
@@ -367,6 +357,14 @@ fn degenerate_f32_views_are_refused() {
     let mut view = look(eye, target, Vec3::Y, 100.0, 10, 10, 0.1).unwrap();
     view.right.x = f32::NAN;
     assert_eq!(view.check(), Err(RenderError::BadCamera));
+}
+
+#[test]
+fn from_basis_is_look_at_without_the_normalising() {
+    let (eye, target) = (Vec3::new(1.0, 2.0, 6.0), Vec3::new(-0.5, 0.0, 0.25));
+    let view = View::look_at(eye, target, Vec3::Y, 90.0, 64, 48, 0.01).unwrap();
+    let same = View::from_basis(eye, view.right, view.forward, 90.0, 64, 48, 0.01);
+    assert_eq!(same, view);
 }
 
 #[test]
