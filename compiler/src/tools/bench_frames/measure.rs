@@ -5,7 +5,7 @@
 use std::time::Instant;
 
 use glam::DVec3;
-use peel_runtime::camera::{Camera, Pose};
+use peel_runtime::camera::Camera;
 use peel_runtime::coverage::Coverage;
 use peel_runtime::read::Scene;
 use peel_runtime::render::{Renderer, Workspace};
@@ -13,11 +13,12 @@ use peel_runtime::target::{Framebuffer, Xrgb8888};
 use peel_runtime::traverse::Order;
 use peel_runtime::vertices::{CachedVertex, VertexCache};
 
-use super::{newell, prepare, zbuffer, BenchCamera, FrameRecord, Method};
+use super::{newell, prepare, zbuffer, FrameRecord, Method};
 use crate::compile::{compile_mesh, CompileOptions};
 use crate::load::Mesh;
 use crate::tools::raster::{HOST_SPANS_PER_ROW, HOST_STACK, HOST_VERTS};
-use crate::tools::reference::{reference, RefCamera, Reference};
+use crate::tools::reference::{reference, Reference};
+use crate::tools::shot::Shot;
 
 /// A frame: an id image and the pixels written.
 struct Drawn {
@@ -39,9 +40,7 @@ pub(super) struct Prepared {
 pub(super) fn prepare_scene(
     mesh: &Mesh,
     naive: Option<Vec<u8>>,
-    cams: &[BenchCamera],
-    width: u32,
-    height: u32,
+    shots: &[Shot],
     compile: &CompileOptions,
 ) -> Result<Prepared, String> {
     let options = CompileOptions {
@@ -52,7 +51,6 @@ pub(super) fn prepare_scene(
     let scene = Scene::parse(&bytes).map_err(|e| e.to_string())?;
     let h = scene.header();
     let centre = DVec3::from_array(h.centre);
-    let near = Camera::default_near(h.bounds_min, h.bounds_max);
     let polys: Vec<Vec<DVec3>> = (0..h.polygon_count)
         .map(|i| {
             let p = scene.polygon(i);
@@ -63,19 +61,9 @@ pub(super) fn prepare_scene(
         .collect();
     let triangles: Vec<[DVec3; 3]> = mesh.triangles.iter().map(|t| t.vertices).collect();
     let mut views = Vec::new();
-    for c in cams {
-        let camera = Camera::look_at(Pose::new(c.eye, c.target), 60.0, width, height, near)
-            .map_err(|e| e.to_string())?;
-        let rc = RefCamera {
-            eye: c.eye,
-            target: c.target,
-            up: DVec3::Y,
-            fov_y_deg: 60.0,
-            width,
-            height,
-            near,
-        };
-        views.push((camera, reference(&triangles, &polys, &rc)));
+    for shot in shots {
+        let camera = shot.camera(&h)?;
+        views.push((camera, reference(&triangles, &polys, shot, camera.near())));
     }
     Ok(Prepared {
         bytes,
@@ -340,12 +328,8 @@ mod tests {
             mesh,
             naive_bsp: None,
         };
-        let cams = [BenchCamera {
-            eye: DVec3::new(0.0, 0.0, 6.0),
-            target: DVec3::ZERO,
-        }];
-        let p =
-            prepare_scene(&scene.mesh, None, &cams, 64, 64, &CompileOptions::default()).unwrap();
+        let shots = [Shot::new(DVec3::new(0.0, 0.0, 6.0), DVec3::ZERO, 64, 64)];
+        let p = prepare_scene(&scene.mesh, None, &shots, &CompileOptions::default()).unwrap();
         let mut work = Work::new(64);
         let rows = measure_scene(
             "c",
