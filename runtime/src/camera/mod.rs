@@ -40,7 +40,7 @@
 //! # An `f32` camera for small cores
 //!
 //! A core without `f64` hardware (Cortex-M4F) pays for the `f64` camera in software floating
-//! point. [`View::look_at`] builds the renderer's [`View`] directly in `f32`, in the scene's
+//! point. [`LocalView::look_at`] builds the renderer's [`LocalView`] directly in `f32`, in the scene's
 //! local frame (coordinates relative to the header's `centre`), from a focal length in
 //! pixels (no `tan`); [`crate::render::Renderer::draw`] takes it. It is the look-at camera
 //! above with `fpx = focal` and the principal point at the image centre, rounded to `f32`
@@ -289,7 +289,7 @@ impl Camera {
     }
 
     /// Screen position `(sx, sy)` of a world point, in `f64`; `None` when it is closer than
-    /// the near distance. A reference for tests and tools; the renderer uses [`View`].
+    /// the near distance. A reference for tests and tools; the renderer uses [`LocalView`].
     pub fn project(&self, p: DVec3) -> Option<(f64, f64)> {
         let c = self.to_camera(p);
         if c.z.is_nan() || c.z < self.near {
@@ -299,9 +299,9 @@ impl Camera {
     }
 
     /// The camera as seen from a scene whose coordinates are relative to `centre`, in `f32`.
-    pub fn view(&self, centre: [f64; 3]) -> View {
+    pub fn view(&self, centre: [f64; 3]) -> LocalView {
         let eye = self.eye - DVec3::from_array(centre);
-        View {
+        LocalView {
             eye: eye.as_vec3(),
             right: self.right.as_vec3(),
             up: self.up.as_vec3(),
@@ -317,9 +317,9 @@ impl Camera {
     }
 }
 
-/// A world box in camera space ([`View::box_to_camera`]): the exact camera-space image of
+/// A world box in camera space ([`LocalView::box_to_camera`]): the exact camera-space image of
 /// every point of the box lies within `centre ± extent`, and the `f32` camera-space position
-/// the renderer computes for any of them (a vertex's [`View::to_camera`], or a point clipped
+/// the renderer computes for any of them (a vertex's [`LocalView::to_camera`], or a point clipped
 /// from a polygon inside the box) within `error` more on each axis.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct CameraBox {
@@ -344,7 +344,7 @@ impl CameraBox {
 
 /// A [`Camera`] in a scene's local `f32` frame: the per-vertex work of the renderer.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct View {
+pub struct LocalView {
     /// Eye position relative to the scene centre.
     pub eye: Vec3,
     /// Right vector.
@@ -369,7 +369,7 @@ pub struct View {
     pub near: f32,
 }
 
-impl View {
+impl LocalView {
     /// The look-at camera of the module docs, computed in `f32` in the scene's local frame:
     /// `eye`, `target` and `up` relative to the scene's `centre`, `focal` the focal length in
     /// pixels (`(H / 2) / tan(fov_y / 2)` for a vertical field of view `fov_y`), the principal
@@ -385,7 +385,7 @@ impl View {
         width: u32,
         height: u32,
         near: f32,
-    ) -> Result<View, RenderError> {
+    ) -> Result<LocalView, RenderError> {
         // Non-finite `eye`, `target` or `up` make a direction that does not normalise.
         let forward = (target - eye)
             .try_normalize()
@@ -394,16 +394,16 @@ impl View {
             .cross(up)
             .try_normalize()
             .ok_or(RenderError::BadCamera)?;
-        let view = View::from_basis(eye, right, forward, focal, width, height, near);
+        let view = LocalView::from_basis(eye, right, forward, focal, width, height, near);
         view.check()?;
         Ok(view)
     }
 
-    /// The look-at view of [`View::look_at`] from its basis already computed: `right` and
+    /// The look-at view of [`LocalView::look_at`] from its basis already computed: `right` and
     /// `forward` unit and orthogonal (the true up is their cross product), square pixels of
     /// focal length `focal`, the principal point at the image centre. For firmware whose
     /// orbit fixes the basis, so that it needs no square root. Not checked: as for a view
-    /// written field by field, [`crate::render::Renderer::draw`] checks it ([`View::check`]).
+    /// written field by field, [`crate::render::Renderer::draw`] checks it ([`LocalView::check`]).
     pub fn from_basis(
         eye: Vec3,
         right: Vec3,
@@ -412,8 +412,8 @@ impl View {
         width: u32,
         height: u32,
         near: f32,
-    ) -> View {
-        View {
+    ) -> LocalView {
+        LocalView {
             eye,
             right,
             up: right.cross(forward),
@@ -431,7 +431,7 @@ impl View {
     /// Whether the view is usable: every value finite, a non-empty image, positive focal
     /// lengths and near distance ([`RenderError::BadCamera`] otherwise). The fields are
     /// public, so [`crate::render::Renderer::draw`] checks this before drawing; a view from
-    /// [`View::look_at`] always passes. The basis is not checked for orthonormality: a skewed
+    /// [`LocalView::look_at`] always passes. The basis is not checked for orthonormality: a skewed
     /// one draws a skewed image, nothing worse.
     pub fn check(&self) -> Result<(), RenderError> {
         let (e, r, u, f) = (self.eye, self.right, self.up, self.forward);
@@ -475,8 +475,8 @@ impl View {
         }
     }
 
-    /// A screen rectangle `(min, max)` holding [`View::project`] of the computed camera-space
-    /// position of every point of `b` (a vertex's [`View::to_camera`], or a point clipped from
+    /// A screen rectangle `(min, max)` holding [`LocalView::project`] of the computed camera-space
+    /// position of every point of `b` (a vertex's [`LocalView::to_camera`], or a point clipped from
     /// a polygon inside the box), up to the rounding of the screen values themselves (a few
     /// units in their last place); `None` unless all of them are at least `near` away (also
     /// for NaN), where projecting is monotonic.

@@ -288,7 +288,7 @@ fn f32_look_at_agrees_with_the_f64_camera() {
     let (w, h) = (160, 120);
     let camera = Camera::look_at(Pose { eye, target, up }, 50.0, w, h, 0.01).unwrap();
     let focal = (60.0 / (25f64).to_radians().tan()) as f32;
-    let view = View::look_at(
+    let view = LocalView::look_at(
         (eye - c).as_vec3(),
         (target - c).as_vec3(),
         up.as_vec3(),
@@ -330,10 +330,10 @@ fn f32_look_at_agrees_with_the_f64_camera() {
 fn degenerate_f32_views_are_refused() {
     let (eye, target) = (Vec3::new(0.0, 0.0, 5.0), Vec3::ZERO);
     let look = |eye: Vec3, target: Vec3, up: Vec3, focal: f32, w: u32, h: u32, near: f32| {
-        View::look_at(eye, target, up, focal, w, h, near)
+        LocalView::look_at(eye, target, up, focal, w, h, near)
     };
     assert!(look(eye, target, Vec3::Y, 100.0, 10, 10, 0.1).is_ok());
-    let bad = |r: Result<View, RenderError>| r == Err(RenderError::BadCamera);
+    let bad = |r: Result<LocalView, RenderError>| r == Err(RenderError::BadCamera);
     assert!(bad(look(eye, target, Vec3::Y, 100.0, 0, 10, 0.1)));
     assert!(bad(look(eye, target, Vec3::Y, 100.0, 10, 0, 0.1)));
     assert!(bad(look(eye, target, Vec3::Y, 0.0, 10, 10, 0.1)));
@@ -362,8 +362,8 @@ fn degenerate_f32_views_are_refused() {
 #[test]
 fn from_basis_is_look_at_without_the_normalising() {
     let (eye, target) = (Vec3::new(1.0, 2.0, 6.0), Vec3::new(-0.5, 0.0, 0.25));
-    let view = View::look_at(eye, target, Vec3::Y, 90.0, 64, 48, 0.01).unwrap();
-    let same = View::from_basis(eye, view.right, view.forward, 90.0, 64, 48, 0.01);
+    let view = LocalView::look_at(eye, target, Vec3::Y, 90.0, 64, 48, 0.01).unwrap();
+    let same = LocalView::from_basis(eye, view.right, view.forward, 90.0, 64, 48, 0.01);
     assert_eq!(same, view);
 }
 

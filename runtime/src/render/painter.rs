@@ -8,7 +8,7 @@ use glam::{Vec2, Vec3};
 
 use super::renderer::id_colour;
 use super::{FrameStats, Paint, Source};
-use crate::camera::View;
+use crate::camera::LocalView;
 use crate::clip::{self, Frustum};
 use crate::coverage::{Coverage, Mode};
 use crate::error::RenderError;
@@ -30,7 +30,7 @@ pub fn snap<const SUB: u32>(p: Vec2, max_x: i32, max_y: i32) -> FixedPoint {
 }
 
 /// How far, in pixels, a snapped vertex of an image `size` pixels wide (its larger side) may
-/// lie outside the screen rectangle of its node's box ([`View::box_on_screen`], which already
+/// lie outside the screen rectangle of its node's box ([`LocalView::box_on_screen`], which already
 /// holds every computed camera-space position): snapping moves it by at most `2^-(SUB+1)` of
 /// a pixel, and the rectangle's and the vertex's screen values each round by a few units in
 /// their last place, below `size` where it matters. `1/64` of a pixel plus `size · 2^-18` (64
@@ -65,7 +65,7 @@ fn tally(counter: &mut u64, n: u64) {
 
 /// The per-polygon work of a frame, with its buffers.
 pub(super) struct Painter<'w, 'v, const SUB: u32> {
-    pub(super) view: &'w View,
+    pub(super) view: &'w LocalView,
     /// The frame rows drawn (all of them, or a band).
     pub(super) rows: core::ops::Range<u32>,
     pub(super) frustum: Frustum,

@@ -8,7 +8,7 @@ use glam::Vec3;
 
 use super::painter::Painter;
 use super::{FrameStats, Source, Workspace};
-use crate::camera::View;
+use crate::camera::LocalView;
 use crate::clip::{self, Frustum};
 use crate::coverage::{Coverage, Mode};
 use crate::error::RenderError;
@@ -212,13 +212,13 @@ impl<'m, const SUB: u32> Renderer<'m, SUB> {
 
     /// Draw `scene` seen by `view` into `target`. Everything is checked before the first
     /// pixel (see the module docs) and the frame is drawn completely or not at all: an error
-    /// for a view that is degenerate ([`View::check`]), an image too large for the
+    /// for a view that is degenerate ([`LocalView::check`]), an image too large for the
     /// fixed-point range, a stack or clip buffers too small for the scene, span memory of
     /// another size than the view's image, or ids asked of a scene without them. Never panics.
     pub fn draw<T, S>(
         &mut self,
         scene: &T,
-        view: &View,
+        view: &LocalView,
         target: &mut S,
     ) -> Result<FrameStats, RenderError>
     where
@@ -241,7 +241,7 @@ impl<'m, const SUB: u32> Renderer<'m, SUB> {
     pub fn draw_rows<T, S>(
         &mut self,
         scene: &T,
-        view: &View,
+        view: &LocalView,
         rows: core::ops::Range<u32>,
         target: &mut S,
     ) -> Result<FrameStats, RenderError>
@@ -263,7 +263,7 @@ impl<'m, const SUB: u32> Renderer<'m, SUB> {
     fn frame<T, S>(
         &mut self,
         scene: &T,
-        view: &View,
+        view: &LocalView,
         rows: core::ops::Range<u32>,
         sink: &mut S,
     ) -> Result<FrameStats, RenderError>

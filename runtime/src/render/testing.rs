@@ -1,7 +1,7 @@
 //! Shorthands for the render tests: one frame drawn by a fresh [`Renderer`].
 
 use super::*;
-use crate::camera::{Camera, View};
+use crate::camera::{Camera, LocalView};
 use crate::coverage::Coverage;
 use crate::error::RenderError;
 use crate::fill;
@@ -132,7 +132,7 @@ where
 /// front to back, so that back to front draws without it as a caller would.
 pub(crate) fn draw<const SUB: u32, T, S, const STACK: usize, const VERTS: usize>(
     scene: &T,
-    view: &View,
+    view: &LocalView,
     workspace: &mut Workspace<STACK, VERTS>,
     options: Options,
     memory: Memory<'_>,

@@ -4,7 +4,7 @@
 //! only splitting could resolve, stays wrong — that is the baseline's error).
 
 use glam::Vec3;
-use peel_runtime::camera::View;
+use peel_runtime::camera::LocalView;
 use peel_runtime::fill::fill_polygon;
 use peel_runtime::target::{Colour, SpanSink};
 
@@ -90,7 +90,7 @@ impl SpanSink for IdSink<'_> {
 }
 
 /// Sort and paint; returns the pixels written.
-pub fn draw<const SUB: u32>(tris: &[Prepared], view: &View, ids: &mut [u32]) -> u64 {
+pub fn draw<const SUB: u32>(tris: &[Prepared], view: &LocalView, ids: &mut [u32]) -> u64 {
     let mut items: Vec<Item<'_>> = tris.iter().map(Item::new).collect();
     // Farthest first.
     items.sort_by(|a, b| b.zmax.total_cmp(&a.zmax).then(a.t.id.cmp(&b.t.id)));
