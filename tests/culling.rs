@@ -47,7 +47,7 @@ fn frame<const SUB: u32>(scene: &Scene<'_>, camera: &Camera, cull: bool) -> (Vec
     let mut intervals = vec![(0u16, 0u16); HOST_SPANS_PER_ROW * h as usize];
     let mut counts = vec![0u16; h as usize];
     let coverage = Coverage::new(&mut intervals, &mut counts, camera.width(), h).expect("spans");
-    let mut workspace: Box<Workspace<HOST_STACK, HOST_VERTS>> = Box::default();
+    let mut workspace: Box<Workspace<HOST_STACK, HOST_VERTS, SUB>> = Box::default();
     let mut renderer = Renderer::<SUB>::with_precision(&mut workspace)
         .span_memory(coverage)
         .ids();
@@ -80,7 +80,7 @@ fn same_with_and_without<const SUB: u32>(name: &str, mesh: &Mesh) -> u64 {
         let mut intervals = vec![(0u16, 0u16); HOST_SPANS_PER_ROW * ht as usize];
         let mut counts = vec![0u16; ht as usize];
         let coverage = Coverage::new(&mut intervals, &mut counts, w, ht).expect("spans");
-        let mut workspace: Box<Workspace<HOST_STACK, HOST_VERTS>> = Box::default();
+        let mut workspace: Box<Workspace<HOST_STACK, HOST_VERTS, SUB>> = Box::default();
         let mut cached = Renderer::<SUB>::with_precision(&mut workspace)
             .span_memory(coverage)
             .vertex_memory(VertexCache::new(&mut memory))
@@ -173,7 +173,7 @@ fn ids_image<const SUB: u32>(
     let mut intervals = vec![(0u16, 0u16); HOST_SPANS_PER_ROW * h as usize];
     let mut counts = vec![0u16; h as usize];
     let coverage = Coverage::new(&mut intervals, &mut counts, w, h).expect("coverage");
-    let mut workspace: Box<Workspace<HOST_STACK, HOST_VERTS>> = Box::default();
+    let mut workspace: Box<Workspace<HOST_STACK, HOST_VERTS, SUB>> = Box::default();
     let mut renderer = Renderer::<SUB>::with_precision(&mut workspace).ids();
     if order == Order::FrontToBack {
         renderer = renderer.span_memory(coverage);

@@ -114,7 +114,7 @@ fn draw_rows<const SUB: u32, S: SpanSink>(
     let mut intervals = vec![(0u16, 0u16); way.slots * memory_rows as usize];
     let mut counts = vec![0u16; memory_rows as usize];
     let coverage = Coverage::new(&mut intervals, &mut counts, view.width, memory_rows).unwrap();
-    let mut workspace: Box<Workspace<HOST_STACK, HOST_VERTS>> = Box::default();
+    let mut workspace: Box<Workspace<HOST_STACK, HOST_VERTS, SUB>> = Box::default();
     let mut renderer = Renderer::<SUB>::with_precision(&mut workspace).ids();
     if way.order == Order::FrontToBack {
         renderer = renderer.span_memory(coverage);

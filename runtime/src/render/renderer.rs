@@ -89,17 +89,18 @@ pub(super) fn window<const SUB: u32>(width: u32, height: u32) -> Result<(i32, i3
 /// - colours, or ids with [`Renderer::ids`] (a scene without ids is an error, not a blank);
 /// - culling on, which never changes a pixel ([`Renderer::without_culling`] to measure it).
 ///
-/// `SUB` is the fixed-point precision of screen coordinates (fractional bits): the default
-/// [`fill::SUBPIXEL_BITS`] with [`Renderer::new`], another with [`Renderer::with_precision`].
+/// `SUB` is the precision of its screen points ([`fill::FixedPoint<SUB>`]), that of its
+/// [`Workspace`] and vertex memory: the default [`fill::SUBPIXEL_BITS`] with
+/// [`Renderer::new`], another with [`Renderer::with_precision`].
 #[derive(Debug)]
 pub struct Renderer<'m, const SUB: u32 = { fill::SUBPIXEL_BITS }> {
     stack: &'m mut [StackEntry],
     clip_a: &'m mut [Vec3],
     clip_b: &'m mut [Vec3],
-    points: &'m mut [FixedPoint],
+    points: &'m mut [FixedPoint<SUB>],
     edges: &'m mut [fill::EdgeWalk],
     coverage: Option<Coverage<'m>>,
-    vertices: Option<VertexCache<'m>>,
+    vertices: Option<VertexCache<'m, SUB>>,
     back_to_front: bool,
     paint: Paint,
     cull: bool,
@@ -118,10 +119,11 @@ impl<'m> Renderer<'m> {
 }
 
 impl<'m, const SUB: u32> Renderer<'m, SUB> {
-    /// [`Renderer::new`] at `SUB` fractional bits: `Renderer::<4>::with_precision(&mut ws)`.
+    /// [`Renderer::new`] at `SUB` fractional bits, over a workspace of that precision:
+    /// `Renderer::with_precision(&mut ws)` with `ws: Workspace<STACK, VERTS, 4>`.
     #[inline(always)]
     pub fn with_precision<const STACK: usize, const VERTS: usize>(
-        workspace: &'m mut Workspace<STACK, VERTS>,
+        workspace: &'m mut Workspace<STACK, VERTS, SUB>,
     ) -> Self {
         let Workspace {
             stack,
@@ -157,7 +159,7 @@ impl<'m, const SUB: u32> Renderer<'m, SUB> {
     /// Screen positions of the scene's vertices, kept from frame to frame (with the
     /// `vertex-cache` feature; see [`crate::vertices`]): the same pixels for less work.
     #[inline(always)]
-    pub fn vertex_memory(mut self, vertices: VertexCache<'m>) -> Self {
+    pub fn vertex_memory(mut self, vertices: VertexCache<'m, SUB>) -> Self {
         self.vertices = Some(vertices);
         self
     }

@@ -29,12 +29,12 @@ impl Default for Options {
 
 /// The memory a test frame's renderer gets besides its workspace.
 #[derive(Debug, Default)]
-pub(crate) struct Memory<'m> {
+pub(crate) struct Memory<'m, const SUB: u32 = { fill::SUBPIXEL_BITS }> {
     pub coverage: Option<Coverage<'m>>,
-    pub vertices: Option<VertexCache<'m>>,
+    pub vertices: Option<VertexCache<'m, SUB>>,
 }
 
-impl<'m> From<Coverage<'m>> for Memory<'m> {
+impl<'m, const SUB: u32> From<Coverage<'m>> for Memory<'m, SUB> {
     fn from(coverage: Coverage<'m>) -> Self {
         Memory {
             coverage: Some(coverage),
@@ -64,7 +64,7 @@ where
 pub(crate) fn draw_test_frame_at<const SUB: u32, T, S, const STACK: usize, const VERTS: usize>(
     scene: &T,
     camera: &Camera,
-    workspace: &mut Workspace<STACK, VERTS>,
+    workspace: &mut Workspace<STACK, VERTS, SUB>,
     paint: Paint,
     sink: &mut S,
 ) -> Result<FrameStats, RenderError>
@@ -115,9 +115,9 @@ pub(crate) fn draw_test_frame_with_at<
 >(
     scene: &T,
     camera: &Camera,
-    workspace: &mut Workspace<STACK, VERTS>,
+    workspace: &mut Workspace<STACK, VERTS, SUB>,
     options: Options,
-    memory: Memory<'_>,
+    memory: Memory<'_, SUB>,
     sink: &mut S,
 ) -> Result<FrameStats, RenderError>
 where
@@ -133,9 +133,9 @@ where
 pub(crate) fn draw<const SUB: u32, T, S, const STACK: usize, const VERTS: usize>(
     scene: &T,
     view: &LocalView,
-    workspace: &mut Workspace<STACK, VERTS>,
+    workspace: &mut Workspace<STACK, VERTS, SUB>,
     options: Options,
-    memory: Memory<'_>,
+    memory: Memory<'_, SUB>,
     sink: &mut S,
 ) -> Result<FrameStats, RenderError>
 where

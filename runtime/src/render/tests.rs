@@ -644,13 +644,12 @@ fn whole_pixel_precision_renders_the_same_scene_up_to_edges() {
             let mut intervals = vec![(0u16, 0u16); 8 * H];
             let mut counts = [0u16; H];
             let cov = Coverage::new(&mut intervals, &mut counts, W as u32, H as u32).unwrap();
-            let mut ws = Workspace::<4, 16>::new();
             let options = Options::default();
             *stats = if k == 0 {
                 draw_test_frame_with_at::<0, _, _, 4, 16>(
                     &t,
                     &cam,
-                    &mut ws,
+                    &mut Workspace::new(),
                     options,
                     Memory::from(cov),
                     frame,
@@ -659,7 +658,7 @@ fn whole_pixel_precision_renders_the_same_scene_up_to_edges() {
                 draw_test_frame_with_at::<8, _, _, 4, 16>(
                     &t,
                     &cam,
-                    &mut ws,
+                    &mut Workspace::new(),
                     options,
                     Memory::from(cov),
                     frame,

@@ -15,33 +15,38 @@
 #[cfg(test)]
 mod tests;
 
-use crate::fill::FixedPoint;
+use crate::fill::{FixedPoint, SUBPIXEL_BITS};
 
-/// One vertex's snapped screen position and the frame that computed it (0: none yet).
+/// One vertex's snapped screen position (the coordinates of a [`FixedPoint`], at the
+/// precision of the [`VertexCache`] that wrote it) and the frame that computed it (0: none
+/// yet). Memory of any precision: the cache over it gives it one.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub struct CachedVertex {
     frame: u32,
-    point: FixedPoint,
+    x: i32,
+    y: i32,
 }
 
 impl CachedVertex {
     /// An empty entry (the [`Default`]); `const`, for memory in a `static`.
     pub const EMPTY: CachedVertex = CachedVertex {
         frame: 0,
-        point: FixedPoint::new(0, 0),
+        x: 0,
+        y: 0,
     };
 }
 
-/// Screen positions of vertices `0 .. entries.len()` of a scene (see the module docs); vertices
-/// past the end are computed every time, as without the cache. Keep it from frame to frame:
-/// [`VertexCache::new`] clears the memory, a new frame does not.
+/// Screen positions, [`FixedPoint<SUB>`]s, of vertices `0 .. entries.len()` of a scene (see
+/// the module docs); vertices past the end are computed every time, as without the cache.
+/// Keep it from frame to frame: [`VertexCache::new`] clears the memory, a new frame does not.
+/// Every entry it reads was written by itself in the same frame, so at its own `SUB`.
 #[derive(Debug)]
-pub struct VertexCache<'m> {
+pub struct VertexCache<'m, const SUB: u32 = SUBPIXEL_BITS> {
     entries: &'m mut [CachedVertex],
     frame: u32,
 }
 
-impl<'m> VertexCache<'m> {
+impl<'m, const SUB: u32> VertexCache<'m, SUB> {
     /// A cache over `entries` (cleared here), ideally one per vertex of the scene
     /// ([`crate::read::Header::vertex_count`]).
     pub fn new(entries: &'m mut [CachedVertex]) -> Self {
@@ -72,13 +77,21 @@ impl<'m> VertexCache<'m> {
     /// The position of vertex `index` in this frame: computed by `compute` the first time and
     /// kept (when `index` is in range).
     #[inline]
-    pub(crate) fn get(&mut self, index: u32, compute: impl FnOnce() -> FixedPoint) -> FixedPoint {
+    pub(crate) fn get(
+        &mut self,
+        index: u32,
+        compute: impl FnOnce() -> FixedPoint<SUB>,
+    ) -> FixedPoint<SUB> {
         let frame = self.frame;
         match self.entries.get_mut(index as usize) {
-            Some(e) if e.frame == frame => e.point,
+            Some(e) if e.frame == frame => FixedPoint::new(e.x, e.y),
             Some(e) => {
                 let point = compute();
-                *e = CachedVertex { frame, point };
+                *e = CachedVertex {
+                    frame,
+                    x: point.x,
+                    y: point.y,
+                };
                 point
             }
             None => compute(),

@@ -1,6 +1,7 @@
 use super::*;
+use crate::fill::SubpixelPoint;
 
-fn point(v: i32) -> FixedPoint {
+fn point(v: i32) -> SubpixelPoint {
     FixedPoint::new(v, -v)
 }
 

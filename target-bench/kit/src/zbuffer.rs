@@ -16,7 +16,7 @@
 use glam::Vec3;
 use peel_runtime::camera::LocalView;
 use peel_runtime::clip::{clip_polygon, Frustum, CLIP_PLANES};
-use peel_runtime::fill::{coordinate_limit, fill_polygon, FixedPoint, SUBPIXEL_BITS};
+use peel_runtime::fill::{coordinate_limit, fill_polygon, SubpixelPoint, SUBPIXEL_BITS};
 use peel_runtime::render::snap;
 use peel_runtime::target::{Colour, SpanSink};
 use peel_runtime::RenderError;
@@ -203,7 +203,7 @@ pub fn draw(
     let range = DepthRange::new(view, lo, hi);
     let mut a = [Vec3::ZERO; CLIPPED];
     let mut b = [Vec3::ZERO; CLIPPED];
-    let mut points = [FixedPoint::default(); CLIPPED];
+    let mut points = [SubpixelPoint::default(); CLIPPED];
     for t in 0..mesh.triangle_count() {
         let (corners, rgb) = mesh.triangle(t);
         for (slot, &i) in a.iter_mut().zip(&corners) {
@@ -233,7 +233,7 @@ pub fn draw(
             rgb,
         };
         // At most CLIPPED points, all snapped into the window checked above: cannot fail.
-        let _ = fill_polygon::<SUB, _>(
+        let _ = fill_polygon(
             &points[..count],
             width,
             height,

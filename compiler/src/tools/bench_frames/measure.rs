@@ -7,6 +7,7 @@ use std::time::Instant;
 use glam::DVec3;
 use peel_runtime::camera::Camera;
 use peel_runtime::coverage::Coverage;
+use peel_runtime::fill::{FixedPoint, SUBPIXEL_BITS};
 use peel_runtime::read::Scene;
 use peel_runtime::render::{Renderer, Workspace};
 use peel_runtime::target::{Framebuffer, Xrgb8888};
@@ -73,13 +74,14 @@ pub(super) fn prepare_scene(
     })
 }
 
-/// Draw one frame with `method`; `SUB` is the fixed-point precision.
+/// Draw one frame with `method`; `SUB` is the fixed-point precision, that of `at`.
 fn draw<const SUB: u32>(
     p: &Prepared,
     scenes: &mut Scenes<'_>,
     method: Method,
     camera: &Camera,
-    work: &mut Work,
+    work: &mut Buffers,
+    at: &mut AtPrecision<SUB>,
 ) -> Result<Drawn, String> {
     let (w, h) = (camera.width(), camera.height());
     let n = (w * h) as usize;
@@ -102,7 +104,7 @@ fn draw<const SUB: u32>(
                 .map_err(|e| e.to_string())?;
             // A renderer per frame, as the method and precision change from frame to frame;
             // its vertex memory is cleared here, which the timed frame pays for.
-            let mut renderer = Renderer::<SUB>::with_precision(&mut work.workspace)
+            let mut renderer = Renderer::with_precision(&mut at.workspace)
                 .span_memory(coverage)
                 .vertex_memory(VertexCache::new(memory))
                 .ids();
@@ -121,8 +123,8 @@ fn draw<const SUB: u32>(
         }
         Method::ZbufferInt | Method::ZbufferF32 | Method::Newell => {
             let view = camera.view(scenes.peel.header().centre);
-            let tris = &mut work.triangles;
-            prepare::prepare::<SUB>(&p.triangles, &view, &mut work.projected, tris);
+            let tris = &mut at.triangles;
+            prepare::prepare(&p.triangles, &view, &mut at.projected, tris);
             let mut ids = vec![0u32; n];
             let written = match method {
                 Method::ZbufferInt => {
@@ -142,15 +144,39 @@ fn draw<const SUB: u32>(
     }
 }
 
-/// Reused buffers.
+/// Reused buffers: those any precision uses, and those holding snapped points, one set per
+/// precision timed.
 pub(super) struct Work {
-    workspace: Box<Workspace<HOST_STACK, HOST_VERTS>>,
+    buffers: Buffers,
+    sub0: AtPrecision<0>,
+    sub4: AtPrecision<4>,
+    sub8: AtPrecision<SUBPIXEL_BITS>,
+}
+
+/// The buffers of every precision.
+struct Buffers {
     intervals: Vec<(u16, u16)>,
     counts: Vec<u16>,
     depth_u32: Vec<u32>,
     depth_f32: Vec<f32>,
-    triangles: Vec<prepare::Prepared>,
-    projected: Vec<(glam::Vec3, peel_runtime::fill::FixedPoint)>,
+}
+
+/// The buffers holding points snapped at `SUB` fractional bits: the renderer's workspace, the
+/// baselines' triangles and projected vertices.
+struct AtPrecision<const SUB: u32> {
+    workspace: Box<Workspace<HOST_STACK, HOST_VERTS, SUB>>,
+    triangles: Vec<prepare::Prepared<SUB>>,
+    projected: Vec<(glam::Vec3, FixedPoint<SUB>)>,
+}
+
+impl<const SUB: u32> AtPrecision<SUB> {
+    fn new() -> Self {
+        AtPrecision {
+            workspace: Box::default(),
+            triangles: Vec::new(),
+            projected: Vec::new(),
+        }
+    }
 }
 
 /// A scene's files, validated once before any frame is timed (firmware parses a file once,
@@ -165,13 +191,15 @@ struct Scenes<'b> {
 impl Work {
     pub(super) fn new(height: u32) -> Self {
         Work {
-            workspace: Box::default(),
-            intervals: vec![(0, 0); HOST_SPANS_PER_ROW * height as usize],
-            counts: vec![0; height as usize],
-            depth_u32: Vec::new(),
-            depth_f32: Vec::new(),
-            triangles: Vec::new(),
-            projected: Vec::new(),
+            buffers: Buffers {
+                intervals: vec![(0, 0); HOST_SPANS_PER_ROW * height as usize],
+                counts: vec![0; height as usize],
+                depth_u32: Vec::new(),
+                depth_f32: Vec::new(),
+            },
+            sub0: AtPrecision::new(),
+            sub4: AtPrecision::new(),
+            sub8: AtPrecision::new(),
         }
     }
 }
@@ -215,7 +243,7 @@ impl Variant {
         Variant {
             label: method.name().to_string(),
             method,
-            sub: peel_runtime::fill::SUBPIXEL_BITS,
+            sub: SUBPIXEL_BITS,
         }
     }
 
@@ -230,8 +258,6 @@ impl Variant {
 }
 
 /// [`draw`] at the precision `sub` (0, 4, or else the default [`SUBPIXEL_BITS`]).
-///
-/// [`SUBPIXEL_BITS`]: peel_runtime::fill::SUBPIXEL_BITS
 fn draw_at(
     sub: u32,
     p: &Prepared,
@@ -240,10 +266,16 @@ fn draw_at(
     camera: &Camera,
     work: &mut Work,
 ) -> Result<Drawn, String> {
+    let Work {
+        buffers,
+        sub0,
+        sub4,
+        sub8,
+    } = work;
     match sub {
-        0 => draw::<0>(p, scenes, method, camera, work),
-        4 => draw::<4>(p, scenes, method, camera, work),
-        _ => draw::<{ peel_runtime::fill::SUBPIXEL_BITS }>(p, scenes, method, camera, work),
+        0 => draw(p, scenes, method, camera, buffers, sub0),
+        4 => draw(p, scenes, method, camera, buffers, sub4),
+        _ => draw(p, scenes, method, camera, buffers, sub8),
     }
 }
 

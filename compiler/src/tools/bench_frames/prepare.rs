@@ -15,24 +15,24 @@ use crate::hash::FastMap;
 /// Most vertices of a clipped triangle: one more per clip plane.
 const MAX_CLIPPED: usize = 3 + CLIP_PLANES;
 
-/// One source triangle after clipping: camera-space and fixed-point screen polygons, in
-/// fixed arrays (no allocation per triangle).
+/// One source triangle after clipping: camera-space and fixed-point screen polygons (`SUB`
+/// fractional bits), in fixed arrays (no allocation per triangle).
 #[derive(Debug, Clone, Copy)]
-pub struct Prepared {
+pub struct Prepared<const SUB: u32> {
     /// Source triangle id.
     pub id: u32,
     len: usize,
     camera: [Vec3; MAX_CLIPPED],
-    screen: [FixedPoint; MAX_CLIPPED],
+    screen: [FixedPoint<SUB>; MAX_CLIPPED],
 }
 
-impl Prepared {
+impl<const SUB: u32> Prepared<SUB> {
     /// The clipped polygon in camera space.
     pub fn camera(&self) -> &[Vec3] {
         &self.camera[..self.len]
     }
-    /// The same polygon on screen, `SUB` fractional bits.
-    pub fn screen(&self) -> &[FixedPoint] {
+    /// The same polygon on screen.
+    pub fn screen(&self) -> &[FixedPoint<SUB>] {
         &self.screen[..self.len]
     }
 }
@@ -85,8 +85,8 @@ impl Triangles {
 pub fn prepare<const SUB: u32>(
     triangles: &Triangles,
     view: &LocalView,
-    projected: &mut Vec<(Vec3, FixedPoint)>,
-    out: &mut Vec<Prepared>,
+    projected: &mut Vec<(Vec3, FixedPoint<SUB>)>,
+    out: &mut Vec<Prepared<SUB>>,
 ) {
     out.clear();
     let frustum = Frustum::new(view);

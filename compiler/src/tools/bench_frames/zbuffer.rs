@@ -106,7 +106,7 @@ impl<D: Depth> SpanSink for Sink<'_, '_, D> {
 /// [`draw`] into `ids` (`view.width` x `view.height`), with `depth` (reused from frame to
 /// frame) sized to match.
 pub fn draw_ids<const SUB: u32, D: Depth>(
-    tris: &[Prepared],
+    tris: &[Prepared<SUB>],
     view: &LocalView,
     ids: &mut [u32],
     depth: &mut Vec<D>,
@@ -122,7 +122,7 @@ pub fn draw_ids<const SUB: u32, D: Depth>(
 
 /// The z-buffer in format `D` (`f32` or `u32`): returns the pixels written.
 pub fn draw<const SUB: u32, D: Depth>(
-    tris: &[Prepared],
+    tris: &[Prepared<SUB>],
     view: &LocalView,
     frame: &mut ZFrame<'_, D>,
 ) -> u64 {
@@ -139,7 +139,7 @@ pub fn draw<const SUB: u32, D: Depth>(
             id: t.id,
             written: 0,
         };
-        let _ = fill_polygon::<SUB, _>(
+        let _ = fill_polygon(
             t.screen(),
             view.width,
             view.height,
