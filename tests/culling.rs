@@ -58,7 +58,7 @@ fn frame<const SUB: u32>(scene: &Scene<'_>, camera: &Camera, culling: Culling) -
     let mut intervals = vec![(0u16, 0u16); HOST_SPANS_PER_ROW * h as usize];
     let mut counts = vec![0u16; h as usize];
     let coverage = Coverage::new(&mut intervals, &mut counts, camera.width(), h).expect("spans");
-    let mut workspace: Box<Workspace<HOST_STACK, HOST_VERTS>> = Box::default();
+    let mut workspace: Box<Workspace<HOST_STACK, HOST_VERTS, SUB>> = Box::default();
     let mut renderer = Renderer::<SUB>::with_precision(&mut workspace)
         .span_memory(coverage)
         .ids();
@@ -95,7 +95,7 @@ fn same_with_and_without<const SUB: u32>(name: &str, mesh: &Mesh) -> u64 {
         let mut intervals = vec![(0u16, 0u16); HOST_SPANS_PER_ROW * ht as usize];
         let mut counts = vec![0u16; ht as usize];
         let coverage = Coverage::new(&mut intervals, &mut counts, w, ht).expect("spans");
-        let mut workspace: Box<Workspace<HOST_STACK, HOST_VERTS>> = Box::default();
+        let mut workspace: Box<Workspace<HOST_STACK, HOST_VERTS, SUB>> = Box::default();
         let mut cached = Renderer::<SUB>::with_precision(&mut workspace)
             .span_memory(coverage)
             .vertex_memory(VertexCache::new(&mut memory))
@@ -104,7 +104,7 @@ fn same_with_and_without<const SUB: u32>(name: &str, mesh: &Mesh) -> u64 {
         let mut small_counts = vec![0u16; ht as usize];
         let small_coverage =
             Coverage::new(&mut small_intervals, &mut small_counts, w, ht).expect("spans");
-        let mut small_workspace: Box<Workspace<HOST_STACK, HOST_VERTS>> = Box::default();
+        let mut small_workspace: Box<Workspace<HOST_STACK, HOST_VERTS, SUB>> = Box::default();
         let mut small = Renderer::<SUB>::with_precision(&mut small_workspace)
             .span_memory(small_coverage)
             .vertex_memory(VertexCache::new(&mut small_memory))
@@ -214,7 +214,7 @@ fn ids_image<const SUB: u32>(
     let mut intervals = vec![(0u16, 0u16); HOST_SPANS_PER_ROW * h as usize];
     let mut counts = vec![0u16; h as usize];
     let coverage = Coverage::new(&mut intervals, &mut counts, w, h).expect("coverage");
-    let mut workspace: Box<Workspace<HOST_STACK, HOST_VERTS>> = Box::default();
+    let mut workspace: Box<Workspace<HOST_STACK, HOST_VERTS, SUB>> = Box::default();
     let mut renderer = Renderer::<SUB>::with_precision(&mut workspace).ids();
     if order == Order::FrontToBack {
         renderer = renderer.span_memory(coverage);

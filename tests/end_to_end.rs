@@ -11,8 +11,9 @@ use std::path::{Path, PathBuf};
 use glam::DVec3;
 use peel_compiler::compile::{compile_mesh, CompileOptions};
 use peel_compiler::load::{load_obj, Mesh};
-use peel_compiler::tools::raster::{render_bytes_with, Settings, View};
-use peel_e2e::{bounds, closed_sphere, mesh_closed_outward, reference, RefCamera};
+use peel_compiler::tools::raster::{render_bytes_with, Settings};
+use peel_compiler::tools::shot::Shot;
+use peel_e2e::{bounds, closed_sphere, mesh_closed_outward, reference};
 use peel_runtime::read::{Node, Scene};
 use peel_runtime::traverse::Order;
 
@@ -58,36 +59,26 @@ struct Compared {
     robust_scene: usize,
 }
 
-/// Render `bytes` and the reference with `view` and compare their robust pixels.
+/// Render `bytes` and the reference as `shot` sees them and compare their robust pixels.
 fn compare(
     mesh: &Mesh,
     bytes: &[u8],
     polys: &[Vec<DVec3>],
-    view: &View,
+    shot: &Shot,
     settings: &Settings,
 ) -> Compared {
     let frame = render_bytes_with(
         bytes,
-        view,
+        shot,
         &Settings {
             ids: true,
             ..*settings
         },
     )
     .expect("render");
-    let scene = Scene::parse(bytes).unwrap();
-    let camera = peel_compiler::tools::raster::camera(&scene, view).unwrap();
-    let cam = RefCamera {
-        eye: view.eye,
-        target: view.target,
-        up: view.up,
-        fov_y_deg: view.fov_y_deg,
-        width: view.width,
-        height: view.height,
-        near: camera.near(),
-    };
+    let near = shot.near_over(&Scene::parse(bytes).unwrap().header());
     let tris: Vec<[DVec3; 3]> = mesh.triangles.iter().map(|t| t.vertices).collect();
-    let r = reference(&tris, polys, &cam);
+    let r = reference(&tris, polys, shot, near);
     let mut c = Compared::default();
     for (k, (&want, &ok)) in r.ids.iter().zip(&r.robust).enumerate() {
         if want != 0 {
@@ -103,8 +94,8 @@ fn compare(
                 if c.bad <= 5 {
                     eprintln!(
                         "pixel ({}, {}): rendered id+1 {} reference {}",
-                        k % view.width as usize,
-                        k / view.width as usize,
+                        k % shot.width as usize,
+                        k / shot.width as usize,
                         frame.pixels[k],
                         want
                     );
@@ -132,20 +123,8 @@ fn all_settings() -> Vec<Settings> {
     v
 }
 
-fn view(eye: DVec3, target: DVec3, width: u32, height: u32) -> View {
-    View {
-        eye,
-        target,
-        up: DVec3::Y,
-        fov_y_deg: 60.0,
-        width,
-        height,
-        near: None,
-    }
-}
-
 /// Cameras around, inside and very close to the scene.
-fn cameras(lo: DVec3, hi: DVec3) -> Vec<View> {
+fn cameras(lo: DVec3, hi: DVec3) -> Vec<Shot> {
     let c = (lo + hi) / 2.0;
     let r = (hi - lo).length().max(1e-9) / 2.0;
     let mut v = Vec::new();
@@ -156,19 +135,19 @@ fn cameras(lo: DVec3, hi: DVec3) -> Vec<View> {
             (k as f64 - 3.5) * 0.45 * r,
             a.sin() * 2.6 * r,
         );
-        v.push(view(e, c, 96, 72));
+        v.push(Shot::new(e, c, 96, 72));
     }
     // Inside the scene, looking at a corner.
-    v.push(view(c + DVec3::new(0.01, 0.02, 0.03) * r, hi, 96, 72));
+    v.push(Shot::new(c + DVec3::new(0.01, 0.02, 0.03) * r, hi, 96, 72));
     // Very close to the bounding box: polygons far larger than the screen.
-    v.push(view(
+    v.push(Shot::new(
         DVec3::new(c.x + 0.1 * r, c.y + 0.05 * r, hi.z + 0.02 * r),
         DVec3::new(c.x, c.y, lo.z),
         96,
         72,
     ));
     // One pixel.
-    v.push(view(c + DVec3::new(1.7, 1.1, 2.3) * r, c, 1, 1));
+    v.push(Shot::new(c + DVec3::new(1.7, 1.1, 2.3) * r, c, 1, 1));
     v
 }
 
@@ -180,12 +159,12 @@ enum Splits {
     None,
 }
 
-fn check_scene(name: &str, mesh: &Mesh, extra: &[View], splits: Splits) {
+fn check_scene(name: &str, mesh: &Mesh, extra: &[Shot], splits: Splits) {
     let bytes = compile(mesh);
     let polys = polygons(&bytes);
     let (lo, hi) = bounds(mesh);
-    let mut views = cameras(lo, hi);
-    views.extend_from_slice(extra);
+    let mut shots = cameras(lo, hi);
+    shots.extend_from_slice(extra);
     // A camera exactly on the first split plane of the tree (either order is right there).
     let scene = Scene::parse(&bytes).unwrap();
     let split = (0..scene.header().node_count)
@@ -207,7 +186,7 @@ fn check_scene(name: &str, mesh: &Mesh, extra: &[View], splits: Splits) {
                 off.abs() <= 1e-9 * size.max(1.0),
                 "{name}: the split-plane camera is {off} off its plane"
             );
-            views.push(view(on + centre, (lo + hi) / 2.0, 96, 72));
+            shots.push(Shot::new(on + centre, (lo + hi) / 2.0, 96, 72));
         }
         (None, Splits::None) => {}
         (found, _) => {
@@ -215,7 +194,7 @@ fn check_scene(name: &str, mesh: &Mesh, extra: &[View], splits: Splits) {
         }
     }
     let mut total_bad = 0;
-    for (k, v) in views.iter().enumerate() {
+    for (k, v) in shots.iter().enumerate() {
         // The orbit cameras are outside the bounding box; the others are inside or very close.
         let outside = k < 8;
         for settings in all_settings() {
@@ -271,7 +250,7 @@ fn near_plane_cuts_polygons() {
     let bytes = compile(&mesh);
     let polys = polygons(&bytes);
     // Eye just outside the +z face, looking along it: the near plane slices the face.
-    let mut v = view(
+    let mut v = Shot::new(
         DVec3::new(0.2, 0.1, 1.02),
         DVec3::new(-1.0, -0.2, 0.6),
         120,
@@ -290,7 +269,7 @@ fn large_image() {
     let mesh = load_obj(&fixture("nested_cubes.obj")).unwrap();
     let bytes = compile(&mesh);
     let polys = polygons(&bytes);
-    let v = view(DVec3::new(5.0, 3.5, 6.0), DVec3::ZERO, 4096, 4096);
+    let v = Shot::new(DVec3::new(5.0, 3.5, 6.0), DVec3::ZERO, 4096, 4096);
     for settings in all_settings() {
         let c = compare(&mesh, &bytes, &polys, &v, &settings);
         assert!(c.robust_scene > 1_000_000, "{c:?}");
@@ -310,20 +289,26 @@ fn generated_closed_meshes_match() {
     check_scene("soup", &soup, &[], Splits::Expected);
 }
 
-/// A camera of [`culling_matches_inside_on_and_through_closed_meshes`]: a name, the view, and
-/// the least number of robust pixels showing the scene it must compare.
-struct Shot {
+/// A camera of [`culling_matches_inside_on_and_through_closed_meshes`]: a name, the shot,
+/// and the least number of robust pixels showing the scene it must compare.
+struct NamedShot {
     name: String,
-    view: View,
+    shot: Shot,
     min_robust_scene: usize,
 }
 
-fn shot(name: &str, eye: DVec3, target: DVec3, near: Option<f64>, min_robust_scene: usize) -> Shot {
-    Shot {
+fn shot(
+    name: &str,
+    eye: DVec3,
+    target: DVec3,
+    near: Option<f64>,
+    min_robust_scene: usize,
+) -> NamedShot {
+    NamedShot {
         name: name.to_string(),
-        view: View {
+        shot: Shot {
             near,
-            ..view(eye, target, 96, 72)
+            ..Shot::new(eye, target, 96, 72)
         },
         min_robust_scene,
     }
@@ -332,7 +317,7 @@ fn shot(name: &str, eye: DVec3, target: DVec3, near: Option<f64>, min_robust_sce
 /// Render `shots` of `mesh` in both orders with culling (the default) and without, and compare
 /// every robust pixel with the ray caster; each shot must compare enough scene pixels. Returns
 /// a line per shot and setting whose robust pixels differ.
-fn check_shots(scene: &str, mesh: &Mesh, shots: &[Shot]) -> Vec<String> {
+fn check_shots(scene: &str, mesh: &Mesh, shots: &[NamedShot]) -> Vec<String> {
     // Not vacuous: the mesh is closed, so the cameras inside it or cutting it see back faces.
     assert!(mesh_closed_outward(mesh), "{scene}: the mesh is not closed");
     let bytes = compile(mesh);
@@ -340,13 +325,13 @@ fn check_shots(scene: &str, mesh: &Mesh, shots: &[Shot]) -> Vec<String> {
     let mut failures = Vec::new();
     for s in shots {
         for settings in all_settings() {
-            let c = compare(mesh, &bytes, &polys, &s.view, &settings);
+            let c = compare(mesh, &bytes, &polys, &s.shot, &settings);
             assert!(
                 c.robust_scene >= s.min_robust_scene,
                 "{scene}, {}: only {} robust scene pixels compared ({c:?}, {:?})",
                 s.name,
                 c.robust_scene,
-                s.view
+                s.shot
             );
             if c.bad > 0 {
                 failures.push(format!(

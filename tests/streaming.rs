@@ -12,7 +12,7 @@ use peel_compiler::compile::{compile_mesh, CompileOptions};
 use peel_compiler::tools::raster::{HOST_SPANS_PER_ROW, HOST_STACK, HOST_VERTS};
 use peel_compiler::tools::scenes;
 use peel_e2e::closed_sphere;
-use peel_runtime::camera::{Camera, Pose, View};
+use peel_runtime::camera::{Camera, LocalView, Pose};
 use peel_runtime::coverage::Coverage;
 use peel_runtime::read::Scene;
 use peel_runtime::render::{FrameStats, Renderer, Workspace};
@@ -105,7 +105,7 @@ struct Way {
 /// Draw rows `rows` of `view` as `way` says into `sink`, with span memory of `memory_rows`.
 fn draw_rows<const SUB: u32, S: SpanSink>(
     scene: &Scene<'_>,
-    view: &View,
+    view: &LocalView,
     way: Way,
     rows: std::ops::Range<u32>,
     memory_rows: u32,
@@ -114,7 +114,7 @@ fn draw_rows<const SUB: u32, S: SpanSink>(
     let mut intervals = vec![(0u16, 0u16); way.slots * memory_rows as usize];
     let mut counts = vec![0u16; memory_rows as usize];
     let coverage = Coverage::new(&mut intervals, &mut counts, view.width, memory_rows).unwrap();
-    let mut workspace: Box<Workspace<HOST_STACK, HOST_VERTS>> = Box::default();
+    let mut workspace: Box<Workspace<HOST_STACK, HOST_VERTS, SUB>> = Box::default();
     let mut renderer = Renderer::<SUB>::with_precision(&mut workspace).ids();
     if way.order == Order::FrontToBack {
         renderer = renderer.span_memory(coverage);
@@ -126,7 +126,7 @@ fn draw_rows<const SUB: u32, S: SpanSink>(
 }
 
 /// The framebuffer frame: cleared to the background, then drawn.
-fn reference<const SUB: u32>(scene: &Scene<'_>, view: &View, order: Order) -> Vec<u32> {
+fn reference<const SUB: u32>(scene: &Scene<'_>, view: &LocalView, order: Order) -> Vec<u32> {
     let (w, h) = (view.width, view.height);
     let mut pixels = vec![0u32; (w * h) as usize];
     let mut fb = Framebuffer::<Xrgb8888>::new(&mut pixels, w, h).unwrap();
@@ -143,7 +143,7 @@ fn reference<const SUB: u32>(scene: &Scene<'_>, view: &View, order: Order) -> Ve
 /// Streamed and banded frames of `scene` against the framebuffer frame.
 fn check<const SUB: u32>(
     scene: &Scene<'_>,
-    view: &View,
+    view: &LocalView,
     band: u32,
     slots: usize,
 ) -> Result<(), TestCaseError> {

@@ -11,10 +11,11 @@ use std::time::Instant;
 use glam::{DMat3, DVec3};
 use peel_compiler::compile::{compile_mesh, CompileOptions};
 use peel_compiler::load::{load_obj, Mesh, SourceTriangle, DEFAULT_COLOUR};
-use peel_compiler::tools::raster::{render_bytes, View};
+use peel_compiler::tools::raster::render_bytes;
 use peel_compiler::tools::scenes::{self, SplitMix};
+use peel_compiler::tools::shot::Shot;
 use peel_compiler::tree::{verify, BuildOptions, DisplayTree, TreeNode};
-use peel_e2e::{bounds, reference, RefCamera};
+use peel_e2e::{bounds, reference};
 use peel_runtime::read::Scene;
 
 fn mesh_of(tris: Vec<[DVec3; 3]>) -> Mesh {
@@ -86,7 +87,7 @@ fn polygons(bytes: &[u8]) -> Vec<Vec<DVec3>> {
 
 /// `n` cameras outside the bounding sphere, spread over it (golden-angle spiral), with a
 /// little distance and target jitter.
-fn cameras(mesh: &Mesh, n: usize, size: (u32, u32), seed: u64) -> Vec<View> {
+fn cameras(mesh: &Mesh, n: usize, size: (u32, u32), seed: u64) -> Vec<Shot> {
     let (lo, hi) = bounds(mesh);
     let c = (lo + hi) / 2.0;
     let r = ((hi - lo).length() / 2.0).max(f64::MIN_POSITIVE);
@@ -99,14 +100,10 @@ fn cameras(mesh: &Mesh, n: usize, size: (u32, u32), seed: u64) -> Vec<View> {
             let dir = DVec3::new(s * a.cos(), y, s * a.sin());
             let dist = r * (2.2 + 1.5 * rng.unit());
             let jitter = (DVec3::new(rng.unit(), rng.unit(), rng.unit()) - 0.5) * 0.3 * r;
-            View {
-                eye: c + dir * dist,
-                target: c + jitter,
+            Shot {
                 up: if y.abs() > 0.9 { DVec3::X } else { DVec3::Y },
                 fov_y_deg: 50.0,
-                width: size.0,
-                height: size.1,
-                near: None,
+                ..Shot::new(c + dir * dist, c + jitter, size.0, size.1)
             }
         })
         .collect()
@@ -123,22 +120,12 @@ struct Diff {
 /// A crack pixel: the reference covers it and all its neighbours with front faces, and the
 /// render leaves it at the background or shows a back face there (on a closed, outward-facing
 /// mesh a back face is only visible through a crack).
-fn compare(mesh: &Mesh, bytes: &[u8], polys: &[Vec<DVec3>], view: &View) -> Diff {
-    let frame = render_bytes(bytes, view, true, [0, 0, 0]).expect("render");
-    let scene = Scene::parse(bytes).unwrap();
-    let camera = peel_compiler::tools::raster::camera(&scene, view).unwrap();
-    let cam = RefCamera {
-        eye: view.eye,
-        target: view.target,
-        up: view.up,
-        fov_y_deg: view.fov_y_deg,
-        width: view.width,
-        height: view.height,
-        near: camera.near(),
-    };
+fn compare(mesh: &Mesh, bytes: &[u8], polys: &[Vec<DVec3>], shot: &Shot) -> Diff {
+    let frame = render_bytes(bytes, shot, true, [0, 0, 0]).expect("render");
+    let near = shot.near_over(&Scene::parse(bytes).unwrap().header());
     let tris: Vec<[DVec3; 3]> = mesh.triangles.iter().map(|t| t.vertices).collect();
-    let r = reference(&tris, polys, &cam);
-    let (w, h) = (view.width as i64, view.height as i64);
+    let r = reference(&tris, polys, shot, near);
+    let (w, h) = (shot.width as i64, shot.height as i64);
     let mut d = Diff::default();
     for (k, (&want, &ok)) in r.ids.iter().zip(&r.robust).enumerate() {
         let got = frame.pixels[k];
@@ -155,7 +142,7 @@ fn compare(mesh: &Mesh, bytes: &[u8], polys: &[Vec<DVec3>], view: &View) -> Diff
             id != 0
                 && mesh.triangles.get(id as usize - 1).is_some_and(|t| {
                     let [a, b, c] = t.vertices;
-                    (b - a).cross(c - a).dot(view.eye - a) < 0.0
+                    (b - a).cross(c - a).dot(shot.eye - a) < 0.0
                 })
         };
         let through = got == 0 || (back(got) && !back(want));

@@ -6,7 +6,8 @@ use clap::Args;
 use glam::DVec3;
 
 use peel_compiler::compile::CompileOptions;
-use peel_compiler::tools::raster::{png, render_bytes, render_bytes_with, Frame, Settings, View};
+use peel_compiler::tools::raster::{png, render_bytes, render_bytes_with, Frame, Settings};
+use peel_compiler::tools::shot::Shot;
 use peel_runtime::camera::Orbit;
 use peel_runtime::read::{Header, Scene};
 use peel_runtime::traverse::Order;
@@ -142,7 +143,7 @@ pub fn parse_orbit(s: &str) -> Result<(f64, f64), String> {
 
 /// The camera `args` ask for over the scene with header `header`: `--eye`/`--target`, or an
 /// orbit that frames the scene.
-fn render_view(args: &RenderArgs, header: &Header) -> Result<View, String> {
+fn render_shot(args: &RenderArgs, header: &Header) -> Result<Shot, String> {
     let (eye, target) = match (args.eye, args.target) {
         (Some(eye), Some(target)) => (eye, target),
         _ => {
@@ -165,7 +166,7 @@ fn render_view(args: &RenderArgs, header: &Header) -> Result<View, String> {
             (pose.eye, pose.target)
         }
     };
-    Ok(View {
+    Ok(Shot {
         eye,
         target,
         up: args.up,
@@ -177,12 +178,12 @@ fn render_view(args: &RenderArgs, header: &Header) -> Result<View, String> {
 }
 
 /// Why a camera is degenerate, when it is for a reason the user can fix with one flag.
-fn camera_hint(view: &View) -> Option<&'static str> {
-    let forward = view.target - view.eye;
+fn camera_hint(shot: &Shot) -> Option<&'static str> {
+    let forward = shot.target - shot.eye;
     if forward.length_squared() == 0.0 {
         return Some("--eye and --target are the same point");
     }
-    let cross = forward.normalize().cross(view.up.normalize_or_zero());
+    let cross = forward.normalize().cross(shot.up.normalize_or_zero());
     (cross.length() < 1e-9).then_some(
         "the view direction is parallel to --up (looking straight up or down?): pass another \
          --up, e.g. --up=0,0,-1",
@@ -250,7 +251,7 @@ pub fn render(args: &RenderArgs) -> Result<(), String> {
     let bytes = read(&args.file)?;
     let scene = Scene::parse(&bytes)
         .map_err(|e| format!("{}: invalid .peel file: {e}", args.file.display()))?;
-    let view = render_view(args, &scene.header())?;
+    let shot = render_shot(args, &scene.header())?;
     let settings = Settings {
         order: match args.order {
             OrderArg::FrontToBack => Order::FrontToBack,
@@ -261,7 +262,7 @@ pub fn render(args: &RenderArgs) -> Result<(), String> {
         background: args.background,
     };
     let frame =
-        render_bytes_with(&bytes, &view, &settings).map_err(|e| match camera_hint(&view) {
+        render_bytes_with(&bytes, &shot, &settings).map_err(|e| match camera_hint(&shot) {
             Some(hint) => format!("{}: {e}: {hint}", args.file.display()),
             None => format!("{}: {e}", args.file.display()),
         })?;
@@ -311,14 +312,14 @@ fn write_png(path: &Path, frame: &Frame) -> Result<(), String> {
 }
 
 /// The demo's camera: above and in front of the scene, looking at its middle.
-pub const DEMO_VIEW: View = View {
-    eye: DVec3::new(5.5, 4.5, 7.5),
-    target: DVec3::new(0.0, 0.8, 0.0),
-    up: DVec3::Y,
+pub const DEMO_SHOT: Shot = Shot {
     fov_y_deg: 50.0,
-    width: 800,
-    height: 600,
-    near: None,
+    ..Shot::new(
+        DVec3::new(5.5, 4.5, 7.5),
+        DVec3::new(0.0, 0.8, 0.0),
+        800,
+        600,
+    )
 };
 
 /// `peel demo`: write the built-in scene, compile it, render it.
@@ -330,7 +331,7 @@ pub fn demo(out: &Path) -> Result<(), String> {
     std::fs::write(&mtl, DEMO_MTL).map_err(|e| format!("{}: {e}", mtl.display()))?;
     let peel = out.join("demo.peel");
     let bytes = crate::compile_to(&obj, &peel, &CompileOptions::default(), None)?;
-    let frame = render_bytes(&bytes, &DEMO_VIEW, false, [24, 26, 32])?;
+    let frame = render_bytes(&bytes, &DEMO_SHOT, false, [24, 26, 32])?;
     let png_path = out.join("demo.png");
     write_png(&png_path, &frame)?;
     println!(

@@ -14,16 +14,16 @@ use criterion::{criterion_group, criterion_main, Criterion};
 use glam::{DVec3, Vec3};
 use peel_runtime::camera::{Camera, Pose};
 use peel_runtime::clip::{clip_polygon, Frustum};
-use peel_runtime::fill::{fill_polygon, FixedPoint, SUBPIXEL_BITS};
+use peel_runtime::fill::{fill_polygon, SubpixelPoint};
 use peel_runtime::target::{Colour, Framebuffer, Xrgb8888};
 
 const W: u32 = 640;
 const H: u32 = 480;
 
-fn snap(points: &[(f32, f32)]) -> Vec<FixedPoint> {
+fn snap(points: &[(f32, f32)]) -> Vec<SubpixelPoint> {
     points
         .iter()
-        .map(|&(x, y)| FixedPoint::snap::<SUBPIXEL_BITS>(x, y))
+        .map(|&(x, y)| SubpixelPoint::snap(x, y))
         .collect()
 }
 
@@ -43,10 +43,7 @@ fn fill(c: &mut Criterion) {
     let mut g = c.benchmark_group("fill");
     for (name, poly) in [("small-triangle", &small), ("large-hexagon", &large)] {
         g.bench_function(name, |b| {
-            b.iter(|| {
-                fill_polygon::<SUBPIXEL_BITS, _>(black_box(poly), W, H, colour, &mut fb)
-                    .expect("fill")
-            })
+            b.iter(|| fill_polygon(black_box(poly), W, H, colour, &mut fb).expect("fill"))
         });
     }
     g.finish();

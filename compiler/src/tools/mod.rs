@@ -1,6 +1,8 @@
 //! Tools and test/benchmark support, not the compile pipeline: nothing in `load` -> `quantise`
 //! -> `planes` -> `peel`/`split` -> `tree` -> `shade` -> `write` depends on these modules.
 //!
+//! - [`shot`]: the host's camera description (eye, target, up, field of view, image size,
+//!   near distance), shared by everything below.
 //! - [`raster`]: render `.peel` bytes into an image on the host, through the no_std runtime
 //!   (`peel render`/`peel demo`, benchmarks, end-to-end tests).
 //! - [`reference`](mod@reference): the brute-force f64 ray caster the tests and `peel bench`
@@ -19,3 +21,4 @@ pub mod bench_frames;
 pub mod raster;
 pub mod reference;
 pub mod scenes;
+pub mod shot;

@@ -1,8 +1,6 @@
 //! Raster: render `.peel` bytes into an image on the host (CLI `render`/`demo`, benchmarks,
 //! end-to-end tests), through the no_std runtime exactly as firmware would.
 
-use glam::DVec3;
-use peel_runtime::camera::{Camera, Pose};
 use peel_runtime::coverage::Coverage;
 use peel_runtime::read::Scene;
 use peel_runtime::render::{FrameStats, Renderer, Workspace};
@@ -11,29 +9,12 @@ use peel_runtime::target::{Framebuffer, Xrgb8888};
 use peel_runtime::traverse::Order;
 use peel_runtime::vertices::{CachedVertex, VertexCache};
 
+use super::shot::Shot;
+
 /// Traversal stack entries of the host workspace (trees deeper than this are refused).
 pub const HOST_STACK: usize = 1 << 14;
 /// Clip buffer vertices of the host workspace.
 pub const HOST_VERTS: usize = 64;
-
-/// A camera in the README's terms; `near: None` is the default near distance.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct View {
-    /// Eye position (world).
-    pub eye: DVec3,
-    /// Point looked at (world).
-    pub target: DVec3,
-    /// Up hint.
-    pub up: DVec3,
-    /// Vertical field of view in degrees.
-    pub fov_y_deg: f64,
-    /// Image width.
-    pub width: u32,
-    /// Image height.
-    pub height: u32,
-    /// Near distance, or the default (1e-3 x the scene's bounding-box diagonal).
-    pub near: Option<f64>,
-}
 
 /// A rendered frame: `0x00RRGGBB` per pixel, row-major.
 #[derive(Debug, Clone)]
@@ -56,26 +37,6 @@ impl Frame {
             .flat_map(|p| [(p >> 16) as u8, (p >> 8) as u8, *p as u8])
             .collect()
     }
-}
-
-/// The runtime camera for `view` over `scene` (resolving the default near distance).
-pub fn camera(scene: &Scene<'_>, view: &View) -> Result<Camera, String> {
-    let h = scene.header();
-    let near = view
-        .near
-        .unwrap_or_else(|| Camera::default_near(h.bounds_min, h.bounds_max));
-    Camera::look_at(
-        Pose {
-            eye: view.eye,
-            target: view.target,
-            up: view.up,
-        },
-        view.fov_y_deg,
-        view.width,
-        view.height,
-        near,
-    )
-    .map_err(|e| e.to_string())
 }
 
 /// Span-buffer intervals per image row given to front-to-back rendering on the host.
@@ -105,17 +66,17 @@ impl Default for Settings {
     }
 }
 
-/// Render `bytes` seen from `view`: colours, or the id image (`id + 1`, background 0), front
+/// Render `bytes` as `shot` sees them: colours, or the id image (`id + 1`, background 0), front
 /// to back with culling.
 pub fn render_bytes(
     bytes: &[u8],
-    view: &View,
+    shot: &Shot,
     ids: bool,
     background: [u8; 3],
 ) -> Result<Frame, String> {
     render_bytes_with(
         bytes,
-        view,
+        shot,
         &Settings {
             ids,
             background,
@@ -124,13 +85,13 @@ pub fn render_bytes(
     )
 }
 
-/// Render `bytes` seen from `view` as `settings` say.
-pub fn render_bytes_with(bytes: &[u8], view: &View, settings: &Settings) -> Result<Frame, String> {
+/// Render `bytes` as `shot` sees them, as `settings` say.
+pub fn render_bytes_with(bytes: &[u8], shot: &Shot, settings: &Settings) -> Result<Frame, String> {
     let (ids, background) = (settings.ids, settings.background);
     let scene = Scene::parse(bytes).map_err(|e| format!("invalid .peel file: {e}"))?;
-    let camera = camera(&scene, view)?;
-    let mut pixels = vec![0u32; view.width as usize * view.height as usize];
-    let mut fb = Framebuffer::<Xrgb8888>::new(&mut pixels, view.width, view.height)
+    let camera = shot.camera(&scene.header())?;
+    let mut pixels = vec![0u32; shot.width as usize * shot.height as usize];
+    let mut fb = Framebuffer::<Xrgb8888>::new(&mut pixels, shot.width, shot.height)
         .map_err(|e| e.to_string())?;
     let bg = if ids {
         Colour::new(0, 0, 0)
@@ -139,10 +100,10 @@ pub fn render_bytes_with(bytes: &[u8], view: &View, settings: &Settings) -> Resu
     };
     fb.clear(bg);
     let mut workspace: Box<Workspace<HOST_STACK, HOST_VERTS>> = Box::default();
-    let rows = view.height as usize;
+    let rows = shot.height as usize;
     let mut intervals = vec![(0u16, 0u16); HOST_SPANS_PER_ROW * rows];
     let mut counts = vec![0u16; rows];
-    let coverage = Coverage::new(&mut intervals, &mut counts, view.width, view.height)
+    let coverage = Coverage::new(&mut intervals, &mut counts, shot.width, shot.height)
         .map_err(|e| e.to_string())?;
     let mut memory = vec![CachedVertex::EMPTY; scene.header().vertex_count as usize];
     let mut renderer = Renderer::new(&mut workspace)
@@ -161,8 +122,8 @@ pub fn render_bytes_with(bytes: &[u8], view: &View, settings: &Settings) -> Resu
         .draw(&scene, &camera.view(scene.header().centre), &mut fb)
         .map_err(|e| e.to_string())?;
     Ok(Frame {
-        width: view.width,
-        height: view.height,
+        width: shot.width,
+        height: shot.height,
         pixels,
         stats,
     })

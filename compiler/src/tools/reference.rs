@@ -4,59 +4,56 @@
 
 use glam::{DVec2, DVec3};
 
-/// A camera in the README's terms, in f64.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct RefCamera {
-    /// Eye position (world).
-    pub eye: DVec3,
-    /// Point looked at (world).
-    pub target: DVec3,
-    /// Up hint.
-    pub up: DVec3,
-    /// Vertical field of view in degrees.
-    pub fov_y_deg: f64,
-    /// Image width in pixels.
-    pub width: u32,
-    /// Image height in pixels.
-    pub height: u32,
-    /// Near distance.
-    pub near: f64,
-}
+use super::shot::Shot;
 
-/// The camera basis of the README.
-#[derive(Debug, Clone, Copy)]
-pub struct Basis {
+/// A [`Shot`] as the README defines its camera: the basis `f`, `r`, `u`, the focal length
+/// `fpx` in pixels, and the near distance resolved.
+#[derive(Debug)]
+struct Lens {
+    eye: DVec3,
     /// Forward.
-    pub f: DVec3,
+    f: DVec3,
     /// Right.
-    pub r: DVec3,
+    r: DVec3,
     /// True up.
-    pub u: DVec3,
+    u: DVec3,
     /// Focal length in pixels.
-    pub fpx: f64,
+    fpx: f64,
+    width: u32,
+    height: u32,
+    near: f64,
 }
 
-impl RefCamera {
-    /// `f`, `r`, `u`, `fpx` as the README defines them.
-    pub fn basis(&self) -> Basis {
-        let f = (self.target - self.eye).normalize();
-        let r = f.cross(self.up).normalize();
+impl Lens {
+    /// `f`, `r`, `u`, `fpx` of `shot` as the README defines them.
+    fn new(shot: &Shot, near: f64) -> Lens {
+        let f = (shot.target - shot.eye).normalize();
+        let r = f.cross(shot.up).normalize();
         let u = r.cross(f);
-        let fpx = (f64::from(self.height) / 2.0) / (self.fov_y_deg.to_radians() / 2.0).tan();
-        Basis { f, r, u, fpx }
+        let fpx = (f64::from(shot.height) / 2.0) / (shot.fov_y_deg.to_radians() / 2.0).tan();
+        Lens {
+            eye: shot.eye,
+            f,
+            r,
+            u,
+            fpx,
+            width: shot.width,
+            height: shot.height,
+            near,
+        }
     }
 
     /// Camera-space coordinates of a world point.
-    pub fn to_camera(&self, b: &Basis, p: DVec3) -> DVec3 {
+    fn to_camera(&self, p: DVec3) -> DVec3 {
         let d = p - self.eye;
-        DVec3::new(d.dot(b.r), d.dot(b.u), d.dot(b.f))
+        DVec3::new(d.dot(self.r), d.dot(self.u), d.dot(self.f))
     }
 
     /// Screen position of a camera-space point with `zc > 0`.
-    pub fn project(&self, b: &Basis, c: DVec3) -> DVec2 {
+    fn project(&self, c: DVec3) -> DVec2 {
         DVec2::new(
-            f64::from(self.width) / 2.0 + b.fpx * c.x / c.z,
-            f64::from(self.height) / 2.0 - b.fpx * c.y / c.z,
+            f64::from(self.width) / 2.0 + self.fpx * c.x / c.z,
+            f64::from(self.height) / 2.0 - self.fpx * c.y / c.z,
         )
     }
 }
@@ -75,28 +72,30 @@ pub struct Reference {
 /// Distance from an edge below which a pixel is not "robust".
 pub const EDGE_MARGIN: f64 = 1.0 / 16.0;
 
-/// Cast one ray per pixel against `triangles` (the source triangles: ids are indices) and mark
-/// the pixels near the projected edges of `triangles` and of `extra_edges` (e.g. the edges of
-/// the compiled polygons, which include the cuts).
+/// Cast one ray per pixel of `shot` against `triangles` (the source triangles: ids are
+/// indices), seeing from the near distance `near` on (the shot's own resolved over the
+/// scene, [`Shot::near_over`]), and mark the pixels near the projected edges of `triangles`
+/// and of `extra_polygons` (e.g. the compiled polygons, whose edges include the cuts).
 pub fn reference(
     triangles: &[[DVec3; 3]],
     extra_polygons: &[Vec<DVec3>],
-    cam: &RefCamera,
+    shot: &Shot,
+    near: f64,
 ) -> Reference {
-    let b = cam.basis();
+    let cam = &Lens::new(shot, near);
     let (w, h) = (cam.width as usize, cam.height as usize);
     let mut depth = vec![f64::INFINITY; w * h];
     let mut ids = vec![0u32; w * h];
     let mut robust = vec![true; w * h];
     for (id, t) in triangles.iter().enumerate() {
-        let c = t.map(|p| cam.to_camera(&b, p));
-        let Some((x0, x1, y0, y1)) = screen_bbox(cam, &b, &c) else {
+        let c = t.map(|p| cam.to_camera(p));
+        let Some((x0, x1, y0, y1)) = screen_bbox(cam, &c) else {
             continue;
         };
         for j in y0..y1 {
             for i in x0..x1 {
-                let dir = b.f + ((i as f64 + 0.5 - f64::from(cam.width) / 2.0) / b.fpx) * b.r
-                    - ((j as f64 + 0.5 - f64::from(cam.height) / 2.0) / b.fpx) * b.u;
+                let dir = cam.f + ((i as f64 + 0.5 - f64::from(cam.width) / 2.0) / cam.fpx) * cam.r
+                    - ((j as f64 + 0.5 - f64::from(cam.height) / 2.0) / cam.fpx) * cam.u;
                 if let Some(tz) = ray_triangle(cam.eye, dir, t) {
                     // dir has unit component along f, so the ray parameter is the camera depth.
                     let k = j * w + i;
@@ -107,17 +106,17 @@ pub fn reference(
                 }
             }
         }
-        mark_polygon_edges(cam, &b, &c, &mut robust);
+        mark_polygon_edges(cam, &c, &mut robust);
     }
     for p in extra_polygons {
-        let c: Vec<DVec3> = p.iter().map(|&q| cam.to_camera(&b, q)).collect();
-        mark_polygon_edges(cam, &b, &c, &mut robust);
+        let c: Vec<DVec3> = p.iter().map(|&q| cam.to_camera(q)).collect();
+        mark_polygon_edges(cam, &c, &mut robust);
     }
     Reference { ids, robust }
 }
 
 /// Pixel range (`x0..x1`, `y0..y1`) that may see the camera-space polygon `c`.
-fn screen_bbox(cam: &RefCamera, b: &Basis, c: &[DVec3]) -> Option<(usize, usize, usize, usize)> {
+fn screen_bbox(cam: &Lens, c: &[DVec3]) -> Option<(usize, usize, usize, usize)> {
     if c.iter().all(|p| p.z < cam.near) {
         return None;
     }
@@ -125,7 +124,7 @@ fn screen_bbox(cam: &RefCamera, b: &Basis, c: &[DVec3]) -> Option<(usize, usize,
     if c.iter().any(|p| p.z < cam.near) {
         return Some((0, w, 0, h)); // crosses the near plane: test every pixel
     }
-    let s: Vec<DVec2> = c.iter().map(|&p| cam.project(b, p)).collect();
+    let s: Vec<DVec2> = c.iter().map(|&p| cam.project(p)).collect();
     let lo = s.iter().fold(DVec2::splat(f64::INFINITY), |a, &p| a.min(p));
     let hi = s
         .iter()
@@ -161,7 +160,7 @@ fn ray_triangle(o: DVec3, d: DVec3, t: &[DVec3; 3]) -> Option<f64> {
 
 /// Mark pixels near the projected edges of the camera-space polygon `c`, after clipping it to
 /// the near plane (the clip adds the near-plane edge, which the renderer also draws).
-fn mark_polygon_edges(cam: &RefCamera, b: &Basis, c: &[DVec3], robust: &mut [bool]) {
+fn mark_polygon_edges(cam: &Lens, c: &[DVec3], robust: &mut [bool]) {
     let mut clipped = Vec::with_capacity(c.len() + 1);
     for k in 0..c.len() {
         let (p, q) = (c[k], c[(k + 1) % c.len()]);
@@ -173,14 +172,14 @@ fn mark_polygon_edges(cam: &RefCamera, b: &Basis, c: &[DVec3], robust: &mut [boo
             clipped.push(p + (q - p) * t);
         }
     }
-    let s: Vec<DVec2> = clipped.iter().map(|&p| cam.project(b, p)).collect();
+    let s: Vec<DVec2> = clipped.iter().map(|&p| cam.project(p)).collect();
     for k in 0..s.len() {
         mark_segment(cam, s[k], s[(k + 1) % s.len()], robust);
     }
 }
 
 /// Mark every pixel whose centre is within [`EDGE_MARGIN`] of the segment `a`-`b`.
-fn mark_segment(cam: &RefCamera, a: DVec2, b: DVec2, robust: &mut [bool]) {
+fn mark_segment(cam: &Lens, a: DVec2, b: DVec2, robust: &mut [bool]) {
     let (w, h) = (f64::from(cam.width), f64::from(cam.height));
     // Clip to the screen grown by two pixels (Liang–Barsky), so long edges cost their on-screen length.
     let d = b - a;
@@ -241,16 +240,8 @@ fn segment_distance(p: DVec2, a: DVec2, b: DVec2) -> f64 {
 mod tests {
     use super::*;
 
-    fn cam(w: u32, h: u32) -> RefCamera {
-        RefCamera {
-            eye: DVec3::new(0.0, 0.0, 5.0),
-            target: DVec3::ZERO,
-            up: DVec3::Y,
-            fov_y_deg: 60.0,
-            width: w,
-            height: h,
-            near: 0.01,
-        }
+    fn shot(w: u32, h: u32) -> Shot {
+        Shot::new(DVec3::new(0.0, 0.0, 5.0), DVec3::ZERO, w, h)
     }
 
     #[test]
@@ -260,7 +251,7 @@ mod tests {
             DVec3::new(1.0, -1.0, 0.0),
             DVec3::new(0.0, 1.0, 0.0),
         ]];
-        let r = reference(&t, &[], &cam(33, 33));
+        let r = reference(&t, &[], &shot(33, 33), 0.01);
         assert_eq!(r.ids[16 * 33 + 16], 1);
         assert_eq!(r.ids[0], 0);
         assert!(r.robust[16 * 33 + 16]);
@@ -278,7 +269,7 @@ mod tests {
             DVec3::new(1.1, -1.0, 1.0),
             DVec3::new(0.1, 1.0, 1.0),
         ];
-        let r = reference(&[far, near], &[], &cam(64, 64));
+        let r = reference(&[far, near], &[], &shot(64, 64), 0.01);
         assert_eq!(r.ids[32 * 64 + 32], 2);
         // A pixel column crossing the near triangle's left edge has a non-robust pixel.
         assert!(r.robust.iter().any(|&x| !x));
@@ -292,7 +283,7 @@ mod tests {
             DVec3::new(1.0, -1.0, 6.0),
             DVec3::new(0.0, 1.0, 6.0),
         ]];
-        let r = reference(&t, &[], &cam(16, 16));
+        let r = reference(&t, &[], &shot(16, 16), 0.01);
         assert!(r.ids.iter().all(|&i| i == 0));
     }
 }

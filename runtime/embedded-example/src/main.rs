@@ -11,7 +11,7 @@
 use cortex_m_rt::entry;
 use glam::{DVec3, Vec3};
 use panic_halt as _;
-use peel_runtime::camera::{Camera, Pose, View};
+use peel_runtime::camera::{Camera, LocalView, Pose};
 use peel_runtime::coverage::Coverage;
 use peel_runtime::read::Scene;
 use peel_runtime::render::{Renderer, Workspace};
@@ -78,8 +78,9 @@ const DISTANCE: f32 = 8.616_264;
 /// Otherwise the view is built in `f32` with its basis written out, since the orbit fixes it
 /// (`forward = (target - eye) / DISTANCE`, `right = (c, 0, -s)`): the binary then holds
 /// neither `f64` arithmetic nor a square root, which a Cortex-M4F would run in software
-/// (libm's); [`View::look_at`] computes the same basis for any eye.
-fn view(scene: &Scene<'_>, s: f32, c: f32) -> Result<View, peel_runtime::RenderError> {
+/// (libm's): [`LocalView::from_basis`] takes it as it is, where [`LocalView::look_at`] computes it
+/// for any eye.
+fn view(scene: &Scene<'_>, s: f32, c: f32) -> Result<LocalView, peel_runtime::RenderError> {
     let eye = Vec3::new(RADIUS * s, EYE_Y, RADIUS * c);
     let target = Vec3::new(0.0, TARGET_Y, 0.0);
     if cfg!(feature = "full") {
@@ -91,19 +92,9 @@ fn view(scene: &Scene<'_>, s: f32, c: f32) -> Result<View, peel_runtime::RenderE
     } else {
         let forward = (target - eye) * (1.0 / DISTANCE);
         let right = Vec3::new(c, 0.0, -s);
-        Ok(View {
-            eye,
-            right,
-            up: right.cross(forward),
-            forward,
-            fx: FOCAL,
-            fy: FOCAL,
-            cx: WIDTH as f32 * 0.5,
-            cy: HEIGHT as f32 * 0.5,
-            width: WIDTH,
-            height: HEIGHT,
-            near: NEAR,
-        })
+        Ok(LocalView::from_basis(
+            eye, right, forward, FOCAL, WIDTH, HEIGHT, NEAR,
+        ))
     }
 }
 

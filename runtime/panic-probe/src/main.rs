@@ -12,7 +12,7 @@ use core::hint::black_box;
 
 use glam::{DVec3, Vec3};
 use panic_never as _;
-use peel_runtime::camera::{Camera, Pose, View};
+use peel_runtime::camera::{Camera, LocalView, Pose};
 use peel_runtime::coverage::Coverage;
 use peel_runtime::read::Scene;
 use peel_runtime::render::{Renderer, Workspace};
@@ -84,7 +84,7 @@ fn probe_trusted() {
     let (focal, width, height, near) = black_box((50.0, W, H, 1e-3));
     // Any view, even one `look_at` would refuse: `Renderer::draw` checks it.
     let view = black_box(
-        View::look_at(eye, target, up, focal, width, height, near)
+        LocalView::look_at(eye, target, up, focal, width, height, near)
             .unwrap_or_else(|_| black_box(view_from_nothing())),
     );
     let mut pixels = [0u16; PIXELS];
@@ -102,8 +102,8 @@ fn probe_trusted() {
 }
 
 /// A view with every field opaque to the optimiser.
-fn view_from_nothing() -> View {
-    View {
+fn view_from_nothing() -> LocalView {
+    LocalView {
         eye: black_box(Vec3::ZERO),
         right: black_box(Vec3::X),
         up: black_box(Vec3::Y),

@@ -23,7 +23,7 @@
 
 use glam::Vec3;
 
-use crate::camera::{CameraBox, View};
+use crate::camera::{CameraBox, LocalView};
 use crate::error::RenderError;
 
 /// Number of planes a polygon is clipped against (near + four window edges).
@@ -54,7 +54,7 @@ pub struct Frustum {
 
 impl Frustum {
     /// The near plane and the four window planes of `view`.
-    pub fn new(view: &View) -> Frustum {
+    pub fn new(view: &LocalView) -> Frustum {
         let (w, h) = (view.width as f32, view.height as f32);
         let plane = |x: f32, y: f32, z: f32, offset: f32| ClipPlane {
             normal: Vec3::new(x, y, z),
@@ -97,7 +97,7 @@ impl Frustum {
     /// row of the rotation has length 1). Asking every corner for `2 * 2^-16 * S`, far more
     /// than twice that error, leaves every point of the box at least `2^-16 * S` above zero
     /// in exact arithmetic, hence `>= 0` once evaluated in `f32`.
-    pub fn contains_box(&self, view: &View, lo: Vec3, hi: Vec3) -> bool {
+    pub fn contains_box(&self, view: &LocalView, lo: Vec3, hi: Vec3) -> bool {
         const MARGIN: f32 = 2.0 / 65_536.0;
         let finite = lo.is_finite() && hi.is_finite();
         finite
@@ -233,7 +233,7 @@ mod tests {
     use std::vec::Vec;
 
     /// Camera at the origin looking down -z, 100 x 100, fov 90 (fx = fy = 50), near 1.
-    fn view() -> View {
+    fn view() -> LocalView {
         Camera::look_at(
             Pose::new(DVec3::ZERO, DVec3::new(0.0, 0.0, -1.0)),
             90.0,
@@ -299,7 +299,7 @@ mod tests {
         assert!(out.len() < 3 || out.iter().all(|p| *p == c(0.0, 0.0, 1.0)));
     }
 
-    fn screen(v: &View, poly: &[Vec3]) -> Vec<glam::Vec2> {
+    fn screen(v: &LocalView, poly: &[Vec3]) -> Vec<glam::Vec2> {
         poly.iter().map(|&p| v.project(p)).collect()
     }
 

@@ -95,7 +95,10 @@ fn coord(v: i32) -> Coord {
 }
 
 /// The edge's ends, top first; `None` for a horizontal edge (it bounds no span).
-fn top_bottom(a: FixedPoint, b: FixedPoint) -> Option<(FixedPoint, FixedPoint)> {
+fn top_bottom<const SUB: u32>(
+    a: FixedPoint<SUB>,
+    b: FixedPoint<SUB>,
+) -> Option<(FixedPoint<SUB>, FixedPoint<SUB>)> {
     match a.y.cmp(&b.y) {
         core::cmp::Ordering::Less => Some((a, b)),
         core::cmp::Ordering::Greater => Some((b, a)),
@@ -144,8 +147,7 @@ impl EdgeWalk {
         }
     }
 
-    /// The walk of the edge `a`-`b` (either direction; fixed point with `SUB` fractional
-    /// bits) over the scanlines whose centre `y` satisfies `y_top <= y < y_bottom`, restricted
+    /// The walk of the edge `a`-`b` (either direction) over the scanlines whose centre `y` satisfies `y_top <= y < y_bottom`, restricted
     /// to rows `0..height`. `None` for a horizontal edge or one that crosses no such row.
     ///
     /// Arithmetic range: with `S = 2^SUB` (`SUB <= 24`), `dy = y_bottom - y_top < 2^32` and
@@ -155,8 +157,8 @@ impl EdgeWalk {
     /// edge). So any `i32` coordinates are safe, not only those inside the window.
     #[cfg(feature = "wide-coordinates")]
     pub(crate) fn for_edge<const SUB: u32>(
-        a: FixedPoint,
-        b: FixedPoint,
+        a: FixedPoint<SUB>,
+        b: FixedPoint<SUB>,
         height: u32,
     ) -> Option<Self> {
         let (top, bottom) = top_bottom(a, b)?;
@@ -181,8 +183,8 @@ impl EdgeWalk {
     #[cfg(not(feature = "wide-coordinates"))]
     #[inline]
     pub(crate) fn for_edge<const SUB: u32>(
-        a: FixedPoint,
-        b: FixedPoint,
+        a: FixedPoint<SUB>,
+        b: FixedPoint<SUB>,
         height: u32,
     ) -> Option<Self> {
         Self::for_edge_narrow::<SUB>(a, b, height)
@@ -202,8 +204,8 @@ impl EdgeWalk {
     /// `rem + step_r < 2 den < 2^31`: nothing overflows an `i32`.
     #[cfg(any(test, not(feature = "wide-coordinates")))]
     pub(crate) fn for_edge_narrow<const SUB: u32>(
-        a: FixedPoint,
-        b: FixedPoint,
+        a: FixedPoint<SUB>,
+        b: FixedPoint<SUB>,
         height: u32,
     ) -> Option<Self> {
         let (top, bottom) = top_bottom(a, b)?;
@@ -378,7 +380,8 @@ mod tests {
         while w.row < w.row_end {
             w.step();
         }
-        let mut w = EdgeWalk::for_edge::<0>(b, FixedPoint { x: i32::MIN, y: 0 }, 1 << 15).unwrap();
+        let (b, c) = (FixedPoint::new(b.x, b.y), FixedPoint { x: i32::MIN, y: 0 });
+        let mut w = EdgeWalk::for_edge::<0>(b, c, 1 << 15).unwrap();
         assert!(w.x < -(1 << 30));
         while w.row < w.row_end {
             w.step();
@@ -387,7 +390,7 @@ mod tests {
 
     /// The pixel of row `j` straight from the definition (see [`EdgeWalk::for_edge`]), in
     /// 128-bit arithmetic: `ceil(num_j / den)`.
-    fn reference_x<const SUB: u32>(a: FixedPoint, b: FixedPoint, j: i128) -> i128 {
+    fn reference_x<const SUB: u32>(a: FixedPoint<SUB>, b: FixedPoint<SUB>, j: i128) -> i128 {
         let (top, bottom) = if a.y < b.y { (a, b) } else { (b, a) };
         let s = 1i128 << SUB;
         let (ty, tx) = (i128::from(top.y), i128::from(top.x));
@@ -400,7 +403,7 @@ mod tests {
 
     /// The narrow walk against the definition, row by row, and (when both exist) field for
     /// field against the wide walk.
-    fn check_narrow<const SUB: u32>(a: FixedPoint, b: FixedPoint, height: u32) {
+    fn check_narrow<const SUB: u32>(a: FixedPoint<SUB>, b: FixedPoint<SUB>, height: u32) {
         let narrow = EdgeWalk::for_edge_narrow::<SUB>(a, b, height);
         #[cfg(feature = "wide-coordinates")]
         assert_eq!(
@@ -435,32 +438,37 @@ mod tests {
         }
     }
 
-    fn point_within(limit: i32) -> impl Strategy<Value = FixedPoint> {
+    fn coordinates_within(limit: i32) -> impl Strategy<Value = (i32, i32)> {
         let c = move || prop_oneof![0..=limit, 0..=limit.min(4096), Just(0), Just(limit)];
-        (c(), c()).prop_map(|(x, y)| FixedPoint { x, y })
+        (c(), c())
+    }
+
+    /// `(x, y)` reduced modulo `l + 1`, as a point.
+    fn wrapped<const SUB: u32>((x, y): (i32, i32), l: i32) -> FixedPoint<SUB> {
+        FixedPoint::new(x % (l + 1), y % (l + 1))
     }
 
     proptest! {
         #[test]
         fn narrow_walk_is_exact_sub8(
-            a in point_within(crate::fill::coordinate_limit::<8>().min((1 << 21) - 1)),
-            b in point_within((1 << 21) - 1),
+            a in coordinates_within(crate::fill::coordinate_limit::<8>().min((1 << 21) - 1)),
+            b in coordinates_within((1 << 21) - 1),
             height in 1u32..3000,
         ) {
+            let (a, b) = (FixedPoint::new(a.0, a.1), FixedPoint::new(b.0, b.1));
             check_narrow::<8>(a, b, height);
         }
 
         #[test]
         fn narrow_walk_is_exact_other_precisions(
-            a in point_within((1 << 29) - 1),
-            b in point_within((1 << 29) - 1),
+            a in coordinates_within((1 << 29) - 1),
+            b in coordinates_within((1 << 29) - 1),
             height in 1u32..3000,
         ) {
             let (l4, l0, l24) = ((1 << 25) - 1, (1 << 29) - 1, (1 << 5) - 1);
-            let clamp = |p: FixedPoint, l: i32| FixedPoint { x: p.x % (l + 1), y: p.y % (l + 1) };
-            check_narrow::<4>(clamp(a, l4), clamp(b, l4), height);
-            check_narrow::<0>(clamp(a, l0), clamp(b, l0), height);
-            check_narrow::<24>(clamp(a, l24), clamp(b, l24), height);
+            check_narrow::<4>(wrapped(a, l4), wrapped(b, l4), height);
+            check_narrow::<0>(wrapped(a, l0), wrapped(b, l0), height);
+            check_narrow::<24>(wrapped(a, l24), wrapped(b, l24), height);
         }
     }
 

@@ -28,18 +28,18 @@ use crate::target::{Colour, SpanSink};
 use edge::Coord;
 pub(crate) use edge::EdgeWalk;
 
-/// Fractional bits of the fixed-point screen coordinates used by the renderer.
+/// Fractional bits of the renderer's fixed-point screen coordinates ([`SubpixelPoint`]).
 pub const SUBPIXEL_BITS: u32 = 8;
 
-/// Largest `SUB` [`fill_polygon`] accepts (checked at compile time); keeps every edge walk
-/// within `i64` for any `i32` coordinates.
+/// Largest `SUB` the fill accepts (checked at compile time); keeps every edge walk within
+/// `i64` for any `i32` coordinates.
 pub const MAX_SUBPIXEL_BITS: u32 = 24;
 
 /// Most vertices a polygon handed to [`fill_polygon`] may have.
 pub const MAX_FILL_VERTICES: usize = 64;
 
-/// Largest fixed-point coordinate (with `SUB` fractional bits) the fill accepts: any `i32`
-/// with the `wide-coordinates` feature (default), else `2^(29 - SUB) - 1` (8191 pixels at
+/// Largest coordinate of a [`FixedPoint<SUB>`] the fill accepts: any `i32` with the
+/// `wide-coordinates` feature (default), else `2^(29 - SUB) - 1` (8191 pixels at
 /// [`SUBPIXEL_BITS`]), and then no negative coordinate either: the edge walk is then set up
 /// in 32-bit arithmetic (see `edge.rs`). The renderer refuses a window beyond it up front
 /// ([`crate::RenderError::ImageTooLarge`]) and clamps every point to its window, so its
@@ -54,17 +54,27 @@ pub const fn coordinate_limit<const SUB: u32>() -> i32 {
     }
 }
 
-/// A screen point in fixed point with `SUB` fractional bits (x right, y down; pixel `(i, j)`
-/// has its sample point at `(i + 0.5, j + 0.5)`).
+/// A screen point in fixed point, the format of every screen coordinate the fill and the
+/// renderer use: each coordinate is an `i32` count of `2^-SUB` pixel, its value in pixels
+/// times `2^SUB` (`SUB` fractional bits), x to the right and y down from the window's top-left
+/// corner, so pixel `(i, j)` has its sample point (its centre) at
+/// `((i + 1/2) 2^SUB, (j + 1/2) 2^SUB)`.
+///
+/// The precision is part of the type: the fill functions take `&[FixedPoint<SUB>]` and draw
+/// at that `SUB`, so a point snapped at one precision cannot reach a fill at another. The
+/// renderer's points are [`SubpixelPoint`]s.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
-pub struct FixedPoint {
+pub struct FixedPoint<const SUB: u32> {
     /// x times `2^SUB`.
     pub x: i32,
     /// y times `2^SUB`.
     pub y: i32,
 }
 
-impl FixedPoint {
+/// A point at the renderer's precision, [`SUBPIXEL_BITS`].
+pub type SubpixelPoint = FixedPoint<SUBPIXEL_BITS>;
+
+impl<const SUB: u32> FixedPoint<SUB> {
     /// A point from its raw fixed-point coordinates.
     pub const fn new(x: i32, y: i32) -> Self {
         FixedPoint { x, y }
@@ -74,7 +84,7 @@ impl FixedPoint {
     /// away from zero). Out-of-range values saturate and NaN becomes 0, so a bad vertex can
     /// misplace a polygon but never break the fill. The same input always gives the same
     /// point, which is what keeps vertices shared by two polygons shared after snapping.
-    pub fn snap<const SUB: u32>(x: f32, y: f32) -> Self {
+    pub fn snap(x: f32, y: f32) -> Self {
         let scale = (1u32 << SUB) as f32;
         FixedPoint {
             x: round_f32(x * scale),
@@ -83,7 +93,7 @@ impl FixedPoint {
     }
 
     /// [`Self::snap`] from `f64` coordinates.
-    pub fn snap_f64<const SUB: u32>(x: f64, y: f64) -> Self {
+    pub fn snap_f64(x: f64, y: f64) -> Self {
         let scale = f64::from(1u32 << SUB);
         FixedPoint {
             x: libm::round(x * scale) as i32,
@@ -92,7 +102,7 @@ impl FixedPoint {
     }
 
     /// The point at whole pixel coordinates `(x, y)` (a pixel corner), saturating.
-    pub const fn from_pixels<const SUB: u32>(x: i32, y: i32) -> Self {
+    pub const fn from_pixels(x: i32, y: i32) -> Self {
         FixedPoint {
             x: x.saturating_mul(1 << SUB),
             y: y.saturating_mul(1 << SUB),
@@ -122,13 +132,13 @@ fn round_f32(v: f32) -> i32 {
 }
 
 /// The pixels `[x0, x1) x [y0, y1)` whose sample points lie in the half-open box
-/// `[min, max)` of `points` (`SUB` fractional bits), within a `width x height` window, or
+/// `[min, max)` of `points`, within a `width x height` window, or
 /// `None` when there is none. Every pixel the fill draws for `points` is in it (a span
 /// `[x_left, x_right)` and an edge's rows `[y_top, y_bottom)` are half-open the same way), so
 /// `None` means the fill would draw nothing, and a rectangle already covered means the
 /// polygon cannot show. Points must be in the fill's range ([`coordinate_limit`]).
 pub fn sample_rect<const SUB: u32>(
-    points: &[FixedPoint],
+    points: &[FixedPoint<SUB>],
     width: u32,
     height: u32,
 ) -> Option<[u32; 4]> {
@@ -148,9 +158,9 @@ pub fn sample_rect<const SUB: u32>(
     (x0 < x1 && y0 < y1).then_some([x0, y0, x1, y1])
 }
 
-/// Why [`fill_polygon`] drew nothing.
+/// Why [`fill_polygon`] drew nothing (a polygon of [`FixedPoint<SUB>`]s).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum FillError {
+pub enum FillError<const SUB: u32 = SUBPIXEL_BITS> {
     /// The polygon has more vertices than [`MAX_FILL_VERTICES`].
     TooManyVertices {
         /// Vertices given.
@@ -162,13 +172,13 @@ pub enum FillError {
     /// `wide-coordinates` feature).
     OutOfRange {
         /// The point.
-        point: FixedPoint,
+        point: FixedPoint<SUB>,
         /// The largest coordinate accepted.
         limit: i32,
     },
 }
 
-impl fmt::Display for FillError {
+impl<const SUB: u32> fmt::Display for FillError<SUB> {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match *self {
             FillError::TooManyVertices { count, max } => {
@@ -188,13 +198,13 @@ impl fmt::Display for FillError {
 }
 
 #[cfg(feature = "std")]
-impl std::error::Error for FillError {}
+impl<const SUB: u32> std::error::Error for FillError<SUB> {}
 
 /// Fill the polygon `points` (either winding, inside the window `[0, width] x [0, height]`)
 /// with the top-left rule and emit its spans; returns the number of pixels emitted.
 ///
-/// `SUB` is the number of fractional bits of `points` (`0..=`[`MAX_SUBPIXEL_BITS`], checked
-/// at compile time; the renderer uses [`SUBPIXEL_BITS`]). The polygon is filled with the
+/// The points' precision `SUB` is at most [`MAX_SUBPIXEL_BITS`] (checked at compile time; the
+/// renderer's is [`SUBPIXEL_BITS`]). The polygon is filled with the
 /// even-odd rule, so any closed point list is accepted: non-convex, self-intersecting, with
 /// repeated or collinear points, or of zero area (which draws nothing). Points outside the
 /// window are fine (any `i32`, or any coordinate in `0..=`[`coordinate_limit`] without the
@@ -205,12 +215,12 @@ impl std::error::Error for FillError {}
 /// [`FillError::TooManyVertices`] when `points.len() > MAX_FILL_VERTICES`,
 /// [`FillError::OutOfRange`] for a point beyond [`coordinate_limit`]; nothing is drawn.
 pub fn fill_polygon<const SUB: u32, S: SpanSink + ?Sized>(
-    points: &[FixedPoint],
+    points: &[FixedPoint<SUB>],
     width: u32,
     height: u32,
     colour: Colour,
     sink: &mut S,
-) -> Result<u64, FillError> {
+) -> Result<u64, FillError<SUB>> {
     const {
         assert!(
             SUB <= MAX_SUBPIXEL_BITS,
@@ -251,7 +261,7 @@ const SMALL_POLYGON: usize = 16;
 /// one fill. An edge starting above `rows` is walked down to it row by row: the same crossings
 /// as the whole polygon's fill, so a frame drawn in bands has the same pixels.
 pub(crate) fn fill_in<const SUB: u32, S: SpanSink + ?Sized>(
-    points: &[FixedPoint],
+    points: &[FixedPoint<SUB>],
     edges: &mut [EdgeWalk],
     width: u32,
     rows: core::ops::Range<u32>,

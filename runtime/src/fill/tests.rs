@@ -15,21 +15,26 @@ const A: Colour = Colour::new(255, 0, 0);
 const B: Colour = Colour::new(0, 255, 0);
 const C: Colour = Colour::new(0, 0, 255);
 
+/// Points given by their raw fixed-point coordinates.
+fn raw<const SUB: u32>(p: &[(i32, i32)]) -> Vec<FixedPoint<SUB>> {
+    p.iter().map(|&(x, y)| FixedPoint::new(x, y)).collect()
+}
+
 /// Points given in pixels, snapped with `SUB` bits.
-fn pts<const SUB: u32>(p: &[(f32, f32)]) -> Vec<FixedPoint> {
+fn pts<const SUB: u32>(p: &[(f32, f32)]) -> Vec<FixedPoint<SUB>> {
     p.iter()
-        .map(|&(x, y)| FixedPoint::snap::<SUB>(x, y))
+        .map(|&(x, y)| FixedPoint::<SUB>::snap(x, y))
         .collect()
 }
 
 /// Fill on the mock and check the returned count against what the mock received.
 fn fill<const SUB: u32, const W: usize, const H: usize>(
     m: &mut MockTarget<W, H>,
-    points: &[FixedPoint],
+    points: &[FixedPoint<SUB>],
     colour: Colour,
 ) -> u64 {
     let before = m.pixels();
-    let n = fill_polygon::<SUB, _>(points, W as u32, H as u32, colour, m).unwrap();
+    let n = fill_polygon(points, W as u32, H as u32, colour, m).unwrap();
     assert_eq!(
         n,
         m.pixels() - before,
@@ -156,8 +161,8 @@ fn snapshot_non_convex() {
 #[test]
 fn degenerate_polygons_draw_nothing_and_do_not_panic() {
     let mut m = MockTarget::<8, 8>::new();
-    let p = |x, y| FixedPoint::from_pixels::<4>(x, y);
-    let cases: [&[FixedPoint]; 7] = [
+    let p = |x, y| FixedPoint::<4>::from_pixels(x, y);
+    let cases: [&[FixedPoint<4>]; 7] = [
         &[],
         &[p(1, 1)],
         &[p(1, 1), p(5, 6)],
@@ -174,7 +179,7 @@ fn degenerate_polygons_draw_nothing_and_do_not_panic() {
 
 #[test]
 fn repeated_and_collinear_points_change_nothing() {
-    let p = |x, y| FixedPoint::from_pixels::<0>(x, y);
+    let p = |x, y| FixedPoint::<0>::from_pixels(x, y);
     let mut plain = MockTarget::<8, 8>::new();
     assert!(fill::<0, 8, 8>(&mut plain, &[p(1, 1), p(7, 3), p(3, 7)], A) > 10);
     // (4, 2), (5, 5) and (2, 4) lie on the three edges; (1, 1), (7, 3) are repeated.
@@ -250,15 +255,11 @@ fn any_i32_coordinates_are_clipped() {
     let mut m = MockTarget::<8, 6>::new();
     let big = pts::<8>(&[(-100.0, -50.0), (300.0, -40.0), (20.0, 400.0)]);
     assert_eq!(fill::<8, 8, 6>(&mut m, &big, A), 48);
-    let extreme = [
-        FixedPoint::new(i32::MIN, i32::MIN),
-        FixedPoint::new(i32::MAX, 0),
-        FixedPoint::new(0, i32::MAX),
-    ];
+    let extreme = [(i32::MIN, i32::MIN), (i32::MAX, 0), (0, i32::MAX)];
     let mut m = MockTarget::<8, 6>::new();
-    assert_eq!(fill::<8, 8, 6>(&mut m, &extreme, A), 48);
+    assert_eq!(fill::<8, 8, 6>(&mut m, &raw(&extreme), A), 48);
     let mut m = MockTarget::<8, 6>::new();
-    fill::<0, 8, 6>(&mut m, &extreme, A);
+    fill::<0, 8, 6>(&mut m, &raw(&extreme), A);
 }
 
 #[cfg(not(feature = "wide-coordinates"))]
@@ -269,14 +270,14 @@ fn without_wide_coordinates_out_of_range_points_are_refused() {
     assert_eq!(coordinate_limit::<24>(), 31);
     let mut m = MockTarget::<8, 6>::new();
     for bad in [
-        FixedPoint::new(-1, 0),
+        FixedPoint::<8>::new(-1, 0),
         FixedPoint::new(0, -1),
         FixedPoint::new(1 << 21, 5),
         FixedPoint::new(5, i32::MAX),
     ] {
         let tri = [FixedPoint::new(0, 0), bad, FixedPoint::new(300, 400)];
         assert_eq!(
-            fill_polygon::<8, _>(&tri, 8, 6, A, &mut m),
+            fill_polygon(&tri, 8, 6, A, &mut m),
             Err(FillError::OutOfRange {
                 point: bad,
                 limit: (1 << 21) - 1
@@ -285,7 +286,7 @@ fn without_wide_coordinates_out_of_range_points_are_refused() {
     }
     assert_eq!(m.spans(), 0);
     let e = FillError::OutOfRange {
-        point: FixedPoint::new(-1, 2),
+        point: FixedPoint::<24>::new(-1, 2),
         limit: 31,
     };
     assert_eq!(
@@ -297,14 +298,14 @@ fn without_wide_coordinates_out_of_range_points_are_refused() {
 #[test]
 fn too_many_vertices_is_an_error_and_draws_nothing() {
     let mut m = MockTarget::<8, 8>::new();
-    let ring: Vec<FixedPoint> = (0..MAX_FILL_VERTICES + 1)
+    let ring: Vec<FixedPoint<8>> = (0..MAX_FILL_VERTICES + 1)
         .map(|k| {
             let a = k as f32 / (MAX_FILL_VERTICES + 1) as f32 * core::f32::consts::TAU;
-            FixedPoint::snap::<8>(4.0 + 3.5 * libm::cosf(a), 4.0 + 3.5 * libm::sinf(a))
+            FixedPoint::<8>::snap(4.0 + 3.5 * libm::cosf(a), 4.0 + 3.5 * libm::sinf(a))
         })
         .collect();
     assert_eq!(
-        fill_polygon::<8, _>(&ring, 8, 8, A, &mut m),
+        fill_polygon(&ring, 8, 8, A, &mut m),
         Err(FillError::TooManyVertices { count: 65, max: 64 })
     );
     assert_eq!(m.spans(), 0);
@@ -313,25 +314,25 @@ fn too_many_vertices_is_an_error_and_draws_nothing() {
 
 #[test]
 fn snap_rounds_and_saturates() {
-    assert_eq!(FixedPoint::snap::<8>(1.5, -0.25), FixedPoint::new(384, -64));
-    assert_eq!(FixedPoint::snap::<0>(2.5, 2.49), FixedPoint::new(3, 2));
+    assert_eq!(FixedPoint::<8>::snap(1.5, -0.25), FixedPoint::new(384, -64));
+    assert_eq!(FixedPoint::<0>::snap(2.5, 2.49), FixedPoint::new(3, 2));
     assert_eq!(
-        FixedPoint::snap::<8>(f32::NAN, 1e30),
+        FixedPoint::<8>::snap(f32::NAN, 1e30),
         FixedPoint::new(0, i32::MAX)
     );
     assert_eq!(
-        FixedPoint::snap_f64::<4>(0.03125, -1e300),
+        FixedPoint::<4>::snap_f64(0.03125, -1e300),
         FixedPoint::new(1, i32::MIN)
     );
     assert_eq!(
-        FixedPoint::from_pixels::<8>(3, -2),
+        FixedPoint::<8>::from_pixels(3, -2),
         FixedPoint::new(768, -512)
     );
 }
 
 #[test]
 fn error_display() {
-    let e = FillError::TooManyVertices { count: 70, max: 64 };
+    let e: FillError = FillError::TooManyVertices { count: 70, max: 64 };
     assert_eq!(
         e.to_string(),
         "polygon of 70 vertices, the fill holds at most 64"
@@ -345,7 +346,7 @@ fn error_display() {
 /// the top-left tie rule (a centre on an edge is inside iff the edge is a left edge, or a
 /// horizontal edge with the inside below it).
 fn brute_force<const SUB: u32, const W: usize, const H: usize>(
-    poly: &[FixedPoint],
+    poly: &[FixedPoint<SUB>],
 ) -> [[bool; W]; H] {
     let s = 1i128 << SUB;
     let n = poly.len();
@@ -376,20 +377,20 @@ fn brute_force<const SUB: u32, const W: usize, const H: usize>(
 }
 
 /// Strictly convex hull (Andrew's monotone chain, collinear points dropped).
-fn hull(mut p: Vec<FixedPoint>) -> Vec<FixedPoint> {
+fn hull<const SUB: u32>(mut p: Vec<FixedPoint<SUB>>) -> Vec<FixedPoint<SUB>> {
     p.sort_by_key(|q| (q.x, q.y));
     p.dedup();
     if p.len() < 3 {
         return p;
     }
-    let cross = |o: FixedPoint, a: FixedPoint, b: FixedPoint| {
+    let cross = |o: FixedPoint<SUB>, a: FixedPoint<SUB>, b: FixedPoint<SUB>| {
         (i128::from(a.x) - i128::from(o.x)) * (i128::from(b.y) - i128::from(o.y))
             - (i128::from(a.y) - i128::from(o.y)) * (i128::from(b.x) - i128::from(o.x))
     };
-    let mut h: Vec<FixedPoint> = Vec::new();
+    let mut h: Vec<FixedPoint<SUB>> = Vec::new();
     for pass in 0..2 {
         let start = h.len();
-        let iter: Vec<FixedPoint> = if pass == 0 {
+        let iter: Vec<FixedPoint<SUB>> = if pass == 0 {
             p.clone()
         } else {
             p.iter().rev().copied().collect()
@@ -605,13 +606,12 @@ proptest! {
             0..=MAX_FILL_VERTICES,
         )
     ) {
-        let poly: Vec<FixedPoint> = p.into_iter().map(|(x, y)| FixedPoint::new(x, y)).collect();
-        arbitrary::<8>(&poly)?;
-        arbitrary::<0>(&poly)?;
+        arbitrary::<8>(&raw(&p))?;
+        arbitrary::<0>(&raw(&p))?;
     }
 }
 
-fn arbitrary<const SUB: u32>(poly: &[FixedPoint]) -> Result<(), TestCaseError> {
+fn arbitrary<const SUB: u32>(poly: &[FixedPoint<SUB>]) -> Result<(), TestCaseError> {
     let limit = coordinate_limit::<SUB>();
     let wide = cfg!(feature = "wide-coordinates");
     let inside = |v: i32| wide || (0..=limit).contains(&v);
@@ -620,11 +620,11 @@ fn arbitrary<const SUB: u32>(poly: &[FixedPoint]) -> Result<(), TestCaseError> {
         fill::<SUB, 32, 24>(&mut m, poly, A);
         return Ok(());
     }
-    let refused = fill_polygon::<SUB, _>(poly, 32, 24, A, &mut m);
+    let refused = fill_polygon(poly, 32, 24, A, &mut m);
     let out_of_range = matches!(refused, Err(FillError::OutOfRange { .. }));
     prop_assert!(out_of_range, "{:?}", refused);
     prop_assert_eq!(m.spans(), 0);
-    let wrapped: Vec<FixedPoint> = poly
+    let wrapped: Vec<FixedPoint<SUB>> = poly
         .iter()
         .map(|p| FixedPoint::new(p.x.rem_euclid(limit + 1), p.y.rem_euclid(limit + 1)))
         .collect();
@@ -678,7 +678,7 @@ proptest! {
 }
 
 /// The pixels a fill draws, as a set.
-fn drawn_pixels<const SUB: u32>(points: &[FixedPoint], w: u32, h: u32) -> Vec<(u32, u32)> {
+fn drawn_pixels<const SUB: u32>(points: &[FixedPoint<SUB>], w: u32, h: u32) -> Vec<(u32, u32)> {
     struct Collect(Vec<(u32, u32)>);
     impl SpanSink for Collect {
         fn span(&mut self, y: u32, x0: u32, x1: u32, _: Colour) {
@@ -686,32 +686,31 @@ fn drawn_pixels<const SUB: u32>(points: &[FixedPoint], w: u32, h: u32) -> Vec<(u
         }
     }
     let mut c = Collect(Vec::new());
-    fill_polygon::<SUB, _>(points, w, h, Colour::default(), &mut c).unwrap();
+    fill_polygon(points, w, h, Colour::default(), &mut c).unwrap();
     c.0
 }
 
 #[test]
 fn sample_rect_edges() {
-    let p = |x: i32, y: i32| FixedPoint::new(x, y);
     // SUB = 4: pixel 0's sample is at 8, pixel 1's at 24.
     // A box from 8 (on pixel 0's sample) to 24 (on pixel 1's): only pixel 0 on each axis.
     assert_eq!(
-        sample_rect::<4>(&[p(8, 8), p(24, 8), p(24, 24), p(8, 24)], 10, 10),
+        sample_rect(&raw::<4>(&[(8, 8), (24, 8), (24, 24), (8, 24)]), 10, 10),
         Some([0, 0, 1, 1])
     );
     // Just after the sample: nothing.
     assert_eq!(
-        sample_rect::<4>(&[p(9, 9), p(24, 9), p(24, 24)], 10, 10),
+        sample_rect(&raw::<4>(&[(9, 9), (24, 9), (24, 24)]), 10, 10),
         None
     );
     // SUB = 0: samples at i + 1/2, so [0, 1) holds pixel 0.
     assert_eq!(
-        sample_rect::<0>(&[p(0, 0), p(1, 0), p(0, 1)], 4, 4),
+        sample_rect(&raw::<0>(&[(0, 0), (1, 0), (0, 1)]), 4, 4),
         Some([0, 0, 1, 1])
     );
     // Clamped to the window; empty input.
     assert_eq!(
-        sample_rect::<0>(&[p(-5, -5), p(50, -5), p(50, 50)], 4, 3),
+        sample_rect(&raw::<0>(&[(-5, -5), (50, -5), (50, 50)]), 4, 3),
         Some([0, 0, 4, 3])
     );
     assert_eq!(sample_rect::<0>(&[], 4, 4), None);
@@ -728,10 +727,10 @@ proptest! {
     ) {
         // Without `wide-coordinates` the fill takes no negative coordinate.
         let shift = if cfg!(feature = "wide-coordinates") { 0 } else { 40 };
-        let points: Vec<FixedPoint> =
+        let points: Vec<FixedPoint<4>> =
             pts.iter().map(|&(x, y)| FixedPoint::new(x + shift, y + shift)).collect();
         let drawn = drawn_pixels::<4>(&points, 20, 16);
-        match sample_rect::<4>(&points, 20, 16) {
+        match sample_rect(&points, 20, 16) {
             None => prop_assert!(drawn.is_empty(), "{:?}", drawn),
             Some([x0, y0, x1, y1]) => {
                 for (x, y) in drawn {

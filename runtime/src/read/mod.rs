@@ -18,8 +18,10 @@ use layout::{
     NODE_SIZE, NONE, PALETTE_SIZE, PLANE_SIZE, VERTEX_SIZE,
 };
 
-/// The header, decoded.
-#[derive(Debug, Clone, Copy, PartialEq)]
+/// The header, decoded. Its [`Default`] is all zero: with only `centre` and the bounds set, a
+/// header frames a scene for the camera ([`crate::camera::Orbit::pose`],
+/// [`crate::camera::Camera::default_near`]), which reads nothing else.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct Header {
     /// Format version.
     pub version: u16,

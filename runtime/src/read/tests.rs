@@ -737,7 +737,7 @@ fn render_untrusted(scene: &Scene<'_>) {
             self.0 += u64::from(x_end - x_start);
         }
     }
-    let view = crate::camera::View::look_at(
+    let view = crate::camera::LocalView::look_at(
         Vec3::new(2.0, 1.5, 3.0),
         Vec3::splat(0.5),
         Vec3::Y,

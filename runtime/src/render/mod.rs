@@ -5,11 +5,11 @@
 //! buffers hold the largest polygon plus what clipping adds ([`clip::CLIP_PLANES`]), and id
 //! rendering has ids to draw. A frame is then drawn completely or not at all.
 //!
-//! Snapping: a projected point `(sx, sy)` becomes `FixedPoint { x: round(sx * 2^SUB),
-//! y: round(sy * 2^SUB) }`, rounding to nearest (halves away from zero), then clamped to the
-//! window `[0, W * 2^SUB] x [0, H * 2^SUB]` (clipped points may miss the window by a rounding
-//! error). Snapping is a function of the point alone, so polygons sharing an edge share its
-//! fixed-point ends bit for bit.
+//! Snapping: a projected point `(sx, sy)` becomes the [`FixedPoint<SUB>`]
+//! `(round(sx * 2^SUB), round(sy * 2^SUB))`, rounding to nearest (halves away from zero),
+//! then clamped to the window `[0, W * 2^SUB] x [0, H * 2^SUB]` (clipped points may miss the
+//! window by a rounding error). Snapping is a function of the point alone, so polygons sharing
+//! an edge share its fixed-point ends bit for bit.
 //!
 //! # Culling
 //!
@@ -42,6 +42,7 @@
 //! per-polygon painter with snapping ([`snap`]), and what a frame reports ([`FrameStats`]).
 //!
 //! [`RenderError`]: crate::error::RenderError
+//! [`FixedPoint<SUB>`]: crate::fill::FixedPoint
 //! [`SpanSink`]: crate::target::SpanSink
 //! [`clip::CLIP_PLANES`]: crate::clip::CLIP_PLANES
 //! [`Frustum::excludes_box`]: crate::clip::Frustum::excludes_box

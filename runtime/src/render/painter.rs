@@ -8,7 +8,7 @@ use glam::{Vec2, Vec3};
 
 use super::renderer::id_colour;
 use super::{FrameStats, Paint, Source};
-use crate::camera::View;
+use crate::camera::LocalView;
 use crate::clip::{self, Frustum};
 use crate::coverage::{Coverage, Mode};
 use crate::error::RenderError;
@@ -18,11 +18,11 @@ use crate::target::{Colour, SpanSink};
 use crate::traverse::{Order, StackEntry, Traversal};
 use crate::vertices::VertexCache;
 
-/// Snap a screen point to fixed point with `SUB` fractional bits (see the module docs);
+/// Snap a screen point to a [`FixedPoint<SUB>`] in the window (see the module docs);
 /// `max_x`, `max_y` are `W * 2^SUB`, `H * 2^SUB`. A NaN lands on 0.
-pub fn snap<const SUB: u32>(p: Vec2, max_x: i32, max_y: i32) -> FixedPoint {
+pub fn snap<const SUB: u32>(p: Vec2, max_x: i32, max_y: i32) -> FixedPoint<SUB> {
     // Saturating and NaN-safe: no overflow, no panic.
-    let q = FixedPoint::snap::<SUB>(p.x, p.y);
+    let q = FixedPoint::<SUB>::snap(p.x, p.y);
     FixedPoint {
         x: q.x.clamp(0, max_x.max(0)),
         y: q.y.clamp(0, max_y.max(0)),
@@ -30,7 +30,7 @@ pub fn snap<const SUB: u32>(p: Vec2, max_x: i32, max_y: i32) -> FixedPoint {
 }
 
 /// How far, in pixels, a snapped vertex of an image `size` pixels wide (its larger side) may
-/// lie outside the screen rectangle of its node's box ([`View::box_on_screen`], which already
+/// lie outside the screen rectangle of its node's box ([`LocalView::box_on_screen`], which already
 /// holds every computed camera-space position): snapping moves it by at most `2^-(SUB+1)` of
 /// a pixel, and the rectangle's and the vertex's screen values each round by a few units in
 /// their last place, below `size` where it matters. `1/64` of a pixel plus `size · 2^-18` (64
@@ -66,7 +66,7 @@ fn tally(counter: &mut u64, n: u64) {
 
 /// The per-polygon work of a frame, with its buffers.
 pub(super) struct Painter<'w, 'v, const SUB: u32> {
-    pub(super) view: &'w View,
+    pub(super) view: &'w LocalView,
     /// The frame rows drawn (all of them, or a band).
     pub(super) rows: core::ops::Range<u32>,
     pub(super) frustum: Frustum,
@@ -81,10 +81,10 @@ pub(super) struct Painter<'w, 'v, const SUB: u32> {
     pub(super) all_inside: bool,
     pub(super) clip_a: &'w mut [Vec3],
     pub(super) clip_b: &'w mut [Vec3],
-    pub(super) points: &'w mut [FixedPoint],
+    pub(super) points: &'w mut [FixedPoint<SUB>],
     pub(super) edges: &'w mut [fill::EdgeWalk],
     /// Projected vertices, in frames without clipping.
-    pub(super) vertices: Option<&'w mut VertexCache<'v>>,
+    pub(super) vertices: Option<&'w mut VertexCache<'v, SUB>>,
 }
 
 impl<const SUB: u32> Painter<'_, '_, SUB> {
@@ -248,7 +248,7 @@ impl<const SUB: u32> Painter<'_, '_, SUB> {
         let pts = self.points.get(..count).unwrap_or(&[]);
         let (width, height) = (self.view.width, self.view.height);
         // No pixel centre inside: the fill would draw nothing. All covered: nothing shows.
-        let Some([x0, y0, x1, y1]) = fill::sample_rect::<SUB>(pts, width, height) else {
+        let Some([x0, y0, x1, y1]) = fill::sample_rect(pts, width, height) else {
             return Ok(());
         };
         let (r0, r1) = (self.rows.start, self.rows.end);
@@ -279,7 +279,7 @@ impl<const SUB: u32> Painter<'_, '_, SUB> {
             pixels: 0,
         };
         let rows = self.rows.clone();
-        fill::fill_in::<SUB, _>(pts, self.edges, width, rows, colour, &mut through);
+        fill::fill_in(pts, self.edges, width, rows, colour, &mut through);
         tally(&mut stats.pixels_written, through.pixels);
         Ok(())
     }

@@ -8,7 +8,7 @@ use glam::Vec3;
 
 use super::painter::Painter;
 use super::{FrameStats, Source, Workspace};
-use crate::camera::View;
+use crate::camera::LocalView;
 use crate::clip::{self, Frustum};
 use crate::coverage::{Coverage, Mode};
 use crate::error::RenderError;
@@ -89,17 +89,18 @@ pub(super) fn window<const SUB: u32>(width: u32, height: u32) -> Result<(i32, i3
 /// - colours, or ids with [`Renderer::ids`] (a scene without ids is an error, not a blank);
 /// - culling on, which never changes a pixel ([`Renderer::without_culling`] to measure it).
 ///
-/// `SUB` is the fixed-point precision of screen coordinates (fractional bits): the default
-/// [`fill::SUBPIXEL_BITS`] with [`Renderer::new`], another with [`Renderer::with_precision`].
+/// `SUB` is the precision of its screen points ([`fill::FixedPoint<SUB>`]), that of its
+/// [`Workspace`] and vertex memory: the default [`fill::SUBPIXEL_BITS`] with
+/// [`Renderer::new`], another with [`Renderer::with_precision`].
 #[derive(Debug)]
 pub struct Renderer<'m, const SUB: u32 = { fill::SUBPIXEL_BITS }> {
     stack: &'m mut [StackEntry],
     clip_a: &'m mut [Vec3],
     clip_b: &'m mut [Vec3],
-    points: &'m mut [FixedPoint],
+    points: &'m mut [FixedPoint<SUB>],
     edges: &'m mut [fill::EdgeWalk],
     coverage: Option<Coverage<'m>>,
-    vertices: Option<VertexCache<'m>>,
+    vertices: Option<VertexCache<'m, SUB>>,
     back_to_front: bool,
     paint: Paint,
     cull: bool,
@@ -119,10 +120,11 @@ impl<'m> Renderer<'m> {
 }
 
 impl<'m, const SUB: u32> Renderer<'m, SUB> {
-    /// [`Renderer::new`] at `SUB` fractional bits: `Renderer::<4>::with_precision(&mut ws)`.
+    /// [`Renderer::new`] at `SUB` fractional bits, over a workspace of that precision:
+    /// `Renderer::with_precision(&mut ws)` with `ws: Workspace<STACK, VERTS, 4>`.
     #[inline(always)]
     pub fn with_precision<const STACK: usize, const VERTS: usize>(
-        workspace: &'m mut Workspace<STACK, VERTS>,
+        workspace: &'m mut Workspace<STACK, VERTS, SUB>,
     ) -> Self {
         let Workspace {
             stack,
@@ -159,7 +161,7 @@ impl<'m, const SUB: u32> Renderer<'m, SUB> {
     /// Screen positions of the scene's vertices, kept from frame to frame (with the
     /// `vertex-cache` feature; see [`crate::vertices`]): the same pixels for less work.
     #[inline(always)]
-    pub fn vertex_memory(mut self, vertices: VertexCache<'m>) -> Self {
+    pub fn vertex_memory(mut self, vertices: VertexCache<'m, SUB>) -> Self {
         self.vertices = Some(vertices);
         self
     }
@@ -225,13 +227,13 @@ impl<'m, const SUB: u32> Renderer<'m, SUB> {
 
     /// Draw `scene` seen by `view` into `target`. Everything is checked before the first
     /// pixel (see the module docs) and the frame is drawn completely or not at all: an error
-    /// for a view that is degenerate ([`View::check`]), an image too large for the
+    /// for a view that is degenerate ([`LocalView::check`]), an image too large for the
     /// fixed-point range, a stack or clip buffers too small for the scene, span memory of
     /// another size than the view's image, or ids asked of a scene without them. Never panics.
     pub fn draw<T, S>(
         &mut self,
         scene: &T,
-        view: &View,
+        view: &LocalView,
         target: &mut S,
     ) -> Result<FrameStats, RenderError>
     where
@@ -254,7 +256,7 @@ impl<'m, const SUB: u32> Renderer<'m, SUB> {
     pub fn draw_rows<T, S>(
         &mut self,
         scene: &T,
-        view: &View,
+        view: &LocalView,
         rows: core::ops::Range<u32>,
         target: &mut S,
     ) -> Result<FrameStats, RenderError>
@@ -276,7 +278,7 @@ impl<'m, const SUB: u32> Renderer<'m, SUB> {
     fn frame<T, S>(
         &mut self,
         scene: &T,
-        view: &View,
+        view: &LocalView,
         rows: core::ops::Range<u32>,
         sink: &mut S,
     ) -> Result<FrameStats, RenderError>

@@ -1,7 +1,7 @@
 //! Shorthands for the render tests: one frame drawn by a fresh [`Renderer`].
 
 use super::*;
-use crate::camera::{Camera, View};
+use crate::camera::{Camera, LocalView};
 use crate::coverage::Coverage;
 use crate::error::RenderError;
 use crate::fill;
@@ -29,12 +29,12 @@ impl Default for Options {
 
 /// The memory a test frame's renderer gets besides its workspace.
 #[derive(Debug, Default)]
-pub(crate) struct Memory<'m> {
+pub(crate) struct Memory<'m, const SUB: u32 = { fill::SUBPIXEL_BITS }> {
     pub coverage: Option<Coverage<'m>>,
-    pub vertices: Option<VertexCache<'m>>,
+    pub vertices: Option<VertexCache<'m, SUB>>,
 }
 
-impl<'m> From<Coverage<'m>> for Memory<'m> {
+impl<'m, const SUB: u32> From<Coverage<'m>> for Memory<'m, SUB> {
     fn from(coverage: Coverage<'m>) -> Self {
         Memory {
             coverage: Some(coverage),
@@ -64,7 +64,7 @@ where
 pub(crate) fn draw_test_frame_at<const SUB: u32, T, S, const STACK: usize, const VERTS: usize>(
     scene: &T,
     camera: &Camera,
-    workspace: &mut Workspace<STACK, VERTS>,
+    workspace: &mut Workspace<STACK, VERTS, SUB>,
     paint: Paint,
     sink: &mut S,
 ) -> Result<FrameStats, RenderError>
@@ -115,9 +115,9 @@ pub(crate) fn draw_test_frame_with_at<
 >(
     scene: &T,
     camera: &Camera,
-    workspace: &mut Workspace<STACK, VERTS>,
+    workspace: &mut Workspace<STACK, VERTS, SUB>,
     options: Options,
-    memory: Memory<'_>,
+    memory: Memory<'_, SUB>,
     sink: &mut S,
 ) -> Result<FrameStats, RenderError>
 where
@@ -132,10 +132,10 @@ where
 /// front to back, so that back to front draws without it as a caller would.
 pub(crate) fn draw<const SUB: u32, T, S, const STACK: usize, const VERTS: usize>(
     scene: &T,
-    view: &View,
-    workspace: &mut Workspace<STACK, VERTS>,
+    view: &LocalView,
+    workspace: &mut Workspace<STACK, VERTS, SUB>,
     options: Options,
-    memory: Memory<'_>,
+    memory: Memory<'_, SUB>,
     sink: &mut S,
 ) -> Result<FrameStats, RenderError>
 where

@@ -7,7 +7,7 @@ use std::vec::Vec;
 
 use super::testing::*;
 use super::*;
-use crate::camera::{Camera, Pose, View};
+use crate::camera::{Camera, LocalView, Pose};
 use crate::coverage::Coverage;
 use crate::error::RenderError;
 use crate::fill::{self, FixedPoint};
@@ -421,7 +421,7 @@ fn scene_renders_like_the_in_memory_tree() {
 }
 
 /// [`render_view`] with the view of a camera draws exactly what the camera draws; the `f32`
-/// [`View::look_at`] draws the same picture up to pixels along edges; a bad view is refused
+/// [`LocalView::look_at`] draws the same picture up to pixels along edges; a bad view is refused
 /// before any pixel.
 #[test]
 fn a_view_draws_what_its_camera_draws() {
@@ -433,7 +433,7 @@ fn a_view_draws_what_its_camera_draws() {
     let eye = DVec3::new(1003.0, -48.0, 25.0);
     let centre = DVec3::from_array(t.centre);
     let cam = Camera::look_at(Pose::new(eye, centre), 50.0, w, h, 0.01).unwrap();
-    let draw = |view: Option<&View>, order: Order| {
+    let draw = |view: Option<&LocalView>, order: Order| {
         let mut frame = Frame::new(w, h);
         let mut intervals = vec![(0u16, 0u16); 8 * h as usize];
         let mut counts = vec![0u16; h as usize];
@@ -470,7 +470,7 @@ fn a_view_draws_what_its_camera_draws() {
         assert_eq!((sa, a), (sb, b));
     }
     let focal = (f64::from(h) * 0.5 / (25f64).to_radians().tan()) as f32;
-    let view = View::look_at(
+    let view = LocalView::look_at(
         (eye - centre).as_vec3(),
         Vec3::ZERO,
         Vec3::Y,
@@ -644,13 +644,12 @@ fn whole_pixel_precision_renders_the_same_scene_up_to_edges() {
             let mut intervals = vec![(0u16, 0u16); 8 * H];
             let mut counts = [0u16; H];
             let cov = Coverage::new(&mut intervals, &mut counts, W as u32, H as u32).unwrap();
-            let mut ws = Workspace::<4, 16>::new();
             let options = Options::default();
             *stats = if k == 0 {
                 draw_test_frame_with_at::<0, _, _, 4, 16>(
                     &t,
                     &cam,
-                    &mut ws,
+                    &mut Workspace::new(),
                     options,
                     Memory::from(cov),
                     frame,
@@ -659,7 +658,7 @@ fn whole_pixel_precision_renders_the_same_scene_up_to_edges() {
                 draw_test_frame_with_at::<8, _, _, 4, 16>(
                     &t,
                     &cam,
-                    &mut ws,
+                    &mut Workspace::new(),
                     options,
                     Memory::from(cov),
                     frame,

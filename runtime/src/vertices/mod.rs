@@ -18,21 +18,24 @@
 #[cfg(test)]
 mod tests;
 
-use crate::fill::FixedPoint;
+use crate::fill::{FixedPoint, SUBPIXEL_BITS};
 
-/// One vertex's snapped screen position, and which vertex it is ([`CachedVertex::EMPTY`]:
-/// none).
+/// One vertex's snapped screen position (the coordinates of a [`FixedPoint`], at the
+/// precision of the [`VertexCache`] that wrote it), and which vertex it is
+/// ([`CachedVertex::EMPTY`]: none). Memory of any precision: the cache over it gives it one.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct CachedVertex {
     vertex: u32,
-    point: FixedPoint,
+    x: i32,
+    y: i32,
 }
 
 impl CachedVertex {
     /// An empty entry (the [`Default`]); `const`, for memory in a `static`.
     pub const EMPTY: CachedVertex = CachedVertex {
         vertex: u32::MAX,
-        point: FixedPoint::new(0, 0),
+        x: 0,
+        y: 0,
     };
 }
 
@@ -42,16 +45,17 @@ impl Default for CachedVertex {
     }
 }
 
-/// Screen positions of a scene's vertices (see the module docs), in the first power-of-two
-/// entries of the memory given. Keep it from frame to frame: it is made once.
+/// Screen positions, [`FixedPoint<SUB>`]s, of a scene's vertices (see the module docs), in the
+/// first power-of-two entries of the memory given. Keep it from frame to frame: it is made
+/// once. Every entry it reads was written by itself in the same frame, so at its own `SUB`.
 #[derive(Debug)]
-pub struct VertexCache<'m> {
+pub struct VertexCache<'m, const SUB: u32 = SUBPIXEL_BITS> {
     entries: &'m mut [CachedVertex],
     /// `entries.len() - 1`: the entry of vertex `v` is `v & mask`.
     mask: u32,
 }
 
-impl<'m> VertexCache<'m> {
+impl<'m, const SUB: u32> VertexCache<'m, SUB> {
     /// A cache over the largest power-of-two prefix of `entries` (up to `2^31` entries); one
     /// per vertex of the scene ([`crate::read::Header::vertex_count`], rounded up to a power of
     /// two) keeps every vertex, fewer keep those used close together.
@@ -85,15 +89,20 @@ impl<'m> VertexCache<'m> {
     /// The position of vertex `index` in this frame: kept from an earlier call of the frame, or
     /// computed by `compute` and kept (replacing the vertex that shared its entry).
     #[inline]
-    pub(crate) fn get(&mut self, index: u32, compute: impl FnOnce() -> FixedPoint) -> FixedPoint {
+    pub(crate) fn get(
+        &mut self,
+        index: u32,
+        compute: impl FnOnce() -> FixedPoint<SUB>,
+    ) -> FixedPoint<SUB> {
         match self.entries.get_mut((index & self.mask) as usize) {
             // `u32::MAX` marks an empty entry: that vertex is never kept.
-            Some(e) if e.vertex == index && index != u32::MAX => e.point,
+            Some(e) if e.vertex == index && index != u32::MAX => FixedPoint::new(e.x, e.y),
             Some(e) => {
                 let point = compute();
                 *e = CachedVertex {
                     vertex: index,
-                    point,
+                    x: point.x,
+                    y: point.y,
                 };
                 point
             }

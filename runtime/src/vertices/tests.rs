@@ -1,11 +1,12 @@
 use super::*;
+use crate::fill::SubpixelPoint;
 
-fn point(v: i32) -> FixedPoint {
+fn point(v: i32) -> SubpixelPoint {
     FixedPoint::new(v, -v)
 }
 
 /// Calls `get` for `index` and says whether `compute` ran.
-fn computed(cache: &mut VertexCache<'_>, index: u32, value: i32) -> (FixedPoint, bool) {
+fn computed(cache: &mut VertexCache<'_>, index: u32, value: i32) -> (SubpixelPoint, bool) {
     let mut ran = false;
     let p = cache.get(index, || {
         ran = true;
@@ -44,7 +45,7 @@ fn vertices_sharing_an_entry_replace_each_other() {
 #[test]
 fn only_a_power_of_two_of_the_memory_is_used() {
     let mut memory = [CachedVertex::EMPTY; 6];
-    let cache = VertexCache::new(&mut memory);
+    let cache: VertexCache<'_> = VertexCache::new(&mut memory);
     assert_eq!(cache.len(), 4);
     let mut none: [CachedVertex; 0] = [];
     let mut cache = VertexCache::new(&mut none);

@@ -8,7 +8,7 @@ pub use zbuffer::Method;
 
 #[cfg(not(feature = "zbuffer"))]
 mod peel {
-    use peel_runtime::camera::View;
+    use peel_runtime::camera::LocalView;
     use peel_runtime::coverage::Coverage;
     use peel_runtime::read::{Header, Scene};
     use peel_runtime::render::{Renderer, Workspace};
@@ -99,7 +99,7 @@ mod peel {
         /// Draw the frame seen by `view` and send it to `panel`; returns whether front to
         /// back ran out of span memory (the frame is then finished back to front: the same
         /// pixels, with overdraw).
-        pub fn frame(&mut self, view: &View, panel: &mut Panel) -> Result<bool, Failure> {
+        pub fn frame(&mut self, view: &LocalView, panel: &mut Panel) -> Result<bool, Failure> {
             let (w, h) = (self.width, self.height);
             let scene = &self.scene;
             if VARIANT == Variant::FtbStream {
@@ -135,7 +135,7 @@ mod peel {
 
 #[cfg(feature = "zbuffer")]
 mod zbuffer {
-    use peel_runtime::camera::View;
+    use peel_runtime::camera::LocalView;
     use peel_runtime::read::Header;
     use peel_runtime::target::Rgb565Framebuffer;
     use peel_target_kit::config::Config;
@@ -184,7 +184,7 @@ mod zbuffer {
         }
 
         /// Draw the frame seen by `view` and send it to `panel` (never a fallback).
-        pub fn frame(&mut self, view: &View, panel: &mut Panel) -> Result<bool, Failure> {
+        pub fn frame(&mut self, view: &LocalView, panel: &mut Panel) -> Result<bool, Failure> {
             peel_target_kit::zbuffer::draw(
                 &self.mesh,
                 view,

@@ -22,7 +22,7 @@ pub mod config;
 pub mod mesh;
 pub mod zbuffer;
 
-use peel_runtime::camera::{Camera, Orbit, View};
+use peel_runtime::camera::{Camera, LocalView, Orbit};
 use peel_runtime::read::Header;
 use peel_runtime::RenderError;
 
@@ -39,7 +39,7 @@ pub fn orbit_view(
     fov_y_deg: f64,
     width: u32,
     height: u32,
-) -> Result<View, RenderError> {
+) -> Result<LocalView, RenderError> {
     let orbit = Orbit {
         azimuth_deg: angles.azimuth_deg,
         elevation_deg: angles.elevation_deg,

@@ -137,20 +137,13 @@ impl<'a> Mesh<'a> {
     /// read, so the mesh is seen from exactly the scene's cameras.
     pub fn header(&self) -> Header {
         Header {
-            version: 0,
-            flags: 0,
             vertex_count: (self.vertices.len() / VERTEX) as u32,
-            plane_count: 0,
-            index_count: 0,
             polygon_count: self.triangle_count(),
-            node_count: 0,
-            max_depth: 0,
             max_polygon_vertices: 3,
             centre: self.centre,
             bounds_min: self.bounds_min,
             bounds_max: self.bounds_max,
-            palette_count: 0,
-            bounds_count: 0,
+            ..Header::default()
         }
     }
 }
@@ -197,20 +190,10 @@ pub fn encode(
 #[cfg(test)]
 pub(crate) fn test_header(centre: [f64; 3], lo: Vec3, hi: Vec3) -> Header {
     Header {
-        version: 0,
-        flags: 0,
-        vertex_count: 0,
-        plane_count: 0,
-        index_count: 0,
-        polygon_count: 0,
-        node_count: 0,
-        max_depth: 0,
-        max_polygon_vertices: 0,
         centre,
         bounds_min: lo,
         bounds_max: hi,
-        palette_count: 0,
-        bounds_count: 0,
+        ..Header::default()
     }
 }
 

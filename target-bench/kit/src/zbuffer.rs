@@ -1,6 +1,6 @@
 //! The z-buffer baseline as firmware would write it: the source triangles of a [`Mesh`], each
 //! transformed, clipped, projected, snapped and filled exactly as Peel's renderer does its
-//! polygons (the runtime's [`View`], [`clip_polygon`], [`snap`] and [`fill_polygon`], top-left
+//! polygons (the runtime's [`LocalView`], [`clip_polygon`], [`snap`] and [`fill_polygon`], top-left
 //! rule included), into an RGB565 framebuffer with a **16-bit depth buffer**: per pixel the
 //! interpolated `1/z` wins when nearer (larger), ties going to the triangle drawn first.
 //!
@@ -14,9 +14,9 @@
 //! pixels) and both Cortex-M cores compute the same bits.
 
 use glam::Vec3;
-use peel_runtime::camera::View;
+use peel_runtime::camera::LocalView;
 use peel_runtime::clip::{clip_polygon, Frustum, CLIP_PLANES};
-use peel_runtime::fill::{coordinate_limit, fill_polygon, FixedPoint, SUBPIXEL_BITS};
+use peel_runtime::fill::{coordinate_limit, fill_polygon, SubpixelPoint, SUBPIXEL_BITS};
 use peel_runtime::render::snap;
 use peel_runtime::target::{Colour, SpanSink};
 use peel_runtime::RenderError;
@@ -68,7 +68,7 @@ struct DepthRange {
 
 impl DepthRange {
     /// The range of the box `lo..hi` (the scene's bounds) seen by `view`.
-    fn new(view: &View, lo: Vec3, hi: Vec3) -> DepthRange {
+    fn new(view: &LocalView, lo: Vec3, hi: Vec3) -> DepthRange {
         let b = view.box_to_camera(lo, hi);
         let near = (b.centre.z - b.extent.z - b.error).max(view.near);
         let far = b.centre.z + b.extent.z + b.error;
@@ -83,7 +83,7 @@ impl DepthRange {
 
     /// The depth plane of the camera-space polygon `camera` (`1 + (1/z - 1/far) * scale` at
     /// a screen point) in fixed point, or `None` when its plane passes through the eye.
-    fn plane(&self, camera: &[Vec3], view: &View) -> Option<[i64; 3]> {
+    fn plane(&self, camera: &[Vec3], view: &LocalView) -> Option<[i64; 3]> {
         let p0 = *camera.first()?;
         let mut n = Vec3::ZERO;
         for w in camera.get(1..)?.windows(2) {
@@ -173,7 +173,7 @@ impl SpanSink for DepthSink<'_> {
 /// nothing is drawn then.
 pub fn draw(
     mesh: &Mesh<'_>,
-    view: &View,
+    view: &LocalView,
     background: u16,
     colour: &mut [u16],
     depth: &mut [u16],
@@ -203,7 +203,7 @@ pub fn draw(
     let range = DepthRange::new(view, lo, hi);
     let mut a = [Vec3::ZERO; CLIPPED];
     let mut b = [Vec3::ZERO; CLIPPED];
-    let mut points = [FixedPoint::default(); CLIPPED];
+    let mut points = [SubpixelPoint::default(); CLIPPED];
     for t in 0..mesh.triangle_count() {
         let (corners, rgb) = mesh.triangle(t);
         for (slot, &i) in a.iter_mut().zip(&corners) {
@@ -233,7 +233,7 @@ pub fn draw(
             rgb,
         };
         // At most CLIPPED points, all snapped into the window checked above: cannot fail.
-        let _ = fill_polygon::<SUB, _>(
+        let _ = fill_polygon(
             &points[..count],
             width,
             height,
@@ -325,7 +325,7 @@ mod tests {
             draw(&mesh, &view, 0, &mut small, &mut depth),
             Err(ZError::Buffer { needed: 32 * 24 })
         );
-        let huge = View {
+        let huge = LocalView {
             width: 1 << 24,
             ..view
         };

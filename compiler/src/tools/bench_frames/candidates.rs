@@ -4,7 +4,7 @@
 use std::time::Instant;
 
 use super::measure::{measure_scene, prepare_scene, Variant, Work};
-use super::{ring_cameras, Method};
+use super::{ring_shots, Method};
 use crate::compile::{compile_mesh, CompileOptions};
 use crate::load::Mesh;
 
@@ -21,14 +21,14 @@ pub fn candidates_knob(
     let mut s = String::from(
         "| scene | candidates | compile (s) | output polygons | polygons / triangles | median frame (ms) |\n|---|---:|---:|---:|---:|---:|\n",
     );
-    let cams = ring_cameras(mesh, cameras);
+    let shots = ring_shots(mesh, cameras, width, height);
     for &k in ks {
         let mut options = CompileOptions::default();
         options.build.candidates = k;
         let start = Instant::now();
         let (tree, _) = compile_mesh(mesh, &options, &|_| {}).map_err(|e| e.to_string())?;
         let seconds = start.elapsed().as_secs_f64();
-        let p = prepare_scene(mesh, None, &cams, width, height, &options)?;
+        let p = prepare_scene(mesh, None, &shots, &options)?;
         let mut work = Work::new(height);
         let front_to_back = Variant::new(Method::PeelFrontToBack);
         let r = measure_scene(name, &[front_to_back], &p, &mut work)?

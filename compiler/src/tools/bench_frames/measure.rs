@@ -5,19 +5,21 @@
 use std::time::Instant;
 
 use glam::DVec3;
-use peel_runtime::camera::{Camera, Pose};
+use peel_runtime::camera::Camera;
 use peel_runtime::coverage::Coverage;
+use peel_runtime::fill::{FixedPoint, SUBPIXEL_BITS};
 use peel_runtime::read::Scene;
 use peel_runtime::render::{Renderer, Workspace};
 use peel_runtime::target::{Framebuffer, Xrgb8888};
 use peel_runtime::traverse::Order;
 use peel_runtime::vertices::{CachedVertex, VertexCache};
 
-use super::{newell, prepare, zbuffer, BenchCamera, FrameRecord, Method};
+use super::{newell, prepare, zbuffer, FrameRecord, Method};
 use crate::compile::{compile_mesh, CompileOptions};
 use crate::load::Mesh;
 use crate::tools::raster::{HOST_SPANS_PER_ROW, HOST_STACK, HOST_VERTS};
-use crate::tools::reference::{reference, RefCamera, Reference};
+use crate::tools::reference::{reference, Reference};
+use crate::tools::shot::Shot;
 
 /// A frame: an id image and the pixels written.
 struct Drawn {
@@ -39,9 +41,7 @@ pub(super) struct Prepared {
 pub(super) fn prepare_scene(
     mesh: &Mesh,
     naive: Option<Vec<u8>>,
-    cams: &[BenchCamera],
-    width: u32,
-    height: u32,
+    shots: &[Shot],
     compile: &CompileOptions,
 ) -> Result<Prepared, String> {
     let options = CompileOptions {
@@ -52,7 +52,6 @@ pub(super) fn prepare_scene(
     let scene = Scene::parse(&bytes).map_err(|e| e.to_string())?;
     let h = scene.header();
     let centre = DVec3::from_array(h.centre);
-    let near = Camera::default_near(h.bounds_min, h.bounds_max);
     let polys: Vec<Vec<DVec3>> = (0..h.polygon_count)
         .map(|i| {
             let p = scene.polygon(i);
@@ -63,19 +62,9 @@ pub(super) fn prepare_scene(
         .collect();
     let triangles: Vec<[DVec3; 3]> = mesh.triangles.iter().map(|t| t.vertices).collect();
     let mut views = Vec::new();
-    for c in cams {
-        let camera = Camera::look_at(Pose::new(c.eye, c.target), 60.0, width, height, near)
-            .map_err(|e| e.to_string())?;
-        let rc = RefCamera {
-            eye: c.eye,
-            target: c.target,
-            up: DVec3::Y,
-            fov_y_deg: 60.0,
-            width,
-            height,
-            near,
-        };
-        views.push((camera, reference(&triangles, &polys, &rc)));
+    for shot in shots {
+        let camera = shot.camera(&h)?;
+        views.push((camera, reference(&triangles, &polys, shot, camera.near())));
     }
     Ok(Prepared {
         bytes,
@@ -85,13 +74,14 @@ pub(super) fn prepare_scene(
     })
 }
 
-/// Draw one frame with `method`; `SUB` is the fixed-point precision.
+/// Draw one frame with `method`; `SUB` is the fixed-point precision, that of `at`.
 fn draw<const SUB: u32>(
     p: &Prepared,
     scenes: &mut Scenes<'_>,
     method: Method,
     camera: &Camera,
-    work: &mut Work,
+    work: &mut Buffers,
+    at: &mut AtPrecision<SUB>,
 ) -> Result<Drawn, String> {
     let (w, h) = (camera.width(), camera.height());
     let n = (w * h) as usize;
@@ -114,7 +104,7 @@ fn draw<const SUB: u32>(
                 .map_err(|e| e.to_string())?;
             // A renderer per frame, as the method and precision change from frame to frame;
             // its vertex memory is cleared here, which the timed frame pays for.
-            let mut renderer = Renderer::<SUB>::with_precision(&mut work.workspace)
+            let mut renderer = Renderer::with_precision(&mut at.workspace)
                 .span_memory(coverage)
                 .vertex_memory(VertexCache::new(memory))
                 .ids();
@@ -133,8 +123,8 @@ fn draw<const SUB: u32>(
         }
         Method::ZbufferInt | Method::ZbufferF32 | Method::Newell => {
             let view = camera.view(scenes.peel.header().centre);
-            let tris = &mut work.triangles;
-            prepare::prepare::<SUB>(&p.triangles, &view, &mut work.projected, tris);
+            let tris = &mut at.triangles;
+            prepare::prepare(&p.triangles, &view, &mut at.projected, tris);
             let mut ids = vec![0u32; n];
             let written = match method {
                 Method::ZbufferInt => {
@@ -154,15 +144,39 @@ fn draw<const SUB: u32>(
     }
 }
 
-/// Reused buffers.
+/// Reused buffers: those any precision uses, and those holding snapped points, one set per
+/// precision timed.
 pub(super) struct Work {
-    workspace: Box<Workspace<HOST_STACK, HOST_VERTS>>,
+    buffers: Buffers,
+    sub0: AtPrecision<0>,
+    sub4: AtPrecision<4>,
+    sub8: AtPrecision<SUBPIXEL_BITS>,
+}
+
+/// The buffers of every precision.
+struct Buffers {
     intervals: Vec<(u16, u16)>,
     counts: Vec<u16>,
     depth_u32: Vec<u32>,
     depth_f32: Vec<f32>,
-    triangles: Vec<prepare::Prepared>,
-    projected: Vec<(glam::Vec3, peel_runtime::fill::FixedPoint)>,
+}
+
+/// The buffers holding points snapped at `SUB` fractional bits: the renderer's workspace, the
+/// baselines' triangles and projected vertices.
+struct AtPrecision<const SUB: u32> {
+    workspace: Box<Workspace<HOST_STACK, HOST_VERTS, SUB>>,
+    triangles: Vec<prepare::Prepared<SUB>>,
+    projected: Vec<(glam::Vec3, FixedPoint<SUB>)>,
+}
+
+impl<const SUB: u32> AtPrecision<SUB> {
+    fn new() -> Self {
+        AtPrecision {
+            workspace: Box::default(),
+            triangles: Vec::new(),
+            projected: Vec::new(),
+        }
+    }
 }
 
 /// A scene's files, validated once before any frame is timed (firmware parses a file once,
@@ -177,13 +191,15 @@ struct Scenes<'b> {
 impl Work {
     pub(super) fn new(height: u32) -> Self {
         Work {
-            workspace: Box::default(),
-            intervals: vec![(0, 0); HOST_SPANS_PER_ROW * height as usize],
-            counts: vec![0; height as usize],
-            depth_u32: Vec::new(),
-            depth_f32: Vec::new(),
-            triangles: Vec::new(),
-            projected: Vec::new(),
+            buffers: Buffers {
+                intervals: vec![(0, 0); HOST_SPANS_PER_ROW * height as usize],
+                counts: vec![0; height as usize],
+                depth_u32: Vec::new(),
+                depth_f32: Vec::new(),
+            },
+            sub0: AtPrecision::new(),
+            sub4: AtPrecision::new(),
+            sub8: AtPrecision::new(),
         }
     }
 }
@@ -227,7 +243,7 @@ impl Variant {
         Variant {
             label: method.name().to_string(),
             method,
-            sub: peel_runtime::fill::SUBPIXEL_BITS,
+            sub: SUBPIXEL_BITS,
         }
     }
 
@@ -242,8 +258,6 @@ impl Variant {
 }
 
 /// [`draw`] at the precision `sub` (0, 4, or else the default [`SUBPIXEL_BITS`]).
-///
-/// [`SUBPIXEL_BITS`]: peel_runtime::fill::SUBPIXEL_BITS
 fn draw_at(
     sub: u32,
     p: &Prepared,
@@ -252,10 +266,16 @@ fn draw_at(
     camera: &Camera,
     work: &mut Work,
 ) -> Result<Drawn, String> {
+    let Work {
+        buffers,
+        sub0,
+        sub4,
+        sub8,
+    } = work;
     match sub {
-        0 => draw::<0>(p, scenes, method, camera, work),
-        4 => draw::<4>(p, scenes, method, camera, work),
-        _ => draw::<{ peel_runtime::fill::SUBPIXEL_BITS }>(p, scenes, method, camera, work),
+        0 => draw(p, scenes, method, camera, buffers, sub0),
+        4 => draw(p, scenes, method, camera, buffers, sub4),
+        _ => draw(p, scenes, method, camera, buffers, sub8),
     }
 }
 
@@ -341,12 +361,8 @@ mod tests {
             mesh,
             naive_bsp: None,
         };
-        let cams = [BenchCamera {
-            eye: DVec3::new(0.0, 0.0, 6.0),
-            target: DVec3::ZERO,
-        }];
-        let p =
-            prepare_scene(&scene.mesh, None, &cams, 64, 64, &CompileOptions::default()).unwrap();
+        let shots = [Shot::new(DVec3::new(0.0, 0.0, 6.0), DVec3::ZERO, 64, 64)];
+        let p = prepare_scene(&scene.mesh, None, &shots, &CompileOptions::default()).unwrap();
         let mut work = Work::new(64);
         let rows = measure_scene(
             "c",

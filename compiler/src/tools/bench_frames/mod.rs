@@ -28,6 +28,7 @@ use serde::Serialize;
 use crate::compile::CompileOptions;
 use crate::load::Mesh;
 use crate::tools::raster::HOST_STACK;
+use crate::tools::shot::Shot;
 use measure::{measure_scene, prepare_scene, Variant, Work};
 
 pub use candidates::candidates_knob;
@@ -101,17 +102,9 @@ pub struct FrameRecord {
     pub polygons_drawn: u64,
 }
 
-/// A camera of the benchmark.
-#[derive(Debug, Clone, Copy)]
-pub struct BenchCamera {
-    /// Eye (world).
-    pub eye: DVec3,
-    /// Target (world).
-    pub target: DVec3,
-}
-
-/// `n` cameras on a ring around the scene's bounding box, alternating above and below.
-pub fn ring_cameras(mesh: &Mesh, n: usize) -> Vec<BenchCamera> {
+/// `n` shots of `width x height` pixels from a ring around the scene's bounding box,
+/// alternating above and below, looking at its centre (the other settings the defaults).
+pub fn ring_shots(mesh: &Mesh, n: usize, width: u32, height: u32) -> Vec<Shot> {
     let (lo, hi) = mesh_bounds(mesh);
     let c = (lo + hi) / 2.0;
     let r = (hi - lo).length().max(1e-9) / 2.0;
@@ -119,10 +112,8 @@ pub fn ring_cameras(mesh: &Mesh, n: usize) -> Vec<BenchCamera> {
         .map(|k| {
             let a = std::f64::consts::TAU * k as f64 / n as f64 + 0.2;
             let up = if k % 2 == 0 { 0.55 } else { -0.35 };
-            BenchCamera {
-                eye: c + DVec3::new(a.cos() * 2.3 * r, up * r, a.sin() * 2.3 * r),
-                target: c,
-            }
+            let eye = c + DVec3::new(a.cos() * 2.3 * r, up * r, a.sin() * 2.3 * r);
+            Shot::new(eye, c, width, height)
         })
         .collect()
 }
@@ -220,13 +211,11 @@ pub fn run(
             s.name,
             s.mesh.triangles.len()
         ));
-        let cams = ring_cameras(&s.mesh, cameras);
+        let shots = ring_shots(&s.mesh, cameras, width, height);
         let p = prepare_scene(
             &s.mesh,
             s.naive_bsp.clone(),
-            &cams,
-            width,
-            height,
+            &shots,
             &CompileOptions::default(),
         )?;
         let mut work = Work::new(height);

@@ -4,14 +4,14 @@
 //! only splitting could resolve, stays wrong — that is the baseline's error).
 
 use glam::Vec3;
-use peel_runtime::camera::View;
+use peel_runtime::camera::LocalView;
 use peel_runtime::fill::fill_polygon;
 use peel_runtime::target::{Colour, SpanSink};
 
 use super::prepare::Prepared;
 
-struct Item<'p> {
-    t: &'p Prepared,
+struct Item<'p, const SUB: u32> {
+    t: &'p Prepared<SUB>,
     zmin: f32,
     zmax: f32,
     lo: (i32, i32),
@@ -20,8 +20,8 @@ struct Item<'p> {
     d: f32,
 }
 
-impl<'p> Item<'p> {
-    fn new(t: &'p Prepared) -> Self {
+impl<'p, const SUB: u32> Item<'p, SUB> {
+    fn new(t: &'p Prepared<SUB>) -> Self {
         let zmin = t.camera().iter().map(|p| p.z).fold(f32::INFINITY, f32::min);
         let zmax = t
             .camera()
@@ -50,7 +50,7 @@ impl<'p> Item<'p> {
     }
 
     /// Every vertex of `other` on the side of this plane given by `sign` (the eye is at 0).
-    fn all_on_side(&self, other: &Item<'_>, eye_side: bool) -> bool {
+    fn all_on_side(&self, other: &Item<'_, SUB>, eye_side: bool) -> bool {
         let eye = -self.d; // plane value at the eye (origin)
         other.t.camera().iter().all(|p| {
             let v = self.normal.dot(*p) - self.d;
@@ -64,7 +64,7 @@ impl<'p> Item<'p> {
 }
 
 /// `p` may be drawn before `q` (p is not in front of q), by Newell's tests.
-fn may_precede(p: &Item<'_>, q: &Item<'_>) -> bool {
+fn may_precede<const SUB: u32>(p: &Item<'_, SUB>, q: &Item<'_, SUB>) -> bool {
     p.zmax <= q.zmin
         || p.hi.0 <= q.lo.0
         || q.hi.0 <= p.lo.0
@@ -90,13 +90,13 @@ impl SpanSink for IdSink<'_> {
 }
 
 /// Sort and paint; returns the pixels written.
-pub fn draw<const SUB: u32>(tris: &[Prepared], view: &View, ids: &mut [u32]) -> u64 {
-    let mut items: Vec<Item<'_>> = tris.iter().map(Item::new).collect();
+pub fn draw<const SUB: u32>(tris: &[Prepared<SUB>], view: &LocalView, ids: &mut [u32]) -> u64 {
+    let mut items: Vec<Item<'_, SUB>> = tris.iter().map(Item::new).collect();
     // Farthest first.
     items.sort_by(|a, b| b.zmax.total_cmp(&a.zmax).then(a.t.id.cmp(&b.t.id)));
-    let mut order: Vec<Item<'_>> = Vec::with_capacity(items.len());
+    let mut order: Vec<Item<'_, SUB>> = Vec::with_capacity(items.len());
     let mut moved = vec![false; tris.iter().map(|t| t.id as usize + 1).max().unwrap_or(0)];
-    let mut queue: std::collections::VecDeque<Item<'_>> = items.into();
+    let mut queue: std::collections::VecDeque<Item<'_, SUB>> = items.into();
     while let Some(p) = queue.pop_front() {
         // Find a q (overlapping p in depth) that must come before p.
         let mut swap_at = None;
@@ -128,7 +128,7 @@ pub fn draw<const SUB: u32>(tris: &[Prepared], view: &View, ids: &mut [u32]) -> 
     };
     for item in &order {
         sink.id = item.t.id;
-        let _ = fill_polygon::<SUB, _>(
+        let _ = fill_polygon(
             item.t.screen(),
             view.width,
             view.height,

@@ -1,11 +1,11 @@
 //! The per-triangle front end shared by the baseline renderers: world -> camera (the runtime's
-//! `View`), near and window clipping (the runtime's `clip`), projection and snapping (the
+//! `LocalView`), near and window clipping (the runtime's `clip`), projection and snapping (the
 //! runtime's `snap`), so every method sees bit-identical screen polygons. The triangles share
 //! a vertex list, so a frame that needs no clipping projects each vertex once, as Peel does
 //! with its vertex memory.
 
 use glam::{DVec3, Vec3};
-use peel_runtime::camera::View;
+use peel_runtime::camera::LocalView;
 use peel_runtime::clip::{clip_polygon, Frustum, CLIP_PLANES};
 use peel_runtime::fill::FixedPoint;
 use peel_runtime::render::snap;
@@ -15,24 +15,24 @@ use crate::hash::FastMap;
 /// Most vertices of a clipped triangle: one more per clip plane.
 const MAX_CLIPPED: usize = 3 + CLIP_PLANES;
 
-/// One source triangle after clipping: camera-space and fixed-point screen polygons, in
-/// fixed arrays (no allocation per triangle).
+/// One source triangle after clipping: camera-space and fixed-point screen polygons (`SUB`
+/// fractional bits), in fixed arrays (no allocation per triangle).
 #[derive(Debug, Clone, Copy)]
-pub struct Prepared {
+pub struct Prepared<const SUB: u32> {
     /// Source triangle id.
     pub id: u32,
     len: usize,
     camera: [Vec3; MAX_CLIPPED],
-    screen: [FixedPoint; MAX_CLIPPED],
+    screen: [FixedPoint<SUB>; MAX_CLIPPED],
 }
 
-impl Prepared {
+impl<const SUB: u32> Prepared<SUB> {
     /// The clipped polygon in camera space.
     pub fn camera(&self) -> &[Vec3] {
         &self.camera[..self.len]
     }
-    /// The same polygon on screen, `SUB` fractional bits.
-    pub fn screen(&self) -> &[FixedPoint] {
+    /// The same polygon on screen.
+    pub fn screen(&self) -> &[FixedPoint<SUB>] {
         &self.screen[..self.len]
     }
 }
@@ -84,9 +84,9 @@ impl Triangles {
 /// `projected`.
 pub fn prepare<const SUB: u32>(
     triangles: &Triangles,
-    view: &View,
-    projected: &mut Vec<(Vec3, FixedPoint)>,
-    out: &mut Vec<Prepared>,
+    view: &LocalView,
+    projected: &mut Vec<(Vec3, FixedPoint<SUB>)>,
+    out: &mut Vec<Prepared<SUB>>,
 ) {
     out.clear();
     let frustum = Frustum::new(view);
@@ -142,7 +142,7 @@ pub fn prepare<const SUB: u32>(
 
 /// `1/zc` at a screen point as `A x + B y + C` for the plane of a camera-space polygon, or
 /// `None` when the plane passes through the eye (seen edge-on).
-pub fn inverse_depth_plane(camera: &[Vec3], view: &View) -> Option<[f64; 3]> {
+pub fn inverse_depth_plane(camera: &[Vec3], view: &LocalView) -> Option<[f64; 3]> {
     let p0 = camera.first()?.as_dvec3();
     let mut n = DVec3::ZERO;
     for w in camera.windows(2).skip(1) {

@@ -7,7 +7,7 @@ use peel_runtime::fill::fill_polygon;
 use peel_runtime::target::{Colour, SpanSink};
 
 use super::prepare::{inverse_depth_plane, Prepared};
-use peel_runtime::camera::View;
+use peel_runtime::camera::LocalView;
 
 /// Id image plus depth buffer of one frame.
 pub struct ZFrame<'a, D> {
@@ -40,7 +40,7 @@ pub trait Depth: Copy + Default + PartialOrd {
     type Plane: Copy;
 
     /// The format's plane for `1/z = a x + b y + c` (screen pixels).
-    fn plane(abc: [f64; 3], view: &View) -> Self::Plane;
+    fn plane(abc: [f64; 3], view: &LocalView) -> Self::Plane;
 
     /// The plane's values at the pixel centres `x0, x0 + 1, ...` of row `y`.
     fn along(plane: &Self::Plane, x0: u32, y: u32) -> impl Iterator<Item = Self>;
@@ -49,7 +49,7 @@ pub trait Depth: Copy + Default + PartialOrd {
 impl Depth for f32 {
     type Plane = [f32; 3];
 
-    fn plane(abc: [f64; 3], _: &View) -> [f32; 3] {
+    fn plane(abc: [f64; 3], _: &LocalView) -> [f32; 3] {
         abc.map(|v| v as f32)
     }
 
@@ -68,7 +68,7 @@ const DEPTH_FRACTION: u32 = 16;
 impl Depth for u32 {
     type Plane = [i64; 3];
 
-    fn plane(abc: [f64; 3], view: &View) -> [i64; 3] {
+    fn plane(abc: [f64; 3], view: &LocalView) -> [i64; 3] {
         let scale =
             f64::from(1u32 << 30) * f64::from(view.near) * f64::from(1u32 << DEPTH_FRACTION);
         abc.map(|v| (v * scale).round() as i64)
@@ -106,8 +106,8 @@ impl<D: Depth> SpanSink for Sink<'_, '_, D> {
 /// [`draw`] into `ids` (`view.width` x `view.height`), with `depth` (reused from frame to
 /// frame) sized to match.
 pub fn draw_ids<const SUB: u32, D: Depth>(
-    tris: &[Prepared],
-    view: &View,
+    tris: &[Prepared<SUB>],
+    view: &LocalView,
     ids: &mut [u32],
     depth: &mut Vec<D>,
 ) -> u64 {
@@ -122,8 +122,8 @@ pub fn draw_ids<const SUB: u32, D: Depth>(
 
 /// The z-buffer in format `D` (`f32` or `u32`): returns the pixels written.
 pub fn draw<const SUB: u32, D: Depth>(
-    tris: &[Prepared],
-    view: &View,
+    tris: &[Prepared<SUB>],
+    view: &LocalView,
     frame: &mut ZFrame<'_, D>,
 ) -> u64 {
     frame.ids.fill(0);
@@ -139,7 +139,7 @@ pub fn draw<const SUB: u32, D: Depth>(
             id: t.id,
             written: 0,
         };
-        let _ = fill_polygon::<SUB, _>(
+        let _ = fill_polygon(
             t.screen(),
             view.width,
             view.height,
