@@ -57,8 +57,9 @@ mod peel {
             let workspace = cortex_m::singleton!(: Workspace<STACK, VERTS> = Workspace::new())
                 .ok_or(Failure::Host("workspace taken twice"))?;
             let mut renderer = Renderer::new(workspace).background(config.background_colour());
-            // Without an FPU (a soft-float ABI) a subtree's box test costs more than it saves.
-            if !cfg!(target_abi = "eabihf") {
+            // Without an FPU (a soft-float ABI) a subtree's box test costs more than it saves
+            // in a whole frame; a band skips most of the tree by those tests, so there they pay.
+            if !cfg!(target_abi = "eabihf") && !VARIANT.banded() {
                 renderer = renderer.without_subtree_culling();
             }
             if VARIANT.front_to_back() {
