@@ -158,7 +158,6 @@ pub(crate) fn peel_file_encoded(
     };
     let boxes = boxes.unwrap_or_default();
     let header = Header {
-        magic: format::MAGIC,
         version: format::FORMAT_VERSION,
         flags: if ids {
             flags | header_flags::IDS
@@ -173,8 +172,8 @@ pub(crate) fn peel_file_encoded(
         max_depth: out.max_depth,
         max_polygon_vertices,
         centre: tree.centre.to_array(),
-        bounds_min,
-        bounds_max,
+        bounds_min: bounds_min.into(),
+        bounds_max: bounds_max.into(),
         palette_count: count(palette.len(), "palette colours")?,
         bounds_count: count(boxes.len(), "node bounds")?,
     };
