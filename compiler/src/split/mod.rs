@@ -16,6 +16,7 @@ use crate::bvh::{box_of, max_f, min_f, Bvh};
 use crate::planes::{
     intersect, l1_max, shared_filter_bound, PlaneEntry, PlaneId, PlaneTable, Side, Vertex,
 };
+use crate::random::SplitMix;
 
 pub mod lopsided;
 
@@ -178,31 +179,6 @@ impl Fragment {
             edges,
         };
         Some(SplitResult::Cut(piece(fv, fe), piece(bv, be)))
-    }
-}
-
-/// Small deterministic generator (SplitMix64) for the candidate and fragment samples.
-#[derive(Debug, Clone)]
-pub struct SplitMix(u64);
-
-impl SplitMix {
-    /// A generator seeded with `seed`.
-    pub fn new(seed: u64) -> SplitMix {
-        SplitMix(seed)
-    }
-
-    /// Next value.
-    pub fn next_u64(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
-    }
-
-    /// Uniform-ish value in `0..n` (`n > 0`).
-    pub fn below(&mut self, n: usize) -> usize {
-        ((self.next_u64() as u128 * n as u128) >> 64) as usize
     }
 }
 
