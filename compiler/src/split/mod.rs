@@ -119,66 +119,84 @@ impl Fragment {
         }
         let sides: Vec<Side> = self.vertices.iter().map(|v| v.side(e)).collect();
         let n = self.vertices.len();
-        let cap = n + 2;
-        let (mut fv, mut fe) = (Vec::with_capacity(cap), Vec::with_capacity(cap));
-        let (mut bv, mut be) = (Vec::with_capacity(cap), Vec::with_capacity(cap));
-        let cut_front = Edge {
-            plane,
-            inside: Side::Front,
-        };
-        let cut_back = Edge {
-            plane,
-            inside: Side::Back,
-        };
+        let mut front = Piece::new(Side::Front, plane, n + 2);
+        let mut back = Piece::new(Side::Back, plane, n + 2);
         let support = &table.get(self.support).plane;
         for i in 0..n {
-            let j = (i + 1) % n;
-            let (si, sj) = (sides[i], sides[j]);
+            let (si, sj) = (sides[i], sides[(i + 1) % n]);
             let v = &self.vertices[i];
             let edge = self.edges[i];
-            if si != Side::Back {
-                fv.push(v.clone());
-                fe.push(if si == Side::On && sj == Side::Back {
-                    cut_front
-                } else {
-                    edge
-                });
-            }
-            if si != Side::Front {
-                bv.push(v.clone());
-                be.push(if si == Side::On && sj == Side::Front {
-                    cut_back
-                } else {
-                    edge
-                });
-            }
-            if (si == Side::Front && sj == Side::Back) || (si == Side::Back && sj == Side::Front) {
+            front.corner(v, edge, si, sj);
+            back.corner(v, edge, si, sj);
+            if si != Side::On && sj == si.opposite() {
                 let h = intersect(support, &table.get(edge.plane).plane, &e.plane)?;
                 let c = Vertex::Hom(Arc::new(h));
-                if si == Side::Front {
-                    fv.push(c.clone());
-                    fe.push(cut_front);
-                    bv.push(c);
-                    be.push(edge);
+                let (from, to) = if si == Side::Front {
+                    (&mut front, &mut back)
                 } else {
-                    bv.push(c.clone());
-                    be.push(cut_back);
-                    fv.push(c);
-                    fe.push(edge);
-                }
+                    (&mut back, &mut front)
+                };
+                // The crossing leaves `from` along the cut and enters `to` along the edge.
+                from.push(c.clone(), from.cut);
+                to.push(c, edge);
             }
         }
-        if fv.len() < 3 || bv.len() < 3 {
+        if front.vertices.len() < 3 || back.vertices.len() < 3 {
             return None;
         }
-        let piece = |vertices, edges| Fragment {
+        let piece = |p: Piece| Fragment {
             source: self.source,
             support: self.support,
             flipped: self.flipped,
-            vertices,
-            edges,
+            vertices: p.vertices,
+            edges: p.edges,
         };
-        Some(SplitResult::Cut(piece(fv, fe), piece(bv, be)))
+        Some(SplitResult::Cut(piece(front), piece(back)))
+    }
+}
+
+/// One side's piece of a fragment being cut: the same walk of the fragment's corners builds
+/// the front and the back piece, each keeping what lies on its closed side.
+struct Piece {
+    /// `Front` or `Back`.
+    side: Side,
+    /// The cut plane, as this piece's bounding edge.
+    cut: Edge,
+    vertices: Vec<Vertex>,
+    edges: Vec<Edge>,
+}
+
+impl Piece {
+    fn new(side: Side, plane: PlaneId, capacity: usize) -> Piece {
+        Piece {
+            side,
+            cut: Edge {
+                plane,
+                inside: side,
+            },
+            vertices: Vec::with_capacity(capacity),
+            edges: Vec::with_capacity(capacity),
+        }
+    }
+
+    /// Corner `v` (on side `si` of the cut plane) and its outgoing `edge` (to a corner on side
+    /// `sj`): kept unless the corner lies on the other side. A corner in the plane whose next
+    /// corner lies on the other side leaves this piece along the cut.
+    fn corner(&mut self, v: &Vertex, edge: Edge, si: Side, sj: Side) {
+        let other = self.side.opposite();
+        if si != other {
+            let out = if si == Side::On && sj == other {
+                self.cut
+            } else {
+                edge
+            };
+            self.push(v.clone(), out);
+        }
+    }
+
+    fn push(&mut self, v: Vertex, edge: Edge) {
+        self.vertices.push(v);
+        self.edges.push(edge);
     }
 }
 
