@@ -121,7 +121,10 @@ impl Serialize for PeelFile {
 /// bytes of [`Header::to_bytes`].
 type HeaderWords = [[u8; 4]; HEADER_SIZE / 4];
 
-const _: () = assert!(HEADER_SIZE % 4 == 0);
+const _: () = assert!(
+    HEADER_SIZE / 4 * 4 == HEADER_SIZE,
+    "the header is whole words"
+);
 
 fn header_words(header: &Header) -> HeaderWords {
     let bytes = header.to_bytes();
