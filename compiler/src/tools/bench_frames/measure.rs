@@ -87,7 +87,6 @@ pub(super) fn prepare_scene(
 
 /// Draw one frame with `method`; `SUB` is the fixed-point precision.
 fn draw<const SUB: u32>(
-    p: &Prepared,
     scenes: &mut Scenes<'_>,
     method: Method,
     camera: &Camera,
@@ -134,7 +133,7 @@ fn draw<const SUB: u32>(
         Method::ZbufferInt | Method::ZbufferF32 | Method::Newell => {
             let view = camera.view(scenes.peel.header().centre);
             let tris = &mut work.triangles;
-            prepare::prepare::<SUB>(&p.triangles, &view, &mut work.projected, tris);
+            prepare::prepare::<SUB>(scenes.triangles, &view, &mut work.projected, tris);
             let mut ids = vec![0u32; n];
             let written = match method {
                 Method::ZbufferInt => {
@@ -166,12 +165,28 @@ pub(super) struct Work {
 }
 
 /// A scene's files, validated once before any frame is timed (firmware parses a file once,
-/// then draws many frames from it), and the memory of their projected vertices.
+/// then draws many frames from it), the memory of their projected vertices, and the source
+/// triangles the baselines draw.
 struct Scenes<'b> {
     peel: Scene<'b>,
     naive: Option<Scene<'b>>,
     peel_memory: Vec<CachedVertex>,
     naive_memory: Vec<CachedVertex>,
+    triangles: &'b prepare::Triangles,
+}
+
+impl Scenes<'_> {
+    /// One frame of `v` seen by `camera`: [`draw`] at the variant's precision (0, 4, or else
+    /// the default [`SUBPIXEL_BITS`]).
+    ///
+    /// [`SUBPIXEL_BITS`]: peel_runtime::fill::SUBPIXEL_BITS
+    fn draw(&mut self, v: &Variant, camera: &Camera, work: &mut Work) -> Result<Drawn, String> {
+        match v.sub {
+            0 => draw::<0>(self, v.method, camera, work),
+            4 => draw::<4>(self, v.method, camera, work),
+            _ => draw::<{ peel_runtime::fill::SUBPIXEL_BITS }>(self, v.method, camera, work),
+        }
+    }
 }
 
 impl Work {
@@ -241,24 +256,6 @@ impl Variant {
     }
 }
 
-/// [`draw`] at the precision `sub` (0, 4, or else the default [`SUBPIXEL_BITS`]).
-///
-/// [`SUBPIXEL_BITS`]: peel_runtime::fill::SUBPIXEL_BITS
-fn draw_at(
-    sub: u32,
-    p: &Prepared,
-    scenes: &mut Scenes<'_>,
-    method: Method,
-    camera: &Camera,
-    work: &mut Work,
-) -> Result<Drawn, String> {
-    match sub {
-        0 => draw::<0>(p, scenes, method, camera, work),
-        4 => draw::<4>(p, scenes, method, camera, work),
-        _ => draw::<{ peel_runtime::fill::SUBPIXEL_BITS }>(p, scenes, method, camera, work),
-    }
-}
-
 /// Every variant on every camera of a scene. Per camera, each variant in turn: one untimed
 /// frame (for its pixels and errors, and to warm the caches with its own data, as a renderer
 /// drawing frame after frame has them), then the fastest of three timed frames. Taking the
@@ -284,13 +281,14 @@ pub(super) fn measure_scene(
         naive,
         peel_memory,
         naive_memory,
+        triangles: &p.triangles,
     };
     let n = variants.len();
     let mut times: Vec<Vec<f64>> = vec![Vec::new(); n];
     let mut totals = vec![(0u64, 0u64, 0u64, 0u64); n];
     for (camera, r) in &p.views {
         for ((v, total), t) in variants.iter().zip(&mut totals).zip(&mut times) {
-            let d = draw_at(v.sub, p, &mut scenes, v.method, camera, work)?;
+            let d = scenes.draw(v, camera, work)?;
             let (rb, al) = errors(r, &d.ids);
             total.0 += d.written;
             total.1 += d.polygons;
@@ -299,7 +297,7 @@ pub(super) fn measure_scene(
             let mut best = f64::INFINITY;
             for _ in 0..3 {
                 let start = Instant::now();
-                draw_at(v.sub, p, &mut scenes, v.method, camera, work)?;
+                scenes.draw(v, camera, work)?;
                 best = best.min(start.elapsed().as_secs_f64() * 1e3);
             }
             t.push(best);
