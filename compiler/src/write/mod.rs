@@ -260,7 +260,15 @@ impl Emitter<'_> {
                 }
             };
             self.max_depth = self.max_depth.max(depth);
-            let none = format::NONE;
+            // Child links are set as the children are written, boxes by `bounds::assign`.
+            let record = |kind, a, b| Node {
+                kind,
+                a,
+                b,
+                c: format::NONE,
+                parent,
+                bounds: format::NONE,
+            };
             match tree.nodes[old as usize] {
                 TreeNode::Convex {
                     first_polygon,
@@ -275,14 +283,8 @@ impl Emitter<'_> {
                     for p in first_polygon..first_polygon.saturating_add(polygon_count) {
                         self.emit_polygon(p, colours)?;
                     }
-                    self.file_nodes.push(Node {
-                        kind: node_kind::CONVEX,
-                        a: first,
-                        b: polygon_count,
-                        c: none,
-                        parent,
-                        bounds: none,
-                    });
+                    self.file_nodes
+                        .push(record(node_kind::CONVEX, first, polygon_count));
                     if let Some(child) = child {
                         stack.push((child, Slot::C(new), depth + 1));
                     }
@@ -295,14 +297,8 @@ impl Emitter<'_> {
                             "split node {old}: plane {plane} out of range"
                         )));
                     }
-                    self.file_nodes.push(Node {
-                        kind: node_kind::SPLIT,
-                        a: plane,
-                        b: none,
-                        c: none,
-                        parent,
-                        bounds: none,
-                    });
+                    self.file_nodes
+                        .push(record(node_kind::SPLIT, plane, format::NONE));
                     // Back first on the stack so that the front subtree comes first in the file.
                     if let Some(back) = back {
                         stack.push((back, Slot::C(new), depth + 1));
