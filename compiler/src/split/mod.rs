@@ -11,13 +11,8 @@ use std::sync::Arc;
 
 use crate::planes::{intersect, PlaneId, PlaneTable, Side, Vertex};
 
-mod choose;
+pub mod choose;
 pub mod lopsided;
-
-pub(crate) use choose::Sample;
-pub use choose::{choose_split, choose_split_with, SplitRule};
-#[cfg(test)]
-use choose::{cost, Tally};
 
 /// A bounding edge of a fragment: the plane it lies on and the side the fragment is on.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

@@ -1,5 +1,6 @@
 //! Exact cuts: pieces on their sides, sharing exactly the cut vertices.
 
+use super::choose::{cost, Sample, SplitRule, Tally};
 use super::triangle_fragment as triangle;
 use super::*;
 use crate::planes::Plane;

@@ -20,8 +20,9 @@ use super::BuildOptions;
 use crate::error::CompileError;
 use crate::peel::{after_split, hull_planes, Known, Witness};
 use crate::planes::{PlaneId, PlaneTable, Side};
+use crate::split::choose::choose_split;
 use crate::split::lopsided::{is_lopsided, lopsided_splits, Lopsided, CHAIN_AFTER};
-use crate::split::{choose_split, Fragment, Placement, SplitResult};
+use crate::split::{Fragment, Placement, SplitResult};
 
 /// Subtrees are built in parallel when both sides of a split hold at least this many
 /// fragments and at least an eighth of the node (which bounds the join recursion depth).
