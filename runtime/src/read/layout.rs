@@ -157,7 +157,7 @@ impl super::Header {
     }
 
     /// The header of [`HEADER_SIZE`] bytes, field by field, with no check: [`Scene::parse`]
-    /// checks the magic, version and flags first (and [`Header::to_bytes`] undoes this).
+    /// checks the magic, version and flags first (and [`Self::to_bytes`] undoes this).
     ///
     /// [`Scene::parse`]: super::Scene::parse
     pub fn from_bytes(bytes: &[u8; HEADER_SIZE]) -> Self {
