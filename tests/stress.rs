@@ -10,7 +10,7 @@ use std::time::Instant;
 
 use glam::{DMat3, DVec3};
 use peel_compiler::compile::{compile_mesh, CompileOptions};
-use peel_compiler::load::{load_obj, Mesh, SourceTriangle, DEFAULT_COLOUR};
+use peel_compiler::load::{load_obj, Mesh};
 use peel_compiler::tools::raster::render_bytes;
 use peel_compiler::tools::scenes::{self, SplitMix};
 use peel_compiler::tools::shot::Shot;
@@ -18,21 +18,8 @@ use peel_compiler::tree::{verify, BuildOptions, DisplayTree, TreeNode};
 use peel_e2e::{bounds, reference};
 use peel_runtime::read::Scene;
 
-fn mesh_of(tris: Vec<[DVec3; 3]>) -> Mesh {
-    Mesh {
-        triangles: tris
-            .into_iter()
-            .map(|vertices| SourceTriangle {
-                vertices,
-                colour: DEFAULT_COLOUR,
-            })
-            .collect(),
-        ..Mesh::default()
-    }
-}
-
 fn map(mesh: &Mesh, f: impl Fn(DVec3) -> DVec3) -> Mesh {
-    mesh_of(mesh.triangles.iter().map(|t| t.vertices.map(&f)).collect())
+    scenes::mesh(mesh.triangles.iter().map(|t| t.vertices.map(&f)).collect())
 }
 
 /// How strictly a case's pixels are compared with the reference.
@@ -436,7 +423,7 @@ fn swaps_and_mirrors_give_the_same_tree() {
 
 /// Triangles sharing the edge (0,0,0)-(1,0,0), consecutive ones `angle` radians apart.
 fn fan(count: usize, angle: f64) -> Mesh {
-    mesh_of(
+    scenes::mesh(
         (0..count)
             .map(|i| {
                 let a = 0.4 + i as f64 * angle;
@@ -472,7 +459,7 @@ fn star(n: usize, seed: u64) -> Mesh {
     let mut rng = SplitMix(seed);
     let mut dir =
         || DVec3::new(rng.unit() - 0.5, rng.unit() - 0.5, rng.unit() - 0.5).normalize_or(DVec3::X);
-    mesh_of((0..n).map(|_| [DVec3::ZERO, dir(), dir()]).collect())
+    scenes::mesh((0..n).map(|_| [DVec3::ZERO, dir(), dir()]).collect())
 }
 
 #[test]
@@ -494,7 +481,13 @@ fn duplicate_and_opposite_duplicate_triangles() {
         tris.push(t);
         tris.push([t[0], t[2], t[1]]);
     }
-    let out = run("duplicates", &mesh_of(tris), Pixels::Coverage, 8, (48, 36));
+    let out = run(
+        "duplicates",
+        &scenes::mesh(tris),
+        Pixels::Coverage,
+        8,
+        (48, 36),
+    );
     report("duplicates", &[out]);
 }
 
@@ -525,12 +518,12 @@ fn slivers_and_zero_area_triangles() {
         tris.push([DVec3::ZERO, DVec3::splat(0.5), DVec3::ONE]);
         let o = run(
             &format!("sliver 1e{e}"),
-            &mesh_of(tris.clone()),
+            &scenes::mesh(tris.clone()),
             Pixels::Coverage,
             4,
             (48, 36),
         );
-        let tree = verify(&mesh_of(tris), &BuildOptions::default(), 1).unwrap();
+        let tree = verify(&scenes::mesh(tris), &BuildOptions::default(), 1).unwrap();
         assert!(
             tree.stats.degenerate_dropped >= 2,
             "zero-area triangles are counted"

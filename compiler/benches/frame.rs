@@ -6,9 +6,11 @@
 //! Run with `cargo bench -p peel-compiler --bench frame`. The runtime's inner loops (fill,
 //! clip) are in `runtime/benches/inner.rs`.
 
+#[path = "../../runtime/benches/budget/mod.rs"]
+mod budget;
+
 use std::hint::black_box;
 use std::path::Path;
-use std::time::Duration;
 
 use criterion::{criterion_group, criterion_main, Criterion};
 use glam::DVec3;
@@ -70,10 +72,7 @@ fn frame(c: &mut Criterion) {
 
 criterion_group! {
     name = benches;
-    config = Criterion::default()
-        .sample_size(20)
-        .warm_up_time(Duration::from_millis(300))
-        .measurement_time(Duration::from_secs(1));
+    config = budget::budget();
     targets = frame
 }
 criterion_main!(benches);

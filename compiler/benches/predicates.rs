@@ -10,8 +10,10 @@
 //!
 //! Run with `cargo bench -p peel-compiler --bench predicates`.
 
+#[path = "../../runtime/benches/budget/mod.rs"]
+mod budget;
+
 use std::hint::black_box;
-use std::time::Duration;
 
 use criterion::{criterion_group, criterion_main, Criterion};
 use peel_compiler::predicates::{
@@ -73,10 +75,7 @@ fn predicates(c: &mut Criterion) {
 
 criterion_group! {
     name = benches;
-    config = Criterion::default()
-        .sample_size(20)
-        .warm_up_time(Duration::from_millis(300))
-        .measurement_time(Duration::from_secs(1));
+    config = budget::budget();
     targets = predicates
 }
 criterion_main!(benches);

@@ -27,6 +27,7 @@ pub mod load;
 mod peel;
 mod planes;
 mod quantise;
+mod random;
 pub mod shade;
 mod split;
 pub mod tools;

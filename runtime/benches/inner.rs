@@ -7,8 +7,9 @@
 //! Run with `cargo bench -p peel-runtime --bench inner`. Whole frames are measured in
 //! `compiler/benches/frame.rs` (they need a compiled scene).
 
+mod budget;
+
 use std::hint::black_box;
-use std::time::Duration;
 
 use criterion::{criterion_group, criterion_main, Criterion};
 use glam::{DVec3, Vec3};
@@ -105,10 +106,7 @@ fn clip(c: &mut Criterion) {
 
 criterion_group! {
     name = benches;
-    config = Criterion::default()
-        .sample_size(20)
-        .warm_up_time(Duration::from_millis(300))
-        .measurement_time(Duration::from_secs(1));
+    config = budget::budget();
     targets = fill, clip
 }
 criterion_main!(benches);

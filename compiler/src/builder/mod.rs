@@ -17,8 +17,8 @@ use crate::shade::Shading;
 /// it, and tells cargo to rerun the build script when any of the files read changes, or an MTL
 /// file the OBJ names but that is missing appears.
 ///
-/// Compiles are cached (see [`cache`]): `cargo build`, `cargo test` and `cargo build
-/// --release` compile each asset once between them.
+/// Compiles are cached (see [`Builder::cache`] and [`Builder::cache_location`]): `cargo build`,
+/// `cargo test` and `cargo build --release` compile each asset once between them.
 ///
 /// In `build.rs`:
 ///
@@ -58,7 +58,8 @@ struct Done {
 pub struct Output {
     /// The `.peel` file.
     pub peel: PathBuf,
-    /// The sizes file (see [`sizes`]): `<stem>.rs` beside the `.peel` file.
+    /// The sizes file: `<stem>.rs` beside the `.peel` file, the constants firmware sizes its
+    /// buffers from and the checks that they suffice.
     pub sizes: PathBuf,
     /// Whether the bytes came from the cache (no compile ran).
     pub from_cache: bool,
@@ -136,7 +137,7 @@ impl Builder {
     }
 
     /// Keep the compile cache in `dir` (default: `PEEL_CACHE_DIR` if set, else `peel-cache` in
-    /// the cargo target directory; see [`cache::dir_from_out_dir`]).
+    /// the cargo target directory; see [`Builder::cache_location`]).
     pub fn cache_dir(mut self, dir: impl AsRef<Path>) -> Self {
         self.cache_dir = Some(dir.as_ref().to_path_buf());
         self

@@ -13,7 +13,8 @@
 
 use crate::planes::{PlaneId, PlaneTable, Side};
 
-use super::{Fragment, Sample};
+use super::choose::Sample;
+use super::Fragment;
 
 /// Most fragments a lopsided split may touch: on its plane, on its small side, or cut.
 pub const TOUCH_MAX: usize = 16;

@@ -1,5 +1,6 @@
 //! Exact cuts: pieces on their sides, sharing exactly the cut vertices.
 
+use super::choose::{cost, Sample, SplitRule, Tally};
 use super::triangle_fragment as triangle;
 use super::*;
 use crate::planes::Plane;
@@ -47,15 +48,6 @@ proptest! {
             SplitResult::On(_) => prop_assert_eq!(placement, Placement::On),
         }
     }
-}
-
-#[test]
-fn sampling_is_deterministic() {
-    let mut a = SplitMix::new(42);
-    let mut b = SplitMix::new(42);
-    let xs: Vec<usize> = (0..100).map(|_| a.below(7)).collect();
-    assert_eq!(xs, (0..100).map(|_| b.below(7)).collect::<Vec<_>>());
-    assert!(xs.iter().all(|&x| x < 7) && xs.contains(&6));
 }
 
 proptest! {

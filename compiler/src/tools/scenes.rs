@@ -4,6 +4,7 @@
 use glam::DVec3;
 
 use crate::load::{Mesh, SourceTriangle, DEFAULT_COLOUR};
+pub use crate::random::SplitMix;
 
 /// A mesh of `triangles` in the default colour.
 pub fn mesh(triangles: Vec<[DVec3; 3]>) -> Mesh {
@@ -115,26 +116,6 @@ pub fn boxed(t: &mut Vec<[DVec3; 3]>, lo: DVec3, hi: DVec3) {
     quad(t, v(f, t_, f), v(f, t_, t_), v(t_, t_, t_), v(t_, t_, f)); // +y
     quad(t, v(f, f, f), v(f, f, t_), v(f, t_, t_), v(f, t_, f)); // -x
     quad(t, v(t_, f, f), v(t_, t_, f), v(t_, t_, t_), v(t_, f, t_)); // +x
-}
-
-/// SplitMix64: a tiny deterministic generator, so scenes do not depend on a crate's stream.
-#[derive(Debug, Clone)]
-pub struct SplitMix(pub u64);
-
-impl SplitMix {
-    /// Next 64 random bits.
-    pub fn next_u64(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
-    }
-
-    /// Uniform in `[0, 1)`.
-    pub fn unit(&mut self) -> f64 {
-        (self.next_u64() >> 11) as f64 / (1u64 << 53) as f64
-    }
 }
 
 /// `n` random triangles in the unit cube, each of size about `size`: many intersections,

@@ -20,8 +20,9 @@ use super::BuildOptions;
 use crate::error::CompileError;
 use crate::peel::{after_split, hull_planes, Known, Witness};
 use crate::planes::{PlaneId, PlaneTable, Side};
+use crate::split::choose::choose_split;
 use crate::split::lopsided::{is_lopsided, lopsided_splits, Lopsided, CHAIN_AFTER};
-use crate::split::{choose_split, Fragment, Placement, SplitResult};
+use crate::split::{Fragment, Placement, SplitResult};
 
 /// Subtrees are built in parallel when both sides of a split hold at least this many
 /// fragments and at least an eighth of the node (which bounds the join recursion depth).
@@ -87,6 +88,16 @@ struct Limit {
 }
 
 impl Limit {
+    /// Fewer than `max` support planes.
+    fn below(max: u32) -> Limit {
+        Limit { max, strict: true }
+    }
+
+    /// At most `max` support planes.
+    fn at_most(max: u32) -> Limit {
+        Limit { max, strict: false }
+    }
+
     fn check(self, k: u32, what: &str) -> Result<(), CompileError> {
         if k > self.max || (self.strict && k == self.max) {
             return Err(CompileError::Invariant(format!(
@@ -206,10 +217,7 @@ pub(crate) fn build_exact(
         frags: input.fragments.clone(),
         known: Known::default(),
         slot: Slot::Root,
-        limit: Limit {
-            max: u32::MAX,
-            strict: false,
-        },
+        limit: Limit::at_most(u32::MAX),
         lopsided: 0,
     };
     let tree = run(&ctx, root)?;
@@ -256,30 +264,19 @@ fn append(tree: &mut ExactTree, sub: ExactTree, slot: Slot) {
     }
     let no = tree.nodes.len() as u32;
     let po = tree.polygons.len() as u32;
-    let off = |c: Option<u32>| c.map(|c| c + no);
-    tree.nodes.extend(sub.nodes.into_iter().map(|n| match n {
-        ExactNode::Convex {
-            first,
-            count,
-            child,
-            support_planes,
-        } => ExactNode::Convex {
-            first: first + po,
-            count,
-            child: off(child),
-            support_planes,
-        },
-        ExactNode::Split {
-            plane,
-            front,
-            back,
-            support_planes,
-        } => ExactNode::Split {
-            plane,
-            front: off(front),
-            back: off(back),
-            support_planes,
-        },
+    let off = |c: &mut Option<u32>| *c = c.map(|c| c + no);
+    tree.nodes.extend(sub.nodes.into_iter().map(|mut n| {
+        match &mut n {
+            ExactNode::Convex { first, child, .. } => {
+                *first += po;
+                off(child);
+            }
+            ExactNode::Split { front, back, .. } => {
+                off(front);
+                off(back);
+            }
+        }
+        n
     }));
     tree.polygons.extend(sub.polygons);
     attach(tree, slot, no);
@@ -345,19 +342,7 @@ fn run(ctx: &Ctx, job: Job) -> Result<ExactTree, CompileError> {
                     })
                     .collect();
                 let idx = push_convex(ctx, &mut tree, polys, k, slot);
-                if !rest.is_empty() {
-                    let limit = Limit {
-                        max: k,
-                        strict: true,
-                    };
-                    stack.push(Job::Compile {
-                        frags: rest,
-                        known,
-                        slot: Slot::Child(idx),
-                        limit,
-                        lopsided: 0,
-                    });
-                }
+                stack.extend(convex_child(idx, k, rest, known));
             }
             Job::Chain {
                 mut steps,
@@ -393,10 +378,7 @@ fn run(ctx: &Ctx, job: Job) -> Result<ExactTree, CompileError> {
                     again,
                     known,
                     slot: big_slot,
-                    limit: Limit {
-                        max: k,
-                        strict: true,
-                    },
+                    limit: Limit::below(k),
                 });
                 stack.push(Job::InPlane {
                     on: step.on,
@@ -404,10 +386,7 @@ fn run(ctx: &Ctx, job: Job) -> Result<ExactTree, CompileError> {
                     known: Known::default(),
                     interior_front: step.small_front,
                     slot: small_slot,
-                    limit: Limit {
-                        max: k,
-                        strict: false,
-                    },
+                    limit: Limit::at_most(k),
                 });
             }
             Job::Compile {
@@ -438,19 +417,8 @@ fn run(ctx: &Ctx, job: Job) -> Result<ExactTree, CompileError> {
                         }
                     }
                     let idx = push_convex(ctx, &mut tree, e, k, slot);
-                    if !rest.is_empty() {
-                        let limit = Limit {
-                            max: k,
-                            strict: true,
-                        };
-                        stack.push(Job::Compile {
-                            frags: rest,
-                            known: Known::Inherited(hull.witnesses),
-                            slot: Slot::Child(idx),
-                            limit,
-                            lopsided: 0,
-                        });
-                    }
+                    let known = Known::Inherited(hull.witnesses);
+                    stack.extend(convex_child(idx, k, rest, known));
                     continue;
                 }
                 if lopsided >= CHAIN_AFTER {
@@ -498,6 +466,19 @@ fn run(ctx: &Ctx, job: Job) -> Result<ExactTree, CompileError> {
         }
     }
     Ok(tree)
+}
+
+/// The job of convex node `idx`'s child, when some of its list (`rest`, with witnesses
+/// `known`) is left: the node took every fragment of at least one of its `k` support planes,
+/// so the child has fewer.
+fn convex_child(idx: u32, k: u32, rest: Vec<Fragment>, known: Known) -> Option<Job> {
+    (!rest.is_empty()).then(|| Job::Compile {
+        frags: rest,
+        known,
+        slot: Slot::Child(idx),
+        limit: Limit::below(k),
+        lopsided: 0,
+    })
 }
 
 /// Emit a split node for `frags` (no plane of which is on the hull) and return the jobs of
@@ -562,14 +543,7 @@ fn split_node(
         )));
     }
     let idx = push_split(tree, p, k, slot);
-    let strict = Limit {
-        max: k,
-        strict: true,
-    };
-    let loose = Limit {
-        max: k,
-        strict: false,
-    };
+    let (strict, loose) = (Limit::below(k), Limit::at_most(k));
     // The split plane's fragments join the smaller side; a tie goes to the side whose
     // source ids come first (not to "front", which depends on the plane's sign).
     let (known_front, known_back) = after_split(known, ctx.table.get(p));

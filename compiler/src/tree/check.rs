@@ -311,7 +311,7 @@ pub(crate) fn area_partition(
     for p in &t.polygons {
         by_source[p.frag.source as usize].push(&p.frag);
     }
-    let mut rng = crate::split::SplitMix::new(seed);
+    let mut rng = crate::random::SplitMix::new(seed);
     let mut tested = 0;
     const N: i64 = 1_000_003;
     for f in &input.fragments {

@@ -10,51 +10,18 @@ use serde::de::{self, DeserializeSeed, SeqAccess, Visitor};
 use serde::ser::{self, SerializeSeq, SerializeTuple};
 use serde::{Deserialize, Deserializer, Serialize, Serializer};
 
-// The constants live in the runtime's reader so that writer and reader cannot disagree.
+// The constants and the header live in the runtime's reader so that writer and reader cannot
+// disagree: the header is written as the bytes of `Header::to_bytes`.
 pub use peel_runtime::read::layout::{
-    header_flags, node_kind, polygon_flags, FORMAT_VERSION, MAGIC, NONE,
+    header_flags, node_kind, polygon_flags, FORMAT_VERSION, HEADER_SIZE, MAGIC, NONE,
 };
+pub use peel_runtime::read::Header;
 
 /// The bincode configuration, pinned here and nowhere else.
 pub fn config() -> impl bincode::config::Config {
     bincode::config::standard()
         .with_little_endian()
         .with_fixed_int_encoding()
-}
-
-/// Fixed-size header (92 bytes).
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-pub struct Header {
-    /// [`MAGIC`].
-    pub magic: [u8; 4],
-    /// [`FORMAT_VERSION`].
-    pub version: u16,
-    /// [`header_flags`].
-    pub flags: u16,
-    /// Length of `vertices`.
-    pub vertex_count: u32,
-    /// Length of `planes`.
-    pub plane_count: u32,
-    /// Length of `indices`.
-    pub index_count: u32,
-    /// Length of `polygons`.
-    pub polygon_count: u32,
-    /// Length of `nodes`.
-    pub node_count: u32,
-    /// Nodes on the longest root-to-leaf path (bounds the traversal stack).
-    pub max_depth: u32,
-    /// Largest `vertex_count` of any polygon (bounds the clip buffers).
-    pub max_polygon_vertices: u32,
-    /// World position every coordinate of the file is relative to.
-    pub centre: [f64; 3],
-    /// Lower corner of the scene's bounding box, relative to `centre`.
-    pub bounds_min: [f32; 3],
-    /// Upper corner of the scene's bounding box, relative to `centre`.
-    pub bounds_max: [f32; 3],
-    /// Length of `palette` (0 without `header_flags::PALETTE`).
-    pub palette_count: u32,
-    /// Length of `bounds` (0 without `header_flags::BOUNDS`).
-    pub bounds_count: u32,
 }
 
 /// A polygon's colour field: RGB, or an index into the palette (`u8` or `u16`), as the header
@@ -136,7 +103,7 @@ impl Serialize for PeelFile {
     fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
         let flags = self.header.flags;
         let mut t = s.serialize_tuple(FILE_FIELDS)?;
-        t.serialize_element(&self.header)?;
+        t.serialize_element(&header_words(&self.header))?;
         t.serialize_element(&self.vertices)?;
         t.serialize_element(&self.planes)?;
         t.serialize_element(&Records(&self.indices, flags))?;
@@ -147,6 +114,37 @@ impl Serialize for PeelFile {
         t.serialize_element(&Records(&self.nodes, flags))?;
         t.end()
     }
+}
+
+/// The header's bytes as serde sees them: [`HEADER_SIZE`] / 4 arrays of 4 bytes (serde's
+/// arrays stop at 32 elements). Bincode writes an array as its elements alone, so these are the
+/// bytes of [`Header::to_bytes`].
+type HeaderWords = [[u8; 4]; HEADER_SIZE / 4];
+
+const _: () = assert!(
+    HEADER_SIZE / 4 * 4 == HEADER_SIZE,
+    "the header is whole words"
+);
+
+fn header_words(header: &Header) -> HeaderWords {
+    let bytes = header.to_bytes();
+    std::array::from_fn(|k| {
+        [
+            bytes[4 * k],
+            bytes[4 * k + 1],
+            bytes[4 * k + 2],
+            bytes[4 * k + 3],
+        ]
+    })
+}
+
+/// The header of `words`, when they start with [`MAGIC`].
+fn header_of<E: de::Error>(words: HeaderWords) -> Result<Header, E> {
+    let bytes: [u8; HEADER_SIZE] = words.as_flattened().try_into().map_err(E::custom)?;
+    if !bytes.starts_with(&MAGIC) {
+        return Err(E::custom("not a .peel file (magic)"));
+    }
+    Ok(Header::from_bytes(&bytes))
 }
 
 /// A record whose encoding depends on the header flags.
@@ -350,7 +348,7 @@ impl<'de> Deserialize<'de> for PeelFile {
                 f.write_str("a .peel file")
             }
             fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> Result<PeelFile, A::Error> {
-                let header: Header = required(seq.next_element()?)?;
+                let header = header_of(required(seq.next_element()?)?)?;
                 let flags = header.flags;
                 Ok(PeelFile {
                     header,

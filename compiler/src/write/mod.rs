@@ -158,7 +158,6 @@ pub(crate) fn peel_file_encoded(
     };
     let boxes = boxes.unwrap_or_default();
     let header = Header {
-        magic: format::MAGIC,
         version: format::FORMAT_VERSION,
         flags: if ids {
             flags | header_flags::IDS
@@ -173,8 +172,8 @@ pub(crate) fn peel_file_encoded(
         max_depth: out.max_depth,
         max_polygon_vertices,
         centre: tree.centre.to_array(),
-        bounds_min,
-        bounds_max,
+        bounds_min: bounds_min.into(),
+        bounds_max: bounds_max.into(),
         palette_count: count(palette.len(), "palette colours")?,
         bounds_count: count(boxes.len(), "node bounds")?,
     };
@@ -261,7 +260,15 @@ impl Emitter<'_> {
                 }
             };
             self.max_depth = self.max_depth.max(depth);
-            let none = format::NONE;
+            // Child links are set as the children are written, boxes by `bounds::assign`.
+            let record = |kind, a, b| Node {
+                kind,
+                a,
+                b,
+                c: format::NONE,
+                parent,
+                bounds: format::NONE,
+            };
             match tree.nodes[old as usize] {
                 TreeNode::Convex {
                     first_polygon,
@@ -276,14 +283,8 @@ impl Emitter<'_> {
                     for p in first_polygon..first_polygon.saturating_add(polygon_count) {
                         self.emit_polygon(p, colours)?;
                     }
-                    self.file_nodes.push(Node {
-                        kind: node_kind::CONVEX,
-                        a: first,
-                        b: polygon_count,
-                        c: none,
-                        parent,
-                        bounds: none,
-                    });
+                    self.file_nodes
+                        .push(record(node_kind::CONVEX, first, polygon_count));
                     if let Some(child) = child {
                         stack.push((child, Slot::C(new), depth + 1));
                     }
@@ -296,14 +297,8 @@ impl Emitter<'_> {
                             "split node {old}: plane {plane} out of range"
                         )));
                     }
-                    self.file_nodes.push(Node {
-                        kind: node_kind::SPLIT,
-                        a: plane,
-                        b: none,
-                        c: none,
-                        parent,
-                        bounds: none,
-                    });
+                    self.file_nodes
+                        .push(record(node_kind::SPLIT, plane, format::NONE));
                     // Back first on the stack so that the front subtree comes first in the file.
                     if let Some(back) = back {
                         stack.push((back, Slot::C(new), depth + 1));

@@ -114,6 +114,81 @@ pub(crate) mod header_offset {
     pub const BOUNDS_COUNT: usize = 88;
 }
 
+impl super::Header {
+    /// The header as a file holds it: its [`HEADER_SIZE`] bytes, [`MAGIC`] first. The one
+    /// description of the header's bytes, which the compiler's writer uses too.
+    pub fn to_bytes(&self) -> [u8; HEADER_SIZE] {
+        use header_offset as h;
+        let mut out = [0u8; HEADER_SIZE];
+        let mut put = |offset: usize, field: &[u8]| {
+            for (o, b) in out.iter_mut().skip(offset).zip(field) {
+                *o = *b;
+            }
+        };
+        put(0, &MAGIC);
+        put(h::VERSION, &self.version.to_le_bytes());
+        put(h::FLAGS, &self.flags.to_le_bytes());
+        put(h::VERTEX_COUNT, &self.vertex_count.to_le_bytes());
+        put(h::PLANE_COUNT, &self.plane_count.to_le_bytes());
+        put(h::INDEX_COUNT, &self.index_count.to_le_bytes());
+        put(h::POLYGON_COUNT, &self.polygon_count.to_le_bytes());
+        put(h::NODE_COUNT, &self.node_count.to_le_bytes());
+        put(h::MAX_DEPTH, &self.max_depth.to_le_bytes());
+        put(
+            h::MAX_POLYGON_VERTICES,
+            &self.max_polygon_vertices.to_le_bytes(),
+        );
+        for (k, c) in self.centre.iter().enumerate() {
+            put(h::CENTRE + 8 * k, &c.to_le_bytes());
+        }
+        for (k, (lo, hi)) in self
+            .bounds_min
+            .to_array()
+            .iter()
+            .zip(self.bounds_max.to_array())
+            .enumerate()
+        {
+            put(h::BOUNDS_MIN + 4 * k, &lo.to_le_bytes());
+            put(h::BOUNDS_MAX + 4 * k, &hi.to_le_bytes());
+        }
+        put(h::PALETTE_COUNT, &self.palette_count.to_le_bytes());
+        put(h::BOUNDS_COUNT, &self.bounds_count.to_le_bytes());
+        out
+    }
+
+    /// The header of [`HEADER_SIZE`] bytes, field by field, with no check: [`Scene::parse`]
+    /// checks the magic, version and flags first (and [`Self::to_bytes`] undoes this).
+    ///
+    /// [`Scene::parse`]: super::Scene::parse
+    pub fn from_bytes(bytes: &[u8; HEADER_SIZE]) -> Self {
+        use header_offset as h;
+        let r = Record(*bytes);
+        let f64_field = |offset: usize| f64::from_le_bytes(r.bytes(offset));
+        let vec3 =
+            |offset: usize| glam::Vec3::new(r.f32(offset), r.f32(offset + 4), r.f32(offset + 8));
+        Self {
+            version: r.u16(h::VERSION),
+            flags: r.u16(h::FLAGS),
+            vertex_count: r.u32(h::VERTEX_COUNT),
+            plane_count: r.u32(h::PLANE_COUNT),
+            index_count: r.u32(h::INDEX_COUNT),
+            polygon_count: r.u32(h::POLYGON_COUNT),
+            node_count: r.u32(h::NODE_COUNT),
+            max_depth: r.u32(h::MAX_DEPTH),
+            max_polygon_vertices: r.u32(h::MAX_POLYGON_VERTICES),
+            centre: [
+                f64_field(h::CENTRE),
+                f64_field(h::CENTRE + 8),
+                f64_field(h::CENTRE + 16),
+            ],
+            bounds_min: vec3(h::BOUNDS_MIN),
+            bounds_max: vec3(h::BOUNDS_MAX),
+            palette_count: r.u32(h::PALETTE_COUNT),
+            bounds_count: r.u32(h::BOUNDS_COUNT),
+        }
+    }
+}
+
 /// A fixed-size record read once (one bounds check), whose fields are then decoded at constant
 /// offsets with no further check: the hot accessors read nodes, planes and polygons this way.
 #[derive(Clone, Copy)]

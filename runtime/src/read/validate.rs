@@ -8,8 +8,6 @@
 //! by a walk that goes down child links and back up parent links, keeping only the current
 //! node and its depth: no stack, each edge walked twice.
 
-use glam::Vec3;
-
 use super::layout::{
     f32_at, f64_at, header_flags as hf, header_offset as h, index_size, node_kind, node_size,
     polygon_flags, polygon_size, u16_at, u32_at, u64_at, u8_at, BOUNDS_SIZE, FORMAT_VERSION,
@@ -69,39 +67,10 @@ fn read_header(bytes: &[u8]) -> Result<Header, ReadError> {
             return Err(ReadError::InconsistentFlags { flags });
         }
     }
-    if bytes.len() < HEADER_SIZE {
-        return Err(ReadError::Truncated { offset: 0 });
+    match bytes.get(..HEADER_SIZE).and_then(|b| b.try_into().ok()) {
+        Some(header) => Ok(Header::from_bytes(header)),
+        None => Err(ReadError::Truncated { offset: 0 }),
     }
-    let u32_field = |offset| need(u32_at(bytes, offset), 0);
-    let f32_field = |offset| need(f32_at(bytes, offset), 0);
-    let vec3 = |offset: usize| -> Result<Vec3, ReadError> {
-        Ok(Vec3::new(
-            f32_field(offset)?,
-            f32_field(offset + 4)?,
-            f32_field(offset + 8)?,
-        ))
-    };
-    let f64_field = |offset| need(f64_at(bytes, offset), 0);
-    Ok(Header {
-        version: FORMAT_VERSION,
-        flags: need(u16_at(bytes, h::FLAGS), 0)?,
-        vertex_count: u32_field(h::VERTEX_COUNT)?,
-        plane_count: u32_field(h::PLANE_COUNT)?,
-        index_count: u32_field(h::INDEX_COUNT)?,
-        polygon_count: u32_field(h::POLYGON_COUNT)?,
-        node_count: u32_field(h::NODE_COUNT)?,
-        max_depth: u32_field(h::MAX_DEPTH)?,
-        max_polygon_vertices: u32_field(h::MAX_POLYGON_VERTICES)?,
-        centre: [
-            f64_field(h::CENTRE)?,
-            f64_field(h::CENTRE + 8)?,
-            f64_field(h::CENTRE + 16)?,
-        ],
-        bounds_min: vec3(h::BOUNDS_MIN)?,
-        bounds_max: vec3(h::BOUNDS_MAX)?,
-        palette_count: u32_field(h::PALETTE_COUNT)?,
-        bounds_count: u32_field(h::BOUNDS_COUNT)?,
-    })
 }
 
 /// One array: its `u64` length at `*at` must equal `count` and its records must fit.

@@ -240,8 +240,7 @@ impl<'m, const SUB: u32> Renderer<'m, SUB> {
         T: Source + ?Sized,
         S: SpanSink + ?Sized,
     {
-        view.check()?;
-        self.frame(scene, view, 0..view.height, target)
+        self.draw_rows(scene, view, 0..view.height, target)
     }
 
     /// [`Renderer::draw`] of frame rows `rows` only: a band, for firmware that sends a frame
@@ -272,20 +271,6 @@ impl<'m, const SUB: u32> Renderer<'m, SUB> {
                 height: view.height,
             });
         }
-        self.frame(scene, view, rows, target)
-    }
-
-    fn frame<T, S>(
-        &mut self,
-        scene: &T,
-        view: &LocalView,
-        rows: core::ops::Range<u32>,
-        sink: &mut S,
-    ) -> Result<FrameStats, RenderError>
-    where
-        T: Source + ?Sized,
-        S: SpanSink + ?Sized,
-    {
         let order = self.order();
         let paint = self.paint;
         let cull = self.cull;
@@ -374,7 +359,7 @@ impl<'m, const SUB: u32> Renderer<'m, SUB> {
         let background = self.background;
         // Back to front: the background first, then every polygon over it.
         if let (Some(colour), Order::BackToFront) = (background, order) {
-            paint_uncovered(None, width, first_row..end_row, colour, sink);
+            paint_uncovered(None, width, first_row..end_row, colour, target);
         }
 
         // Pass 1: the frame's order.
@@ -383,7 +368,7 @@ impl<'m, const SUB: u32> Renderer<'m, SUB> {
             order,
             &mut self.stack[..],
             coverage.as_deref_mut(),
-            sink,
+            target,
             &mut stats,
             None,
         )?;
@@ -395,21 +380,21 @@ impl<'m, const SUB: u32> Renderer<'m, SUB> {
             c.freeze();
             // What pass 2 draws, it draws over this (it paints back to front).
             if let Some(colour) = background {
-                paint_uncovered(Some(c), width, first_row..end_row, colour, sink);
+                paint_uncovered(Some(c), width, first_row..end_row, colour, target);
             }
             painter.walk(
                 scene,
                 Order::BackToFront,
                 &mut self.stack[..],
                 coverage.as_deref_mut(),
-                sink,
+                target,
                 &mut stats,
                 Some(last),
             )?;
         }
         if let (Some(colour), Order::FrontToBack, None) = (background, order, overflow) {
             if let Some(c) = coverage.as_deref() {
-                paint_uncovered(Some(c), width, first_row..end_row, colour, sink);
+                paint_uncovered(Some(c), width, first_row..end_row, colour, target);
             }
         }
         stats.distinct_pixels = match coverage.as_deref() {

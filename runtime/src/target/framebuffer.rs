@@ -74,12 +74,10 @@ pub enum TargetError {
 impl fmt::Display for TargetError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match *self {
-            TargetError::BufferTooSmall { needed, len } => {
-                write!(
-                    f,
-                    "framebuffer slice holds {len} pixels, the image needs {needed}"
-                )
-            }
+            TargetError::BufferTooSmall { needed, len } => write!(
+                f,
+                "framebuffer slice holds {len} pixels, the image needs {needed}"
+            ),
             TargetError::StrideTooSmall { stride, width } => {
                 write!(f, "row stride {stride} is shorter than the width {width}")
             }

@@ -2,7 +2,7 @@
 //! framebuffers, a display or a test's mock consume them.
 //!
 //! [`Framebuffer`] writes into a caller's slice in one of three pixel formats ([`Gray8`],
-//! [`Rgb565`], [`Xrgb8888`]); with the `embedded-graphics` feature, [`DrawTargetSink`] forwards
+//! [`Rgb565`], [`Xrgb8888`]); with the `embedded-graphics` feature, `DrawTargetSink` forwards
 //! spans to any `embedded_graphics_core` draw target. The crate's own tests draw into a mock
 //! that checks and prints what a fill drew (`testing::MockTarget`, built only for them).
 

@@ -33,27 +33,27 @@ use peel_target_kit::config::{Config, ConfigError, Variant, WRITE_FRAMES};
 use display::Panel;
 use pool::Pool;
 
-#[cfg(feature = "ftb-framebuffer")]
-const VARIANT: Variant = Variant::FtbFramebuffer;
-#[cfg(feature = "ftb-stream")]
-const VARIANT: Variant = Variant::FtbStream;
-#[cfg(feature = "ftb-bands")]
-const VARIANT: Variant = Variant::FtbBands;
-#[cfg(feature = "b2f-framebuffer")]
-const VARIANT: Variant = Variant::B2fFramebuffer;
-#[cfg(feature = "b2f-bands")]
-const VARIANT: Variant = Variant::B2fBands;
-#[cfg(feature = "zbuffer")]
-const VARIANT: Variant = Variant::Zbuffer;
-#[cfg(not(any(
-    feature = "ftb-framebuffer",
-    feature = "ftb-stream",
-    feature = "ftb-bands",
-    feature = "b2f-framebuffer",
-    feature = "b2f-bands",
-    feature = "zbuffer"
-)))]
-compile_error!("build with exactly one variant feature, e.g. --features ftb-framebuffer");
+/// `VARIANT`, this build's variant, from its one variant feature (two give two `VARIANT`s,
+/// none a compile error): each feature named once, as `Variant::name` names it.
+macro_rules! variant {
+    ($($feature:literal => $variant:ident),*) => {
+        $(
+            #[cfg(feature = $feature)]
+            const VARIANT: Variant = Variant::$variant;
+        )*
+        #[cfg(not(any($(feature = $feature),*)))]
+        compile_error!("build with exactly one variant feature, e.g. --features ftb-framebuffer");
+    };
+}
+
+variant!(
+    "ftb-framebuffer" => FtbFramebuffer,
+    "ftb-stream" => FtbStream,
+    "ftb-bands" => FtbBands,
+    "b2f-framebuffer" => B2fFramebuffer,
+    "b2f-bands" => B2fBands,
+    "zbuffer" => Zbuffer
+);
 
 /// The largest image the panel memory holds.
 const MAX_PIXELS: usize = 320 * 240;

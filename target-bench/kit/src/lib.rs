@@ -52,7 +52,7 @@ pub fn orbit_view(
 
 /// Where QEMU's `-device loader` puts the data in the 4 MiB of code memory that the
 /// `mps2-an385`/`mps2-an386` machines map at address 0: one firmware build then serves every
-/// scene, size and camera path. The firmware itself links below [`ASSET_ADDR`].
+/// scene, size and camera path. The firmware itself links below [`layout::ASSET_ADDR`].
 pub mod layout {
     /// The scene (`.peel` file) or the mesh ([`crate::mesh`]).
     pub const ASSET_ADDR: u32 = 0x0010_0000;

@@ -76,7 +76,6 @@ pub(super) fn prepare_scene(
 
 /// Draw one frame with `method`; `SUB` is the fixed-point precision, that of `at`.
 fn draw<const SUB: u32>(
-    p: &Prepared,
     scenes: &mut Scenes<'_>,
     method: Method,
     camera: &Camera,
@@ -124,7 +123,7 @@ fn draw<const SUB: u32>(
         Method::ZbufferInt | Method::ZbufferF32 | Method::Newell => {
             let view = camera.view(scenes.peel.header().centre);
             let tris = &mut at.triangles;
-            prepare::prepare(&p.triangles, &view, &mut at.projected, tris);
+            prepare::prepare(scenes.triangles, &view, &mut at.projected, tris);
             let mut ids = vec![0u32; n];
             let written = match method {
                 Method::ZbufferInt => {
@@ -180,12 +179,34 @@ impl<const SUB: u32> AtPrecision<SUB> {
 }
 
 /// A scene's files, validated once before any frame is timed (firmware parses a file once,
-/// then draws many frames from it), and the memory of their projected vertices.
+/// then draws many frames from it), the memory of their projected vertices, and the source
+/// triangles the baselines draw.
 struct Scenes<'b> {
     peel: Scene<'b>,
     naive: Option<Scene<'b>>,
     peel_memory: Vec<CachedVertex>,
     naive_memory: Vec<CachedVertex>,
+    triangles: &'b prepare::Triangles,
+}
+
+impl Scenes<'_> {
+    /// One frame of `v` seen by `camera`: [`draw`] at the variant's precision (0, 4, or else
+    /// the default [`SUBPIXEL_BITS`]).
+    ///
+    /// [`SUBPIXEL_BITS`]: peel_runtime::fill::SUBPIXEL_BITS
+    fn draw(&mut self, v: &Variant, camera: &Camera, work: &mut Work) -> Result<Drawn, String> {
+        let Work {
+            buffers,
+            sub0,
+            sub4,
+            sub8,
+        } = work;
+        match v.sub {
+            0 => draw(self, v.method, camera, buffers, sub0),
+            4 => draw(self, v.method, camera, buffers, sub4),
+            _ => draw(self, v.method, camera, buffers, sub8),
+        }
+    }
 }
 
 impl Work {
@@ -257,28 +278,6 @@ impl Variant {
     }
 }
 
-/// [`draw`] at the precision `sub` (0, 4, or else the default [`SUBPIXEL_BITS`]).
-fn draw_at(
-    sub: u32,
-    p: &Prepared,
-    scenes: &mut Scenes<'_>,
-    method: Method,
-    camera: &Camera,
-    work: &mut Work,
-) -> Result<Drawn, String> {
-    let Work {
-        buffers,
-        sub0,
-        sub4,
-        sub8,
-    } = work;
-    match sub {
-        0 => draw(p, scenes, method, camera, buffers, sub0),
-        4 => draw(p, scenes, method, camera, buffers, sub4),
-        _ => draw(p, scenes, method, camera, buffers, sub8),
-    }
-}
-
 /// Every variant on every camera of a scene. Per camera, each variant in turn: one untimed
 /// frame (for its pixels and errors, and to warm the caches with its own data, as a renderer
 /// drawing frame after frame has them), then the fastest of three timed frames. Taking the
@@ -305,13 +304,14 @@ pub(super) fn measure_scene(
         naive,
         peel_memory,
         naive_memory,
+        triangles: &p.triangles,
     };
     let n = variants.len();
     let mut times: Vec<Vec<f64>> = vec![Vec::new(); n];
     let mut totals = vec![(0u64, 0u64, 0u64, 0u64); n];
     for (camera, r) in &p.views {
         for ((v, total), t) in variants.iter().zip(&mut totals).zip(&mut times) {
-            let d = draw_at(v.sub, p, &mut scenes, v.method, camera, work)?;
+            let d = scenes.draw(v, camera, work)?;
             let (rb, al) = errors(r, &d.ids);
             total.0 += d.written;
             total.1 += d.polygons;
@@ -320,7 +320,7 @@ pub(super) fn measure_scene(
             let mut best = f64::INFINITY;
             for _ in 0..3 {
                 let start = Instant::now();
-                draw_at(v.sub, p, &mut scenes, v.method, camera, work)?;
+                scenes.draw(v, camera, work)?;
                 best = best.min(start.elapsed().as_secs_f64() * 1e3);
             }
             t.push(best);

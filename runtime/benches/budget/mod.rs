@@ -1,0 +1,16 @@
+//! The measurement budget of every criterion benchmark in the workspace: this crate's
+//! `inner.rs` and the compiler's `frame.rs` and `predicates.rs` (which include this file by
+//! path), so that a `cargo bench` stays short on a small machine and their figures are taken
+//! alike.
+
+use std::time::Duration;
+
+use criterion::Criterion;
+
+/// 20 samples, after 0.3 s of warm-up, in 1 s of measurement.
+pub fn budget() -> Criterion {
+    Criterion::default()
+        .sample_size(20)
+        .warm_up_time(Duration::from_millis(300))
+        .measurement_time(Duration::from_secs(1))
+}

@@ -1,0 +1,213 @@
+//! One configuration measured: its config block written, QEMU run twice (the counts must
+//! agree), each frame compared with the host's, and its record of instructions, RAM, flash and
+//! display bytes.
+
+use std::path::Path;
+
+use peel_target_kit::config::{Config, OrbitAngles, Variant, MAX_CAMERAS, WRITE_FRAMES};
+
+use crate::plan::{Core, Setup, FOV_Y_DEG};
+use crate::results::Record;
+use crate::scenes::Compiled;
+use crate::tools::{self, QemuRun};
+use crate::{elf, mkdir, pixels, report, size_name, write, BACKGROUND};
+
+/// Instructions per SysTick tick under `-icount shift=0` (25 MHz core clock, 1 ns per
+/// instruction).
+const INSTRUCTIONS_PER_TICK: u64 = 40;
+
+/// One configuration: a scene, core, size and display path.
+pub struct Measure<'a> {
+    pub scene: &'a Compiled,
+    pub core: Core,
+    pub size: (u32, u32),
+    pub setup: Setup,
+    pub cameras: &'a [OrbitAngles],
+    pub spans_per_row: u32,
+    pub elf: &'a Path,
+    pub timeout_s: u32,
+}
+
+/// One QEMU run's report and frames.
+struct RunResult {
+    report: report::Report,
+    frames: Vec<Vec<u16>>,
+}
+
+impl Measure<'_> {
+    /// Run the configuration twice in `dir`; its record and the problems found.
+    pub fn measure(
+        &self,
+        dir: &Path,
+        expected: &[Vec<u16>],
+    ) -> Result<(Record, Vec<String>), String> {
+        mkdir(dir)?;
+        let (width, height) = self.size;
+        let zbuffer = self.setup.variant == Variant::Zbuffer;
+        let (asset, asset_len) = if zbuffer {
+            (&self.scene.mesh, self.scene.mesh_bytes.len())
+        } else {
+            (&self.scene.peel, self.scene.peel_bytes.len())
+        };
+        let mut cameras = [OrbitAngles::default(); MAX_CAMERAS];
+        cameras[..self.cameras.len()].copy_from_slice(self.cameras);
+        let [r, g, b] = BACKGROUND;
+        let config = Config {
+            variant: self.setup.variant,
+            width,
+            height,
+            band_rows: self.setup.band_rows,
+            spans_per_row: self.spans_per_row,
+            asset_len: u32::try_from(asset_len).map_err(|_| "asset too large".to_string())?,
+            background: u32::from_be_bytes([0, r, g, b]),
+            flags: WRITE_FRAMES,
+            fov_y_deg: FOV_Y_DEG,
+            camera_count: self.cameras.len() as u32,
+            cameras,
+        };
+        let config_path = dir.join("config.bin");
+        write(&config_path, &config.encode())?;
+        let runs = [1, 2]
+            .map(|k| self.run_once(&dir.join(format!("run-{k}")), asset, &config_path))
+            .into_iter()
+            .collect::<Result<Vec<_>, _>>()?;
+        let (first, second) = (&runs[0], &runs[1]);
+
+        let name = format!(
+            "{} {} {} {}",
+            self.scene.spec.name,
+            self.core.name(),
+            size_name(self.size),
+            self.setup.label()
+        );
+        let mut problems = Vec::new();
+        let ticks = |r: &RunResult| r.report.frames.iter().map(|f| f.ticks).collect::<Vec<_>>();
+        let deterministic = ticks(first) == ticks(second) && first.frames == second.frames;
+        if !deterministic {
+            problems.push(format!(
+                "{name}: two runs differ (ticks {:?} and {:?}{})",
+                ticks(first),
+                ticks(second),
+                if first.frames == second.frames {
+                    ""
+                } else {
+                    ", and their pixels"
+                }
+            ));
+        }
+        if expected.len() != first.frames.len() {
+            return Err(format!(
+                "{name}: {} reference frames for {} cameras",
+                expected.len(),
+                first.frames.len()
+            ));
+        }
+        let mut differing = 0;
+        for (k, (got, want)) in first.frames.iter().zip(expected).enumerate() {
+            let d = pixels::differing(got, want);
+            if d > 0 {
+                problems.push(format!(
+                    "{name}: camera {k} ({} deg): {d} pixels differ from the host's (see {})",
+                    self.cameras[k].azimuth_deg,
+                    dir.join("run-1")
+                        .join(format!("frame-{k}.rgb565"))
+                        .display()
+                ));
+            }
+            differing += d;
+        }
+        if first.report.frames.iter().any(|f| f.fallback) {
+            println!("   note: {name}: span memory ran out (finished back to front: same pixels)");
+        }
+        if differing == 0 {
+            // Keep the logs; the frames (150 kB each) only when they are needed.
+            for k in 0..self.cameras.len() {
+                for run in ["run-1", "run-2"] {
+                    let _ = std::fs::remove_file(dir.join(run).join(format!("frame-{k}.rgb565")));
+                }
+            }
+        }
+
+        let elf_bytes = std::fs::read(self.elf)
+            .map_err(|e| format!("{}: cannot read: {e}", self.elf.display()))?;
+        let sections =
+            elf::sections(&elf_bytes).map_err(|e| format!("{}: {e}", self.elf.display()))?;
+        let size = |name| elf::size(&sections, name);
+        let statics = size(".data") + size(".bss") + size(".uninit");
+        let report = &first.report;
+        // The pool is all in the statics; only what the run took from it counts.
+        let ram = statics.checked_sub(report.pool_capacity).ok_or_else(|| {
+            format!(
+                "{}: statics smaller than the pool reported",
+                self.elf.display()
+            )
+        })? + report.pool_used
+            + report.stack_peak;
+        let flash = size(".vector_table")
+            + size(".text")
+            + size(".rodata")
+            + size(".data")
+            + asset_len as u64;
+        let median = |f: fn(&report::Frame) -> u64| {
+            report::median(&report.frames.iter().map(f).collect::<Vec<_>>())
+        };
+        let record = Record {
+            scene: self.scene.spec.name.clone(),
+            method: self.setup.variant.method().into(),
+            core: self.core.name().into(),
+            width,
+            height,
+            triangles: self.scene.triangles,
+            instructions: median(|f| f.ticks) * INSTRUCTIONS_PER_TICK,
+            ram_bytes: ram,
+            framebuffer_bytes: report.framebuffer,
+            flash_bytes: flash,
+            display_bytes: median(|f| f.display_bytes),
+            differing_pixels: differing,
+            deterministic,
+        };
+        println!(
+            "   {name}: {} instructions, {} B RAM, {} differing pixels",
+            record.instructions, record.ram_bytes, record.differing_pixels
+        );
+        Ok((record, problems))
+    }
+
+    /// One QEMU run in `dir`, checked to be of the right build, with its frames read.
+    fn run_once(&self, dir: &Path, asset: &Path, config: &Path) -> Result<RunResult, String> {
+        mkdir(dir)?;
+        let output = tools::qemu(&QemuRun {
+            core: self.core,
+            elf: self.elf,
+            asset,
+            config,
+            dir,
+            timeout_s: self.timeout_s,
+        })?;
+        let log = dir.join("qemu.out");
+        let report = report::parse(&output).map_err(|e| format!("{}: {e}", log.display()))?;
+        if report.variant != self.setup.variant.name() || report.target != self.core.triple() {
+            return Err(format!(
+                "{}: a build of {} for {} answered, not {} for {}",
+                log.display(),
+                report.variant,
+                report.target,
+                self.setup.variant.name(),
+                self.core.triple()
+            ));
+        }
+        if report.frames.len() != self.cameras.len() {
+            return Err(format!(
+                "{}: {} frames for {} cameras",
+                log.display(),
+                report.frames.len(),
+                self.cameras.len()
+            ));
+        }
+        let pixels = self.size.0 as usize * self.size.1 as usize;
+        let frames = (0..self.cameras.len())
+            .map(|k| pixels::frame_file(&dir.join(format!("frame-{k}.rgb565")), pixels))
+            .collect::<Result<_, _>>()?;
+        Ok(RunResult { report, frames })
+    }
+}
