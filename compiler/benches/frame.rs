@@ -12,7 +12,7 @@ mod budget;
 use std::hint::black_box;
 use std::path::Path;
 
-use criterion::{criterion_group, criterion_main, Criterion};
+use criterion::Criterion;
 use glam::DVec3;
 use peel_compiler::compile::{compile_mesh, CompileOptions};
 use peel_compiler::tools::raster::{HOST_SPANS_PER_ROW, HOST_STACK, HOST_VERTS};
@@ -70,9 +70,4 @@ fn frame(c: &mut Criterion) {
     g.finish();
 }
 
-criterion_group! {
-    name = benches;
-    config = budget::budget();
-    targets = frame
-}
-criterion_main!(benches);
+budget::main!(frame);

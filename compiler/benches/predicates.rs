@@ -15,7 +15,7 @@ mod budget;
 
 use std::hint::black_box;
 
-use criterion::{criterion_group, criterion_main, Criterion};
+use criterion::Criterion;
 use peel_compiler::predicates::{
     intersect, side_of_hom, side_of_hom_exact, Plane, PlaneTable, Side,
 };
@@ -73,9 +73,4 @@ fn predicates(c: &mut Criterion) {
     g.finish();
 }
 
-criterion_group! {
-    name = benches;
-    config = budget::budget();
-    targets = predicates
-}
-criterion_main!(benches);
+budget::main!(predicates);

@@ -11,7 +11,7 @@ mod budget;
 
 use std::hint::black_box;
 
-use criterion::{criterion_group, criterion_main, Criterion};
+use criterion::Criterion;
 use glam::{DVec3, Vec3};
 use peel_runtime::camera::{Camera, Pose};
 use peel_runtime::clip::{clip_polygon, Frustum};
@@ -104,9 +104,4 @@ fn clip(c: &mut Criterion) {
     g.finish();
 }
 
-criterion_group! {
-    name = benches;
-    config = budget::budget();
-    targets = fill, clip
-}
-criterion_main!(benches);
+budget::main!(fill, clip);

@@ -22,3 +22,18 @@ pub mod raster;
 pub mod reference;
 pub mod scenes;
 pub mod shot;
+
+/// One row of a markdown table, `| a | b | ... |` and a newline: the benchmarks' tables (frames,
+/// compile, target) build their rows from cells rather than hand-counted format strings.
+pub fn markdown_row<I>(cells: I) -> String
+where
+    I: IntoIterator,
+    I::Item: std::fmt::Display,
+{
+    let mut row = String::from("|");
+    for cell in cells {
+        row.push_str(&format!(" {cell} |"));
+    }
+    row.push('\n');
+    row
+}

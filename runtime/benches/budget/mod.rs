@@ -7,6 +7,20 @@ use std::time::Duration;
 
 use criterion::Criterion;
 
+/// A benchmark file's `main`: its `targets` under the [`budget`] (this file must be its
+/// module `budget`).
+macro_rules! main {
+    ($($target:path),+ $(,)?) => {
+        criterion::criterion_group! {
+            name = benches;
+            config = budget::budget();
+            targets = $($target),+
+        }
+        criterion::criterion_main!(benches);
+    };
+}
+pub(crate) use main;
+
 /// 20 samples, after 0.3 s of warm-up, in 1 s of measurement.
 pub fn budget() -> Criterion {
     Criterion::default()

@@ -1,5 +1,11 @@
 //! Camera: where the eye is, where it looks, and how camera space maps to pixels.
 //!
+//! One concept in one file (its length is the conventions and their error bounds, stated where
+//! they are used): the world camera [`Camera`] with the ways to pose it ([`Pose`], [`Orbit`]),
+//! its [`Intrinsics`], the same camera in a scene's local `f32` frame ([`LocalView`], the
+//! per-vertex work), and a
+//! node box carried into that frame ([`CameraBox`]).
+//!
 //! # Conventions (the project's camera specification, restated)
 //!
 //! World coordinates are right-handed. A camera is an `eye`, a `target`, an `up` vector

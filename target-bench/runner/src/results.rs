@@ -61,22 +61,21 @@ pub fn markdown(records: &[Record]) -> String {
          |---|---|---|--:|--:|--:|--:|--:|--:|--:|--:|--:|---|\n",
     );
     for r in records {
-        s.push_str(&format!(
-            "| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |\n",
-            r.scene,
-            r.method,
-            r.core,
-            r.width,
-            r.height,
+        s.push_str(&peel_compiler::tools::markdown_row([
+            r.scene.clone(),
+            r.method.clone(),
+            r.core.clone(),
+            r.width.to_string(),
+            r.height.to_string(),
             grouped(r.triangles),
             grouped(r.instructions),
             grouped(r.ram_bytes),
             grouped(r.framebuffer_bytes),
             grouped(r.flash_bytes),
             grouped(r.display_bytes),
-            r.differing_pixels,
-            if r.deterministic { "yes" } else { "no" },
-        ));
+            r.differing_pixels.to_string(),
+            (if r.deterministic { "yes" } else { "no" }).to_string(),
+        ]));
     }
     s
 }

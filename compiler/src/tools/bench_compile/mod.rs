@@ -167,19 +167,18 @@ pub fn markdown(rows: &[BenchRow]) -> String {
         None => "— | — | — | — | —".to_string(),
     };
     for r in rows {
-        out.push_str(&format!(
-            "| {} | {} | {} | {:.3} | {} | {} | {:.3} | {:.3} | {} | {} |\n",
-            r.scene,
-            r.triangles,
-            r.polygons,
-            r.ratio,
-            r.split_nodes,
-            r.depth,
-            r.seconds,
-            r.compile_seconds,
+        out.push_str(&super::markdown_row([
+            r.scene.clone(),
+            r.triangles.to_string(),
+            r.polygons.to_string(),
+            format!("{:.3}", r.ratio),
+            r.split_nodes.to_string(),
+            r.depth.to_string(),
+            format!("{:.3}", r.seconds),
+            format!("{:.3}", r.compile_seconds),
             base(&r.naive_bsp),
             base(&r.greedy_triangles),
-        ));
+        ]));
     }
     out
 }

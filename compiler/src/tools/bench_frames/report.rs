@@ -25,21 +25,20 @@ pub fn markdown(records: &[FrameRecord]) -> String {
             .find(|b| b.scene == r.scene && b.method == Method::ZbufferInt.name())
             .map(|b| b.median_frame_ms)
             .unwrap_or(f64::NAN);
-        s += &format!(
-            "| {} | {} | {:.3} | {:.2}x | {} | {} | {} | {} |\n",
-            r.scene,
-            r.method,
-            r.median_frame_ms,
-            base / r.median_frame_ms,
+        s += &crate::tools::markdown_row([
+            r.scene.clone(),
+            r.method.clone(),
+            format!("{:.3}", r.median_frame_ms),
+            format!("{:.2}x", base / r.median_frame_ms),
             if r.polygons_drawn > 0 {
                 r.polygons_drawn.to_string()
             } else {
                 "-".into()
             },
-            r.pixels_written,
-            r.robust_errors,
-            r.all_errors
-        );
+            r.pixels_written.to_string(),
+            r.robust_errors.to_string(),
+            r.all_errors.to_string(),
+        ]);
     }
     s
 }
