@@ -3,8 +3,7 @@
 //! One concept in one file (its length is the conventions and their error bounds, stated where
 //! they are used): the world camera [`Camera`] with the ways to pose it ([`Pose`], [`Orbit`]),
 //! its [`Intrinsics`], the same camera in a scene's local `f32` frame ([`LocalView`], the
-//! per-vertex work), and a
-//! node box carried into that frame ([`CameraBox`]).
+//! per-vertex work), and a node box carried into that frame ([`CameraBox`]).
 //!
 //! # Conventions (the project's camera specification, restated)
 //!
