@@ -13,7 +13,12 @@
 //!   against the classic visibility methods.
 //! - `bench_compile` (`peel bench compile`, feature `bench`): Peel's build against two
 //!   baselines.
+//! - `baselines` (feature `bench`): those baselines, a naive BSP tree and the greedy rule with
+//!   triangle output, which `peel bench` draws too. The two benchmarks share it and
+//!   [`median`], and depend on nothing else of each other.
 
+#[cfg(feature = "bench")]
+pub mod baselines;
 #[cfg(feature = "bench")]
 pub mod bench_compile;
 #[cfg(feature = "bench")]
@@ -36,4 +41,18 @@ where
     }
     row.push('\n');
     row
+}
+
+/// The median of `v` (the mean of the middle two for an even count; 0 when empty).
+pub fn median(mut v: Vec<f64>) -> f64 {
+    v.sort_by(f64::total_cmp);
+    if v.is_empty() {
+        return 0.0;
+    }
+    let m = v.len() / 2;
+    if v.len() % 2 == 1 {
+        v[m]
+    } else {
+        (v[m - 1] + v[m]) / 2.0
+    }
 }

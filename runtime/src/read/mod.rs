@@ -1,7 +1,7 @@
 //! Read: a `.peel` file read in place from `&[u8]`, validated up front.
 //!
-//! CONTRACT (owned by the format helper): the API below. After [`Scene::parse`] succeeded,
-//! every accessor is total (it never panics; an out-of-range argument gives a default).
+//! After [`Scene::parse`] succeeded, every accessor is total (it never panics; an
+//! out-of-range argument gives a default).
 //! The byte layout is specified in `formats/peel.md`; [`layout`] holds its constants.
 
 pub mod layout;

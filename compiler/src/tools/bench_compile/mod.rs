@@ -7,8 +7,6 @@
 //! rule with triangle output (see [`baselines`]). The baselines are quadratic on unfavourable
 //! inputs, so they are run only on scenes of at most [`BASELINE_MAX_TRIANGLES`] triangles.
 
-pub mod baselines;
-
 use std::path::Path;
 use std::time::Instant;
 
@@ -17,9 +15,9 @@ use serde::Serialize;
 use crate::compile::{compile_mesh, CompileOptions};
 use crate::error::CompileError;
 use crate::load::{load_obj, Mesh};
-use crate::tools::bench_frames::median;
+use crate::tools::baselines::{greedy_triangles, naive_bsp, BaselineStats};
+use crate::tools::median;
 use crate::tree::{build, BuildOptions};
-use baselines::{greedy_triangles, naive_bsp, BaselineStats};
 
 /// The shared models looked for in the models directory (absent ones are skipped).
 pub const MODELS: [&str; 4] = ["cow", "teapot", "suzanne", "stanford-bunny"];

@@ -17,6 +17,7 @@ use peel_runtime::vertices::{CachedVertex, VertexCache};
 use super::{newell, prepare, zbuffer, FrameRecord, Method};
 use crate::compile::{compile_mesh, CompileOptions};
 use crate::load::Mesh;
+use crate::tools::median;
 use crate::tools::raster::{HOST_SPANS_PER_ROW, HOST_STACK, HOST_VERTS};
 use crate::tools::reference::{reference, Reference};
 use crate::tools::shot::Shot;
@@ -235,20 +236,6 @@ fn errors(r: &Reference, ids: &[u32]) -> (u64, u64) {
         }
     }
     (robust, all)
-}
-
-/// The median of `v` (the mean of the middle two for an even count; 0 when empty).
-pub(crate) fn median(mut v: Vec<f64>) -> f64 {
-    v.sort_by(f64::total_cmp);
-    if v.is_empty() {
-        return 0.0;
-    }
-    let m = v.len() / 2;
-    if v.len() % 2 == 1 {
-        v[m]
-    } else {
-        (v[m - 1] + v[m]) / 2.0
-    }
 }
 
 /// One timed row of a scene: a method at a fixed-point precision.

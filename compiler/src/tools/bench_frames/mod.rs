@@ -32,7 +32,6 @@ use crate::tools::shot::Shot;
 use measure::{measure_scene, prepare_scene, Variant, Work};
 
 pub use candidates::candidates_knob;
-pub(crate) use measure::median;
 pub use plot::plot;
 pub use report::{json, markdown};
 
@@ -147,7 +146,7 @@ pub fn frame_scene(
     mesh: Mesh,
     log: &mut dyn FnMut(&str),
 ) -> Result<BenchScene, String> {
-    use crate::tools::bench_compile::baselines::{naive_bsp_file, NaiveBsp};
+    use crate::tools::baselines::{naive_bsp_file, NaiveBsp};
     let limit = (mesh.triangles.len() as u64)
         .saturating_mul(NAIVE_BSP_MAX_RATIO)
         .max(1);
@@ -324,7 +323,7 @@ mod tests {
     /// The naive BSP stops as soon as it exceeds its polygon budget.
     #[test]
     fn a_naive_bsp_over_budget_stops() {
-        use crate::tools::bench_compile::baselines::{naive_bsp_file, NaiveBsp};
+        use crate::tools::baselines::{naive_bsp_file, NaiveBsp};
         let mesh = crate::tools::scenes::soup(40, 0.5, 3);
         let shading = CompileOptions::default().shading;
         match naive_bsp_file(&mesh, 45, true, &shading).unwrap() {

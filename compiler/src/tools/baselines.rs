@@ -336,7 +336,7 @@ mod tests {
     }
 
     fn cyclic() -> Mesh {
-        let text = include_str!("../../../../fixtures/cyclic_triangles.obj");
+        let text = include_str!("../../../fixtures/cyclic_triangles.obj");
         load_obj_text(std::path::Path::new("cyclic_triangles.obj"), text).unwrap()
     }
 
