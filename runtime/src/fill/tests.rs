@@ -656,7 +656,23 @@ fn round_f32_matches_libm_on_halves_and_limits() {
         f32::MIN_POSITIVE,
     ];
     for v in cases {
-        assert_eq!(round_f32(v), libm::roundf(v) as i32, "{v}");
+        assert_eq!(round_f32_float(v), libm::roundf(v) as i32, "{v}");
+        assert_eq!(round_f32_bits(v), libm::roundf(v) as i32, "{v}");
+    }
+}
+
+/// The two roundings agree on a sweep of about a million bit patterns (every exponent, both
+/// signs, NaNs and infinities included).
+#[test]
+fn round_f32_bits_and_float_agree_on_a_sweep() {
+    let mut bits = 0u32;
+    loop {
+        let v = f32::from_bits(bits);
+        assert_eq!(round_f32_bits(v), round_f32_float(v), "{v} ({bits:#x})");
+        match bits.checked_add(4099) {
+            Some(b) => bits = b,
+            None => break,
+        }
     }
 }
 
@@ -666,14 +682,16 @@ proptest! {
     #[test]
     fn round_f32_matches_libm(bits in any::<u32>()) {
         let v = f32::from_bits(bits);
-        prop_assert_eq!(round_f32(v), libm::roundf(v) as i32, "{}", v);
+        prop_assert_eq!(round_f32_float(v), libm::roundf(v) as i32, "{}", v);
+        prop_assert_eq!(round_f32_bits(v), libm::roundf(v) as i32, "{}", v);
     }
 
     #[test]
     fn round_f32_matches_libm_near_halves(k in -20_000_000i32..20_000_000, ulps in -3i32..=3) {
         let half = k as f32 + 0.5;
         let v = f32::from_bits((half.to_bits() as i32 + ulps) as u32);
-        prop_assert_eq!(round_f32(v), libm::roundf(v) as i32, "{}", v);
+        prop_assert_eq!(round_f32_float(v), libm::roundf(v) as i32, "{}", v);
+        prop_assert_eq!(round_f32_bits(v), libm::roundf(v) as i32, "{}", v);
     }
 }
 
