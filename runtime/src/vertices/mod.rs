@@ -58,7 +58,8 @@ pub struct VertexCache<'m, const SUB: u32 = SUBPIXEL_BITS> {
 impl<'m, const SUB: u32> VertexCache<'m, SUB> {
     /// A cache over the largest power-of-two prefix of `entries` (up to `2^31` entries); one
     /// per vertex of the scene ([`crate::read::Header::vertex_count`], rounded up to a power of
-    /// two) keeps every vertex, fewer keep those used close together.
+    /// two) keeps every vertex, fewer keep those used close together. Nothing is read before
+    /// a frame clears it, so whatever the memory held does not matter.
     pub fn new(entries: &'m mut [CachedVertex]) -> Self {
         let len = entries.len().min(1 << 31);
         let used = if len == 0 { 0 } else { 1 << len.ilog2() };
@@ -66,7 +67,6 @@ impl<'m, const SUB: u32> VertexCache<'m, SUB> {
             Some(e) => e,
             None => &mut [],
         };
-        entries.fill(CachedVertex::EMPTY);
         let mask = (used as u32).wrapping_sub(1);
         VertexCache { entries, mask }
     }
