@@ -45,9 +45,9 @@
 //! # An `f32` camera for small cores
 //!
 //! A core without `f64` hardware (Cortex-M4F) pays for the `f64` camera in software floating
-//! point. [`LocalView::look_at`] builds the renderer's [`LocalView`] directly in `f32`, in the scene's
-//! local frame (coordinates relative to the header's `centre`), from a focal length in
-//! pixels (no `tan`); [`crate::render::Renderer::draw`] takes it. It is the look-at camera
+//! point. [`LocalView::look_at`] builds the renderer's [`LocalView`] directly in `f32`, in the
+//! scene's local frame (coordinates relative to the header's `centre`), from a focal length
+//! in pixels (no `tan`); [`crate::render::Renderer::draw`] takes it. It is the look-at camera
 //! above with `fpx = focal` and the principal point at the image centre, rounded to `f32`
 //! one step earlier (the basis is normalised in `f32`): fine for a scene near its centre,
 //! which is where the compiler puts it. Firmware that never calls [`Camera`] links no `f64`

@@ -147,8 +147,8 @@ impl EdgeWalk {
         }
     }
 
-    /// The walk of the edge `a`-`b` (either direction) over the scanlines whose centre `y` satisfies `y_top <= y < y_bottom`, restricted
-    /// to rows `0..height`. `None` for a horizontal edge or one that crosses no such row.
+    /// The walk of the edge `a`-`b` (either direction) over the scanlines whose centre `y`
+    /// satisfies `y_top <= y < y_bottom`, restricted to rows `0..height`. `None` for a horizontal edge or one that crosses no such row.
     ///
     /// Arithmetic range: with `S = 2^SUB` (`SUB <= 24`), `dy = y_bottom - y_top < 2^32` and
     /// `|dx| < 2^32` for any `i32` input, so `den = 2S*dy < 2^57` and `|step| = 2S*|dx| <

@@ -87,7 +87,9 @@ pub(super) fn window<const SUB: u32>(width: u32, height: u32) -> Result<(i32, i3
 ///   (span memory, if given, then only counts distinct pixels);
 /// - vertex memory ([`Renderer::vertex_memory`]) saves work and changes no pixel;
 /// - colours, or ids with [`Renderer::ids`] (a scene without ids is an error, not a blank);
-/// - culling on, which never changes a pixel ([`Renderer::without_culling`] to measure it).
+/// - culling on, which never changes a pixel ([`Renderer::without_culling`] to measure it;
+///   [`Renderer::without_subtree_culling`] keeps all but the subtree box tests, for cores
+///   where those cost more than they save).
 ///
 /// `SUB` is the precision of its screen points ([`fill::FixedPoint<SUB>`]), that of its
 /// [`Workspace`] and vertex memory: the default [`fill::SUBPIXEL_BITS`] with

@@ -4,8 +4,9 @@
 //! For each scene: build time (the tree alone, as the baselines are timed) and whole compile
 //! time (reading the OBJ, build, closed-mesh test, shading, encoding), `output polygons /
 //! input triangles`, split nodes and depth of Peel's tree, next to a naive BSP and the greedy
-//! rule with triangle output (see [`crate::tools::baselines`]). The baselines are quadratic on unfavourable
-//! inputs, so they are run only on scenes of at most [`BASELINE_MAX_TRIANGLES`] triangles.
+//! rule with triangle output (see [`crate::tools::baselines`]). The baselines are quadratic on
+//! unfavourable inputs, so they are run only on scenes of at most [`BASELINE_MAX_TRIANGLES`]
+//! triangles.
 
 use std::path::Path;
 use std::time::Instant;
