@@ -133,6 +133,7 @@ pub fn dump_yaml(bytes: &[u8]) -> Result<String, ReadError> {
         (h.flags & header_flags::PALETTE != 0, "palette"),
         (h.flags & header_flags::PALETTE16 != 0, "palette16"),
         (h.flags & header_flags::BOUNDS != 0, "bounds"),
+        (h.flags & header_flags::NARROW != 0, "narrow"),
     ]);
     // Writing into a String cannot fail.
     let _ = writeln!(
@@ -284,7 +285,7 @@ mod tests {
         let bytes = crate::write::encode(&tree, &colours, false).unwrap();
         let yaml = dump_yaml(&bytes).unwrap();
         assert!(
-            yaml.contains("flags: [index16, bounds]\n") && !yaml.contains("id:"),
+            yaml.contains("flags: [index16, bounds, narrow]\n") && !yaml.contains("id:"),
             "{yaml}"
         );
     }
@@ -336,7 +337,7 @@ mod tests {
         let bytes = crate::write::encode(&tree, &colours, true).unwrap();
         let info = inspect(&bytes).unwrap();
         let expected = Inspect {
-            format_version: 1,
+            format_version: 2,
             output_polygons: 3,
             convex_nodes: 3,
             split_nodes: 1,

@@ -12,7 +12,7 @@ use serde::{Deserialize, Deserializer, Serialize, Serializer};
 
 // The constants live in the runtime's reader so that writer and reader cannot disagree.
 pub use peel_runtime::read::layout::{
-    header_flags, node_kind, polygon_flags, FORMAT_VERSION, MAGIC, NONE,
+    header_flags, node_kind, polygon_flags, FORMAT_VERSION, MAGIC, NONE, NONE16,
 };
 
 /// The bincode configuration, pinned here and nowhere else.
@@ -69,23 +69,24 @@ pub enum ColourField {
     Index16(u16),
 }
 
-/// A convex polygon (14, 13 or 12 bytes, depending on its colour field).
+/// A convex polygon (7 to 13 bytes, depending on [`header_flags::NARROW`] and its colour
+/// field).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Polygon {
     /// Index into `planes` of its support plane.
     pub plane: u32,
     /// First of its `vertex_count` entries in `indices`.
     pub first_index: u32,
-    /// Number of vertices (>= 3).
-    pub vertex_count: u16,
+    /// Number of vertices (3 to 255).
+    pub vertex_count: u8,
     /// [`polygon_flags`].
     pub flags: u8,
     /// Colour or palette index; its variant must match the header flags.
     pub colour: ColourField,
 }
 
-/// A node of the display tree (17 bytes, 21 with [`header_flags::BOUNDS`]); see [`node_kind`]
-/// for the meaning of `a`, `b`, `c`.
+/// A node of the display tree (9 or 17 bytes, 11 or 21 with [`header_flags::BOUNDS`], as
+/// [`header_flags::NARROW`] says); see [`node_kind`] for the meaning of `a`, `b`, `c`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Node {
     /// [`node_kind`].
@@ -122,8 +123,10 @@ pub struct PeelFile {
     pub ids: Vec<u32>,
     /// Palette colours when `header_flags::PALETTE` is set, else empty.
     pub palette: Vec<[u8; 3]>,
-    /// Node bounding boxes `[min, max]` when `header_flags::BOUNDS` is set, else empty.
-    pub bounds: Vec<[f32; 6]>,
+    /// Node bounding boxes `[min, max]` when `header_flags::BOUNDS` is set, else empty: per
+    /// axis, steps from the header's `bounds_min` to its `bounds_max`
+    /// (`peel_runtime::read::layout::dequantise`).
+    pub bounds: Vec<[u16; 6]>,
     /// Nodes in pre-order (front before back): the root is node 0 and children come after
     /// their parents. Convex nodes own the polygons in node order.
     pub nodes: Vec<Node>,
@@ -195,6 +198,41 @@ impl Flagged for u32 {
     }
 }
 
+/// A node field or a polygon's `plane` / `first_index`: `u16` with [`header_flags::NARROW`]
+/// ([`NONE`] written as [`NONE16`]), else `u32`.
+fn field<T: SerializeTuple>(t: &mut T, flags: u16, value: u32) -> Result<(), T::Error> {
+    if flags & header_flags::NARROW == 0 {
+        return t.serialize_element(&value);
+    }
+    let narrow = if value == NONE {
+        NONE16
+    } else {
+        u16::try_from(value)
+            .ok()
+            .filter(|&v| v != NONE16)
+            .ok_or_else(|| ser::Error::custom(format!("field {value} does not fit NARROW")))?
+    };
+    t.serialize_element(&narrow)
+}
+
+/// Reads a field written by [`field`]; `link` fields read [`NONE16`] as [`NONE`].
+fn read_field<'de, A: SeqAccess<'de>>(
+    flags: u16,
+    seq: &mut A,
+    link: bool,
+) -> Result<Option<u32>, A::Error> {
+    if flags & header_flags::NARROW == 0 {
+        return seq.next_element::<u32>();
+    }
+    Ok(seq.next_element::<u16>()?.map(|v| {
+        if link && v == NONE16 {
+            NONE
+        } else {
+            u32::from(v)
+        }
+    }))
+}
+
 /// The colour field the header flags call for.
 fn colour_kind(flags: u16) -> fn(ColourField) -> bool {
     if flags & header_flags::PALETTE == 0 {
@@ -215,8 +253,8 @@ impl Flagged for Polygon {
             )));
         }
         let mut t = s.serialize_tuple(5)?;
-        t.serialize_element(&self.plane)?;
-        t.serialize_element(&self.first_index)?;
+        field(&mut t, flags, self.plane)?;
+        field(&mut t, flags, self.first_index)?;
         t.serialize_element(&self.vertex_count)?;
         t.serialize_element(&self.flags)?;
         match self.colour {
@@ -227,10 +265,10 @@ impl Flagged for Polygon {
         t.end()
     }
     fn read<'de, A: SeqAccess<'de>>(flags: u16, seq: &mut A) -> Result<Option<Self>, A::Error> {
-        let Some(plane) = seq.next_element::<u32>()? else {
+        let Some(plane) = read_field(flags, seq, false)? else {
             return Ok(None);
         };
-        let first_index = required(seq.next_element()?)?;
+        let first_index = required(read_field(flags, seq, false)?)?;
         let vertex_count = required(seq.next_element()?)?;
         let polygon_flags = required(seq.next_element()?)?;
         let colour = if flags & header_flags::PALETTE == 0 {
@@ -258,12 +296,12 @@ impl Flagged for Node {
         }
         let mut t = s.serialize_tuple(if with_bounds { 6 } else { 5 })?;
         t.serialize_element(&self.kind)?;
-        t.serialize_element(&self.a)?;
-        t.serialize_element(&self.b)?;
-        t.serialize_element(&self.c)?;
-        t.serialize_element(&self.parent)?;
+        field(&mut t, flags, self.a)?;
+        field(&mut t, flags, self.b)?;
+        field(&mut t, flags, self.c)?;
+        field(&mut t, flags, self.parent)?;
         if with_bounds {
-            t.serialize_element(&self.bounds)?;
+            field(&mut t, flags, self.bounds)?;
         }
         t.end()
     }
@@ -271,14 +309,15 @@ impl Flagged for Node {
         let Some(kind) = seq.next_element::<u8>()? else {
             return Ok(None);
         };
+        let b_is_link = kind != node_kind::CONVEX;
         Ok(Some(Node {
             kind,
-            a: required(seq.next_element()?)?,
-            b: required(seq.next_element()?)?,
-            c: required(seq.next_element()?)?,
-            parent: required(seq.next_element()?)?,
+            a: required(read_field(flags, seq, false)?)?,
+            b: required(read_field(flags, seq, b_is_link)?)?,
+            c: required(read_field(flags, seq, true)?)?,
+            parent: required(read_field(flags, seq, true)?)?,
             bounds: if flags & header_flags::BOUNDS != 0 {
-                required(seq.next_element()?)?
+                required(read_field(flags, seq, true)?)?
             } else {
                 NONE
             },

@@ -150,13 +150,26 @@ pub(crate) fn peel_file_encoded(
         polygon.colour = field;
     }
     let node_bounds = bounds::node_bounds(&vertices, &out.indices, &out.polygons, &out.file_nodes);
-    let boxes = bounds::assign(&mut out.file_nodes, &node_bounds);
-    let flags = if boxes.is_some() {
+    let boxes = bounds::assign(&mut out.file_nodes, &node_bounds, bounds_min, bounds_max);
+    let mut flags = if boxes.is_some() {
         flags | header_flags::BOUNDS
     } else {
         flags
     };
     let boxes = boxes.unwrap_or_default();
+    // `u16` node and polygon fields whenever every count they index fits (NONE16 excluded).
+    let narrow = [
+        planes.len(),
+        out.indices.len(),
+        out.polygons.len(),
+        out.file_nodes.len(),
+        boxes.len(),
+    ]
+    .iter()
+    .all(|&n| n <= usize::from(u16::MAX));
+    if narrow {
+        flags |= header_flags::NARROW;
+    }
     let header = Header {
         magic: format::MAGIC,
         version: format::FORMAT_VERSION,
@@ -339,15 +352,16 @@ impl Emitter<'_> {
                 polygon.plane
             )));
         }
-        let vertex_count = u16::try_from(polygon.vertices.len())
-            .ok()
-            .filter(|&n| n >= 3)
-            .ok_or_else(|| {
-                invariant(format!(
-                    "polygon {p} has {} vertices",
-                    polygon.vertices.len()
-                ))
-            })?;
+        let n = polygon.vertices.len();
+        if n < 3 {
+            return Err(invariant(format!("polygon {p} has {n} vertices")));
+        }
+        let vertex_count = u8::try_from(n).map_err(|_| {
+            CompileError::Encode(format!(
+                "a polygon of {n} vertices: the format holds at most 255 per polygon \
+                 (a smaller --max-polygon-vertices)"
+            ))
+        })?;
         if let Some(v) = polygon
             .vertices
             .iter()

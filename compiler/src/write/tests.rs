@@ -149,7 +149,7 @@ fn assert_reads_back(file: &PeelFile) {
         let expected = read::Polygon {
             plane: p.plane,
             first_index: p.first_index,
-            vertex_count: p.vertex_count,
+            vertex_count: u16::from(p.vertex_count),
             flags: p.flags,
             colour: match p.colour {
                 ColourField::Rgb(c) => colour(c),
@@ -182,15 +182,56 @@ fn assert_reads_back(file: &PeelFile) {
         };
         assert_eq!(scene.node(i as u32), expected);
         assert_eq!(scene.parent(i as u32), link(n.parent));
-        let stored = link(n.bounds).map(|k| {
-            let b = file.bounds[k as usize];
-            (Vec3::new(b[0], b[1], b[2]), Vec3::new(b[3], b[4], b[5]))
-        });
+        let stored = link(n.bounds).map(|k| decoded_box(&file, file.bounds[k as usize]));
         assert_eq!(scene.node_bounds(i as u32), stored);
     }
     assert_eq!(h.palette_count as usize, file.palette.len());
     assert_eq!(h.bounds_count as usize, file.bounds.len());
     assert_eq!(scene.root(), (!file.nodes.is_empty()).then_some(0));
+}
+
+/// A stored box decoded as the runtime reads it.
+fn decoded_box(file: &PeelFile, b: [u16; 6]) -> (Vec3, Vec3) {
+    let (lo, hi) = (file.header.bounds_min, file.header.bounds_max);
+    let axis = |k: usize, q: u16| layout::dequantise(lo[k], hi[k], q);
+    (
+        Vec3::new(axis(0, b[0]), axis(1, b[1]), axis(2, b[2])),
+        Vec3::new(axis(0, b[3]), axis(1, b[4]), axis(2, b[5])),
+    )
+}
+
+#[test]
+fn quantised_boxes_contain_their_coordinates() {
+    // Awkward scene bounds and coordinates: every decoded box still contains its corners.
+    let (lo, hi) = (
+        [-4.445_835_f32, -3.637_036, 1e-3],
+        [5.998_088_f32, 2.759_72, 7e4],
+    );
+    let mut seed = 1u64;
+    let mut next = || {
+        seed = seed.wrapping_mul(6_364_136_223_846_793_005).wrapping_add(1);
+        (seed >> 40) as f32 / (1u64 << 24) as f32
+    };
+    for _ in 0..20_000 {
+        let mut b = [0f32; 6];
+        for k in 0..3 {
+            let (x, y) = (next(), next());
+            let at = |t: f32| (lo[k] + (hi[k] - lo[k]) * t).clamp(lo[k], hi[k]);
+            b[k] = at(x.min(y));
+            b[k + 3] = at(x.max(y));
+        }
+        let q = bounds::quantise(b, lo, hi);
+        for k in 0..3 {
+            assert!(
+                layout::dequantise(lo[k], hi[k], q[k]) <= b[k],
+                "{b:?} {q:?}"
+            );
+            assert!(
+                layout::dequantise(lo[k], hi[k], q[k + 3]) >= b[k + 3],
+                "{b:?} {q:?}"
+            );
+        }
+    }
 }
 
 #[test]
@@ -219,16 +260,21 @@ fn record_sizes_match_the_spec() {
             + h.node_count as usize * layout::node_size(h.flags);
         assert_eq!(to_bytes(&file).unwrap().len(), total, "{encoding:?}");
         let expected_index = if encoding.index16 { 2 } else { 4 };
+        // small_tree's counts all fit NARROW's u16 fields: 2 + 2 + 1 + 1 + the colour.
+        assert_ne!(h.flags & header_flags::NARROW, 0);
         let expected_polygon = match encoding.palette {
-            None => 14,
-            Some(PaletteWidth::U8) => 12,
-            Some(PaletteWidth::U16) => 13,
+            None => 9,
+            Some(PaletteWidth::U8) => 7,
+            Some(PaletteWidth::U16) => 8,
         };
         assert_eq!(
             (layout::index_size(h.flags), layout::polygon_size(h.flags)),
             (expected_index, expected_polygon)
         );
-        assert_eq!(layout::node_size(h.flags), 21, "small_tree has bounds");
+        assert_eq!(layout::node_size(h.flags), 11, "small_tree has bounds");
+        let wide = h.flags & !header_flags::NARROW;
+        assert_eq!(layout::polygon_size(wide), expected_polygon + 4);
+        assert_eq!(layout::node_size(wide), 21);
     }
     let file = peel_file(&tree, &colours, true).unwrap();
     // Spot checks of the header's byte offsets.
@@ -283,8 +329,11 @@ fn the_file_is_the_tree_in_pre_order() {
         (h.magic, h.version, h.flags),
         (
             *b"PEEL",
-            1,
-            header_flags::IDS | header_flags::INDEX16 | header_flags::BOUNDS
+            2,
+            header_flags::IDS
+                | header_flags::INDEX16
+                | header_flags::BOUNDS
+                | header_flags::NARROW
         )
     );
     assert_eq!((h.max_depth, h.max_polygon_vertices), (3, 4));
@@ -312,7 +361,8 @@ fn the_file_is_the_tree_in_pre_order() {
             node(node_kind::CONVEX, 2, 1, NONE, 0, NONE),
         ]
     );
-    assert_eq!(file.bounds, [[-0.25, 0.0, 0.0, 1.0, 1.0, 1.0]]);
+    // The root's box is the scene's: every step.
+    assert_eq!(file.bounds, [[0, 0, 0, u16::MAX, u16::MAX, u16::MAX]]);
     // Old polygons 1, 2, 0, in the order of the convex nodes that own them.
     assert_eq!(file.ids, [10, 12, 11]);
     assert_eq!(file.indices, [0, 1, 2, 3, 4, 6, 5, 4, 5, 6]);
@@ -478,14 +528,24 @@ fn node_bounds_follow_the_rule() {
         .iter()
         .map(|n| link(n.bounds).map(|k| file.bounds[k as usize]))
         .collect();
-    assert_eq!(
-        boxes,
-        [
-            Some([-2.0, 0.0, 0.0, 2.0, 1.0, 3.0]),
-            Some([1.0, 0.0, 0.0, 2.0, 1.0, 3.0]),
-            Some([-2.0, 0.0, 0.0, -1.0, 1.0, 3.0]),
-        ]
-    );
+    let exact = [
+        [-2.0, 0.0, 0.0, 2.0, 1.0, 3.0],
+        [1.0, 0.0, 0.0, 2.0, 1.0, 3.0],
+        [-2.0, 0.0, 0.0, -1.0, 1.0, 3.0],
+    ];
+    for (b, e) in boxes.iter().zip(exact) {
+        // Quantised outward, by at most one step per side.
+        let (lo, hi) = decoded_box(&file, b.unwrap());
+        let e: [f32; 6] = e;
+        for k in 0..3 {
+            let step = (file.header.bounds_max[k] - file.header.bounds_min[k]) / 65535.0;
+            assert!(lo[k] <= e[k] && e[k] - lo[k] <= step, "{k}: {lo} {e:?}");
+            assert!(
+                hi[k] >= e[k + 3] && hi[k] - e[k + 3] <= step,
+                "{k}: {hi} {e:?}"
+            );
+        }
+    }
     assert_reads_back(&file);
     // Leaves of fewer than MIN_LEAF_POLYGONS polygons get none.
     let (tree, colours) = two_sided_tree(bounds::MIN_LEAF_POLYGONS - 1, |_| [1, 2, 3]);

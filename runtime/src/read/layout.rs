@@ -4,9 +4,11 @@
 /// First four bytes of every `.peel` file.
 pub const MAGIC: [u8; 4] = *b"PEEL";
 /// Bumped whenever the byte layout or the meaning of a field changes; readers refuse others.
-pub const FORMAT_VERSION: u16 = 1;
+pub const FORMAT_VERSION: u16 = 2;
 /// "No node" in a child or parent field.
 pub const NONE: u32 = u32::MAX;
+/// "No node" (or "no box") in a `u16` field of a [`header_flags::NARROW`] file.
+pub const NONE16: u16 = u16::MAX;
 
 /// Bits of the header's `flags`.
 pub mod header_flags {
@@ -18,10 +20,13 @@ pub mod header_flags {
     pub const PALETTE: u16 = 1 << 2;
     /// With [`PALETTE`]: the palette index is a `u16` (else a `u8`).
     pub const PALETTE16: u16 = 1 << 3;
-    /// Node records end with a `u32` index into the `bounds` array (or `NONE`).
+    /// Node records end with an index into the `bounds` array (or `NONE`).
     pub const BOUNDS: u16 = 1 << 4;
+    /// Node fields and a polygon's `plane` and `first_index` are `u16` (else `u32`): every
+    /// count they index is at most 65535.
+    pub const NARROW: u16 = 1 << 5;
     /// Every bit this version defines; a reader refuses others.
-    pub const KNOWN: u16 = IDS | INDEX16 | PALETTE | PALETTE16 | BOUNDS;
+    pub const KNOWN: u16 = IDS | INDEX16 | PALETTE | PALETTE16 | BOUNDS | NARROW;
 }
 
 /// Bytes of an index under header `flags`.
@@ -33,24 +38,53 @@ pub const fn index_size(flags: u16) -> usize {
     }
 }
 
-/// Bytes of a polygon record under header `flags`: 11 + the colour (3 bytes of RGB, or a
-/// 1- or 2-byte palette index).
-pub const fn polygon_size(flags: u16) -> usize {
-    if flags & header_flags::PALETTE == 0 {
-        POLYGON_SIZE
-    } else if flags & header_flags::PALETTE16 != 0 {
-        POLYGON_SIZE - 1
+/// Bytes of a node field, a polygon's `plane` and `first_index` under header `flags`.
+pub const fn field_size(flags: u16) -> usize {
+    if flags & header_flags::NARROW != 0 {
+        2
     } else {
-        POLYGON_SIZE - 2
+        4
     }
 }
 
-/// Bytes of a node record under header `flags`.
-pub const fn node_size(flags: u16) -> usize {
-    if flags & header_flags::BOUNDS != 0 {
-        NODE_SIZE + 4
+/// Bytes of a polygon's colour field under header `flags`: 3 bytes of RGB, or a 1- or 2-byte
+/// palette index.
+pub const fn colour_size(flags: u16) -> usize {
+    if flags & header_flags::PALETTE == 0 {
+        3
+    } else if flags & header_flags::PALETTE16 != 0 {
+        2
     } else {
-        NODE_SIZE
+        1
+    }
+}
+
+/// Bytes of a polygon record under header `flags`: `plane` and `first_index`
+/// ([`field_size`] each), `vertex_count` and `flags` (a byte each), the colour.
+pub const fn polygon_size(flags: u16) -> usize {
+    2 * field_size(flags) + 2 + colour_size(flags)
+}
+
+/// Bytes of a node record under header `flags`: `kind`, then `a`, `b`, `c`, `parent` and
+/// with [`header_flags::BOUNDS`] `bounds` ([`field_size`] each).
+pub const fn node_size(flags: u16) -> usize {
+    let fields = if flags & header_flags::BOUNDS != 0 {
+        5
+    } else {
+        4
+    };
+    1 + fields * field_size(flags)
+}
+
+/// A node box coordinate: `q` of 65535 steps from the header's `min` to its `max` along one
+/// axis (the ends exact). The writer rounds each box outward through this very function, so
+/// the decoded box contains its subtree's `f32` vertices exactly.
+#[inline]
+pub fn dequantise(min: f32, max: f32, q: u16) -> f32 {
+    match q {
+        0 => min,
+        u16::MAX => max,
+        _ => min + (max - min) * (f32::from(q) * (1.0 / 65535.0)),
     }
 }
 
@@ -85,16 +119,16 @@ pub const VERTEX_SIZE: usize = 12;
 pub const PLANE_SIZE: usize = 16;
 /// Bytes of an index (`u32`; `u16` with [`header_flags::INDEX16`], see [`index_size`]).
 pub const INDEX_SIZE: usize = 4;
-/// Bytes of a polygon record with an RGB colour (see [`polygon_size`]).
-pub const POLYGON_SIZE: usize = 14;
+/// Bytes of the widest polygon record (`u32` fields, RGB colour; see [`polygon_size`]).
+pub const POLYGON_SIZE: usize = 13;
 /// Bytes of a palette entry (RGB888).
 pub const PALETTE_SIZE: usize = 3;
-/// Bytes of a node's bounds (`[f32; 6]`: min then max).
-pub const BOUNDS_SIZE: usize = 24;
+/// Bytes of a node's bounds (`[u16; 6]`: min then max, see [`dequantise`]).
+pub const BOUNDS_SIZE: usize = 12;
 /// Bytes of an id (`u32`).
 pub const ID_SIZE: usize = 4;
-/// Bytes of a node record without bounds (see [`node_size`]).
-pub const NODE_SIZE: usize = 17;
+/// Bytes of the widest node record (`u32` fields and bounds; see [`node_size`]).
+pub const NODE_SIZE: usize = 21;
 
 /// Byte offsets of the header fields.
 pub(crate) mod header_offset {
@@ -137,18 +171,8 @@ impl<const N: usize> Record<N> {
     }
 
     #[inline]
-    pub(crate) fn u8(&self, offset: usize) -> u8 {
-        self.0.get(offset).copied().unwrap_or(0)
-    }
-
-    #[inline]
     pub(crate) fn u16(&self, offset: usize) -> u16 {
         u16::from_le_bytes(self.bytes(offset))
-    }
-
-    #[inline]
-    pub(crate) fn u32(&self, offset: usize) -> u32 {
-        u32::from_le_bytes(self.bytes(offset))
     }
 
     #[inline]
@@ -168,6 +192,22 @@ pub(crate) fn u8_at(bytes: &[u8], offset: usize) -> Option<u8> {
 
 pub(crate) fn u16_at(bytes: &[u8], offset: usize) -> Option<u16> {
     array_at(bytes, offset).map(u16::from_le_bytes)
+}
+
+/// A node field or a polygon's `plane` / `first_index`: `u16` when `width` is 2 (its
+/// [`NONE16`] read as [`NONE`] when `link`), else `u32`.
+#[inline]
+pub(crate) fn field_at(bytes: &[u8], offset: usize, width: usize, link: bool) -> Option<u32> {
+    if width == 2 {
+        let v = u16_at(bytes, offset)?;
+        Some(if link && v == NONE16 {
+            NONE
+        } else {
+            u32::from(v)
+        })
+    } else {
+        u32_at(bytes, offset)
+    }
 }
 
 pub(crate) fn u32_at(bytes: &[u8], offset: usize) -> Option<u32> {

@@ -14,8 +14,8 @@ use glam::Vec3;
 use crate::error::ReadError;
 use crate::target::Colour;
 use layout::{
-    element, header_flags, node_kind, u16_at, u32_at, u8_at, Record, BOUNDS_SIZE, ID_SIZE,
-    NODE_SIZE, NONE, PALETTE_SIZE, PLANE_SIZE, VERTEX_SIZE,
+    dequantise, element, field_at, header_flags, node_kind, u16_at, u32_at, u8_at, Record,
+    BOUNDS_SIZE, ID_SIZE, NONE, PALETTE_SIZE, PLANE_SIZE, VERTEX_SIZE,
 };
 
 /// The header, decoded.
@@ -137,6 +137,8 @@ pub struct Scene<'a> {
     index_size: usize,
     polygon_size: usize,
     node_size: usize,
+    /// Bytes of a node field and a polygon's `plane` / `first_index` (2 or 4).
+    field_size: usize,
 }
 
 impl fmt::Debug for Scene<'_> {
@@ -212,15 +214,21 @@ impl<'a> Scene<'a> {
         let Some(at) = element(self.polygons, self.polygon_size, i) else {
             return Polygon::default();
         };
-        let Some(r) = Record::<11>::at(self.bytes, at) else {
+        let w = self.field_size;
+        let (Some(plane), Some(first_index), Some(vertex_count), Some(flags)) = (
+            field_at(self.bytes, at, w, false),
+            field_at(self.bytes, at + w, w, false),
+            u8_at(self.bytes, at + 2 * w),
+            u8_at(self.bytes, at + 2 * w + 1),
+        ) else {
             return Polygon::default();
         };
         Polygon {
-            plane: r.u32(0),
-            first_index: r.u32(4),
-            vertex_count: r.u16(8),
-            flags: r.u8(10),
-            colour: self.colour_at(at + 11),
+            plane,
+            first_index,
+            vertex_count: u16::from(vertex_count),
+            flags,
+            colour: self.colour_at(at + 2 * w + 2),
         }
     }
 
@@ -270,13 +278,26 @@ impl<'a> Scene<'a> {
         if self.header.flags & header_flags::BOUNDS == 0 || i >= self.header.node_count {
             return None;
         }
-        let at = element(self.nodes, self.node_size, i)?.checked_add(NODE_SIZE)?;
-        let k = link(u32_at(self.bytes, at)?)?;
+        let w = self.field_size;
+        let at = element(self.nodes, self.node_size, i)?.checked_add(1 + 4 * w)?;
+        let k = link(field_at(self.bytes, at, w, true)?)?;
         if k >= self.header.bounds_count {
             return None;
         }
         let at = element(self.bounds, BOUNDS_SIZE, k)?;
-        Some((self.vec3_at(at), self.vec3_at(at + 12)))
+        Some(self.box_at(at))
+    }
+
+    /// The quantised box at `at`, decoded on the header's bounds ([`layout::dequantise`]).
+    fn box_at(&self, at: usize) -> (Vec3, Vec3) {
+        let (lo, hi) = (self.header.bounds_min, self.header.bounds_max);
+        let r = Record::<BOUNDS_SIZE>::at(self.bytes, at);
+        let q = |k: usize| r.map_or(0, |r| r.u16(2 * k));
+        let axis = |k: usize, corner: usize| dequantise(lo[k], hi[k], q(k + corner));
+        (
+            Vec3::new(axis(0, 0), axis(1, 0), axis(2, 0)),
+            Vec3::new(axis(0, 3), axis(1, 3), axis(2, 3)),
+        )
     }
 
     /// Vertex `i` of polygon `polygon` (`i < vertex_count`), relative to the centre
@@ -332,7 +353,11 @@ impl<'a> Scene<'a> {
     }
 
     fn raw_node(&self, i: u32) -> Option<RawNode> {
-        RawNode::at(self.bytes, element(self.nodes, self.node_size, i)?)
+        RawNode::at(
+            self.bytes,
+            element(self.nodes, self.node_size, i)?,
+            self.field_size,
+        )
     }
 }
 
@@ -347,14 +372,17 @@ struct RawNode {
 }
 
 impl RawNode {
-    fn at(bytes: &[u8], at: usize) -> Option<RawNode> {
-        let r = Record::<NODE_SIZE>::at(bytes, at)?;
+    #[inline]
+    fn at(bytes: &[u8], at: usize, w: usize) -> Option<RawNode> {
+        let kind = u8_at(bytes, at)?;
+        // A convex node's `b` is a count, a split's a link.
+        let b_is_link = kind != node_kind::CONVEX;
         Some(RawNode {
-            kind: r.u8(0),
-            a: r.u32(1),
-            b: r.u32(5),
-            c: r.u32(9),
-            parent: r.u32(13),
+            kind,
+            a: field_at(bytes, at + 1, w, false)?,
+            b: field_at(bytes, at + 1 + w, w, b_is_link)?,
+            c: field_at(bytes, at + 1 + 2 * w, w, true)?,
+            parent: field_at(bytes, at + 1 + 3 * w, w, true)?,
         })
     }
 

@@ -33,8 +33,8 @@ struct Spec {
     /// Palette colours (with `PALETTE`, a polygon's colour field holds its index: byte 0, or
     /// bytes 0-1 with `PALETTE16`).
     palette: Vec<[u8; 3]>,
-    /// Node boxes.
-    boxes: Vec<[f32; 6]>,
+    /// Node boxes (quantised on the header's bounds).
+    boxes: Vec<[u16; 6]>,
     /// Per node with `BOUNDS`: its box index or `NONE`.
     node_boxes: Vec<u32>,
     /// Header palette and bounds counts, when not the lengths.
@@ -86,18 +86,20 @@ impl Spec {
         }
     }
 
-    /// [`Spec::small`] with every optional part: u16 indices, a u8 palette, node bounds.
+    /// [`Spec::small`] with every optional part: u16 indices, a u8 palette, node bounds, u16
+    /// node and polygon fields.
     fn small_with_everything() -> Spec {
         let mut spec = Spec::small();
-        spec.flags |= header_flags::INDEX16 | header_flags::PALETTE | header_flags::BOUNDS;
+        spec.flags |= header_flags::INDEX16
+            | header_flags::PALETTE
+            | header_flags::BOUNDS
+            | header_flags::NARROW;
         spec.palette = std::vec![[10, 20, 30], [40, 50, 60]];
         for (k, p) in spec.polygons.iter_mut().enumerate() {
             p.4 = [(k % 2) as u8, 0, 0];
         }
-        spec.boxes = std::vec![
-            [0.0, 0.0, 0.0, 1.0, 1.0, 1.0],
-            [0.0, 0.0, 1.0, 1.0, 1.0, 1.0]
-        ];
+        let top = u16::MAX;
+        spec.boxes = std::vec![[0, 0, 0, top, top, top], [0, 0, top, top, top, top]];
         spec.node_boxes = std::vec![0, NONE, 1];
         spec
     }
@@ -170,14 +172,21 @@ impl Spec {
                 out.extend(v.to_le_bytes());
             }
         }
+        let narrow = self.flags & header_flags::NARROW != 0;
+        let field = |out: &mut Vec<u8>, v: u32| {
+            if narrow {
+                out.extend((if v == NONE { NONE16 } else { v as u16 }).to_le_bytes());
+            } else {
+                out.extend(v.to_le_bytes());
+            }
+        };
         length(&mut out, self.polygons.len());
         for &(plane, first, count, flags, colour) in &self.polygons {
-            out.extend(plane.to_le_bytes());
-            out.extend(first.to_le_bytes());
-            out.extend(count.to_le_bytes());
+            field(&mut out, plane);
+            field(&mut out, first);
+            out.push(count as u8);
             out.push(flags);
-            let colour_size = polygon_size(self.flags) - 11;
-            out.extend(&colour[..colour_size]);
+            out.extend(&colour[..colour_size(self.flags)]);
         }
         length(&mut out, self.ids.len());
         for v in &self.ids {
@@ -195,16 +204,10 @@ impl Spec {
         for (i, &(kind, a, b, c, parent)) in self.nodes.iter().enumerate() {
             out.push(kind);
             for v in [a, b, c, parent] {
-                out.extend(v.to_le_bytes());
+                field(&mut out, v);
             }
             if self.flags & header_flags::BOUNDS != 0 {
-                out.extend(
-                    self.node_boxes
-                        .get(i)
-                        .copied()
-                        .unwrap_or(NONE)
-                        .to_le_bytes(),
-                );
+                field(&mut out, self.node_boxes.get(i).copied().unwrap_or(NONE));
             }
         }
         out
@@ -374,21 +377,21 @@ fn header_identity_is_checked_first() {
     spec.magic = *b"PEEK";
     assert_eq!(spec.parse(), Err(ReadError::BadMagic));
     assert_eq!(Scene::parse(b"PNG").unwrap_err(), ReadError::BadMagic);
+    // Version 1 (the previous layout) and a later one.
+    for version in [1, 3] {
+        let mut spec = Spec::small();
+        spec.version = version;
+        assert_eq!(spec.parse(), Err(ReadError::UnsupportedVersion { version }));
+        assert_eq!(
+            Scene::parse(&spec.encode()[..6]).unwrap_err(),
+            ReadError::UnsupportedVersion { version }
+        );
+    }
     let mut spec = Spec::small();
-    spec.version = 2;
+    spec.flags = 0b100_0000;
     assert_eq!(
         spec.parse(),
-        Err(ReadError::UnsupportedVersion { version: 2 })
-    );
-    assert_eq!(
-        Scene::parse(&spec.encode()[..6]).unwrap_err(),
-        ReadError::UnsupportedVersion { version: 2 }
-    );
-    let mut spec = Spec::small();
-    spec.flags = 0b10_0000;
-    assert_eq!(
-        spec.parse(),
-        Err(ReadError::UnknownFlags { flags: 0b10_0000 })
+        Err(ReadError::UnknownFlags { flags: 0b100_0000 })
     );
 }
 
@@ -397,8 +400,8 @@ fn optional_parts_read_back() {
     let spec = Spec::small_with_everything();
     let bytes = spec.encode();
     let plain = Spec::small().encode();
-    // u16 indices (-20), 12-byte polygons (-6), 21-byte nodes (+12), palette (+6), boxes (+48).
-    assert_eq!(bytes.len(), plain.len() - 20 - 6 + 12 + 6 + 48);
+    // u16 indices (-20), 7-byte polygons (-18), 11-byte nodes (-18), palette (+6), boxes (+24).
+    assert_eq!(bytes.len(), plain.len() - 20 - 18 - 18 + 6 + 24);
     let scene = Scene::parse(&bytes).unwrap();
     let plain = Scene::parse(&plain).unwrap();
     for i in 0..3 {
@@ -440,7 +443,7 @@ fn inconsistent_optional_parts_are_refused() {
         spec.parse(),
         Err(ReadError::InconsistentFlags { flags: spec.flags })
     );
-    let cases: [fn(&mut Spec); 9] = [
+    let cases: [fn(&mut Spec); 10] = [
         // A palette without its flag, and the flag without a palette.
         |s| s.palette.push([1, 2, 3]),
         |s| {
@@ -448,7 +451,7 @@ fn inconsistent_optional_parts_are_refused() {
             s.extra_counts = Some([0, 0]);
         },
         // Boxes without the flag.
-        |s| s.boxes.push([0.0; 6]),
+        |s| s.boxes.push([0; 6]),
         // A palette index out of range.
         |s| {
             *s = Spec::small_with_everything();
@@ -459,19 +462,25 @@ fn inconsistent_optional_parts_are_refused() {
             *s = Spec::small_with_everything();
             s.node_boxes[1] = 2;
         },
-        // A box with min > max, and a non-finite one.
+        // A box with min > max, and one whose decoded corner overflows.
         |s| {
             *s = Spec::small_with_everything();
-            s.boxes[1][2] = 2.0;
+            s.boxes[1][5] = 0;
         },
         |s| {
             *s = Spec::small_with_everything();
-            s.boxes[0][4] = f32::NAN;
+            s.bounds = [[-3e38; 3], [3e38; 3]];
+            s.boxes[0][4] = 1;
         },
         // A palette count beyond what a u8 index can name.
         |s| {
             *s = Spec::small_with_everything();
             s.palette = std::vec![[0; 3]; 257];
+        },
+        // u16 fields with more than 65535 planes.
+        |s| {
+            *s = Spec::small_with_everything();
+            s.planes = std::vec![[0.0; 4]; 1 << 16];
         },
         // u16 indices with more than 2^16 vertices.
         |s| {
@@ -502,7 +511,7 @@ fn counts_must_match_array_lengths() {
     let mut spec = Spec::small();
     spec.counts = Some([7, 3, 10, 3, 4]);
     // The node array length field follows the ids: 4 node records would be needed.
-    let ids_end = spec.encode().len() - 3 * NODE_SIZE - LENGTH_SIZE;
+    let ids_end = spec.encode().len() - 3 * node_size(spec.flags) - LENGTH_SIZE;
     assert_eq!(
         spec.parse(),
         Err(ReadError::CountMismatch { offset: ids_end })

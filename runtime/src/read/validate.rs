@@ -11,9 +11,9 @@
 use glam::Vec3;
 
 use super::layout::{
-    f32_at, f64_at, header_flags as hf, header_offset as h, index_size, node_kind, node_size,
-    polygon_flags, polygon_size, u16_at, u32_at, u64_at, u8_at, BOUNDS_SIZE, FORMAT_VERSION,
-    HEADER_SIZE, ID_SIZE, LENGTH_SIZE, MAGIC, NODE_SIZE, NONE, PALETTE_SIZE, PLANE_SIZE,
+    f32_at, f64_at, field_at, field_size, header_flags as hf, header_offset as h, index_size,
+    node_kind, node_size, polygon_flags, polygon_size, u16_at, u32_at, u64_at, u8_at, BOUNDS_SIZE,
+    FORMAT_VERSION, HEADER_SIZE, ID_SIZE, LENGTH_SIZE, MAGIC, NONE, PALETTE_SIZE, PLANE_SIZE,
     VERTEX_SIZE,
 };
 use super::{Header, Scene};
@@ -151,8 +151,24 @@ fn locate_arrays(bytes: &[u8], header: Header) -> Result<Scene<'_>, ReadError> {
     if flags & hf::INDEX16 != 0 && header.vertex_count > 1 << 16 {
         return Err(bad(h::VERTEX_COUNT));
     }
+    if flags & hf::NARROW != 0 {
+        // `u16` fields: every count they index fits, and no node or box is numbered NONE16.
+        let narrow = u32::from(u16::MAX);
+        for (count, at) in [
+            (header.plane_count, h::PLANE_COUNT),
+            (header.index_count, h::INDEX_COUNT),
+            (header.polygon_count, h::POLYGON_COUNT),
+            (header.node_count, h::NODE_COUNT),
+            (header.bounds_count, h::BOUNDS_COUNT),
+        ] {
+            if count > narrow {
+                return Err(bad(at));
+            }
+        }
+    }
     let (index_size, polygon_size, node_size) =
         (index_size(flags), polygon_size(flags), node_size(flags));
+    let field_size = field_size(flags);
     let mut at = HEADER_SIZE;
     let scene = Scene {
         bytes,
@@ -168,6 +184,7 @@ fn locate_arrays(bytes: &[u8], header: Header) -> Result<Scene<'_>, ReadError> {
         index_size,
         polygon_size,
         node_size,
+        field_size,
     };
     if at != bytes.len() {
         return Err(ReadError::TrailingBytes { offset: at });
@@ -230,11 +247,12 @@ fn check_planes(scene: &Scene<'_>) -> Result<(), ReadError> {
     Ok(())
 }
 
-/// Every box finite with `min <= max`.
+/// Every box, decoded, finite with `min <= max` (the header's bounds can be so wide that a
+/// step in between overflows).
 fn check_bounds(scene: &Scene<'_>) -> Result<(), ReadError> {
     for (_, at) in records(scene.bounds, BOUNDS_SIZE, scene.header.bounds_count) {
-        let v = |k: usize| f32_at(scene.bytes, at + 4 * k).filter(|v| v.is_finite());
-        let ok = (0..3).all(|k| matches!((v(k), v(k + 3)), (Some(lo), Some(hi)) if lo <= hi));
+        let (lo, hi) = scene.box_at(at);
+        let ok = (0..3).all(|k| lo[k].is_finite() && hi[k].is_finite() && lo[k] <= hi[k]);
         if !ok {
             return Err(bad(at));
         }
@@ -259,19 +277,21 @@ fn check_polygons(scene: &Scene<'_>) -> Result<(), ReadError> {
     let header = &scene.header;
     let mut next_index: u64 = 0;
     let palette16 = header.flags & hf::PALETTE16 != 0;
+    let w = scene.field_size;
     for (_, at) in records(scene.polygons, scene.polygon_size, header.polygon_count) {
         let b = scene.bytes;
+        let colour_at = at + 2 * w + 2;
         let colour_ok = if header.flags & hf::PALETTE == 0 {
             true
         } else if palette16 {
-            u16_at(b, at + 11).is_some_and(|k| u32::from(k) < header.palette_count)
+            u16_at(b, colour_at).is_some_and(|k| u32::from(k) < header.palette_count)
         } else {
-            u8_at(b, at + 11).is_some_and(|k| u32::from(k) < header.palette_count)
+            u8_at(b, colour_at).is_some_and(|k| u32::from(k) < header.palette_count)
         };
-        let plane = need(u32_at(b, at), at)?;
-        let first_index = need(u32_at(b, at + 4), at)?;
-        let vertex_count = need(u16_at(b, at + 8), at)?;
-        let flags = need(u8_at(b, at + 10), at)?;
+        let plane = need(field_at(b, at, w, false), at)?;
+        let first_index = need(field_at(b, at + w, w, false), at)?;
+        let vertex_count = need(u8_at(b, at + 2 * w), at)?;
+        let flags = need(u8_at(b, at + 2 * w + 1), at)?;
         let ok = colour_ok
             && plane < header.plane_count
             && flags & !polygon_flags::KNOWN == 0
@@ -300,7 +320,8 @@ fn check_nodes(scene: &Scene<'_>) -> Result<(), ReadError> {
     for (i, at) in records(scene.nodes, scene.node_size, n) {
         let raw = need(scene.raw_node(i), at)?;
         if with_bounds {
-            let k = need(u32_at(scene.bytes, at + NODE_SIZE), at)?;
+            let w = scene.field_size;
+            let k = need(field_at(scene.bytes, at + 1 + 4 * w, w, true), at)?;
             if k != NONE && k >= header.bounds_count {
                 return Err(bad(at));
             }

@@ -256,7 +256,7 @@ pub(crate) fn encode(tree: &TestTree) -> Vec<u8> {
     for p in &tree.polygons {
         out.extend(p.plane.to_le_bytes());
         out.extend(p.first_index.to_le_bytes());
-        out.extend(p.vertex_count.to_le_bytes());
+        out.push(p.vertex_count as u8);
         out.push(p.flags);
         out.extend([p.colour.r, p.colour.g, p.colour.b]);
     }
