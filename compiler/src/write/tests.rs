@@ -182,7 +182,7 @@ fn assert_reads_back(file: &PeelFile) {
         };
         assert_eq!(scene.node(i as u32), expected);
         assert_eq!(scene.parent(i as u32), link(n.parent));
-        let stored = link(n.bounds).map(|k| decoded_box(&file, file.bounds[k as usize]));
+        let stored = link(n.bounds).map(|k| decoded_box(file, file.bounds[k as usize]));
         assert_eq!(scene.node_bounds(i as u32), stored);
     }
     assert_eq!(h.palette_count as usize, file.palette.len());
@@ -330,10 +330,7 @@ fn the_file_is_the_tree_in_pre_order() {
         (
             *b"PEEL",
             2,
-            header_flags::IDS
-                | header_flags::INDEX16
-                | header_flags::BOUNDS
-                | header_flags::NARROW
+            header_flags::IDS | header_flags::INDEX16 | header_flags::BOUNDS | header_flags::NARROW
         )
     );
     assert_eq!((h.max_depth, h.max_polygon_vertices), (3, 4));

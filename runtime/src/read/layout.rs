@@ -81,10 +81,11 @@ pub const fn node_size(flags: u16) -> usize {
 /// the decoded box contains its subtree's `f32` vertices exactly.
 #[inline]
 pub fn dequantise(min: f32, max: f32, q: u16) -> f32 {
+    let v = min + (max - min) * (f32::from(q) * (1.0 / 65535.0));
     match q {
         0 => min,
         u16::MAX => max,
-        _ => min + (max - min) * (f32::from(q) * (1.0 / 65535.0)),
+        _ => v,
     }
 }
 
@@ -178,6 +179,27 @@ impl<const N: usize> Record<N> {
     #[inline]
     pub(crate) fn f32(&self, offset: usize) -> f32 {
         f32::from_le_bytes(self.bytes(offset))
+    }
+
+    #[inline]
+    pub(crate) fn u8(&self, offset: usize) -> u8 {
+        self.0.get(offset).copied().unwrap_or(0)
+    }
+
+    #[inline]
+    pub(crate) fn u32(&self, offset: usize) -> u32 {
+        u32::from_le_bytes(self.bytes(offset))
+    }
+
+    /// A `u16` field, its [`NONE16`] read as [`NONE`] when `link`.
+    #[inline]
+    pub(crate) fn narrow(&self, offset: usize, link: bool) -> u32 {
+        let v = self.u16(offset);
+        if link && v == NONE16 {
+            NONE
+        } else {
+            u32::from(v)
+        }
     }
 }
 

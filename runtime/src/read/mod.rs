@@ -14,8 +14,8 @@ use glam::Vec3;
 use crate::error::ReadError;
 use crate::target::Colour;
 use layout::{
-    dequantise, element, field_at, header_flags, node_kind, u16_at, u32_at, u8_at, Record,
-    BOUNDS_SIZE, ID_SIZE, NONE, PALETTE_SIZE, PLANE_SIZE, VERTEX_SIZE,
+    element, field_at, header_flags, node_kind, u16_at, u32_at, u8_at, Record, BOUNDS_SIZE,
+    ID_SIZE, NONE, PALETTE_SIZE, PLANE_SIZE, VERTEX_SIZE,
 };
 
 /// The header, decoded.
@@ -214,13 +214,15 @@ impl<'a> Scene<'a> {
         let Some(at) = element(self.polygons, self.polygon_size, i) else {
             return Polygon::default();
         };
+        // One bounds check per record, fields at constant offsets.
         let w = self.field_size;
-        let (Some(plane), Some(first_index), Some(vertex_count), Some(flags)) = (
-            field_at(self.bytes, at, w, false),
-            field_at(self.bytes, at + w, w, false),
-            u8_at(self.bytes, at + 2 * w),
-            u8_at(self.bytes, at + 2 * w + 1),
-        ) else {
+        let fields = if w == 2 {
+            Record::<6>::at(self.bytes, at)
+                .map(|r| (r.narrow(0, false), r.narrow(2, false), r.u8(4), r.u8(5)))
+        } else {
+            Record::<10>::at(self.bytes, at).map(|r| (r.u32(0), r.u32(4), r.u8(8), r.u8(9)))
+        };
+        let Some((plane, first_index, vertex_count, flags)) = fields else {
             return Polygon::default();
         };
         Polygon {
@@ -288,16 +290,27 @@ impl<'a> Scene<'a> {
         Some(self.box_at(at))
     }
 
-    /// The quantised box at `at`, decoded on the header's bounds ([`layout::dequantise`]).
+    /// The quantised box at `at`, decoded on the header's bounds: [`layout::dequantise`]
+    /// lane by lane (the same operations in the same order, so the same bits), without its
+    /// branches.
     fn box_at(&self, at: usize) -> (Vec3, Vec3) {
         let (lo, hi) = (self.header.bounds_min, self.header.bounds_max);
-        let r = Record::<BOUNDS_SIZE>::at(self.bytes, at);
-        let q = |k: usize| r.map_or(0, |r| r.u16(2 * k));
-        let axis = |k: usize, corner: usize| dequantise(lo[k], hi[k], q(k + corner));
-        (
-            Vec3::new(axis(0, 0), axis(1, 0), axis(2, 0)),
-            Vec3::new(axis(0, 3), axis(1, 3), axis(2, 3)),
-        )
+        let Some(r) = Record::<BOUNDS_SIZE>::at(self.bytes, at) else {
+            return (lo, lo);
+        };
+        let extent = hi - lo;
+        let corner = |first: usize| {
+            let q = Vec3::new(
+                f32::from(r.u16(first)),
+                f32::from(r.u16(first + 2)),
+                f32::from(r.u16(first + 4)),
+            );
+            let v = lo + extent * (q * (1.0 / 65535.0));
+            let top = f32::from(u16::MAX);
+            let v = Vec3::select(q.cmpeq(Vec3::splat(top)), hi, v);
+            Vec3::select(q.cmpeq(Vec3::ZERO), lo, v)
+        };
+        (corner(0), corner(6))
     }
 
     /// Vertex `i` of polygon `polygon` (`i < vertex_count`), relative to the centre
@@ -372,18 +385,30 @@ struct RawNode {
 }
 
 impl RawNode {
+    /// One bounds check per record, fields at constant offsets (`w`: the field width).
     #[inline]
     fn at(bytes: &[u8], at: usize, w: usize) -> Option<RawNode> {
-        let kind = u8_at(bytes, at)?;
-        // A convex node's `b` is a count, a split's a link.
-        let b_is_link = kind != node_kind::CONVEX;
-        Some(RawNode {
-            kind,
-            a: field_at(bytes, at + 1, w, false)?,
-            b: field_at(bytes, at + 1 + w, w, b_is_link)?,
-            c: field_at(bytes, at + 1 + 2 * w, w, true)?,
-            parent: field_at(bytes, at + 1 + 3 * w, w, true)?,
-        })
+        if w == 2 {
+            let r = Record::<9>::at(bytes, at)?;
+            let kind = r.u8(0);
+            // A convex node's `b` is a count, a split's a link.
+            Some(RawNode {
+                kind,
+                a: r.narrow(1, false),
+                b: r.narrow(3, kind != node_kind::CONVEX),
+                c: r.narrow(5, true),
+                parent: r.narrow(7, true),
+            })
+        } else {
+            let r = Record::<17>::at(bytes, at)?;
+            Some(RawNode {
+                kind: r.u8(0),
+                a: r.u32(1),
+                b: r.u32(5),
+                c: r.u32(9),
+                parent: r.u32(13),
+            })
+        }
     }
 
     /// The decoded node; an unknown kind (rejected by `parse`) reads as [`Node::EMPTY`].
