@@ -134,6 +134,7 @@ pub fn dump_yaml(bytes: &[u8]) -> Result<String, ReadError> {
         (h.flags & header_flags::PALETTE16 != 0, "palette16"),
         (h.flags & header_flags::BOUNDS != 0, "bounds"),
         (h.flags & header_flags::NARROW != 0, "narrow"),
+        (h.flags & header_flags::MEDIUM != 0, "medium"),
     ]);
     // Writing into a String cannot fail.
     let _ = writeln!(

@@ -12,7 +12,7 @@ use serde::{Deserialize, Deserializer, Serialize, Serializer};
 
 // The constants live in the runtime's reader so that writer and reader cannot disagree.
 pub use peel_runtime::read::layout::{
-    header_flags, node_kind, polygon_flags, FORMAT_VERSION, MAGIC, NONE, NONE16,
+    field_size, header_flags, node_kind, none_of_width, polygon_flags, FORMAT_VERSION, MAGIC, NONE,
 };
 
 /// The bincode configuration, pinned here and nowhere else.
@@ -69,8 +69,8 @@ pub enum ColourField {
     Index16(u16),
 }
 
-/// A convex polygon (7 to 13 bytes, depending on [`header_flags::NARROW`] and its colour
-/// field).
+/// A convex polygon (7 to 13 bytes, depending on the field width ([`header_flags::NARROW`],
+/// [`header_flags::MEDIUM`]) and its colour field).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Polygon {
     /// Index into `planes` of its support plane.
@@ -85,8 +85,9 @@ pub struct Polygon {
     pub colour: ColourField,
 }
 
-/// A node of the display tree (9 or 17 bytes, 11 or 21 with [`header_flags::BOUNDS`], as
-/// [`header_flags::NARROW`] says); see [`node_kind`] for the meaning of `a`, `b`, `c`.
+/// A node of the display tree (`1 + 4w` bytes, `1 + 5w` with [`header_flags::BOUNDS`], `w`
+/// the field width: 2 with [`header_flags::NARROW`], 3 with [`header_flags::MEDIUM`], else 4);
+/// see [`node_kind`] for the meaning of `a`, `b`, `c`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Node {
     /// [`node_kind`].
@@ -198,37 +199,54 @@ impl Flagged for u32 {
     }
 }
 
-/// A node field or a polygon's `plane` / `first_index`: `u16` with [`header_flags::NARROW`]
-/// ([`NONE`] written as [`NONE16`]), else `u32`.
+/// A node field or a polygon's `plane` / `first_index`: `u16` with [`header_flags::NARROW`],
+/// `u24` with [`header_flags::MEDIUM`], else `u32`; [`NONE`] is written as the width's largest
+/// value, which no other value may take.
 fn field<T: SerializeTuple>(t: &mut T, flags: u16, value: u32) -> Result<(), T::Error> {
-    if flags & header_flags::NARROW == 0 {
+    let width = field_size(flags);
+    if width == 4 {
         return t.serialize_element(&value);
     }
-    let narrow = if value == NONE {
-        NONE16
+    let none = none_of_width(width);
+    let stored = if value == NONE {
+        none
+    } else if value < none {
+        value
     } else {
-        u16::try_from(value)
-            .ok()
-            .filter(|&v| v != NONE16)
-            .ok_or_else(|| ser::Error::custom(format!("field {value} does not fit NARROW")))?
+        return Err(ser::Error::custom(format!(
+            "field {value} does not fit {width} bytes"
+        )));
     };
-    t.serialize_element(&narrow)
+    let le = stored.to_le_bytes();
+    if width == 2 {
+        t.serialize_element(&[le[0], le[1]])
+    } else {
+        t.serialize_element(&[le[0], le[1], le[2]])
+    }
 }
 
-/// Reads a field written by [`field`]; `link` fields read [`NONE16`] as [`NONE`].
+/// Reads a field written by [`field`]; `link` fields read the width's largest value as
+/// [`NONE`].
 fn read_field<'de, A: SeqAccess<'de>>(
     flags: u16,
     seq: &mut A,
     link: bool,
 ) -> Result<Option<u32>, A::Error> {
-    if flags & header_flags::NARROW == 0 {
-        return seq.next_element::<u32>();
-    }
-    Ok(seq.next_element::<u16>()?.map(|v| {
-        if link && v == NONE16 {
+    let width = field_size(flags);
+    let value = match width {
+        2 => seq
+            .next_element::<[u8; 2]>()?
+            .map(|b| u32::from_le_bytes([b[0], b[1], 0, 0])),
+        3 => seq
+            .next_element::<[u8; 3]>()?
+            .map(|b| u32::from_le_bytes([b[0], b[1], b[2], 0])),
+        _ => return seq.next_element::<u32>(),
+    };
+    Ok(value.map(|v| {
+        if link && v == none_of_width(width) {
             NONE
         } else {
-            u32::from(v)
+            v
         }
     }))
 }

@@ -157,18 +157,22 @@ pub(crate) fn peel_file_encoded(
         flags
     };
     let boxes = boxes.unwrap_or_default();
-    // `u16` node and polygon fields whenever every count they index fits (NONE16 excluded).
-    let narrow = [
+    // The narrowest node and polygon fields that every count they index fits (the width's
+    // largest value is NONE).
+    let largest = [
         planes.len(),
         out.indices.len(),
         out.polygons.len(),
         out.file_nodes.len(),
         boxes.len(),
     ]
-    .iter()
-    .all(|&n| n <= usize::from(u16::MAX));
-    if narrow {
+    .into_iter()
+    .max()
+    .unwrap_or(0);
+    if largest <= format::none_of_width(2) as usize {
         flags |= header_flags::NARROW;
+    } else if largest <= format::none_of_width(3) as usize {
+        flags |= header_flags::MEDIUM;
     }
     let header = Header {
         magic: format::MAGIC,

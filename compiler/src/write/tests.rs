@@ -275,6 +275,15 @@ fn record_sizes_match_the_spec() {
         let wide = h.flags & !header_flags::NARROW;
         assert_eq!(layout::polygon_size(wide), expected_polygon + 4);
         assert_eq!(layout::node_size(wide), 21);
+        let medium = wide | header_flags::MEDIUM;
+        assert_eq!(layout::polygon_size(medium), expected_polygon + 2);
+        assert_eq!(layout::node_size(medium), 16);
+        // The same records in u24 and u32 fields read back alike.
+        for flags in [medium, wide] {
+            let mut other = file.clone();
+            other.header.flags = flags;
+            assert_reads_back(&other);
+        }
     }
     let file = peel_file(&tree, &colours, true).unwrap();
     // Spot checks of the header's byte offsets.

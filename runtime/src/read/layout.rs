@@ -9,6 +9,8 @@ pub const FORMAT_VERSION: u16 = 2;
 pub const NONE: u32 = u32::MAX;
 /// "No node" (or "no box") in a `u16` field of a [`header_flags::NARROW`] file.
 pub const NONE16: u16 = u16::MAX;
+/// "No node" (or "no box") in a `u24` field of a [`header_flags::MEDIUM`] file.
+pub const NONE24: u32 = (1 << 24) - 1;
 
 /// Bits of the header's `flags`.
 pub mod header_flags {
@@ -25,8 +27,11 @@ pub mod header_flags {
     /// Node fields and a polygon's `plane` and `first_index` are `u16` (else `u32`): every
     /// count they index is at most 65535.
     pub const NARROW: u16 = 1 << 5;
+    /// Without [`NARROW`]: those fields are 3-byte little-endian integers (`u24`): every count
+    /// they index is at most 2^24 - 1. Both flags at once are inconsistent.
+    pub const MEDIUM: u16 = 1 << 6;
     /// Every bit this version defines; a reader refuses others.
-    pub const KNOWN: u16 = IDS | INDEX16 | PALETTE | PALETTE16 | BOUNDS | NARROW;
+    pub const KNOWN: u16 = IDS | INDEX16 | PALETTE | PALETTE16 | BOUNDS | NARROW | MEDIUM;
 }
 
 /// Bytes of an index under header `flags`.
@@ -42,8 +47,19 @@ pub const fn index_size(flags: u16) -> usize {
 pub const fn field_size(flags: u16) -> usize {
     if flags & header_flags::NARROW != 0 {
         2
+    } else if flags & header_flags::MEDIUM != 0 {
+        3
     } else {
         4
+    }
+}
+
+/// "No node" in a field of `width` bytes: its largest value.
+pub const fn none_of_width(width: usize) -> u32 {
+    match width {
+        2 => NONE16 as u32,
+        3 => NONE24,
+        _ => NONE,
     }
 }
 
@@ -201,6 +217,18 @@ impl<const N: usize> Record<N> {
             u32::from(v)
         }
     }
+
+    /// A `u24` field, its [`NONE24`] read as [`NONE`] when `link`.
+    #[inline]
+    pub(crate) fn medium(&self, offset: usize, link: bool) -> u32 {
+        let [a, b, c] = self.bytes::<3>(offset);
+        let v = u32::from_le_bytes([a, b, c, 0]);
+        if link && v == NONE24 {
+            NONE
+        } else {
+            v
+        }
+    }
 }
 
 /// `N` bytes at `offset`, or `None` past the end (or on overflow).
@@ -216,20 +244,21 @@ pub(crate) fn u16_at(bytes: &[u8], offset: usize) -> Option<u16> {
     array_at(bytes, offset).map(u16::from_le_bytes)
 }
 
-/// A node field or a polygon's `plane` / `first_index`: `u16` when `width` is 2 (its
-/// [`NONE16`] read as [`NONE`] when `link`), else `u32`.
+/// A node field or a polygon's `plane` / `first_index` of `width` bytes (2, 3 or 4), its
+/// largest value read as [`NONE`] when `link`.
 #[inline]
 pub(crate) fn field_at(bytes: &[u8], offset: usize, width: usize, link: bool) -> Option<u32> {
-    if width == 2 {
-        let v = u16_at(bytes, offset)?;
-        Some(if link && v == NONE16 {
-            NONE
-        } else {
-            u32::from(v)
-        })
-    } else {
-        u32_at(bytes, offset)
+    let mut le = [0u8; 4];
+    let end = offset.checked_add(width.min(4))?;
+    for (o, b) in le.iter_mut().zip(bytes.get(offset..end)?) {
+        *o = *b;
     }
+    let v = u32::from_le_bytes(le);
+    Some(if link && v == none_of_width(width) {
+        NONE
+    } else {
+        v
+    })
 }
 
 pub(crate) fn u32_at(bytes: &[u8], offset: usize) -> Option<u32> {

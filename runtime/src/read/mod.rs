@@ -219,6 +219,9 @@ impl<'a> Scene<'a> {
         let fields = if w == 2 {
             Record::<6>::at(self.bytes, at)
                 .map(|r| (r.narrow(0, false), r.narrow(2, false), r.u8(4), r.u8(5)))
+        } else if w == 3 {
+            Record::<8>::at(self.bytes, at)
+                .map(|r| (r.medium(0, false), r.medium(3, false), r.u8(6), r.u8(7)))
         } else {
             Record::<10>::at(self.bytes, at).map(|r| (r.u32(0), r.u32(4), r.u8(8), r.u8(9)))
         };
@@ -398,6 +401,16 @@ impl RawNode {
                 b: r.narrow(3, kind != node_kind::CONVEX),
                 c: r.narrow(5, true),
                 parent: r.narrow(7, true),
+            })
+        } else if w == 3 {
+            let r = Record::<13>::at(bytes, at)?;
+            let kind = r.u8(0);
+            Some(RawNode {
+                kind,
+                a: r.medium(1, false),
+                b: r.medium(4, kind != node_kind::CONVEX),
+                c: r.medium(7, true),
+                parent: r.medium(10, true),
             })
         } else {
             let r = Record::<17>::at(bytes, at)?;

@@ -172,13 +172,10 @@ impl Spec {
                 out.extend(v.to_le_bytes());
             }
         }
-        let narrow = self.flags & header_flags::NARROW != 0;
+        let width = field_size(self.flags);
         let field = |out: &mut Vec<u8>, v: u32| {
-            if narrow {
-                out.extend((if v == NONE { NONE16 } else { v as u16 }).to_le_bytes());
-            } else {
-                out.extend(v.to_le_bytes());
-            }
+            let v = if v == NONE { none_of_width(width) } else { v };
+            out.extend(&v.to_le_bytes()[..width]);
         };
         length(&mut out, self.polygons.len());
         for &(plane, first, count, flags, colour) in &self.polygons {
@@ -388,10 +385,15 @@ fn header_identity_is_checked_first() {
         );
     }
     let mut spec = Spec::small();
-    spec.flags = 0b100_0000;
+    spec.flags = 0b1000_0000;
     assert_eq!(
         spec.parse(),
-        Err(ReadError::UnknownFlags { flags: 0b100_0000 })
+        Err(ReadError::UnknownFlags { flags: 0b1000_0000 })
+    );
+    spec.flags = header_flags::NARROW | header_flags::MEDIUM;
+    assert_eq!(
+        spec.parse(),
+        Err(ReadError::InconsistentFlags { flags: spec.flags })
     );
 }
 
@@ -426,6 +428,18 @@ fn optional_parts_read_back() {
     );
     assert_eq!(plain.node_bounds(0), None);
     assert_eq!(scene.node_bounds(3), None);
+    // u24 fields read the same records.
+    let mut medium = Spec::small_with_everything();
+    medium.flags = medium.flags & !header_flags::NARROW | header_flags::MEDIUM;
+    let medium_bytes = medium.encode();
+    assert_eq!(medium_bytes.len(), bytes.len() + 3 * 2 + 3 * 5);
+    let medium = Scene::parse(&medium_bytes).unwrap();
+    for i in 0..3 {
+        assert_eq!(medium.node(i), scene.node(i));
+        assert_eq!(medium.parent(i), scene.parent(i));
+        assert_eq!(medium.node_bounds(i), scene.node_bounds(i));
+        assert_eq!(medium.polygon(i), scene.polygon(i));
+    }
     // A u16 palette index.
     let mut spec = Spec::small_with_everything();
     spec.flags |= header_flags::PALETTE16;

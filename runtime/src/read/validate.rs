@@ -11,7 +11,7 @@
 use glam::Vec3;
 
 use super::layout::{
-    f32_at, f64_at, field_at, field_size, header_flags as hf, header_offset as h, index_size,
+    self, f32_at, f64_at, field_at, field_size, header_flags as hf, header_offset as h, index_size,
     node_kind, node_size, polygon_flags, polygon_size, u16_at, u32_at, u64_at, u8_at, BOUNDS_SIZE,
     FORMAT_VERSION, HEADER_SIZE, ID_SIZE, LENGTH_SIZE, MAGIC, NONE, PALETTE_SIZE, PLANE_SIZE,
     VERTEX_SIZE,
@@ -65,7 +65,10 @@ fn read_header(bytes: &[u8]) -> Result<Header, ReadError> {
         if flags & !hf::KNOWN != 0 {
             return Err(ReadError::UnknownFlags { flags });
         }
-        if flags & hf::PALETTE16 != 0 && flags & hf::PALETTE == 0 {
+        let both_widths = hf::NARROW | hf::MEDIUM;
+        if flags & hf::PALETTE16 != 0 && flags & hf::PALETTE == 0
+            || flags & both_widths == both_widths
+        {
             return Err(ReadError::InconsistentFlags { flags });
         }
     }
@@ -151,9 +154,9 @@ fn locate_arrays(bytes: &[u8], header: Header) -> Result<Scene<'_>, ReadError> {
     if flags & hf::INDEX16 != 0 && header.vertex_count > 1 << 16 {
         return Err(bad(h::VERTEX_COUNT));
     }
-    if flags & hf::NARROW != 0 {
-        // `u16` fields: every count they index fits, and no node or box is numbered NONE16.
-        let narrow = u32::from(u16::MAX);
+    if flags & (hf::NARROW | hf::MEDIUM) != 0 {
+        // Narrower fields: every count they index fits, and no node or box is numbered NONE.
+        let narrow = layout::none_of_width(field_size(flags));
         for (count, at) in [
             (header.plane_count, h::PLANE_COUNT),
             (header.index_count, h::INDEX_COUNT),
