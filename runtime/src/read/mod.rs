@@ -14,8 +14,8 @@ use glam::Vec3;
 use crate::error::ReadError;
 use crate::target::Colour;
 use layout::{
-    element, field_at, header_flags, node_kind, u16_at, u32_at, u8_at, Record, BOUNDS_SIZE,
-    ID_SIZE, NONE, PALETTE_SIZE, PLANE_SIZE, VERTEX_SIZE,
+    element, header_flags, node_kind, u16_at, u32_at, u8_at, Record, BOUNDS_SIZE, ID_SIZE, NONE,
+    PALETTE_SIZE, PLANE_SIZE, VERTEX_SIZE,
 };
 
 /// The header, decoded.
@@ -285,7 +285,12 @@ impl<'a> Scene<'a> {
         }
         let w = self.field_size;
         let at = element(self.nodes, self.node_size, i)?.checked_add(1 + 4 * w)?;
-        let k = link(field_at(self.bytes, at, w, true)?)?;
+        let k = match w {
+            2 => Record::<2>::at(self.bytes, at)?.narrow(0, true),
+            3 => Record::<3>::at(self.bytes, at)?.medium(0, true),
+            _ => Record::<4>::at(self.bytes, at)?.u32(0),
+        };
+        let k = link(k)?;
         if k >= self.header.bounds_count {
             return None;
         }
