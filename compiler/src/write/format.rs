@@ -85,9 +85,11 @@ pub struct Polygon {
     pub colour: ColourField,
 }
 
-/// A node of the display tree (`1 + 4w` bytes, `1 + 5w` with [`header_flags::BOUNDS`], `w`
-/// the field width: 2 with [`header_flags::NARROW`], 3 with [`header_flags::MEDIUM`], else 4);
-/// see [`node_kind`] for the meaning of `a`, `b`, `c`.
+/// A node of the display tree (`1 + 3w` bytes, `1 + 4w` with [`header_flags::BOUNDS`], `w`
+/// the field width: 2 with [`header_flags::NARROW`], 3 with [`header_flags::MEDIUM`], else 4).
+/// `a`, `b`, `c` are a convex node's first polygon, count and child, a split's plane, + child
+/// and - child. The first child (convex `c`, split `b`) must be [`NONE`] or the next node: it
+/// is stored as the [`node_kind::FIRST_CHILD`] bit of the kind byte, not as a field.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Node {
     /// [`node_kind`].
@@ -155,21 +157,29 @@ impl Serialize for PeelFile {
 
 /// A record whose encoding depends on the header flags.
 trait Flagged: Sized {
-    fn write<S: Serializer>(&self, flags: u16, s: S) -> Result<S::Ok, S::Error>;
-    fn read<'de, A: SeqAccess<'de>>(flags: u16, seq: &mut A) -> Result<Option<Self>, A::Error>;
+    /// Writes the record at position `index` of its array.
+    fn write<S: Serializer>(&self, flags: u16, index: u32, s: S) -> Result<S::Ok, S::Error>;
+    /// Reads the record at position `index` of its array.
+    fn read<'de, A: SeqAccess<'de>>(
+        flags: u16,
+        index: u32,
+        seq: &mut A,
+    ) -> Result<Option<Self>, A::Error>;
 }
 
 /// An array of flag-dependent records, with its `u64` length.
 struct Records<'a, T>(&'a [T], u16);
 
-/// One flag-dependent record.
-struct Record<'a, T>(&'a T, u16);
+/// One flag-dependent record and its position in its array.
+struct Record<'a, T>(&'a T, u16, u32);
 
 impl<T: Flagged> Serialize for Records<'_, T> {
     fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
         let mut seq = s.serialize_seq(Some(self.0.len()))?;
-        for item in self.0 {
-            seq.serialize_element(&Record(item, self.1))?;
+        for (index, item) in self.0.iter().enumerate() {
+            let index = u32::try_from(index)
+                .map_err(|_| ser::Error::custom("more than u32::MAX records"))?;
+            seq.serialize_element(&Record(item, self.1, index))?;
         }
         seq.end()
     }
@@ -177,12 +187,12 @@ impl<T: Flagged> Serialize for Records<'_, T> {
 
 impl<T: Flagged> Serialize for Record<'_, T> {
     fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
-        self.0.write(self.1, s)
+        self.0.write(self.1, self.2, s)
     }
 }
 
 impl Flagged for u32 {
-    fn write<S: Serializer>(&self, flags: u16, s: S) -> Result<S::Ok, S::Error> {
+    fn write<S: Serializer>(&self, flags: u16, _: u32, s: S) -> Result<S::Ok, S::Error> {
         if flags & header_flags::INDEX16 == 0 {
             return s.serialize_u32(*self);
         }
@@ -190,7 +200,11 @@ impl Flagged for u32 {
             .map_err(|_| ser::Error::custom(format!("index {self} does not fit INDEX16")))?;
         s.serialize_u16(narrow)
     }
-    fn read<'de, A: SeqAccess<'de>>(flags: u16, seq: &mut A) -> Result<Option<Self>, A::Error> {
+    fn read<'de, A: SeqAccess<'de>>(
+        flags: u16,
+        _: u32,
+        seq: &mut A,
+    ) -> Result<Option<Self>, A::Error> {
         if flags & header_flags::INDEX16 == 0 {
             seq.next_element::<u32>()
         } else {
@@ -263,7 +277,7 @@ fn colour_kind(flags: u16) -> fn(ColourField) -> bool {
 }
 
 impl Flagged for Polygon {
-    fn write<S: Serializer>(&self, flags: u16, s: S) -> Result<S::Ok, S::Error> {
+    fn write<S: Serializer>(&self, flags: u16, _: u32, s: S) -> Result<S::Ok, S::Error> {
         if !colour_kind(flags)(self.colour) {
             return Err(ser::Error::custom(format!(
                 "colour field {:?} disagrees with header flags {flags:#x}",
@@ -282,7 +296,11 @@ impl Flagged for Polygon {
         }
         t.end()
     }
-    fn read<'de, A: SeqAccess<'de>>(flags: u16, seq: &mut A) -> Result<Option<Self>, A::Error> {
+    fn read<'de, A: SeqAccess<'de>>(
+        flags: u16,
+        _: u32,
+        seq: &mut A,
+    ) -> Result<Option<Self>, A::Error> {
         let Some(plane) = read_field(flags, seq, false)? else {
             return Ok(None);
         };
@@ -306,33 +324,81 @@ impl Flagged for Polygon {
     }
 }
 
+impl Node {
+    /// The first child (a convex node's child, a split's + child): written as
+    /// [`node_kind::FIRST_CHILD`], since it can only be the next node.
+    fn first_child(&self) -> u32 {
+        if self.kind == node_kind::CONVEX {
+            self.c
+        } else {
+            self.b
+        }
+    }
+
+    /// The field stored after `a`: a convex node's count, a split's - child.
+    fn second_field(&self) -> u32 {
+        if self.kind == node_kind::CONVEX {
+            self.b
+        } else {
+            self.c
+        }
+    }
+}
+
 impl Flagged for Node {
-    fn write<S: Serializer>(&self, flags: u16, s: S) -> Result<S::Ok, S::Error> {
+    fn write<S: Serializer>(&self, flags: u16, index: u32, s: S) -> Result<S::Ok, S::Error> {
         let with_bounds = flags & header_flags::BOUNDS != 0;
         if !with_bounds && self.bounds != NONE {
             return Err(ser::Error::custom("node bounds without the BOUNDS flag"));
         }
-        let mut t = s.serialize_tuple(if with_bounds { 6 } else { 5 })?;
-        t.serialize_element(&self.kind)?;
+        if self.kind & node_kind::FIRST_CHILD != 0 {
+            return Err(ser::Error::custom("node kind with the FIRST_CHILD bit"));
+        }
+        let kind = match self.first_child() {
+            NONE => self.kind,
+            child if Some(child) == index.checked_add(1) => self.kind | node_kind::FIRST_CHILD,
+            child => {
+                return Err(ser::Error::custom(format!(
+                    "node {index}: first child {child} is not the next node"
+                )))
+            }
+        };
+        let mut t = s.serialize_tuple(if with_bounds { 5 } else { 4 })?;
+        t.serialize_element(&kind)?;
         field(&mut t, flags, self.a)?;
-        field(&mut t, flags, self.b)?;
-        field(&mut t, flags, self.c)?;
+        field(&mut t, flags, self.second_field())?;
         field(&mut t, flags, self.parent)?;
         if with_bounds {
             field(&mut t, flags, self.bounds)?;
         }
         t.end()
     }
-    fn read<'de, A: SeqAccess<'de>>(flags: u16, seq: &mut A) -> Result<Option<Self>, A::Error> {
-        let Some(kind) = seq.next_element::<u8>()? else {
+    fn read<'de, A: SeqAccess<'de>>(
+        flags: u16,
+        index: u32,
+        seq: &mut A,
+    ) -> Result<Option<Self>, A::Error> {
+        let Some(byte) = seq.next_element::<u8>()? else {
             return Ok(None);
         };
-        let b_is_link = kind != node_kind::CONVEX;
+        let kind = byte & !node_kind::FIRST_CHILD;
+        let first_child = if byte & node_kind::FIRST_CHILD != 0 {
+            index.wrapping_add(1)
+        } else {
+            NONE
+        };
+        let a = required(read_field(flags, seq, false)?)?;
+        let second = required(read_field(flags, seq, kind != node_kind::CONVEX)?)?;
+        let (b, c) = if kind == node_kind::CONVEX {
+            (second, first_child)
+        } else {
+            (first_child, second)
+        };
         Ok(Some(Node {
             kind,
-            a: required(read_field(flags, seq, false)?)?,
-            b: required(read_field(flags, seq, b_is_link)?)?,
-            c: required(read_field(flags, seq, true)?)?,
+            a,
+            b,
+            c,
             parent: required(read_field(flags, seq, true)?)?,
             bounds: if flags & header_flags::BOUNDS != 0 {
                 required(read_field(flags, seq, true)?)?
@@ -348,30 +414,31 @@ fn required<T, E: de::Error>(value: Option<T>) -> Result<T, E> {
     value.ok_or_else(|| E::custom("record ends early"))
 }
 
-/// Reads one flag-dependent record, as a tuple of its fields (records have no length prefix).
-struct RecordSeed<T>(u16, std::marker::PhantomData<T>);
+/// Reads one flag-dependent record (at the given position of its array), as a tuple of its
+/// fields (records have no length prefix).
+struct RecordSeed<T>(u16, u32, std::marker::PhantomData<T>);
 
 /// Reads an array of flag-dependent records.
 struct RecordsSeed<T>(u16, std::marker::PhantomData<T>);
 
-/// Fields of the widest record ([`Node`] with bounds); bincode reads a tuple field by field, so
+/// An upper bound on the fields of a record ([`Node`] with bounds has 5); bincode reads a tuple field by field, so
 /// the exact count is not needed, only an upper bound.
 const MAX_RECORD_FIELDS: usize = 6;
 
 impl<'de, T: Flagged> DeserializeSeed<'de> for RecordSeed<T> {
     type Value = T;
     fn deserialize<D: Deserializer<'de>>(self, d: D) -> Result<T, D::Error> {
-        struct V<T>(u16, std::marker::PhantomData<T>);
+        struct V<T>(u16, u32, std::marker::PhantomData<T>);
         impl<'de, T: Flagged> Visitor<'de> for V<T> {
             type Value = T;
             fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
                 f.write_str("a record")
             }
             fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> Result<T, A::Error> {
-                T::read(self.0, &mut seq)?.ok_or_else(|| de::Error::custom("empty record"))
+                T::read(self.0, self.1, &mut seq)?.ok_or_else(|| de::Error::custom("empty record"))
             }
         }
-        d.deserialize_tuple(MAX_RECORD_FIELDS, V(self.0, self.1))
+        d.deserialize_tuple(MAX_RECORD_FIELDS, V(self.0, self.1, self.2))
     }
 }
 
@@ -386,9 +453,13 @@ impl<'de, T: Flagged> DeserializeSeed<'de> for RecordsSeed<T> {
             }
             fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> Result<Vec<T>, A::Error> {
                 let mut out = Vec::with_capacity(seq.size_hint().unwrap_or(0).min(1 << 16));
-                while let Some(item) =
-                    seq.next_element_seed(RecordSeed::<T>(self.0, std::marker::PhantomData))?
-                {
+                loop {
+                    let index = u32::try_from(out.len())
+                        .map_err(|_| de::Error::custom("more than u32::MAX records"))?;
+                    let seed = RecordSeed::<T>(self.0, index, std::marker::PhantomData);
+                    let Some(item) = seq.next_element_seed(seed)? else {
+                        break;
+                    };
                     out.push(item);
                 }
                 Ok(out)

@@ -271,13 +271,13 @@ fn record_sizes_match_the_spec() {
             (layout::index_size(h.flags), layout::polygon_size(h.flags)),
             (expected_index, expected_polygon)
         );
-        assert_eq!(layout::node_size(h.flags), 11, "small_tree has bounds");
+        assert_eq!(layout::node_size(h.flags), 9, "small_tree has bounds");
         let wide = h.flags & !header_flags::NARROW;
         assert_eq!(layout::polygon_size(wide), expected_polygon + 4);
-        assert_eq!(layout::node_size(wide), 21);
+        assert_eq!(layout::node_size(wide), 17);
         let medium = wide | header_flags::MEDIUM;
         assert_eq!(layout::polygon_size(medium), expected_polygon + 2);
-        assert_eq!(layout::node_size(medium), 16);
+        assert_eq!(layout::node_size(medium), 13);
         // The same records in u24 and u32 fields read back alike.
         for flags in [medium, wide] {
             let mut other = file.clone();
@@ -382,6 +382,30 @@ fn the_file_is_the_tree_in_pre_order() {
     let without_ids = peel_file(&tree, &colours, false).unwrap();
     assert_eq!(without_ids.header.flags & header_flags::IDS, 0);
     assert!(without_ids.ids.is_empty());
+}
+
+/// A first child takes no field: it must be the next node, or the serialiser refuses the file.
+#[test]
+fn a_first_child_is_the_next_node() {
+    let (tree, colours) = small_tree();
+    let file = peel_file(&tree, &colours, false).unwrap();
+    let encode = |file: &PeelFile| bincode::serde::encode_to_vec(file, format::config());
+    let bytes = encode(&file).unwrap();
+    let back: PeelFile = bincode::serde::decode_from_slice(&bytes, format::config())
+        .unwrap()
+        .0;
+    assert_eq!(back, file);
+    let mut broken = file.clone();
+    // The root split's + child becomes node 3, not the next node.
+    assert_eq!(
+        (broken.nodes[0].kind, broken.nodes[0].b),
+        (node_kind::SPLIT, 1)
+    );
+    broken.nodes[0].b = 3;
+    assert!(encode(&broken).is_err());
+    let mut broken = file;
+    broken.nodes[1].kind |= node_kind::FIRST_CHILD;
+    assert!(encode(&broken).is_err());
 }
 
 #[test]

@@ -81,13 +81,14 @@ pub const fn polygon_size(flags: u16) -> usize {
     2 * field_size(flags) + 2 + colour_size(flags)
 }
 
-/// Bytes of a node record under header `flags`: `kind`, then `a`, `b`, `c`, `parent` and
-/// with [`header_flags::BOUNDS`] `bounds` ([`field_size`] each).
+/// Bytes of a node record under header `flags`: `kind`, then `a`, `b`, `parent` and with
+/// [`header_flags::BOUNDS`] `bounds` ([`field_size`] each). A node's first child is implicit
+/// (the next node, flagged by [`node_kind::FIRST_CHILD`]), so it takes no field.
 pub const fn node_size(flags: u16) -> usize {
     let fields = if flags & header_flags::BOUNDS != 0 {
-        5
-    } else {
         4
+    } else {
+        3
     };
     1 + fields * field_size(flags)
 }
@@ -118,12 +119,17 @@ pub mod polygon_flags {
     pub const KNOWN: u8 = FLIPPED | INTERIOR_FRONT | LEGACY_ONE_SIDED;
 }
 
-/// Values of a node's `kind`.
+/// Values of a node's `kind` byte.
 pub mod node_kind {
-    /// `a` = first polygon, `b` = polygon count, `c` = child (or [`super::NONE`]).
+    /// `a` = first polygon, `b` = polygon count; the child (what lies inside the set) is the
+    /// next node when [`FIRST_CHILD`] is set, else there is none.
     pub const CONVEX: u8 = 0;
-    /// `a` = plane, `b` = child on the + side, `c` = child on the - side (or [`super::NONE`]).
+    /// `a` = plane, `b` = child on the - side (or [`super::NONE`]); the child on the + side is
+    /// the next node when [`FIRST_CHILD`] is set, else there is none.
     pub const SPLIT: u8 = 1;
+    /// Bit of the `kind` byte: the node's first child (a convex node's child, a split's + child)
+    /// exists and is the next node, `i + 1` (the nodes are in pre-order, front before back).
+    pub const FIRST_CHILD: u8 = 1 << 7;
 }
 
 /// Bytes of the header.
@@ -145,7 +151,7 @@ pub const BOUNDS_SIZE: usize = 12;
 /// Bytes of an id (`u32`).
 pub const ID_SIZE: usize = 4;
 /// Bytes of the widest node record (`u32` fields and bounds; see [`node_size`]).
-pub const NODE_SIZE: usize = 21;
+pub const NODE_SIZE: usize = 17;
 
 /// Byte offsets of the header fields.
 pub(crate) mod header_offset {

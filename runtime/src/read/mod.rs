@@ -284,7 +284,7 @@ impl<'a> Scene<'a> {
             return None;
         }
         let w = self.field_size;
-        let at = element(self.nodes, self.node_size, i)?.checked_add(1 + 4 * w)?;
+        let at = element(self.nodes, self.node_size, i)?.checked_add(1 + 3 * w)?;
         let k = match w {
             2 => Record::<2>::at(self.bytes, at)?.narrow(0, true),
             3 => Record::<3>::at(self.bytes, at)?.medium(0, true),
@@ -378,6 +378,7 @@ impl<'a> Scene<'a> {
             self.bytes,
             element(self.nodes, self.node_size, i)?,
             self.field_size,
+            i,
         )
     }
 }
@@ -385,48 +386,59 @@ impl<'a> Scene<'a> {
 /// A node record as stored, before its kind is interpreted.
 #[derive(Debug, Clone, Copy)]
 struct RawNode {
+    /// The kind, without [`node_kind::FIRST_CHILD`].
     kind: u8,
     a: u32,
+    /// Convex: the child; split: the child on the + side (the implicit first child, the next
+    /// node, when [`node_kind::FIRST_CHILD`] is set).
     b: u32,
+    /// Convex: the polygon count; split: the child on the - side.
     c: u32,
     parent: u32,
 }
 
 impl RawNode {
-    /// One bounds check per record, fields at constant offsets (`w`: the field width).
+    /// Node `i` at byte `at`: one bounds check per record, fields at constant offsets (`w`:
+    /// the field width).
     #[inline]
-    fn at(bytes: &[u8], at: usize, w: usize) -> Option<RawNode> {
-        if w == 2 {
-            let r = Record::<9>::at(bytes, at)?;
-            let kind = r.u8(0);
-            // A convex node's `b` is a count, a split's a link.
-            Some(RawNode {
-                kind,
-                a: r.narrow(1, false),
-                b: r.narrow(3, kind != node_kind::CONVEX),
-                c: r.narrow(5, true),
-                parent: r.narrow(7, true),
-            })
+    fn at(bytes: &[u8], at: usize, w: usize, i: u32) -> Option<RawNode> {
+        let (byte, a, c, parent) = if w == 2 {
+            let r = Record::<7>::at(bytes, at)?;
+            let byte = r.u8(0);
+            // A convex node's second field is a count, a split's a link.
+            let convex = byte & !node_kind::FIRST_CHILD == node_kind::CONVEX;
+            (
+                byte,
+                r.narrow(1, false),
+                r.narrow(3, !convex),
+                r.narrow(5, true),
+            )
         } else if w == 3 {
-            let r = Record::<13>::at(bytes, at)?;
-            let kind = r.u8(0);
-            Some(RawNode {
-                kind,
-                a: r.medium(1, false),
-                b: r.medium(4, kind != node_kind::CONVEX),
-                c: r.medium(7, true),
-                parent: r.medium(10, true),
-            })
+            let r = Record::<10>::at(bytes, at)?;
+            let byte = r.u8(0);
+            let convex = byte & !node_kind::FIRST_CHILD == node_kind::CONVEX;
+            (
+                byte,
+                r.medium(1, false),
+                r.medium(4, !convex),
+                r.medium(7, true),
+            )
         } else {
-            let r = Record::<17>::at(bytes, at)?;
-            Some(RawNode {
-                kind: r.u8(0),
-                a: r.u32(1),
-                b: r.u32(5),
-                c: r.u32(9),
-                parent: r.u32(13),
-            })
-        }
+            let r = Record::<13>::at(bytes, at)?;
+            (r.u8(0), r.u32(1), r.u32(5), r.u32(9))
+        };
+        let b = if byte & node_kind::FIRST_CHILD != 0 {
+            i.wrapping_add(1)
+        } else {
+            NONE
+        };
+        Some(RawNode {
+            kind: byte & !node_kind::FIRST_CHILD,
+            a,
+            b,
+            c,
+            parent,
+        })
     }
 
     /// The decoded node; an unknown kind (rejected by `parse`) reads as [`Node::EMPTY`].
@@ -434,8 +446,8 @@ impl RawNode {
         match self.kind {
             node_kind::CONVEX => Node::Convex {
                 first: self.a,
-                count: self.b,
-                child: link(self.c),
+                count: self.c,
+                child: link(self.b),
             },
             node_kind::SPLIT => Node::Split {
                 plane: self.a,

@@ -28,7 +28,8 @@ struct Spec {
     /// plane, first_index, vertex_count, flags, colour
     polygons: Vec<(u32, u32, u16, u8, [u8; 3])>,
     ids: Vec<u32>,
-    /// kind, a, b, c, parent
+    /// kind, a, b, c, parent (as [`RawNode`] before the first child becomes implicit: convex
+    /// a = first polygon, b = count, c = child; split a = plane, b = + child, c = - child)
     nodes: Vec<(u8, u32, u32, u32, u32)>,
     /// Palette colours (with `PALETTE`, a polygon's colour field holds its index: byte 0, or
     /// bytes 0-1 with `PALETTE16`).
@@ -199,8 +200,23 @@ impl Spec {
         }
         length(&mut out, self.nodes.len());
         for (i, &(kind, a, b, c, parent)) in self.nodes.iter().enumerate() {
-            out.push(kind);
-            for v in [a, b, c, parent] {
+            // The first child is implicit: the next node, flagged in the kind byte.
+            let (first, second) = if kind == node_kind::CONVEX {
+                (c, b)
+            } else {
+                (b, c)
+            };
+            if first == NONE {
+                out.push(kind);
+            } else {
+                assert_eq!(
+                    first as usize,
+                    i + 1,
+                    "node {i}: a first child is the next node"
+                );
+                out.push(kind | node_kind::FIRST_CHILD);
+            }
+            for v in [a, second, parent] {
                 field(&mut out, v);
             }
             if self.flags & header_flags::BOUNDS != 0 {
@@ -402,8 +418,9 @@ fn optional_parts_read_back() {
     let spec = Spec::small_with_everything();
     let bytes = spec.encode();
     let plain = Spec::small().encode();
-    // u16 indices (-20), 7-byte polygons (-18), 11-byte nodes (-18), palette (+6), boxes (+24).
-    assert_eq!(bytes.len(), plain.len() - 20 - 18 - 18 + 6 + 24);
+    // u16 indices (-20), 7-byte polygons (-18), 9-byte nodes for 13 (-12), palette (+6),
+    // boxes (+24).
+    assert_eq!(bytes.len(), plain.len() - 20 - 18 - 12 + 6 + 24);
     let scene = Scene::parse(&bytes).unwrap();
     let plain = Scene::parse(&plain).unwrap();
     for i in 0..3 {
@@ -432,7 +449,7 @@ fn optional_parts_read_back() {
     let mut medium = Spec::small_with_everything();
     medium.flags = medium.flags & !header_flags::NARROW | header_flags::MEDIUM;
     let medium_bytes = medium.encode();
-    assert_eq!(medium_bytes.len(), bytes.len() + 3 * 2 + 3 * 5);
+    assert_eq!(medium_bytes.len(), bytes.len() + 3 * 2 + 3 * 4);
     let medium = Scene::parse(&medium_bytes).unwrap();
     for i in 0..3 {
         assert_eq!(medium.node(i), scene.node(i));
@@ -571,16 +588,17 @@ fn the_legacy_one_sided_flag_is_accepted() {
 
 #[test]
 fn out_of_range_records_are_refused_at_their_offset() {
-    let node_cases: [fn(&mut Spec); 9] = [
-        |s| s.nodes[0].0 = 7, // unknown kind
-        |s| s.nodes[0].1 = 3, // split plane out of range
-        |s| s.nodes[0].3 = 1, // front == back
-        |s| s.nodes[2].2 = 0, // empty convex set
-        |s| s.nodes[2].1 = 1, // polygons owned twice
-        |s| s.nodes[1].3 = 2, // 2 would have two parents
-        |s| s.nodes[2].4 = 1, // parent that does not name it
-        |s| s.nodes[0].4 = 1, // the root has a parent
-        |s| s.nodes[1].3 = 7, // child beyond the array
+    let node_cases: [fn(&mut Spec); 10] = [
+        |s| s.nodes[0].0 = 7,    // unknown kind
+        |s| s.nodes[1].0 = 0x40, // unknown bit of the kind byte
+        |s| s.nodes[0].1 = 3,    // split plane out of range
+        |s| s.nodes[0].3 = 1,    // front == back
+        |s| s.nodes[2].2 = 0,    // empty convex set
+        |s| s.nodes[2].1 = 1,    // polygons owned twice
+        |s| s.nodes[1].3 = 2,    // 2 would have two parents
+        |s| s.nodes[2].4 = 1,    // parent that does not name it
+        |s| s.nodes[0].4 = 1,    // the root has a parent
+        |s| s.nodes[2].3 = 3,    // child beyond the array
     ];
     for (k, case) in node_cases.into_iter().enumerate() {
         let mut spec = Spec::small();
@@ -618,11 +636,11 @@ fn out_of_range_records_are_refused_at_their_offset() {
 
 #[test]
 fn child_before_parent_and_cycles_are_refused() {
-    // Node 1 and 2 swap roles: 2's child is 1, which comes before it.
+    // 2's - child is 1, which comes before it.
     let mut spec = Spec::small();
-    spec.nodes[0] = (node_kind::SPLIT, 2, 2, NONE, NONE);
+    spec.nodes[0] = (node_kind::SPLIT, 2, NONE, 2, NONE);
     spec.nodes[1] = (node_kind::CONVEX, 0, 2, NONE, 2);
-    spec.nodes[2] = (node_kind::CONVEX, 2, 1, 1, 0);
+    spec.nodes[2] = (node_kind::SPLIT, 2, NONE, 1, 0);
     assert_eq!(
         spec.parse(),
         Err(ReadError::BadRecord {
@@ -633,11 +651,11 @@ fn child_before_parent_and_cycles_are_refused() {
     let mut spec = Spec::small();
     spec.nodes[0] = (node_kind::SPLIT, 2, 1, NONE, NONE);
     spec.nodes[1] = (node_kind::CONVEX, 0, 2, 2, 2);
-    spec.nodes[2] = (node_kind::CONVEX, 2, 1, 1, 1);
+    spec.nodes[2] = (node_kind::SPLIT, 2, NONE, 1, 1);
     assert!(matches!(spec.parse(), Err(ReadError::BadRecord { .. })));
-    // A self loop.
+    // A self loop (a first child is always the next node, so only a split's - child can try).
     let mut spec = Spec::small();
-    spec.nodes[2].3 = 2;
+    spec.nodes[0].3 = 0;
     assert!(matches!(spec.parse(), Err(ReadError::BadRecord { .. })));
 }
 

@@ -324,17 +324,17 @@ fn check_nodes(scene: &Scene<'_>) -> Result<(), ReadError> {
         let raw = need(scene.raw_node(i), at)?;
         if with_bounds {
             let w = scene.field_size;
-            let k = need(field_at(scene.bytes, at + 1 + 4 * w, w, true), at)?;
+            let k = need(field_at(scene.bytes, at + 1 + 3 * w, w, true), at)?;
             if k != NONE && k >= header.bounds_count {
                 return Err(bad(at));
             }
         }
         match raw.kind {
             node_kind::CONVEX => {
-                if raw.b == 0 || u64::from(raw.a) != next_polygon {
+                if raw.c == 0 || u64::from(raw.a) != next_polygon {
                     return Err(bad(at));
                 }
-                next_polygon += u64::from(raw.b);
+                next_polygon += u64::from(raw.c);
             }
             node_kind::SPLIT if raw.a < header.plane_count => {}
             _ => return Err(bad(at)),

@@ -269,17 +269,24 @@ pub(crate) fn encode(tree: &TestTree) -> Vec<u8> {
     length(&mut out, 0);
     length(&mut out, tree.nodes.len());
     let opt = |c: Option<u32>| c.unwrap_or(NONE);
-    for (n, parent) in tree.nodes.iter().zip(parents) {
-        let (kind, a, b, c) = match *n {
+    for (i, (n, parent)) in tree.nodes.iter().zip(parents).enumerate() {
+        // The first child (convex child, split + child) is implicit: the next node.
+        let (kind, a, first, second) = match *n {
             Node::Convex {
                 first,
                 count,
                 child,
-            } => (node_kind::CONVEX, first, count, opt(child)),
-            Node::Split { plane, front, back } => (node_kind::SPLIT, plane, opt(front), opt(back)),
+            } => (node_kind::CONVEX, first, child, count),
+            Node::Split { plane, front, back } => (node_kind::SPLIT, plane, front, opt(back)),
         };
-        out.push(kind);
-        for v in [a, b, c, parent] {
+        match first {
+            None => out.push(kind),
+            Some(child) => {
+                assert_eq!(child as usize, i + 1, "a first child is the next node");
+                out.push(kind | node_kind::FIRST_CHILD);
+            }
+        }
+        for v in [a, second, parent] {
             out.extend(v.to_le_bytes());
         }
     }
