@@ -10,7 +10,8 @@
 //!
 //! A stored box is quantised outward to 65535 steps per axis of the scene's bounds (12 bytes
 //! instead of 24 of `f32`): [`quantise`] rounds each corner through the runtime's own decoder,
-//! so the box the runtime reads still contains every `f32` vertex of the subtree. Equal
+//! so the box the runtime reads still contains every vertex of the subtree as the runtime reads
+//! it (for vertices stored as steps, the box is exactly their steps' box). Equal
 //! (quantised) boxes are stored once.
 
 use rayon::prelude::*;
@@ -109,14 +110,21 @@ pub fn quantise(b: Box3, lo: [f32; 3], hi: [f32; 3]) -> QuantisedBox {
             };
             (t * 65535.0).clamp(0.0, 65535.0)
         };
-        // A first guess, then outward until the decoded value contains the coordinate.
+        // A first guess, then outward until the decoded value contains the coordinate, and
+        // inward while it still does (a vertex on a step gets that very step).
         let mut min = step(b[k]).floor() as u16;
         while min > 0 && dequantise(l, h, min) > b[k] {
             min -= 1;
         }
+        while min < u16::MAX && dequantise(l, h, min + 1) <= b[k] {
+            min += 1;
+        }
         let mut max = step(b[k + 3]).ceil() as u16;
         while max < u16::MAX && dequantise(l, h, max) < b[k + 3] {
             max += 1;
+        }
+        while max > 0 && dequantise(l, h, max - 1) >= b[k + 3] {
+            max -= 1;
         }
         q[k] = min;
         q[k + 3] = max;

@@ -11,6 +11,7 @@ use serde::ser::{self, SerializeSeq, SerializeTuple};
 use serde::{Deserialize, Deserializer, Serialize, Serializer};
 
 // The constants live in the runtime's reader so that writer and reader cannot disagree.
+use peel_runtime::read::layout::dequantise;
 pub use peel_runtime::read::layout::{
     field_size, header_flags, node_kind, none_of_width, polygon_flags, FORMAT_VERSION, MAGIC, NONE,
 };
@@ -55,6 +56,28 @@ pub struct Header {
     pub palette_count: u32,
     /// Length of `bounds` (0 without `header_flags::BOUNDS`).
     pub bounds_count: u32,
+}
+
+/// A vertex: steps on the header's bounds, or `f32` coordinates with
+/// [`header_flags::WIDE_VERTICES`]. Its variant must match the header flags.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Vertex {
+    /// Per axis, steps from the header's `bounds_min` to its `bounds_max`
+    /// (`peel_runtime::read::layout::dequantise`).
+    Grid([u16; 3]),
+    /// Coordinates relative to `centre`.
+    Wide([f32; 3]),
+}
+
+impl Vertex {
+    /// The position the runtime reads, relative to the centre, on the header's bounds `lo`,
+    /// `hi`.
+    pub fn position(&self, lo: [f32; 3], hi: [f32; 3]) -> [f32; 3] {
+        match *self {
+            Vertex::Grid(q) => [0, 1, 2].map(|k| dequantise(lo[k], hi[k], q[k])),
+            Vertex::Wide(v) => v,
+        }
+    }
 }
 
 /// A polygon's colour field: RGB, or an index into the palette (`u8` or `u16`), as the header
@@ -113,8 +136,8 @@ pub struct Node {
 pub struct PeelFile {
     /// Header.
     pub header: Header,
-    /// Vertex positions relative to `header.centre`.
-    pub vertices: Vec<[f32; 3]>,
+    /// Vertex positions (steps on the header's bounds, or `f32` relative to `header.centre`).
+    pub vertices: Vec<Vertex>,
     /// Planes `n · p = d` as `[nx, ny, nz, d]`, unit normal, relative to `header.centre`.
     pub planes: Vec<[f32; 4]>,
     /// Polygon vertex lists, concatenated; written as `u16` with [`header_flags::INDEX16`].
@@ -143,7 +166,7 @@ impl Serialize for PeelFile {
         let flags = self.header.flags;
         let mut t = s.serialize_tuple(FILE_FIELDS)?;
         t.serialize_element(&self.header)?;
-        t.serialize_element(&self.vertices)?;
+        t.serialize_element(&Records(&self.vertices, flags))?;
         t.serialize_element(&self.planes)?;
         t.serialize_element(&Records(&self.indices, flags))?;
         t.serialize_element(&Records(&self.polygons, flags))?;
@@ -209,6 +232,38 @@ impl Flagged for u32 {
             seq.next_element::<u32>()
         } else {
             Ok(seq.next_element::<u16>()?.map(u32::from))
+        }
+    }
+}
+
+impl Flagged for Vertex {
+    fn write<S: Serializer>(&self, flags: u16, _: u32, s: S) -> Result<S::Ok, S::Error> {
+        let wide = flags & header_flags::WIDE_VERTICES != 0;
+        match (self, wide) {
+            (Vertex::Grid(q), false) => q.serialize(s),
+            (Vertex::Wide(v), true) => v.serialize(s),
+            _ => Err(ser::Error::custom(format!(
+                "vertex {self:?} disagrees with header flags {flags:#x}"
+            ))),
+        }
+    }
+    fn read<'de, A: SeqAccess<'de>>(
+        flags: u16,
+        _: u32,
+        seq: &mut A,
+    ) -> Result<Option<Self>, A::Error> {
+        if flags & header_flags::WIDE_VERTICES != 0 {
+            let Some(x) = seq.next_element::<f32>()? else {
+                return Ok(None);
+            };
+            let (y, z) = (required(seq.next_element()?)?, required(seq.next_element()?)?);
+            Ok(Some(Vertex::Wide([x, y, z])))
+        } else {
+            let Some(x) = seq.next_element::<u16>()? else {
+                return Ok(None);
+            };
+            let (y, z) = (required(seq.next_element()?)?, required(seq.next_element()?)?);
+            Ok(Some(Vertex::Grid([x, y, z])))
         }
     }
 }
@@ -482,7 +537,9 @@ impl<'de> Deserialize<'de> for PeelFile {
                 let flags = header.flags;
                 Ok(PeelFile {
                     header,
-                    vertices: required(seq.next_element()?)?,
+                    vertices: required(
+                        seq.next_element_seed(RecordsSeed(flags, std::marker::PhantomData))?,
+                    )?,
                     planes: required(seq.next_element()?)?,
                     indices: required(
                         seq.next_element_seed(RecordsSeed(flags, std::marker::PhantomData))?,

@@ -10,6 +10,7 @@
 
 mod atomic;
 mod bounds;
+mod grid;
 pub(crate) mod encoding;
 pub(crate) mod format;
 
@@ -19,7 +20,7 @@ use crate::error::CompileError;
 use crate::tree::{DisplayTree, TreeNode};
 use encoding::Encoding;
 use format::{
-    header_flags, node_kind, polygon_flags, ColourField, Header, Node, PeelFile, Polygon,
+    header_flags, node_kind, polygon_flags, ColourField, Header, Node, PeelFile, Polygon, Vertex,
 };
 
 pub use atomic::{write_atomic, write_atomic_with};
@@ -52,6 +53,8 @@ pub(crate) struct WriteInput<'a> {
     pub colours: &'a [[u8; 3]],
     /// Keep source triangle ids.
     pub ids: bool,
+    /// Store vertices as `f32` instead of 16-bit steps on the scene's bounds.
+    pub wide_vertices: bool,
 }
 
 /// The file for `tree`, `colours[i]` being the colour of `tree.polygons[i]`; source triangle
@@ -63,7 +66,14 @@ pub(crate) fn peel_file(
     colours: &[[u8; 3]],
     ids: bool,
 ) -> Result<PeelFile, CompileError> {
-    peel_file_with(tree, &WriteInput { colours, ids })
+    peel_file_with(
+        tree,
+        &WriteInput {
+            colours,
+            ids,
+            ..WriteInput::default()
+        },
+    )
 }
 
 /// [`peel_file`] with every input, in the smallest encoding ([`Encoding::smallest`]).
@@ -81,7 +91,11 @@ pub(crate) fn peel_file_encoded(
     input: &WriteInput<'_>,
     encoding: Option<Encoding>,
 ) -> Result<PeelFile, CompileError> {
-    let WriteInput { colours, ids } = *input;
+    let WriteInput {
+        colours,
+        ids,
+        wide_vertices,
+    } = *input;
     if colours.len() != tree.polygons.len() {
         return Err(invariant(format!(
             "{} colours for {} polygons",
@@ -89,7 +103,7 @@ pub(crate) fn peel_file_encoded(
             tree.polygons.len()
         )));
     }
-    let vertices = tree
+    let wide = tree
         .vertices
         .iter()
         .map(|&v| to_f32(v, "vertex"))
@@ -109,7 +123,19 @@ pub(crate) fn peel_file_encoded(
             Ok([x, y, z, d])
         })
         .collect::<Result<Vec<_>, _>>()?;
-    let (bounds_min, bounds_max) = bounds(&vertices);
+    let (bounds_min, bounds_max) = bounds(&wide);
+    // What the runtime will read: the f32 vertices, or their nearest steps decoded.
+    let (vertices, decoded): (Vec<Vertex>, Vec<[f32; 3]>) = if wide_vertices {
+        (wide.iter().map(|&v| Vertex::Wide(v)).collect(), wide)
+    } else {
+        tree.vertices
+            .iter()
+            .map(|&v| {
+                let q = Vertex::Grid(grid::nearest(v, bounds_min, bounds_max));
+                (q, q.position(bounds_min, bounds_max))
+            })
+            .unzip()
+    };
 
     let mut out = Emitter {
         tree,
@@ -149,13 +175,16 @@ pub(crate) fn peel_file_encoded(
     for (polygon, field) in out.polygons.iter_mut().zip(fields) {
         polygon.colour = field;
     }
-    let node_bounds = bounds::node_bounds(&vertices, &out.indices, &out.polygons, &out.file_nodes);
+    let node_bounds = bounds::node_bounds(&decoded, &out.indices, &out.polygons, &out.file_nodes);
     let boxes = bounds::assign(&mut out.file_nodes, &node_bounds, bounds_min, bounds_max);
     let mut flags = if boxes.is_some() {
         flags | header_flags::BOUNDS
     } else {
         flags
     };
+    if wide_vertices {
+        flags |= header_flags::WIDE_VERTICES;
+    }
     let boxes = boxes.unwrap_or_default();
     // The narrowest node and polygon fields that every count they index fits (the width's
     // largest value is NONE).
@@ -415,7 +444,14 @@ pub(crate) fn encode(
     colours: &[[u8; 3]],
     ids: bool,
 ) -> Result<Vec<u8>, CompileError> {
-    encode_with(tree, &WriteInput { colours, ids })
+    encode_with(
+        tree,
+        &WriteInput {
+            colours,
+            ids,
+            ..WriteInput::default()
+        },
+    )
 }
 
 /// [`encode`] with every input (see [`peel_file_with`]).

@@ -137,8 +137,9 @@ fn assert_reads_back(file: &PeelFile) {
     assert_eq!(h.centre, fh.centre);
     assert_eq!(h.bounds_min, Vec3::from(fh.bounds_min));
     assert_eq!(h.bounds_max, Vec3::from(fh.bounds_max));
+    let position = |v: &format::Vertex| Vec3::from(v.position(fh.bounds_min, fh.bounds_max));
     for (i, v) in file.vertices.iter().enumerate() {
-        assert_eq!(scene.vertex(i as u32), Vec3::from(*v));
+        assert_eq!(scene.vertex(i as u32), position(v));
     }
     for (i, p) in file.planes.iter().enumerate() {
         let plane = scene.plane(i as u32);
@@ -162,7 +163,7 @@ fn assert_reads_back(file: &PeelFile) {
             let index = file.indices[(p.first_index + k) as usize];
             assert_eq!(
                 scene.polygon_vertex(&read, k),
-                Vec3::from(file.vertices[index as usize])
+                position(&file.vertices[index as usize])
             );
         }
         assert_eq!(scene.id(i as u32), file.ids.get(i).copied());
@@ -239,19 +240,25 @@ fn record_sizes_match_the_spec() {
     let (tree, colours) = small_tree();
     let size = |bytes: Vec<u8>| bytes.len();
     let enc = |v: &dyn erased::Encode| v.encode();
-    let input = WriteInput {
+    let inputs = [false, true].map(|wide_vertices| WriteInput {
         colours: &colours,
         ids: true,
-    };
-    for encoding in Encoding::ALL {
-        let file = peel_file_encoded(&tree, &input, Some(encoding)).unwrap();
+        wide_vertices,
+    });
+    for (input, encoding) in inputs
+        .iter()
+        .flat_map(|i| Encoding::ALL.map(|e| (i, e)))
+    {
+        let file = peel_file_encoded(&tree, input, Some(encoding)).unwrap();
+        let wide_vertices = file.header.flags & header_flags::WIDE_VERTICES != 0;
+        assert_eq!(wide_vertices, input.wide_vertices);
+        assert_eq!(layout::vertex_size(file.header.flags), if wide_vertices { 12 } else { 6 });
         assert_eq!(size(enc(&file.header)), layout::HEADER_SIZE);
-        assert_eq!(size(enc(&file.vertices[0])), layout::VERTEX_SIZE);
         assert_eq!(size(enc(&file.planes[0])), layout::PLANE_SIZE);
         let h = &file.header;
         let total = layout::HEADER_SIZE
             + 8 * layout::LENGTH_SIZE
-            + h.vertex_count as usize * layout::VERTEX_SIZE
+            + h.vertex_count as usize * layout::vertex_size(h.flags)
             + h.plane_count as usize * layout::PLANE_SIZE
             + h.index_count as usize * layout::index_size(h.flags)
             + h.polygon_count as usize * (layout::polygon_size(h.flags) + layout::ID_SIZE)
@@ -378,7 +385,10 @@ fn the_file_is_the_tree_in_pre_order() {
     assert_eq!(file.polygons[2].flags, polygon_flags::FLIPPED);
     assert_eq!(file.polygons[1].colour, ColourField::Rgb([0, 0, 255]));
     assert_eq!(file.planes[2], [1.0, 0.0, 0.0, 0.5]);
-    assert_eq!(file.vertices[6], [-0.25, 1.0, 1.0]);
+    // Vertices are steps on the scene's bounds; this one is a corner of them.
+    assert_eq!(file.vertices[6], format::Vertex::Grid([0, 65535, 65535]));
+    let (lo, hi) = (file.header.bounds_min, file.header.bounds_max);
+    assert_eq!(file.vertices[6].position(lo, hi), [-0.25, 1.0, 1.0]);
     let without_ids = peel_file(&tree, &colours, false).unwrap();
     assert_eq!(without_ids.header.flags & header_flags::IDS, 0);
     assert!(without_ids.ids.is_empty());
@@ -544,7 +554,11 @@ fn two_sided_tree(per_side: u32, colour: impl Fn(u32) -> [u8; 3]) -> (DisplayTre
 }
 
 fn input(colours: &[[u8; 3]], ids: bool) -> WriteInput<'_> {
-    WriteInput { colours, ids }
+    WriteInput {
+        colours,
+        ids,
+        ..WriteInput::default()
+    }
 }
 
 #[test]

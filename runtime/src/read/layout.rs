@@ -30,8 +30,12 @@ pub mod header_flags {
     /// Without [`NARROW`]: those fields are 3-byte little-endian integers (`u24`): every count
     /// they index is at most 2^24 - 1. Both flags at once are inconsistent.
     pub const MEDIUM: u16 = 1 << 6;
+    /// Vertices are `[f32; 3]` (else `[u16; 3]`: steps on the header's bounds, decoded by
+    /// [`super::dequantise`]).
+    pub const WIDE_VERTICES: u16 = 1 << 7;
     /// Every bit this version defines; a reader refuses others.
-    pub const KNOWN: u16 = IDS | INDEX16 | PALETTE | PALETTE16 | BOUNDS | NARROW | MEDIUM;
+    pub const KNOWN: u16 =
+        IDS | INDEX16 | PALETTE | PALETTE16 | BOUNDS | NARROW | MEDIUM | WIDE_VERTICES;
 }
 
 /// Bytes of an index under header `flags`.
@@ -40,6 +44,16 @@ pub const fn index_size(flags: u16) -> usize {
         2
     } else {
         4
+    }
+}
+
+/// Bytes of a vertex under header `flags`: `[f32; 3]` with [`header_flags::WIDE_VERTICES`],
+/// else `[u16; 3]`.
+pub const fn vertex_size(flags: u16) -> usize {
+    if flags & header_flags::WIDE_VERTICES != 0 {
+        12
+    } else {
+        6
     }
 }
 
@@ -93,9 +107,10 @@ pub const fn node_size(flags: u16) -> usize {
     1 + fields * field_size(flags)
 }
 
-/// A node box coordinate: `q` of 65535 steps from the header's `min` to its `max` along one
-/// axis (the ends exact). The writer rounds each box outward through this very function, so
-/// the decoded box contains its subtree's `f32` vertices exactly.
+/// A vertex or node box coordinate: `q` of 65535 steps from the header's `min` to its `max`
+/// along one axis (the ends exact). It is monotone in `q`, so a box of steps contains every
+/// vertex whose steps it contains; the writer rounds `f32` vertices' boxes outward through this
+/// very function.
 #[inline]
 pub fn dequantise(min: f32, max: f32, q: u16) -> f32 {
     let v = min + (max - min) * (f32::from(q) * (1.0 / 65535.0));
@@ -136,8 +151,6 @@ pub mod node_kind {
 pub const HEADER_SIZE: usize = 92;
 /// Bytes of an array length (`u64`).
 pub const LENGTH_SIZE: usize = 8;
-/// Bytes of a vertex (`[f32; 3]`).
-pub const VERTEX_SIZE: usize = 12;
 /// Bytes of a plane (`[f32; 4]`).
 pub const PLANE_SIZE: usize = 16;
 /// Bytes of an index (`u32`; `u16` with [`header_flags::INDEX16`], see [`index_size`]).

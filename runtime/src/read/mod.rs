@@ -15,7 +15,7 @@ use crate::error::ReadError;
 use crate::target::Colour;
 use layout::{
     element, header_flags, node_kind, u16_at, u32_at, u8_at, Record, BOUNDS_SIZE, ID_SIZE, NONE,
-    PALETTE_SIZE, PLANE_SIZE, VERTEX_SIZE,
+    PALETTE_SIZE, PLANE_SIZE,
 };
 
 /// The header, decoded.
@@ -134,6 +134,7 @@ pub struct Scene<'a> {
     bounds: usize,
     nodes: usize,
     /// Record sizes, which the header flags choose.
+    vertex_size: usize,
     index_size: usize,
     polygon_size: usize,
     node_size: usize,
@@ -302,23 +303,28 @@ impl<'a> Scene<'a> {
     /// lane by lane (the same operations in the same order, so the same bits), without its
     /// branches.
     fn box_at(&self, at: usize) -> (Vec3, Vec3) {
-        let (lo, hi) = (self.header.bounds_min, self.header.bounds_max);
+        let lo = self.header.bounds_min;
         let Some(r) = Record::<BOUNDS_SIZE>::at(self.bytes, at) else {
             return (lo, lo);
         };
-        let extent = hi - lo;
-        let corner = |first: usize| {
-            let q = Vec3::new(
-                f32::from(r.u16(first)),
-                f32::from(r.u16(first + 2)),
-                f32::from(r.u16(first + 4)),
-            );
-            let v = lo + extent * (q * (1.0 / 65535.0));
-            let top = f32::from(u16::MAX);
-            let v = Vec3::select(q.cmpeq(Vec3::splat(top)), hi, v);
-            Vec3::select(q.cmpeq(Vec3::ZERO), lo, v)
-        };
-        (corner(0), corner(6))
+        (self.decode(&r, 0), self.decode(&r, 6))
+    }
+
+    /// The point of three `u16` steps at byte `first` of `r` on the header's bounds:
+    /// [`layout::dequantise`] lane by lane (the same operations in the same order, so the same
+    /// bits), without its branches. Vertices and boxes decode alike, so a box of steps contains
+    /// the vertices whose steps it contains.
+    #[inline]
+    fn decode<const N: usize>(&self, r: &Record<N>, first: usize) -> Vec3 {
+        let (lo, hi) = (self.header.bounds_min, self.header.bounds_max);
+        let q = Vec3::new(
+            f32::from(r.u16(first)),
+            f32::from(r.u16(first + 2)),
+            f32::from(r.u16(first + 4)),
+        );
+        let v = lo + (hi - lo) * (q * (1.0 / 65535.0));
+        let v = Vec3::select(q.cmpeq(Vec3::splat(f32::from(u16::MAX))), hi, v);
+        Vec3::select(q.cmpeq(Vec3::ZERO), lo, v)
     }
 
     /// Vertex `i` of polygon `polygon` (`i < vertex_count`), relative to the centre
@@ -344,7 +350,14 @@ impl<'a> Scene<'a> {
         if i >= self.header.vertex_count {
             return Vec3::ZERO;
         }
-        element(self.vertices, VERTEX_SIZE, i).map_or(Vec3::ZERO, |at| self.vec3_at(at))
+        let Some(at) = element(self.vertices, self.vertex_size, i) else {
+            return Vec3::ZERO;
+        };
+        if self.vertex_size == 6 {
+            Record::<6>::at(self.bytes, at).map_or(Vec3::ZERO, |r| self.decode(&r, 0))
+        } else {
+            self.vec3_at(at)
+        }
     }
 
     /// Plane `i` (all zero when out of range).

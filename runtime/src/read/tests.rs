@@ -158,8 +158,18 @@ impl Spec {
         assert_eq!(out.len(), HEADER_SIZE);
         let length = |out: &mut Vec<u8>, n: usize| out.extend((n as u64).to_le_bytes());
         length(&mut out, self.vertices.len());
-        for v in self.vertices.iter().flatten() {
-            out.extend(v.to_le_bytes());
+        for v in &self.vertices {
+            for (k, c) in v.iter().enumerate() {
+                if self.flags & header_flags::WIDE_VERTICES != 0 {
+                    out.extend(c.to_le_bytes());
+                } else {
+                    // The nearest step on the bounds (exact for the corners used here).
+                    let (lo, hi) = (self.bounds[0][k], self.bounds[1][k]);
+                    let t = if hi > lo { (c - lo) / (hi - lo) } else { 0.0 };
+                    let q = (t * 65535.0).round().clamp(0.0, 65535.0) as u16;
+                    out.extend(q.to_le_bytes());
+                }
+            }
         }
         length(&mut out, self.planes.len());
         for v in self.planes.iter().flatten() {
@@ -401,11 +411,8 @@ fn header_identity_is_checked_first() {
         );
     }
     let mut spec = Spec::small();
-    spec.flags = 0b1000_0000;
-    assert_eq!(
-        spec.parse(),
-        Err(ReadError::UnknownFlags { flags: 0b1000_0000 })
-    );
+    spec.flags = 1 << 8;
+    assert_eq!(spec.parse(), Err(ReadError::UnknownFlags { flags: 1 << 8 }));
     spec.flags = header_flags::NARROW | header_flags::MEDIUM;
     assert_eq!(
         spec.parse(),
@@ -556,18 +563,51 @@ fn counts_must_match_array_lengths() {
     );
 }
 
+/// Vertices stored as steps decode with [`dequantise`], as node boxes do, and wide ones are
+/// read as they are.
+#[test]
+fn vertices_are_steps_on_the_bounds_or_f32() {
+    let mut spec = Spec::small();
+    spec.bounds = [[-2.0, 0.0, 0.0], [2.0, 3.0, 1.0]];
+    spec.vertices[5] = [0.5, 1.0, 1.0];
+    spec.vertices[1] = [2.0, 0.0, 0.0];
+    spec.vertices[2] = [-2.0, 3.0, 1.0];
+    let scene_bytes = spec.encode();
+    let scene = Scene::parse(&scene_bytes).unwrap();
+    // 0.5 is step 40959.375 of 65535 on [-2, 2]: step 40959 is read.
+    let expected = Vec3::new(
+        dequantise(-2.0, 2.0, 40959),
+        dequantise(0.0, 3.0, 21845),
+        1.0,
+    );
+    assert_eq!(scene.vertex(5), expected);
+    assert!((scene.vertex(5) - Vec3::new(0.5, 1.0, 1.0)).abs().max_element() < 4.0 / 65535.0);
+    // The ends are exact.
+    assert_eq!(scene.vertex(1), Vec3::new(2.0, 0.0, 0.0));
+    assert_eq!(scene.vertex(2), Vec3::new(-2.0, 3.0, 1.0));
+    spec.flags |= header_flags::WIDE_VERTICES;
+    let wide_bytes = spec.encode();
+    assert_eq!(wide_bytes.len(), scene_bytes.len() + 6 * spec.vertices.len());
+    let wide = Scene::parse(&wide_bytes).unwrap();
+    assert_eq!(wide.vertex(5), Vec3::new(0.5, 1.0, 1.0));
+}
+
 #[test]
 fn non_finite_or_out_of_bounds_floats_are_refused() {
-    let cases: [fn(&mut Spec); 6] = [
+    let cases: [fn(&mut Spec); 7] = [
         |s| s.centre[1] = f64::NAN,
         |s| s.bounds[0][2] = f32::NEG_INFINITY,
         |s| s.bounds = [[1.0; 3], [0.0; 3]],
+        // Finite bounds whose extent is not: a step would decode to infinity.
+        |s| s.bounds = [[-3e38; 3], [3e38; 3]],
         |s| s.vertices[3][0] = f32::NAN,
         |s| s.vertices[3][0] = 1.5,
         |s| s.planes[1][3] = f32::INFINITY,
     ];
     for case in cases {
+        // Vertices as f32, so that they can be out of bounds or not finite.
         let mut spec = Spec::small();
+        spec.flags |= header_flags::WIDE_VERTICES;
         case(&mut spec);
         assert!(matches!(spec.parse(), Err(ReadError::BadRecord { .. })));
     }
@@ -872,7 +912,7 @@ proptest! {
         let layout = Scene::parse_trusted(&bytes).unwrap();
         let h = layout.header;
         let arrays = [
-            (layout.vertices, h.vertex_count as usize * VERTEX_SIZE),
+            (layout.vertices, h.vertex_count as usize * layout.vertex_size),
             (layout.planes, h.plane_count as usize * PLANE_SIZE),
             (layout.indices, h.index_count as usize * layout.index_size),
             (layout.polygons, h.polygon_count as usize * layout.polygon_size),

@@ -13,8 +13,8 @@ use glam::Vec3;
 use super::layout::{
     self, f32_at, f64_at, field_at, field_size, header_flags as hf, header_offset as h, index_size,
     node_kind, node_size, polygon_flags, polygon_size, u16_at, u32_at, u64_at, u8_at, BOUNDS_SIZE,
-    FORMAT_VERSION, HEADER_SIZE, ID_SIZE, LENGTH_SIZE, MAGIC, NONE, PALETTE_SIZE, PLANE_SIZE,
-    VERTEX_SIZE,
+    vertex_size, FORMAT_VERSION, HEADER_SIZE, ID_SIZE, LENGTH_SIZE, MAGIC, NONE, PALETTE_SIZE,
+    PLANE_SIZE,
 };
 use super::{Header, Scene};
 use crate::error::ReadError;
@@ -169,14 +169,18 @@ fn locate_arrays(bytes: &[u8], header: Header) -> Result<Scene<'_>, ReadError> {
             }
         }
     }
-    let (index_size, polygon_size, node_size) =
-        (index_size(flags), polygon_size(flags), node_size(flags));
+    let (vertex_size, index_size, polygon_size, node_size) = (
+        vertex_size(flags),
+        index_size(flags),
+        polygon_size(flags),
+        node_size(flags),
+    );
     let field_size = field_size(flags);
     let mut at = HEADER_SIZE;
     let scene = Scene {
         bytes,
         header,
-        vertices: array(bytes, &mut at, header.vertex_count, VERTEX_SIZE)?,
+        vertices: array(bytes, &mut at, header.vertex_count, vertex_size)?,
         planes: array(bytes, &mut at, header.plane_count, PLANE_SIZE)?,
         indices: array(bytes, &mut at, header.index_count, index_size)?,
         polygons: array(bytes, &mut at, header.polygon_count, polygon_size)?,
@@ -184,6 +188,7 @@ fn locate_arrays(bytes: &[u8], header: Header) -> Result<Scene<'_>, ReadError> {
         palette: array(bytes, &mut at, header.palette_count, PALETTE_SIZE)?,
         bounds: array(bytes, &mut at, header.bounds_count, BOUNDS_SIZE)?,
         nodes: array(bytes, &mut at, header.node_count, node_size)?,
+        vertex_size,
         index_size,
         polygon_size,
         node_size,
@@ -195,7 +200,8 @@ fn locate_arrays(bytes: &[u8], header: Header) -> Result<Scene<'_>, ReadError> {
     Ok(scene)
 }
 
-/// Finite centre, finite bounds with `min <= max`.
+/// Finite centre, finite bounds with `min <= max` and a finite extent `max - min` (which
+/// decoding a vertex or box step multiplies).
 fn check_header_values(bytes: &[u8]) -> Result<(), ReadError> {
     for k in 0..3 {
         let at = h::CENTRE + 8 * k;
@@ -209,7 +215,7 @@ fn check_header_values(bytes: &[u8]) -> Result<(), ReadError> {
         let max = f32_at(bytes, max_at)
             .filter(|v| v.is_finite())
             .ok_or(bad(max_at))?;
-        if min > max {
+        if min > max || !(max - min).is_finite() {
             return Err(bad(max_at));
         }
     }
@@ -225,10 +231,14 @@ fn records(start: usize, size: usize, count: u32) -> impl Iterator<Item = (u32, 
     })
 }
 
-/// Every vertex finite and inside the header's bounds.
+/// Every vertex finite and inside the header's bounds. Steps (without
+/// [`hf::WIDE_VERTICES`]) always are: they decode between the bounds, whose extent is finite.
 fn check_vertices(scene: &Scene<'_>) -> Result<(), ReadError> {
+    if scene.header.flags & hf::WIDE_VERTICES == 0 {
+        return Ok(());
+    }
     let (min, max) = (scene.header.bounds_min, scene.header.bounds_max);
-    for (_, at) in records(scene.vertices, VERTEX_SIZE, scene.header.vertex_count) {
+    for (_, at) in records(scene.vertices, scene.vertex_size, scene.header.vertex_count) {
         for k in 0..3 {
             let inside = f32_at(scene.bytes, at + 4 * k)
                 .is_some_and(|v| v.is_finite() && min[k] <= v && v <= max[k]);
