@@ -92,12 +92,11 @@ pub enum ColourField {
     Index16(u16),
 }
 
-/// A convex polygon (7 to 13 bytes, depending on the field width ([`header_flags::NARROW`],
-/// [`header_flags::MEDIUM`]) and its colour field).
+/// A convex polygon (5 to 9 bytes, depending on the field width ([`header_flags::NARROW`],
+/// [`header_flags::MEDIUM`]) and its colour field). Its support plane is the plane through its
+/// first three vertices.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Polygon {
-    /// Index into `planes` of its support plane.
-    pub plane: u32,
     /// First of its `vertex_count` entries in `indices`.
     pub first_index: u32,
     /// Number of vertices (3 to 255).
@@ -256,13 +255,19 @@ impl Flagged for Vertex {
             let Some(x) = seq.next_element::<f32>()? else {
                 return Ok(None);
             };
-            let (y, z) = (required(seq.next_element()?)?, required(seq.next_element()?)?);
+            let (y, z) = (
+                required(seq.next_element()?)?,
+                required(seq.next_element()?)?,
+            );
             Ok(Some(Vertex::Wide([x, y, z])))
         } else {
             let Some(x) = seq.next_element::<u16>()? else {
                 return Ok(None);
             };
-            let (y, z) = (required(seq.next_element()?)?, required(seq.next_element()?)?);
+            let (y, z) = (
+                required(seq.next_element()?)?,
+                required(seq.next_element()?)?,
+            );
             Ok(Some(Vertex::Grid([x, y, z])))
         }
     }
@@ -339,8 +344,7 @@ impl Flagged for Polygon {
                 self.colour
             )));
         }
-        let mut t = s.serialize_tuple(5)?;
-        field(&mut t, flags, self.plane)?;
+        let mut t = s.serialize_tuple(4)?;
         field(&mut t, flags, self.first_index)?;
         t.serialize_element(&self.vertex_count)?;
         t.serialize_element(&self.flags)?;
@@ -356,10 +360,9 @@ impl Flagged for Polygon {
         _: u32,
         seq: &mut A,
     ) -> Result<Option<Self>, A::Error> {
-        let Some(plane) = read_field(flags, seq, false)? else {
+        let Some(first_index) = read_field(flags, seq, false)? else {
             return Ok(None);
         };
-        let first_index = required(read_field(flags, seq, false)?)?;
         let vertex_count = required(seq.next_element()?)?;
         let polygon_flags = required(seq.next_element()?)?;
         let colour = if flags & header_flags::PALETTE == 0 {
@@ -370,7 +373,6 @@ impl Flagged for Polygon {
             ColourField::Index16(required(seq.next_element()?)?)
         };
         Ok(Some(Polygon {
-            plane,
             first_index,
             vertex_count,
             flags: polygon_flags,

@@ -49,7 +49,10 @@ mod tests {
             let d = decode(nearest(v, lo, hi), lo, hi);
             let half_step = 2.0 / 65535.0 / 2.0;
             // Half a step, plus the f32 rounding of the decoded value.
-            assert!((f64::from(d[0]) - v.x).abs() <= half_step + 1e-7, "{x}: {d:?}");
+            assert!(
+                (f64::from(d[0]) - v.x).abs() <= half_step + 1e-7,
+                "{x}: {d:?}"
+            );
             assert!((f64::from(d[2]) - 2.25).abs() <= 0.5 / 65535.0 / 2.0 + 1e-7);
         }
     }

@@ -10,13 +10,15 @@
 
 mod atomic;
 mod bounds;
-mod grid;
 pub(crate) mod encoding;
 pub(crate) mod format;
+mod grid;
 
-use glam::DVec3;
+use glam::{DVec3, Vec3};
+use peel_runtime::read::Plane;
 
 use crate::error::CompileError;
+use crate::hash::FastMap;
 use crate::tree::{DisplayTree, TreeNode};
 use encoding::Encoding;
 use format::{
@@ -108,21 +110,6 @@ pub(crate) fn peel_file_encoded(
         .iter()
         .map(|&v| to_f32(v, "vertex"))
         .collect::<Result<Vec<_>, _>>()?;
-    let planes = tree
-        .planes
-        .iter()
-        .map(|p| {
-            let [x, y, z] = to_f32(p.normal, "plane normal")?;
-            let d = p.offset as f32;
-            if !d.is_finite() {
-                return Err(CompileError::Encode(format!(
-                    "plane offset {} is not finite in f32",
-                    p.offset
-                )));
-            }
-            Ok([x, y, z, d])
-        })
-        .collect::<Result<Vec<_>, _>>()?;
     let (bounds_min, bounds_max) = bounds(&wide);
     // What the runtime will read: the f32 vertices, or their nearest steps decoded.
     let (vertices, decoded): (Vec<Vertex>, Vec<[f32; 3]>) = if wide_vertices {
@@ -139,7 +126,10 @@ pub(crate) fn peel_file_encoded(
 
     let mut out = Emitter {
         tree,
+        decoded: &decoded,
         ids,
+        planes: Vec::new(),
+        plane_slots: FastMap::default(),
         file_nodes: Vec::new(),
         polygons: Vec::new(),
         rgb: Vec::new(),
@@ -188,6 +178,7 @@ pub(crate) fn peel_file_encoded(
     let boxes = boxes.unwrap_or_default();
     // The narrowest node and polygon fields that every count they index fits (the width's
     // largest value is NONE).
+    let planes = out.planes;
     let largest = [
         planes.len(),
         out.indices.len(),
@@ -253,10 +244,16 @@ fn bounds(vertices: &[[f32; 3]]) -> ([f32; 3], [f32; 3]) {
         })
 }
 
-/// Builds the node, polygon, index and id arrays in file order.
+/// Builds the node, plane, polygon, index and id arrays in file order.
 struct Emitter<'t> {
     tree: &'t DisplayTree,
+    /// The vertices as the runtime reads them.
+    decoded: &'t [[f32; 3]],
     ids: bool,
+    /// The split nodes' planes, in order of first use.
+    planes: Vec<[f32; 4]>,
+    /// Tree plane -> index in `planes`.
+    plane_slots: FastMap<u32, u32>,
     file_nodes: Vec<Node>,
     /// Polygons in file order, their colour field still RGB.
     polygons: Vec<Polygon>,
@@ -337,11 +334,7 @@ impl Emitter<'_> {
                 TreeNode::Split {
                     plane, front, back, ..
                 } => {
-                    if plane as usize >= tree.planes.len() {
-                        return Err(invariant(format!(
-                            "split node {old}: plane {plane} out of range"
-                        )));
-                    }
+                    let plane = self.split_plane(old, plane)?;
                     self.file_nodes.push(Node {
                         kind: node_kind::SPLIT,
                         a: plane,
@@ -366,6 +359,29 @@ impl Emitter<'_> {
             ))),
             None => Ok(()),
         }
+    }
+
+    /// The file index of split node `node`'s tree plane `plane`, stored at its first use.
+    fn split_plane(&mut self, node: u32, plane: u32) -> Result<u32, CompileError> {
+        if let Some(&slot) = self.plane_slots.get(&plane) {
+            return Ok(slot);
+        }
+        let p =
+            self.tree.planes.get(plane as usize).ok_or_else(|| {
+                invariant(format!("split node {node}: plane {plane} out of range"))
+            })?;
+        let [x, y, z] = to_f32(p.normal, "plane normal")?;
+        let d = p.offset as f32;
+        if !d.is_finite() {
+            return Err(CompileError::Encode(format!(
+                "plane offset {} is not finite in f32",
+                p.offset
+            )));
+        }
+        let slot = count(self.planes.len(), "planes")?;
+        self.planes.push([x, y, z, d]);
+        self.plane_slots.insert(plane, slot);
+        Ok(slot)
     }
 
     fn emit_polygon(&mut self, p: u32, colours: &[[u8; 3]]) -> Result<(), CompileError> {
@@ -402,22 +418,27 @@ impl Emitter<'_> {
         {
             return Err(invariant(format!("polygon {p}: vertex {v} out of range")));
         }
-        let mut flags = 0;
-        if polygon.flipped {
-            flags |= polygon_flags::FLIPPED;
-        }
-        if polygon.interior_front {
-            flags |= polygon_flags::INTERIOR_FRONT;
-        }
+        // The runtime takes the plane through the first three vertices: start the list (in
+        // its winding order) where they are farthest from collinear, and name the interior's
+        // side for that plane's normal.
+        let (start, normal) = plane_start(self.decoded, &polygon.vertices);
+        let exact = self.tree.planes[polygon.plane as usize].normal;
+        let agrees = normal.as_dvec3().dot(exact) >= 0.0;
+        let flags = if polygon.interior_front == agrees {
+            polygon_flags::INTERIOR_FRONT
+        } else {
+            0
+        };
         self.polygons.push(Polygon {
-            plane: polygon.plane,
             first_index: count(self.indices.len(), "polygon vertices")?,
             vertex_count,
             flags,
             colour: ColourField::Rgb(colours[p as usize]),
         });
         self.rgb.push(colours[p as usize]);
-        self.indices.extend_from_slice(&polygon.vertices);
+        let (head, tail) = polygon.vertices.split_at(start);
+        self.indices.extend_from_slice(tail);
+        self.indices.extend_from_slice(head);
         if self.ids {
             self.ids_out.push(polygon.source);
         }
@@ -428,6 +449,23 @@ impl Emitter<'_> {
     fn unowned_polygon(&self) -> Option<usize> {
         self.emitted.iter().position(|e| !e)
     }
+}
+
+/// Where a polygon's vertex list (indices into `decoded`) should start so that the runtime's
+/// plane through its first three vertices (`peel_runtime::read::Plane::through`, in the same
+/// `f32` arithmetic) is best defined: the rotation with the longest normal (the first on ties),
+/// and that normal.
+fn plane_start(decoded: &[[f32; 3]], vertices: &[u32]) -> (usize, Vec3) {
+    let n = vertices.len();
+    let at = |k: usize| Vec3::from(decoded[vertices[k % n] as usize]);
+    let mut best = (0, Vec3::ZERO);
+    for start in 0..n {
+        let normal = Plane::through(at(start), at(start + 1), at(start + 2)).normal;
+        if normal.length_squared() > best.1.length_squared() {
+            best = (start, normal);
+        }
+    }
+    best
 }
 
 /// The bincode bytes of `file`, with [`format::config`].

@@ -148,7 +148,6 @@ fn assert_reads_back(file: &PeelFile) {
     for (i, p) in file.polygons.iter().enumerate() {
         let read = scene.polygon(i as u32);
         let expected = read::Polygon {
-            plane: p.plane,
             first_index: p.first_index,
             vertex_count: u16::from(p.vertex_count),
             flags: p.flags,
@@ -245,14 +244,14 @@ fn record_sizes_match_the_spec() {
         ids: true,
         wide_vertices,
     });
-    for (input, encoding) in inputs
-        .iter()
-        .flat_map(|i| Encoding::ALL.map(|e| (i, e)))
-    {
+    for (input, encoding) in inputs.iter().flat_map(|i| Encoding::ALL.map(|e| (i, e))) {
         let file = peel_file_encoded(&tree, input, Some(encoding)).unwrap();
         let wide_vertices = file.header.flags & header_flags::WIDE_VERTICES != 0;
         assert_eq!(wide_vertices, input.wide_vertices);
-        assert_eq!(layout::vertex_size(file.header.flags), if wide_vertices { 12 } else { 6 });
+        assert_eq!(
+            layout::vertex_size(file.header.flags),
+            if wide_vertices { 12 } else { 6 }
+        );
         assert_eq!(size(enc(&file.header)), layout::HEADER_SIZE);
         assert_eq!(size(enc(&file.planes[0])), layout::PLANE_SIZE);
         let h = &file.header;
@@ -267,12 +266,12 @@ fn record_sizes_match_the_spec() {
             + h.node_count as usize * layout::node_size(h.flags);
         assert_eq!(to_bytes(&file).unwrap().len(), total, "{encoding:?}");
         let expected_index = if encoding.index16 { 2 } else { 4 };
-        // small_tree's counts all fit NARROW's u16 fields: 2 + 2 + 1 + 1 + the colour.
+        // small_tree's counts all fit NARROW's u16 fields: 2 + 1 + 1 + the colour.
         assert_ne!(h.flags & header_flags::NARROW, 0);
         let expected_polygon = match encoding.palette {
-            None => 9,
-            Some(PaletteWidth::U8) => 7,
-            Some(PaletteWidth::U16) => 8,
+            None => 7,
+            Some(PaletteWidth::U8) => 5,
+            Some(PaletteWidth::U16) => 6,
         };
         assert_eq!(
             (layout::index_size(h.flags), layout::polygon_size(h.flags)),
@@ -280,10 +279,10 @@ fn record_sizes_match_the_spec() {
         );
         assert_eq!(layout::node_size(h.flags), 9, "small_tree has bounds");
         let wide = h.flags & !header_flags::NARROW;
-        assert_eq!(layout::polygon_size(wide), expected_polygon + 4);
+        assert_eq!(layout::polygon_size(wide), expected_polygon + 2);
         assert_eq!(layout::node_size(wide), 17);
         let medium = wide | header_flags::MEDIUM;
-        assert_eq!(layout::polygon_size(medium), expected_polygon + 2);
+        assert_eq!(layout::polygon_size(medium), expected_polygon + 1);
         assert_eq!(layout::node_size(medium), 13);
         // The same records in u24 and u32 fields read back alike.
         for flags in [medium, wide] {
@@ -368,7 +367,8 @@ fn the_file_is_the_tree_in_pre_order() {
     assert_eq!(
         file.nodes,
         [
-            node(node_kind::SPLIT, 2, 1, 3, NONE, 0),
+            // Only split planes are stored: the root's is plane 0.
+            node(node_kind::SPLIT, 0, 1, 3, NONE, 0),
             node(node_kind::CONVEX, 0, 1, 2, 0, NONE),
             node(node_kind::CONVEX, 1, 1, NONE, 1, NONE),
             node(node_kind::CONVEX, 2, 1, NONE, 0, NONE),
@@ -381,10 +381,20 @@ fn the_file_is_the_tree_in_pre_order() {
     assert_eq!(file.indices, [0, 1, 2, 3, 4, 6, 5, 4, 5, 6]);
     let firsts: Vec<u32> = file.polygons.iter().map(|p| p.first_index).collect();
     assert_eq!(firsts, [0, 4, 7]);
-    assert_eq!(file.polygons[0].flags, polygon_flags::INTERIOR_FRONT);
-    assert_eq!(file.polygons[2].flags, polygon_flags::FLIPPED);
+    // INTERIOR_FRONT is relative to the normal of the first three vertices: polygon 1's
+    // winding turns against its plane's normal (+z), so its interior (-z side, not the
+    // plane's + side) is on that normal's + side.
+    let interior: Vec<u8> = file.polygons.iter().map(|p| p.flags).collect();
+    assert_eq!(
+        interior,
+        [
+            polygon_flags::INTERIOR_FRONT,
+            polygon_flags::INTERIOR_FRONT,
+            0
+        ]
+    );
     assert_eq!(file.polygons[1].colour, ColourField::Rgb([0, 0, 255]));
-    assert_eq!(file.planes[2], [1.0, 0.0, 0.0, 0.5]);
+    assert_eq!(file.planes, [[1.0, 0.0, 0.0, 0.5]]);
     // Vertices are steps on the scene's bounds; this one is a corner of them.
     assert_eq!(file.vertices[6], format::Vertex::Grid([0, 65535, 65535]));
     let (lo, hi) = (file.header.bounds_min, file.header.bounds_max);
@@ -486,7 +496,7 @@ fn values_beyond_f32_are_refused() {
         Err(CompileError::Encode(_))
     ));
     let (mut tree, colours) = small_tree();
-    tree.planes[0].offset = f64::NAN;
+    tree.planes[2].offset = f64::NAN; // the split's: only split planes are stored
     assert!(matches!(
         encode(&tree, &colours, false),
         Err(CompileError::Encode(_))

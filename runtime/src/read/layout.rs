@@ -24,7 +24,7 @@ pub mod header_flags {
     pub const PALETTE16: u16 = 1 << 3;
     /// Node records end with an index into the `bounds` array (or `NONE`).
     pub const BOUNDS: u16 = 1 << 4;
-    /// Node fields and a polygon's `plane` and `first_index` are `u16` (else `u32`): every
+    /// Node fields and a polygon's `first_index` are `u16` (else `u32`): every
     /// count they index is at most 65535.
     pub const NARROW: u16 = 1 << 5;
     /// Without [`NARROW`]: those fields are 3-byte little-endian integers (`u24`): every count
@@ -57,7 +57,7 @@ pub const fn vertex_size(flags: u16) -> usize {
     }
 }
 
-/// Bytes of a node field, a polygon's `plane` and `first_index` under header `flags`.
+/// Bytes of a node field and a polygon's `first_index` under header `flags`.
 pub const fn field_size(flags: u16) -> usize {
     if flags & header_flags::NARROW != 0 {
         2
@@ -89,10 +89,11 @@ pub const fn colour_size(flags: u16) -> usize {
     }
 }
 
-/// Bytes of a polygon record under header `flags`: `plane` and `first_index`
-/// ([`field_size`] each), `vertex_count` and `flags` (a byte each), the colour.
+/// Bytes of a polygon record under header `flags`: `first_index` ([`field_size`]),
+/// `vertex_count` and `flags` (a byte each), the colour. A polygon's plane is not stored: it is
+/// the plane through its first three vertices.
 pub const fn polygon_size(flags: u16) -> usize {
-    2 * field_size(flags) + 2 + colour_size(flags)
+    field_size(flags) + 2 + colour_size(flags)
 }
 
 /// Bytes of a node record under header `flags`: `kind`, then `a`, `b`, `parent` and with
@@ -123,15 +124,11 @@ pub fn dequantise(min: f32, max: f32, q: u16) -> f32 {
 
 /// Bits of a polygon's `flags`.
 pub mod polygon_flags {
-    /// The polygon's front (counter-clockwise) side faces away from its plane's normal.
-    pub const FLIPPED: u8 = 1 << 0;
-    /// The rest of the polygon's convex set lies on the + side of its plane.
+    /// The rest of the polygon's convex set lies on the + side of its plane (the plane through
+    /// its first three vertices, its normal `(v1 - v0) x (v2 - v0)`).
     pub const INTERIOR_FRONT: u8 = 1 << 1;
-    /// Set by earlier compilers on polygons of closed meshes, for a back-face culling that
-    /// could change pixels; readers accept and ignore it, writers leave it 0.
-    pub const LEGACY_ONE_SIDED: u8 = 1 << 2;
     /// Every bit this version defines; a reader refuses others.
-    pub const KNOWN: u8 = FLIPPED | INTERIOR_FRONT | LEGACY_ONE_SIDED;
+    pub const KNOWN: u8 = INTERIOR_FRONT;
 }
 
 /// Values of a node's `kind` byte.
@@ -155,8 +152,8 @@ pub const LENGTH_SIZE: usize = 8;
 pub const PLANE_SIZE: usize = 16;
 /// Bytes of an index (`u32`; `u16` with [`header_flags::INDEX16`], see [`index_size`]).
 pub const INDEX_SIZE: usize = 4;
-/// Bytes of the widest polygon record (`u32` fields, RGB colour; see [`polygon_size`]).
-pub const POLYGON_SIZE: usize = 13;
+/// Bytes of the widest polygon record (`u32` field, RGB colour; see [`polygon_size`]).
+pub const POLYGON_SIZE: usize = 11;
 /// Bytes of a palette entry (RGB888).
 pub const PALETTE_SIZE: usize = 3;
 /// Bytes of a node's bounds (`[u16; 6]`: min then max, see [`dequantise`]).
@@ -263,7 +260,7 @@ pub(crate) fn u16_at(bytes: &[u8], offset: usize) -> Option<u16> {
     array_at(bytes, offset).map(u16::from_le_bytes)
 }
 
-/// A node field or a polygon's `plane` / `first_index` of `width` bytes (2, 3 or 4), its
+/// A node field or a polygon's `first_index` of `width` bytes (2, 3 or 4), its
 /// largest value read as [`NONE`] when `link`.
 #[inline]
 pub(crate) fn field_at(bytes: &[u8], offset: usize, width: usize, link: bool) -> Option<u32> {

@@ -51,27 +51,39 @@ pub struct Header {
     pub bounds_count: u32,
 }
 
-/// A plane `normal · p = d` (relative to the scene centre).
+/// A plane `normal · p = d` (relative to the scene centre). Only the sign of
+/// [`Plane::distance`] is used (which side of the plane the eye is on), so the normal need not
+/// be of unit length.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct Plane {
-    /// Unit normal.
+    /// Normal (of unit length for a split node's plane).
     pub normal: Vec3,
     /// Offset.
     pub d: f32,
 }
 
 impl Plane {
+    /// The plane through `a`, `b`, `c`, its normal `(b - a) x (c - a)` (zero when they are
+    /// collinear: then every point is on it).
+    #[inline]
+    pub fn through(a: Vec3, b: Vec3, c: Vec3) -> Plane {
+        let normal = (b - a).cross(c - a);
+        Plane {
+            normal,
+            d: normal.dot(a),
+        }
+    }
+
     /// Signed distance of `p` (positive on the + side).
     pub fn distance(&self, p: Vec3) -> f32 {
         self.normal.dot(p) - self.d
     }
 }
 
-/// A polygon record.
+/// A polygon record. Its support plane is the plane through its first three vertices
+/// ([`Scene::polygon_plane`]).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub struct Polygon {
-    /// Support plane index.
-    pub plane: u32,
     /// First entry in the index array.
     pub first_index: u32,
     /// Number of vertices.
@@ -218,24 +230,29 @@ impl<'a> Scene<'a> {
         // One bounds check per record, fields at constant offsets.
         let w = self.field_size;
         let fields = if w == 2 {
-            Record::<6>::at(self.bytes, at)
-                .map(|r| (r.narrow(0, false), r.narrow(2, false), r.u8(4), r.u8(5)))
+            Record::<4>::at(self.bytes, at).map(|r| (r.narrow(0, false), r.u8(2), r.u8(3)))
         } else if w == 3 {
-            Record::<8>::at(self.bytes, at)
-                .map(|r| (r.medium(0, false), r.medium(3, false), r.u8(6), r.u8(7)))
+            Record::<5>::at(self.bytes, at).map(|r| (r.medium(0, false), r.u8(3), r.u8(4)))
         } else {
-            Record::<10>::at(self.bytes, at).map(|r| (r.u32(0), r.u32(4), r.u8(8), r.u8(9)))
+            Record::<6>::at(self.bytes, at).map(|r| (r.u32(0), r.u8(4), r.u8(5)))
         };
-        let Some((plane, first_index, vertex_count, flags)) = fields else {
+        let Some((first_index, vertex_count, flags)) = fields else {
             return Polygon::default();
         };
         Polygon {
-            plane,
             first_index,
             vertex_count: u16::from(vertex_count),
             flags,
-            colour: self.colour_at(at + 2 * w + 2),
+            colour: self.colour_at(at + w + 2),
         }
+    }
+
+    /// The support plane of `polygon`: through its first three vertices, its normal
+    /// `(v1 - v0) x (v2 - v0)`. The writer rotates each vertex list so that these three are
+    /// far from collinear, and sets [`layout::polygon_flags::INTERIOR_FRONT`] for this normal.
+    pub fn polygon_plane(&self, polygon: &Polygon) -> Plane {
+        let v = |i| self.polygon_vertex(polygon, i);
+        Plane::through(v(0), v(1), v(2))
     }
 
     /// The colour field at `at`: RGB, or a palette index (see [`layout::polygon_size`]).

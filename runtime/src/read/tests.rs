@@ -25,8 +25,8 @@ struct Spec {
     vertices: Vec<[f32; 3]>,
     planes: Vec<[f32; 4]>,
     indices: Vec<u32>,
-    /// plane, first_index, vertex_count, flags, colour
-    polygons: Vec<(u32, u32, u16, u8, [u8; 3])>,
+    /// first_index, vertex_count, flags, colour
+    polygons: Vec<(u32, u16, u8, [u8; 3])>,
     ids: Vec<u32>,
     /// kind, a, b, c, parent (as [`RawNode`] before the first child becomes implicit: convex
     /// a = first polygon, b = count, c = child; split a = plane, b = + child, c = - child)
@@ -70,9 +70,9 @@ impl Spec {
             ],
             indices: std::vec![0, 1, 2, 3, 4, 5, 6, 4, 6, 5],
             polygons: std::vec![
-                (0, 0, 4, polygon_flags::INTERIOR_FRONT, [10, 20, 30]),
-                (1, 4, 3, polygon_flags::FLIPPED, [40, 50, 60]),
-                (1, 7, 3, 0, [70, 80, 90]),
+                (0, 4, polygon_flags::INTERIOR_FRONT, [10, 20, 30]),
+                (4, 3, 0, [40, 50, 60]),
+                (7, 3, 0, [70, 80, 90]),
             ],
             ids: std::vec![7, 8, 9],
             nodes: std::vec![
@@ -97,7 +97,7 @@ impl Spec {
             | header_flags::NARROW;
         spec.palette = std::vec![[10, 20, 30], [40, 50, 60]];
         for (k, p) in spec.polygons.iter_mut().enumerate() {
-            p.4 = [(k % 2) as u8, 0, 0];
+            p.3 = [(k % 2) as u8, 0, 0];
         }
         let top = u16::MAX;
         spec.boxes = std::vec![[0, 0, 0, top, top, top], [0, 0, top, top, top, top]];
@@ -117,7 +117,7 @@ impl Spec {
         spec.nodes.clear();
         for i in 0..n {
             spec.indices.extend([0, 1, 2]);
-            spec.polygons.push((0, 3 * i, 3, 0, [1, 2, 3]));
+            spec.polygons.push((3 * i, 3, 0, [1, 2, 3]));
             let child = if i + 1 < n { i + 1 } else { NONE };
             let parent = if i == 0 { NONE } else { i - 1 };
             spec.nodes.push((node_kind::CONVEX, i, 1, child, parent));
@@ -189,8 +189,7 @@ impl Spec {
             out.extend(&v.to_le_bytes()[..width]);
         };
         length(&mut out, self.polygons.len());
-        for &(plane, first, count, flags, colour) in &self.polygons {
-            field(&mut out, plane);
+        for &(first, count, flags, colour) in &self.polygons {
             field(&mut out, first);
             out.push(count as u8);
             out.push(flags);
@@ -296,10 +295,9 @@ fn small_file_reads_back_every_field() {
     assert_eq!(scene.parent(0), None);
     let p1 = scene.polygon(1);
     let expected = Polygon {
-        plane: 1,
         first_index: 4,
         vertex_count: 3,
-        flags: polygon_flags::FLIPPED,
+        flags: 0,
         colour: Colour::new(40, 50, 60),
     };
     assert_eq!(p1, expected);
@@ -425,16 +423,16 @@ fn optional_parts_read_back() {
     let spec = Spec::small_with_everything();
     let bytes = spec.encode();
     let plain = Spec::small().encode();
-    // u16 indices (-20), 7-byte polygons (-18), 9-byte nodes for 13 (-12), palette (+6),
+    // u16 indices (-20), 5-byte polygons for 9 (-12), 9-byte nodes for 13 (-12), palette (+6),
     // boxes (+24).
-    assert_eq!(bytes.len(), plain.len() - 20 - 18 - 12 + 6 + 24);
+    assert_eq!(bytes.len(), plain.len() - 20 - 12 - 12 + 6 + 24);
     let scene = Scene::parse(&bytes).unwrap();
     let plain = Scene::parse(&plain).unwrap();
     for i in 0..3 {
         let (p, q) = (scene.polygon(i), plain.polygon(i));
         assert_eq!(
-            (p.plane, p.first_index, p.vertex_count, p.flags),
-            (q.plane, q.first_index, q.vertex_count, q.flags)
+            (p.first_index, p.vertex_count, p.flags),
+            (q.first_index, q.vertex_count, q.flags)
         );
         for k in 0..u32::from(p.vertex_count) {
             assert_eq!(scene.polygon_vertex(&p, k), plain.polygon_vertex(&q, k));
@@ -456,7 +454,8 @@ fn optional_parts_read_back() {
     let mut medium = Spec::small_with_everything();
     medium.flags = medium.flags & !header_flags::NARROW | header_flags::MEDIUM;
     let medium_bytes = medium.encode();
-    assert_eq!(medium_bytes.len(), bytes.len() + 3 * 2 + 3 * 4);
+    // A byte more per polygon field (1) and node field (4 with bounds), 3 of each.
+    assert_eq!(medium_bytes.len(), bytes.len() + 3 + 3 * 4);
     let medium = Scene::parse(&medium_bytes).unwrap();
     for i in 0..3 {
         assert_eq!(medium.node(i), scene.node(i));
@@ -467,7 +466,7 @@ fn optional_parts_read_back() {
     // A u16 palette index.
     let mut spec = Spec::small_with_everything();
     spec.flags |= header_flags::PALETTE16;
-    spec.polygons[2].4 = [1, 0, 0];
+    spec.polygons[2].3 = [1, 0, 0];
     let scene_bytes = spec.encode();
     let scene = Scene::parse(&scene_bytes).unwrap();
     assert_eq!(scene.polygon(2).colour, Colour::new(40, 50, 60));
@@ -493,7 +492,7 @@ fn inconsistent_optional_parts_are_refused() {
         // A palette index out of range.
         |s| {
             *s = Spec::small_with_everything();
-            s.polygons[1].4 = [2, 0, 0];
+            s.polygons[1].3 = [2, 0, 0];
         },
         // A box index out of range.
         |s| {
@@ -581,13 +580,21 @@ fn vertices_are_steps_on_the_bounds_or_f32() {
         1.0,
     );
     assert_eq!(scene.vertex(5), expected);
-    assert!((scene.vertex(5) - Vec3::new(0.5, 1.0, 1.0)).abs().max_element() < 4.0 / 65535.0);
+    assert!(
+        (scene.vertex(5) - Vec3::new(0.5, 1.0, 1.0))
+            .abs()
+            .max_element()
+            < 4.0 / 65535.0
+    );
     // The ends are exact.
     assert_eq!(scene.vertex(1), Vec3::new(2.0, 0.0, 0.0));
     assert_eq!(scene.vertex(2), Vec3::new(-2.0, 3.0, 1.0));
     spec.flags |= header_flags::WIDE_VERTICES;
     let wide_bytes = spec.encode();
-    assert_eq!(wide_bytes.len(), scene_bytes.len() + 6 * spec.vertices.len());
+    assert_eq!(
+        wide_bytes.len(),
+        scene_bytes.len() + 6 * spec.vertices.len()
+    );
     let wide = Scene::parse(&wide_bytes).unwrap();
     assert_eq!(wide.vertex(5), Vec3::new(0.5, 1.0, 1.0));
 }
@@ -613,17 +620,25 @@ fn non_finite_or_out_of_bounds_floats_are_refused() {
     }
 }
 
-/// Files from earlier compilers flag the polygons of closed meshes one-sided: they still read,
-/// and the flag is no more than a bit the renderer ignores.
+/// A polygon's plane is the plane through its first three vertices, oriented by their order:
+/// the + side that `INTERIOR_FRONT` names is where `(v1 - v0) x (v2 - v0)` points.
 #[test]
-fn the_legacy_one_sided_flag_is_accepted() {
-    let mut spec = Spec::small();
-    for p in &mut spec.polygons {
-        p.3 |= polygon_flags::LEGACY_ONE_SIDED;
-    }
-    let bytes = spec.encode();
-    let scene = Scene::parse(&bytes).expect("a legacy flag is valid");
-    assert_ne!(scene.polygon(0).flags & polygon_flags::LEGACY_ONE_SIDED, 0);
+fn a_polygon_plane_is_through_its_first_three_vertices() {
+    let bytes = Spec::small().encode();
+    let scene = Scene::parse(&bytes).unwrap();
+    // Polygon 0: (0,0,0), (1,0,0), (1,1,0), (0,1,0): normal +z.
+    let plane = scene.polygon_plane(&scene.polygon(0));
+    assert_eq!((plane.normal, plane.d), (Vec3::Z, 0.0));
+    assert!(plane.distance(Vec3::new(0.3, 0.3, 0.5)) > 0.0);
+    // Polygon 2: (0,0,1), (0,1,1), (1,0,1): normal -z, through z = 1.
+    let plane = scene.polygon_plane(&scene.polygon(2));
+    assert_eq!((plane.normal, plane.d), (-Vec3::Z, -1.0));
+    assert!(plane.distance(Vec3::new(0.3, 0.3, 0.5)) > 0.0);
+    // Collinear first vertices give a zero normal: every point is on the plane.
+    assert_eq!(
+        Plane::through(Vec3::ZERO, Vec3::X, Vec3::X * 2.0),
+        Plane::default()
+    );
 }
 
 #[test]
@@ -650,13 +665,13 @@ fn out_of_range_records_are_refused_at_their_offset() {
         );
     }
     let polygon_cases: [fn(&mut Spec); 6] = [
-        |s| s.polygons[1].0 = 3,        // plane out of range
-        |s| s.polygons[1].3 = 0b1000,   // unknown flag
-        |s| s.polygons[1].1 = 3,        // not right after the previous polygon
+        |s| s.polygons[1].2 = 0b1,      // unknown flag (version 1's FLIPPED)
+        |s| s.polygons[1].2 = 0b100,    // unknown flag (version 1's one-sided bit)
+        |s| s.polygons[1].0 = 3,        // not right after the previous polygon
         |s| s.max_polygon_vertices = 3, // polygon 0 has 4 vertices
         |s| s.indices[3] = 7,           // vertex out of range
         |s| {
-            s.polygons[2].2 = 2;
+            s.polygons[2].1 = 2;
             s.indices.pop();
         }, // fewer than 3 vertices
     ];
@@ -794,7 +809,7 @@ fn trusted_parse_checks_header_and_layout_only() {
     );
     // A record out of range passes: that is `parse`'s linear-time work.
     let mut spec = Spec::small();
-    spec.polygons[0].0 = 99; // plane index
+    spec.nodes[0].1 = 99; // split plane index
     let bytes = spec.encode();
     assert!(matches!(
         Scene::parse(&bytes),
@@ -853,7 +868,7 @@ fn exercise(scene: &Scene<'_>) {
         for k in 0..u32::from(p.vertex_count) + 1 {
             let _ = scene.polygon_vertex(&p, k);
         }
-        let _ = (scene.plane(p.plane), scene.id(i));
+        let _ = (scene.polygon_plane(&p), scene.id(i));
     }
     let _ = scene.vertex(h.vertex_count);
 }

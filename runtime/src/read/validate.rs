@@ -12,8 +12,8 @@ use glam::Vec3;
 
 use super::layout::{
     self, f32_at, f64_at, field_at, field_size, header_flags as hf, header_offset as h, index_size,
-    node_kind, node_size, polygon_flags, polygon_size, u16_at, u32_at, u64_at, u8_at, BOUNDS_SIZE,
-    vertex_size, FORMAT_VERSION, HEADER_SIZE, ID_SIZE, LENGTH_SIZE, MAGIC, NONE, PALETTE_SIZE,
+    node_kind, node_size, polygon_flags, polygon_size, u16_at, u32_at, u64_at, u8_at, vertex_size,
+    BOUNDS_SIZE, FORMAT_VERSION, HEADER_SIZE, ID_SIZE, LENGTH_SIZE, MAGIC, NONE, PALETTE_SIZE,
     PLANE_SIZE,
 };
 use super::{Header, Scene};
@@ -284,7 +284,7 @@ fn check_indices(scene: &Scene<'_>) -> Result<(), ReadError> {
     Ok(())
 }
 
-/// Every polygon: a known plane, known flags, `3 <= vertex_count <= max_polygon_vertices`, and
+/// Every polygon: known flags, `3 <= vertex_count <= max_polygon_vertices`, and
 /// its vertex list right after the previous polygon's, the last one ending the index array.
 fn check_polygons(scene: &Scene<'_>) -> Result<(), ReadError> {
     let header = &scene.header;
@@ -293,7 +293,7 @@ fn check_polygons(scene: &Scene<'_>) -> Result<(), ReadError> {
     let w = scene.field_size;
     for (_, at) in records(scene.polygons, scene.polygon_size, header.polygon_count) {
         let b = scene.bytes;
-        let colour_at = at + 2 * w + 2;
+        let colour_at = at + w + 2;
         let colour_ok = if header.flags & hf::PALETTE == 0 {
             true
         } else if palette16 {
@@ -301,12 +301,10 @@ fn check_polygons(scene: &Scene<'_>) -> Result<(), ReadError> {
         } else {
             u8_at(b, colour_at).is_some_and(|k| u32::from(k) < header.palette_count)
         };
-        let plane = need(field_at(b, at, w, false), at)?;
-        let first_index = need(field_at(b, at + w, w, false), at)?;
-        let vertex_count = need(u8_at(b, at + 2 * w), at)?;
-        let flags = need(u8_at(b, at + 2 * w + 1), at)?;
+        let first_index = need(field_at(b, at, w, false), at)?;
+        let vertex_count = need(u8_at(b, at + w), at)?;
+        let flags = need(u8_at(b, at + w + 1), at)?;
         let ok = colour_ok
-            && plane < header.plane_count
             && flags & !polygon_flags::KNOWN == 0
             && vertex_count >= 3
             && u32::from(vertex_count) <= header.max_polygon_vertices

@@ -32,10 +32,12 @@ pub trait DisplayTree {
     fn root(&self) -> Option<u32>;
     /// Node `i`.
     fn node(&self, i: u32) -> Node;
-    /// Plane `i`.
+    /// Plane `i` (a split node's).
     fn plane(&self, i: u32) -> Plane;
     /// Polygon `i`.
     fn polygon(&self, i: u32) -> Polygon;
+    /// The support plane of `polygon`, whose + side [`INTERIOR_FRONT`] refers to.
+    fn polygon_plane(&self, polygon: &Polygon) -> Plane;
     /// Number of nodes (bounds the walk even if the tree were malformed).
     fn node_count(&self) -> u32;
     /// Nodes on the longest root-to-leaf path (the stack the walk needs).
@@ -60,6 +62,9 @@ impl DisplayTree for Scene<'_> {
     }
     fn polygon(&self, i: u32) -> Polygon {
         Scene::polygon(self, i)
+    }
+    fn polygon_plane(&self, polygon: &Polygon) -> Plane {
+        Scene::polygon_plane(self, polygon)
     }
     fn node_count(&self) -> u32 {
         self.header().node_count
@@ -347,8 +352,11 @@ impl<T: DisplayTree + ?Sized> Traversal<'_, '_, T> {
                         }
                         let polygon = self.tree.polygon(index);
                         let wanted = (known && bit != 0)
-                            || sees_interior(&polygon, &self.tree.plane(polygon.plane), self.eye)
-                                == interior;
+                            || sees_interior(
+                                &polygon,
+                                &self.tree.polygon_plane(&polygon),
+                                self.eye,
+                            ) == interior;
                         if wanted {
                             self.active = Task::Scan {
                                 first,
