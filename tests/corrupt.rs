@@ -7,7 +7,7 @@
 use std::cell::Cell;
 use std::path::Path;
 
-use glam::DVec3;
+use glam::{DVec3, Vec3};
 use peel_compiler::compile::{compile_mesh, CompileOptions};
 use peel_compiler::load::load_obj;
 use peel_runtime::camera::{Camera, Pose};
@@ -236,7 +236,7 @@ fn read_everything(scene: &Scene<'_>) {
     }
     for i in 0..h.polygon_count {
         let p = scene.polygon(i);
-        let _ = scene.polygon_plane(&p);
+        let _ = scene.eye_side(&p, Vec3::new(0.5, -1.0, 2.0));
         let _ = scene.id(i);
         for k in 0..u32::from(p.vertex_count) {
             let _ = scene.polygon_vertex(&p, k);

@@ -81,7 +81,7 @@ impl Plane {
 }
 
 /// A polygon record. Its support plane is the plane through its first three vertices
-/// ([`Scene::polygon_plane`]).
+/// ([`Scene::eye_side`]).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub struct Polygon {
     /// First entry in the index array.
@@ -145,6 +145,9 @@ pub struct Scene<'a> {
     palette: usize,
     bounds: usize,
     nodes: usize,
+    /// Steps per world unit on each axis (`65535 / (max - min)`, 1 on a flat axis): brings a
+    /// point to the 16-bit vertices' steps.
+    per_step: Vec3,
     /// Record sizes, which the header flags choose.
     vertex_size: usize,
     index_size: usize,
@@ -247,12 +250,38 @@ impl<'a> Scene<'a> {
         }
     }
 
-    /// The support plane of `polygon`: through its first three vertices, its normal
-    /// `(v1 - v0) x (v2 - v0)`. The writer rotates each vertex list so that these three are
-    /// far from collinear, and sets [`layout::polygon_flags::INTERIOR_FRONT`] for this normal.
-    pub fn polygon_plane(&self, polygon: &Polygon) -> Plane {
-        let v = |i| self.polygon_vertex(polygon, i);
-        Plane::through(v(0), v(1), v(2))
+    /// Which side of `polygon`'s support plane `eye` (relative to the centre) is on: positive
+    /// on the side `(v1 - v0) x (v2 - v0)` points to, 0 on the plane; only the sign means
+    /// anything. The plane is the one through the polygon's first three vertices: the writer
+    /// rotates each vertex list so that these three are far from collinear, and sets
+    /// [`layout::polygon_flags::INTERIOR_FRONT`] for this normal.
+    ///
+    /// With 16-bit vertices the normal is the exact integer cross product of their steps and
+    /// the eye is brought to steps (a positive scale per axis, which keeps the sign), so no
+    /// vertex is decoded; with `f32` vertices it is [`Plane::through`].
+    pub fn eye_side(&self, polygon: &Polygon, eye: Vec3) -> f32 {
+        if self.vertex_size != 6 {
+            let v = |i| self.polygon_vertex(polygon, i);
+            return Plane::through(v(0), v(1), v(2)).distance(eye);
+        }
+        let steps = |i| {
+            self.polygon_vertex_index(polygon, i)
+                .and_then(|v| element(self.vertices, 6, v))
+                .and_then(|at| Record::<6>::at(self.bytes, at))
+                .map_or([0i64; 3], |r| [0, 2, 4].map(|k| i64::from(r.u16(k))))
+        };
+        let (p, q, r) = (steps(0), steps(1), steps(2));
+        let a = [q[0] - p[0], q[1] - p[1], q[2] - p[2]];
+        let b = [r[0] - p[0], r[1] - p[1], r[2] - p[2]];
+        // |a|, |b| < 2^16 per axis: the cross product is exact in i64, then rounded once.
+        let n = Vec3::new(
+            (a[1] * b[2] - a[2] * b[1]) as f32,
+            (a[2] * b[0] - a[0] * b[2]) as f32,
+            (a[0] * b[1] - a[1] * b[0]) as f32,
+        );
+        let origin = Vec3::new(p[0] as f32, p[1] as f32, p[2] as f32);
+        let eye = (eye - self.header.bounds_min) * self.per_step;
+        n.dot(eye - origin)
     }
 
     /// The colour field at `at`: RGB, or a palette index (see [`layout::polygon_size`]).

@@ -621,19 +621,27 @@ fn non_finite_or_out_of_bounds_floats_are_refused() {
 }
 
 /// A polygon's plane is the plane through its first three vertices, oriented by their order:
-/// the + side that `INTERIOR_FRONT` names is where `(v1 - v0) x (v2 - v0)` points.
+/// the + side that `INTERIOR_FRONT` names is where `(v1 - v0) x (v2 - v0)` points. Steps and
+/// `f32` vertices give the same sides.
 #[test]
 fn a_polygon_plane_is_through_its_first_three_vertices() {
-    let bytes = Spec::small().encode();
-    let scene = Scene::parse(&bytes).unwrap();
-    // Polygon 0: (0,0,0), (1,0,0), (1,1,0), (0,1,0): normal +z.
-    let plane = scene.polygon_plane(&scene.polygon(0));
-    assert_eq!((plane.normal, plane.d), (Vec3::Z, 0.0));
-    assert!(plane.distance(Vec3::new(0.3, 0.3, 0.5)) > 0.0);
-    // Polygon 2: (0,0,1), (0,1,1), (1,0,1): normal -z, through z = 1.
-    let plane = scene.polygon_plane(&scene.polygon(2));
-    assert_eq!((plane.normal, plane.d), (-Vec3::Z, -1.0));
-    assert!(plane.distance(Vec3::new(0.3, 0.3, 0.5)) > 0.0);
+    let mut spec = Spec::small();
+    spec.bounds = [[0.0, 0.0, -2.0], [1.0, 1.0, 1.0]];
+    for wide in [false, true] {
+        if wide {
+            spec.flags |= header_flags::WIDE_VERTICES;
+        }
+        let bytes = spec.encode();
+        let scene = Scene::parse(&bytes).unwrap();
+        let side = |p, eye| scene.eye_side(&scene.polygon(p), eye);
+        // Polygon 0: (0,0,0), (1,0,0), (1,1,0), (0,1,0): normal +z.
+        assert!(side(0, Vec3::new(0.3, 0.3, 0.5)) > 0.0);
+        assert!(side(0, Vec3::new(5.0, -3.0, -0.001)) < 0.0);
+        assert_eq!(side(0, Vec3::new(7.0, 3.0, 0.0)), 0.0);
+        // Polygon 2: (0,0,1), (0,1,1), (1,0,1): normal -z, through z = 1.
+        assert!(side(2, Vec3::new(0.3, 0.3, 0.5)) > 0.0);
+        assert!(side(2, Vec3::new(0.3, 0.3, 1.5)) < 0.0);
+    }
     // Collinear first vertices give a zero normal: every point is on the plane.
     assert_eq!(
         Plane::through(Vec3::ZERO, Vec3::X, Vec3::X * 2.0),
@@ -868,7 +876,7 @@ fn exercise(scene: &Scene<'_>) {
         for k in 0..u32::from(p.vertex_count) + 1 {
             let _ = scene.polygon_vertex(&p, k);
         }
-        let _ = (scene.polygon_plane(&p), scene.id(i));
+        let _ = (scene.eye_side(&p, Vec3::ONE), scene.id(i));
     }
     let _ = scene.vertex(h.vertex_count);
 }

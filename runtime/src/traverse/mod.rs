@@ -36,8 +36,9 @@ pub trait DisplayTree {
     fn plane(&self, i: u32) -> Plane;
     /// Polygon `i`.
     fn polygon(&self, i: u32) -> Polygon;
-    /// The support plane of `polygon`, whose + side [`INTERIOR_FRONT`] refers to.
-    fn polygon_plane(&self, polygon: &Polygon) -> Plane;
+    /// Which side of `polygon`'s support plane `eye` is on: positive on the + side, which
+    /// [`INTERIOR_FRONT`] refers to, 0 on the plane; only the sign means anything.
+    fn eye_side(&self, polygon: &Polygon, eye: Vec3) -> f32;
     /// Number of nodes (bounds the walk even if the tree were malformed).
     fn node_count(&self) -> u32;
     /// Nodes on the longest root-to-leaf path (the stack the walk needs).
@@ -63,8 +64,8 @@ impl DisplayTree for Scene<'_> {
     fn polygon(&self, i: u32) -> Polygon {
         Scene::polygon(self, i)
     }
-    fn polygon_plane(&self, polygon: &Polygon) -> Plane {
-        Scene::polygon_plane(self, polygon)
+    fn eye_side(&self, polygon: &Polygon, eye: Vec3) -> f32 {
+        Scene::eye_side(self, polygon, eye)
     }
     fn node_count(&self) -> u32 {
         self.header().node_count
@@ -87,9 +88,9 @@ pub enum Order {
     FrontToBack,
 }
 
-/// Whether the eye sees the interior side of `polygon` (eye on its plane counts as yes).
-pub fn sees_interior(polygon: &Polygon, plane: &Plane, eye: Vec3) -> bool {
-    let d = plane.distance(eye);
+/// Whether the eye sees the interior side of `polygon`, the eye being on side `d` of its
+/// plane ([`DisplayTree::eye_side`]; on the plane counts as yes).
+pub fn sees_interior(polygon: &Polygon, d: f32) -> bool {
     if polygon.flags & INTERIOR_FRONT != 0 {
         d >= 0.0
     } else {
@@ -352,11 +353,7 @@ impl<T: DisplayTree + ?Sized> Traversal<'_, '_, T> {
                         }
                         let polygon = self.tree.polygon(index);
                         let wanted = (known && bit != 0)
-                            || sees_interior(
-                                &polygon,
-                                &self.tree.polygon_plane(&polygon),
-                                self.eye,
-                            ) == interior;
+                            || sees_interior(&polygon, self.tree.eye_side(&polygon, self.eye)) == interior;
                         if wanted {
                             self.active = Task::Scan {
                                 first,

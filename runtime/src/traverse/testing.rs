@@ -94,9 +94,9 @@ impl DisplayTree for TestTree {
     fn polygon(&self, i: u32) -> Polygon {
         self.polygons.get(i as usize).copied().unwrap_or_default()
     }
-    fn polygon_plane(&self, polygon: &Polygon) -> Plane {
+    fn eye_side(&self, polygon: &Polygon, eye: Vec3) -> f32 {
         let v = |i| Source::polygon_vertex(self, polygon, i);
-        Plane::through(v(0), v(1), v(2))
+        Plane::through(v(0), v(1), v(2)).distance(eye)
     }
     fn node_count(&self) -> u32 {
         self.nodes.len() as u32
