@@ -108,18 +108,19 @@ pub const fn node_size(flags: u16) -> usize {
     1 + fields * field_size(flags)
 }
 
-/// A vertex or node box coordinate: `q` of 65535 steps from the header's `min` to its `max`
-/// along one axis (the ends exact). It is monotone in `q`, so a box of steps contains every
-/// vertex whose steps it contains; the writer rounds `f32` vertices' boxes outward through this
-/// very function.
+/// A vertex or node box coordinate: step `q` of 65535 from the header's `min` to its `max`
+/// along one axis, `min + q * step(min, max)`. It is monotone in `q`, so a box of steps contains
+/// every vertex whose steps it contains; the writer rounds `f32` vertices' boxes outward
+/// through this very function.
 #[inline]
 pub fn dequantise(min: f32, max: f32, q: u16) -> f32 {
-    let v = min + (max - min) * (f32::from(q) * (1.0 / 65535.0));
-    match q {
-        0 => min,
-        u16::MAX => max,
-        _ => v,
-    }
+    min + f32::from(q) * step(min, max)
+}
+
+/// The size of a step along an axis from `min` to `max` (`f32`, as [`dequantise`] uses it).
+#[inline]
+pub fn step(min: f32, max: f32) -> f32 {
+    (max - min) * (1.0 / 65535.0)
 }
 
 /// Bits of a polygon's `flags`.

@@ -1,7 +1,7 @@
 //! Read: a `.peel` file read in place from `&[u8]`, validated up front.
 //!
-//! CONTRACT (owned by the format helper): the API below. After [`Scene::parse`] succeeded,
-//! every accessor is total (it never panics; an out-of-range argument gives a default).
+//! After [`Scene::parse`] succeeded, every accessor is total (it never panics; an
+//! out-of-range argument gives a default), so a corrupt file can never crash a frame.
 //! The byte layout is specified in `formats/peel.md`; [`layout`] holds its constants.
 
 pub mod layout;
@@ -126,6 +126,14 @@ impl Node {
     };
 }
 
+/// `n` (`|n| < 2^36`) rounded to `f32`, the same value as `n as f32`, from two exact `i32`
+/// conversions and one rounding add: cores without a 64-bit conversion (Cortex-M) then need no
+/// library call.
+#[inline]
+fn to_f32(n: i64) -> f32 {
+    ((n >> 12) as i32 as f32) * 4096.0 + ((n & 0xFFF) as i32 as f32)
+}
+
 /// A child or parent field: [`layout::NONE`] means "none".
 fn link(value: u32) -> Option<u32> {
     (value != NONE).then_some(value)
@@ -145,6 +153,8 @@ pub struct Scene<'a> {
     palette: usize,
     bounds: usize,
     nodes: usize,
+    /// The size of a step on each axis ([`layout::step`]).
+    step: Vec3,
     /// Steps per world unit on each axis (`65535 / (max - min)`, 1 on a flat axis): brings a
     /// point to the 16-bit vertices' steps.
     per_step: Vec3,
@@ -207,6 +217,7 @@ impl<'a> Scene<'a> {
     }
 
     /// Node `i` ([`Node::EMPTY`] when out of range).
+    #[inline]
     pub fn node(&self, i: u32) -> Node {
         match self.raw_node(i) {
             Some(raw) if i < self.header.node_count => raw.node(),
@@ -223,6 +234,7 @@ impl<'a> Scene<'a> {
     }
 
     /// Polygon `i` (all zero when out of range).
+    #[inline]
     pub fn polygon(&self, i: u32) -> Polygon {
         if i >= self.header.polygon_count {
             return Polygon::default();
@@ -259,13 +271,31 @@ impl<'a> Scene<'a> {
     /// With 16-bit vertices the normal is the exact integer cross product of their steps and
     /// the eye is brought to steps (a positive scale per axis, which keeps the sign), so no
     /// vertex is decoded; with `f32` vertices it is [`Plane::through`].
+    #[inline]
     pub fn eye_side(&self, polygon: &Polygon, eye: Vec3) -> f32 {
         if self.vertex_size != 6 {
             let v = |i| self.polygon_vertex(polygon, i);
             return Plane::through(v(0), v(1), v(2)).distance(eye);
         }
+        // The three vertex indices with one bounds check when they are u16 (always, in
+        // practice: 16-bit vertices come with fewer than 65,536 of them).
+        let first = polygon.first_index;
+        let three =
+            if self.index_size == 2 && polygon.vertex_count >= 3 && first < self.header.index_count
+            {
+                element(self.indices, 2, first)
+                    .and_then(|at| Record::<6>::at(self.bytes, at))
+                    .map(|r| [r.u16(0), r.u16(2), r.u16(4)].map(u32::from))
+            } else {
+                None
+            };
+        let index = |i: u32| match three {
+            Some(t) => Some(t[i as usize]),
+            None => self.polygon_vertex_index(polygon, i),
+        };
         let steps = |i| {
-            self.polygon_vertex_index(polygon, i)
+            index(i)
+                .filter(|&v| v < self.header.vertex_count)
                 .and_then(|v| element(self.vertices, 6, v))
                 .and_then(|at| Record::<6>::at(self.bytes, at))
                 .map_or([0i64; 3], |r| [0, 2, 4].map(|k| i64::from(r.u16(k))))
@@ -275,9 +305,9 @@ impl<'a> Scene<'a> {
         let b = [r[0] - p[0], r[1] - p[1], r[2] - p[2]];
         // |a|, |b| < 2^16 per axis: the cross product is exact in i64, then rounded once.
         let n = Vec3::new(
-            (a[1] * b[2] - a[2] * b[1]) as f32,
-            (a[2] * b[0] - a[0] * b[2]) as f32,
-            (a[0] * b[1] - a[1] * b[0]) as f32,
+            to_f32(a[1] * b[2] - a[2] * b[1]),
+            to_f32(a[2] * b[0] - a[0] * b[2]),
+            to_f32(a[0] * b[1] - a[1] * b[0]),
         );
         let origin = Vec3::new(p[0] as f32, p[1] as f32, p[2] as f32);
         let eye = (eye - self.header.bounds_min) * self.per_step;
@@ -312,6 +342,7 @@ impl<'a> Scene<'a> {
     }
 
     /// Entry `i` of the index array (`u16` or `u32` as the header says), if in range.
+    #[inline]
     fn index(&self, i: u32) -> Option<u32> {
         if i >= self.header.index_count {
             return None;
@@ -326,6 +357,7 @@ impl<'a> Scene<'a> {
 
     /// Bounding box `(min, max)` of node `i`'s subtree, relative to the centre, if the file
     /// stores one for it.
+    #[inline]
     pub fn node_bounds(&self, i: u32) -> Option<(Vec3, Vec3)> {
         if self.header.flags & header_flags::BOUNDS == 0 || i >= self.header.node_count {
             return None;
@@ -357,20 +389,16 @@ impl<'a> Scene<'a> {
     }
 
     /// The point of three `u16` steps at byte `first` of `r` on the header's bounds:
-    /// [`layout::dequantise`] lane by lane (the same operations in the same order, so the same
-    /// bits), without its branches. Vertices and boxes decode alike, so a box of steps contains
-    /// the vertices whose steps it contains.
+    /// [`layout::dequantise`] lane by lane (the same operations, so the same bits). Vertices
+    /// and boxes decode alike, so a box of steps contains the vertices whose steps it contains.
     #[inline]
     fn decode<const N: usize>(&self, r: &Record<N>, first: usize) -> Vec3 {
-        let (lo, hi) = (self.header.bounds_min, self.header.bounds_max);
         let q = Vec3::new(
             f32::from(r.u16(first)),
             f32::from(r.u16(first + 2)),
             f32::from(r.u16(first + 4)),
         );
-        let v = lo + (hi - lo) * (q * (1.0 / 65535.0));
-        let v = Vec3::select(q.cmpeq(Vec3::splat(f32::from(u16::MAX))), hi, v);
-        Vec3::select(q.cmpeq(Vec3::ZERO), lo, v)
+        self.header.bounds_min + q * self.step
     }
 
     /// Vertex `i` of polygon `polygon` (`i < vertex_count`), relative to the centre
@@ -381,6 +409,7 @@ impl<'a> Scene<'a> {
     }
 
     /// The index in the vertex list of vertex `i` of `polygon` (`None` when out of range).
+    #[inline]
     pub fn polygon_vertex_index(&self, polygon: &Polygon, i: u32) -> Option<u32> {
         if i >= u32::from(polygon.vertex_count) {
             return None;
@@ -392,6 +421,7 @@ impl<'a> Scene<'a> {
     }
 
     /// Vertex `i`, relative to the centre (zero when out of range).
+    #[inline]
     pub fn vertex(&self, i: u32) -> Vec3 {
         if i >= self.header.vertex_count {
             return Vec3::ZERO;
@@ -432,6 +462,7 @@ impl<'a> Scene<'a> {
             .map_or(Vec3::ZERO, |r| Vec3::new(r.f32(0), r.f32(4), r.f32(8)))
     }
 
+    #[inline]
     fn raw_node(&self, i: u32) -> Option<RawNode> {
         RawNode::at(
             self.bytes,

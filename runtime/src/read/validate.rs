@@ -188,6 +188,11 @@ fn locate_arrays(bytes: &[u8], header: Header) -> Result<Scene<'_>, ReadError> {
         palette: array(bytes, &mut at, header.palette_count, PALETTE_SIZE)?,
         bounds: array(bytes, &mut at, header.bounds_count, BOUNDS_SIZE)?,
         nodes: array(bytes, &mut at, header.node_count, node_size)?,
+        step: Vec3::new(
+            layout::step(header.bounds_min.x, header.bounds_max.x),
+            layout::step(header.bounds_min.y, header.bounds_max.y),
+            layout::step(header.bounds_min.z, header.bounds_max.z),
+        ),
         per_step: {
             let extent = header.bounds_max - header.bounds_min;
             let per_step = Vec3::splat(65535.0) / extent;

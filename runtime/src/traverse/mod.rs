@@ -353,7 +353,8 @@ impl<T: DisplayTree + ?Sized> Traversal<'_, '_, T> {
                         }
                         let polygon = self.tree.polygon(index);
                         let wanted = (known && bit != 0)
-                            || sees_interior(&polygon, self.tree.eye_side(&polygon, self.eye)) == interior;
+                            || sees_interior(&polygon, self.tree.eye_side(&polygon, self.eye))
+                                == interior;
                         if wanted {
                             self.active = Task::Scan {
                                 first,
