@@ -53,7 +53,7 @@ fn staircase_has_complexity_zero() {
     let (yaml, info) = snapshot("staircase.obj");
     assert_eq!(
         info.split_nodes, 0,
-        "seed 000: the staircase needs no split"
+        "complexity zero: the staircase needs no split"
     );
     assert_eq!(info.output_polygons, 16);
     insta::assert_snapshot!(yaml);

@@ -639,11 +639,24 @@ fn fuzz_compile_obj(data: &[u8]) {
     }
 }
 
+/// A `W x H` image's span sink that panics on what a frame must never send: a span outside
+/// the image or an empty one (overdraw is allowed: back to front paints over).
+struct CheckedSpans<const W: u32, const H: u32>;
+
+impl<const W: u32, const H: u32> peel_runtime::target::SpanSink for CheckedSpans<W, H> {
+    fn span(&mut self, y: u32, x_start: u32, x_end: u32, _: peel_runtime::target::Colour) {
+        assert!(
+            y < H && x_end <= W,
+            "span y={y} x={x_start}..{x_end} outside {W}x{H}"
+        );
+        assert!(x_start < x_end, "empty span y={y} x={x_start}..{x_end}");
+    }
+}
+
 /// `read_render`: arbitrary bytes -> reader -> render: never a panic.
 fn fuzz_read_render(data: &[u8]) {
     use peel_runtime::camera::{Camera, Pose};
     use peel_runtime::render::{Paint, Renderer, Workspace};
-    use peel_runtime::target::testing::MockTarget;
     let Ok(scene) = Scene::parse(data) else {
         return;
     };
@@ -662,7 +675,7 @@ fn fuzz_read_render(data: &[u8]) {
         ) else {
             continue;
         };
-        let mut target = MockTarget::<32, 24>::allowing_overdraw();
+        let mut target = CheckedSpans::<32, 24>;
         let mut renderer = Renderer::new(&mut workspace);
         if paint == Paint::Ids {
             renderer = renderer.ids();

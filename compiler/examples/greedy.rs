@@ -1,5 +1,5 @@
-//! Seed 000's greedy baseline with triangle output on one OBJ file, with a chosen number of
-//! candidate planes per split: `all` is the seed's own exhaustive search (every support
+//! The greedy baseline with triangle output (fewest cuts, no balance) on one OBJ file, with a
+//! chosen number of candidate planes per split: `all` is the exhaustive search (every support
 //! plane of the list is costed), a number samples that many, as `peel bench compile` does
 //! with 64.
 //!

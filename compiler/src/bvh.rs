@@ -13,8 +13,8 @@ const BOX_MARGIN: f64 = 1.0 / (1u64 << 40) as f64;
 
 /// Most levels of a hierarchy: a node this deep is a leaf, however many items it holds (only
 /// inputs far beyond any real scene's size get there). A search's stack then fits a small
-/// array: one entry per level plus one. (Zeroing a stack sized for any `u32` count cost 0.6%
-/// of a compile.)
+/// array: one entry per level plus one. (Zeroing a stack sized for any `u32` count at every
+/// search cost a measurable part of a compile: BENCHMARKS.md, "Tuning constants".)
 const MAX_LEVELS: u32 = 31;
 
 /// Stack entries a depth-first search of any hierarchy needs.

@@ -1,4 +1,4 @@
-//! The `peel` subcommands other than `compile`: inspect, dump, render, demo.
+//! The `peel` subcommands other than `compile`: inspect, dump, render, demo and bench.
 
 use std::path::{Path, PathBuf};
 

@@ -94,7 +94,8 @@ pub fn compile_obj_bytes(
 ) -> Result<Compiled, CompileError> {
     let mesh = load_obj_bytes(path, bytes, &options.load)?;
     // On a pool thread, the encoding reuses the memory the build's threads have freed (each
-    // thread allocates from its own arena): about 10% fewer fresh pages for the bunny.
+    // thread allocates from its own arena): fewer fresh pages, so fewer page faults
+    // (BENCHMARKS.md, "Tuning constants").
     let (tree, bytes) = rayon::scope(|_| compile_mesh(&mesh, options, progress))?;
     Ok(Compiled {
         bytes,

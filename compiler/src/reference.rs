@@ -4,7 +4,7 @@
 
 use glam::{DVec2, DVec3};
 
-/// A camera in the spec's terms, in f64.
+/// A camera in the README's terms, in f64.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct RefCamera {
     /// Eye position (world).
@@ -23,7 +23,7 @@ pub struct RefCamera {
     pub near: f64,
 }
 
-/// The camera basis of the spec.
+/// The camera basis of the README.
 #[derive(Debug, Clone, Copy)]
 pub struct Basis {
     /// Forward.
@@ -37,7 +37,7 @@ pub struct Basis {
 }
 
 impl RefCamera {
-    /// `f`, `r`, `u`, `fpx` as the spec defines them.
+    /// `f`, `r`, `u`, `fpx` as the README defines them.
     pub fn basis(&self) -> Basis {
         let f = (self.target - self.eye).normalize();
         let r = f.cross(self.up).normalize();

@@ -1,16 +1,16 @@
 //! The two baselines `peel bench compile` measures Peel against, built from the core's own
 //! exact predicates and cuts (no geometry written twice):
-//! - seed 004's naive BSP: the first polygon of a list is the node, its plane splits the rest
-//!   exactly, polygons in that plane join the node; every polygon list gives a node. `peel
-//!   bench` also draws it: [`naive_bsp_file`] encodes it as a display tree through the same
-//!   writer as Peel's output;
-//! - seed 000's greedy rule with triangle output: convex peeling, else the support plane
-//!   cutting the fewest fragments (no balance term). The seed keeps triangles, so a cut
-//!   triangle becomes a triangle and a quad split in two (3 triangles). Here the pieces are
-//!   kept as convex polygons and counted as `vertices − 2` triangles at the end: identical
-//!   while a triangle is cut once, and never more than the seed's count later (cutting a
-//!   polygon adds 2 triangles; cutting its triangles separately adds 2 per triangle cut), so
-//!   the baseline is, if anything, favourable to the greedy rule.
+//! - the naive BSP tree of Fuchs, Kedem and Naylor: the first polygon of a list is the node,
+//!   its plane splits the rest exactly, polygons in that plane join the node; every polygon
+//!   list gives a node. `peel bench` also draws it: [`naive_bsp_file`] encodes it as a display
+//!   tree through the same writer as Peel's output;
+//! - the greedy rule with triangle output: convex peeling, else the support plane cutting the
+//!   fewest fragments (no balance term). Kept as triangles, a cut triangle becomes a triangle
+//!   and a quad split in two (3 triangles). Here the pieces are kept as convex polygons and
+//!   counted as `vertices − 2` triangles at the end: identical while a triangle is cut once,
+//!   and never more than the triangle count later (cutting a polygon adds 2 triangles;
+//!   cutting its triangles separately adds 2 per triangle cut), so the baseline is, if
+//!   anything, favourable to the greedy rule.
 
 use crate::error::CompileError;
 use crate::load::Mesh;
@@ -68,14 +68,14 @@ fn split_all(
     Ok((front, back, on, cuts))
 }
 
-/// Seed 004's naive BSP of `mesh`.
+/// The naive BSP of `mesh`.
 pub fn naive_bsp(mesh: &Mesh) -> Result<BaselineStats, CompileError> {
     match naive_walk(&prepare(mesh)?, u64::MAX, None)? {
         Walk::Done(stats) | Walk::OverBudget(stats) => Ok(stats),
     }
 }
 
-/// Seed 004's naive BSP as a `.peel` file (see [`naive_bsp_file`]).
+/// The naive BSP as a `.peel` file (see [`naive_bsp_file`]).
 #[derive(Debug, Clone)]
 pub struct NaiveBspFile {
     /// The BSP's figures (nodes and depth of the BSP itself, not of its encoding).
@@ -100,7 +100,7 @@ pub enum NaiveBsp {
     },
 }
 
-/// Seed 004's naive BSP of `mesh` as a display tree, encoded like Peel's own output
+/// The naive BSP of `mesh` as a display tree, encoded like Peel's own output
 /// (`write::encode_with`), so the runtime draws it: two-sided polygons (no culling
 /// flags), colours baked with `shading`, source ids kept when `ids` is set. The build stops
 /// (without running out of memory) once the polygons exceed `max_polygons`.
@@ -188,7 +188,7 @@ fn emit_convex(tree: &mut ExactTree, slot: Slot, set: Vec<Fragment>, interior_fr
     emit(tree, slot, node)
 }
 
-/// Seed 004's naive BSP, with an explicit stack (the tree can be as deep as the input is
+/// The naive BSP, with an explicit stack (the tree can be as deep as the input is
 /// long); builds the exact display tree (see [`naive_bsp_file`]) when `tree` is given. Stops
 /// once the polygons placed or still to place exceed `max_polygons`.
 fn naive_walk(
@@ -258,9 +258,8 @@ fn triangles(frags: &[Fragment]) -> u64 {
     frags.iter().map(|f| f.vertices.len() as u64 - 2).sum()
 }
 
-/// Seed 000's greedy rule with triangle output. `candidates` and `seed` sample the planes
-/// costed per split exactly as the build does (pass `usize::MAX` for the seed's exhaustive
-/// search).
+/// The greedy rule with triangle output. `candidates` and `seed` sample the planes costed per
+/// split exactly as the build does (pass `usize::MAX` to cost every support plane).
 pub fn greedy_triangles(
     mesh: &Mesh,
     candidates: usize,

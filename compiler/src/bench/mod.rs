@@ -3,9 +3,9 @@
 //!
 //! For each scene: build time (the tree alone, as the baselines are timed) and whole compile
 //! time (reading the OBJ, build, closed-mesh test, shading, encoding), `output polygons /
-//! input triangles`, split nodes and depth of Peel's tree, next to seed 004's naive BSP and seed 000's greedy rule with triangle output
-//! (see [`baselines`]). The baselines are quadratic on unfavourable inputs, so they are run
-//! only on scenes of at most [`BASELINE_MAX_TRIANGLES`] triangles.
+//! input triangles`, split nodes and depth of Peel's tree, next to a naive BSP and the greedy
+//! rule with triangle output (see [`baselines`]). The baselines are quadratic on unfavourable
+//! inputs, so they are run only on scenes of at most [`BASELINE_MAX_TRIANGLES`] triangles.
 
 pub mod baselines;
 
@@ -64,9 +64,9 @@ pub struct BenchRow {
     /// file), the build, the closed-mesh test, shading and encoding: all `peel compile` does
     /// but write the file.
     pub compile_seconds: f64,
-    /// Seed 004's naive BSP (absent above [`BASELINE_MAX_TRIANGLES`]).
+    /// The naive BSP (absent above [`BASELINE_MAX_TRIANGLES`]).
     pub naive_bsp: Option<BaselineRow>,
-    /// Seed 000's greedy rule with triangles (absent above [`BASELINE_MAX_TRIANGLES`]).
+    /// The greedy rule with triangles (absent above [`BASELINE_MAX_TRIANGLES`]).
     pub greedy_triangles: Option<BaselineRow>,
 }
 

@@ -1,4 +1,4 @@
-//! Newell, Newell and Sancha's depth-sort painter (seed 003) without the splitting step: sort by
+//! Newell, Newell and Sancha's depth-sort painter without the splitting step: sort by
 //! farthest depth, then reorder pairs whose depth ranges overlap unless one of the classic
 //! tests proves the order right; a pair already swapped once is left as it is (a cycle, which
 //! only splitting could resolve, stays wrong — that is the baseline's error).

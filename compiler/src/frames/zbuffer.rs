@@ -1,7 +1,7 @@
-//! Z-buffer baselines (seeds 001 and 003) over the source triangles, with the runtime's fill and
-//! its top-left rule: per pixel, keep the nearest surface by interpolated `1/z`, in `f32` or in
-//! fixed-point integers. One frame loop serves both; a [`Depth`] type says how a triangle's
-//! `1/z` plane is stored and walked along a span.
+//! Z-buffer baselines (Catmull's depth buffer) over the source triangles, with the runtime's
+//! fill and its top-left rule: per pixel, keep the nearest surface by interpolated `1/z`, in
+//! `f32` or in fixed-point integers. One frame loop serves both; a [`Depth`] type says how a
+//! triangle's `1/z` plane is stored and walked along a span.
 
 use peel_runtime::fill::fill_polygon;
 use peel_runtime::target::{Colour, SpanSink};

@@ -1,8 +1,8 @@
 //! Load: OBJ + MTL -> source triangles, with validation.
 //!
-//! CONTRACT (owned by the load helper): `load_obj(path)` returns a [`Mesh`] whose triangle `i`
-//! is source triangle id `i` (ids follow the order of the `f` lines; a polygon face contributes
-//! its triangles in the documented order).
+//! `load_obj(path)` returns a [`Mesh`] whose triangle `i` is source triangle id `i` (ids follow
+//! the order of the `f` lines; a polygon face contributes its triangles in the documented
+//! order).
 //!
 //! How a file is read:
 //! - The OBJ text is parsed by `tobj` with its triangulation off, after a light line scan

@@ -1,4 +1,5 @@
-//! Peel: which support planes of a fragment list lie on its convex hull (seed 000's set E).
+//! Peel: which support planes of a fragment list lie on its convex hull (the planes of its
+//! convex node, see [`crate::tree`]).
 //!
 //! A plane is on the hull iff no vertex of the list lies strictly on one of its sides. The
 //! naive test scans every vertex for every plane (O(n²) per node). Instead the distinct
@@ -33,8 +34,8 @@ use crate::planes::{l1_max, shared_filter_bound, PlaneEntry, PlaneId, PlaneTable
 use crate::split::Fragment;
 
 /// Points per leaf of the hierarchy. Scanning a leaf is cheap next to building levels that
-/// few queries reach: 64 gave the fewest instructions in total (8: +4%, 32: +1%, 128: within
-/// 1%, on the teapot and the cow).
+/// few queries reach: 64 gave the fewest instructions in total of the sizes tried, on the
+/// teapot and the cow (BENCHMARKS.md, "Tuning constants").
 const LEAF: usize = 64;
 
 /// Why a plane is not on the hull of a list: a vertex of the list strictly on each side.
@@ -260,7 +261,7 @@ fn scan<'v>(
     verdict(p, front, back)
 }
 
-/// Seed 000's set E of a fragment list, and why the other planes are not in it.
+/// The support planes of a fragment list on its convex hull, and why the others are not.
 #[derive(Debug, Clone, Default)]
 pub struct Hull {
     /// Per plane of `planes` (the list's distinct support planes): `Some(interior_front)` when
@@ -293,8 +294,8 @@ impl Default for Known {
 /// in that side's piece, and no fragment in the plane has one). Sorted as given; each
 /// vertex's side is computed once.
 pub fn after_split(witnesses: Vec<Witness>, plane: &PlaneEntry) -> (Known, Known) {
-    // Sized for the most each side can get: growing them by pushes cost 1% of the bunny's
-    // instructions (reallocations and copies).
+    // Sized for the most each side can get: growing them by pushes cost instructions
+    // (reallocations and copies; BENCHMARKS.md, "Tuning constants").
     let n = witnesses.len();
     let (mut front, mut back) = (Vec::with_capacity(n), Vec::with_capacity(n));
     for w in witnesses {
@@ -332,8 +333,9 @@ const SCAN_MAX: usize = 8;
 
 /// More planes than [`SCAN_MAX`] are still scanned when `planes × fragments` is at most this:
 /// in small lists a scan (which stops at the first vertex found on each side searched) is
-/// cheaper than building the hierarchy. About 8,000 gave the fewest instructions on the cow
-/// and the bunny (2,000: +0.5%, 64,000: +0.4%; scanning only up to 8 planes: +1.6%).
+/// cheaper than building the hierarchy. This value gave the fewest instructions on the cow
+/// and the bunny of those tried, and fewer than scanning only up to [`SCAN_MAX`] planes
+/// (BENCHMARKS.md, "Tuning constants").
 const SCAN_WORK: usize = 8192;
 
 /// For each plane of `planes` (the distinct support planes of `frags`, sorted): is it on the
@@ -397,8 +399,8 @@ pub fn hull_planes(
     } else {
         None
     };
-    // A whole witness needs no search (going through the searches for it costs 0.5% of the
-    // bunny's compile); the searches skip a side already known.
+    // A whole witness needs no search (going through the searches for it costs instructions:
+    // BENCHMARKS.md, "Tuning constants"); the searches skip a side already known.
     let test = |(&p, &(f, b)): (&PlaneId, &(Option<&Vertex>, Option<&Vertex>))| match &set {
         _ if f.is_some() && b.is_some() => verdict(p, f, b),
         Some(set) => set.hull_side(p, table, f, b),

@@ -4,10 +4,10 @@
 //! once quantised) no support plane divides the list evenly: each plane only splits off its
 //! own fold, a handful of fragments, and the tree is a chain as deep as there are folds.
 //! Choosing those splits one node at a time costs a pass over the whole list per fold
-//! (quadratic: a 16,128-triangle sphere took 4 s). Once [`CHAIN_AFTER`] splits in a row are
-//! that lopsided, [`lopsided_splits`] finds in one pass every support plane that cuts nothing
-//! and leaves at most [`TOUCH_MAX`] fragments off its far side, and keeps those whose
-//! fragments are disjoint. Each of them is then a proper split of what the earlier ones leave
+//! (quadratic; BENCHMARKS.md, "Nearly convex meshes", has the figures). Once [`CHAIN_AFTER`]
+//! splits in a row are that lopsided, [`lopsided_splits`] finds in one pass every support plane
+//! that cuts nothing and leaves at most [`TOUCH_MAX`] fragments off its far side, and keeps
+//! those whose fragments are disjoint. Each of them is then a proper split of what the earlier ones leave
 //! (a fragment wholly on one closed side of a plane stays there once others are removed), so
 //! the build lays them out as a chain without looking at the rest of the list again.
 

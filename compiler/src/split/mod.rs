@@ -218,8 +218,9 @@ pub fn content_hash(frags: &[Fragment]) -> u64 {
 }
 
 /// Fragments per leaf of a sample's hierarchy. A hierarchy is built per split node and
-/// queried by every candidate: 16 gave the fewest instructions in total (8: +3% on the
-/// teapot, 32: about the same, 64: +2%).
+/// queried by every candidate, so smaller leaves cost more levels to build and larger ones
+/// more fragments placed per query: 16 gave the fewest instructions in total of the sizes tried
+/// (BENCHMARKS.md, "Tuning constants").
 const LEAF: usize = 16;
 
 /// Fragments costed per candidate at most; bigger nodes are sampled.
@@ -305,7 +306,7 @@ impl<'a> Sample<'a> {
     ///
     /// `CALLER` only tells the callers apart: each gets its own copy, so the costing loop,
     /// the hottest of the build, keeps this inlined into it as when it was the only caller
-    /// (a shared copy cost it 3% of its instructions).
+    /// (a shared copy cost it instructions: BENCHMARKS.md, "Tuning constants").
     #[inline]
     fn place<const CALLER: u8>(
         &self,
@@ -428,8 +429,8 @@ impl<'a> Sample<'a> {
     /// the side most fragments are on).
     ///
     /// The walk is written out as in [`Self::tally`] rather than shared: a shared walk made
-    /// the compiler inline the costing loop worse (+3.8% of its instructions on the cow), and
-    /// this search runs far less often.
+    /// the compiler inline the costing loop worse (more of its instructions: BENCHMARKS.md,
+    /// "Tuning constants"), and this search runs far less often.
     pub(crate) fn touched(
         &self,
         plane: PlaneId,
@@ -550,7 +551,7 @@ impl Default for SplitRule {
 }
 
 impl SplitRule {
-    /// Seed 000's rule: the fewest cuts, balance ignored (ties to the smaller plane id).
+    /// The greedy rule: the fewest cuts, balance ignored (ties to the smaller plane id).
     #[cfg(feature = "bench")]
     pub const FEWEST_CUTS: SplitRule = SplitRule {
         cut_weight: 1,
@@ -559,7 +560,7 @@ impl SplitRule {
 }
 
 /// Choose the splitting plane among `planes` (the distinct support planes of `frags`, sorted):
-/// the seed's rule (fewest cuts) weighed with balance, see [`cost`]. A plane that cuts nothing
+/// the greedy rule (fewest cuts) weighed with balance, see [`cost`]. A plane that cuts nothing
 /// (a free split: it adds no polygon) costs only its imbalance, so it wins whenever that
 /// imbalance is below what the cheapest cutting plane costs; candidates are support planes
 /// only, so every split also takes its plane's fragments out of both children (the

@@ -1,10 +1,15 @@
-//! The exact build: seed 000's `compile(L)` on exact fragments, with an explicit work stack
-//! (deep trees cannot overflow the call stack) and rayon for large independent subtrees.
+//! The exact build: convex nodes, else splits (see [`super`]), on exact fragments, with an
+//! explicit work stack (deep trees cannot overflow the call stack) and rayon for large
+//! independent subtrees.
 //!
 //! Rule for the fragments lying in the split plane P: they go to the side with fewer
 //! fragments (ties: front), and that child is built directly as a convex node holding exactly
-//! them, its interior being that side of P; the seed's termination argument then holds by
-//! construction, and is checked on every node (`CompileError::Invariant`, never a hang).
+//! them, its interior being that side of P. Then no child list has more distinct support
+//! planes than its parent, and every one but that convex node has fewer, so the build ends;
+//! the counts are checked on every node (`CompileError::Invariant`, never a hang).
+//!
+//! One file for one loop: the work stack, the split and convex steps it runs, and the subtrees
+//! it hands to rayon share the job and slot types and the pre-order bookkeeping.
 
 use std::sync::atomic::{AtomicU64, Ordering};
 

@@ -1,15 +1,41 @@
-//! Invariant checkers on the exact tree (tests only; the cheap count checks run in every build).
+//! Invariant checks of the build, independent of the code they check: exact ones on the
+//! exact tree (structure, support-plane counts, sides, convexity, area partition), and a
+//! brute-force f64 search for T-junctions in the output. [`verify`] runs the exact ones for the
+//! stress suite, which cannot see the crate's tests.
 
 use std::collections::BTreeSet;
 
 use ethnum::I256;
 
-use super::build::{ExactNode, ExactTree};
-use super::input::Input;
+use super::build::{build_exact, ExactNode, ExactTree};
+use super::input::{prepare, Input};
+use super::output::to_display;
+use super::{BuildOptions, DisplayTree};
 use crate::planes::{side_of_hom_exact, HomPoint, PlaneId, Side};
 use crate::split::{Fragment, SplitResult};
 
 type Check = Result<(), String>;
+
+/// Build `mesh` and check the exact tree against every invariant of the build (structure,
+/// strictly decreasing support-plane counts, sides of every split, convex nodes convex, exact
+/// area partition with `samples` rational points per source triangle); then convert it as
+/// [`build`](fn@super::build) does. For the stress suite: slow on large inputs.
+#[doc(hidden)]
+pub fn verify(
+    mesh: &crate::load::Mesh,
+    options: &BuildOptions,
+    samples: usize,
+) -> Result<DisplayTree, String> {
+    let input = prepare(mesh).map_err(|e| e.to_string())?;
+    let exact = build_exact(&input, options, &|_| {}).map_err(|e| e.to_string())?;
+    structure(&exact)?;
+    support_planes(&exact)?;
+    fragments(&exact, &input)?;
+    ancestor_sides(&exact, &input)?;
+    convex_sets(&exact, &input)?;
+    area_partition(&exact, &input, samples, 7)?;
+    Ok(to_display(&exact, &input, options))
+}
 
 fn children(n: &ExactNode) -> Vec<u32> {
     match *n {
@@ -362,4 +388,44 @@ pub(crate) fn split_sides(r: &SplitResult, plane: PlaneId, input: &Input) -> Che
         }
         _ => Ok(()),
     }
+}
+
+/// Polygon edges with another polygon's vertex inside them (closer than `off` to the edge's
+/// line, farther than `end` from both ends, and with one of its own edges along that line:
+/// a transversal touch opens no crack), found by brute force in f64: an independent check
+/// of the watertight pass. Exactly collinear vertices round to within ~1e-16 of the line; `off`
+/// must stay far below the distance of the nearest distinct non-collinear vertex.
+#[cfg(test)]
+pub(crate) fn t_junctions(polys: &[Vec<glam::DVec3>], off: f64, end: f64) -> usize {
+    let mut found = 0;
+    for (p, poly) in polys.iter().enumerate() {
+        for k in 0..poly.len() {
+            let (a, b) = (poly[k], poly[(k + 1) % poly.len()]);
+            let d = b - a;
+            let len2 = d.length_squared();
+            if len2 == 0.0 {
+                continue;
+            }
+            let near_line = |w: glam::DVec3| {
+                let t = (w - a).dot(d) / len2;
+                (a + d * t - w).length() < off
+            };
+            for (q, other) in polys.iter().enumerate() {
+                if q == p {
+                    continue;
+                }
+                for (j, &w) in other.iter().enumerate() {
+                    let t = (w - a).dot(d) / len2;
+                    let away = (w - a).length() > end && (w - b).length() > end;
+                    // Only a vertex of an edge along the same line can open a crack.
+                    let m = other.len();
+                    let along = near_line(other[(j + 1) % m]) || near_line(other[(j + m - 1) % m]);
+                    if t > 0.0 && t < 1.0 && away && near_line(w) && along && !poly.contains(&w) {
+                        found += 1;
+                    }
+                }
+            }
+        }
+    }
+    found
 }

@@ -1,8 +1,12 @@
-//! Tree: the display-tree build (seed 000's `compile(L)`), its statistics and invariants.
+//! Tree: the display-tree build, its statistics and invariants.
 //!
-//! CONTRACT (owned by the core helper): `build` turns a [`Mesh`] into a [`DisplayTree`].
-//! Everything in the `DisplayTree` is relative to `centre` (the quantisation offset), in
-//! world units, f64.
+//! A fragment list becomes a convex node when some of its support planes lie on its convex
+//! hull: the fragments on them enclose the rest, and are drawn before or after it depending on
+//! which side of each the eye is. Otherwise the list is split by one of its support planes, as
+//! in Fuchs, Kedem and Naylor's BSP trees. What remains is built the same way.
+//!
+//! `build` turns a [`Mesh`] into a [`DisplayTree`]. Everything in the `DisplayTree` is
+//! relative to `centre` (the quantisation offset), in world units, f64.
 
 use glam::DVec3;
 
@@ -14,7 +18,7 @@ mod check;
 pub(crate) mod input;
 pub(crate) mod output;
 #[doc(hidden)]
-pub use output::verify;
+pub use check::verify;
 #[cfg(test)]
 mod tests;
 
@@ -29,7 +33,10 @@ pub struct BuildOptions {
     /// Output polygons with more vertices are split into convex pieces.
     pub max_polygon_vertices: usize,
     /// Close T-junctions (see the watertight pass of the output). Always on in the CLI; off
-    /// only to show the cracks it prevents (the stress suite's control test).
+    /// only to show the cracks it prevents (the stress suite's control test). Hidden from the
+    /// docs, not private: that test is in another crate (`tests/stress.rs`), and a file built
+    /// without it may show cracks, so no user should turn it off.
+    #[doc(hidden)]
     pub watertight: bool,
 }
 

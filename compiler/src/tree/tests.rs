@@ -211,7 +211,7 @@ fn nested_cubes_are_two_convex_nodes() {
 
 #[test]
 fn a_staircase_needs_no_split() {
-    // Seed 000's example of complexity zero: n steps, n convex nodes.
+    // Complexity zero: a staircase of n steps needs no split, only n convex nodes.
     let mut tris = Vec::new();
     for s in 0..4 {
         let (y, z) = (s as f64, s as f64);
@@ -423,20 +423,6 @@ fn output_is_consistent_and_relative_to_the_centre() {
         };
         assert!(kids.into_iter().flatten().all(|c| c as usize > i));
     }
-}
-
-#[test]
-fn fans_cover_the_polygon() {
-    use super::output::fan_pieces;
-    assert_eq!(fan_pieces(5, 12), vec![vec![0, 1, 2, 3, 4]]);
-    assert_eq!(
-        fan_pieces(5, 3),
-        vec![vec![0, 1, 2], vec![0, 2, 3], vec![0, 3, 4]]
-    );
-    assert_eq!(
-        fan_pieces(7, 4),
-        vec![vec![0, 1, 2, 3], vec![0, 3, 4, 5], vec![0, 5, 6]]
-    );
 }
 
 /// A minimal OBJ reader for the shared models (`v` and polygon `f` lines only).

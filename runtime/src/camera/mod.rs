@@ -520,7 +520,10 @@ mod tests {
     proptest::proptest! {
         /// Every corner of a world box, transformed and projected, lies in the screen
         /// rectangle of its camera-space box, to within the renderer's allowance for the
-        /// rounding of screen values (1/64 pixel plus 2^-18 of the value: see `render::slack`).
+        /// rounding of screen values (`render::slack` without its snapping term: 1/64 pixel
+        /// plus 2^-18 of the image's larger side, what culling relies on), and closer for a
+        /// value smaller than that side (2^-18 of the value). In practice the box's error
+        /// bound keeps every corner inside.
         #[test]
         fn box_rectangle_holds_every_projected_corner(
             eye in proptest::array::uniform3(-50.0f64..50.0),
@@ -542,7 +545,7 @@ mod tests {
                     if k & 4 == 0 { lo.z } else { hi.z },
                 );
                 let q = view.project(view.to_camera(p));
-                let tol = 1.0 / 64.0 + q.x.abs().max(q.y.abs()) / 262_144.0;
+                let tol = 1.0 / 64.0 + q.x.abs().max(q.y.abs()).min(640.0) / 262_144.0;
                 proptest::prop_assert!(q.x >= min.x - tol && q.x <= max.x + tol, "{q} {min} {max}");
                 proptest::prop_assert!(q.y >= min.y - tol && q.y <= max.y + tol, "{q} {min} {max}");
             }

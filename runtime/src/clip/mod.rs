@@ -1,13 +1,12 @@
 //! Clip: Sutherland–Hodgman clipping of a convex polygon in camera space.
 //!
 //! A polygon is clipped first against the near plane `zc >= near` (so no point behind the eye
-//! is ever projected), then against the four screen-window edges. The window edges are the
-//! lines `sx = 0`, `sx = W`, `sy = 0`, `sy = H` of seed 001's windowing algorithm, lifted to
-//! planes through the eye: once `zc > 0`, `sx >= 0` is `cx * zc + fx * xc >= 0`, and so on.
-//! Clipping against these planes before projecting gives the same polygon as windowing the
-//! projected polygon (a central projection keeps lines and sides for `zc > 0`), but the
-//! arithmetic only sees moderate camera-space coordinates: no guard band, no huge projected
-//! values near the eye plane, no overflow to argue about.
+//! is ever projected), then against the four screen-window edges: the screen lines `sx = 0`,
+//! `sx = W`, `sy = 0`, `sy = H`, lifted to planes through the eye (once `zc > 0`, `sx >= 0` is
+//! `cx * zc + fx * xc >= 0`, and so on). Clipping against these planes before projecting gives
+//! the same polygon as windowing the projected polygon (a central projection keeps lines and
+//! sides for `zc > 0`), but the arithmetic only sees moderate camera-space coordinates: no
+//! guard band, no huge projected values near the eye plane, no overflow to argue about.
 //!
 //! # Watertightness
 //!

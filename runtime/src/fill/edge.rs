@@ -1,13 +1,14 @@
-//! The edge walk (seed 001's `Parcours`): the pixel where an edge crosses each scanline, by
-//! integer stepping only.
+//! The edge walk: the pixel where an edge crosses each scanline, by integer stepping only (an
+//! incremental walk in the manner of Bresenham's, exact for any rational slope).
 //!
-//! The seed walks an edge from `(xbas, ybas)` to `(xhaut, yhaut)` keeping `x` and the numerator
-//! `N` of its fractional part over `Δy`; each row does `(Q, N) <- div_euclid(N, Δy); x += Q;
-//! N += Δx`, with `N` started at `Δy - 1` on a left edge so the rounding is a ceiling. Here the
-//! same walk is written for any rational sequence `x_k = ceil((num + k * step) / den)`: the
-//! division of the step by `den` is done once up front (`step = q * den + r`), so a row costs
-//! an add and a compare instead of a division, and the state `(x, rem)` after each row is
-//! exactly the seed's `(x, N)` after its line 5.2.
+//! The classic integer walk goes up an edge from its low end `(xbas, ybas)` to its high end
+//! `(xhaut, yhaut)` keeping `x` and the numerator `N` of its fractional part over `Δy`; each
+//! row does `(Q, N) <- div_euclid(N, Δy); x += Q; N += Δx`, with `N` started at `Δy - 1` on a
+//! left edge so the rounding is a ceiling. Here the same walk is written for any rational
+//! sequence `x_k = ceil((num + k * step) / den)`: the division of the step by `den` is done
+//! once up front (`step = q * den + r`), so a row costs an add and a compare instead of a
+//! division, and the state `(x, rem)` after each row is exactly that walk's `(x, N)` after its
+//! division.
 //!
 //! For the fill, `x_k` is the first pixel whose centre is at or right of the crossing at row
 //! `j0 + k` (see [`EdgeWalk::for_edge`]). Using that one rounding for left *and* right edges
@@ -121,7 +122,7 @@ impl EdgeWalk {
         debug_assert!(den > 0);
         // Guaranteed by the caller; clamping makes the divisions provably panic-free.
         let den = den.max(1);
-        // ceil(num / den) = floor((num + den - 1) / den); the remainder is the seed's N.
+        // ceil(num / den) = floor((num + den - 1) / den); the remainder is the walk's N.
         let shifted = num + i128::from(den) - 1;
         // Inside a window of up to 2^15 pixels at SUB = 8 the numerator is below 2^50, so the
         // 128-bit division (slow, in software on small cores) is only a fallback.
@@ -196,7 +197,7 @@ impl EdgeWalk {
     /// `num = (2 x_top - S) dy + dx e = M dy + r1` with `M = 2 x_top - S + q1`. Splitting
     /// `M = 2S k + m` (`0 <= m < 2S`: a shift and a mask) gives `num = den k + (dy m + r1)`
     /// with `0 <= dy m + r1 < den = 2S dy`, so `ceil(num / den)` is `k` or `k + 1` and the
-    /// seed's `N` follows without dividing by `den`. Ranges: `den <= 2S L < 2^30`,
+    /// classic walk's `N` follows without dividing by `den`. Ranges: `den <= 2S L < 2^30`,
     /// `|dx e| < 2S L`, `|M| <= (2S + 1) L + S < 2^31`, and the walk keeps
     /// `rem + step_r < 2 den < 2^31`: nothing overflows an `i32`.
     #[cfg(any(test, not(feature = "wide-coordinates")))]
@@ -247,7 +248,7 @@ impl EdgeWalk {
         self.row += 1;
     }
 
-    /// The seed's `N` after the division of the current row.
+    /// The classic walk's `N` after the division of the current row.
     #[cfg(all(test, feature = "wide-coordinates"))]
     pub(crate) fn rem(&self) -> Coord {
         self.rem
@@ -271,12 +272,12 @@ mod tests {
         (out, n)
     }
 
-    /// Seed 001, figure 6: left edge (3, 0)-(7, 10) in the seed's own lattice (pixels on
-    /// integer points): x = 3 + 0.4 y displayed as 3,4,4,5,5,5,6,6,7,7, and the table's
-    /// (Q, N) column gives N = 9,3,7,1,5,9 after each division.
+    /// A worked example of the classic walk: left edge (3, 0)-(7, 10) with pixels on integer
+    /// points: x = 3 + 0.4 y is displayed as 3,4,4,5,5,5,6,6,7,7, with N = 9,3,7,1,5,9 after
+    /// each division (worked by hand).
     #[cfg(feature = "wide-coordinates")]
     #[test]
-    fn seed_parcours_worked_example() {
+    fn classic_walk_worked_example() {
         let (xbas, ybas, xhaut, yhaut) = (3i64, 0i64, 7i64, 10i64);
         let (dx, dy) = (xhaut - xbas, yhaut - ybas);
         let mut walk = EdgeWalk::from_ratio(i128::from(xbas * dy), dy, dx, ybas, yhaut);
@@ -308,10 +309,11 @@ mod tests {
         );
     }
 
-    /// The seed's lattice is the pixel-centre lattice shifted by half a pixel: at SUB = 1 the
-    /// edge (3.5, 0.5)-(7.5, 10.5) reproduces the seed's sequence exactly.
+    /// The classic walk's lattice (pixels on integer points) is the pixel-centre lattice
+    /// shifted by half a pixel: at SUB = 1 the edge (3.5, 0.5)-(7.5, 10.5) reproduces the
+    /// worked example's sequence exactly.
     #[test]
-    fn fill_walk_is_the_seed_walk_shifted_by_half_a_pixel() {
+    fn fill_walk_is_the_classic_walk_shifted_by_half_a_pixel() {
         let a = FixedPoint { x: 7, y: 1 };
         let b = FixedPoint { x: 15, y: 21 };
         let (got, n) = xs(EdgeWalk::for_edge::<1>(a, b, 100).unwrap());

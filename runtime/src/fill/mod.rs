@@ -7,15 +7,15 @@
 //! and each pair `[x_left, x_right)` becomes one span. Sorting and pairing (even-odd) also
 //! copes with polygons that snapping made slightly non-convex, self-touching or degenerate.
 //!
-//! # Ownership of boundary pixels (the spec's top-left rule)
+//! # Ownership of boundary pixels (the top-left rule)
 //! A pixel is drawn when its centre `(i + 1/2, j + 1/2)` is inside. A centre exactly on an
 //! edge belongs to the polygon on the edge's right: spans are `[first centre >= x_left,
 //! first centre >= x_right)`, so left edges are drawn and right edges not. An edge covers the
 //! scanlines whose centre `y` satisfies `y_top <= y < y_bottom` and horizontal edges none, so
-//! a vertex counts only for the edge it is the top of (the rule of the minimal ordinate, with
-//! y down, as in the Direct3D rasterization rules), and a horizontal top edge is drawn while a bottom one is not. Because the
-//! crossing of a shared edge is computed exactly (rationals, not floats) and identically from
-//! both sides, two polygons sharing an edge never both draw a pixel nor both skip one.
+//! a vertex counts only for the edge it is the top of (with y down, as in Direct3D's
+//! rasterization rules), and a horizontal top edge is drawn while a bottom one is not. Because
+//! the crossing of a shared edge is computed exactly (rationals, not floats) and identically
+//! from both sides, two polygons sharing an edge never both draw a pixel nor both skip one.
 
 mod edge;
 

@@ -342,7 +342,7 @@ fn error_display() {
 
 /// Brute-force coverage of a convex polygon (any winding, non-zero area, no collinear
 /// points): exact edge functions at doubled-unit pixel centres `((2i+1)S, (2j+1)S)`, with
-/// the spec's tie rule (a centre on an edge is inside iff the edge is a left edge, or a
+/// the top-left tie rule (a centre on an edge is inside iff the edge is a left edge, or a
 /// horizontal edge with the inside below it).
 fn brute_force<const SUB: u32, const W: usize, const H: usize>(
     poly: &[FixedPoint],

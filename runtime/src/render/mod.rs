@@ -69,17 +69,12 @@ pub trait Source: DisplayTree {
         None
     }
     /// The index of vertex `i` of `polygon` in the scene's shared vertex list, when it has one:
-    /// with [`Source::vertex`], a frame then projects each shared vertex once (see
-    /// [`crate::vertices`]). Implement both or neither.
+    /// a frame then projects each shared vertex once, the first time its index comes, from the
+    /// position [`Source::polygon_vertex`] gives (see [`crate::vertices`]). Equal indices must
+    /// therefore mean equal positions.
     fn vertex_index(&self, polygon: &Polygon, i: u32) -> Option<u32> {
         let _ = (polygon, i);
         None
-    }
-    /// Shared vertex `index`, relative to the centre (asked only for what
-    /// [`Source::vertex_index`] gave).
-    fn vertex(&self, index: u32) -> Vec3 {
-        let _ = index;
-        Vec3::ZERO
     }
 }
 
@@ -104,9 +99,6 @@ impl Source for Scene<'_> {
     }
     fn vertex_index(&self, polygon: &Polygon, i: u32) -> Option<u32> {
         Scene::polygon_vertex_index(self, polygon, i)
-    }
-    fn vertex(&self, index: u32) -> Vec3 {
-        Scene::vertex(self, index)
     }
 }
 
@@ -801,9 +793,10 @@ impl<const SUB: u32> Painter<'_, '_, SUB> {
             let corner = |v: Vec3| screen(view.to_camera(v));
             let mut count = 0usize;
             for (i, slot) in (0..n).zip(self.points.iter_mut()) {
+                let position = || scene.polygon_vertex(polygon, i);
                 *slot = match scene.vertex_index(polygon, i) {
-                    Some(v) => cache.get(v, || corner(scene.vertex(v))),
-                    None => corner(scene.polygon_vertex(polygon, i)),
+                    Some(v) => cache.get(v, || corner(position())),
+                    None => corner(position()),
                 };
                 count += 1;
             }

@@ -3,11 +3,12 @@
 //!
 //! [`Framebuffer`] writes into a caller's slice in one of three pixel formats ([`Gray8`],
 //! [`Rgb565`], [`Xrgb8888`]); with the `embedded-graphics` feature, [`DrawTargetSink`] forwards
-//! spans to any `embedded_graphics_core` draw target; [`testing::MockTarget`] checks and prints
-//! what a fill drew.
+//! spans to any `embedded_graphics_core` draw target. The crate's own tests draw into a mock
+//! that checks and prints what a fill drew (`testing::MockTarget`, built only for them).
 
 mod framebuffer;
-pub mod testing;
+#[cfg(test)]
+pub(crate) mod testing;
 
 #[cfg(feature = "embedded-graphics")]
 mod embedded;

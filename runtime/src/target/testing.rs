@@ -1,4 +1,5 @@
-//! A checking span sink for tests (public so render and end-to-end tests can use it too).
+//! A checking span sink for the crate's unit tests (fill, coverage and render). It panics by
+//! design, so it is built only for them and is no part of the public API.
 //!
 //! [`MockTarget`] panics on what a fill must never do: a span outside the image or empty, and
 //! (unless allowed, as painter's-algorithm renders need) a pixel written twice. It prints as
@@ -49,16 +50,6 @@ impl<const W: usize, const H: usize> MockTarget<W, H> {
         let mut m = Self::new();
         m.allow_overdraw = true;
         m
-    }
-
-    /// Width (`W`), as the `u32` the fill takes.
-    pub const fn width(&self) -> u32 {
-        W as u32
-    }
-
-    /// Height (`H`), as the `u32` the fill takes.
-    pub const fn height(&self) -> u32 {
-        H as u32
     }
 
     /// The colour of pixel `(x, y)`, `None` if unwritten or outside.

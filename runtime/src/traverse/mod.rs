@@ -1,6 +1,6 @@
 //! Traverse: the display tree's polygons in painter order for one eye position.
 //!
-//! Display order (seed 000):
+//! Display order (back to front; a split node as in Fuchs, Kedem and Naylor's BSP trees):
 //! - split node with plane `P`: eye on the + side (`distance >= 0`) -> the − child, then the
 //!   + child; otherwise the + child, then the − child;
 //! - convex node: first its polygons whose interior the eye sees (the eye is on the

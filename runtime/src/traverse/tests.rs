@@ -335,7 +335,7 @@ fn scene_walks_like_the_in_memory_tree() {
     }
 }
 
-/// Seed 000's display order written the obvious recursive way, as an oracle for the
+/// The display order written the obvious recursive way, as an oracle for the
 /// iterative walk (which remembers a node's first scan in a bit mask for the second).
 fn recursive_btf(t: &TestTree, node: Option<u32>, eye: Vec3, out: &mut Vec<u32>) {
     let Some(i) = node else { return };

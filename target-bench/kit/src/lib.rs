@@ -1,5 +1,5 @@
 //! What the on-target benchmark's firmware and its host runner share (`target-bench/`, see
-//! the README section "On the target"): where QEMU puts the data in code memory
+//! BENCHMARKS.md, section "On the target"): where QEMU puts the data in code memory
 //! ([`layout`]), the config block that tells the firmware what to draw ([`config`]), the
 //! indexed mesh the z-buffer baseline draws ([`mesh`]) and that baseline itself
 //! ([`zbuffer`]). `no_std` and allocation-free like the runtime, so the runner computes its

@@ -1,4 +1,4 @@
-//! The on-target benchmark (`bash .ci/target [--quick]`, README "On the target"): Peel's
+//! The on-target benchmark (`bash .ci/target [--quick]`, BENCHMARKS.md "On the target"): Peel's
 //! renderer and the z-buffer baseline as Cortex-M4F and Cortex-M0+ firmware in QEMU, with
 //! deterministic instruction counts, RAM and flash, bytes sent to a mock SPI display, and
 //! every pixel checked against the host.

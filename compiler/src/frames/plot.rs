@@ -1,0 +1,106 @@
+//! The plot of the measurements: frame time against pixel errors, one colour per method.
+
+use super::{FrameRecord, Method};
+
+/// A scatter plot (PNG bytes) of median frame time against all errors, one colour per method.
+pub fn plot(records: &[FrameRecord]) -> Result<Vec<u8>, String> {
+    use plotters::prelude::*;
+    static FONT: std::sync::OnceLock<Result<(), String>> = std::sync::OnceLock::new();
+    FONT.get_or_init(|| {
+        // plotters draws text with ab_glyph from a font we ship: no system font is needed.
+        plotters::style::register_font("sans-serif", FontStyle::Normal, dejavu::sans::regular())
+            .map_err(|_| "cannot load the plot font".to_string())
+    })
+    .clone()?;
+    let (w, h) = (900u32, 600u32);
+    let mut rgb = vec![255u8; (w * h * 3) as usize];
+    {
+        let root = BitMapBackend::with_buffer(&mut rgb, (w, h)).into_drawing_area();
+        root.fill(&WHITE).map_err(|e| e.to_string())?;
+        let max_t = records
+            .iter()
+            .map(|r| r.median_frame_ms)
+            .fold(1e-3, f64::max)
+            * 2.0;
+        let min_t = records
+            .iter()
+            .map(|r| r.median_frame_ms)
+            .fold(max_t, f64::min)
+            .max(1e-4)
+            / 2.0;
+        let max_e = records
+            .iter()
+            .map(|r| r.all_errors)
+            .max()
+            .unwrap_or(1)
+            .max(1) as f64
+            * 2.0;
+        let mut chart = ChartBuilder::on(&root)
+            .caption(
+                "frame time vs pixel errors (16 cameras per scene)",
+                ("sans-serif", 22),
+            )
+            .margin(15)
+            .x_label_area_size(45)
+            .y_label_area_size(60)
+            .build_cartesian_2d((min_t..max_t).log_scale(), (0.5f64..max_e).log_scale())
+            .map_err(|e| e.to_string())?;
+        chart
+            .configure_mesh()
+            .x_desc("median frame time (ms)")
+            .y_desc("mismatched pixels + 1 (all)")
+            .draw()
+            .map_err(|e| e.to_string())?;
+        let palette = [RED, BLUE, GREEN, MAGENTA, CYAN, BLACK];
+        for (k, m) in Method::ALL.into_iter().enumerate() {
+            let colour = palette[k % palette.len()];
+            let pts: Vec<(f64, f64)> = records
+                .iter()
+                .filter(|r| r.method == m.name())
+                .map(|r| (r.median_frame_ms, r.all_errors as f64 + 1.0))
+                .collect();
+            chart
+                .draw_series(pts.iter().map(|&p| Circle::new(p, 5, colour.filled())))
+                .map_err(|e| e.to_string())?
+                .label(m.name())
+                .legend(move |(x, y)| Circle::new((x, y), 5, colour.filled()));
+        }
+        chart
+            .configure_series_labels()
+            .background_style(WHITE.mix(0.8))
+            .border_style(BLACK)
+            .draw()
+            .map_err(|e| e.to_string())?;
+        root.present().map_err(|e| e.to_string())?;
+    }
+    let frame = crate::raster::Frame {
+        width: w,
+        height: h,
+        pixels: rgb
+            .chunks(3)
+            .map(|c| (u32::from(c[0]) << 16) | (u32::from(c[1]) << 8) | u32::from(c[2]))
+            .collect(),
+        stats: Default::default(),
+    };
+    crate::raster::png(&frame)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn plot_is_a_png() {
+        let r = FrameRecord {
+            scene: "s".into(),
+            method: "zbuffer-int".into(),
+            median_frame_ms: 1.0,
+            pixels_written: 10,
+            robust_errors: 0,
+            all_errors: 3,
+            polygons_drawn: 0,
+        };
+        let png = plot(&[r]).unwrap();
+        assert_eq!(&png[1..4], b"PNG");
+    }
+}

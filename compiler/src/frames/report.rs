@@ -1,0 +1,45 @@
+//! Reports of the measurements: the JSON records of `peel bench --json` and the markdown
+//! table.
+
+use super::{FrameRecord, Method};
+
+/// The JSON of `peel bench --json`: one record per (scene, method) of the six [`Method`]s
+/// (the `SUBPIXEL_BITS` rows are left out).
+pub fn json(records: &[FrameRecord]) -> Result<String, String> {
+    let main: Vec<&FrameRecord> = records
+        .iter()
+        .filter(|r| Method::from_name(&r.method).is_some())
+        .collect();
+    serde_json::to_string_pretty(&main).map_err(|e| e.to_string())
+}
+
+/// The records as a markdown table, with each method's time relative to the integer z-buffer
+/// of the same scene (the baseline measured in the same run).
+pub fn markdown(records: &[FrameRecord]) -> String {
+    let mut s = String::from(
+        "| scene | method | median frame (ms) | speed vs zbuffer-int | polygons drawn | pixels written | robust errors | all errors |\n|---|---|---:|---:|---:|---:|---:|---:|\n",
+    );
+    for r in records {
+        let base = records
+            .iter()
+            .find(|b| b.scene == r.scene && b.method == Method::ZbufferInt.name())
+            .map(|b| b.median_frame_ms)
+            .unwrap_or(f64::NAN);
+        s += &format!(
+            "| {} | {} | {:.3} | {:.2}x | {} | {} | {} | {} |\n",
+            r.scene,
+            r.method,
+            r.median_frame_ms,
+            base / r.median_frame_ms,
+            if r.polygons_drawn > 0 {
+                r.polygons_drawn.to_string()
+            } else {
+                "-".into()
+            },
+            r.pixels_written,
+            r.robust_errors,
+            r.all_errors
+        );
+    }
+    s
+}
