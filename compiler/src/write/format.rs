@@ -215,22 +215,35 @@ impl<T: Flagged> Serialize for Record<'_, T> {
 
 impl Flagged for u32 {
     fn write<S: Serializer>(&self, flags: u16, _: u32, s: S) -> Result<S::Ok, S::Error> {
-        if flags & header_flags::INDEX16 == 0 {
-            return s.serialize_u32(*self);
+        if flags & header_flags::INDEX16 != 0 {
+            let narrow = u16::try_from(*self)
+                .map_err(|_| ser::Error::custom(format!("index {self} does not fit INDEX16")))?;
+            return s.serialize_u16(narrow);
         }
-        let narrow = u16::try_from(*self)
-            .map_err(|_| ser::Error::custom(format!("index {self} does not fit INDEX16")))?;
-        s.serialize_u16(narrow)
+        if flags & header_flags::INDEX24 != 0 {
+            if *self >= 1 << 24 {
+                return Err(ser::Error::custom(format!(
+                    "index {self} does not fit INDEX24"
+                )));
+            }
+            let le = self.to_le_bytes();
+            return [le[0], le[1], le[2]].serialize(s);
+        }
+        s.serialize_u32(*self)
     }
     fn read<'de, A: SeqAccess<'de>>(
         flags: u16,
         _: u32,
         seq: &mut A,
     ) -> Result<Option<Self>, A::Error> {
-        if flags & header_flags::INDEX16 == 0 {
-            seq.next_element::<u32>()
-        } else {
+        if flags & header_flags::INDEX16 != 0 {
             Ok(seq.next_element::<u16>()?.map(u32::from))
+        } else if flags & header_flags::INDEX24 != 0 {
+            Ok(seq
+                .next_element::<[u8; 3]>()?
+                .map(|b| u32::from_le_bytes([b[0], b[1], b[2], 0])))
+        } else {
+            seq.next_element::<u32>()
         }
     }
 }

@@ -265,7 +265,11 @@ fn record_sizes_match_the_spec() {
             + h.bounds_count as usize * layout::BOUNDS_SIZE
             + h.node_count as usize * layout::node_size(h.flags);
         assert_eq!(to_bytes(&file).unwrap().len(), total, "{encoding:?}");
-        let expected_index = if encoding.index16 { 2 } else { 4 };
+        // Without u16 indices, small_tree's 7 vertices take u24 ones (INDEX24).
+        let expected_index = if encoding.index16 { 2 } else { 3 };
+        assert_eq!(h.flags & header_flags::INDEX24 != 0, !encoding.index16);
+        let no_narrow_index = h.flags & !(header_flags::INDEX16 | header_flags::INDEX24);
+        assert_eq!(layout::index_size(no_narrow_index), 4);
         // small_tree's counts all fit NARROW's u16 fields: 2 + 1 + 1 + the colour.
         assert_ne!(h.flags & header_flags::NARROW, 0);
         let expected_polygon = match encoding.palette {

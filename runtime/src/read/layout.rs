@@ -33,15 +33,20 @@ pub mod header_flags {
     /// Vertices are `[f32; 3]` (else `[u16; 3]`: steps on the header's bounds, decoded by
     /// [`super::dequantise`]).
     pub const WIDE_VERTICES: u16 = 1 << 7;
+    /// Indices are 3-byte little-endian integers (`u24`, for up to 2^24 vertices); with
+    /// [`INDEX16`] the flags are inconsistent.
+    pub const INDEX24: u16 = 1 << 8;
     /// Every bit this version defines; a reader refuses others.
     pub const KNOWN: u16 =
-        IDS | INDEX16 | PALETTE | PALETTE16 | BOUNDS | NARROW | MEDIUM | WIDE_VERTICES;
+        IDS | INDEX16 | PALETTE | PALETTE16 | BOUNDS | NARROW | MEDIUM | WIDE_VERTICES | INDEX24;
 }
 
 /// Bytes of an index under header `flags`.
 pub const fn index_size(flags: u16) -> usize {
     if flags & header_flags::INDEX16 != 0 {
         2
+    } else if flags & header_flags::INDEX24 != 0 {
+        3
     } else {
         4
     }

@@ -341,17 +341,17 @@ impl<'a> Scene<'a> {
         }
     }
 
-    /// Entry `i` of the index array (`u16` or `u32` as the header says), if in range.
+    /// Entry `i` of the index array (`u16`, `u24` or `u32` as the header says), if in range.
     #[inline]
     fn index(&self, i: u32) -> Option<u32> {
         if i >= self.header.index_count {
             return None;
         }
         let at = element(self.indices, self.index_size, i)?;
-        if self.index_size == 2 {
-            u16_at(self.bytes, at).map(u32::from)
-        } else {
-            u32_at(self.bytes, at)
+        match self.index_size {
+            2 => u16_at(self.bytes, at).map(u32::from),
+            3 => layout::field_at(self.bytes, at, 3, false),
+            _ => u32_at(self.bytes, at),
         }
     }
 

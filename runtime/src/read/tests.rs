@@ -177,11 +177,8 @@ impl Spec {
         }
         length(&mut out, self.indices.len());
         for &v in &self.indices {
-            if self.flags & header_flags::INDEX16 != 0 {
-                out.extend((v as u16).to_le_bytes());
-            } else {
-                out.extend(v.to_le_bytes());
-            }
+            let width = index_size(self.flags);
+            out.extend(&v.to_le_bytes()[..width]);
         }
         let width = field_size(self.flags);
         let field = |out: &mut Vec<u8>, v: u32| {
@@ -409,13 +406,33 @@ fn header_identity_is_checked_first() {
         );
     }
     let mut spec = Spec::small();
-    spec.flags = 1 << 8;
-    assert_eq!(spec.parse(), Err(ReadError::UnknownFlags { flags: 1 << 8 }));
-    spec.flags = header_flags::NARROW | header_flags::MEDIUM;
-    assert_eq!(
-        spec.parse(),
-        Err(ReadError::InconsistentFlags { flags: spec.flags })
+    spec.flags = 1 << 9;
+    assert_eq!(spec.parse(), Err(ReadError::UnknownFlags { flags: 1 << 9 }));
+    for both in [
+        header_flags::NARROW | header_flags::MEDIUM,
+        header_flags::INDEX16 | header_flags::INDEX24,
+    ] {
+        spec.flags = both;
+        assert_eq!(
+            spec.parse(),
+            Err(ReadError::InconsistentFlags { flags: spec.flags })
+        );
+    }
+    // u24 indices read the same vertices as u32 ones, a byte shorter each.
+    let mut narrow = Spec::small();
+    narrow.flags |= header_flags::INDEX24;
+    let (plain, narrow) = (Spec::small().encode(), narrow.encode());
+    assert_eq!(narrow.len() + Spec::small().indices.len(), plain.len());
+    let (plain, narrow) = (
+        Scene::parse(&plain).unwrap(),
+        Scene::parse(&narrow).unwrap(),
     );
+    for p in 0..3 {
+        let (a, b) = (plain.polygon(p), narrow.polygon(p));
+        for k in 0..u32::from(a.vertex_count) {
+            assert_eq!(plain.polygon_vertex(&a, k), narrow.polygon_vertex(&b, k));
+        }
+    }
 }
 
 #[test]

@@ -66,8 +66,10 @@ fn read_header(bytes: &[u8]) -> Result<Header, ReadError> {
             return Err(ReadError::UnknownFlags { flags });
         }
         let both_widths = hf::NARROW | hf::MEDIUM;
+        let both_indices = hf::INDEX16 | hf::INDEX24;
         if flags & hf::PALETTE16 != 0 && flags & hf::PALETTE == 0
             || flags & both_widths == both_widths
+            || flags & both_indices == both_indices
         {
             return Err(ReadError::InconsistentFlags { flags });
         }
@@ -151,7 +153,9 @@ fn locate_arrays(bytes: &[u8], header: Header) -> Result<Scene<'_>, ReadError> {
     if flags & hf::BOUNDS == 0 && header.bounds_count != 0 {
         return Err(bad(h::BOUNDS_COUNT));
     }
-    if flags & hf::INDEX16 != 0 && header.vertex_count > 1 << 16 {
+    if flags & hf::INDEX16 != 0 && header.vertex_count > 1 << 16
+        || flags & hf::INDEX24 != 0 && header.vertex_count > 1 << 24
+    {
         return Err(bad(h::VERTEX_COUNT));
     }
     if flags & (hf::NARROW | hf::MEDIUM) != 0 {
