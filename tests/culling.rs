@@ -11,8 +11,8 @@
 use glam::{DMat3, DVec3};
 use peel_compiler::compile::{compile_mesh, CompileOptions};
 use peel_compiler::load::Mesh;
-use peel_compiler::raster::{HOST_SPANS_PER_ROW, HOST_STACK, HOST_VERTS};
-use peel_compiler::scenes;
+use peel_compiler::tools::raster::{HOST_SPANS_PER_ROW, HOST_STACK, HOST_VERTS};
+use peel_compiler::tools::scenes;
 use peel_e2e::{bounds, closed_outward, closed_sphere, mesh_closed_outward};
 use peel_runtime::camera::{Camera, Pose};
 use peel_runtime::coverage::Coverage;

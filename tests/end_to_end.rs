@@ -11,7 +11,7 @@ use std::path::{Path, PathBuf};
 use glam::DVec3;
 use peel_compiler::compile::{compile_mesh, CompileOptions};
 use peel_compiler::load::{load_obj, Mesh};
-use peel_compiler::raster::{render_bytes_with, Settings, View};
+use peel_compiler::tools::raster::{render_bytes_with, Settings, View};
 use peel_e2e::{bounds, closed_sphere, mesh_closed_outward, reference, RefCamera};
 use peel_runtime::read::{Node, Scene};
 use peel_runtime::traverse::Order;
@@ -82,7 +82,7 @@ fn compare(
     )
     .expect("render");
     let scene = Scene::parse(bytes).unwrap();
-    let camera = peel_compiler::raster::camera(&scene, view).unwrap();
+    let camera = peel_compiler::tools::raster::camera(&scene, view).unwrap();
     let cam = RefCamera {
         eye: view.eye,
         target: view.target,
@@ -309,10 +309,10 @@ fn generated_closed_meshes_match() {
     let sphere = closed_sphere(10, 16);
     assert!(mesh_closed_outward(&sphere));
     check_scene("sphere", &sphere, &[], Splits::Expected);
-    let torus = peel_compiler::scenes::torus(16, 8);
+    let torus = peel_compiler::tools::scenes::torus(16, 8);
     assert!(mesh_closed_outward(&torus));
     check_scene("torus", &torus, &[], Splits::Expected);
-    let soup = peel_compiler::scenes::soup(60, 0.4, 3);
+    let soup = peel_compiler::tools::scenes::soup(60, 0.4, 3);
     check_scene("soup", &soup, &[], Splits::Expected);
 }
 
@@ -494,7 +494,7 @@ fn culling_matches_inside_on_and_through_closed_meshes() {
 
     // The torus (major radius 1, tube radius 0.35, 16 x 8): the centre of the tube's cross
     // section at a ring of vertices, and the outer equator's vertex (1.35, 0, 0).
-    let torus = peel_compiler::scenes::torus(16, 8);
+    let torus = peel_compiler::tools::scenes::torus(16, 8);
     let u = 2.0 * std::f64::consts::PI * 3.0 / 16.0;
     let ring = v(u.cos(), 0.0, u.sin());
     let along = v(-u.sin(), 0.0, u.cos());

@@ -9,8 +9,8 @@ use std::sync::OnceLock;
 
 use glam::DVec3;
 use peel_compiler::compile::{compile_mesh, CompileOptions};
-use peel_compiler::raster::{HOST_SPANS_PER_ROW, HOST_STACK, HOST_VERTS};
-use peel_compiler::scenes;
+use peel_compiler::tools::raster::{HOST_SPANS_PER_ROW, HOST_STACK, HOST_VERTS};
+use peel_compiler::tools::scenes;
 use peel_e2e::closed_sphere;
 use peel_runtime::camera::{Camera, Pose, View};
 use peel_runtime::coverage::Coverage;

@@ -11,8 +11,8 @@ use std::time::Instant;
 use glam::{DMat3, DVec3};
 use peel_compiler::compile::{compile_mesh, CompileOptions};
 use peel_compiler::load::{load_obj, Mesh, SourceTriangle, DEFAULT_COLOUR};
-use peel_compiler::raster::{render_bytes, View};
-use peel_compiler::scenes::{self, SplitMix};
+use peel_compiler::tools::raster::{render_bytes, View};
+use peel_compiler::tools::scenes::{self, SplitMix};
 use peel_compiler::tree::{verify, BuildOptions, DisplayTree, TreeNode};
 use peel_e2e::{bounds, reference, RefCamera};
 use peel_runtime::read::Scene;
@@ -126,7 +126,7 @@ struct Diff {
 fn compare(mesh: &Mesh, bytes: &[u8], polys: &[Vec<DVec3>], view: &View) -> Diff {
     let frame = render_bytes(bytes, view, true, [0, 0, 0]).expect("render");
     let scene = Scene::parse(bytes).unwrap();
-    let camera = peel_compiler::raster::camera(&scene, view).unwrap();
+    let camera = peel_compiler::tools::raster::camera(&scene, view).unwrap();
     let cam = RefCamera {
         eye: view.eye,
         target: view.target,

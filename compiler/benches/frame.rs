@@ -13,7 +13,7 @@ use std::time::Duration;
 use criterion::{criterion_group, criterion_main, Criterion};
 use glam::DVec3;
 use peel_compiler::compile::{compile_mesh, CompileOptions};
-use peel_compiler::raster::{HOST_SPANS_PER_ROW, HOST_STACK, HOST_VERTS};
+use peel_compiler::tools::raster::{HOST_SPANS_PER_ROW, HOST_STACK, HOST_VERTS};
 use peel_runtime::camera::{Camera, Pose};
 use peel_runtime::coverage::Coverage;
 use peel_runtime::read::Scene;

@@ -7,8 +7,8 @@
 
 use std::process::ExitCode;
 
-use peel_compiler::bench::baselines::greedy_triangles;
 use peel_compiler::load::load_obj;
+use peel_compiler::tools::bench_compile::baselines::greedy_triangles;
 
 fn main() -> ExitCode {
     let args: Vec<String> = std::env::args().skip(1).collect();

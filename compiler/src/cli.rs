@@ -6,7 +6,7 @@ use clap::Args;
 use glam::DVec3;
 
 use peel_compiler::compile::CompileOptions;
-use peel_compiler::raster::{png, render_bytes, render_bytes_with, Frame, Settings, View};
+use peel_compiler::tools::raster::{png, render_bytes, render_bytes_with, Frame, Settings, View};
 use peel_runtime::camera::Orbit;
 use peel_runtime::read::{Header, Scene};
 use peel_runtime::traverse::Order;
@@ -400,7 +400,7 @@ fn bench_scenes(
     models: &Path,
     quick: bool,
 ) -> Result<Vec<(String, peel_compiler::load::Mesh)>, String> {
-    use peel_compiler::scenes;
+    use peel_compiler::tools::scenes;
     let mut v = vec![
         ("demo".to_string(), demo_mesh()?),
         ("sphere-9k".to_string(), scenes::sphere(48, 96)),
@@ -431,8 +431,11 @@ pub fn bench(args: &BenchArgs) -> Result<(), String> {
     match args.what {
         BenchWhat::Frames => bench_frames(args),
         BenchWhat::Compile => {
-            let table = peel_compiler::bench::bench_compile(&args.models, args.json.as_deref())
-                .map_err(|e| e.to_string())?;
+            let table = peel_compiler::tools::bench_compile::bench_compile(
+                &args.models,
+                args.json.as_deref(),
+            )
+            .map_err(|e| e.to_string())?;
             let md = args.out.join("compile.md");
             peel_compiler::write::write_atomic(&md, table.as_bytes()).map_err(|e| e.to_string())?;
             println!("{table}");
@@ -443,34 +446,40 @@ pub fn bench(args: &BenchArgs) -> Result<(), String> {
 }
 
 fn bench_frames(args: &BenchArgs) -> Result<(), String> {
-    use peel_compiler::frames;
-    let scenes: Vec<frames::BenchScene> = bench_scenes(&args.models, args.quick)?
+    use peel_compiler::tools::bench_frames;
+    let scenes: Vec<bench_frames::BenchScene> = bench_scenes(&args.models, args.quick)?
         .into_iter()
-        .map(|(name, mesh)| frames::bench_scene(&name, mesh, &mut |m| eprintln!("{m}")))
+        .map(|(name, mesh)| bench_frames::frame_scene(&name, mesh, &mut |m| eprintln!("{m}")))
         .collect::<Result<_, _>>()?;
     let (w, h) = args.size;
-    let records = frames::run(&scenes, w, h, args.cameras, &mut |m| eprintln!("{m}"))?;
+    let records = bench_frames::run(&scenes, w, h, args.cameras, &mut |m| eprintln!("{m}"))?;
     let mut report = format!(
         "## Frame time vs error ({w}x{h}, {} cameras per scene)\n\n",
         args.cameras
     );
-    report += &frames::markdown(&records);
+    report += &bench_frames::markdown(&records);
     let knob_scene = scenes
         .iter()
         .find(|s| s.name == "cow")
         .or_else(|| scenes.iter().find(|s| s.name == "sphere-9k"));
     if let Some(s) = knob_scene {
         report += "\n## The --candidates knob\n\n";
-        report +=
-            &frames::candidates_knob(&s.name, &s.mesh, &[4, 16, 64, 256], w, h, args.cameras)?;
+        report += &bench_frames::candidates_knob(
+            &s.name,
+            &s.mesh,
+            &[4, 16, 64, 256],
+            w,
+            h,
+            args.cameras,
+        )?;
     }
     let md = args.out.join("frames.md");
     peel_compiler::write::write_atomic(&md, report.as_bytes()).map_err(|e| e.to_string())?;
     let png = args.out.join("frames.png");
-    peel_compiler::write::write_atomic(&png, &frames::plot(&records)?)
+    peel_compiler::write::write_atomic(&png, &bench_frames::plot(&records)?)
         .map_err(|e| e.to_string())?;
     if let Some(json) = &args.json {
-        let text = frames::json(&records)?;
+        let text = bench_frames::json(&records)?;
         peel_compiler::write::write_atomic(json, text.as_bytes()).map_err(|e| e.to_string())?;
     }
     println!("{report}");

@@ -9,31 +9,27 @@
 //! The public API is what a build script or a tool needs: [`Builder`] (compile an OBJ from
 //! `build.rs`), [`compile`] and [`load`] (the whole compile in one call, of a file or of a
 //! mesh), the [`tree`] and [`shade`] types those take and return, [`write`](mod@write) (the
-//! atomic file write), [`dump`] (a `.peel` file as YAML or counters), the host tools [`raster`],
-//! [`reference`](mod@reference) and [`scenes`]. The `bench` feature adds `bench` and `frames`
-//! (`peel bench`), the `png` feature `raster::png`. The other stages are private.
+//! atomic file write), [`dump`] (a `.peel` file as YAML or counters). Apart from the pipeline,
+//! [`tools`] holds the host tools and the test and benchmark support: `raster`, `reference`,
+//! `scenes`, and with the `bench` feature `bench_frames` (`peel bench`) and `bench_compile`
+//! (`peel bench compile`); the `png` feature adds `tools::raster::png`. The other stages are
+//! private.
 #![forbid(unsafe_code)]
 #![warn(missing_docs)]
 
-#[cfg(feature = "bench")]
-pub mod bench;
 mod builder;
 mod bvh;
 pub mod compile;
 pub mod dump;
 mod error;
-#[cfg(feature = "bench")]
-pub mod frames;
 mod hash;
 pub mod load;
 mod peel;
 mod planes;
 mod quantise;
-pub mod raster;
-pub mod reference;
-pub mod scenes;
 pub mod shade;
 mod split;
+pub mod tools;
 pub mod tree;
 pub mod write;
 

@@ -1,7 +1,7 @@
 //! Shared helpers of the end-to-end tests. The reference ray caster lives in the compiler crate
-//! (`peel_compiler::reference`) because `peel bench` measures errors against it too.
+//! (`peel_compiler::tools::reference`) because `peel bench` measures errors against it too.
 
-pub use peel_compiler::reference::*;
+pub use peel_compiler::tools::reference::*;
 
 /// Bounds of a mesh's source triangles.
 pub fn bounds(mesh: &Mesh) -> (DVec3, DVec3) {
@@ -21,13 +21,13 @@ use std::collections::HashMap;
 use glam::DVec3;
 use peel_compiler::load::Mesh;
 
-/// `peel_compiler::scenes::sphere(rings, segments)` made exactly closed. The generator puts
+/// `peel_compiler::tools::scenes::sphere(rings, segments)` made exactly closed. The generator puts
 /// the south pole of segment `j` at `(sin(pi) cos(phi_j), -1, sin(pi) sin(phi_j))`, and
 /// `sin(pi)` is about 1.2e-16 in `f64`: one point per segment, so the pole's triangles share
 /// no edge exactly and the mesh has a hole there. Here every vertex within 1e-9 of the y axis
 /// is put on it exactly.
 pub fn closed_sphere(rings: usize, segments: usize) -> Mesh {
-    let mut mesh = peel_compiler::scenes::sphere(rings, segments);
+    let mut mesh = peel_compiler::tools::scenes::sphere(rings, segments);
     for t in &mut mesh.triangles {
         for v in &mut t.vertices {
             if v.x.abs() < 1e-9 && v.z.abs() < 1e-9 {

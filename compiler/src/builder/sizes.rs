@@ -11,9 +11,9 @@ use peel_runtime::read::Header;
 use peel_runtime::vertices::CachedVertex;
 
 /// Span-memory intervals per image row the sizes file recommends for front-to-back rendering:
-/// the host renderer's figure (`raster::HOST_SPANS_PER_ROW`), capped by what can never run out
-/// (see [`sizes_file`]). Running out is not an error: the rest of the frame is painted back to
-/// front, with overdraw, and the same pixels.
+/// the host renderer's figure (`tools::raster::HOST_SPANS_PER_ROW`), capped by what can never
+/// run out (see [`sizes_file`]). Running out is not an error: the rest of the frame is painted
+/// back to front, with overdraw, and the same pixels.
 pub const RECOMMENDED_SPANS_PER_ROW: usize = 64;
 
 /// The text of the sizes file of `header` (a `.peel` file of `bytes` bytes named `peel_name`,

@@ -310,7 +310,7 @@ fn the_sizes_file_has_the_header_s_figures() {
     ));
     has(format!(
         "pub const SPANS_PER_ROW: usize = {};",
-        crate::raster::HOST_SPANS_PER_ROW
+        crate::tools::raster::HOST_SPANS_PER_ROW
     ));
     has("pub const fn check_workspace(stack: usize, verts: usize)".into());
     // Every item may go unused in the firmware.

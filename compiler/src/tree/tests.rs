@@ -321,7 +321,7 @@ fn building_twice_and_on_any_thread_count_gives_identical_output() {
 /// cuts next to nothing, and is the same on any thread count.
 #[test]
 fn a_nearly_convex_sphere_is_split_off_fold_by_fold_in_batches() {
-    let mesh = crate::scenes::sphere(32, 64);
+    let mesh = crate::tools::scenes::sphere(32, 64);
     let chained = super::build::CHAINED.load(std::sync::atomic::Ordering::Relaxed);
     let (_, tree) = checked(&mesh);
     let batched = super::build::CHAINED.load(std::sync::atomic::Ordering::Relaxed) - chained;
@@ -352,7 +352,7 @@ proptest! {
         turn in 0.0..std::f64::consts::PI,
         offset in -1e3..1e3f64,
     ) {
-        let mut mesh = crate::scenes::sphere(rings, segments);
+        let mut mesh = crate::tools::scenes::sphere(rings, segments);
         let (sin, cos) = turn.sin_cos();
         for t in &mut mesh.triangles {
             for p in &mut t.vertices {

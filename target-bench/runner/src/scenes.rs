@@ -9,7 +9,7 @@ use std::path::{Path, PathBuf};
 use glam::{DVec3, Vec3};
 use peel_compiler::compile::{compile_mesh, CompileOptions};
 use peel_compiler::load::{load_obj, Mesh};
-use peel_compiler::scenes;
+use peel_compiler::tools::scenes;
 use peel_runtime::coverage::Coverage;
 use peel_runtime::read::Scene;
 use peel_runtime::render::{Renderer, Workspace};

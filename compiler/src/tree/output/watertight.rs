@@ -210,7 +210,7 @@ pub(super) fn plain_boundary(own: &[u32]) -> Boundary {
 mod tests {
     use glam::DVec3;
 
-    use crate::scenes;
+    use crate::tools::scenes;
     use crate::tree::build::build_exact;
     use crate::tree::check::t_junctions;
     use crate::tree::input::prepare;

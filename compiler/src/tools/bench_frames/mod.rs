@@ -1,9 +1,9 @@
-//! Frames: `peel bench` — frame time against pixel error, for Peel's two drawing orders and the
+//! `peel bench`: frame time against pixel error, for Peel's two drawing orders and the
 //! classic baselines, on the same scenes and cameras in one run.
 //!
 //! Every method draws source triangle ids (`id + 1`) into a `W x H` id image; the error of a
 //! frame is the number of pixels whose id differs from the exact ray-casting reference
-//! ([`crate::reference`]): `robust_errors` counts only pixels whose sample point is farther
+//! ([`crate::tools::reference`]): `robust_errors` counts only pixels whose sample point is farther
 //! than 1/16 pixel from every projected edge (of the source triangles and of Peel's compiled
 //! polygons), `all_errors` counts them all. Times are medians over the cameras of each scene;
 //! `pixels_written` is the mean per frame (overdraw included). The baselines share the
@@ -27,7 +27,7 @@ use serde::Serialize;
 
 use crate::compile::CompileOptions;
 use crate::load::Mesh;
-use crate::raster::HOST_STACK;
+use crate::tools::raster::HOST_STACK;
 use measure::{measure_scene, prepare_scene, Variant, Work};
 
 pub use candidates::candidates_knob;
@@ -151,12 +151,12 @@ pub const NAIVE_BSP_MAX_RATIO: u64 = 20;
 /// A scene of the benchmark, with its naive BSP compiled to `.peel` bytes (ids on,
 /// two-sided) unless it exceeds [`NAIVE_BSP_MAX_RATIO`] or is deeper than the host renderer's
 /// stack; `log` gets a notice when it is skipped, and the build's figures otherwise.
-pub fn bench_scene(
+pub fn frame_scene(
     name: &str,
     mesh: Mesh,
     log: &mut dyn FnMut(&str),
 ) -> Result<BenchScene, String> {
-    use crate::bench::baselines::{naive_bsp_file, NaiveBsp};
+    use crate::tools::bench_compile::baselines::{naive_bsp_file, NaiveBsp};
     let limit = (mesh.triangles.len() as u64)
         .saturating_mul(NAIVE_BSP_MAX_RATIO)
         .max(1);
@@ -260,7 +260,7 @@ mod tests {
     fn methods_agree_with_the_reference_on_a_box_grid() {
         let scene = BenchScene {
             name: "grid".into(),
-            mesh: crate::scenes::box_grid(2),
+            mesh: crate::tools::scenes::box_grid(2),
             naive_bsp: None,
         };
         let records = run(&[scene], 64, 48, 4, &mut |_| {}).unwrap();
@@ -284,10 +284,10 @@ mod tests {
     /// matches the reference on every robust pixel.
     #[test]
     fn bench_json_has_all_six_methods_and_the_naive_bsp_is_exact() {
-        let mesh = crate::scenes::soup(40, 0.5, 3);
+        let mesh = crate::tools::scenes::soup(40, 0.5, 3);
         let triangles = mesh.triangles.len();
         let mut notes = Vec::new();
-        let scene = bench_scene("soup-40", mesh, &mut |m| notes.push(m.to_string())).unwrap();
+        let scene = frame_scene("soup-40", mesh, &mut |m| notes.push(m.to_string())).unwrap();
         let naive = scene
             .naive_bsp
             .as_deref()
@@ -335,8 +335,8 @@ mod tests {
     /// The naive BSP stops as soon as it exceeds its polygon budget.
     #[test]
     fn a_naive_bsp_over_budget_stops() {
-        use crate::bench::baselines::{naive_bsp_file, NaiveBsp};
-        let mesh = crate::scenes::soup(40, 0.5, 3);
+        use crate::tools::bench_compile::baselines::{naive_bsp_file, NaiveBsp};
+        let mesh = crate::tools::scenes::soup(40, 0.5, 3);
         let shading = CompileOptions::default().shading;
         match naive_bsp_file(&mesh, 45, true, &shading).unwrap() {
             NaiveBsp::OverBudget { polygons, limit } => assert!(polygons > limit && limit == 45),

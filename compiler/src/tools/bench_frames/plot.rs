@@ -73,7 +73,7 @@ pub fn plot(records: &[FrameRecord]) -> Result<Vec<u8>, String> {
             .map_err(|e| e.to_string())?;
         root.present().map_err(|e| e.to_string())?;
     }
-    let frame = crate::raster::Frame {
+    let frame = crate::tools::raster::Frame {
         width: w,
         height: h,
         pixels: rgb
@@ -82,7 +82,7 @@ pub fn plot(records: &[FrameRecord]) -> Result<Vec<u8>, String> {
             .collect(),
         stats: Default::default(),
     };
-    crate::raster::png(&frame)
+    crate::tools::raster::png(&frame)
 }
 
 #[cfg(test)]

@@ -16,8 +16,8 @@ use peel_runtime::vertices::{CachedVertex, VertexCache};
 use super::{newell, prepare, zbuffer, BenchCamera, FrameRecord, Method};
 use crate::compile::{compile_mesh, CompileOptions};
 use crate::load::Mesh;
-use crate::raster::{HOST_SPANS_PER_ROW, HOST_STACK, HOST_VERTS};
-use crate::reference::{reference, RefCamera, Reference};
+use crate::tools::raster::{HOST_SPANS_PER_ROW, HOST_STACK, HOST_VERTS};
+use crate::tools::reference::{reference, RefCamera, Reference};
 
 /// A frame: an id image and the pixels written.
 struct Drawn {
@@ -336,7 +336,7 @@ pub(super) fn measure_scene(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::frames::BenchScene;
+    use crate::tools::bench_frames::BenchScene;
 
     /// Newell's sort without splitting cannot draw a cyclic overlap right: it must show errors
     /// where Peel shows none.

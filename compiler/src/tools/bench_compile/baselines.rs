@@ -322,7 +322,7 @@ mod tests {
 
     fn cube() -> Mesh {
         let mut t = Vec::new();
-        crate::scenes::boxed(&mut t, DVec3::splat(-1.0), DVec3::splat(1.0));
+        crate::tools::scenes::boxed(&mut t, DVec3::splat(-1.0), DVec3::splat(1.0));
         Mesh {
             triangles: t
                 .into_iter()
@@ -336,7 +336,7 @@ mod tests {
     }
 
     fn cyclic() -> Mesh {
-        let text = include_str!("../../../fixtures/cyclic_triangles.obj");
+        let text = include_str!("../../../../fixtures/cyclic_triangles.obj");
         load_obj_text(std::path::Path::new("cyclic_triangles.obj"), text).unwrap()
     }
 

@@ -16,8 +16,8 @@ use serde::Serialize;
 
 use crate::compile::{compile_mesh, CompileOptions};
 use crate::error::CompileError;
-use crate::frames::median;
 use crate::load::{load_obj, Mesh};
+use crate::tools::bench_frames::median;
 use crate::tree::{build, BuildOptions};
 use baselines::{greedy_triangles, naive_bsp, BaselineStats};
 
@@ -70,7 +70,7 @@ pub struct BenchRow {
     pub greedy_triangles: Option<BaselineRow>,
 }
 
-/// Timed runs of Peel per scene (see [`bench_scene`]).
+/// Timed runs of Peel per scene (see [`compile_scene_timed`]).
 pub const PEEL_RUNS: usize = 3;
 
 fn ratio(polygons: u64, triangles: u64) -> f64 {
@@ -93,7 +93,11 @@ fn baseline(
 
 /// Measure one scene with Peel's default options and both baselines; `load_seconds` is the
 /// time its OBJ took to read (0 for a generated scene).
-pub fn bench_scene(name: &str, mesh: &Mesh, load_seconds: f64) -> Result<BenchRow, CompileError> {
+pub fn compile_scene_timed(
+    name: &str,
+    mesh: &Mesh,
+    load_seconds: f64,
+) -> Result<BenchRow, CompileError> {
     let options = BuildOptions::default();
     // Peel's times are medians of PEEL_RUNS, build and compile alternating (the machine's
     // speed drifts, and the first run of a process warms its allocator).
@@ -137,7 +141,7 @@ pub fn bench_scene(name: &str, mesh: &Mesh, load_seconds: f64) -> Result<BenchRo
 
 /// The generated scenes of the bench.
 pub fn generated_scenes() -> Vec<(String, Mesh)> {
-    use crate::scenes::{box_grid, soup, sphere, torus};
+    use crate::tools::scenes::{box_grid, soup, sphere, torus};
     vec![
         ("sphere 32x64".into(), sphere(32, 64)),
         ("torus 48x24".into(), torus(48, 24)),
@@ -188,7 +192,7 @@ pub fn bench_compile(models_dir: &Path, json: Option<&Path>) -> Result<String, C
     // worker, and the bunny's (the largest) would otherwise overlap the next scene's timing.
     let generated = generated_scenes()
         .into_iter()
-        .map(|(name, mesh)| bench_scene(&name, &mesh, 0.0))
+        .map(|(name, mesh)| compile_scene_timed(&name, &mesh, 0.0))
         .collect::<Result<Vec<_>, _>>()?;
     let mut rows = Vec::new();
     for name in MODELS {
@@ -200,7 +204,7 @@ pub fn bench_compile(models_dir: &Path, json: Option<&Path>) -> Result<String, C
         let t = Instant::now();
         let mesh = load_obj(&path)?;
         let load_seconds = t.elapsed().as_secs_f64();
-        rows.push(bench_scene(name, &mesh, load_seconds)?);
+        rows.push(compile_scene_timed(name, &mesh, load_seconds)?);
     }
     rows.extend(generated);
     if let Some(path) = json {
@@ -220,7 +224,8 @@ mod tests {
 
     #[test]
     fn a_row_and_its_table() {
-        let row = bench_scene("box grid 2^3", &crate::scenes::box_grid(2), 0.0).unwrap();
+        let row =
+            compile_scene_timed("box grid 2^3", &crate::tools::scenes::box_grid(2), 0.0).unwrap();
         assert_eq!(row.triangles, 96);
         // Disjoint boxes are never cut by Peel nor by the greedy rule.
         assert_eq!(row.polygons, 96);
