@@ -298,7 +298,10 @@ impl<'a> Scene<'a> {
                 .filter(|&v| v < self.header.vertex_count)
                 .and_then(|v| element(self.vertices, 6, v))
                 .and_then(|at| Record::<6>::at(self.bytes, at))
-                .map_or([0i64; 3], |r| [0, 2, 4].map(|k| i64::from(r.u16(k))))
+                .map_or([0i64; 3], |r| {
+                    // Constant offsets: the reads stay loads (no copy loop).
+                    [r.u16(0), r.u16(2), r.u16(4)].map(i64::from)
+                })
         };
         let (p, q, r) = (steps(0), steps(1), steps(2));
         let a = [q[0] - p[0], q[1] - p[1], q[2] - p[2]];
@@ -309,7 +312,8 @@ impl<'a> Scene<'a> {
             to_f32(a[2] * b[0] - a[0] * b[2]),
             to_f32(a[0] * b[1] - a[1] * b[0]),
         );
-        let origin = Vec3::new(p[0] as f32, p[1] as f32, p[2] as f32);
+        // Steps are below 2^16: exact through i32 (no 64-bit conversion).
+        let origin = Vec3::new(p[0] as i32 as f32, p[1] as i32 as f32, p[2] as i32 as f32);
         let eye = (eye - self.header.bounds_min) * self.per_step;
         n.dot(eye - origin)
     }
