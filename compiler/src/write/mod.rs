@@ -126,8 +126,7 @@ pub(crate) fn peel_file_encoded(
 
     let mut out = Emitter {
         tree,
-        vertices: &vertices,
-        step: (Vec3::from(bounds_max) - Vec3::from(bounds_min)).as_dvec3() / 65535.0,
+        decoded: &decoded,
         ids,
         planes: Vec::new(),
         plane_slots: FastMap::default(),
@@ -255,10 +254,8 @@ fn bounds(vertices: &[[f32; 3]]) -> ([f32; 3], [f32; 3]) {
 /// Builds the node, plane, polygon, index and id arrays in file order.
 struct Emitter<'t> {
     tree: &'t DisplayTree,
-    /// The file's vertices.
-    vertices: &'t [Vertex],
-    /// The size of a vertex step on each axis (for 16-bit vertices).
-    step: DVec3,
+    /// The vertices as the runtime reads them.
+    decoded: &'t [[f32; 3]],
     ids: bool,
     /// The split nodes' planes, in order of first use.
     planes: Vec<[f32; 4]>,
@@ -431,7 +428,7 @@ impl Emitter<'_> {
         // The runtime takes the plane through the first three vertices: start the list (in
         // its winding order) where they are farthest from collinear, and name the interior's
         // side for that plane's normal.
-        let (start, normal) = plane_start(self.vertices, self.step, &polygon.vertices);
+        let (start, normal) = plane_start(self.decoded, &polygon.vertices);
         let exact = self.tree.planes[polygon.plane as usize].normal;
         let agrees = normal.dot(exact) >= 0.0;
         let flags = if polygon.interior_front == agrees {
@@ -461,47 +458,21 @@ impl Emitter<'_> {
     }
 }
 
-/// The normal the runtime gives the plane through `a`, `b`, `c` (`Scene::eye_side`), in world
-/// orientation: for steps, their exact integer cross product scaled by the steps' sizes
-/// `step` (per axis, which keeps the orientation); for `f32` vertices, `Plane::through`'s.
-fn runtime_normal(a: Vertex, b: Vertex, c: Vertex, step: DVec3) -> DVec3 {
-    match (a, b, c) {
-        (Vertex::Grid(p), Vertex::Grid(q), Vertex::Grid(r)) => {
-            let d = |u: [u16; 3]| [0, 1, 2].map(|k| i64::from(u[k]) - i64::from(p[k]));
-            let (a, b) = (d(q), d(r));
-            let n = [
-                a[1] * b[2] - a[2] * b[1],
-                a[2] * b[0] - a[0] * b[2],
-                a[0] * b[1] - a[1] * b[0],
-            ]
-            .map(|v| v as f64);
-            DVec3::new(
-                n[0] * step.y * step.z,
-                n[1] * step.x * step.z,
-                n[2] * step.x * step.y,
-            )
-        }
-        (a, b, c) => {
-            let v = |v: Vertex| Vec3::from(v.position([0.0; 3], [0.0; 3]));
-            Plane::through(v(a), v(b), v(c)).normal.as_dvec3()
-        }
-    }
-}
-
-/// Where a polygon's vertex list (indices into `vertices`) should start so that the runtime's
-/// plane through its first three vertices is best defined: the rotation with the longest
-/// normal ([`runtime_normal`]; the first on ties), and that normal.
-fn plane_start(vertices: &[Vertex], step: DVec3, list: &[u32]) -> (usize, DVec3) {
+/// Where a polygon's vertex list (indices into `decoded`, the vertices as the runtime reads
+/// them) should start so that the runtime's plane through its first three vertices
+/// (`peel_runtime::read::Plane::through`, in the same `f32` arithmetic) is best defined: the
+/// rotation with the longest normal (the first on ties), and that normal.
+fn plane_start(decoded: &[[f32; 3]], list: &[u32]) -> (usize, DVec3) {
     let n = list.len();
-    let at = |k: usize| vertices[list[k % n] as usize];
-    let mut best = (0, DVec3::ZERO);
+    let at = |k: usize| Vec3::from(decoded[list[k % n] as usize]);
+    let mut best = (0, Vec3::ZERO);
     for start in 0..n {
-        let normal = runtime_normal(at(start), at(start + 1), at(start + 2), step);
+        let normal = Plane::through(at(start), at(start + 1), at(start + 2)).normal;
         if normal.length_squared() > best.1.length_squared() {
             best = (start, normal);
         }
     }
-    best
+    (best.0, best.1.as_dvec3())
 }
 
 /// The bincode bytes of `file`, with [`format::config`].

@@ -126,14 +126,6 @@ impl Node {
     };
 }
 
-/// `n` (`|n| < 2^36`) rounded to `f32`, the same value as `n as f32`, from two exact `i32`
-/// conversions and one rounding add: cores without a 64-bit conversion (Cortex-M) then need no
-/// library call.
-#[inline]
-fn to_f32(n: i64) -> f32 {
-    ((n >> 12) as i32 as f32) * 4096.0 + ((n & 0xFFF) as i32 as f32)
-}
-
 /// A child or parent field: [`layout::NONE`] means "none".
 fn link(value: u32) -> Option<u32> {
     (value != NONE).then_some(value)
@@ -155,9 +147,6 @@ pub struct Scene<'a> {
     nodes: usize,
     /// The size of a step on each axis ([`layout::step`]).
     step: Vec3,
-    /// Steps per world unit on each axis (`65535 / (max - min)`, 1 on a flat axis): brings a
-    /// point to the 16-bit vertices' steps.
-    per_step: Vec3,
     /// Record sizes, which the header flags choose.
     vertex_size: usize,
     index_size: usize,
@@ -264,58 +253,13 @@ impl<'a> Scene<'a> {
 
     /// Which side of `polygon`'s support plane `eye` (relative to the centre) is on: positive
     /// on the side `(v1 - v0) x (v2 - v0)` points to, 0 on the plane; only the sign means
-    /// anything. The plane is the one through the polygon's first three vertices: the writer
-    /// rotates each vertex list so that these three are far from collinear, and sets
-    /// [`layout::polygon_flags::INTERIOR_FRONT`] for this normal.
-    ///
-    /// With 16-bit vertices the normal is the exact integer cross product of their steps and
-    /// the eye is brought to steps (a positive scale per axis, which keeps the sign), so no
-    /// vertex is decoded; with `f32` vertices it is [`Plane::through`].
+    /// anything. The plane is the one through the polygon's first three vertices as read
+    /// ([`Plane::through`]): the writer rotates each vertex list so that these three are far
+    /// from collinear, and sets [`layout::polygon_flags::INTERIOR_FRONT`] for this normal.
     #[inline]
     pub fn eye_side(&self, polygon: &Polygon, eye: Vec3) -> f32 {
-        if self.vertex_size != 6 {
-            let v = |i| self.polygon_vertex(polygon, i);
-            return Plane::through(v(0), v(1), v(2)).distance(eye);
-        }
-        // The three vertex indices with one bounds check when they are u16 (always, in
-        // practice: 16-bit vertices come with fewer than 65,536 of them).
-        let first = polygon.first_index;
-        let three =
-            if self.index_size == 2 && polygon.vertex_count >= 3 && first < self.header.index_count
-            {
-                element(self.indices, 2, first)
-                    .and_then(|at| Record::<6>::at(self.bytes, at))
-                    .map(|r| [r.u16(0), r.u16(2), r.u16(4)].map(u32::from))
-            } else {
-                None
-            };
-        let index = |i: u32| match three {
-            Some(t) => Some(t[i as usize]),
-            None => self.polygon_vertex_index(polygon, i),
-        };
-        let steps = |i| {
-            index(i)
-                .filter(|&v| v < self.header.vertex_count)
-                .and_then(|v| element(self.vertices, 6, v))
-                .and_then(|at| Record::<6>::at(self.bytes, at))
-                .map_or([0i64; 3], |r| {
-                    // Constant offsets: the reads stay loads (no copy loop).
-                    [r.u16(0), r.u16(2), r.u16(4)].map(i64::from)
-                })
-        };
-        let (p, q, r) = (steps(0), steps(1), steps(2));
-        let a = [q[0] - p[0], q[1] - p[1], q[2] - p[2]];
-        let b = [r[0] - p[0], r[1] - p[1], r[2] - p[2]];
-        // |a|, |b| < 2^16 per axis: the cross product is exact in i64, then rounded once.
-        let n = Vec3::new(
-            to_f32(a[1] * b[2] - a[2] * b[1]),
-            to_f32(a[2] * b[0] - a[0] * b[2]),
-            to_f32(a[0] * b[1] - a[1] * b[0]),
-        );
-        // Steps are below 2^16: exact through i32 (no 64-bit conversion).
-        let origin = Vec3::new(p[0] as i32 as f32, p[1] as i32 as f32, p[2] as i32 as f32);
-        let eye = (eye - self.header.bounds_min) * self.per_step;
-        n.dot(eye - origin)
+        let v = |i| self.polygon_vertex(polygon, i);
+        Plane::through(v(0), v(1), v(2)).distance(eye)
     }
 
     /// The colour field at `at`: RGB, or a palette index (see [`layout::polygon_size`]).

@@ -970,19 +970,3 @@ proptest! {
         }
     }
 }
-
-/// The two-part conversion of a cross product rounds as `as f32` does.
-#[test]
-fn cross_products_round_to_f32_as_a_cast_does() {
-    let mut x: u64 = 0x9E37_79B9_7F4A_7C15;
-    for _ in 0..100_000 {
-        x ^= x << 13;
-        x ^= x >> 7;
-        x ^= x << 17;
-        let n = (x as i64) >> 29; // |n| < 2^35
-        assert_eq!(super::to_f32(n).to_bits(), (n as f32).to_bits(), "{n}");
-    }
-    for n in [0, 1, -1, (1 << 24) + 1, -(1 << 33) - 3, (1 << 35) - 1] {
-        assert_eq!(super::to_f32(n).to_bits(), (n as f32).to_bits(), "{n}");
-    }
-}

@@ -197,11 +197,6 @@ fn locate_arrays(bytes: &[u8], header: Header) -> Result<Scene<'_>, ReadError> {
             layout::step(header.bounds_min.y, header.bounds_max.y),
             layout::step(header.bounds_min.z, header.bounds_max.z),
         ),
-        per_step: {
-            let extent = header.bounds_max - header.bounds_min;
-            let per_step = Vec3::splat(65535.0) / extent;
-            Vec3::select(extent.cmpgt(Vec3::ZERO), per_step, Vec3::ONE)
-        },
         vertex_size,
         index_size,
         polygon_size,
