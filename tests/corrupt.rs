@@ -7,7 +7,7 @@
 use std::cell::Cell;
 use std::path::Path;
 
-use glam::DVec3;
+use glam::{DVec3, Vec3};
 use peel_compiler::compile::{compile_mesh, CompileOptions};
 use peel_compiler::load::load_obj;
 use peel_runtime::camera::{Camera, Pose};
@@ -236,7 +236,7 @@ fn read_everything(scene: &Scene<'_>) {
     }
     for i in 0..h.polygon_count {
         let p = scene.polygon(i);
-        let _ = scene.plane(p.plane);
+        let _ = scene.eye_side(&p, Vec3::new(0.5, -1.0, 2.0));
         let _ = scene.id(i);
         for k in 0..u32::from(p.vertex_count) {
             let _ = scene.polygon_vertex(&p, k);
@@ -262,12 +262,9 @@ fn render_all(scene: &Scene<'_>) -> Result<usize, TestCaseError> {
     };
     let mid = centre + (lo + hi) * 0.5;
     let mid = if mid.is_finite() { mid } else { centre };
-    let near = Camera::default_near(h.bounds_min, h.bounds_max);
-    let near = if near.is_finite() && near > 0.0 {
-        near
-    } else {
-        1e-3
-    };
+    // `Camera::default_near` of the clamped size: bounds of a subnormal extent are valid
+    // (16-bit vertices always lie inside them) but would give a near distance of zero in f32.
+    let near = size * 1e-3;
     let mut workspace: Box<Workspace<STACK, VERTS>> = Box::default();
     let mut intervals = vec![(0u16, 0u16); 16 * H as usize];
     let mut counts = vec![0u16; H as usize];
@@ -350,6 +347,21 @@ fn render_all(scene: &Scene<'_>) -> Result<usize, TestCaseError> {
         }
     }
     Ok(drawn)
+}
+
+/// Found by the mutation test: bounds collapsed to a subnormal extent. The file is valid (its
+/// 16-bit vertices decode inside any bounds); it must read and draw like any other.
+#[test]
+fn bounds_of_a_subnormal_extent_read_and_draw() {
+    let mut bytes = fixtures().swap_remove(0);
+    let at = 60; // bounds_min, then bounds_max (formats/peel.md, "Header")
+    let corners = [0.0, 0.0, 0.0, 0.0, 0.0, f32::from_bits(256)]; // 3.6e-43
+    for (k, c) in corners.iter().enumerate() {
+        bytes[at + 4 * k..at + 4 * k + 4].copy_from_slice(&c.to_le_bytes());
+    }
+    let scene = Scene::parse(&bytes).expect("valid");
+    read_everything(&scene);
+    render_all(&scene).expect("drawn or refused for a true reason");
 }
 
 #[test]

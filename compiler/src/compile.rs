@@ -20,6 +20,10 @@ pub struct CompileOptions {
     pub build: BuildOptions,
     /// Store each polygon's source triangle id (for id images).
     pub ids: bool,
+    /// Store vertices as `f32` (12 bytes) instead of 16-bit steps on the scene's bounds (6
+    /// bytes, within 1/131070 of the scene's extent per axis): for views so close that such a
+    /// step spans more than 1/16 pixel.
+    pub wide_vertices: bool,
     /// How colours are baked.
     pub shading: Shading,
 }
@@ -63,6 +67,7 @@ pub fn compile_mesh(
     let input = crate::write::WriteInput {
         colours: &colours,
         ids: options.ids,
+        wide_vertices: options.wide_vertices,
     };
     let bytes = crate::write::encode_with(&tree, &input)?;
     Ok((tree, bytes))

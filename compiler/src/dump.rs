@@ -133,6 +133,8 @@ pub fn dump_yaml(bytes: &[u8]) -> Result<String, ReadError> {
         (h.flags & header_flags::PALETTE != 0, "palette"),
         (h.flags & header_flags::PALETTE16 != 0, "palette16"),
         (h.flags & header_flags::BOUNDS != 0, "bounds"),
+        (h.flags & header_flags::NARROW != 0, "narrow"),
+        (h.flags & header_flags::MEDIUM != 0, "medium"),
     ]);
     // Writing into a String cannot fail.
     let _ = writeln!(
@@ -237,20 +239,17 @@ pub fn dump_yaml(bytes: &[u8]) -> Result<String, ReadError> {
 /// One polygon as a sequence entry at `indent`.
 fn write_polygon(out: &mut String, scene: &Scene<'_>, p: u32, indent: usize) {
     let polygon = scene.polygon(p);
-    let flags = flag_names(&[
-        (polygon.flags & polygon_flags::FLIPPED != 0, "flipped"),
-        (
-            polygon.flags & polygon_flags::INTERIOR_FRONT != 0,
-            "interior_front",
-        ),
-    ]);
+    let flags = flag_names(&[(
+        polygon.flags & polygon_flags::INTERIOR_FRONT != 0,
+        "interior_front",
+    )]);
     let c = polygon.colour;
     let _ = writeln!(out, "{:indent$}- index: {p}", "");
     let inner = indent + 2;
     let _ = writeln!(
         out,
-        "{:inner$}plane: {}\n{:inner$}flags: {flags}\n{:inner$}colour: [{}, {}, {}]",
-        "", polygon.plane, "", "", c.r, c.g, c.b
+        "{:inner$}flags: {flags}\n{:inner$}colour: [{}, {}, {}]",
+        "", "", c.r, c.g, c.b
     );
     if let Some(id) = scene.id(p) {
         let _ = writeln!(out, "{:inner$}id: {id}", "");
@@ -284,7 +283,7 @@ mod tests {
         let bytes = crate::write::encode(&tree, &colours, false).unwrap();
         let yaml = dump_yaml(&bytes).unwrap();
         assert!(
-            yaml.contains("flags: [index16, bounds]\n") && !yaml.contains("id:"),
+            yaml.contains("flags: [index16, bounds, narrow]\n") && !yaml.contains("id:"),
             "{yaml}"
         );
     }
@@ -336,13 +335,13 @@ mod tests {
         let bytes = crate::write::encode(&tree, &colours, true).unwrap();
         let info = inspect(&bytes).unwrap();
         let expected = Inspect {
-            format_version: 1,
+            format_version: 2,
             output_polygons: 3,
             convex_nodes: 3,
             split_nodes: 1,
             max_depth: 3,
             max_polygon_vertices: 4,
-            planes: 3,
+            planes: 1, // the split's; polygons' planes are not stored
             vertices: 7,
             ids: true,
             // The tree's vertices span (-0.25, 0, 0)..(1, 1, 1) around (100, 200, 300).

@@ -65,6 +65,11 @@ struct CompileArgs {
     /// Keep each polygon's source triangle id (needed for `render --ids`).
     #[arg(long)]
     ids: bool,
+    /// Store vertices as f32 (12 bytes each) instead of 16-bit steps on the scene's bounds (6
+    /// bytes, within 1/131070 of the scene's extent per axis): for views that close in on a
+    /// detail.
+    #[arg(long)]
+    wide_vertices: bool,
     /// Candidate planes costed per split node (sampled when there are more).
     #[arg(long, default_value_t = BuildOptions::default().candidates)]
     candidates: usize,
@@ -113,6 +118,7 @@ fn compile(args: &CompileArgs) -> Result<(), String> {
             ..BuildOptions::default()
         },
         ids: args.ids,
+        wide_vertices: args.wide_vertices,
         shading: if args.flat {
             Shading::Flat
         } else {

@@ -181,6 +181,7 @@ pub fn encode_options(options: &CompileOptions, out: &mut Vec<u8>) {
                 watertight,
             },
         ids,
+        wide_vertices,
         shading,
     } = options;
     match default_colour {
@@ -195,6 +196,7 @@ pub fn encode_options(options: &CompileOptions, out: &mut Vec<u8>) {
     out.extend_from_slice(&(*max_polygon_vertices as u64).to_le_bytes());
     out.push(u8::from(*watertight));
     out.push(u8::from(*ids));
+    out.push(u8::from(*wide_vertices));
     match shading {
         Shading::Flat => out.push(0),
         Shading::Lambert(light) => {

@@ -103,6 +103,13 @@ impl Builder {
         self
     }
 
+    /// Store vertices as `f32` instead of 16-bit steps on the scene's bounds (see
+    /// [`crate::CompileOptions::wide_vertices`]).
+    pub fn wide_vertices(mut self, wide: bool) -> Self {
+        self.options.wide_vertices = wide;
+        self
+    }
+
     /// Candidate planes costed per split node.
     pub fn candidates(mut self, k: usize) -> Self {
         self.options.build.candidates = k;

@@ -148,6 +148,7 @@ pub fn naive_bsp_file(
     let input = WriteInput {
         colours: &colours,
         ids,
+        ..WriteInput::default()
     };
     let bytes = encode_with(&tree, &input)?;
     Ok(NaiveBsp::Built(Box::new(NaiveBspFile {

@@ -8,11 +8,17 @@
 //!   corners costs about as much as rejecting that few polygons in the clipper;
 //! - not a node whose box equals its parent's: the parent's test already gave the answer.
 //!
-//! Equal boxes are stored once.
+//! A stored box is quantised outward to 65535 steps per axis of the scene's bounds (12 bytes
+//! instead of 24 of `f32`): [`quantise`] rounds each corner through the runtime's own decoder,
+//! so the box the runtime reads still contains every vertex of the subtree as the runtime reads
+//! it (for vertices stored as steps, the box is exactly their steps' box). Equal
+//! (quantised) boxes are stored once.
 
 use rayon::prelude::*;
 
 use crate::hash::FastMap;
+
+use peel_runtime::read::layout::dequantise;
 
 use super::format::{node_kind, Node, Polygon, NONE};
 
@@ -87,14 +93,63 @@ pub fn node_bounds(
     boxes
 }
 
+/// A quantised box: per axis, steps from the scene's lower to its upper bound.
+pub type QuantisedBox = [u16; 6];
+
+/// The smallest quantised box whose decoded corners (`dequantise` on `lo`, `hi`) contain `b`.
+/// `b` must lie inside `lo ..= hi` (the scene's bounds), whose ends decode exactly.
+pub fn quantise(b: Box3, lo: [f32; 3], hi: [f32; 3]) -> QuantisedBox {
+    let mut q = [0u16; 6];
+    for k in 0..3 {
+        let (l, h) = (lo[k], hi[k]);
+        let step = |v: f32| {
+            let t = if h > l {
+                f64::from(v - l) / f64::from(h - l)
+            } else {
+                0.0
+            };
+            (t * 65535.0).clamp(0.0, 65535.0)
+        };
+        // A first guess, then outward until the decoded value contains the coordinate, and
+        // inward while it still does (a vertex on a step gets that very step).
+        let mut min = step(b[k]).floor() as u16;
+        while min > 0 && dequantise(l, h, min) > b[k] {
+            min -= 1;
+        }
+        while min < u16::MAX && dequantise(l, h, min + 1) <= b[k] {
+            min += 1;
+        }
+        let mut max = step(b[k + 3]).ceil() as u16;
+        while max < u16::MAX && dequantise(l, h, max) < b[k + 3] {
+            max += 1;
+        }
+        while max > 0 && dequantise(l, h, max - 1) >= b[k + 3] {
+            max -= 1;
+        }
+        q[k] = min;
+        q[k + 3] = max;
+    }
+    q
+}
+
 /// Sets each node's `bounds` field by the rule of the module docs and returns the boxes to
-/// store, or `None` when the file stores none (a single node).
-pub fn assign(nodes: &mut [Node], boxes: &[Option<Box3>]) -> Option<Vec<Box3>> {
+/// store (quantised on the scene's bounds `lo`, `hi`), or `None` when the file stores none (a
+/// single node).
+pub fn assign(
+    nodes: &mut [Node],
+    boxes: &[Option<Box3>],
+    lo: [f32; 3],
+    hi: [f32; 3],
+) -> Option<Vec<QuantisedBox>> {
     if nodes.len() < 2 {
         return None;
     }
+    let boxes: Vec<Option<QuantisedBox>> = boxes
+        .iter()
+        .map(|b| b.map(|b| quantise(b, lo, hi)))
+        .collect();
     let mut stored = Vec::new();
-    let mut slots: FastMap<[u32; 6], u32> = FastMap::default();
+    let mut slots: FastMap<QuantisedBox, u32> = FastMap::default();
     for (i, node) in nodes.iter_mut().enumerate() {
         let n = *node;
         let Some(b) = boxes.get(i).copied().flatten() else {
@@ -104,8 +159,7 @@ pub fn assign(nodes: &mut [Node], boxes: &[Option<Box3>]) -> Option<Vec<Box3>> {
         let parent_box = boxes.get(n.parent as usize).copied().flatten();
         let keep = i == 0 || !(small_leaf || parent_box == Some(b));
         if keep {
-            let key = b.map(f32::to_bits);
-            let slot = *slots.entry(key).or_insert_with(|| {
+            let slot = *slots.entry(b).or_insert_with(|| {
                 stored.push(b);
                 (stored.len() - 1) as u32
             });

@@ -58,6 +58,9 @@ impl Encoding {
                 )));
             }
             flags |= header_flags::INDEX16;
+        } else if vertices <= 1 << 24 {
+            // Wider than u16 but not u32: three bytes an index.
+            flags |= header_flags::INDEX24;
         }
         if let Some(width) = self.palette {
             let max = match width {

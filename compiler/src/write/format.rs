@@ -12,8 +12,10 @@ use serde::{Deserialize, Deserializer, Serialize, Serializer};
 
 // The constants and the header live in the runtime's reader so that writer and reader cannot
 // disagree: the header is written as the bytes of `Header::to_bytes`.
+use peel_runtime::read::layout::dequantise;
 pub use peel_runtime::read::layout::{
-    header_flags, node_kind, polygon_flags, FORMAT_VERSION, HEADER_SIZE, MAGIC, NONE,
+    field_size, header_flags, node_kind, none_of_width, polygon_flags, FORMAT_VERSION, HEADER_SIZE,
+    MAGIC, NONE,
 };
 pub use peel_runtime::read::Header;
 
@@ -22,6 +24,28 @@ pub fn config() -> impl bincode::config::Config {
     bincode::config::standard()
         .with_little_endian()
         .with_fixed_int_encoding()
+}
+
+/// A vertex: steps on the header's bounds, or `f32` coordinates with
+/// [`header_flags::WIDE_VERTICES`]. Its variant must match the header flags.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Vertex {
+    /// Per axis, steps from the header's `bounds_min` to its `bounds_max`
+    /// (`peel_runtime::read::layout::dequantise`).
+    Grid([u16; 3]),
+    /// Coordinates relative to `centre`.
+    Wide([f32; 3]),
+}
+
+impl Vertex {
+    /// The position the runtime reads, relative to the centre, on the header's bounds `lo`,
+    /// `hi`.
+    pub fn position(&self, lo: [f32; 3], hi: [f32; 3]) -> [f32; 3] {
+        match *self {
+            Vertex::Grid(q) => [0, 1, 2].map(|k| dequantise(lo[k], hi[k], q[k])),
+            Vertex::Wide(v) => v,
+        }
+    }
 }
 
 /// A polygon's colour field: RGB, or an index into the palette (`u8` or `u16`), as the header
@@ -36,23 +60,26 @@ pub enum ColourField {
     Index16(u16),
 }
 
-/// A convex polygon (14, 13 or 12 bytes, depending on its colour field).
+/// A convex polygon (5 to 9 bytes, depending on the field width ([`header_flags::NARROW`],
+/// [`header_flags::MEDIUM`]) and its colour field). Its support plane is the plane through its
+/// first three vertices.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Polygon {
-    /// Index into `planes` of its support plane.
-    pub plane: u32,
     /// First of its `vertex_count` entries in `indices`.
     pub first_index: u32,
-    /// Number of vertices (>= 3).
-    pub vertex_count: u16,
+    /// Number of vertices (3 to 255).
+    pub vertex_count: u8,
     /// [`polygon_flags`].
     pub flags: u8,
     /// Colour or palette index; its variant must match the header flags.
     pub colour: ColourField,
 }
 
-/// A node of the display tree (17 bytes, 21 with [`header_flags::BOUNDS`]); see [`node_kind`]
-/// for the meaning of `a`, `b`, `c`.
+/// A node of the display tree (`1 + 3w` bytes, `1 + 4w` with [`header_flags::BOUNDS`], `w`
+/// the field width: 2 with [`header_flags::NARROW`], 3 with [`header_flags::MEDIUM`], else 4).
+/// `a`, `b`, `c` are a convex node's first polygon, count and child, a split's plane, + child
+/// and - child. The first child (convex `c`, split `b`) must be [`NONE`] or the next node: it
+/// is stored as the [`node_kind::FIRST_CHILD`] bit of the kind byte, not as a field.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Node {
     /// [`node_kind`].
@@ -76,8 +103,8 @@ pub struct Node {
 pub struct PeelFile {
     /// Header.
     pub header: Header,
-    /// Vertex positions relative to `header.centre`.
-    pub vertices: Vec<[f32; 3]>,
+    /// Vertex positions (steps on the header's bounds, or `f32` relative to `header.centre`).
+    pub vertices: Vec<Vertex>,
     /// Planes `n · p = d` as `[nx, ny, nz, d]`, unit normal, relative to `header.centre`.
     pub planes: Vec<[f32; 4]>,
     /// Polygon vertex lists, concatenated; written as `u16` with [`header_flags::INDEX16`].
@@ -89,8 +116,10 @@ pub struct PeelFile {
     pub ids: Vec<u32>,
     /// Palette colours when `header_flags::PALETTE` is set, else empty.
     pub palette: Vec<[u8; 3]>,
-    /// Node bounding boxes `[min, max]` when `header_flags::BOUNDS` is set, else empty.
-    pub bounds: Vec<[f32; 6]>,
+    /// Node bounding boxes `[min, max]` when `header_flags::BOUNDS` is set, else empty: per
+    /// axis, steps from the header's `bounds_min` to its `bounds_max`
+    /// (`peel_runtime::read::layout::dequantise`).
+    pub bounds: Vec<[u16; 6]>,
     /// Nodes in pre-order (front before back): the root is node 0 and children come after
     /// their parents. Convex nodes own the polygons in node order.
     pub nodes: Vec<Node>,
@@ -104,7 +133,7 @@ impl Serialize for PeelFile {
         let flags = self.header.flags;
         let mut t = s.serialize_tuple(FILE_FIELDS)?;
         t.serialize_element(&header_words(&self.header))?;
-        t.serialize_element(&self.vertices)?;
+        t.serialize_element(&Records(&self.vertices, flags))?;
         t.serialize_element(&self.planes)?;
         t.serialize_element(&Records(&self.indices, flags))?;
         t.serialize_element(&Records(&self.polygons, flags))?;
@@ -149,21 +178,29 @@ fn header_of<E: de::Error>(words: HeaderWords) -> Result<Header, E> {
 
 /// A record whose encoding depends on the header flags.
 trait Flagged: Sized {
-    fn write<S: Serializer>(&self, flags: u16, s: S) -> Result<S::Ok, S::Error>;
-    fn read<'de, A: SeqAccess<'de>>(flags: u16, seq: &mut A) -> Result<Option<Self>, A::Error>;
+    /// Writes the record at position `index` of its array.
+    fn write<S: Serializer>(&self, flags: u16, index: u32, s: S) -> Result<S::Ok, S::Error>;
+    /// Reads the record at position `index` of its array.
+    fn read<'de, A: SeqAccess<'de>>(
+        flags: u16,
+        index: u32,
+        seq: &mut A,
+    ) -> Result<Option<Self>, A::Error>;
 }
 
 /// An array of flag-dependent records, with its `u64` length.
 struct Records<'a, T>(&'a [T], u16);
 
-/// One flag-dependent record.
-struct Record<'a, T>(&'a T, u16);
+/// One flag-dependent record and its position in its array.
+struct Record<'a, T>(&'a T, u16, u32);
 
 impl<T: Flagged> Serialize for Records<'_, T> {
     fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
         let mut seq = s.serialize_seq(Some(self.0.len()))?;
-        for item in self.0 {
-            seq.serialize_element(&Record(item, self.1))?;
+        for (index, item) in self.0.iter().enumerate() {
+            let index = u32::try_from(index)
+                .map_err(|_| ser::Error::custom("more than u32::MAX records"))?;
+            seq.serialize_element(&Record(item, self.1, index))?;
         }
         seq.end()
     }
@@ -171,26 +208,133 @@ impl<T: Flagged> Serialize for Records<'_, T> {
 
 impl<T: Flagged> Serialize for Record<'_, T> {
     fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
-        self.0.write(self.1, s)
+        self.0.write(self.1, self.2, s)
     }
 }
 
 impl Flagged for u32 {
-    fn write<S: Serializer>(&self, flags: u16, s: S) -> Result<S::Ok, S::Error> {
-        if flags & header_flags::INDEX16 == 0 {
-            return s.serialize_u32(*self);
+    fn write<S: Serializer>(&self, flags: u16, _: u32, s: S) -> Result<S::Ok, S::Error> {
+        if flags & header_flags::INDEX16 != 0 {
+            let narrow = u16::try_from(*self)
+                .map_err(|_| ser::Error::custom(format!("index {self} does not fit INDEX16")))?;
+            return s.serialize_u16(narrow);
         }
-        let narrow = u16::try_from(*self)
-            .map_err(|_| ser::Error::custom(format!("index {self} does not fit INDEX16")))?;
-        s.serialize_u16(narrow)
+        if flags & header_flags::INDEX24 != 0 {
+            if *self >= 1 << 24 {
+                return Err(ser::Error::custom(format!(
+                    "index {self} does not fit INDEX24"
+                )));
+            }
+            let le = self.to_le_bytes();
+            return [le[0], le[1], le[2]].serialize(s);
+        }
+        s.serialize_u32(*self)
     }
-    fn read<'de, A: SeqAccess<'de>>(flags: u16, seq: &mut A) -> Result<Option<Self>, A::Error> {
-        if flags & header_flags::INDEX16 == 0 {
-            seq.next_element::<u32>()
-        } else {
+    fn read<'de, A: SeqAccess<'de>>(
+        flags: u16,
+        _: u32,
+        seq: &mut A,
+    ) -> Result<Option<Self>, A::Error> {
+        if flags & header_flags::INDEX16 != 0 {
             Ok(seq.next_element::<u16>()?.map(u32::from))
+        } else if flags & header_flags::INDEX24 != 0 {
+            Ok(seq
+                .next_element::<[u8; 3]>()?
+                .map(|b| u32::from_le_bytes([b[0], b[1], b[2], 0])))
+        } else {
+            seq.next_element::<u32>()
         }
     }
+}
+
+impl Flagged for Vertex {
+    fn write<S: Serializer>(&self, flags: u16, _: u32, s: S) -> Result<S::Ok, S::Error> {
+        let wide = flags & header_flags::WIDE_VERTICES != 0;
+        match (self, wide) {
+            (Vertex::Grid(q), false) => q.serialize(s),
+            (Vertex::Wide(v), true) => v.serialize(s),
+            _ => Err(ser::Error::custom(format!(
+                "vertex {self:?} disagrees with header flags {flags:#x}"
+            ))),
+        }
+    }
+    fn read<'de, A: SeqAccess<'de>>(
+        flags: u16,
+        _: u32,
+        seq: &mut A,
+    ) -> Result<Option<Self>, A::Error> {
+        if flags & header_flags::WIDE_VERTICES != 0 {
+            let Some(x) = seq.next_element::<f32>()? else {
+                return Ok(None);
+            };
+            let (y, z) = (
+                required(seq.next_element()?)?,
+                required(seq.next_element()?)?,
+            );
+            Ok(Some(Vertex::Wide([x, y, z])))
+        } else {
+            let Some(x) = seq.next_element::<u16>()? else {
+                return Ok(None);
+            };
+            let (y, z) = (
+                required(seq.next_element()?)?,
+                required(seq.next_element()?)?,
+            );
+            Ok(Some(Vertex::Grid([x, y, z])))
+        }
+    }
+}
+
+/// A node field or a polygon's `plane` / `first_index`: `u16` with [`header_flags::NARROW`],
+/// `u24` with [`header_flags::MEDIUM`], else `u32`; [`NONE`] is written as the width's largest
+/// value, which no other value may take.
+fn field<T: SerializeTuple>(t: &mut T, flags: u16, value: u32) -> Result<(), T::Error> {
+    let width = field_size(flags);
+    if width == 4 {
+        return t.serialize_element(&value);
+    }
+    let none = none_of_width(width);
+    let stored = if value == NONE {
+        none
+    } else if value < none {
+        value
+    } else {
+        return Err(ser::Error::custom(format!(
+            "field {value} does not fit {width} bytes"
+        )));
+    };
+    let le = stored.to_le_bytes();
+    if width == 2 {
+        t.serialize_element(&[le[0], le[1]])
+    } else {
+        t.serialize_element(&[le[0], le[1], le[2]])
+    }
+}
+
+/// Reads a field written by [`field`]; `link` fields read the width's largest value as
+/// [`NONE`].
+fn read_field<'de, A: SeqAccess<'de>>(
+    flags: u16,
+    seq: &mut A,
+    link: bool,
+) -> Result<Option<u32>, A::Error> {
+    let width = field_size(flags);
+    let value = match width {
+        2 => seq
+            .next_element::<[u8; 2]>()?
+            .map(|b| u32::from_le_bytes([b[0], b[1], 0, 0])),
+        3 => seq
+            .next_element::<[u8; 3]>()?
+            .map(|b| u32::from_le_bytes([b[0], b[1], b[2], 0])),
+        _ => return seq.next_element::<u32>(),
+    };
+    Ok(value.map(|v| {
+        if link && v == none_of_width(width) {
+            NONE
+        } else {
+            v
+        }
+    }))
 }
 
 /// The colour field the header flags call for.
@@ -205,16 +349,15 @@ fn colour_kind(flags: u16) -> fn(ColourField) -> bool {
 }
 
 impl Flagged for Polygon {
-    fn write<S: Serializer>(&self, flags: u16, s: S) -> Result<S::Ok, S::Error> {
+    fn write<S: Serializer>(&self, flags: u16, _: u32, s: S) -> Result<S::Ok, S::Error> {
         if !colour_kind(flags)(self.colour) {
             return Err(ser::Error::custom(format!(
                 "colour field {:?} disagrees with header flags {flags:#x}",
                 self.colour
             )));
         }
-        let mut t = s.serialize_tuple(5)?;
-        t.serialize_element(&self.plane)?;
-        t.serialize_element(&self.first_index)?;
+        let mut t = s.serialize_tuple(4)?;
+        field(&mut t, flags, self.first_index)?;
         t.serialize_element(&self.vertex_count)?;
         t.serialize_element(&self.flags)?;
         match self.colour {
@@ -224,11 +367,14 @@ impl Flagged for Polygon {
         }
         t.end()
     }
-    fn read<'de, A: SeqAccess<'de>>(flags: u16, seq: &mut A) -> Result<Option<Self>, A::Error> {
-        let Some(plane) = seq.next_element::<u32>()? else {
+    fn read<'de, A: SeqAccess<'de>>(
+        flags: u16,
+        _: u32,
+        seq: &mut A,
+    ) -> Result<Option<Self>, A::Error> {
+        let Some(first_index) = read_field(flags, seq, false)? else {
             return Ok(None);
         };
-        let first_index = required(seq.next_element()?)?;
         let vertex_count = required(seq.next_element()?)?;
         let polygon_flags = required(seq.next_element()?)?;
         let colour = if flags & header_flags::PALETTE == 0 {
@@ -239,7 +385,6 @@ impl Flagged for Polygon {
             ColourField::Index16(required(seq.next_element()?)?)
         };
         Ok(Some(Polygon {
-            plane,
             first_index,
             vertex_count,
             flags: polygon_flags,
@@ -248,35 +393,84 @@ impl Flagged for Polygon {
     }
 }
 
+impl Node {
+    /// The first child (a convex node's child, a split's + child): written as
+    /// [`node_kind::FIRST_CHILD`], since it can only be the next node.
+    fn first_child(&self) -> u32 {
+        if self.kind == node_kind::CONVEX {
+            self.c
+        } else {
+            self.b
+        }
+    }
+
+    /// The field stored after `a`: a convex node's count, a split's - child.
+    fn second_field(&self) -> u32 {
+        if self.kind == node_kind::CONVEX {
+            self.b
+        } else {
+            self.c
+        }
+    }
+}
+
 impl Flagged for Node {
-    fn write<S: Serializer>(&self, flags: u16, s: S) -> Result<S::Ok, S::Error> {
+    fn write<S: Serializer>(&self, flags: u16, index: u32, s: S) -> Result<S::Ok, S::Error> {
         let with_bounds = flags & header_flags::BOUNDS != 0;
         if !with_bounds && self.bounds != NONE {
             return Err(ser::Error::custom("node bounds without the BOUNDS flag"));
         }
-        let mut t = s.serialize_tuple(if with_bounds { 6 } else { 5 })?;
-        t.serialize_element(&self.kind)?;
-        t.serialize_element(&self.a)?;
-        t.serialize_element(&self.b)?;
-        t.serialize_element(&self.c)?;
-        t.serialize_element(&self.parent)?;
+        if self.kind & node_kind::FIRST_CHILD != 0 {
+            return Err(ser::Error::custom("node kind with the FIRST_CHILD bit"));
+        }
+        let kind = match self.first_child() {
+            NONE => self.kind,
+            child if Some(child) == index.checked_add(1) => self.kind | node_kind::FIRST_CHILD,
+            child => {
+                return Err(ser::Error::custom(format!(
+                    "node {index}: first child {child} is not the next node"
+                )))
+            }
+        };
+        let mut t = s.serialize_tuple(if with_bounds { 5 } else { 4 })?;
+        t.serialize_element(&kind)?;
+        field(&mut t, flags, self.a)?;
+        field(&mut t, flags, self.second_field())?;
+        field(&mut t, flags, self.parent)?;
         if with_bounds {
-            t.serialize_element(&self.bounds)?;
+            field(&mut t, flags, self.bounds)?;
         }
         t.end()
     }
-    fn read<'de, A: SeqAccess<'de>>(flags: u16, seq: &mut A) -> Result<Option<Self>, A::Error> {
-        let Some(kind) = seq.next_element::<u8>()? else {
+    fn read<'de, A: SeqAccess<'de>>(
+        flags: u16,
+        index: u32,
+        seq: &mut A,
+    ) -> Result<Option<Self>, A::Error> {
+        let Some(byte) = seq.next_element::<u8>()? else {
             return Ok(None);
+        };
+        let kind = byte & !node_kind::FIRST_CHILD;
+        let first_child = if byte & node_kind::FIRST_CHILD != 0 {
+            index.wrapping_add(1)
+        } else {
+            NONE
+        };
+        let a = required(read_field(flags, seq, false)?)?;
+        let second = required(read_field(flags, seq, kind != node_kind::CONVEX)?)?;
+        let (b, c) = if kind == node_kind::CONVEX {
+            (second, first_child)
+        } else {
+            (first_child, second)
         };
         Ok(Some(Node {
             kind,
-            a: required(seq.next_element()?)?,
-            b: required(seq.next_element()?)?,
-            c: required(seq.next_element()?)?,
-            parent: required(seq.next_element()?)?,
+            a,
+            b,
+            c,
+            parent: required(read_field(flags, seq, true)?)?,
             bounds: if flags & header_flags::BOUNDS != 0 {
-                required(seq.next_element()?)?
+                required(read_field(flags, seq, true)?)?
             } else {
                 NONE
             },
@@ -289,30 +483,31 @@ fn required<T, E: de::Error>(value: Option<T>) -> Result<T, E> {
     value.ok_or_else(|| E::custom("record ends early"))
 }
 
-/// Reads one flag-dependent record, as a tuple of its fields (records have no length prefix).
-struct RecordSeed<T>(u16, std::marker::PhantomData<T>);
+/// Reads one flag-dependent record (at the given position of its array), as a tuple of its
+/// fields (records have no length prefix).
+struct RecordSeed<T>(u16, u32, std::marker::PhantomData<T>);
 
 /// Reads an array of flag-dependent records.
 struct RecordsSeed<T>(u16, std::marker::PhantomData<T>);
 
-/// Fields of the widest record ([`Node`] with bounds); bincode reads a tuple field by field, so
+/// An upper bound on the fields of a record ([`Node`] with bounds has 5); bincode reads a tuple field by field, so
 /// the exact count is not needed, only an upper bound.
 const MAX_RECORD_FIELDS: usize = 6;
 
 impl<'de, T: Flagged> DeserializeSeed<'de> for RecordSeed<T> {
     type Value = T;
     fn deserialize<D: Deserializer<'de>>(self, d: D) -> Result<T, D::Error> {
-        struct V<T>(u16, std::marker::PhantomData<T>);
+        struct V<T>(u16, u32, std::marker::PhantomData<T>);
         impl<'de, T: Flagged> Visitor<'de> for V<T> {
             type Value = T;
             fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
                 f.write_str("a record")
             }
             fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> Result<T, A::Error> {
-                T::read(self.0, &mut seq)?.ok_or_else(|| de::Error::custom("empty record"))
+                T::read(self.0, self.1, &mut seq)?.ok_or_else(|| de::Error::custom("empty record"))
             }
         }
-        d.deserialize_tuple(MAX_RECORD_FIELDS, V(self.0, self.1))
+        d.deserialize_tuple(MAX_RECORD_FIELDS, V(self.0, self.1, self.2))
     }
 }
 
@@ -327,9 +522,13 @@ impl<'de, T: Flagged> DeserializeSeed<'de> for RecordsSeed<T> {
             }
             fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> Result<Vec<T>, A::Error> {
                 let mut out = Vec::with_capacity(seq.size_hint().unwrap_or(0).min(1 << 16));
-                while let Some(item) =
-                    seq.next_element_seed(RecordSeed::<T>(self.0, std::marker::PhantomData))?
-                {
+                loop {
+                    let index = u32::try_from(out.len())
+                        .map_err(|_| de::Error::custom("more than u32::MAX records"))?;
+                    let seed = RecordSeed::<T>(self.0, index, std::marker::PhantomData);
+                    let Some(item) = seq.next_element_seed(seed)? else {
+                        break;
+                    };
                     out.push(item);
                 }
                 Ok(out)
@@ -352,7 +551,9 @@ impl<'de> Deserialize<'de> for PeelFile {
                 let flags = header.flags;
                 Ok(PeelFile {
                     header,
-                    vertices: required(seq.next_element()?)?,
+                    vertices: required(
+                        seq.next_element_seed(RecordsSeed(flags, std::marker::PhantomData))?,
+                    )?,
                     planes: required(seq.next_element()?)?,
                     indices: required(
                         seq.next_element_seed(RecordsSeed(flags, std::marker::PhantomData))?,

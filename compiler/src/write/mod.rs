@@ -12,14 +12,17 @@ mod atomic;
 mod bounds;
 pub(crate) mod encoding;
 pub(crate) mod format;
+mod grid;
 
-use glam::DVec3;
+use glam::{DVec3, Vec3};
+use peel_runtime::read::Plane;
 
 use crate::error::CompileError;
+use crate::hash::FastMap;
 use crate::tree::{DisplayTree, TreeNode};
 use encoding::Encoding;
 use format::{
-    header_flags, node_kind, polygon_flags, ColourField, Header, Node, PeelFile, Polygon,
+    header_flags, node_kind, polygon_flags, ColourField, Header, Node, PeelFile, Polygon, Vertex,
 };
 
 pub use atomic::{write_atomic, write_atomic_with};
@@ -52,6 +55,8 @@ pub(crate) struct WriteInput<'a> {
     pub colours: &'a [[u8; 3]],
     /// Keep source triangle ids.
     pub ids: bool,
+    /// Store vertices as `f32` instead of 16-bit steps on the scene's bounds.
+    pub wide_vertices: bool,
 }
 
 /// The file for `tree`, `colours[i]` being the colour of `tree.polygons[i]`; source triangle
@@ -63,7 +68,14 @@ pub(crate) fn peel_file(
     colours: &[[u8; 3]],
     ids: bool,
 ) -> Result<PeelFile, CompileError> {
-    peel_file_with(tree, &WriteInput { colours, ids })
+    peel_file_with(
+        tree,
+        &WriteInput {
+            colours,
+            ids,
+            ..WriteInput::default()
+        },
+    )
 }
 
 /// [`peel_file`] with every input, in the smallest encoding ([`Encoding::smallest`]).
@@ -81,7 +93,11 @@ pub(crate) fn peel_file_encoded(
     input: &WriteInput<'_>,
     encoding: Option<Encoding>,
 ) -> Result<PeelFile, CompileError> {
-    let WriteInput { colours, ids } = *input;
+    let WriteInput {
+        colours,
+        ids,
+        wide_vertices,
+    } = *input;
     if colours.len() != tree.polygons.len() {
         return Err(invariant(format!(
             "{} colours for {} polygons",
@@ -89,31 +105,31 @@ pub(crate) fn peel_file_encoded(
             tree.polygons.len()
         )));
     }
-    let vertices = tree
+    let wide = tree
         .vertices
         .iter()
         .map(|&v| to_f32(v, "vertex"))
         .collect::<Result<Vec<_>, _>>()?;
-    let planes = tree
-        .planes
-        .iter()
-        .map(|p| {
-            let [x, y, z] = to_f32(p.normal, "plane normal")?;
-            let d = p.offset as f32;
-            if !d.is_finite() {
-                return Err(CompileError::Encode(format!(
-                    "plane offset {} is not finite in f32",
-                    p.offset
-                )));
-            }
-            Ok([x, y, z, d])
-        })
-        .collect::<Result<Vec<_>, _>>()?;
-    let (bounds_min, bounds_max) = bounds(&vertices);
+    let (bounds_min, bounds_max) = bounds(&wide);
+    // What the runtime will read: the f32 vertices, or their nearest steps decoded.
+    let (vertices, decoded): (Vec<Vertex>, Vec<[f32; 3]>) = if wide_vertices {
+        (wide.iter().map(|&v| Vertex::Wide(v)).collect(), wide)
+    } else {
+        tree.vertices
+            .iter()
+            .map(|&v| {
+                let q = Vertex::Grid(grid::nearest(v, bounds_min, bounds_max));
+                (q, q.position(bounds_min, bounds_max))
+            })
+            .unzip()
+    };
 
     let mut out = Emitter {
         tree,
+        decoded: &decoded,
         ids,
+        planes: Vec::new(),
+        plane_slots: FastMap::default(),
         file_nodes: Vec::new(),
         polygons: Vec::new(),
         rgb: Vec::new(),
@@ -149,14 +165,35 @@ pub(crate) fn peel_file_encoded(
     for (polygon, field) in out.polygons.iter_mut().zip(fields) {
         polygon.colour = field;
     }
-    let node_bounds = bounds::node_bounds(&vertices, &out.indices, &out.polygons, &out.file_nodes);
-    let boxes = bounds::assign(&mut out.file_nodes, &node_bounds);
-    let flags = if boxes.is_some() {
+    let node_bounds = bounds::node_bounds(&decoded, &out.indices, &out.polygons, &out.file_nodes);
+    let boxes = bounds::assign(&mut out.file_nodes, &node_bounds, bounds_min, bounds_max);
+    let mut flags = if boxes.is_some() {
         flags | header_flags::BOUNDS
     } else {
         flags
     };
+    if wide_vertices {
+        flags |= header_flags::WIDE_VERTICES;
+    }
     let boxes = boxes.unwrap_or_default();
+    // The narrowest node and polygon fields that every count they index fits (the width's
+    // largest value is NONE).
+    let planes = out.planes;
+    let largest = [
+        planes.len(),
+        out.indices.len(),
+        out.polygons.len(),
+        out.file_nodes.len(),
+        boxes.len(),
+    ]
+    .into_iter()
+    .max()
+    .unwrap_or(0);
+    if largest <= format::none_of_width(2) as usize {
+        flags |= header_flags::NARROW;
+    } else if largest <= format::none_of_width(3) as usize {
+        flags |= header_flags::MEDIUM;
+    }
     let header = Header {
         version: format::FORMAT_VERSION,
         flags: if ids {
@@ -177,16 +214,23 @@ pub(crate) fn peel_file_encoded(
         palette_count: count(palette.len(), "palette colours")?,
         bounds_count: count(boxes.len(), "node bounds")?,
     };
+    let Emitter {
+        indices,
+        polygons,
+        ids_out,
+        file_nodes,
+        ..
+    } = out;
     Ok(PeelFile {
         header,
         vertices,
         planes,
-        indices: out.indices,
-        polygons: out.polygons,
-        ids: out.ids_out,
+        indices,
+        polygons,
+        ids: ids_out,
         palette,
         bounds: boxes,
-        nodes: out.file_nodes,
+        nodes: file_nodes,
     })
 }
 
@@ -206,10 +250,16 @@ fn bounds(vertices: &[[f32; 3]]) -> ([f32; 3], [f32; 3]) {
         })
 }
 
-/// Builds the node, polygon, index and id arrays in file order.
+/// Builds the node, plane, polygon, index and id arrays in file order.
 struct Emitter<'t> {
     tree: &'t DisplayTree,
+    /// The vertices as the runtime reads them.
+    decoded: &'t [[f32; 3]],
     ids: bool,
+    /// The split nodes' planes, in order of first use.
+    planes: Vec<[f32; 4]>,
+    /// Tree plane -> index in `planes`.
+    plane_slots: FastMap<u32, u32>,
     file_nodes: Vec<Node>,
     /// Polygons in file order, their colour field still RGB.
     polygons: Vec<Polygon>,
@@ -292,11 +342,7 @@ impl Emitter<'_> {
                 TreeNode::Split {
                     plane, front, back, ..
                 } => {
-                    if plane as usize >= tree.planes.len() {
-                        return Err(invariant(format!(
-                            "split node {old}: plane {plane} out of range"
-                        )));
-                    }
+                    let plane = self.split_plane(old, plane)?;
                     self.file_nodes
                         .push(record(node_kind::SPLIT, plane, format::NONE));
                     // Back first on the stack so that the front subtree comes first in the file.
@@ -317,6 +363,29 @@ impl Emitter<'_> {
         }
     }
 
+    /// The file index of split node `node`'s tree plane `plane`, stored at its first use.
+    fn split_plane(&mut self, node: u32, plane: u32) -> Result<u32, CompileError> {
+        if let Some(&slot) = self.plane_slots.get(&plane) {
+            return Ok(slot);
+        }
+        let p =
+            self.tree.planes.get(plane as usize).ok_or_else(|| {
+                invariant(format!("split node {node}: plane {plane} out of range"))
+            })?;
+        let [x, y, z] = to_f32(p.normal, "plane normal")?;
+        let d = p.offset as f32;
+        if !d.is_finite() {
+            return Err(CompileError::Encode(format!(
+                "plane offset {} is not finite in f32",
+                p.offset
+            )));
+        }
+        let slot = count(self.planes.len(), "planes")?;
+        self.planes.push([x, y, z, d]);
+        self.plane_slots.insert(plane, slot);
+        Ok(slot)
+    }
+
     fn emit_polygon(&mut self, p: u32, colours: &[[u8; 3]]) -> Result<(), CompileError> {
         let tree = self.tree;
         let polygon = tree
@@ -334,15 +403,16 @@ impl Emitter<'_> {
                 polygon.plane
             )));
         }
-        let vertex_count = u16::try_from(polygon.vertices.len())
-            .ok()
-            .filter(|&n| n >= 3)
-            .ok_or_else(|| {
-                invariant(format!(
-                    "polygon {p} has {} vertices",
-                    polygon.vertices.len()
-                ))
-            })?;
+        let n = polygon.vertices.len();
+        if n < 3 {
+            return Err(invariant(format!("polygon {p} has {n} vertices")));
+        }
+        let vertex_count = u8::try_from(n).map_err(|_| {
+            CompileError::Encode(format!(
+                "a polygon of {n} vertices: the format holds at most 255 per polygon \
+                 (a smaller --max-polygon-vertices)"
+            ))
+        })?;
         if let Some(v) = polygon
             .vertices
             .iter()
@@ -350,22 +420,27 @@ impl Emitter<'_> {
         {
             return Err(invariant(format!("polygon {p}: vertex {v} out of range")));
         }
-        let mut flags = 0;
-        if polygon.flipped {
-            flags |= polygon_flags::FLIPPED;
-        }
-        if polygon.interior_front {
-            flags |= polygon_flags::INTERIOR_FRONT;
-        }
+        // The runtime takes the plane through the first three vertices: start the list (in
+        // its winding order) where they are farthest from collinear, and name the interior's
+        // side for that plane's normal.
+        let (start, normal) = plane_start(self.decoded, &polygon.vertices);
+        let exact = self.tree.planes[polygon.plane as usize].normal;
+        let agrees = normal.dot(exact) >= 0.0;
+        let flags = if polygon.interior_front == agrees {
+            polygon_flags::INTERIOR_FRONT
+        } else {
+            0
+        };
         self.polygons.push(Polygon {
-            plane: polygon.plane,
             first_index: count(self.indices.len(), "polygon vertices")?,
             vertex_count,
             flags,
             colour: ColourField::Rgb(colours[p as usize]),
         });
         self.rgb.push(colours[p as usize]);
-        self.indices.extend_from_slice(&polygon.vertices);
+        let (head, tail) = polygon.vertices.split_at(start);
+        self.indices.extend_from_slice(tail);
+        self.indices.extend_from_slice(head);
         if self.ids {
             self.ids_out.push(polygon.source);
         }
@@ -376,6 +451,23 @@ impl Emitter<'_> {
     fn unowned_polygon(&self) -> Option<usize> {
         self.emitted.iter().position(|e| !e)
     }
+}
+
+/// Where a polygon's vertex list (indices into `decoded`, the vertices as the runtime reads
+/// them) should start so that the runtime's plane through its first three vertices
+/// (`peel_runtime::read::Plane::through`, in the same `f32` arithmetic) is best defined: the
+/// rotation with the longest normal (the first on ties), and that normal.
+fn plane_start(decoded: &[[f32; 3]], list: &[u32]) -> (usize, DVec3) {
+    let n = list.len();
+    let at = |k: usize| Vec3::from(decoded[list[k % n] as usize]);
+    let mut best = (0, Vec3::ZERO);
+    for start in 0..n {
+        let normal = Plane::through(at(start), at(start + 1), at(start + 2)).normal;
+        if normal.length_squared() > best.1.length_squared() {
+            best = (start, normal);
+        }
+    }
+    (best.0, best.1.as_dvec3())
 }
 
 /// The bincode bytes of `file`, with [`format::config`].
@@ -392,7 +484,14 @@ pub(crate) fn encode(
     colours: &[[u8; 3]],
     ids: bool,
 ) -> Result<Vec<u8>, CompileError> {
-    encode_with(tree, &WriteInput { colours, ids })
+    encode_with(
+        tree,
+        &WriteInput {
+            colours,
+            ids,
+            ..WriteInput::default()
+        },
+    )
 }
 
 /// [`encode`] with every input (see [`peel_file_with`]).

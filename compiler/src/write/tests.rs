@@ -113,8 +113,12 @@ fn assert_reads_back(file: &PeelFile) {
 
     let scene = Scene::parse(&bytes).unwrap();
     assert_eq!(scene.header(), file.header);
+    let fh = &file.header;
+    let position = |v: &format::Vertex| {
+        Vec3::from(v.position(fh.bounds_min.to_array(), fh.bounds_max.to_array()))
+    };
     for (i, v) in file.vertices.iter().enumerate() {
-        assert_eq!(scene.vertex(i as u32), Vec3::from(*v));
+        assert_eq!(scene.vertex(i as u32), position(v));
     }
     for (i, p) in file.planes.iter().enumerate() {
         let plane = scene.plane(i as u32);
@@ -123,9 +127,8 @@ fn assert_reads_back(file: &PeelFile) {
     for (i, p) in file.polygons.iter().enumerate() {
         let read = scene.polygon(i as u32);
         let expected = read::Polygon {
-            plane: p.plane,
             first_index: p.first_index,
-            vertex_count: p.vertex_count,
+            vertex_count: u16::from(p.vertex_count),
             flags: p.flags,
             colour: match p.colour {
                 ColourField::Rgb(c) => colour(c),
@@ -138,7 +141,7 @@ fn assert_reads_back(file: &PeelFile) {
             let index = file.indices[(p.first_index + k) as usize];
             assert_eq!(
                 scene.polygon_vertex(&read, k),
-                Vec3::from(file.vertices[index as usize])
+                position(&file.vertices[index as usize])
             );
         }
         assert_eq!(scene.id(i as u32), file.ids.get(i).copied());
@@ -158,10 +161,7 @@ fn assert_reads_back(file: &PeelFile) {
         };
         assert_eq!(scene.node(i as u32), expected);
         assert_eq!(scene.parent(i as u32), link(n.parent));
-        let stored = link(n.bounds).map(|k| {
-            let b = file.bounds[k as usize];
-            (Vec3::new(b[0], b[1], b[2]), Vec3::new(b[3], b[4], b[5]))
-        });
+        let stored = link(n.bounds).map(|k| decoded_box(file, file.bounds[k as usize]));
         assert_eq!(scene.node_bounds(i as u32), stored);
     }
     assert_eq!(file.header.palette_count as usize, file.palette.len());
@@ -169,25 +169,75 @@ fn assert_reads_back(file: &PeelFile) {
     assert_eq!(scene.root(), (!file.nodes.is_empty()).then_some(0));
 }
 
+/// A stored box decoded as the runtime reads it.
+fn decoded_box(file: &PeelFile, b: [u16; 6]) -> (Vec3, Vec3) {
+    let (lo, hi) = (file.header.bounds_min, file.header.bounds_max);
+    let axis = |k: usize, q: u16| layout::dequantise(lo[k], hi[k], q);
+    (
+        Vec3::new(axis(0, b[0]), axis(1, b[1]), axis(2, b[2])),
+        Vec3::new(axis(0, b[3]), axis(1, b[4]), axis(2, b[5])),
+    )
+}
+
+#[test]
+fn quantised_boxes_contain_their_coordinates() {
+    // Awkward scene bounds and coordinates: every decoded box still contains its corners.
+    let (lo, hi) = (
+        [-4.445_835_f32, -3.637_036, 1e-3],
+        [5.998_088_f32, 2.759_72, 7e4],
+    );
+    let mut seed = 1u64;
+    let mut next = || {
+        seed = seed.wrapping_mul(6_364_136_223_846_793_005).wrapping_add(1);
+        (seed >> 40) as f32 / (1u64 << 24) as f32
+    };
+    for _ in 0..20_000 {
+        let mut b = [0f32; 6];
+        for k in 0..3 {
+            let (x, y) = (next(), next());
+            let at = |t: f32| (lo[k] + (hi[k] - lo[k]) * t).clamp(lo[k], hi[k]);
+            b[k] = at(x.min(y));
+            b[k + 3] = at(x.max(y));
+        }
+        let q = bounds::quantise(b, lo, hi);
+        for k in 0..3 {
+            assert!(
+                layout::dequantise(lo[k], hi[k], q[k]) <= b[k],
+                "{b:?} {q:?}"
+            );
+            assert!(
+                layout::dequantise(lo[k], hi[k], q[k + 3]) >= b[k + 3],
+                "{b:?} {q:?}"
+            );
+        }
+    }
+}
+
 #[test]
 fn record_sizes_match_the_spec() {
     let (tree, colours) = small_tree();
     let size = |bytes: Vec<u8>| bytes.len();
     let enc = |v: &dyn erased::Encode| v.encode();
-    let input = WriteInput {
+    let inputs = [false, true].map(|wide_vertices| WriteInput {
         colours: &colours,
         ids: true,
-    };
-    for encoding in Encoding::ALL {
-        let file = peel_file_encoded(&tree, &input, Some(encoding)).unwrap();
+        wide_vertices,
+    });
+    for (input, encoding) in inputs.iter().flat_map(|i| Encoding::ALL.map(|e| (i, e))) {
+        let file = peel_file_encoded(&tree, input, Some(encoding)).unwrap();
         let bytes = to_bytes(&file).unwrap();
         assert_eq!(bytes[..layout::HEADER_SIZE], file.header.to_bytes());
-        assert_eq!(size(enc(&file.vertices[0])), layout::VERTEX_SIZE);
+        let wide_vertices = file.header.flags & header_flags::WIDE_VERTICES != 0;
+        assert_eq!(wide_vertices, input.wide_vertices);
+        assert_eq!(
+            layout::vertex_size(file.header.flags),
+            if wide_vertices { 12 } else { 6 }
+        );
         assert_eq!(size(enc(&file.planes[0])), layout::PLANE_SIZE);
         let h = &file.header;
         let total = layout::HEADER_SIZE
             + 8 * layout::LENGTH_SIZE
-            + h.vertex_count as usize * layout::VERTEX_SIZE
+            + h.vertex_count as usize * layout::vertex_size(h.flags)
             + h.plane_count as usize * layout::PLANE_SIZE
             + h.index_count as usize * layout::index_size(h.flags)
             + h.polygon_count as usize * (layout::polygon_size(h.flags) + layout::ID_SIZE)
@@ -195,17 +245,35 @@ fn record_sizes_match_the_spec() {
             + h.bounds_count as usize * layout::BOUNDS_SIZE
             + h.node_count as usize * layout::node_size(h.flags);
         assert_eq!(bytes.len(), total, "{encoding:?}");
-        let expected_index = if encoding.index16 { 2 } else { 4 };
+        // Without u16 indices, small_tree's 7 vertices take u24 ones (INDEX24).
+        let expected_index = if encoding.index16 { 2 } else { 3 };
+        assert_eq!(h.flags & header_flags::INDEX24 != 0, !encoding.index16);
+        let no_narrow_index = h.flags & !(header_flags::INDEX16 | header_flags::INDEX24);
+        assert_eq!(layout::index_size(no_narrow_index), 4);
+        // small_tree's counts all fit NARROW's u16 fields: 2 + 1 + 1 + the colour.
+        assert_ne!(h.flags & header_flags::NARROW, 0);
         let expected_polygon = match encoding.palette {
-            None => 14,
-            Some(PaletteWidth::U8) => 12,
-            Some(PaletteWidth::U16) => 13,
+            None => 7,
+            Some(PaletteWidth::U8) => 5,
+            Some(PaletteWidth::U16) => 6,
         };
         assert_eq!(
             (layout::index_size(h.flags), layout::polygon_size(h.flags)),
             (expected_index, expected_polygon)
         );
-        assert_eq!(layout::node_size(h.flags), 21, "small_tree has bounds");
+        assert_eq!(layout::node_size(h.flags), 9, "small_tree has bounds");
+        let wide = h.flags & !header_flags::NARROW;
+        assert_eq!(layout::polygon_size(wide), expected_polygon + 2);
+        assert_eq!(layout::node_size(wide), 17);
+        let medium = wide | header_flags::MEDIUM;
+        assert_eq!(layout::polygon_size(medium), expected_polygon + 1);
+        assert_eq!(layout::node_size(medium), 13);
+        // The same records in u24 and u32 fields read back alike.
+        for flags in [medium, wide] {
+            let mut other = file.clone();
+            other.header.flags = flags;
+            assert_reads_back(&other);
+        }
     }
     let file = peel_file(&tree, &colours, true).unwrap();
     // Spot checks of the header's byte offsets.
@@ -259,8 +327,8 @@ fn the_file_is_the_tree_in_pre_order() {
     assert_eq!(
         (h.version, h.flags),
         (
-            1,
-            header_flags::IDS | header_flags::INDEX16 | header_flags::BOUNDS
+            2,
+            header_flags::IDS | header_flags::INDEX16 | header_flags::BOUNDS | header_flags::NARROW
         )
     );
     assert_eq!((h.max_depth, h.max_polygon_vertices), (3, 4));
@@ -282,26 +350,68 @@ fn the_file_is_the_tree_in_pre_order() {
     assert_eq!(
         file.nodes,
         [
-            node(node_kind::SPLIT, 2, 1, 3, NONE, 0),
+            // Only split planes are stored: the root's is plane 0.
+            node(node_kind::SPLIT, 0, 1, 3, NONE, 0),
             node(node_kind::CONVEX, 0, 1, 2, 0, NONE),
             node(node_kind::CONVEX, 1, 1, NONE, 1, NONE),
             node(node_kind::CONVEX, 2, 1, NONE, 0, NONE),
         ]
     );
-    assert_eq!(file.bounds, [[-0.25, 0.0, 0.0, 1.0, 1.0, 1.0]]);
+    // The root's box is the scene's: every step.
+    assert_eq!(file.bounds, [[0, 0, 0, u16::MAX, u16::MAX, u16::MAX]]);
     // Old polygons 1, 2, 0, in the order of the convex nodes that own them.
     assert_eq!(file.ids, [10, 12, 11]);
     assert_eq!(file.indices, [0, 1, 2, 3, 4, 6, 5, 4, 5, 6]);
     let firsts: Vec<u32> = file.polygons.iter().map(|p| p.first_index).collect();
     assert_eq!(firsts, [0, 4, 7]);
-    assert_eq!(file.polygons[0].flags, polygon_flags::INTERIOR_FRONT);
-    assert_eq!(file.polygons[2].flags, polygon_flags::FLIPPED);
+    // INTERIOR_FRONT is relative to the normal of the first three vertices: polygon 1's
+    // winding turns against its plane's normal (+z), so its interior (-z side, not the
+    // plane's + side) is on that normal's + side.
+    let interior: Vec<u8> = file.polygons.iter().map(|p| p.flags).collect();
+    assert_eq!(
+        interior,
+        [
+            polygon_flags::INTERIOR_FRONT,
+            polygon_flags::INTERIOR_FRONT,
+            0
+        ]
+    );
     assert_eq!(file.polygons[1].colour, ColourField::Rgb([0, 0, 255]));
-    assert_eq!(file.planes[2], [1.0, 0.0, 0.0, 0.5]);
-    assert_eq!(file.vertices[6], [-0.25, 1.0, 1.0]);
+    assert_eq!(file.planes, [[1.0, 0.0, 0.0, 0.5]]);
+    // Vertices are steps on the scene's bounds; this one is a corner of them.
+    assert_eq!(file.vertices[6], format::Vertex::Grid([0, 65535, 65535]));
+    let (lo, hi) = (
+        file.header.bounds_min.to_array(),
+        file.header.bounds_max.to_array(),
+    );
+    assert_eq!(file.vertices[6].position(lo, hi), [-0.25, 1.0, 1.0]);
     let without_ids = peel_file(&tree, &colours, false).unwrap();
     assert_eq!(without_ids.header.flags & header_flags::IDS, 0);
     assert!(without_ids.ids.is_empty());
+}
+
+/// A first child takes no field: it must be the next node, or the serialiser refuses the file.
+#[test]
+fn a_first_child_is_the_next_node() {
+    let (tree, colours) = small_tree();
+    let file = peel_file(&tree, &colours, false).unwrap();
+    let encode = |file: &PeelFile| bincode::serde::encode_to_vec(file, format::config());
+    let bytes = encode(&file).unwrap();
+    let back: PeelFile = bincode::serde::decode_from_slice(&bytes, format::config())
+        .unwrap()
+        .0;
+    assert_eq!(back, file);
+    let mut broken = file.clone();
+    // The root split's + child becomes node 3, not the next node.
+    assert_eq!(
+        (broken.nodes[0].kind, broken.nodes[0].b),
+        (node_kind::SPLIT, 1)
+    );
+    broken.nodes[0].b = 3;
+    assert!(encode(&broken).is_err());
+    let mut broken = file;
+    broken.nodes[1].kind |= node_kind::FIRST_CHILD;
+    assert!(encode(&broken).is_err());
 }
 
 #[test]
@@ -372,7 +482,7 @@ fn values_beyond_f32_are_refused() {
         Err(CompileError::Encode(_))
     ));
     let (mut tree, colours) = small_tree();
-    tree.planes[0].offset = f64::NAN;
+    tree.planes[2].offset = f64::NAN; // the split's: only split planes are stored
     assert!(matches!(
         encode(&tree, &colours, false),
         Err(CompileError::Encode(_))
@@ -440,7 +550,11 @@ fn two_sided_tree(per_side: u32, colour: impl Fn(u32) -> [u8; 3]) -> (DisplayTre
 }
 
 fn input(colours: &[[u8; 3]], ids: bool) -> WriteInput<'_> {
-    WriteInput { colours, ids }
+    WriteInput {
+        colours,
+        ids,
+        ..WriteInput::default()
+    }
 }
 
 #[test]
@@ -454,14 +568,24 @@ fn node_bounds_follow_the_rule() {
         .iter()
         .map(|n| link(n.bounds).map(|k| file.bounds[k as usize]))
         .collect();
-    assert_eq!(
-        boxes,
-        [
-            Some([-2.0, 0.0, 0.0, 2.0, 1.0, 3.0]),
-            Some([1.0, 0.0, 0.0, 2.0, 1.0, 3.0]),
-            Some([-2.0, 0.0, 0.0, -1.0, 1.0, 3.0]),
-        ]
-    );
+    let exact = [
+        [-2.0, 0.0, 0.0, 2.0, 1.0, 3.0],
+        [1.0, 0.0, 0.0, 2.0, 1.0, 3.0],
+        [-2.0, 0.0, 0.0, -1.0, 1.0, 3.0],
+    ];
+    for (b, e) in boxes.iter().zip(exact) {
+        // Quantised outward, by at most one step per side.
+        let (lo, hi) = decoded_box(&file, b.unwrap());
+        let e: [f32; 6] = e;
+        for k in 0..3 {
+            let step = (file.header.bounds_max[k] - file.header.bounds_min[k]) / 65535.0;
+            assert!(lo[k] <= e[k] && e[k] - lo[k] <= step, "{k}: {lo} {e:?}");
+            assert!(
+                hi[k] >= e[k + 3] && hi[k] - e[k + 3] <= step,
+                "{k}: {hi} {e:?}"
+            );
+        }
+    }
     assert_reads_back(&file);
     // Leaves of fewer than MIN_LEAF_POLYGONS polygons get none.
     let (tree, colours) = two_sided_tree(bounds::MIN_LEAF_POLYGONS - 1, |_| [1, 2, 3]);

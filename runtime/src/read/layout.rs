@@ -4,9 +4,13 @@
 /// First four bytes of every `.peel` file.
 pub const MAGIC: [u8; 4] = *b"PEEL";
 /// Bumped whenever the byte layout or the meaning of a field changes; readers refuse others.
-pub const FORMAT_VERSION: u16 = 1;
+pub const FORMAT_VERSION: u16 = 2;
 /// "No node" in a child or parent field.
 pub const NONE: u32 = u32::MAX;
+/// "No node" (or "no box") in a `u16` field of a [`header_flags::NARROW`] file.
+pub const NONE16: u16 = u16::MAX;
+/// "No node" (or "no box") in a `u24` field of a [`header_flags::MEDIUM`] file.
+pub const NONE24: u32 = (1 << 24) - 1;
 
 /// Bits of the header's `flags`.
 pub mod header_flags {
@@ -18,82 +22,151 @@ pub mod header_flags {
     pub const PALETTE: u16 = 1 << 2;
     /// With [`PALETTE`]: the palette index is a `u16` (else a `u8`).
     pub const PALETTE16: u16 = 1 << 3;
-    /// Node records end with a `u32` index into the `bounds` array (or `NONE`).
+    /// Node records end with an index into the `bounds` array (or `NONE`).
     pub const BOUNDS: u16 = 1 << 4;
+    /// Node fields and a polygon's `first_index` are `u16` (else `u32`): every
+    /// count they index is at most 65535.
+    pub const NARROW: u16 = 1 << 5;
+    /// Without [`NARROW`]: those fields are 3-byte little-endian integers (`u24`): every count
+    /// they index is at most 2^24 - 1. Both flags at once are inconsistent.
+    pub const MEDIUM: u16 = 1 << 6;
+    /// Vertices are `[f32; 3]` (else `[u16; 3]`: steps on the header's bounds, decoded by
+    /// [`super::dequantise`]).
+    pub const WIDE_VERTICES: u16 = 1 << 7;
+    /// Indices are 3-byte little-endian integers (`u24`, for up to 2^24 vertices); with
+    /// [`INDEX16`] the flags are inconsistent.
+    pub const INDEX24: u16 = 1 << 8;
     /// Every bit this version defines; a reader refuses others.
-    pub const KNOWN: u16 = IDS | INDEX16 | PALETTE | PALETTE16 | BOUNDS;
+    pub const KNOWN: u16 =
+        IDS | INDEX16 | PALETTE | PALETTE16 | BOUNDS | NARROW | MEDIUM | WIDE_VERTICES | INDEX24;
 }
 
 /// Bytes of an index under header `flags`.
 pub const fn index_size(flags: u16) -> usize {
     if flags & header_flags::INDEX16 != 0 {
         2
+    } else if flags & header_flags::INDEX24 != 0 {
+        3
     } else {
         4
     }
 }
 
-/// Bytes of a polygon record under header `flags`: 11 + the colour (3 bytes of RGB, or a
-/// 1- or 2-byte palette index).
-pub const fn polygon_size(flags: u16) -> usize {
-    if flags & header_flags::PALETTE == 0 {
-        POLYGON_SIZE
-    } else if flags & header_flags::PALETTE16 != 0 {
-        POLYGON_SIZE - 1
+/// Bytes of a vertex under header `flags`: `[f32; 3]` with [`header_flags::WIDE_VERTICES`],
+/// else `[u16; 3]`.
+pub const fn vertex_size(flags: u16) -> usize {
+    if flags & header_flags::WIDE_VERTICES != 0 {
+        12
     } else {
-        POLYGON_SIZE - 2
+        6
     }
 }
 
-/// Bytes of a node record under header `flags`.
-pub const fn node_size(flags: u16) -> usize {
-    if flags & header_flags::BOUNDS != 0 {
-        NODE_SIZE + 4
+/// Bytes of a node field and a polygon's `first_index` under header `flags`.
+pub const fn field_size(flags: u16) -> usize {
+    if flags & header_flags::NARROW != 0 {
+        2
+    } else if flags & header_flags::MEDIUM != 0 {
+        3
     } else {
-        NODE_SIZE
+        4
     }
+}
+
+/// "No node" in a field of `width` bytes: its largest value.
+pub const fn none_of_width(width: usize) -> u32 {
+    match width {
+        2 => NONE16 as u32,
+        3 => NONE24,
+        _ => NONE,
+    }
+}
+
+/// Bytes of a polygon's colour field under header `flags`: 3 bytes of RGB, or a 1- or 2-byte
+/// palette index.
+pub const fn colour_size(flags: u16) -> usize {
+    if flags & header_flags::PALETTE == 0 {
+        3
+    } else if flags & header_flags::PALETTE16 != 0 {
+        2
+    } else {
+        1
+    }
+}
+
+/// Bytes of a polygon record under header `flags`: `first_index` ([`field_size`]),
+/// `vertex_count` and `flags` (a byte each), the colour. A polygon's plane is not stored: it is
+/// the plane through its first three vertices.
+pub const fn polygon_size(flags: u16) -> usize {
+    field_size(flags) + 2 + colour_size(flags)
+}
+
+/// Bytes of a node record under header `flags`: `kind`, then `a`, `b`, `parent` and with
+/// [`header_flags::BOUNDS`] `bounds` ([`field_size`] each). A node's first child is implicit
+/// (the next node, flagged by [`node_kind::FIRST_CHILD`]), so it takes no field.
+pub const fn node_size(flags: u16) -> usize {
+    let fields = if flags & header_flags::BOUNDS != 0 {
+        4
+    } else {
+        3
+    };
+    1 + fields * field_size(flags)
+}
+
+/// A vertex or node box coordinate: step `q` of 65535 from the header's `min` to its `max`
+/// along one axis, `min + q * step(min, max)`. It is monotone in `q`, so a box of steps contains
+/// every vertex whose steps it contains; the writer rounds `f32` vertices' boxes outward
+/// through this very function.
+#[inline]
+pub fn dequantise(min: f32, max: f32, q: u16) -> f32 {
+    min + f32::from(q) * step(min, max)
+}
+
+/// The size of a step along an axis from `min` to `max` (`f32`, as [`dequantise`] uses it).
+#[inline]
+pub fn step(min: f32, max: f32) -> f32 {
+    (max - min) * (1.0 / 65535.0)
 }
 
 /// Bits of a polygon's `flags`.
 pub mod polygon_flags {
-    /// The polygon's front (counter-clockwise) side faces away from its plane's normal.
-    pub const FLIPPED: u8 = 1 << 0;
-    /// The rest of the polygon's convex set lies on the + side of its plane.
+    /// The rest of the polygon's convex set lies on the + side of its plane (the plane through
+    /// its first three vertices, its normal `(v1 - v0) x (v2 - v0)`).
     pub const INTERIOR_FRONT: u8 = 1 << 1;
-    /// Set by earlier compilers on polygons of closed meshes, for a back-face culling that
-    /// could change pixels; readers accept and ignore it, writers leave it 0.
-    pub const LEGACY_ONE_SIDED: u8 = 1 << 2;
     /// Every bit this version defines; a reader refuses others.
-    pub const KNOWN: u8 = FLIPPED | INTERIOR_FRONT | LEGACY_ONE_SIDED;
+    pub const KNOWN: u8 = INTERIOR_FRONT;
 }
 
-/// Values of a node's `kind`.
+/// Values of a node's `kind` byte.
 pub mod node_kind {
-    /// `a` = first polygon, `b` = polygon count, `c` = child (or [`super::NONE`]).
+    /// `a` = first polygon, `b` = polygon count; the child (what lies inside the set) is the
+    /// next node when [`FIRST_CHILD`] is set, else there is none.
     pub const CONVEX: u8 = 0;
-    /// `a` = plane, `b` = child on the + side, `c` = child on the - side (or [`super::NONE`]).
+    /// `a` = plane, `b` = child on the - side (or [`super::NONE`]); the child on the + side is
+    /// the next node when [`FIRST_CHILD`] is set, else there is none.
     pub const SPLIT: u8 = 1;
+    /// Bit of the `kind` byte: the node's first child (a convex node's child, a split's + child)
+    /// exists and is the next node, `i + 1` (the nodes are in pre-order, front before back).
+    pub const FIRST_CHILD: u8 = 1 << 7;
 }
 
 /// Bytes of the header.
 pub const HEADER_SIZE: usize = 92;
 /// Bytes of an array length (`u64`).
 pub const LENGTH_SIZE: usize = 8;
-/// Bytes of a vertex (`[f32; 3]`).
-pub const VERTEX_SIZE: usize = 12;
 /// Bytes of a plane (`[f32; 4]`).
 pub const PLANE_SIZE: usize = 16;
 /// Bytes of an index (`u32`; `u16` with [`header_flags::INDEX16`], see [`index_size`]).
 pub const INDEX_SIZE: usize = 4;
-/// Bytes of a polygon record with an RGB colour (see [`polygon_size`]).
-pub const POLYGON_SIZE: usize = 14;
+/// Bytes of the widest polygon record (`u32` field, RGB colour; see [`polygon_size`]).
+pub const POLYGON_SIZE: usize = 11;
 /// Bytes of a palette entry (RGB888).
 pub const PALETTE_SIZE: usize = 3;
-/// Bytes of a node's bounds (`[f32; 6]`: min then max).
-pub const BOUNDS_SIZE: usize = 24;
+/// Bytes of a node's bounds (`[u16; 6]`: min then max, see [`dequantise`]).
+pub const BOUNDS_SIZE: usize = 12;
 /// Bytes of an id (`u32`).
 pub const ID_SIZE: usize = 4;
-/// Bytes of a node record without bounds (see [`node_size`]).
+/// Bytes of the widest node record (`u32` fields and bounds; see [`node_size`]).
 pub const NODE_SIZE: usize = 17;
 
 /// Byte offsets of the header fields.
@@ -212,13 +285,18 @@ impl<const N: usize> Record<N> {
     }
 
     #[inline]
-    pub(crate) fn u8(&self, offset: usize) -> u8 {
-        self.0.get(offset).copied().unwrap_or(0)
+    pub(crate) fn u16(&self, offset: usize) -> u16 {
+        u16::from_le_bytes(self.bytes(offset))
     }
 
     #[inline]
-    pub(crate) fn u16(&self, offset: usize) -> u16 {
-        u16::from_le_bytes(self.bytes(offset))
+    pub(crate) fn f32(&self, offset: usize) -> f32 {
+        f32::from_le_bytes(self.bytes(offset))
+    }
+
+    #[inline]
+    pub(crate) fn u8(&self, offset: usize) -> u8 {
+        self.0.get(offset).copied().unwrap_or(0)
     }
 
     #[inline]
@@ -226,9 +304,27 @@ impl<const N: usize> Record<N> {
         u32::from_le_bytes(self.bytes(offset))
     }
 
+    /// A `u16` field, its [`NONE16`] read as [`NONE`] when `link`.
     #[inline]
-    pub(crate) fn f32(&self, offset: usize) -> f32 {
-        f32::from_le_bytes(self.bytes(offset))
+    pub(crate) fn narrow(&self, offset: usize, link: bool) -> u32 {
+        let v = self.u16(offset);
+        if link && v == NONE16 {
+            NONE
+        } else {
+            u32::from(v)
+        }
+    }
+
+    /// A `u24` field, its [`NONE24`] read as [`NONE`] when `link`.
+    #[inline]
+    pub(crate) fn medium(&self, offset: usize, link: bool) -> u32 {
+        let [a, b, c] = self.bytes::<3>(offset);
+        let v = u32::from_le_bytes([a, b, c, 0]);
+        if link && v == NONE24 {
+            NONE
+        } else {
+            v
+        }
     }
 }
 
@@ -243,6 +339,23 @@ pub(crate) fn u8_at(bytes: &[u8], offset: usize) -> Option<u8> {
 
 pub(crate) fn u16_at(bytes: &[u8], offset: usize) -> Option<u16> {
     array_at(bytes, offset).map(u16::from_le_bytes)
+}
+
+/// A node field or a polygon's `first_index` of `width` bytes (2, 3 or 4), its
+/// largest value read as [`NONE`] when `link`.
+#[inline]
+pub(crate) fn field_at(bytes: &[u8], offset: usize, width: usize, link: bool) -> Option<u32> {
+    let mut le = [0u8; 4];
+    let end = offset.checked_add(width.min(4))?;
+    for (o, b) in le.iter_mut().zip(bytes.get(offset..end)?) {
+        *o = *b;
+    }
+    let v = u32::from_le_bytes(le);
+    Some(if link && v == none_of_width(width) {
+        NONE
+    } else {
+        v
+    })
 }
 
 pub(crate) fn u32_at(bytes: &[u8], offset: usize) -> Option<u32> {

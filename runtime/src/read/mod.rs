@@ -1,7 +1,7 @@
 //! Read: a `.peel` file read in place from `&[u8]`, validated up front.
 //!
 //! After [`Scene::parse`] succeeded, every accessor is total (it never panics; an
-//! out-of-range argument gives a default).
+//! out-of-range argument gives a default), so a corrupt file can never crash a frame.
 //! The byte layout is specified in `formats/peel.md`; [`layout`] holds its constants.
 
 pub mod layout;
@@ -14,8 +14,8 @@ use glam::Vec3;
 use crate::error::ReadError;
 use crate::target::Colour;
 use layout::{
-    element, header_flags, node_kind, u16_at, u32_at, u8_at, Record, BOUNDS_SIZE, ID_SIZE,
-    NODE_SIZE, NONE, PALETTE_SIZE, PLANE_SIZE, VERTEX_SIZE,
+    element, header_flags, node_kind, u16_at, u32_at, u8_at, Record, BOUNDS_SIZE, ID_SIZE, NONE,
+    PALETTE_SIZE, PLANE_SIZE,
 };
 
 /// The header, decoded. Its [`Default`] is all zero: with only `centre` and the bounds set, a
@@ -53,27 +53,39 @@ pub struct Header {
     pub bounds_count: u32,
 }
 
-/// A plane `normal · p = d` (relative to the scene centre).
+/// A plane `normal · p = d` (relative to the scene centre). Only the sign of
+/// [`Plane::distance`] is used (which side of the plane the eye is on), so the normal need not
+/// be of unit length.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct Plane {
-    /// Unit normal.
+    /// Normal (of unit length for a split node's plane).
     pub normal: Vec3,
     /// Offset.
     pub d: f32,
 }
 
 impl Plane {
+    /// The plane through `a`, `b`, `c`, its normal `(b - a) x (c - a)` (zero when they are
+    /// collinear: then every point is on it).
+    #[inline]
+    pub fn through(a: Vec3, b: Vec3, c: Vec3) -> Plane {
+        let normal = (b - a).cross(c - a);
+        Plane {
+            normal,
+            d: normal.dot(a),
+        }
+    }
+
     /// Signed distance of `p` (positive on the + side).
     pub fn distance(&self, p: Vec3) -> f32 {
         self.normal.dot(p) - self.d
     }
 }
 
-/// A polygon record.
+/// A polygon record. Its support plane is the plane through its first three vertices
+/// ([`Scene::eye_side`]).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub struct Polygon {
-    /// Support plane index.
-    pub plane: u32,
     /// First entry in the index array.
     pub first_index: u32,
     /// Number of vertices.
@@ -135,10 +147,15 @@ pub struct Scene<'a> {
     palette: usize,
     bounds: usize,
     nodes: usize,
+    /// The size of a step on each axis ([`layout::step`]).
+    step: Vec3,
     /// Record sizes, which the header flags choose.
+    vertex_size: usize,
     index_size: usize,
     polygon_size: usize,
     node_size: usize,
+    /// Bytes of a node field and a polygon's `plane` / `first_index` (2 or 4).
+    field_size: usize,
 }
 
 impl fmt::Debug for Scene<'_> {
@@ -191,6 +208,7 @@ impl<'a> Scene<'a> {
     }
 
     /// Node `i` ([`Node::EMPTY`] when out of range).
+    #[inline]
     pub fn node(&self, i: u32) -> Node {
         match self.raw_node(i) {
             Some(raw) if i < self.header.node_count => raw.node(),
@@ -207,6 +225,7 @@ impl<'a> Scene<'a> {
     }
 
     /// Polygon `i` (all zero when out of range).
+    #[inline]
     pub fn polygon(&self, i: u32) -> Polygon {
         if i >= self.header.polygon_count {
             return Polygon::default();
@@ -214,16 +233,35 @@ impl<'a> Scene<'a> {
         let Some(at) = element(self.polygons, self.polygon_size, i) else {
             return Polygon::default();
         };
-        let Some(r) = Record::<11>::at(self.bytes, at) else {
+        // One bounds check per record, fields at constant offsets.
+        let w = self.field_size;
+        let fields = if w == 2 {
+            Record::<4>::at(self.bytes, at).map(|r| (r.narrow(0, false), r.u8(2), r.u8(3)))
+        } else if w == 3 {
+            Record::<5>::at(self.bytes, at).map(|r| (r.medium(0, false), r.u8(3), r.u8(4)))
+        } else {
+            Record::<6>::at(self.bytes, at).map(|r| (r.u32(0), r.u8(4), r.u8(5)))
+        };
+        let Some((first_index, vertex_count, flags)) = fields else {
             return Polygon::default();
         };
         Polygon {
-            plane: r.u32(0),
-            first_index: r.u32(4),
-            vertex_count: r.u16(8),
-            flags: r.u8(10),
-            colour: self.colour_at(at + 11),
+            first_index,
+            vertex_count: u16::from(vertex_count),
+            flags,
+            colour: self.colour_at(at + w + 2),
         }
+    }
+
+    /// Which side of `polygon`'s support plane `eye` (relative to the centre) is on: positive
+    /// on the side `(v1 - v0) x (v2 - v0)` points to, 0 on the plane; only the sign means
+    /// anything. The plane is the one through the polygon's first three vertices as read
+    /// ([`Plane::through`]): the writer rotates each vertex list so that these three are far
+    /// from collinear, and sets [`layout::polygon_flags::INTERIOR_FRONT`] for this normal.
+    #[inline]
+    pub fn eye_side(&self, polygon: &Polygon, eye: Vec3) -> f32 {
+        let v = |i| self.polygon_vertex(polygon, i);
+        Plane::through(v(0), v(1), v(2)).distance(eye)
     }
 
     /// The colour field at `at`: RGB, or a palette index (see [`layout::polygon_size`]).
@@ -253,32 +291,64 @@ impl<'a> Scene<'a> {
         }
     }
 
-    /// Entry `i` of the index array (`u16` or `u32` as the header says), if in range.
+    /// Entry `i` of the index array (`u16`, `u24` or `u32` as the header says), if in range.
+    #[inline]
     fn index(&self, i: u32) -> Option<u32> {
         if i >= self.header.index_count {
             return None;
         }
         let at = element(self.indices, self.index_size, i)?;
-        if self.index_size == 2 {
-            u16_at(self.bytes, at).map(u32::from)
-        } else {
-            u32_at(self.bytes, at)
+        match self.index_size {
+            2 => u16_at(self.bytes, at).map(u32::from),
+            3 => layout::field_at(self.bytes, at, 3, false),
+            _ => u32_at(self.bytes, at),
         }
     }
 
     /// Bounding box `(min, max)` of node `i`'s subtree, relative to the centre, if the file
     /// stores one for it.
+    #[inline]
     pub fn node_bounds(&self, i: u32) -> Option<(Vec3, Vec3)> {
         if self.header.flags & header_flags::BOUNDS == 0 || i >= self.header.node_count {
             return None;
         }
-        let at = element(self.nodes, self.node_size, i)?.checked_add(NODE_SIZE)?;
-        let k = link(u32_at(self.bytes, at)?)?;
+        let w = self.field_size;
+        let at = element(self.nodes, self.node_size, i)?.checked_add(1 + 3 * w)?;
+        let k = match w {
+            2 => Record::<2>::at(self.bytes, at)?.narrow(0, true),
+            3 => Record::<3>::at(self.bytes, at)?.medium(0, true),
+            _ => Record::<4>::at(self.bytes, at)?.u32(0),
+        };
+        let k = link(k)?;
         if k >= self.header.bounds_count {
             return None;
         }
         let at = element(self.bounds, BOUNDS_SIZE, k)?;
-        Some((self.vec3_at(at), self.vec3_at(at + 12)))
+        Some(self.box_at(at))
+    }
+
+    /// The quantised box at `at`, decoded on the header's bounds: [`layout::dequantise`]
+    /// lane by lane (the same operations in the same order, so the same bits), without its
+    /// branches.
+    fn box_at(&self, at: usize) -> (Vec3, Vec3) {
+        let lo = self.header.bounds_min;
+        let Some(r) = Record::<BOUNDS_SIZE>::at(self.bytes, at) else {
+            return (lo, lo);
+        };
+        (self.decode(&r, 0), self.decode(&r, 6))
+    }
+
+    /// The point of three `u16` steps at byte `first` of `r` on the header's bounds:
+    /// [`layout::dequantise`] lane by lane (the same operations, so the same bits). Vertices
+    /// and boxes decode alike, so a box of steps contains the vertices whose steps it contains.
+    #[inline]
+    fn decode<const N: usize>(&self, r: &Record<N>, first: usize) -> Vec3 {
+        let q = Vec3::new(
+            f32::from(r.u16(first)),
+            f32::from(r.u16(first + 2)),
+            f32::from(r.u16(first + 4)),
+        );
+        self.header.bounds_min + q * self.step
     }
 
     /// Vertex `i` of polygon `polygon` (`i < vertex_count`), relative to the centre
@@ -289,6 +359,7 @@ impl<'a> Scene<'a> {
     }
 
     /// The index in the vertex list of vertex `i` of `polygon` (`None` when out of range).
+    #[inline]
     pub fn polygon_vertex_index(&self, polygon: &Polygon, i: u32) -> Option<u32> {
         if i >= u32::from(polygon.vertex_count) {
             return None;
@@ -300,11 +371,19 @@ impl<'a> Scene<'a> {
     }
 
     /// Vertex `i`, relative to the centre (zero when out of range).
+    #[inline]
     pub fn vertex(&self, i: u32) -> Vec3 {
         if i >= self.header.vertex_count {
             return Vec3::ZERO;
         }
-        element(self.vertices, VERTEX_SIZE, i).map_or(Vec3::ZERO, |at| self.vec3_at(at))
+        let Some(at) = element(self.vertices, self.vertex_size, i) else {
+            return Vec3::ZERO;
+        };
+        if self.vertex_size == 6 {
+            Record::<6>::at(self.bytes, at).map_or(Vec3::ZERO, |r| self.decode(&r, 0))
+        } else {
+            self.vec3_at(at)
+        }
     }
 
     /// Plane `i` (all zero when out of range).
@@ -333,30 +412,72 @@ impl<'a> Scene<'a> {
             .map_or(Vec3::ZERO, |r| Vec3::new(r.f32(0), r.f32(4), r.f32(8)))
     }
 
+    #[inline]
     fn raw_node(&self, i: u32) -> Option<RawNode> {
-        RawNode::at(self.bytes, element(self.nodes, self.node_size, i)?)
+        RawNode::at(
+            self.bytes,
+            element(self.nodes, self.node_size, i)?,
+            self.field_size,
+            i,
+        )
     }
 }
 
 /// A node record as stored, before its kind is interpreted.
 #[derive(Debug, Clone, Copy)]
 struct RawNode {
+    /// The kind, without [`node_kind::FIRST_CHILD`].
     kind: u8,
     a: u32,
+    /// Convex: the child; split: the child on the + side (the implicit first child, the next
+    /// node, when [`node_kind::FIRST_CHILD`] is set).
     b: u32,
+    /// Convex: the polygon count; split: the child on the - side.
     c: u32,
     parent: u32,
 }
 
 impl RawNode {
-    fn at(bytes: &[u8], at: usize) -> Option<RawNode> {
-        let r = Record::<NODE_SIZE>::at(bytes, at)?;
+    /// Node `i` at byte `at`: one bounds check per record, fields at constant offsets (`w`:
+    /// the field width).
+    #[inline]
+    fn at(bytes: &[u8], at: usize, w: usize, i: u32) -> Option<RawNode> {
+        let (byte, a, c, parent) = if w == 2 {
+            let r = Record::<7>::at(bytes, at)?;
+            let byte = r.u8(0);
+            // A convex node's second field is a count, a split's a link.
+            let convex = byte & !node_kind::FIRST_CHILD == node_kind::CONVEX;
+            (
+                byte,
+                r.narrow(1, false),
+                r.narrow(3, !convex),
+                r.narrow(5, true),
+            )
+        } else if w == 3 {
+            let r = Record::<10>::at(bytes, at)?;
+            let byte = r.u8(0);
+            let convex = byte & !node_kind::FIRST_CHILD == node_kind::CONVEX;
+            (
+                byte,
+                r.medium(1, false),
+                r.medium(4, !convex),
+                r.medium(7, true),
+            )
+        } else {
+            let r = Record::<13>::at(bytes, at)?;
+            (r.u8(0), r.u32(1), r.u32(5), r.u32(9))
+        };
+        let b = if byte & node_kind::FIRST_CHILD != 0 {
+            i.wrapping_add(1)
+        } else {
+            NONE
+        };
         Some(RawNode {
-            kind: r.u8(0),
-            a: r.u32(1),
-            b: r.u32(5),
-            c: r.u32(9),
-            parent: r.u32(13),
+            kind: byte & !node_kind::FIRST_CHILD,
+            a,
+            b,
+            c,
+            parent,
         })
     }
 
@@ -365,8 +486,8 @@ impl RawNode {
         match self.kind {
             node_kind::CONVEX => Node::Convex {
                 first: self.a,
-                count: self.b,
-                child: link(self.c),
+                count: self.c,
+                child: link(self.b),
             },
             node_kind::SPLIT => Node::Split {
                 plane: self.a,

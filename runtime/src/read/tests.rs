@@ -25,16 +25,17 @@ struct Spec {
     vertices: Vec<[f32; 3]>,
     planes: Vec<[f32; 4]>,
     indices: Vec<u32>,
-    /// plane, first_index, vertex_count, flags, colour
-    polygons: Vec<(u32, u32, u16, u8, [u8; 3])>,
+    /// first_index, vertex_count, flags, colour
+    polygons: Vec<(u32, u16, u8, [u8; 3])>,
     ids: Vec<u32>,
-    /// kind, a, b, c, parent
+    /// kind, a, b, c, parent (as [`RawNode`] before the first child becomes implicit: convex
+    /// a = first polygon, b = count, c = child; split a = plane, b = + child, c = - child)
     nodes: Vec<(u8, u32, u32, u32, u32)>,
     /// Palette colours (with `PALETTE`, a polygon's colour field holds its index: byte 0, or
     /// bytes 0-1 with `PALETTE16`).
     palette: Vec<[u8; 3]>,
-    /// Node boxes.
-    boxes: Vec<[f32; 6]>,
+    /// Node boxes (quantised on the header's bounds).
+    boxes: Vec<[u16; 6]>,
     /// Per node with `BOUNDS`: its box index or `NONE`.
     node_boxes: Vec<u32>,
     /// Header palette and bounds counts, when not the lengths.
@@ -69,9 +70,9 @@ impl Spec {
             ],
             indices: std::vec![0, 1, 2, 3, 4, 5, 6, 4, 6, 5],
             polygons: std::vec![
-                (0, 0, 4, polygon_flags::INTERIOR_FRONT, [10, 20, 30]),
-                (1, 4, 3, polygon_flags::FLIPPED, [40, 50, 60]),
-                (1, 7, 3, 0, [70, 80, 90]),
+                (0, 4, polygon_flags::INTERIOR_FRONT, [10, 20, 30]),
+                (4, 3, 0, [40, 50, 60]),
+                (7, 3, 0, [70, 80, 90]),
             ],
             ids: std::vec![7, 8, 9],
             nodes: std::vec![
@@ -86,18 +87,20 @@ impl Spec {
         }
     }
 
-    /// [`Spec::small`] with every optional part: u16 indices, a u8 palette, node bounds.
+    /// [`Spec::small`] with every optional part: u16 indices, a u8 palette, node bounds, u16
+    /// node and polygon fields.
     fn small_with_everything() -> Spec {
         let mut spec = Spec::small();
-        spec.flags |= header_flags::INDEX16 | header_flags::PALETTE | header_flags::BOUNDS;
+        spec.flags |= header_flags::INDEX16
+            | header_flags::PALETTE
+            | header_flags::BOUNDS
+            | header_flags::NARROW;
         spec.palette = std::vec![[10, 20, 30], [40, 50, 60]];
         for (k, p) in spec.polygons.iter_mut().enumerate() {
-            p.4 = [(k % 2) as u8, 0, 0];
+            p.3 = [(k % 2) as u8, 0, 0];
         }
-        spec.boxes = std::vec![
-            [0.0, 0.0, 0.0, 1.0, 1.0, 1.0],
-            [0.0, 0.0, 1.0, 1.0, 1.0, 1.0]
-        ];
+        let top = u16::MAX;
+        spec.boxes = std::vec![[0, 0, 0, top, top, top], [0, 0, top, top, top, top]];
         spec.node_boxes = std::vec![0, NONE, 1];
         spec
     }
@@ -114,7 +117,7 @@ impl Spec {
         spec.nodes.clear();
         for i in 0..n {
             spec.indices.extend([0, 1, 2]);
-            spec.polygons.push((0, 3 * i, 3, 0, [1, 2, 3]));
+            spec.polygons.push((3 * i, 3, 0, [1, 2, 3]));
             let child = if i + 1 < n { i + 1 } else { NONE };
             let parent = if i == 0 { NONE } else { i - 1 };
             spec.nodes.push((node_kind::CONVEX, i, 1, child, parent));
@@ -155,8 +158,18 @@ impl Spec {
         assert_eq!(out.len(), HEADER_SIZE);
         let length = |out: &mut Vec<u8>, n: usize| out.extend((n as u64).to_le_bytes());
         length(&mut out, self.vertices.len());
-        for v in self.vertices.iter().flatten() {
-            out.extend(v.to_le_bytes());
+        for v in &self.vertices {
+            for (k, c) in v.iter().enumerate() {
+                if self.flags & header_flags::WIDE_VERTICES != 0 {
+                    out.extend(c.to_le_bytes());
+                } else {
+                    // The nearest step on the bounds (exact for the corners used here).
+                    let (lo, hi) = (self.bounds[0][k], self.bounds[1][k]);
+                    let t = if hi > lo { (c - lo) / (hi - lo) } else { 0.0 };
+                    let q = (t * 65535.0).round().clamp(0.0, 65535.0) as u16;
+                    out.extend(q.to_le_bytes());
+                }
+            }
         }
         length(&mut out, self.planes.len());
         for v in self.planes.iter().flatten() {
@@ -164,20 +177,20 @@ impl Spec {
         }
         length(&mut out, self.indices.len());
         for &v in &self.indices {
-            if self.flags & header_flags::INDEX16 != 0 {
-                out.extend((v as u16).to_le_bytes());
-            } else {
-                out.extend(v.to_le_bytes());
-            }
+            let width = index_size(self.flags);
+            out.extend(&v.to_le_bytes()[..width]);
         }
+        let width = field_size(self.flags);
+        let field = |out: &mut Vec<u8>, v: u32| {
+            let v = if v == NONE { none_of_width(width) } else { v };
+            out.extend(&v.to_le_bytes()[..width]);
+        };
         length(&mut out, self.polygons.len());
-        for &(plane, first, count, flags, colour) in &self.polygons {
-            out.extend(plane.to_le_bytes());
-            out.extend(first.to_le_bytes());
-            out.extend(count.to_le_bytes());
+        for &(first, count, flags, colour) in &self.polygons {
+            field(&mut out, first);
+            out.push(count as u8);
             out.push(flags);
-            let colour_size = polygon_size(self.flags) - 11;
-            out.extend(&colour[..colour_size]);
+            out.extend(&colour[..colour_size(self.flags)]);
         }
         length(&mut out, self.ids.len());
         for v in &self.ids {
@@ -193,18 +206,27 @@ impl Spec {
         }
         length(&mut out, self.nodes.len());
         for (i, &(kind, a, b, c, parent)) in self.nodes.iter().enumerate() {
-            out.push(kind);
-            for v in [a, b, c, parent] {
-                out.extend(v.to_le_bytes());
+            // The first child is implicit: the next node, flagged in the kind byte.
+            let (first, second) = if kind == node_kind::CONVEX {
+                (c, b)
+            } else {
+                (b, c)
+            };
+            if first == NONE {
+                out.push(kind);
+            } else {
+                assert_eq!(
+                    first as usize,
+                    i + 1,
+                    "node {i}: a first child is the next node"
+                );
+                out.push(kind | node_kind::FIRST_CHILD);
+            }
+            for v in [a, second, parent] {
+                field(&mut out, v);
             }
             if self.flags & header_flags::BOUNDS != 0 {
-                out.extend(
-                    self.node_boxes
-                        .get(i)
-                        .copied()
-                        .unwrap_or(NONE)
-                        .to_le_bytes(),
-                );
+                field(&mut out, self.node_boxes.get(i).copied().unwrap_or(NONE));
             }
         }
         out
@@ -270,10 +292,9 @@ fn small_file_reads_back_every_field() {
     assert_eq!(scene.parent(0), None);
     let p1 = scene.polygon(1);
     let expected = Polygon {
-        plane: 1,
         first_index: 4,
         vertex_count: 3,
-        flags: polygon_flags::FLIPPED,
+        flags: 0,
         colour: Colour::new(40, 50, 60),
     };
     assert_eq!(p1, expected);
@@ -374,22 +395,44 @@ fn header_identity_is_checked_first() {
     spec.magic = *b"PEEK";
     assert_eq!(spec.parse(), Err(ReadError::BadMagic));
     assert_eq!(Scene::parse(b"PNG").unwrap_err(), ReadError::BadMagic);
+    // Version 1 (the previous layout) and a later one.
+    for version in [1, 3] {
+        let mut spec = Spec::small();
+        spec.version = version;
+        assert_eq!(spec.parse(), Err(ReadError::UnsupportedVersion { version }));
+        assert_eq!(
+            Scene::parse(&spec.encode()[..6]).unwrap_err(),
+            ReadError::UnsupportedVersion { version }
+        );
+    }
     let mut spec = Spec::small();
-    spec.version = 2;
-    assert_eq!(
-        spec.parse(),
-        Err(ReadError::UnsupportedVersion { version: 2 })
+    spec.flags = 1 << 9;
+    assert_eq!(spec.parse(), Err(ReadError::UnknownFlags { flags: 1 << 9 }));
+    for both in [
+        header_flags::NARROW | header_flags::MEDIUM,
+        header_flags::INDEX16 | header_flags::INDEX24,
+    ] {
+        spec.flags = both;
+        assert_eq!(
+            spec.parse(),
+            Err(ReadError::InconsistentFlags { flags: spec.flags })
+        );
+    }
+    // u24 indices read the same vertices as u32 ones, a byte shorter each.
+    let mut narrow = Spec::small();
+    narrow.flags |= header_flags::INDEX24;
+    let (plain, narrow) = (Spec::small().encode(), narrow.encode());
+    assert_eq!(narrow.len() + Spec::small().indices.len(), plain.len());
+    let (plain, narrow) = (
+        Scene::parse(&plain).unwrap(),
+        Scene::parse(&narrow).unwrap(),
     );
-    assert_eq!(
-        Scene::parse(&spec.encode()[..6]).unwrap_err(),
-        ReadError::UnsupportedVersion { version: 2 }
-    );
-    let mut spec = Spec::small();
-    spec.flags = 0b10_0000;
-    assert_eq!(
-        spec.parse(),
-        Err(ReadError::UnknownFlags { flags: 0b10_0000 })
-    );
+    for p in 0..3 {
+        let (a, b) = (plain.polygon(p), narrow.polygon(p));
+        for k in 0..u32::from(a.vertex_count) {
+            assert_eq!(plain.polygon_vertex(&a, k), narrow.polygon_vertex(&b, k));
+        }
+    }
 }
 
 #[test]
@@ -397,15 +440,16 @@ fn optional_parts_read_back() {
     let spec = Spec::small_with_everything();
     let bytes = spec.encode();
     let plain = Spec::small().encode();
-    // u16 indices (-20), 12-byte polygons (-6), 21-byte nodes (+12), palette (+6), boxes (+48).
-    assert_eq!(bytes.len(), plain.len() - 20 - 6 + 12 + 6 + 48);
+    // u16 indices (-20), 5-byte polygons for 9 (-12), 9-byte nodes for 13 (-12), palette (+6),
+    // boxes (+24).
+    assert_eq!(bytes.len(), plain.len() - 20 - 12 - 12 + 6 + 24);
     let scene = Scene::parse(&bytes).unwrap();
     let plain = Scene::parse(&plain).unwrap();
     for i in 0..3 {
         let (p, q) = (scene.polygon(i), plain.polygon(i));
         assert_eq!(
-            (p.plane, p.first_index, p.vertex_count, p.flags),
-            (q.plane, q.first_index, q.vertex_count, q.flags)
+            (p.first_index, p.vertex_count, p.flags),
+            (q.first_index, q.vertex_count, q.flags)
         );
         for k in 0..u32::from(p.vertex_count) {
             assert_eq!(scene.polygon_vertex(&p, k), plain.polygon_vertex(&q, k));
@@ -423,10 +467,23 @@ fn optional_parts_read_back() {
     );
     assert_eq!(plain.node_bounds(0), None);
     assert_eq!(scene.node_bounds(3), None);
+    // u24 fields read the same records.
+    let mut medium = Spec::small_with_everything();
+    medium.flags = medium.flags & !header_flags::NARROW | header_flags::MEDIUM;
+    let medium_bytes = medium.encode();
+    // A byte more per polygon field (1) and node field (4 with bounds), 3 of each.
+    assert_eq!(medium_bytes.len(), bytes.len() + 3 + 3 * 4);
+    let medium = Scene::parse(&medium_bytes).unwrap();
+    for i in 0..3 {
+        assert_eq!(medium.node(i), scene.node(i));
+        assert_eq!(medium.parent(i), scene.parent(i));
+        assert_eq!(medium.node_bounds(i), scene.node_bounds(i));
+        assert_eq!(medium.polygon(i), scene.polygon(i));
+    }
     // A u16 palette index.
     let mut spec = Spec::small_with_everything();
     spec.flags |= header_flags::PALETTE16;
-    spec.polygons[2].4 = [1, 0, 0];
+    spec.polygons[2].3 = [1, 0, 0];
     let scene_bytes = spec.encode();
     let scene = Scene::parse(&scene_bytes).unwrap();
     assert_eq!(scene.polygon(2).colour, Colour::new(40, 50, 60));
@@ -440,7 +497,7 @@ fn inconsistent_optional_parts_are_refused() {
         spec.parse(),
         Err(ReadError::InconsistentFlags { flags: spec.flags })
     );
-    let cases: [fn(&mut Spec); 9] = [
+    let cases: [fn(&mut Spec); 10] = [
         // A palette without its flag, and the flag without a palette.
         |s| s.palette.push([1, 2, 3]),
         |s| {
@@ -448,30 +505,36 @@ fn inconsistent_optional_parts_are_refused() {
             s.extra_counts = Some([0, 0]);
         },
         // Boxes without the flag.
-        |s| s.boxes.push([0.0; 6]),
+        |s| s.boxes.push([0; 6]),
         // A palette index out of range.
         |s| {
             *s = Spec::small_with_everything();
-            s.polygons[1].4 = [2, 0, 0];
+            s.polygons[1].3 = [2, 0, 0];
         },
         // A box index out of range.
         |s| {
             *s = Spec::small_with_everything();
             s.node_boxes[1] = 2;
         },
-        // A box with min > max, and a non-finite one.
+        // A box with min > max, and one whose decoded corner overflows.
         |s| {
             *s = Spec::small_with_everything();
-            s.boxes[1][2] = 2.0;
+            s.boxes[1][5] = 0;
         },
         |s| {
             *s = Spec::small_with_everything();
-            s.boxes[0][4] = f32::NAN;
+            s.bounds = [[-3e38; 3], [3e38; 3]];
+            s.boxes[0][4] = 1;
         },
         // A palette count beyond what a u8 index can name.
         |s| {
             *s = Spec::small_with_everything();
             s.palette = std::vec![[0; 3]; 257];
+        },
+        // u16 fields with more than 65535 planes.
+        |s| {
+            *s = Spec::small_with_everything();
+            s.planes = std::vec![[0.0; 4]; 1 << 16];
         },
         // u16 indices with more than 2^16 vertices.
         |s| {
@@ -502,7 +565,7 @@ fn counts_must_match_array_lengths() {
     let mut spec = Spec::small();
     spec.counts = Some([7, 3, 10, 3, 4]);
     // The node array length field follows the ids: 4 node records would be needed.
-    let ids_end = spec.encode().len() - 3 * NODE_SIZE - LENGTH_SIZE;
+    let ids_end = spec.encode().len() - 3 * node_size(spec.flags) - LENGTH_SIZE;
     assert_eq!(
         spec.parse(),
         Err(ReadError::CountMismatch { offset: ids_end })
@@ -516,48 +579,106 @@ fn counts_must_match_array_lengths() {
     );
 }
 
+/// Vertices stored as steps decode with [`dequantise`], as node boxes do, and wide ones are
+/// read as they are.
+#[test]
+fn vertices_are_steps_on_the_bounds_or_f32() {
+    let mut spec = Spec::small();
+    spec.bounds = [[-2.0, 0.0, 0.0], [2.0, 3.0, 1.0]];
+    spec.vertices[5] = [0.5, 1.0, 1.0];
+    spec.vertices[1] = [2.0, 0.0, 0.0];
+    spec.vertices[2] = [-2.0, 3.0, 1.0];
+    let scene_bytes = spec.encode();
+    let scene = Scene::parse(&scene_bytes).unwrap();
+    // 0.5 is step 40959.375 of 65535 on [-2, 2]: step 40959 is read.
+    let expected = Vec3::new(
+        dequantise(-2.0, 2.0, 40959),
+        dequantise(0.0, 3.0, 21845),
+        1.0,
+    );
+    assert_eq!(scene.vertex(5), expected);
+    assert!(
+        (scene.vertex(5) - Vec3::new(0.5, 1.0, 1.0))
+            .abs()
+            .max_element()
+            < 4.0 / 65535.0
+    );
+    // The ends are exact.
+    assert_eq!(scene.vertex(1), Vec3::new(2.0, 0.0, 0.0));
+    assert_eq!(scene.vertex(2), Vec3::new(-2.0, 3.0, 1.0));
+    spec.flags |= header_flags::WIDE_VERTICES;
+    let wide_bytes = spec.encode();
+    assert_eq!(
+        wide_bytes.len(),
+        scene_bytes.len() + 6 * spec.vertices.len()
+    );
+    let wide = Scene::parse(&wide_bytes).unwrap();
+    assert_eq!(wide.vertex(5), Vec3::new(0.5, 1.0, 1.0));
+}
+
 #[test]
 fn non_finite_or_out_of_bounds_floats_are_refused() {
-    let cases: [fn(&mut Spec); 6] = [
+    let cases: [fn(&mut Spec); 7] = [
         |s| s.centre[1] = f64::NAN,
         |s| s.bounds[0][2] = f32::NEG_INFINITY,
         |s| s.bounds = [[1.0; 3], [0.0; 3]],
+        // Finite bounds whose extent is not: a step would decode to infinity.
+        |s| s.bounds = [[-3e38; 3], [3e38; 3]],
         |s| s.vertices[3][0] = f32::NAN,
         |s| s.vertices[3][0] = 1.5,
         |s| s.planes[1][3] = f32::INFINITY,
     ];
     for case in cases {
+        // Vertices as f32, so that they can be out of bounds or not finite.
         let mut spec = Spec::small();
+        spec.flags |= header_flags::WIDE_VERTICES;
         case(&mut spec);
         assert!(matches!(spec.parse(), Err(ReadError::BadRecord { .. })));
     }
 }
 
-/// Files from earlier compilers flag the polygons of closed meshes one-sided: they still read,
-/// and the flag is no more than a bit the renderer ignores.
+/// A polygon's plane is the plane through its first three vertices, oriented by their order:
+/// the + side that `INTERIOR_FRONT` names is where `(v1 - v0) x (v2 - v0)` points. Steps and
+/// `f32` vertices give the same sides.
 #[test]
-fn the_legacy_one_sided_flag_is_accepted() {
+fn a_polygon_plane_is_through_its_first_three_vertices() {
     let mut spec = Spec::small();
-    for p in &mut spec.polygons {
-        p.3 |= polygon_flags::LEGACY_ONE_SIDED;
+    spec.bounds = [[0.0, 0.0, -2.0], [1.0, 1.0, 1.0]];
+    for wide in [false, true] {
+        if wide {
+            spec.flags |= header_flags::WIDE_VERTICES;
+        }
+        let bytes = spec.encode();
+        let scene = Scene::parse(&bytes).unwrap();
+        let side = |p, eye| scene.eye_side(&scene.polygon(p), eye);
+        // Polygon 0: (0,0,0), (1,0,0), (1,1,0), (0,1,0): normal +z.
+        assert!(side(0, Vec3::new(0.3, 0.3, 0.5)) > 0.0);
+        assert!(side(0, Vec3::new(5.0, -3.0, -0.001)) < 0.0);
+        assert_eq!(side(0, Vec3::new(7.0, 3.0, 0.0)), 0.0);
+        // Polygon 2: (0,0,1), (0,1,1), (1,0,1): normal -z, through z = 1.
+        assert!(side(2, Vec3::new(0.3, 0.3, 0.5)) > 0.0);
+        assert!(side(2, Vec3::new(0.3, 0.3, 1.5)) < 0.0);
     }
-    let bytes = spec.encode();
-    let scene = Scene::parse(&bytes).expect("a legacy flag is valid");
-    assert_ne!(scene.polygon(0).flags & polygon_flags::LEGACY_ONE_SIDED, 0);
+    // Collinear first vertices give a zero normal: every point is on the plane.
+    assert_eq!(
+        Plane::through(Vec3::ZERO, Vec3::X, Vec3::X * 2.0),
+        Plane::default()
+    );
 }
 
 #[test]
 fn out_of_range_records_are_refused_at_their_offset() {
-    let node_cases: [fn(&mut Spec); 9] = [
-        |s| s.nodes[0].0 = 7, // unknown kind
-        |s| s.nodes[0].1 = 3, // split plane out of range
-        |s| s.nodes[0].3 = 1, // front == back
-        |s| s.nodes[2].2 = 0, // empty convex set
-        |s| s.nodes[2].1 = 1, // polygons owned twice
-        |s| s.nodes[1].3 = 2, // 2 would have two parents
-        |s| s.nodes[2].4 = 1, // parent that does not name it
-        |s| s.nodes[0].4 = 1, // the root has a parent
-        |s| s.nodes[1].3 = 7, // child beyond the array
+    let node_cases: [fn(&mut Spec); 10] = [
+        |s| s.nodes[0].0 = 7,    // unknown kind
+        |s| s.nodes[1].0 = 0x40, // unknown bit of the kind byte
+        |s| s.nodes[0].1 = 3,    // split plane out of range
+        |s| s.nodes[0].3 = 1,    // front == back
+        |s| s.nodes[2].2 = 0,    // empty convex set
+        |s| s.nodes[2].1 = 1,    // polygons owned twice
+        |s| s.nodes[1].3 = 2,    // 2 would have two parents
+        |s| s.nodes[2].4 = 1,    // parent that does not name it
+        |s| s.nodes[0].4 = 1,    // the root has a parent
+        |s| s.nodes[2].3 = 3,    // child beyond the array
     ];
     for (k, case) in node_cases.into_iter().enumerate() {
         let mut spec = Spec::small();
@@ -569,13 +690,13 @@ fn out_of_range_records_are_refused_at_their_offset() {
         );
     }
     let polygon_cases: [fn(&mut Spec); 6] = [
-        |s| s.polygons[1].0 = 3,        // plane out of range
-        |s| s.polygons[1].3 = 0b1000,   // unknown flag
-        |s| s.polygons[1].1 = 3,        // not right after the previous polygon
+        |s| s.polygons[1].2 = 0b1,      // unknown flag (version 1's FLIPPED)
+        |s| s.polygons[1].2 = 0b100,    // unknown flag (version 1's one-sided bit)
+        |s| s.polygons[1].0 = 3,        // not right after the previous polygon
         |s| s.max_polygon_vertices = 3, // polygon 0 has 4 vertices
         |s| s.indices[3] = 7,           // vertex out of range
         |s| {
-            s.polygons[2].2 = 2;
+            s.polygons[2].1 = 2;
             s.indices.pop();
         }, // fewer than 3 vertices
     ];
@@ -595,11 +716,11 @@ fn out_of_range_records_are_refused_at_their_offset() {
 
 #[test]
 fn child_before_parent_and_cycles_are_refused() {
-    // Node 1 and 2 swap roles: 2's child is 1, which comes before it.
+    // 2's - child is 1, which comes before it.
     let mut spec = Spec::small();
-    spec.nodes[0] = (node_kind::SPLIT, 2, 2, NONE, NONE);
+    spec.nodes[0] = (node_kind::SPLIT, 2, NONE, 2, NONE);
     spec.nodes[1] = (node_kind::CONVEX, 0, 2, NONE, 2);
-    spec.nodes[2] = (node_kind::CONVEX, 2, 1, 1, 0);
+    spec.nodes[2] = (node_kind::SPLIT, 2, NONE, 1, 0);
     assert_eq!(
         spec.parse(),
         Err(ReadError::BadRecord {
@@ -610,11 +731,11 @@ fn child_before_parent_and_cycles_are_refused() {
     let mut spec = Spec::small();
     spec.nodes[0] = (node_kind::SPLIT, 2, 1, NONE, NONE);
     spec.nodes[1] = (node_kind::CONVEX, 0, 2, 2, 2);
-    spec.nodes[2] = (node_kind::CONVEX, 2, 1, 1, 1);
+    spec.nodes[2] = (node_kind::SPLIT, 2, NONE, 1, 1);
     assert!(matches!(spec.parse(), Err(ReadError::BadRecord { .. })));
-    // A self loop.
+    // A self loop (a first child is always the next node, so only a split's - child can try).
     let mut spec = Spec::small();
-    spec.nodes[2].3 = 2;
+    spec.nodes[0].3 = 0;
     assert!(matches!(spec.parse(), Err(ReadError::BadRecord { .. })));
 }
 
@@ -713,7 +834,7 @@ fn trusted_parse_checks_header_and_layout_only() {
     );
     // A record out of range passes: that is `parse`'s linear-time work.
     let mut spec = Spec::small();
-    spec.polygons[0].0 = 99; // plane index
+    spec.nodes[0].1 = 99; // split plane index
     let bytes = spec.encode();
     assert!(matches!(
         Scene::parse(&bytes),
@@ -772,7 +893,7 @@ fn exercise(scene: &Scene<'_>) {
         for k in 0..u32::from(p.vertex_count) + 1 {
             let _ = scene.polygon_vertex(&p, k);
         }
-        let _ = (scene.plane(p.plane), scene.id(i));
+        let _ = (scene.eye_side(&p, Vec3::ONE), scene.id(i));
     }
     let _ = scene.vertex(h.vertex_count);
 }
@@ -831,7 +952,7 @@ proptest! {
         let layout = Scene::parse_trusted(&bytes).unwrap();
         let h = layout.header;
         let arrays = [
-            (layout.vertices, h.vertex_count as usize * VERTEX_SIZE),
+            (layout.vertices, h.vertex_count as usize * layout.vertex_size),
             (layout.planes, h.plane_count as usize * PLANE_SIZE),
             (layout.indices, h.index_count as usize * layout.index_size),
             (layout.polygons, h.polygon_count as usize * layout.polygon_size),

@@ -8,11 +8,13 @@
 //! by a walk that goes down child links and back up parent links, keeping only the current
 //! node and its depth: no stack, each edge walked twice.
 
+use glam::Vec3;
+
 use super::layout::{
-    f32_at, f64_at, header_flags as hf, header_offset as h, index_size, node_kind, node_size,
-    polygon_flags, polygon_size, u16_at, u32_at, u64_at, u8_at, BOUNDS_SIZE, FORMAT_VERSION,
-    HEADER_SIZE, ID_SIZE, LENGTH_SIZE, MAGIC, NODE_SIZE, NONE, PALETTE_SIZE, PLANE_SIZE,
-    VERTEX_SIZE,
+    self, f32_at, f64_at, field_at, field_size, header_flags as hf, header_offset as h, index_size,
+    node_kind, node_size, polygon_flags, polygon_size, u16_at, u64_at, u8_at, vertex_size,
+    BOUNDS_SIZE, FORMAT_VERSION, HEADER_SIZE, ID_SIZE, LENGTH_SIZE, MAGIC, NONE, PALETTE_SIZE,
+    PLANE_SIZE,
 };
 use super::{Header, Scene};
 use crate::error::ReadError;
@@ -63,7 +65,12 @@ fn read_header(bytes: &[u8]) -> Result<Header, ReadError> {
         if flags & !hf::KNOWN != 0 {
             return Err(ReadError::UnknownFlags { flags });
         }
-        if flags & hf::PALETTE16 != 0 && flags & hf::PALETTE == 0 {
+        let both_widths = hf::NARROW | hf::MEDIUM;
+        let both_indices = hf::INDEX16 | hf::INDEX24;
+        if flags & hf::PALETTE16 != 0 && flags & hf::PALETTE == 0
+            || flags & both_widths == both_widths
+            || flags & both_indices == both_indices
+        {
             return Err(ReadError::InconsistentFlags { flags });
         }
     }
@@ -117,16 +124,38 @@ fn locate_arrays(bytes: &[u8], header: Header) -> Result<Scene<'_>, ReadError> {
     if flags & hf::BOUNDS == 0 && header.bounds_count != 0 {
         return Err(bad(h::BOUNDS_COUNT));
     }
-    if flags & hf::INDEX16 != 0 && header.vertex_count > 1 << 16 {
+    if flags & hf::INDEX16 != 0 && header.vertex_count > 1 << 16
+        || flags & hf::INDEX24 != 0 && header.vertex_count > 1 << 24
+    {
         return Err(bad(h::VERTEX_COUNT));
     }
-    let (index_size, polygon_size, node_size) =
-        (index_size(flags), polygon_size(flags), node_size(flags));
+    if flags & (hf::NARROW | hf::MEDIUM) != 0 {
+        // Narrower fields: every count they index fits, and no node or box is numbered NONE.
+        let narrow = layout::none_of_width(field_size(flags));
+        for (count, at) in [
+            (header.plane_count, h::PLANE_COUNT),
+            (header.index_count, h::INDEX_COUNT),
+            (header.polygon_count, h::POLYGON_COUNT),
+            (header.node_count, h::NODE_COUNT),
+            (header.bounds_count, h::BOUNDS_COUNT),
+        ] {
+            if count > narrow {
+                return Err(bad(at));
+            }
+        }
+    }
+    let (vertex_size, index_size, polygon_size, node_size) = (
+        vertex_size(flags),
+        index_size(flags),
+        polygon_size(flags),
+        node_size(flags),
+    );
+    let field_size = field_size(flags);
     let mut at = HEADER_SIZE;
     let scene = Scene {
         bytes,
         header,
-        vertices: array(bytes, &mut at, header.vertex_count, VERTEX_SIZE)?,
+        vertices: array(bytes, &mut at, header.vertex_count, vertex_size)?,
         planes: array(bytes, &mut at, header.plane_count, PLANE_SIZE)?,
         indices: array(bytes, &mut at, header.index_count, index_size)?,
         polygons: array(bytes, &mut at, header.polygon_count, polygon_size)?,
@@ -134,9 +163,16 @@ fn locate_arrays(bytes: &[u8], header: Header) -> Result<Scene<'_>, ReadError> {
         palette: array(bytes, &mut at, header.palette_count, PALETTE_SIZE)?,
         bounds: array(bytes, &mut at, header.bounds_count, BOUNDS_SIZE)?,
         nodes: array(bytes, &mut at, header.node_count, node_size)?,
+        step: Vec3::new(
+            layout::step(header.bounds_min.x, header.bounds_max.x),
+            layout::step(header.bounds_min.y, header.bounds_max.y),
+            layout::step(header.bounds_min.z, header.bounds_max.z),
+        ),
+        vertex_size,
         index_size,
         polygon_size,
         node_size,
+        field_size,
     };
     if at != bytes.len() {
         return Err(ReadError::TrailingBytes { offset: at });
@@ -144,7 +180,8 @@ fn locate_arrays(bytes: &[u8], header: Header) -> Result<Scene<'_>, ReadError> {
     Ok(scene)
 }
 
-/// Finite centre, finite bounds with `min <= max`.
+/// Finite centre, finite bounds with `min <= max` and a finite extent `max - min` (which
+/// decoding a vertex or box step multiplies).
 fn check_header_values(bytes: &[u8]) -> Result<(), ReadError> {
     for k in 0..3 {
         let at = h::CENTRE + 8 * k;
@@ -158,7 +195,7 @@ fn check_header_values(bytes: &[u8]) -> Result<(), ReadError> {
         let max = f32_at(bytes, max_at)
             .filter(|v| v.is_finite())
             .ok_or(bad(max_at))?;
-        if min > max {
+        if min > max || !(max - min).is_finite() {
             return Err(bad(max_at));
         }
     }
@@ -174,10 +211,14 @@ fn records(start: usize, size: usize, count: u32) -> impl Iterator<Item = (u32, 
     })
 }
 
-/// Every vertex finite and inside the header's bounds.
+/// Every vertex finite and inside the header's bounds. Steps (without
+/// [`hf::WIDE_VERTICES`]) always are: they decode between the bounds, whose extent is finite.
 fn check_vertices(scene: &Scene<'_>) -> Result<(), ReadError> {
+    if scene.header.flags & hf::WIDE_VERTICES == 0 {
+        return Ok(());
+    }
     let (min, max) = (scene.header.bounds_min, scene.header.bounds_max);
-    for (_, at) in records(scene.vertices, VERTEX_SIZE, scene.header.vertex_count) {
+    for (_, at) in records(scene.vertices, scene.vertex_size, scene.header.vertex_count) {
         for k in 0..3 {
             let inside = f32_at(scene.bytes, at + 4 * k)
                 .is_some_and(|v| v.is_finite() && min[k] <= v && v <= max[k]);
@@ -199,11 +240,12 @@ fn check_planes(scene: &Scene<'_>) -> Result<(), ReadError> {
     Ok(())
 }
 
-/// Every box finite with `min <= max`.
+/// Every box, decoded, finite with `min <= max` (the header's bounds can be so wide that a
+/// step in between overflows).
 fn check_bounds(scene: &Scene<'_>) -> Result<(), ReadError> {
     for (_, at) in records(scene.bounds, BOUNDS_SIZE, scene.header.bounds_count) {
-        let v = |k: usize| f32_at(scene.bytes, at + 4 * k).filter(|v| v.is_finite());
-        let ok = (0..3).all(|k| matches!((v(k), v(k + 3)), (Some(lo), Some(hi)) if lo <= hi));
+        let (lo, hi) = scene.box_at(at);
+        let ok = (0..3).all(|k| lo[k].is_finite() && hi[k].is_finite() && lo[k] <= hi[k]);
         if !ok {
             return Err(bad(at));
         }
@@ -222,27 +264,27 @@ fn check_indices(scene: &Scene<'_>) -> Result<(), ReadError> {
     Ok(())
 }
 
-/// Every polygon: a known plane, known flags, `3 <= vertex_count <= max_polygon_vertices`, and
+/// Every polygon: known flags, `3 <= vertex_count <= max_polygon_vertices`, and
 /// its vertex list right after the previous polygon's, the last one ending the index array.
 fn check_polygons(scene: &Scene<'_>) -> Result<(), ReadError> {
     let header = &scene.header;
     let mut next_index: u64 = 0;
     let palette16 = header.flags & hf::PALETTE16 != 0;
+    let w = scene.field_size;
     for (_, at) in records(scene.polygons, scene.polygon_size, header.polygon_count) {
         let b = scene.bytes;
+        let colour_at = at + w + 2;
         let colour_ok = if header.flags & hf::PALETTE == 0 {
             true
         } else if palette16 {
-            u16_at(b, at + 11).is_some_and(|k| u32::from(k) < header.palette_count)
+            u16_at(b, colour_at).is_some_and(|k| u32::from(k) < header.palette_count)
         } else {
-            u8_at(b, at + 11).is_some_and(|k| u32::from(k) < header.palette_count)
+            u8_at(b, colour_at).is_some_and(|k| u32::from(k) < header.palette_count)
         };
-        let plane = need(u32_at(b, at), at)?;
-        let first_index = need(u32_at(b, at + 4), at)?;
-        let vertex_count = need(u16_at(b, at + 8), at)?;
-        let flags = need(u8_at(b, at + 10), at)?;
+        let first_index = need(field_at(b, at, w, false), at)?;
+        let vertex_count = need(u8_at(b, at + w), at)?;
+        let flags = need(u8_at(b, at + w + 1), at)?;
         let ok = colour_ok
-            && plane < header.plane_count
             && flags & !polygon_flags::KNOWN == 0
             && vertex_count >= 3
             && u32::from(vertex_count) <= header.max_polygon_vertices
@@ -269,17 +311,18 @@ fn check_nodes(scene: &Scene<'_>) -> Result<(), ReadError> {
     for (i, at) in records(scene.nodes, scene.node_size, n) {
         let raw = need(scene.raw_node(i), at)?;
         if with_bounds {
-            let k = need(u32_at(scene.bytes, at + NODE_SIZE), at)?;
+            let w = scene.field_size;
+            let k = need(field_at(scene.bytes, at + 1 + 3 * w, w, true), at)?;
             if k != NONE && k >= header.bounds_count {
                 return Err(bad(at));
             }
         }
         match raw.kind {
             node_kind::CONVEX => {
-                if raw.b == 0 || u64::from(raw.a) != next_polygon {
+                if raw.c == 0 || u64::from(raw.a) != next_polygon {
                     return Err(bad(at));
                 }
-                next_polygon += u64::from(raw.b);
+                next_polygon += u64::from(raw.c);
             }
             node_kind::SPLIT if raw.a < header.plane_count => {}
             _ => return Err(bad(at)),

@@ -14,7 +14,6 @@ use crate::camera::{Camera, Pose};
 use crate::clip::Frustum;
 use crate::coverage::Coverage;
 use crate::fill::FixedPoint;
-use crate::read::layout::polygon_flags::{FLIPPED, LEGACY_ONE_SIDED};
 use crate::read::Node;
 use crate::target::testing::MockTarget;
 use crate::target::{Colour, SpanSink};
@@ -210,7 +209,6 @@ fn a_full_screen_stops_the_walk_and_culls_covered_subtrees() {
     }
     for p in &far.polygons {
         let mut p = *p;
-        p.plane += base_plane;
         p.first_index += t.indices.len() as u32 - far.indices.len() as u32;
         t.polygons.push(p);
     }
@@ -368,8 +366,7 @@ fn exhausted_span_memory_falls_back_without_losing_polygons() {
     assert!(same_image(&reference, &none));
 }
 
-/// The box as an earlier compiler wrote a closed mesh: every face flagged one-sided (a flag
-/// the renderer now ignores), its front side facing out.
+/// A closed box, each face of its own colour.
 fn closed_cube() -> TestTree {
     let mut t = TestTree::default();
     let (first, count) = box_faces(
@@ -381,10 +378,6 @@ fn closed_cube() -> TestTree {
     for k in 0..count as usize {
         let p = &mut t.polygons[first as usize + k];
         p.colour = Colour::new(50 + 30 * k as u8, 0, 0);
-        let plane = t.planes[p.plane as usize];
-        // Outward when the box centre (0) is on the − side of the front normal.
-        let outward = plane.distance(Vec3::ZERO) < 0.0;
-        p.flags |= LEGACY_ONE_SIDED | if outward { 0 } else { FLIPPED };
     }
     t.nodes.push(Node::Convex {
         first,

@@ -32,10 +32,13 @@ pub trait Tree {
     fn root(&self) -> Option<u32>;
     /// Node `i`.
     fn node(&self, i: u32) -> Node;
-    /// Plane `i`.
+    /// Plane `i` (a split node's).
     fn plane(&self, i: u32) -> Plane;
     /// Polygon `i`.
     fn polygon(&self, i: u32) -> Polygon;
+    /// Which side of `polygon`'s support plane `eye` is on: positive on the + side, which
+    /// [`INTERIOR_FRONT`] refers to, 0 on the plane; only the sign means anything.
+    fn eye_side(&self, polygon: &Polygon, eye: Vec3) -> f32;
     /// Number of nodes (bounds the walk even if the tree were malformed).
     fn node_count(&self) -> u32;
     /// Nodes on the longest root-to-leaf path (the stack the walk needs).
@@ -61,6 +64,9 @@ impl Tree for Scene<'_> {
     fn polygon(&self, i: u32) -> Polygon {
         Scene::polygon(self, i)
     }
+    fn eye_side(&self, polygon: &Polygon, eye: Vec3) -> f32 {
+        Scene::eye_side(self, polygon, eye)
+    }
     fn node_count(&self) -> u32 {
         self.header().node_count
     }
@@ -82,9 +88,9 @@ pub enum Order {
     FrontToBack,
 }
 
-/// Whether the eye sees the interior side of `polygon` (eye on its plane counts as yes).
-pub fn sees_interior(polygon: &Polygon, plane: &Plane, eye: Vec3) -> bool {
-    let d = plane.distance(eye);
+/// Whether the eye sees the interior side of `polygon`, the eye being on side `d` of its
+/// plane ([`DisplayTree::eye_side`]; on the plane counts as yes).
+pub fn sees_interior(polygon: &Polygon, d: f32) -> bool {
     if polygon.flags & INTERIOR_FRONT != 0 {
         d >= 0.0
     } else {
@@ -347,7 +353,7 @@ impl<T: Tree + ?Sized> Traversal<'_, '_, T> {
                         }
                         let polygon = self.tree.polygon(index);
                         let wanted = (known && bit != 0)
-                            || sees_interior(&polygon, &self.tree.plane(polygon.plane), self.eye)
+                            || sees_interior(&polygon, self.tree.eye_side(&polygon, self.eye))
                                 == interior;
                         if wanted {
                             self.active = Task::Scan {

@@ -32,12 +32,10 @@ impl TestTree {
         (self.planes.len() - 1) as u32
     }
 
-    /// A polygon on its own plane (from its first three vertices), with `INTERIOR_FRONT` set
-    /// when `interior` lies on the plane's + side.
+    /// A polygon on its own plane (through its first three vertices), with `INTERIOR_FRONT`
+    /// set when `interior` lies on the plane's + side.
     pub fn add_polygon(&mut self, verts: &[Vec3], interior: Vec3, colour: Colour) -> u32 {
-        let n = (verts[1] - verts[0]).cross(verts[2] - verts[0]).normalize();
-        let plane = self.add_plane(n, n.dot(verts[0]));
-        let flags = if self.planes[plane as usize].distance(interior) > 0.0 {
+        let flags = if Plane::through(verts[0], verts[1], verts[2]).distance(interior) > 0.0 {
             INTERIOR_FRONT
         } else {
             0
@@ -48,7 +46,6 @@ impl TestTree {
             self.indices.push((self.vertices.len() - 1) as u32);
         }
         self.polygons.push(Polygon {
-            plane,
             first_index,
             vertex_count: verts.len() as u16,
             flags,
@@ -96,6 +93,10 @@ impl Tree for TestTree {
     }
     fn polygon(&self, i: u32) -> Polygon {
         self.polygons.get(i as usize).copied().unwrap_or_default()
+    }
+    fn eye_side(&self, polygon: &Polygon, eye: Vec3) -> f32 {
+        let v = |i| Source::polygon_vertex(self, polygon, i);
+        Plane::through(v(0), v(1), v(2)).distance(eye)
     }
     fn node_count(&self) -> u32 {
         self.nodes.len() as u32
@@ -211,10 +212,11 @@ pub(crate) fn encode(tree: &TestTree) -> Vec<u8> {
     let mut out = Vec::new();
     out.extend(MAGIC);
     out.extend(FORMAT_VERSION.to_le_bytes());
+    // f32 vertices: the file reads back exactly what the tree holds.
     let flags = if tree.ids.is_some() {
-        header_flags::IDS
+        header_flags::IDS | header_flags::WIDE_VERTICES
     } else {
-        0
+        header_flags::WIDE_VERTICES
     };
     out.extend(flags.to_le_bytes());
     for v in [
@@ -254,9 +256,8 @@ pub(crate) fn encode(tree: &TestTree) -> Vec<u8> {
     }
     length(&mut out, tree.polygons.len());
     for p in &tree.polygons {
-        out.extend(p.plane.to_le_bytes());
         out.extend(p.first_index.to_le_bytes());
-        out.extend(p.vertex_count.to_le_bytes());
+        out.push(p.vertex_count as u8);
         out.push(p.flags);
         out.extend([p.colour.r, p.colour.g, p.colour.b]);
     }
@@ -269,17 +270,24 @@ pub(crate) fn encode(tree: &TestTree) -> Vec<u8> {
     length(&mut out, 0);
     length(&mut out, tree.nodes.len());
     let opt = |c: Option<u32>| c.unwrap_or(NONE);
-    for (n, parent) in tree.nodes.iter().zip(parents) {
-        let (kind, a, b, c) = match *n {
+    for (i, (n, parent)) in tree.nodes.iter().zip(parents).enumerate() {
+        // The first child (convex child, split + child) is implicit: the next node.
+        let (kind, a, first, second) = match *n {
             Node::Convex {
                 first,
                 count,
                 child,
-            } => (node_kind::CONVEX, first, count, opt(child)),
-            Node::Split { plane, front, back } => (node_kind::SPLIT, plane, opt(front), opt(back)),
+            } => (node_kind::CONVEX, first, child, count),
+            Node::Split { plane, front, back } => (node_kind::SPLIT, plane, front, opt(back)),
         };
-        out.push(kind);
-        for v in [a, b, c, parent] {
+        match first {
+            None => out.push(kind),
+            Some(child) => {
+                assert_eq!(child as usize, i + 1, "a first child is the next node");
+                out.push(kind | node_kind::FIRST_CHILD);
+            }
+        }
+        for v in [a, second, parent] {
             out.extend(v.to_le_bytes());
         }
     }
