@@ -236,7 +236,7 @@ fn read_everything(scene: &Scene<'_>) {
     }
     for i in 0..h.polygon_count {
         let p = scene.polygon(i);
-        let _ = scene.eye_side(&p, Vec3::new(0.5, -1.0, 2.0));
+        let _ = scene.eye_side(&p, &scene.side_eye(Vec3::new(0.5, -1.0, 2.0)));
         let _ = scene.id(i);
         for k in 0..u32::from(p.vertex_count) {
             let _ = scene.polygon_vertex(&p, k);

@@ -124,9 +124,16 @@ pub(crate) fn peel_file_encoded(
             .unzip()
     };
 
+    let per_step = DVec3::from([0, 1, 2].map(|k| {
+        f64::from(peel_runtime::read::layout::per_step(
+            bounds_min[k],
+            bounds_max[k],
+        ))
+    }));
     let mut out = Emitter {
         tree,
-        decoded: &decoded,
+        vertices: &vertices,
+        per_step,
         ids,
         planes: Vec::new(),
         plane_slots: FastMap::default(),
@@ -254,7 +261,9 @@ fn bounds(vertices: &[[f32; 3]]) -> ([f32; 3], [f32; 3]) {
 struct Emitter<'t> {
     tree: &'t DisplayTree,
     /// The vertices as the runtime reads them.
-    decoded: &'t [[f32; 3]],
+    vertices: &'t [Vertex],
+    /// Steps per unit of length on each axis, as the runtime brings the eye to steps.
+    per_step: DVec3,
     ids: bool,
     /// The split nodes' planes, in order of first use.
     planes: Vec<[f32; 4]>,
@@ -423,7 +432,7 @@ impl Emitter<'_> {
         // The runtime takes the plane through the first three vertices: start the list (in
         // its winding order) where they are farthest from collinear, and name the interior's
         // side for that plane's normal.
-        let (start, normal) = plane_start(self.decoded, &polygon.vertices);
+        let (start, normal) = plane_start(self.vertices, self.per_step, &polygon.vertices);
         let exact = self.tree.planes[polygon.plane as usize].normal;
         let agrees = normal.dot(exact) >= 0.0;
         let flags = if polygon.interior_front == agrees {
@@ -453,21 +462,39 @@ impl Emitter<'_> {
     }
 }
 
-/// Where a polygon's vertex list (indices into `decoded`, the vertices as the runtime reads
-/// them) should start so that the runtime's plane through its first three vertices
-/// (`peel_runtime::read::Plane::through`, in the same `f32` arithmetic) is best defined: the
-/// rotation with the longest normal (the first on ties), and that normal.
-fn plane_start(decoded: &[[f32; 3]], list: &[u32]) -> (usize, DVec3) {
+/// Where a polygon's vertex list should start so that the runtime's plane through its first
+/// three vertices is best defined: the rotation with the longest normal (the first on ties),
+/// and that normal, in the runtime's arithmetic (`peel_runtime::read::Scene::eye_side`): the
+/// exact cross product of 16-bit steps, brought to world units by the steps per unit length
+/// (`per_step`), or `Plane::through` on `f32` vertices.
+fn plane_start(vertices: &[Vertex], per_step: DVec3, list: &[u32]) -> (usize, DVec3) {
     let n = list.len();
-    let at = |k: usize| Vec3::from(decoded[list[k % n] as usize]);
-    let mut best = (0, Vec3::ZERO);
+    let normal = |start: usize| {
+        let at = |k: usize| vertices[list[(start + k) % n] as usize];
+        match (at(0), at(1), at(2)) {
+            (Vertex::Grid(p), Vertex::Grid(q), Vertex::Grid(r)) => {
+                // Steps < 2^16: the products and their differences are exact in f64.
+                let steps = |v: [u16; 3]| DVec3::from(v.map(f64::from));
+                let (p, q, r) = (steps(p), steps(q), steps(r));
+                (q - p).cross(r - p) * per_step
+            }
+            (p, q, r) => {
+                let wide = |v: Vertex| match v {
+                    Vertex::Wide(v) => Vec3::from(v),
+                    Vertex::Grid(_) => Vec3::ZERO, // never mixed: one encoding per file
+                };
+                Plane::through(wide(p), wide(q), wide(r)).normal.as_dvec3()
+            }
+        }
+    };
+    let mut best = (0, DVec3::ZERO);
     for start in 0..n {
-        let normal = Plane::through(at(start), at(start + 1), at(start + 2)).normal;
-        if normal.length_squared() > best.1.length_squared() {
-            best = (start, normal);
+        let candidate = normal(start);
+        if candidate.length_squared() > best.1.length_squared() {
+            best = (start, candidate);
         }
     }
-    (best.0, best.1.as_dvec3())
+    best
 }
 
 /// The bincode bytes of `file`, with [`format::config`].

@@ -128,6 +128,67 @@ impl Node {
     };
 }
 
+/// The eye as [`Scene::eye_side`] takes it, computed once per frame by [`Scene::side_eye`].
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct SideEye {
+    /// In the vertices' units: steps from `bounds_min` with 16-bit vertices, else the eye
+    /// relative to the centre.
+    pub at: Vec3,
+    /// `at` in 1/[`SideEye::UNIT`] steps, truncated, when 16-bit vertices and every
+    /// coordinate within [`SideEye::REACH`] steps: the integer side test's eye.
+    pub fixed: Option<[i32; 3]>,
+}
+
+impl SideEye {
+    /// Fixed-point units per step of [`SideEye::fixed`].
+    pub const UNIT: i32 = 256;
+    /// How far (in steps, 32 times a scene's extent) [`SideEye::fixed`] reaches: an eye offset
+    /// stays below 2^30 units.
+    pub const REACH: i32 = 1 << 21;
+
+    /// An eye in the tree's own coordinates, for trees without 16-bit vertices.
+    pub fn world(eye: Vec3) -> SideEye {
+        SideEye {
+            at: eye,
+            fixed: None,
+        }
+    }
+}
+
+/// `a * b`, exact. ARMv6-M (Cortex-M0+: no compare-and-swap, the cfg that tells it apart) has no
+/// long multiply, so the 64-bit product would be a library call: there it is four 16-bit
+/// products instead ([`mul_wide_halves`]).
+#[inline]
+fn mul_wide(a: i32, b: i32) -> i64 {
+    if cfg!(all(target_arch = "arm", not(target_has_atomic = "32"))) {
+        mul_wide_halves(a, b)
+    } else {
+        i64::from(a) * i64::from(b)
+    }
+}
+
+/// [`mul_wide`] from 16-bit halves of the magnitudes, each partial product exact in `u32`.
+#[inline]
+fn mul_wide_halves(a: i32, b: i32) -> i64 {
+    let (x, y) = (a.unsigned_abs(), b.unsigned_abs());
+    let (xh, xl, yh, yl) = (x >> 16, x & 0xffff, y >> 16, y & 0xffff);
+    let middle = u64::from(xh * yl) + u64::from(xl * yh);
+    let magnitude = (u64::from(xh * yh) << 32) + (middle << 16) + u64::from(xl * yl);
+    if (a < 0) != (b < 0) {
+        (magnitude as i64).wrapping_neg()
+    } else {
+        magnitude as i64
+    }
+}
+
+/// `n` (|n| < 2^36) as `f32`, correctly rounded, through two exact 32-bit conversions and one
+/// rounding add: Cortex-M converts 32-bit integers in hardware or cheaply, 64-bit ones through
+/// a library call.
+#[inline]
+fn to_f32(n: i64) -> f32 {
+    ((n >> 12) as i32 as f32) * 4096.0 + ((n & 0xFFF) as i32 as f32)
+}
+
 /// A child or parent field: [`layout::NONE`] means "none".
 fn link(value: u32) -> Option<u32> {
     (value != NONE).then_some(value)
@@ -149,6 +210,8 @@ pub struct Scene<'a> {
     nodes: usize,
     /// The size of a step on each axis ([`layout::step`]).
     step: Vec3,
+    /// Steps per unit of length on each axis ([`layout::per_step`]): brings the eye to steps.
+    per_step: Vec3,
     /// Record sizes, which the header flags choose.
     vertex_size: usize,
     index_size: usize,
@@ -253,15 +316,100 @@ impl<'a> Scene<'a> {
         }
     }
 
-    /// Which side of `polygon`'s support plane `eye` (relative to the centre) is on: positive
-    /// on the side `(v1 - v0) x (v2 - v0)` points to, 0 on the plane; only the sign means
-    /// anything. The plane is the one through the polygon's first three vertices as read
-    /// ([`Plane::through`]): the writer rotates each vertex list so that these three are far
-    /// from collinear, and sets [`layout::polygon_flags::INTERIOR_FRONT`] for this normal.
+    /// `eye` (relative to the centre) as [`Scene::eye_side`] takes it, once per frame: in
+    /// steps from `bounds_min` with 16-bit vertices (a positive scale per axis, which keeps
+    /// every side's sign), unchanged with `f32` vertices.
     #[inline]
-    pub fn eye_side(&self, polygon: &Polygon, eye: Vec3) -> f32 {
-        let v = |i| self.polygon_vertex(polygon, i);
-        Plane::through(v(0), v(1), v(2)).distance(eye)
+    pub fn side_eye(&self, eye: Vec3) -> SideEye {
+        if self.vertex_size != 6 {
+            return SideEye {
+                at: eye,
+                fixed: None,
+            };
+        }
+        let at = (eye - self.header.bounds_min) * self.per_step;
+        let reach = SideEye::REACH as f32;
+        let within = |c: f32| c > -reach && c < reach;
+        let fixed = (within(at.x) && within(at.y) && within(at.z))
+            .then(|| [at.x, at.y, at.z].map(|c| (c * SideEye::UNIT as f32) as i32));
+        SideEye { at, fixed }
+    }
+
+    /// Which side of `polygon`'s support plane the eye (from [`Scene::side_eye`]) is on:
+    /// positive on the side `(v1 - v0) x (v2 - v0)` points to, 0 on the plane; only the sign
+    /// means anything. The plane is the one through the polygon's first three vertices as
+    /// read: the writer rotates each vertex list so that these three are far from collinear,
+    /// and sets [`layout::polygon_flags::INTERIOR_FRONT`] for this normal.
+    ///
+    /// With 16-bit vertices no vertex is decoded. When the three are within 2^15 steps of each
+    /// other and the eye within [`SideEye::REACH`], the test is integer: the cross product of the
+    /// steps is exact in `i32`, its dot product with the eye in 1/256 steps exact in `i64` (the
+    /// common case, and what a core without an FPU can afford); otherwise the exact `i64` cross
+    /// product is rounded to `f32`. With `f32` vertices it is [`Plane::through`].
+    #[inline]
+    pub fn eye_side(&self, polygon: &Polygon, eye: &SideEye) -> f32 {
+        if self.vertex_size != 6 {
+            let v = |i| self.polygon_vertex(polygon, i);
+            return Plane::through(v(0), v(1), v(2)).distance(eye.at);
+        }
+        // The three indices with one bounds check when they are u16 (always, in practice:
+        // 16-bit vertices come with fewer than 65,536 of them).
+        let first = polygon.first_index;
+        let three = if self.index_size == 2
+            && polygon.vertex_count >= 3
+            && first < self.header.index_count.saturating_sub(2)
+        {
+            element(self.indices, 2, first)
+                .and_then(|at| Record::<6>::at(self.bytes, at))
+                .map(|r| [r.u16(0), r.u16(2), r.u16(4)].map(u32::from))
+        } else {
+            None
+        };
+        let index = |i: u32| match three {
+            Some(t) => Some(t[i as usize]),
+            None => self.polygon_vertex_index(polygon, i),
+        };
+        let steps = |i| {
+            index(i)
+                .filter(|&v| v < self.header.vertex_count)
+                .and_then(|v| element(self.vertices, 6, v))
+                .and_then(|at| Record::<6>::at(self.bytes, at))
+                .map_or([0i32; 3], |r| [0, 2, 4].map(|k| i32::from(r.u16(k))))
+        };
+        let (p, q, r) = (steps(0), steps(1), steps(2));
+        let a = [q[0] - p[0], q[1] - p[1], q[2] - p[2]];
+        let b = [r[0] - p[0], r[1] - p[1], r[2] - p[2]];
+        let short = |c: i32| (c + (1 << 15)) as u32 >> 16 == 0; // -2^15 <= c < 2^15
+        if let Some(e) = eye.fixed {
+            if a.iter().chain(&b).all(|&c| short(c)) {
+                // Each product below 2^30, each component below 2^31; each eye offset below
+                // 2^30, each term below 2^61: exact.
+                let n = [
+                    a[1] * b[2] - a[2] * b[1],
+                    a[2] * b[0] - a[0] * b[2],
+                    a[0] * b[1] - a[1] * b[0],
+                ];
+                let d = [0, 1, 2].map(|k| e[k] - p[k] * SideEye::UNIT);
+                let side = mul_wide(n[0], d[0]) + mul_wide(n[1], d[1]) + mul_wide(n[2], d[2]);
+                // The sign as constants: converting an i64 is a library call on Cortex-M.
+                return if side > 0 {
+                    1.0
+                } else if side < 0 {
+                    -1.0
+                } else {
+                    0.0
+                };
+            }
+        }
+        let (a, b) = (a.map(i64::from), b.map(i64::from));
+        // |a|, |b| < 2^16 per axis: the cross product is exact in i64, then rounded once.
+        let n = Vec3::new(
+            to_f32(a[1] * b[2] - a[2] * b[1]),
+            to_f32(a[2] * b[0] - a[0] * b[2]),
+            to_f32(a[0] * b[1] - a[1] * b[0]),
+        );
+        let origin = Vec3::new(p[0] as f32, p[1] as f32, p[2] as f32);
+        n.dot(eye.at - origin)
     }
 
     /// The colour field at `at`: RGB, or a palette index (see [`layout::polygon_size`]).

@@ -650,7 +650,7 @@ fn a_polygon_plane_is_through_its_first_three_vertices() {
         }
         let bytes = spec.encode();
         let scene = Scene::parse(&bytes).unwrap();
-        let side = |p, eye| scene.eye_side(&scene.polygon(p), eye);
+        let side = |p, eye| scene.eye_side(&scene.polygon(p), &scene.side_eye(eye));
         // Polygon 0: (0,0,0), (1,0,0), (1,1,0), (0,1,0): normal +z.
         assert!(side(0, Vec3::new(0.3, 0.3, 0.5)) > 0.0);
         assert!(side(0, Vec3::new(5.0, -3.0, -0.001)) < 0.0);
@@ -664,6 +664,117 @@ fn a_polygon_plane_is_through_its_first_three_vertices() {
         Plane::through(Vec3::ZERO, Vec3::X, Vec3::X * 2.0),
         Plane::default()
     );
+}
+
+proptest! {
+    /// A record's offset is the checked product and sum, on every core's path.
+    #[test]
+    fn element_offsets_are_checked_arithmetic(
+        start in any::<usize>(),
+        size in prop_oneof![0usize..300, any::<usize>()],
+        index in prop_oneof![0u32..(1 << 24) + 10, any::<u32>()],
+    ) {
+        let want = (index as usize).checked_mul(size).and_then(|o| o.checked_add(start));
+        prop_assert_eq!(element(start, size, index), want);
+        prop_assert_eq!(element_narrow(start, size, index), want);
+    }
+
+    /// The 64-bit product from 16-bit halves (the Cortex-M0+ path) is the product.
+    #[test]
+    fn products_from_halves_are_exact(a in any::<i32>(), b in any::<i32>()) {
+        prop_assert_eq!(mul_wide_halves(a, b), i64::from(a) * i64::from(b));
+    }
+
+    /// Vertices within 2^15 steps of each other and an eye within reach take the integer test:
+    /// its sign is the exact one (i128 arithmetic on the steps and the fixed-point eye).
+    #[test]
+    fn the_integer_side_is_exact(
+        base in proptest::array::uniform3(0i32..=65535),
+        offsets in proptest::array::uniform2(proptest::array::uniform3(-32767i32..32767)),
+        eye in proptest::array::uniform3(-3.0f32..3.0),
+    ) {
+        let mut spec = Spec::small();
+        let (lo, hi) = ([-1.0f32, -2.0, 0.5], [3.0f32, 1.0, 0.75]);
+        spec.bounds = [lo, hi];
+        let q = [
+            base,
+            [0, 1, 2].map(|k| (base[k] + offsets[0][k]).clamp(0, 65535)),
+            [0, 1, 2].map(|k| (base[k] + offsets[1][k]).clamp(0, 65535)),
+        ];
+        for (i, v) in q.iter().enumerate() {
+            spec.vertices[i] = [0, 1, 2].map(|k| {
+                (f64::from(lo[k]) + f64::from(v[k]) * (f64::from(hi[k]) - f64::from(lo[k])) / 65535.0)
+                    as f32
+            });
+        }
+        let bytes = spec.encode();
+        let scene = Scene::parse(&bytes).unwrap();
+        let side_eye = scene.side_eye(Vec3::from(eye));
+        let e = side_eye.fixed.expect("an eye this close is within reach");
+        // The steps as stored.
+        let stored = [0u32, 1, 2].map(|i| {
+            let at = element(scene.vertices, 6, i).unwrap();
+            [0, 2, 4].map(|k| i128::from(u16_at(&bytes, at + k).unwrap()))
+        });
+        let [p, q, r] = stored;
+        let (a, b) = ([0, 1, 2].map(|k| q[k] - p[k]), [0, 1, 2].map(|k| r[k] - p[k]));
+        let n = [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]];
+        let exact: i128 = (0..3).map(|k| n[k] * (i128::from(e[k]) - 256 * p[k])).sum();
+        let side = scene.eye_side(&scene.polygon(0), &side_eye);
+        prop_assert_eq!(side, exact.signum() as f32);
+    }
+}
+
+/// On a flat axis (every vertex at the same height) a step is 0 and no eye can be brought to
+/// steps on it; the side must still follow the eye across the plane.
+#[test]
+fn a_flat_scene_still_has_two_sides() {
+    let mut spec = Spec::small();
+    spec.bounds = [[0.0, 0.0, 0.0], [1.0, 1.0, 0.0]];
+    let bytes = spec.encode();
+    let scene = Scene::parse(&bytes).unwrap();
+    // Polygon 0: (0,0,0), (1,0,0), (1,1,0), (0,1,0): normal +z.
+    let side = |eye| scene.eye_side(&scene.polygon(0), &scene.side_eye(eye));
+    assert!(side(Vec3::new(0.3, 0.3, 0.5)) > 0.0);
+    assert!(side(Vec3::new(-4.0, 9.0, -1e-3)) < 0.0);
+    assert_eq!(side(Vec3::new(4.0, -2.0, 0.0)), 0.0);
+}
+
+proptest! {
+    /// With 16-bit vertices the side comes from the steps' integer cross product and the eye
+    /// in steps: the sign is the exact one (real arithmetic on the vertices' positions) for
+    /// every eye not within a thousandth of the plane.
+    #[test]
+    fn the_side_in_steps_is_the_exact_side(
+        q in proptest::array::uniform3(proptest::array::uniform3(0u16..=65535)),
+        eye in proptest::array::uniform3(-10.0f32..10.0),
+    ) {
+        let mut spec = Spec::small();
+        let (lo, hi) = ([-1.0f32, -2.0, 0.5], [3.0f32, 1.0, 0.75]);
+        spec.bounds = [lo, hi];
+        let position = |q: [u16; 3]| {
+            [0, 1, 2].map(|k| {
+                f64::from(lo[k]) + f64::from(q[k]) * (f64::from(hi[k]) - f64::from(lo[k])) / 65535.0
+            })
+        };
+        for (i, &v) in q.iter().enumerate() {
+            spec.vertices[i] = position(v).map(|c| c as f32);
+        }
+        let bytes = spec.encode();
+        let scene = Scene::parse(&bytes).unwrap();
+        // The steps as stored: the encoder's nearest step of each f32 position.
+        let stored = [0u32, 1, 2].map(|i| {
+            let v = scene.vertex(i);
+            [0, 1, 2].map(|k| ((v[k] - lo[k]) / (hi[k] - lo[k]) * 65535.0).round() as u16)
+        });
+        let [a, b, c] = stored.map(|s| glam::DVec3::from(position(s)));
+        let normal = (b - a).cross(c - a);
+        let eye_d = glam::DVec3::new(f64::from(eye[0]), f64::from(eye[1]), f64::from(eye[2]));
+        let exact = normal.dot(eye_d - a);
+        prop_assume!(normal.length() > 1e-9 && exact.abs() > 1e-3 * normal.length());
+        let side = scene.eye_side(&scene.polygon(0), &scene.side_eye(Vec3::from(eye)));
+        prop_assert_eq!(side > 0.0, exact > 0.0, "side {} exact {}", side, exact);
+    }
 }
 
 #[test]
@@ -893,7 +1004,7 @@ fn exercise(scene: &Scene<'_>) {
         for k in 0..u32::from(p.vertex_count) + 1 {
             let _ = scene.polygon_vertex(&p, k);
         }
-        let _ = (scene.eye_side(&p, Vec3::ONE), scene.id(i));
+        let _ = (scene.eye_side(&p, &scene.side_eye(Vec3::ONE)), scene.id(i));
     }
     let _ = scene.vertex(h.vertex_count);
 }

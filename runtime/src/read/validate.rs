@@ -168,6 +168,11 @@ fn locate_arrays(bytes: &[u8], header: Header) -> Result<Scene<'_>, ReadError> {
             layout::step(header.bounds_min.y, header.bounds_max.y),
             layout::step(header.bounds_min.z, header.bounds_max.z),
         ),
+        per_step: Vec3::new(
+            layout::per_step(header.bounds_min.x, header.bounds_max.x),
+            layout::per_step(header.bounds_min.y, header.bounds_max.y),
+            layout::per_step(header.bounds_min.z, header.bounds_max.z),
+        ),
         vertex_size,
         index_size,
         polygon_size,

@@ -19,7 +19,7 @@
 use glam::Vec3;
 
 use crate::error::RenderError;
-use crate::read::{Node, Plane, Polygon, Scene};
+use crate::read::{Node, Plane, Polygon, Scene, SideEye};
 
 /// Bit of [`Polygon::flags`]: the rest of the polygon's convex set lies on the + side of its
 /// plane.
@@ -36,9 +36,15 @@ pub trait Tree {
     fn plane(&self, i: u32) -> Plane;
     /// Polygon `i`.
     fn polygon(&self, i: u32) -> Polygon;
-    /// Which side of `polygon`'s support plane `eye` is on: positive on the + side, which
-    /// [`INTERIOR_FRONT`] refers to, 0 on the plane; only the sign means anything.
-    fn eye_side(&self, polygon: &Polygon, eye: Vec3) -> f32;
+    /// The eye as [`Tree::eye_side`] takes it, from the eye in the tree's coordinates; called
+    /// once per walk. The default: the eye as it is ([`SideEye::world`]).
+    fn side_eye(&self, eye: Vec3) -> SideEye {
+        SideEye::world(eye)
+    }
+    /// Which side of `polygon`'s support plane the eye (as [`Tree::side_eye`] gave it) is on:
+    /// positive on the + side, which [`INTERIOR_FRONT`] refers to, 0 on the plane; only the
+    /// sign means anything.
+    fn eye_side(&self, polygon: &Polygon, side_eye: &SideEye) -> f32;
     /// Number of nodes (bounds the walk even if the tree were malformed).
     fn node_count(&self) -> u32;
     /// Nodes on the longest root-to-leaf path (the stack the walk needs).
@@ -64,8 +70,11 @@ impl Tree for Scene<'_> {
     fn polygon(&self, i: u32) -> Polygon {
         Scene::polygon(self, i)
     }
-    fn eye_side(&self, polygon: &Polygon, eye: Vec3) -> f32 {
-        Scene::eye_side(self, polygon, eye)
+    fn side_eye(&self, eye: Vec3) -> SideEye {
+        Scene::side_eye(self, eye)
+    }
+    fn eye_side(&self, polygon: &Polygon, side_eye: &SideEye) -> f32 {
+        Scene::eye_side(self, polygon, side_eye)
     }
     fn node_count(&self) -> u32 {
         self.header().node_count
@@ -140,6 +149,8 @@ enum Task {
 pub struct Traversal<'t, 's, T: Tree + ?Sized> {
     tree: &'t T,
     eye: Vec3,
+    /// `eye` as the tree's polygon side test takes it ([`Tree::side_eye`]).
+    side_eye: SideEye,
     order: Order,
     stack: &'s mut [StackEntry],
     len: usize,
@@ -168,6 +179,7 @@ impl<'t, 's, T: Tree + ?Sized> Traversal<'t, 's, T> {
         Ok(Traversal {
             tree,
             eye,
+            side_eye: tree.side_eye(eye),
             order,
             stack,
             len: 0,
@@ -353,8 +365,10 @@ impl<T: Tree + ?Sized> Traversal<'_, '_, T> {
                         }
                         let polygon = self.tree.polygon(index);
                         let wanted = (known && bit != 0)
-                            || sees_interior(&polygon, self.tree.eye_side(&polygon, self.eye))
-                                == interior;
+                            || sees_interior(
+                                &polygon,
+                                self.tree.eye_side(&polygon, &self.side_eye),
+                            ) == interior;
                         if wanted {
                             self.active = Task::Scan {
                                 first,

@@ -354,7 +354,8 @@ fn recursive_btf(t: &TestTree, node: Option<u32>, eye: Vec3, out: &mut Vec<u32>)
             count,
             child,
         } => {
-            let seen = |p: u32| sees_interior(&t.polygon(p), t.eye_side(&t.polygon(p), eye));
+            let seen =
+                |p: u32| sees_interior(&t.polygon(p), t.eye_side(&t.polygon(p), &t.side_eye(eye)));
             out.extend((first..first + count).filter(|&p| seen(p)));
             recursive_btf(t, child, eye, out);
             out.extend((first..first + count).filter(|&p| !seen(p)));
