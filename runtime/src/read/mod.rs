@@ -353,15 +353,15 @@ impl<'a> Scene<'a> {
             return Plane::through(v(0), v(1), v(2)).distance(eye.at);
         }
         // The three indices with one bounds check when they are u16 (always, in practice:
-        // 16-bit vertices come with fewer than 65,536 of them).
+        // 16-bit vertices come with fewer than 65,536 of them). The offsets need no overflow
+        // check: an index below its count lies inside the bytes (checked at parse).
         let first = polygon.first_index;
         let three = if self.index_size == 2
             && polygon.vertex_count >= 3
             && first < self.header.index_count.saturating_sub(2)
         {
-            element(self.indices, 2, first)
-                .and_then(|at| Record::<6>::at(self.bytes, at))
-                .map(|r| [r.u16(0), r.u16(2), r.u16(4)].map(u32::from))
+            let at = self.indices.wrapping_add((first as usize).wrapping_mul(2));
+            Record::<6>::at(self.bytes, at).map(|r| [r.u16(0), r.u16(2), r.u16(4)].map(u32::from))
         } else {
             None
         };
@@ -369,19 +369,29 @@ impl<'a> Scene<'a> {
             Some(t) => Some(t[i as usize]),
             None => self.polygon_vertex_index(polygon, i),
         };
-        let steps = |i| {
-            index(i)
-                .filter(|&v| v < self.header.vertex_count)
-                .and_then(|v| element(self.vertices, 6, v))
-                .and_then(|at| Record::<6>::at(self.bytes, at))
-                .map_or([0i32; 3], |r| [0, 2, 4].map(|k| i32::from(r.u16(k))))
+        let steps = |i| match index(i) {
+            Some(v) if v < self.header.vertex_count => {
+                let at = self.vertices.wrapping_add((v as usize).wrapping_mul(6));
+                Record::<6>::at(self.bytes, at)
+                    .map_or([0i32; 3], |r| [0, 2, 4].map(|k| i32::from(r.u16(k))))
+            }
+            _ => [0i32; 3],
         };
         let (p, q, r) = (steps(0), steps(1), steps(2));
         let a = [q[0] - p[0], q[1] - p[1], q[2] - p[2]];
         let b = [r[0] - p[0], r[1] - p[1], r[2] - p[2]];
-        let short = |c: i32| (c + (1 << 15)) as u32 >> 16 == 0; // -2^15 <= c < 2^15
+        // Each of a and b in -2^15 ..< 2^15, tested at once.
+        let spread = |c: i32| (c + (1 << 15)) as u32;
+        let short = (spread(a[0])
+            | spread(a[1])
+            | spread(a[2])
+            | spread(b[0])
+            | spread(b[1])
+            | spread(b[2]))
+            >> 16
+            == 0;
         if let Some(e) = eye.fixed {
-            if a.iter().chain(&b).all(|&c| short(c)) {
+            if short {
                 // Each product below 2^30, each component below 2^31; each eye offset below
                 // 2^30, each term below 2^61: exact.
                 let n = [
