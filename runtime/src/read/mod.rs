@@ -399,7 +399,8 @@ impl<'a> Scene<'a> {
                     a[2] * b[0] - a[0] * b[2],
                     a[0] * b[1] - a[1] * b[0],
                 ];
-                let d = [0, 1, 2].map(|k| e[k] - p[k] * SideEye::UNIT);
+                let unit = SideEye::UNIT;
+                let d = [e[0] - p[0] * unit, e[1] - p[1] * unit, e[2] - p[2] * unit];
                 let side = mul_wide(n[0], d[0]) + mul_wide(n[1], d[1]) + mul_wide(n[2], d[2]);
                 // The sign as constants: converting an i64 is a library call on Cortex-M.
                 return if side > 0 {
