@@ -262,9 +262,28 @@ pub(crate) fn f64_at(bytes: &[u8], offset: usize) -> Option<f64> {
 }
 
 /// Byte offset of element `index` of an array of `size`-byte records starting at `start`.
+#[inline]
 pub(crate) fn element(start: usize, size: usize, index: u32) -> Option<usize> {
-    usize::try_from(index)
-        .ok()?
-        .checked_mul(size)?
-        .checked_add(start)
+    if cfg!(all(target_arch = "arm", not(target_has_atomic = "32"))) {
+        element_narrow(start, size, index)
+    } else {
+        usize::try_from(index)
+            .ok()?
+            .checked_mul(size)?
+            .checked_add(start)
+    }
+}
+
+/// [`element`] for ARMv6-M (no compare-and-swap, the cfg that tells it apart), which has no
+/// widening multiply: there `checked_mul` is a 64-bit library call on every record read.
+/// Below 2^24 records of under 256 bytes the product fits 32 bits and needs no check.
+#[inline]
+pub(crate) fn element_narrow(start: usize, size: usize, index: u32) -> Option<usize> {
+    let index = usize::try_from(index).ok()?;
+    let offset = if index < 1 << 24 && size < 256 {
+        index * size
+    } else {
+        index.checked_mul(size)?
+    };
+    offset.checked_add(start)
 }

@@ -778,6 +778,21 @@ fn exercise(scene: &Scene<'_>) {
 }
 
 proptest! {
+    /// A record's offset is the checked product and sum, on every core's path (ARMv6-M's
+    /// without a 64-bit multiply, the others').
+    #[test]
+    fn element_offsets_are_checked_arithmetic(
+        start in any::<usize>(),
+        size in prop_oneof![0usize..300, any::<usize>()],
+        index in prop_oneof![0u32..(1 << 24) + 10, any::<u32>()],
+    ) {
+        let want = (index as usize).checked_mul(size).and_then(|o| o.checked_add(start));
+        prop_assert_eq!(element(start, size, index), want);
+        prop_assert_eq!(element_narrow(start, size, index), want);
+    }
+}
+
+proptest! {
     #[test]
     fn random_bytes_never_panic(bytes in proptest::collection::vec(any::<u8>(), 0..600)) {
         if let Ok(scene) = Scene::parse(&bytes) {

@@ -218,10 +218,9 @@ impl<const SUB: u32> Painter<'_, '_, SUB> {
             let corner = |v: Vec3| screen(view.to_camera(v));
             let mut count = 0usize;
             for (i, slot) in (0..n).zip(self.points.iter_mut()) {
-                let position = || scene.polygon_vertex(polygon, i);
                 *slot = match scene.vertex_index(polygon, i) {
-                    Some(v) => cache.get(v, || corner(position())),
-                    None => corner(position()),
+                    Some(v) => cache.get(v, || corner(scene.vertex(v))),
+                    None => corner(scene.polygon_vertex(polygon, i)),
                 };
                 count += 1;
             }

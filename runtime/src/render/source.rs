@@ -37,6 +37,14 @@ pub trait Source: Tree {
         let _ = (polygon, i);
         None
     }
+    /// Shared vertex `v`, relative to the centre: what [`Source::polygon_vertex`] gives for a
+    /// vertex whose [`Source::vertex_index`] is `v`, read without the polygon's index again.
+    /// Only asked for indices that [`Source::vertex_index`] gave, so a source without shared
+    /// vertices keeps the default.
+    fn vertex(&self, v: u32) -> Vec3 {
+        let _ = v;
+        Vec3::ZERO
+    }
 }
 
 impl Source for Scene<'_> {
@@ -60,5 +68,8 @@ impl Source for Scene<'_> {
     }
     fn vertex_index(&self, polygon: &Polygon, i: u32) -> Option<u32> {
         Scene::polygon_vertex_index(self, polygon, i)
+    }
+    fn vertex(&self, v: u32) -> Vec3 {
+        Scene::vertex(self, v)
     }
 }
