@@ -127,7 +127,7 @@ enum Task {
     Node(u32) = 1,
     /// Scan polygons `first .. first + count`, `done` of them already looked at, yielding
     /// those with `sees_interior == interior`, then visit `then`. A node's first scan sets
-    /// bit `k` of `yielded` for each polygon `k < 64` it yields and hands the mask to the
+    /// bit `k` of `yielded` for each polygon `k < 32` it yields and hands the mask to the
     /// second scan (`known`), which then yields the others without testing their planes again.
     Scan {
         first: u32,
@@ -135,7 +135,7 @@ enum Task {
         done: u32,
         interior: bool,
         then: Option<u32>,
-        yielded: u64,
+        yielded: u32,
         known: bool,
     } = 2,
 }
@@ -227,7 +227,7 @@ impl<'t, 's, T: Tree + ?Sized> Traversal<'t, 's, T> {
 
     /// A node's first scan is over: give the polygons it yielded to the node's second scan,
     /// pushed just before the first scan started and so still on top of the stack.
-    fn hand_over(&mut self, first_polygon: u32, mask: u64) {
+    fn hand_over(&mut self, first_polygon: u32, mask: u32) {
         let top = self.len.checked_sub(1).and_then(|i| self.stack.get_mut(i));
         if let Some(StackEntry(Task::Scan {
             first,
@@ -253,7 +253,7 @@ impl<T: Tree + ?Sized> Iterator for Traversal<'_, '_, T> {
 }
 
 /// Polygons per convex node whose side the first scan remembers for the second (one bit each).
-const MASK_BITS: u32 = u64::BITS;
+const MASK_BITS: u32 = u32::BITS;
 
 impl<T: Tree + ?Sized> Traversal<'_, '_, T> {
     /// The next polygon, asking `enter(node)` before walking into each node: `false` skips
@@ -359,7 +359,7 @@ impl<T: Tree + ?Sized> Traversal<'_, '_, T> {
                         };
                         done += 1;
                         let index = first.saturating_add(k);
-                        let bit = if k < MASK_BITS { 1u64 << k } else { 0 };
+                        let bit = if k < MASK_BITS { 1u32 << k } else { 0 };
                         if known && yielded & bit != 0 {
                             continue; // the first scan yielded it
                         }

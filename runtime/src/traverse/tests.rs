@@ -399,7 +399,7 @@ fn nested_spheres(sizes: &[(u32, f32)]) -> TestTree {
 }
 
 proptest! {
-    /// Convex nodes below, at and above the 64 polygons the first scan remembers: the walk
+    /// Convex nodes below, at and above the 32 polygons the first scan remembers: the walk
     /// matches the recursive definition, front to back is its reverse.
     #[test]
     fn large_convex_nodes_match_the_recursive_order(
