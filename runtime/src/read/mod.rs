@@ -128,6 +128,32 @@ impl Node {
     };
 }
 
+/// Which side of a polygon's support plane the eye is on ([`Scene::eye_side`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Side {
+    /// The side the plane's normal points to, which [`layout::polygon_flags::INTERIOR_FRONT`]
+    /// refers to.
+    Front,
+    /// On the plane.
+    On,
+    /// The other side.
+    Back,
+}
+
+impl Side {
+    /// The side of a signed distance (NaN counts as [`Side::On`]).
+    #[inline]
+    pub fn of(distance: f32) -> Side {
+        if distance > 0.0 {
+            Side::Front
+        } else if distance < 0.0 {
+            Side::Back
+        } else {
+            Side::On
+        }
+    }
+}
+
 /// The eye as [`Scene::eye_side`] takes it, computed once per frame by [`Scene::side_eye`].
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct SideEye {
@@ -181,6 +207,39 @@ fn mul_wide_halves(a: i32, b: i32) -> i64 {
     }
 }
 
+/// The side given by the sign of `(q - p) x (r - p) . (e / UNIT - p)`, for steps `p`,
+/// `q`, `r` and an eye `e` in 1/[`SideEye::UNIT`] steps within [`SideEye::REACH`]; `None` unless
+/// `q - p` and `r - p` lie within 2^15 per axis. Then every product is exact: the cross product's
+/// below 2^30, its components below 2^31, the eye offsets below 2^30, each term below 2^61.
+#[inline]
+fn integer_sign(p: [i32; 3], q: [i32; 3], r: [i32; 3], e: [i32; 3]) -> Option<Side> {
+    let a = [q[0] - p[0], q[1] - p[1], q[2] - p[2]];
+    let b = [r[0] - p[0], r[1] - p[1], r[2] - p[2]];
+    // Each of a and b in -2^15 ..< 2^15, tested at once.
+    let spread = |c: i32| (c + (1 << 15)) as u32;
+    let wide =
+        (spread(a[0]) | spread(a[1]) | spread(a[2]) | spread(b[0]) | spread(b[1]) | spread(b[2]))
+            >> 16;
+    if wide != 0 {
+        return None;
+    }
+    let n = [
+        a[1] * b[2] - a[2] * b[1],
+        a[2] * b[0] - a[0] * b[2],
+        a[0] * b[1] - a[1] * b[0],
+    ];
+    let unit = SideEye::UNIT;
+    let d = [e[0] - p[0] * unit, e[1] - p[1] * unit, e[2] - p[2] * unit];
+    let side = mul_wide(n[0], d[0]) + mul_wide(n[1], d[1]) + mul_wide(n[2], d[2]);
+    Some(if side > 0 {
+        Side::Front
+    } else if side < 0 {
+        Side::Back
+    } else {
+        Side::On
+    })
+}
+
 /// `n` (|n| < 2^36) as `f32`, correctly rounded, through two exact 32-bit conversions and one
 /// rounding add: Cortex-M converts 32-bit integers in hardware or cheaply, 64-bit ones through
 /// a library call.
@@ -219,6 +278,11 @@ pub struct Scene<'a> {
     node_size: usize,
     /// Bytes of a node field and a polygon's `plane` / `first_index` (2 or 4).
     field_size: usize,
+    /// The vertex array when its records are 16-bit steps and the index array when its
+    /// entries are `u16` (else empty): the side test's fast path reads them with one bounds
+    /// check per record.
+    steps16: &'a [u8],
+    indices16: &'a [u8],
 }
 
 impl fmt::Debug for Scene<'_> {
@@ -336,8 +400,7 @@ impl<'a> Scene<'a> {
     }
 
     /// Which side of `polygon`'s support plane the eye (from [`Scene::side_eye`]) is on:
-    /// positive on the side `(v1 - v0) x (v2 - v0)` points to, 0 on the plane; only the sign
-    /// means anything. The plane is the one through the polygon's first three vertices as
+    /// [`Side::Front`] where `(v1 - v0) x (v2 - v0)` points to. The plane is the one through the polygon's first three vertices as
     /// read: the writer rotates each vertex list so that these three are far from collinear,
     /// and sets [`layout::polygon_flags::INTERIOR_FRONT`] for this normal.
     ///
@@ -347,72 +410,70 @@ impl<'a> Scene<'a> {
     /// common case, and what a core without an FPU can afford); otherwise the exact `i64` cross
     /// product is rounded to `f32`. With `f32` vertices it is [`Plane::through`].
     #[inline]
-    pub fn eye_side(&self, polygon: &Polygon, eye: &SideEye) -> f32 {
+    pub fn eye_side(&self, polygon: &Polygon, eye: &SideEye) -> Side {
+        if let Some(e) = eye.fixed {
+            if polygon.vertex_count >= 3 {
+                if let Some(side) = self.integer_side(polygon.first_index, e) {
+                    return side;
+                }
+            }
+        }
+        self.general_side(polygon, eye)
+    }
+
+    /// [`Scene::eye_side`]'s common case ([`integer_sign`] through `u16` indices), with one
+    /// bounds check per record; `None` outside it.
+    #[inline]
+    fn integer_side(&self, first_index: u32, e: [i32; 3]) -> Option<Side> {
+        // A wrapped offset (only in a file that `parse` refuses) reads nothing.
+        let at = (first_index as usize).wrapping_mul(2);
+        let three: &[u8; 6] = self
+            .indices16
+            .get(at..at.wrapping_add(6))?
+            .try_into()
+            .ok()?;
+        let steps = |k: usize| -> Option<[i32; 3]> {
+            // Below 65,536 * 6: no overflow.
+            let at = usize::from(u16::from_le_bytes([three[k], three[k + 1]])) * 6;
+            let r: &[u8; 6] = self.steps16.get(at..at + 6)?.try_into().ok()?;
+            Some([
+                i32::from(u16::from_le_bytes([r[0], r[1]])),
+                i32::from(u16::from_le_bytes([r[2], r[3]])),
+                i32::from(u16::from_le_bytes([r[4], r[5]])),
+            ])
+        };
+        integer_sign(steps(0)?, steps(2)?, steps(4)?, e)
+    }
+
+    /// [`Scene::eye_side`] outside [`Scene::integer_side`]'s case: `f32` vertices
+    /// ([`Plane::through`]); 16-bit steps through wider indices ([`integer_sign`] all the
+    /// same), far apart or seen from beyond [`SideEye::REACH`] (the exact `i64` cross product
+    /// of the steps rounded to `f32`).
+    #[inline(never)]
+    fn general_side(&self, polygon: &Polygon, eye: &SideEye) -> Side {
         if self.vertex_size != 6 {
             let v = |i| self.polygon_vertex(polygon, i);
-            return Plane::through(v(0), v(1), v(2)).distance(eye.at);
+            return Side::of(Plane::through(v(0), v(1), v(2)).distance(eye.at));
         }
-        // The three indices with one bounds check when they are u16 (always, in practice:
-        // 16-bit vertices come with fewer than 65,536 of them). The offsets need no overflow
-        // check: an index below its count lies inside the bytes (checked at parse).
-        let first = polygon.first_index;
-        let three = if self.index_size == 2
-            && polygon.vertex_count >= 3
-            && first < self.header.index_count.saturating_sub(2)
-        {
-            let at = self.indices.wrapping_add((first as usize).wrapping_mul(2));
-            Record::<6>::at(self.bytes, at).map(|r| [r.u16(0), r.u16(2), r.u16(4)].map(u32::from))
-        } else {
-            None
-        };
-        let index = |i: u32| match three {
-            Some(t) => Some(t[i as usize]),
-            None => self.polygon_vertex_index(polygon, i),
-        };
-        let steps = |i| match index(i) {
+        let steps = |i| match self.polygon_vertex_index(polygon, i) {
             Some(v) if v < self.header.vertex_count => {
                 let at = self.vertices.wrapping_add((v as usize).wrapping_mul(6));
-                Record::<6>::at(self.bytes, at)
-                    .map_or([0i32; 3], |r| [0, 2, 4].map(|k| i32::from(r.u16(k))))
+                Record::<6>::at(self.bytes, at).map_or([0i32; 3], |r| {
+                    [
+                        i32::from(r.u16(0)),
+                        i32::from(r.u16(2)),
+                        i32::from(r.u16(4)),
+                    ]
+                })
             }
             _ => [0i32; 3],
         };
         let (p, q, r) = (steps(0), steps(1), steps(2));
-        let a = [q[0] - p[0], q[1] - p[1], q[2] - p[2]];
-        let b = [r[0] - p[0], r[1] - p[1], r[2] - p[2]];
-        // Each of a and b in -2^15 ..< 2^15, tested at once.
-        let spread = |c: i32| (c + (1 << 15)) as u32;
-        let short = (spread(a[0])
-            | spread(a[1])
-            | spread(a[2])
-            | spread(b[0])
-            | spread(b[1])
-            | spread(b[2]))
-            >> 16
-            == 0;
-        if let Some(e) = eye.fixed {
-            if short {
-                // Each product below 2^30, each component below 2^31; each eye offset below
-                // 2^30, each term below 2^61: exact.
-                let n = [
-                    a[1] * b[2] - a[2] * b[1],
-                    a[2] * b[0] - a[0] * b[2],
-                    a[0] * b[1] - a[1] * b[0],
-                ];
-                let unit = SideEye::UNIT;
-                let d = [e[0] - p[0] * unit, e[1] - p[1] * unit, e[2] - p[2] * unit];
-                let side = mul_wide(n[0], d[0]) + mul_wide(n[1], d[1]) + mul_wide(n[2], d[2]);
-                // The sign as constants: converting an i64 is a library call on Cortex-M.
-                return if side > 0 {
-                    1.0
-                } else if side < 0 {
-                    -1.0
-                } else {
-                    0.0
-                };
-            }
+        if let Some(side) = eye.fixed.and_then(|e| integer_sign(p, q, r, e)) {
+            return side;
         }
-        let (a, b) = (a.map(i64::from), b.map(i64::from));
+        let a = [q[0] - p[0], q[1] - p[1], q[2] - p[2]].map(i64::from);
+        let b = [r[0] - p[0], r[1] - p[1], r[2] - p[2]].map(i64::from);
         // |a|, |b| < 2^16 per axis: the cross product is exact in i64, then rounded once.
         let n = Vec3::new(
             to_f32(a[1] * b[2] - a[2] * b[1]),
@@ -420,7 +481,7 @@ impl<'a> Scene<'a> {
             to_f32(a[0] * b[1] - a[1] * b[0]),
         );
         let origin = Vec3::new(p[0] as f32, p[1] as f32, p[2] as f32);
-        n.dot(eye.at - origin)
+        Side::of(n.dot(eye.at - origin))
     }
 
     /// The colour field at `at`: RGB, or a palette index (see [`layout::polygon_size`]).

@@ -652,12 +652,12 @@ fn a_polygon_plane_is_through_its_first_three_vertices() {
         let scene = Scene::parse(&bytes).unwrap();
         let side = |p, eye| scene.eye_side(&scene.polygon(p), &scene.side_eye(eye));
         // Polygon 0: (0,0,0), (1,0,0), (1,1,0), (0,1,0): normal +z.
-        assert!(side(0, Vec3::new(0.3, 0.3, 0.5)) > 0.0);
-        assert!(side(0, Vec3::new(5.0, -3.0, -0.001)) < 0.0);
-        assert_eq!(side(0, Vec3::new(7.0, 3.0, 0.0)), 0.0);
+        assert_eq!(side(0, Vec3::new(0.3, 0.3, 0.5)), Side::Front);
+        assert_eq!(side(0, Vec3::new(5.0, -3.0, -0.001)), Side::Back);
+        assert_eq!(side(0, Vec3::new(7.0, 3.0, 0.0)), Side::On);
         // Polygon 2: (0,0,1), (0,1,1), (1,0,1): normal -z, through z = 1.
-        assert!(side(2, Vec3::new(0.3, 0.3, 0.5)) > 0.0);
-        assert!(side(2, Vec3::new(0.3, 0.3, 1.5)) < 0.0);
+        assert_eq!(side(2, Vec3::new(0.3, 0.3, 0.5)), Side::Front);
+        assert_eq!(side(2, Vec3::new(0.3, 0.3, 1.5)), Side::Back);
     }
     // Collinear first vertices give a zero normal: every point is on the plane.
     assert_eq!(
@@ -721,7 +721,7 @@ proptest! {
         let n = [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]];
         let exact: i128 = (0..3).map(|k| n[k] * (i128::from(e[k]) - 256 * p[k])).sum();
         let side = scene.eye_side(&scene.polygon(0), &side_eye);
-        prop_assert_eq!(side, exact.signum() as f32);
+        prop_assert_eq!(side, Side::of(exact.signum() as f32));
     }
 }
 
@@ -735,9 +735,9 @@ fn a_flat_scene_still_has_two_sides() {
     let scene = Scene::parse(&bytes).unwrap();
     // Polygon 0: (0,0,0), (1,0,0), (1,1,0), (0,1,0): normal +z.
     let side = |eye| scene.eye_side(&scene.polygon(0), &scene.side_eye(eye));
-    assert!(side(Vec3::new(0.3, 0.3, 0.5)) > 0.0);
-    assert!(side(Vec3::new(-4.0, 9.0, -1e-3)) < 0.0);
-    assert_eq!(side(Vec3::new(4.0, -2.0, 0.0)), 0.0);
+    assert_eq!(side(Vec3::new(0.3, 0.3, 0.5)), Side::Front);
+    assert_eq!(side(Vec3::new(-4.0, 9.0, -1e-3)), Side::Back);
+    assert_eq!(side(Vec3::new(4.0, -2.0, 0.0)), Side::On);
 }
 
 proptest! {
@@ -773,7 +773,7 @@ proptest! {
         let exact = normal.dot(eye_d - a);
         prop_assume!(normal.length() > 1e-9 && exact.abs() > 1e-3 * normal.length());
         let side = scene.eye_side(&scene.polygon(0), &scene.side_eye(Vec3::from(eye)));
-        prop_assert_eq!(side > 0.0, exact > 0.0, "side {} exact {}", side, exact);
+        prop_assert_eq!(side, Side::of(exact as f32), "exact {}", exact);
     }
 }
 

@@ -152,7 +152,7 @@ fn locate_arrays(bytes: &[u8], header: Header) -> Result<Scene<'_>, ReadError> {
     );
     let field_size = field_size(flags);
     let mut at = HEADER_SIZE;
-    let scene = Scene {
+    let mut scene = Scene {
         bytes,
         header,
         vertices: array(bytes, &mut at, header.vertex_count, vertex_size)?,
@@ -178,9 +178,23 @@ fn locate_arrays(bytes: &[u8], header: Header) -> Result<Scene<'_>, ReadError> {
         polygon_size,
         node_size,
         field_size,
+        steps16: &[],
+        indices16: &[],
     };
     if at != bytes.len() {
         return Err(ReadError::TrailingBytes { offset: at });
+    }
+    // Both inside `bytes`: `array` checked them.
+    let section = |start: usize, count: u32, size: usize| {
+        bytes
+            .get(start..start + count as usize * size)
+            .unwrap_or(&[])
+    };
+    if vertex_size == 6 {
+        scene.steps16 = section(scene.vertices, header.vertex_count, 6);
+    }
+    if index_size == 2 {
+        scene.indices16 = section(scene.indices, header.index_count, 2);
     }
     Ok(scene)
 }

@@ -19,7 +19,7 @@
 use glam::Vec3;
 
 use crate::error::RenderError;
-use crate::read::{Node, Plane, Polygon, Scene, SideEye};
+use crate::read::{Node, Plane, Polygon, Scene, Side, SideEye};
 
 /// Bit of [`Polygon::flags`]: the rest of the polygon's convex set lies on the + side of its
 /// plane.
@@ -44,7 +44,7 @@ pub trait Tree {
     /// Which side of `polygon`'s support plane the eye (as [`Tree::side_eye`] gave it) is on:
     /// positive on the + side, which [`INTERIOR_FRONT`] refers to, 0 on the plane; only the
     /// sign means anything.
-    fn eye_side(&self, polygon: &Polygon, side_eye: &SideEye) -> f32;
+    fn eye_side(&self, polygon: &Polygon, side_eye: &SideEye) -> Side;
     /// Number of nodes (bounds the walk even if the tree were malformed).
     fn node_count(&self) -> u32;
     /// Nodes on the longest root-to-leaf path (the stack the walk needs).
@@ -73,7 +73,7 @@ impl Tree for Scene<'_> {
     fn side_eye(&self, eye: Vec3) -> SideEye {
         Scene::side_eye(self, eye)
     }
-    fn eye_side(&self, polygon: &Polygon, side_eye: &SideEye) -> f32 {
+    fn eye_side(&self, polygon: &Polygon, side_eye: &SideEye) -> Side {
         Scene::eye_side(self, polygon, side_eye)
     }
     fn node_count(&self) -> u32 {
@@ -97,14 +97,15 @@ pub enum Order {
     FrontToBack,
 }
 
-/// Whether the eye sees the interior side of `polygon`, the eye being on side `d` of its
+/// Whether the eye sees the interior side of `polygon`, the eye being on `side` of its
 /// plane ([`DisplayTree::eye_side`]; on the plane counts as yes).
-pub fn sees_interior(polygon: &Polygon, d: f32) -> bool {
-    if polygon.flags & INTERIOR_FRONT != 0 {
-        d >= 0.0
+pub fn sees_interior(polygon: &Polygon, side: Side) -> bool {
+    let interior = if polygon.flags & INTERIOR_FRONT != 0 {
+        Side::Front
     } else {
-        d <= 0.0
-    }
+        Side::Back
+    };
+    side == interior || side == Side::On
 }
 
 /// One entry of the traversal stack (opaque; `Copy` so stacks are plain arrays).

@@ -6,7 +6,7 @@ use glam::Vec3;
 use std::vec::Vec;
 
 use super::{Tree, INTERIOR_FRONT};
-use crate::read::{Node, Plane, Polygon, SideEye};
+use crate::read::{Node, Plane, Polygon, Side, SideEye};
 use crate::render::Source;
 use crate::target::Colour;
 
@@ -94,9 +94,9 @@ impl Tree for TestTree {
     fn polygon(&self, i: u32) -> Polygon {
         self.polygons.get(i as usize).copied().unwrap_or_default()
     }
-    fn eye_side(&self, polygon: &Polygon, eye: &SideEye) -> f32 {
+    fn eye_side(&self, polygon: &Polygon, eye: &SideEye) -> Side {
         let v = |i| Source::polygon_vertex(self, polygon, i);
-        Plane::through(v(0), v(1), v(2)).distance(eye.at)
+        Side::of(Plane::through(v(0), v(1), v(2)).distance(eye.at))
     }
     fn node_count(&self) -> u32 {
         self.nodes.len() as u32
