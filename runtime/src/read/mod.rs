@@ -514,6 +514,12 @@ impl<'a> Scene<'a> {
     /// Entry `i` of the index array (`u16`, `u24` or `u32` as the header says), if in range.
     #[inline]
     fn index(&self, i: u32) -> Option<u32> {
+        if !self.indices16.is_empty() && i < 1 << 24 {
+            // No overflow below 2^24 entries: one bounds check.
+            let at = i as usize * 2;
+            let entry: &[u8; 2] = self.indices16.get(at..at + 2)?.try_into().ok()?;
+            return Some(u32::from(u16::from_le_bytes(*entry)));
+        }
         if i >= self.header.index_count {
             return None;
         }
@@ -563,11 +569,13 @@ impl<'a> Scene<'a> {
     /// and boxes decode alike, so a box of steps contains the vertices whose steps it contains.
     #[inline]
     fn decode<const N: usize>(&self, r: &Record<N>, first: usize) -> Vec3 {
-        let q = Vec3::new(
-            f32::from(r.u16(first)),
-            f32::from(r.u16(first + 2)),
-            f32::from(r.u16(first + 4)),
-        );
+        self.point([r.u16(first), r.u16(first + 2), r.u16(first + 4)])
+    }
+
+    /// The point of steps `q` ([`Scene::decode`]).
+    #[inline]
+    fn point(&self, q: [u16; 3]) -> Vec3 {
+        let q = Vec3::new(f32::from(q[0]), f32::from(q[1]), f32::from(q[2]));
         self.header.bounds_min + q * self.step
     }
 
@@ -593,6 +601,18 @@ impl<'a> Scene<'a> {
     /// Vertex `i`, relative to the centre (zero when out of range).
     #[inline]
     pub fn vertex(&self, i: u32) -> Vec3 {
+        if !self.steps16.is_empty() && i < 1 << 24 {
+            // No overflow below 2^24 vertices: one bounds check.
+            let at = i as usize * 6;
+            return match self.steps16.get(at..at + 6).map(<&[u8; 6]>::try_from) {
+                Some(Ok(r)) => self.point([
+                    u16::from_le_bytes([r[0], r[1]]),
+                    u16::from_le_bytes([r[2], r[3]]),
+                    u16::from_le_bytes([r[4], r[5]]),
+                ]),
+                _ => Vec3::ZERO,
+            };
+        }
         if i >= self.header.vertex_count {
             return Vec3::ZERO;
         }
