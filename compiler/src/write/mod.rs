@@ -110,7 +110,10 @@ pub(crate) fn peel_file_encoded(
         .iter()
         .map(|&v| to_f32(v, "vertex"))
         .collect::<Result<Vec<_>, _>>()?;
-    let (bounds_min, bounds_max) = bounds(&wide);
+    let (bounds_min, bounds_max) = {
+        let (lo, hi) = bounds(&wide);
+        grid::covering(lo, hi)
+    };
     // What the runtime will read: the f32 vertices, or their nearest steps decoded.
     let (vertices, decoded): (Vec<Vertex>, Vec<[f32; 3]>) = if wide_vertices {
         (wide.iter().map(|&v| Vertex::Wide(v)).collect(), wide)

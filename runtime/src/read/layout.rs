@@ -125,8 +125,106 @@ pub fn dequantise(min: f32, max: f32, q: u16) -> f32 {
 /// The size of a step along an axis from `min` to `max` (`f32`, as [`dequantise`] uses it).
 #[inline]
 pub fn step(min: f32, max: f32) -> f32 {
-    (max - min) * (1.0 / 65535.0)
+    (max - min) / 65535.0
 }
+
+/// An axis whose bounds are an exact grid: step `q` lies at `(origin + q * stride) * 2^shift`
+/// with every such integer below 2^24, so [`dequantise`] rounds nothing and a core without an
+/// FPU gets its very bits from one integer multiply-add and one conversion ([`Grid::value`]).
+/// The compiler writes such bounds; a file whose bounds are not one still decodes alike on
+/// every core, through [`dequantise`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Grid {
+    origin: i32,
+    stride: i32,
+    shift: i32,
+}
+
+impl Grid {
+    /// The grid of the bounds `min ..= max`, if they are one.
+    pub fn of(min: f32, max: f32) -> Option<Grid> {
+        if !(min <= max && max - min <= f32::MAX) {
+            return None;
+        }
+        let step = step(min, max);
+        let (s, s_exp) = odd_times_power_of_two(step);
+        let (m, m_exp) = odd_times_power_of_two(min);
+        let shift = match (s, m) {
+            (0, _) => m_exp,
+            (_, 0) => s_exp,
+            _ => s_exp.min(m_exp),
+        };
+        // A normal power of two, and every value `n * 2^shift` (|n| < 2^24) finite.
+        if !(-126..=104).contains(&shift) {
+            return None;
+        }
+        let widen = |n: i32, exp: i32| {
+            if n == 0 {
+                return Some(0);
+            }
+            let by = u32::try_from(exp - shift).ok().filter(|&by| by < 24)?;
+            n.checked_mul(1 << by)
+                .filter(|w| w.unsigned_abs() < 1 << 24)
+        };
+        let grid = Grid {
+            origin: widen(m, m_exp)?,
+            stride: widen(s, s_exp)?,
+            shift,
+        };
+        let last = grid.origin + 65535 * grid.stride.min(255);
+        let exact = grid.stride <= 255
+            && last.unsigned_abs() < 1 << 24
+            && grid.value(0) == min
+            && grid.value(u16::MAX) == max
+            && step * 65535.0 == max - min;
+        exact.then_some(grid)
+    }
+
+    /// Step `q`: [`dequantise`] on the grid's bounds, bit for bit, without a float operation
+    /// but one conversion from `i32` (and on ARMv6-M, where every float multiply is a library
+    /// call, the power of two added to the exponent).
+    #[inline]
+    pub fn value(self, q: u16) -> f32 {
+        // Below 2^24 in magnitude (checked by `of`): exact in f32.
+        let n = self.origin + i32::from(q) * self.stride;
+        if ARMV6M {
+            scaled_by_exponent(n, self.shift)
+        } else {
+            n as f32 * f32::from_bits(((self.shift + 127) as u32) << 23)
+        }
+    }
+}
+
+/// `n * 2^shift` for `|n| < 2^24` and `-126 <= shift <= 104` (a normal, finite result): the
+/// conversion's exponent field moved by `shift`, where a multiply would be a library call.
+#[inline]
+pub(crate) fn scaled_by_exponent(n: i32, shift: i32) -> f32 {
+    if n == 0 {
+        return 0.0;
+    }
+    f32::from_bits(((n as f32).to_bits() as i32).wrapping_add(shift << 23) as u32)
+}
+
+/// `x` as `m * 2^e` with `m` odd and `|m| < 2^24`, or `(0, 0)` for zero (and for a value
+/// that is not finite, which no grid accepts: its `e` is out of range).
+fn odd_times_power_of_two(x: f32) -> (i32, i32) {
+    let bits = x.to_bits();
+    let field = ((bits >> 23) & 0xff) as i32;
+    let fraction = (bits & 0x7f_ffff) as i32;
+    let (m, e) = match field {
+        0 if fraction == 0 => return (0, 0),
+        0 => (fraction, -149),
+        0xff => return (1, i32::MAX / 2),
+        _ => (fraction | 0x80_0000, field - 150),
+    };
+    let zeros = m.trailing_zeros() as i32;
+    let m = m >> zeros;
+    (if bits >> 31 != 0 { -m } else { m }, e + zeros)
+}
+
+/// ARMv6-M (Cortex-M0+ class: no FPU, no long multiply, no divide), told apart by its lack of
+/// compare-and-swap.
+pub(crate) const ARMV6M: bool = cfg!(all(target_arch = "arm", not(target_has_atomic = "32")));
 
 /// Steps per unit of length along an axis from `min` to `max` (1 on a flat axis, where every
 /// step is 0): what brings a point to steps for a polygon's side ([`crate::read::Scene::side_eye`]).
@@ -389,7 +487,7 @@ pub(crate) fn f64_at(bytes: &[u8], offset: usize) -> Option<f64> {
 /// Byte offset of element `index` of an array of `size`-byte records starting at `start`.
 #[inline]
 pub(crate) fn element(start: usize, size: usize, index: u32) -> Option<usize> {
-    if cfg!(all(target_arch = "arm", not(target_has_atomic = "32"))) {
+    if ARMV6M {
         element_narrow(start, size, index)
     } else {
         usize::try_from(index)

@@ -186,7 +186,7 @@ impl SideEye {
 /// products instead ([`mul_wide_halves`]).
 #[inline]
 fn mul_wide(a: i32, b: i32) -> i64 {
-    if cfg!(all(target_arch = "arm", not(target_has_atomic = "32"))) {
+    if layout::ARMV6M {
         mul_wide_halves(a, b)
     } else {
         i64::from(a) * i64::from(b)
@@ -271,6 +271,9 @@ pub struct Scene<'a> {
     step: Vec3,
     /// Steps per unit of length on each axis ([`layout::per_step`]): brings the eye to steps.
     per_step: Vec3,
+    /// The bounds as integers when they are an exact grid ([`layout::Grid`]), which ARMv6-M
+    /// decodes with.
+    grid: Option<[layout::Grid; 3]>,
     /// Record sizes, which the header flags choose.
     vertex_size: usize,
     index_size: usize,
@@ -575,6 +578,11 @@ impl<'a> Scene<'a> {
     /// The point of steps `q` ([`Scene::decode`]).
     #[inline]
     fn point(&self, q: [u16; 3]) -> Vec3 {
+        if layout::ARMV6M {
+            if let Some([x, y, z]) = self.grid {
+                return Vec3::new(x.value(q[0]), y.value(q[1]), z.value(q[2]));
+            }
+        }
         let q = Vec3::new(f32::from(q[0]), f32::from(q[1]), f32::from(q[2]));
         self.header.bounds_min + q * self.step
     }

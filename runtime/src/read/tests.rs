@@ -667,6 +667,49 @@ fn a_polygon_plane_is_through_its_first_three_vertices() {
 }
 
 proptest! {
+    /// ARMv6-M's decoding scales by moving the exponent: the product, for every `n` and
+    /// power of two a grid allows.
+    #[test]
+    fn scaling_by_the_exponent_is_the_product(
+        n in -(1i32 << 24) + 1..1 << 24,
+        shift in -126i32..=104,
+    ) {
+        let product = (f64::from(n) * 2f64.powi(shift)) as f32;
+        prop_assert_eq!(scaled_by_exponent(n, shift).to_bits(), product.to_bits());
+    }
+
+    /// Bounds built as a grid are one, and every step decodes to `dequantise`'s bits.
+    #[test]
+    fn a_grid_decodes_as_dequantise(
+        origin in -(1i32 << 23)..1 << 23,
+        stride in 0i32..=255,
+        shift in -100i32..80,
+        q in any::<u16>(),
+    ) {
+        let last = origin + 65535 * stride;
+        prop_assume!(last.unsigned_abs() < 1 << 24);
+        let at = |n: i32| (f64::from(n) * 2f64.powi(shift)) as f32;
+        let (min, max) = (at(origin), at(last));
+        let grid = Grid::of(min, max).expect("an exact grid");
+        prop_assert_eq!(grid.value(q).to_bits(), dequantise(min, max, q).to_bits());
+        prop_assert_eq!(grid.value(q), at(origin + i32::from(q) * stride));
+    }
+}
+
+/// Bounds whose steps `dequantise` must round are not a grid; neither is a step beyond 255
+/// units or a value beyond 2^24 of them.
+#[test]
+fn bounds_off_a_grid_are_not_one() {
+    assert!(Grid::of(-1.0, 3.0).is_none());
+    assert!(Grid::of(0.0, 65535.0 * 256.0).is_some());
+    assert!(Grid::of(0.0, 65535.0 * 257.0).is_none());
+    assert!(Grid::of(-16_777_216.0, 0.0).is_none());
+    assert!(Grid::of(f32::NAN, 1.0).is_none());
+    assert!(Grid::of(1.0, 0.0).is_none());
+    assert_eq!(Grid::of(0.5, 0.5).map(|g| g.value(9)), Some(0.5));
+}
+
+proptest! {
     /// A record's offset is the checked product and sum, on every core's path.
     #[test]
     fn element_offsets_are_checked_arithmetic(

@@ -173,6 +173,14 @@ fn locate_arrays(bytes: &[u8], header: Header) -> Result<Scene<'_>, ReadError> {
             layout::per_step(header.bounds_min.y, header.bounds_max.y),
             layout::per_step(header.bounds_min.z, header.bounds_max.z),
         ),
+        grid: (|| {
+            let (lo, hi) = (header.bounds_min, header.bounds_max);
+            Some([
+                layout::Grid::of(lo.x, hi.x)?,
+                layout::Grid::of(lo.y, hi.y)?,
+                layout::Grid::of(lo.z, hi.z)?,
+            ])
+        })(),
         vertex_size,
         index_size,
         polygon_size,
