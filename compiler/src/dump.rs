@@ -334,6 +334,14 @@ mod tests {
         let (tree, colours) = small_tree();
         let bytes = crate::write::encode(&tree, &colours, true).unwrap();
         let info = inspect(&bytes).unwrap();
+        // The tree's vertices span (-0.25, 0, 0)..(1, 1, 1) around (100, 200, 300); the header
+        // holds the grid that covers them.
+        let (lo, hi) = crate::write::grid::covering([-0.25, 0.0, 0.0], [1.0; 3]);
+        let (lo, hi) = (
+            glam::Vec3::from(lo).as_dvec3(),
+            glam::Vec3::from(hi).as_dvec3(),
+        );
+        let origin = glam::DVec3::new(100.0, 200.0, 300.0);
         let expected = Inspect {
             format_version: 2,
             output_polygons: 3,
@@ -344,11 +352,10 @@ mod tests {
             planes: 1, // the split's; polygons' planes are not stored
             vertices: 7,
             ids: true,
-            // The tree's vertices span (-0.25, 0, 0)..(1, 1, 1) around (100, 200, 300).
-            centre: [100.375, 200.5, 300.5],
-            bounds_min: [99.75, 200.0, 300.0],
-            bounds_max: [101.0, 201.0, 301.0],
-            radius: 3.5625f64.sqrt() / 2.0,
+            centre: (origin + (lo + hi) * 0.5).to_array(),
+            bounds_min: (origin + lo).to_array(),
+            bounds_max: (origin + hi).to_array(),
+            radius: (hi - lo).length() * 0.5,
             palette_colours: 0,
             node_bounds: 1,
             bytes: bytes.len() as u64,

@@ -12,7 +12,7 @@ mod atomic;
 mod bounds;
 pub(crate) mod encoding;
 pub(crate) mod format;
-mod grid;
+pub(crate) mod grid;
 
 use glam::{DVec3, Vec3};
 use peel_runtime::read::Plane;

@@ -332,9 +332,10 @@ fn the_file_is_the_tree_in_pre_order() {
         )
     );
     assert_eq!((h.max_depth, h.max_polygon_vertices), (3, 4));
+    // The grid that covers the vertices, (-0.25, 0, 0)..(1, 1, 1).
     assert_eq!(
         (h.bounds_min.to_array(), h.bounds_max.to_array()),
-        ([-0.25, 0.0, 0.0], [1.0, 1.0, 1.0])
+        grid::covering([-0.25, 0.0, 0.0], [1.0; 3])
     );
     assert_eq!(h.centre, [100.0, 200.0, 300.0]);
     let node = |kind, a, b, c, parent, bounds| format::Node {
@@ -357,8 +358,12 @@ fn the_file_is_the_tree_in_pre_order() {
             node(node_kind::CONVEX, 2, 1, NONE, 0, NONE),
         ]
     );
-    // The root's box is the scene's: every step.
-    assert_eq!(file.bounds, [[0, 0, 0, u16::MAX, u16::MAX, u16::MAX]]);
+    // The root's box is the box of the vertices as stored: from the grid's first step (on
+    // -0.25, 0, 0) to the steps nearest (1, 1, 1).
+    let (lo, hi) = (h.bounds_min.to_array(), h.bounds_max.to_array());
+    let top = grid::nearest(DVec3::ONE, lo, hi);
+    assert!(top.iter().all(|&q| q > 64_000 && q < u16::MAX), "{top:?}");
+    assert_eq!(file.bounds, [[0, 0, 0, top[0], top[1], top[2]]]);
     // Old polygons 1, 2, 0, in the order of the convex nodes that own them.
     assert_eq!(file.ids, [10, 12, 11]);
     assert_eq!(file.indices, [0, 1, 2, 3, 4, 6, 5, 4, 5, 6]);
@@ -378,13 +383,15 @@ fn the_file_is_the_tree_in_pre_order() {
     );
     assert_eq!(file.polygons[1].colour, ColourField::Rgb([0, 0, 255]));
     assert_eq!(file.planes, [[1.0, 0.0, 0.0, 0.5]]);
-    // Vertices are steps on the scene's bounds; this one is a corner of them.
-    assert_eq!(file.vertices[6], format::Vertex::Grid([0, 65535, 65535]));
-    let (lo, hi) = (
-        file.header.bounds_min.to_array(),
-        file.header.bounds_max.to_array(),
-    );
-    assert_eq!(file.vertices[6].position(lo, hi), [-0.25, 1.0, 1.0]);
+    // Vertices are steps on the scene's bounds: (-0.25, 1, 1) is the grid's first step on x,
+    // within half a step of 1 on y and z.
+    assert_eq!(file.vertices[6], format::Vertex::Grid([0, top[1], top[2]]));
+    let at = file.vertices[6].position(lo, hi);
+    assert_eq!(at[0], -0.25);
+    for k in [1, 2] {
+        let step = (hi[k] - lo[k]) / 65535.0;
+        assert!((at[k] - 1.0).abs() <= step / 2.0, "{at:?}");
+    }
     let without_ids = peel_file(&tree, &colours, false).unwrap();
     assert_eq!(without_ids.header.flags & header_flags::IDS, 0);
     assert!(without_ids.ids.is_empty());
@@ -574,16 +581,15 @@ fn node_bounds_follow_the_rule() {
         [-2.0, 0.0, 0.0, -1.0, 1.0, 3.0],
     ];
     for (b, e) in boxes.iter().zip(exact) {
-        // Quantised outward, by at most one step per side.
+        // The box of the vertices as stored (each within half a step of its exact position),
+        // quantised outward by at most one step per side.
         let (lo, hi) = decoded_box(&file, b.unwrap());
         let e: [f32; 6] = e;
         for k in 0..3 {
             let step = (file.header.bounds_max[k] - file.header.bounds_min[k]) / 65535.0;
-            assert!(lo[k] <= e[k] && e[k] - lo[k] <= step, "{k}: {lo} {e:?}");
-            assert!(
-                hi[k] >= e[k + 3] && hi[k] - e[k + 3] <= step,
-                "{k}: {hi} {e:?}"
-            );
+            let (below, above) = (e[k] - lo[k], hi[k] - e[k + 3]);
+            assert!(below >= -step / 2.0 && below <= 1.5 * step, "{k}: {lo} {e:?}");
+            assert!(above >= -step / 2.0 && above <= 1.5 * step, "{k}: {hi} {e:?}");
         }
     }
     assert_reads_back(&file);
