@@ -22,6 +22,12 @@ pub enum ReadError {
         /// The flags in the file.
         flags: u16,
     },
+    /// Flags of widths this build was compiled without: `u24` or `u32` fields or indices
+    /// (feature `large-scenes`), `f32` vertices (feature `wide-vertices`).
+    UnsupportedFlags {
+        /// The flags in the file.
+        flags: u16,
+    },
     /// Header flags that contradict each other (a `u16` palette index without a palette).
     InconsistentFlags {
         /// The flags in the file.
@@ -61,6 +67,11 @@ impl fmt::Display for ReadError {
             ReadError::UnknownFlags { flags } => {
                 write!(f, "unknown header flags {flags:#06x} (byte 6)")
             }
+            ReadError::UnsupportedFlags { flags } => write!(
+                f,
+                "header flags {flags:#06x} (byte 6) need a feature this build lacks \
+                 (large-scenes or wide-vertices)"
+            ),
             ReadError::InconsistentFlags { flags } => {
                 write!(f, "inconsistent header flags {flags:#06x} (byte 6)")
             }

@@ -588,8 +588,14 @@ fn node_bounds_follow_the_rule() {
         for k in 0..3 {
             let step = (file.header.bounds_max[k] - file.header.bounds_min[k]) / 65535.0;
             let (below, above) = (e[k] - lo[k], hi[k] - e[k + 3]);
-            assert!(below >= -step / 2.0 && below <= 1.5 * step, "{k}: {lo} {e:?}");
-            assert!(above >= -step / 2.0 && above <= 1.5 * step, "{k}: {hi} {e:?}");
+            assert!(
+                below >= -step / 2.0 && below <= 1.5 * step,
+                "{k}: {lo} {e:?}"
+            );
+            assert!(
+                above >= -step / 2.0 && above <= 1.5 * step,
+                "{k}: {hi} {e:?}"
+            );
         }
     }
     assert_reads_back(&file);

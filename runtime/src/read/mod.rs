@@ -240,12 +240,21 @@ fn integer_sign(p: [i32; 3], q: [i32; 3], r: [i32; 3], e: [i32; 3]) -> Option<Si
     })
 }
 
-/// `n` (|n| < 2^36) as `f32`, correctly rounded, through two exact 32-bit conversions and one
-/// rounding add: Cortex-M converts 32-bit integers in hardware or cheaply, 64-bit ones through
-/// a library call.
+/// [`float_side`] of the steps `p`, `q`, `r` (out of line: the rare case needs no room in the
+/// walk).
+#[inline(never)]
+fn far_side(steps: [[i32; 3]; 3], at: Vec3) -> Side {
+    let v = |s: [i32; 3]| Vec3::new(s[0] as f32, s[1] as f32, s[2] as f32);
+    float_side(v(steps[0]), v(steps[1]), v(steps[2]), at)
+}
+
+/// The side of `at` of the plane through `a`, `b`, `c` ([`Plane::through`]), in `f32`: what
+/// [`Scene::eye_side`] does with `f32` vertices, and with steps beyond [`integer_sign`]'s reach
+/// (steps far apart, or the eye far away), where a wrong side by rounding puts the eye next to
+/// the plane, which it then sees edge-on.
 #[inline]
-fn to_f32(n: i64) -> f32 {
-    ((n >> 12) as i32 as f32) * 4096.0 + ((n & 0xFFF) as i32 as f32)
+fn float_side(a: Vec3, b: Vec3, c: Vec3, at: Vec3) -> Side {
+    Side::of(Plane::through(a, b, c).distance(at))
 }
 
 /// A child or parent field: [`layout::NONE`] means "none".
@@ -272,7 +281,8 @@ pub struct Scene<'a> {
     /// Steps per unit of length on each axis ([`layout::per_step`]): brings the eye to steps.
     per_step: Vec3,
     /// The bounds as integers when they are an exact grid ([`layout::Grid`]), which ARMv6-M
-    /// decodes with.
+    /// decodes with (the only core that has the field).
+    #[cfg(all(target_arch = "arm", not(target_has_atomic = "32")))]
     grid: Option<[layout::Grid; 3]>,
     /// Record sizes, which the header flags choose.
     vertex_size: usize,
@@ -322,6 +332,37 @@ impl<'a> Scene<'a> {
         validate::parse_layout(bytes)
     }
 
+    /// Bytes of a node field and a polygon's `first_index`: 2 in a build without
+    /// `large-scenes`, which refuses other files (a constant, so the other widths' code goes).
+    #[inline]
+    fn field_size(&self) -> usize {
+        if cfg!(feature = "large-scenes") {
+            self.field_size
+        } else {
+            2
+        }
+    }
+
+    /// Bytes of an index: 2 in a build without `large-scenes`.
+    #[inline]
+    fn index_size(&self) -> usize {
+        if cfg!(feature = "large-scenes") {
+            self.index_size
+        } else {
+            2
+        }
+    }
+
+    /// Bytes of a vertex: 6 in a build without `wide-vertices`.
+    #[inline]
+    fn vertex_size(&self) -> usize {
+        if cfg!(feature = "wide-vertices") {
+            self.vertex_size
+        } else {
+            6
+        }
+    }
+
     /// The header.
     pub fn header(&self) -> Header {
         self.header
@@ -364,7 +405,7 @@ impl<'a> Scene<'a> {
             return Polygon::default();
         };
         // One bounds check per record, fields at constant offsets.
-        let w = self.field_size;
+        let w = self.field_size();
         let fields = if w == 2 {
             Record::<4>::at(self.bytes, at).map(|r| (r.narrow(0, false), r.u8(2), r.u8(3)))
         } else if w == 3 {
@@ -385,21 +426,27 @@ impl<'a> Scene<'a> {
 
     /// `eye` (relative to the centre) as [`Scene::eye_side`] takes it, once per frame: in
     /// steps from `bounds_min` with 16-bit vertices (a positive scale per axis, which keeps
-    /// every side's sign), unchanged with `f32` vertices.
+    /// every side's sign), unchanged with `f32` vertices. A NaN coordinate, which the renderer
+    /// refuses up front, counts as 0.
     #[inline]
     pub fn side_eye(&self, eye: Vec3) -> SideEye {
-        if self.vertex_size != 6 {
+        if self.vertex_size() != 6 {
             return SideEye {
                 at: eye,
                 fixed: None,
             };
         }
         let at = (eye - self.header.bounds_min) * self.per_step;
-        let reach = SideEye::REACH as f32;
-        let within = |c: f32| c > -reach && c < reach;
-        let fixed = (within(at.x) && within(at.y) && within(at.z))
-            .then(|| [at.x, at.y, at.z].map(|c| (c * SideEye::UNIT as f32) as i32));
-        SideEye { at, fixed }
+        // Saturating conversions: beyond reach the test below fails. (A NaN coordinate, which
+        // the renderer refuses up front, converts to 0.)
+        let fixed = at * SideEye::UNIT as f32;
+        let fixed = [fixed.x as i32, fixed.y as i32, fixed.z as i32];
+        let limit = (SideEye::REACH * SideEye::UNIT) as u32;
+        let within = fixed.iter().all(|c| c.unsigned_abs() < limit);
+        SideEye {
+            at,
+            fixed: within.then_some(fixed),
+        }
     }
 
     /// Which side of `polygon`'s support plane the eye (from [`Scene::side_eye`]) is on:
@@ -414,77 +461,90 @@ impl<'a> Scene<'a> {
     /// product is rounded to `f32`. With `f32` vertices it is [`Plane::through`].
     #[inline]
     pub fn eye_side(&self, polygon: &Polygon, eye: &SideEye) -> Side {
-        if let Some(e) = eye.fixed {
-            if polygon.vertex_count >= 3 {
-                if let Some(side) = self.integer_side(polygon.first_index, e) {
-                    return side;
-                }
-            }
+        if self.vertex_size() != 6 {
+            return self.wide_side(polygon, eye);
         }
-        self.general_side(polygon, eye)
+        self.steps_side(polygon, eye)
     }
 
-    /// [`Scene::eye_side`]'s common case ([`integer_sign`] through `u16` indices), with one
-    /// bounds check per record; `None` outside it.
+    /// [`Scene::eye_side`] with 16-bit vertices.
     #[inline]
-    fn integer_side(&self, first_index: u32, e: [i32; 3]) -> Option<Side> {
-        // A wrapped offset (only in a file that `parse` refuses) reads nothing.
-        let at = (first_index as usize).wrapping_mul(2);
-        let three: &[u8; 6] = self
-            .indices16
-            .get(at..at.wrapping_add(6))?
-            .try_into()
-            .ok()?;
-        let steps = |k: usize| -> Option<[i32; 3]> {
-            // Below 65,536 * 6: no overflow.
-            let at = usize::from(u16::from_le_bytes([three[k], three[k + 1]])) * 6;
-            let r: &[u8; 6] = self.steps16.get(at..at + 6)?.try_into().ok()?;
-            Some([
-                i32::from(u16::from_le_bytes([r[0], r[1]])),
-                i32::from(u16::from_le_bytes([r[2], r[3]])),
-                i32::from(u16::from_le_bytes([r[4], r[5]])),
-            ])
-        };
-        integer_sign(steps(0)?, steps(2)?, steps(4)?, e)
+    fn steps_side(&self, polygon: &Polygon, eye: &SideEye) -> Side {
+        let [p, q, r] = self.three_steps(polygon);
+        match eye.fixed.and_then(|e| integer_sign(p, q, r, e)) {
+            Some(side) => side,
+            None => far_side([p, q, r], eye.at),
+        }
     }
 
-    /// [`Scene::eye_side`] outside [`Scene::integer_side`]'s case: `f32` vertices
-    /// ([`Plane::through`]); 16-bit steps through wider indices ([`integer_sign`] all the
-    /// same), far apart or seen from beyond [`SideEye::REACH`] (the exact `i64` cross product
-    /// of the steps rounded to `f32`).
-    #[inline(never)]
-    fn general_side(&self, polygon: &Polygon, eye: &SideEye) -> Side {
-        if self.vertex_size != 6 {
-            let v = |i| self.polygon_vertex(polygon, i);
-            return Side::of(Plane::through(v(0), v(1), v(2)).distance(eye.at));
-        }
-        let steps = |i| match self.polygon_vertex_index(polygon, i) {
-            Some(v) if v < self.header.vertex_count => {
-                let at = self.vertices.wrapping_add((v as usize).wrapping_mul(6));
-                Record::<6>::at(self.bytes, at).map_or([0i32; 3], |r| {
-                    [
-                        i32::from(r.u16(0)),
-                        i32::from(r.u16(2)),
-                        i32::from(r.u16(4)),
-                    ]
-                })
-            }
-            _ => [0i32; 3],
+    /// The steps of `polygon`'s first three vertices (zero for one out of range). With `u16`
+    /// indices the three are read with one bounds check.
+    #[inline]
+    fn three_steps(&self, polygon: &Polygon) -> [[i32; 3]; 3] {
+        // A wrapped offset (only in a file that `parse` refuses) reads nothing.
+        let at = (polygon.first_index as usize).wrapping_mul(2);
+        let fast = self
+            .indices16
+            .get(at..at.wrapping_add(6))
+            .and_then(|t| <&[u8; 6]>::try_from(t).ok())
+            .filter(|_| polygon.vertex_count >= 3);
+        let indices = match fast {
+            Some(t) => [
+                u32::from(u16::from_le_bytes([t[0], t[1]])),
+                u32::from(u16::from_le_bytes([t[2], t[3]])),
+                u32::from(u16::from_le_bytes([t[4], t[5]])),
+            ],
+            // Wider indices; without `large-scenes` only a polygon that validation refuses.
+            None if cfg!(feature = "large-scenes") => self.slow_indices(polygon),
+            None => [u32::MAX; 3],
         };
-        let (p, q, r) = (steps(0), steps(1), steps(2));
-        if let Some(side) = eye.fixed.and_then(|e| integer_sign(p, q, r, e)) {
-            return side;
+        let mut steps = [[0; 3]; 3];
+        for (s, &v) in steps.iter_mut().zip(&indices) {
+            if let Some(q) = self.steps_of(v) {
+                *s = [i32::from(q[0]), i32::from(q[1]), i32::from(q[2])];
+            }
         }
-        let a = [q[0] - p[0], q[1] - p[1], q[2] - p[2]].map(i64::from);
-        let b = [r[0] - p[0], r[1] - p[1], r[2] - p[2]].map(i64::from);
-        // |a|, |b| < 2^16 per axis: the cross product is exact in i64, then rounded once.
-        let n = Vec3::new(
-            to_f32(a[1] * b[2] - a[2] * b[1]),
-            to_f32(a[2] * b[0] - a[0] * b[2]),
-            to_f32(a[0] * b[1] - a[1] * b[0]),
-        );
-        let origin = Vec3::new(p[0] as f32, p[1] as f32, p[2] as f32);
-        Side::of(n.dot(eye.at - origin))
+        steps
+    }
+
+    /// The indices of `polygon`'s first three vertices through [`Scene::polygon_vertex_index`]
+    /// (`u32::MAX` for one out of range), out of line: wider indices are rare enough.
+    #[inline(never)]
+    fn slow_indices(&self, polygon: &Polygon) -> [u32; 3] {
+        let mut indices = [u32::MAX; 3];
+        for (i, slot) in (0..3).zip(&mut indices) {
+            *slot = self.polygon_vertex_index(polygon, i).unwrap_or(u32::MAX);
+        }
+        indices
+    }
+
+    /// The steps of vertex `v` of a file with 16-bit vertices, with one bounds check.
+    #[inline]
+    fn steps_of(&self, v: u32) -> Option<[u16; 3]> {
+        // Below the count (or, without `large-scenes`, where counts are below 65,537, below
+        // 2^24: one compare with a constant) the offset cannot overflow.
+        let limit = if cfg!(feature = "large-scenes") {
+            self.header.vertex_count
+        } else {
+            1 << 24
+        };
+        if v >= limit {
+            return None;
+        }
+        let at = v as usize * 6;
+        let r: &[u8; 6] = self.steps16.get(at..at + 6)?.try_into().ok()?;
+        Some([
+            u16::from_le_bytes([r[0], r[1]]),
+            u16::from_le_bytes([r[2], r[3]]),
+            u16::from_le_bytes([r[4], r[5]]),
+        ])
+    }
+
+    /// [`Scene::eye_side`] with `f32` vertices.
+    #[inline(never)]
+    fn wide_side(&self, polygon: &Polygon, eye: &SideEye) -> Side {
+        let v = |i| self.polygon_vertex(polygon, i);
+        float_side(v(0), v(1), v(2), eye.at)
     }
 
     /// The colour field at `at`: RGB, or a palette index (see [`layout::polygon_size`]).
@@ -517,8 +577,17 @@ impl<'a> Scene<'a> {
     /// Entry `i` of the index array (`u16`, `u24` or `u32` as the header says), if in range.
     #[inline]
     fn index(&self, i: u32) -> Option<u32> {
-        if !self.indices16.is_empty() && i < 1 << 24 {
-            // No overflow below 2^24 entries: one bounds check.
+        if self.index_size() == 2 {
+            // Below the count (or, without `large-scenes`, below 2^24: one compare with a
+            // constant) the offset cannot overflow.
+            let limit = if cfg!(feature = "large-scenes") {
+                self.header.index_count
+            } else {
+                1 << 24
+            };
+            if i >= limit {
+                return None;
+            }
             let at = i as usize * 2;
             let entry: &[u8; 2] = self.indices16.get(at..at + 2)?.try_into().ok()?;
             return Some(u32::from(u16::from_le_bytes(*entry)));
@@ -526,8 +595,8 @@ impl<'a> Scene<'a> {
         if i >= self.header.index_count {
             return None;
         }
-        let at = element(self.indices, self.index_size, i)?;
-        match self.index_size {
+        let at = element(self.indices, self.index_size(), i)?;
+        match self.index_size() {
             2 => u16_at(self.bytes, at).map(u32::from),
             3 => layout::field_at(self.bytes, at, 3, false),
             _ => u32_at(self.bytes, at),
@@ -541,7 +610,7 @@ impl<'a> Scene<'a> {
         if self.header.flags & header_flags::BOUNDS == 0 || i >= self.header.node_count {
             return None;
         }
-        let w = self.field_size;
+        let w = self.field_size();
         let at = element(self.nodes, self.node_size, i)?.checked_add(1 + 3 * w)?;
         let k = match w {
             2 => Record::<2>::at(self.bytes, at)?.narrow(0, true),
@@ -578,10 +647,9 @@ impl<'a> Scene<'a> {
     /// The point of steps `q` ([`Scene::decode`]).
     #[inline]
     fn point(&self, q: [u16; 3]) -> Vec3 {
-        if layout::ARMV6M {
-            if let Some([x, y, z]) = self.grid {
-                return Vec3::new(x.value(q[0]), y.value(q[1]), z.value(q[2]));
-            }
+        #[cfg(all(target_arch = "arm", not(target_has_atomic = "32")))]
+        if let Some([x, y, z]) = self.grid {
+            return Vec3::new(x.value(q[0]), y.value(q[1]), z.value(q[2]));
         }
         let q = Vec3::new(f32::from(q[0]), f32::from(q[1]), f32::from(q[2]));
         self.header.bounds_min + q * self.step
@@ -609,29 +677,14 @@ impl<'a> Scene<'a> {
     /// Vertex `i`, relative to the centre (zero when out of range).
     #[inline]
     pub fn vertex(&self, i: u32) -> Vec3 {
-        if !self.steps16.is_empty() && i < 1 << 24 {
-            // No overflow below 2^24 vertices: one bounds check.
-            let at = i as usize * 6;
-            return match self.steps16.get(at..at + 6).map(<&[u8; 6]>::try_from) {
-                Some(Ok(r)) => self.point([
-                    u16::from_le_bytes([r[0], r[1]]),
-                    u16::from_le_bytes([r[2], r[3]]),
-                    u16::from_le_bytes([r[4], r[5]]),
-                ]),
-                _ => Vec3::ZERO,
-            };
+        if self.vertex_size() == 6 {
+            return self.steps_of(i).map_or(Vec3::ZERO, |q| self.point(q));
         }
+        // `f32` vertices (or none at all).
         if i >= self.header.vertex_count {
             return Vec3::ZERO;
         }
-        let Some(at) = element(self.vertices, self.vertex_size, i) else {
-            return Vec3::ZERO;
-        };
-        if self.vertex_size == 6 {
-            Record::<6>::at(self.bytes, at).map_or(Vec3::ZERO, |r| self.decode(&r, 0))
-        } else {
-            self.vec3_at(at)
-        }
+        element(self.vertices, self.vertex_size(), i).map_or(Vec3::ZERO, |at| self.vec3_at(at))
     }
 
     /// Plane `i` (all zero when out of range).
@@ -665,7 +718,7 @@ impl<'a> Scene<'a> {
         RawNode::at(
             self.bytes,
             element(self.nodes, self.node_size, i)?,
-            self.field_size,
+            self.field_size(),
             i,
         )
     }

@@ -42,13 +42,21 @@ struct Spec {
     extra_counts: Option<[u32; 2]>,
 }
 
+/// Flags every [`Spec`] carries: none, or in a build without `large-scenes` (which reads only
+/// those) 16-bit fields and indices.
+const BASE_FLAGS: u16 = if cfg!(feature = "large-scenes") {
+    0
+} else {
+    header_flags::NARROW | header_flags::INDEX16
+};
+
 impl Spec {
     /// A split at x = 0.5 with a convex set of two polygons in front and one behind.
     fn small() -> Spec {
         Spec {
             magic: MAGIC,
             version: FORMAT_VERSION,
-            flags: header_flags::IDS,
+            flags: header_flags::IDS | BASE_FLAGS,
             counts: None,
             max_depth: 2,
             max_polygon_vertices: 4,
@@ -108,7 +116,7 @@ impl Spec {
     /// A chain of `n` convex nodes, one triangle each.
     fn chain(n: u32) -> Spec {
         let mut spec = Spec::small();
-        spec.flags = 0;
+        spec.flags = BASE_FLAGS;
         spec.ids.clear();
         spec.max_depth = n;
         spec.max_polygon_vertices = 3;
@@ -248,7 +256,7 @@ fn small_file_reads_back_every_field() {
     let scene = Scene::parse(&bytes).unwrap();
     let header = scene.header();
     assert_eq!(header.version, FORMAT_VERSION);
-    assert_eq!(header.flags, header_flags::IDS);
+    assert_eq!(header.flags, header_flags::IDS | BASE_FLAGS);
     assert_eq!(
         [
             header.vertex_count,
@@ -342,7 +350,7 @@ fn accessors_are_total_out_of_range() {
 #[test]
 fn ids_absent_without_the_flag() {
     let mut spec = Spec::small();
-    spec.flags = 0;
+    spec.flags = BASE_FLAGS;
     spec.ids.clear();
     let bytes = spec.encode();
     assert_eq!(Scene::parse(&bytes).unwrap().id(0), None);
@@ -354,7 +362,7 @@ fn ids_absent_without_the_flag() {
 #[test]
 fn empty_tree_is_valid() {
     let mut spec = Spec::small();
-    spec.flags = 0;
+    spec.flags = BASE_FLAGS;
     spec.ids.clear();
     spec.indices.clear();
     spec.polygons.clear();
@@ -418,6 +426,25 @@ fn header_identity_is_checked_first() {
             Err(ReadError::InconsistentFlags { flags: spec.flags })
         );
     }
+    // Wider fields, indices or vertices are refused by a build without their feature, with
+    // what is missing; the rest of this test reads them.
+    for (flags, feature) in [
+        (0, cfg!(feature = "large-scenes")),
+        (header_flags::NARROW, cfg!(feature = "large-scenes")),
+        (header_flags::INDEX16, cfg!(feature = "large-scenes")),
+        (
+            header_flags::NARROW | header_flags::INDEX16 | header_flags::WIDE_VERTICES,
+            cfg!(feature = "wide-vertices"),
+        ),
+    ] {
+        let mut spec = Spec::small();
+        spec.flags = flags;
+        let unsupported = Err(ReadError::UnsupportedFlags { flags });
+        assert_eq!(spec.parse() == unsupported, !feature, "{flags:#x}");
+    }
+    if !cfg!(feature = "large-scenes") {
+        return;
+    }
     // u24 indices read the same vertices as u32 ones, a byte shorter each.
     let mut narrow = Spec::small();
     narrow.flags |= header_flags::INDEX24;
@@ -435,7 +462,9 @@ fn header_identity_is_checked_first() {
     }
 }
 
+/// Against `u32` fields and indices.
 #[test]
+#[cfg_attr(not(feature = "large-scenes"), ignore = "u32 fields need large-scenes")]
 fn optional_parts_read_back() {
     let spec = Spec::small_with_everything();
     let bytes = spec.encode();
@@ -606,6 +635,9 @@ fn vertices_are_steps_on_the_bounds_or_f32() {
     // The ends are exact.
     assert_eq!(scene.vertex(1), Vec3::new(2.0, 0.0, 0.0));
     assert_eq!(scene.vertex(2), Vec3::new(-2.0, 3.0, 1.0));
+    if !cfg!(feature = "wide-vertices") {
+        return;
+    }
     spec.flags |= header_flags::WIDE_VERTICES;
     let wide_bytes = spec.encode();
     assert_eq!(
@@ -616,7 +648,12 @@ fn vertices_are_steps_on_the_bounds_or_f32() {
     assert_eq!(wide.vertex(5), Vec3::new(0.5, 1.0, 1.0));
 }
 
+/// With `f32` vertices.
 #[test]
+#[cfg_attr(
+    not(feature = "wide-vertices"),
+    ignore = "f32 vertices need wide-vertices"
+)]
 fn non_finite_or_out_of_bounds_floats_are_refused() {
     let cases: [fn(&mut Spec); 7] = [
         |s| s.centre[1] = f64::NAN,
@@ -645,6 +682,9 @@ fn a_polygon_plane_is_through_its_first_three_vertices() {
     let mut spec = Spec::small();
     spec.bounds = [[0.0, 0.0, -2.0], [1.0, 1.0, 1.0]];
     for wide in [false, true] {
+        if wide && !cfg!(feature = "wide-vertices") {
+            continue;
+        }
         if wide {
             spec.flags |= header_flags::WIDE_VERTICES;
         }
@@ -893,7 +933,9 @@ fn child_before_parent_and_cycles_are_refused() {
     assert!(matches!(spec.parse(), Err(ReadError::BadRecord { .. })));
 }
 
+/// 200,000 nodes: `u32` fields.
 #[test]
+#[cfg_attr(not(feature = "large-scenes"), ignore = "u32 fields need large-scenes")]
 fn depth_is_checked_without_recursion() {
     let deep = 200_000;
     let mut spec = Spec::chain(deep);

@@ -73,6 +73,13 @@ fn read_header(bytes: &[u8]) -> Result<Header, ReadError> {
         {
             return Err(ReadError::InconsistentFlags { flags });
         }
+        // Without the features, only 16-bit fields, indices and vertex steps.
+        let large = !cfg!(feature = "large-scenes")
+            && (flags & hf::NARROW == 0 || flags & hf::INDEX16 == 0);
+        let wide = !cfg!(feature = "wide-vertices") && flags & hf::WIDE_VERTICES != 0;
+        if large || wide {
+            return Err(ReadError::UnsupportedFlags { flags });
+        }
     }
     match bytes.get(..HEADER_SIZE).and_then(|b| b.try_into().ok()) {
         Some(header) => Ok(Header::from_bytes(header)),
@@ -173,6 +180,7 @@ fn locate_arrays(bytes: &[u8], header: Header) -> Result<Scene<'_>, ReadError> {
             layout::per_step(header.bounds_min.y, header.bounds_max.y),
             layout::per_step(header.bounds_min.z, header.bounds_max.z),
         ),
+        #[cfg(all(target_arch = "arm", not(target_has_atomic = "32")))]
         grid: (|| {
             let (lo, hi) = (header.bounds_min, header.bounds_max);
             Some([
@@ -245,7 +253,11 @@ fn check_vertices(scene: &Scene<'_>) -> Result<(), ReadError> {
         return Ok(());
     }
     let (min, max) = (scene.header.bounds_min, scene.header.bounds_max);
-    for (_, at) in records(scene.vertices, scene.vertex_size, scene.header.vertex_count) {
+    for (_, at) in records(
+        scene.vertices,
+        scene.vertex_size(),
+        scene.header.vertex_count,
+    ) {
         for k in 0..3 {
             let inside = f32_at(scene.bytes, at + 4 * k)
                 .is_some_and(|v| v.is_finite() && min[k] <= v && v <= max[k]);
@@ -282,7 +294,7 @@ fn check_bounds(scene: &Scene<'_>) -> Result<(), ReadError> {
 
 /// Every index names a vertex.
 fn check_indices(scene: &Scene<'_>) -> Result<(), ReadError> {
-    for (i, at) in records(scene.indices, scene.index_size, scene.header.index_count) {
+    for (i, at) in records(scene.indices, scene.index_size(), scene.header.index_count) {
         let vertex = scene.index(i).unwrap_or(u32::MAX);
         if vertex >= scene.header.vertex_count {
             return Err(bad(at));
@@ -297,7 +309,7 @@ fn check_polygons(scene: &Scene<'_>) -> Result<(), ReadError> {
     let header = &scene.header;
     let mut next_index: u64 = 0;
     let palette16 = header.flags & hf::PALETTE16 != 0;
-    let w = scene.field_size;
+    let w = scene.field_size();
     for (_, at) in records(scene.polygons, scene.polygon_size, header.polygon_count) {
         let b = scene.bytes;
         let colour_at = at + w + 2;
@@ -338,7 +350,7 @@ fn check_nodes(scene: &Scene<'_>) -> Result<(), ReadError> {
     for (i, at) in records(scene.nodes, scene.node_size, n) {
         let raw = need(scene.raw_node(i), at)?;
         if with_bounds {
-            let w = scene.field_size;
+            let w = scene.field_size();
             let k = need(field_at(scene.bytes, at + 1 + 3 * w, w, true), at)?;
             if k != NONE && k >= header.bounds_count {
                 return Err(bad(at));

@@ -316,6 +316,10 @@ proptest! {
 
 /// The same trees read from `.peel` bytes through [`Scene`] walk in the same order.
 #[test]
+#[cfg_attr(
+    not(all(feature = "large-scenes", feature = "wide-vertices")),
+    ignore = "the test encoder writes f32 vertices and u32 fields"
+)]
 fn scene_walks_like_the_in_memory_tree() {
     for t in [one_box(), split_pair()] {
         let bytes = super::testing::encode(&t);
