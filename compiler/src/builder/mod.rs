@@ -104,7 +104,7 @@ impl Builder {
     }
 
     /// Store vertices as `f32` instead of 16-bit steps on the scene's bounds (see
-    /// [`crate::CompileOptions::wide_vertices`]).
+    /// [`crate::compile::CompileOptions::wide_vertices`]).
     pub fn wide_vertices(mut self, wide: bool) -> Self {
         self.options.wide_vertices = wide;
         self

@@ -450,15 +450,16 @@ impl<'a> Scene<'a> {
     }
 
     /// Which side of `polygon`'s support plane the eye (from [`Scene::side_eye`]) is on:
-    /// [`Side::Front`] where `(v1 - v0) x (v2 - v0)` points to. The plane is the one through the polygon's first three vertices as
-    /// read: the writer rotates each vertex list so that these three are far from collinear,
-    /// and sets [`layout::polygon_flags::INTERIOR_FRONT`] for this normal.
+    /// [`Side::Front`] where `(v1 - v0) x (v2 - v0)` points to. The plane is the one through the
+    /// polygon's first three vertices as read: the writer rotates each vertex list so that these
+    /// three are far from collinear, and sets [`layout::polygon_flags::INTERIOR_FRONT`] for
+    /// this normal.
     ///
     /// With 16-bit vertices no vertex is decoded. When the three are within 2^15 steps of each
-    /// other and the eye within [`SideEye::REACH`], the test is integer: the cross product of the
-    /// steps is exact in `i32`, its dot product with the eye in 1/256 steps exact in `i64` (the
-    /// common case, and what a core without an FPU can afford); otherwise the exact `i64` cross
-    /// product is rounded to `f32`. With `f32` vertices it is [`Plane::through`].
+    /// other and the eye within [`SideEye::REACH`], the test is integer, and exact: the cross
+    /// product of the steps in `i32`, its dot product with the eye in 1/256 steps in `i64`
+    /// (the common case, and what a core without an FPU can afford). Otherwise it is
+    /// [`Plane::through`] the steps in `f32`; with `f32` vertices, through them.
     #[inline]
     pub fn eye_side(&self, polygon: &Polygon, eye: &SideEye) -> Side {
         if self.vertex_size() != 6 {

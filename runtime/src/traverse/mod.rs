@@ -98,7 +98,7 @@ pub enum Order {
 }
 
 /// Whether the eye sees the interior side of `polygon`, the eye being on `side` of its
-/// plane ([`DisplayTree::eye_side`]; on the plane counts as yes).
+/// plane ([`Tree::eye_side`]; on the plane counts as yes).
 pub fn sees_interior(polygon: &Polygon, side: Side) -> bool {
     let interior = if polygon.flags & INTERIOR_FRONT != 0 {
         Side::Front
