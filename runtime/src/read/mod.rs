@@ -257,6 +257,19 @@ fn float_side(a: Vec3, b: Vec3, c: Vec3, at: Vec3) -> Side {
     Side::of(Plane::through(a, b, c).distance(at))
 }
 
+/// Whether record `i` of an array of `count` small records (16-bit steps or indices) can be
+/// read at offset `i * size` with no overflow check, the slice's bounds check doing the rest:
+/// below the count, or in a build without `large-scenes`, whose counts stay below 65,537,
+/// below 2^24 (a compare with a constant).
+#[inline]
+fn readable(i: u32, count: u32) -> bool {
+    i < if cfg!(feature = "large-scenes") {
+        count
+    } else {
+        1 << 24
+    }
+}
+
 /// A child or parent field: [`layout::NONE`] means "none".
 fn link(value: u32) -> Option<u32> {
     (value != NONE).then_some(value)
@@ -522,14 +535,7 @@ impl<'a> Scene<'a> {
     /// The steps of vertex `v` of a file with 16-bit vertices, with one bounds check.
     #[inline]
     fn steps_of(&self, v: u32) -> Option<[u16; 3]> {
-        // Below the count (or, without `large-scenes`, where counts are below 65,537, below
-        // 2^24: one compare with a constant) the offset cannot overflow.
-        let limit = if cfg!(feature = "large-scenes") {
-            self.header.vertex_count
-        } else {
-            1 << 24
-        };
-        if v >= limit {
+        if !readable(v, self.header.vertex_count) {
             return None;
         }
         let at = v as usize * 6;
@@ -579,14 +585,7 @@ impl<'a> Scene<'a> {
     #[inline]
     fn index(&self, i: u32) -> Option<u32> {
         if self.index_size() == 2 {
-            // Below the count (or, without `large-scenes`, below 2^24: one compare with a
-            // constant) the offset cannot overflow.
-            let limit = if cfg!(feature = "large-scenes") {
-                self.header.index_count
-            } else {
-                1 << 24
-            };
-            if i >= limit {
+            if !readable(i, self.header.index_count) {
                 return None;
             }
             let at = i as usize * 2;
