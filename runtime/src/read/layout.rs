@@ -168,12 +168,11 @@ impl Grid {
         };
         let grid = Grid {
             origin: widen(m, m_exp)?,
-            stride: widen(s, s_exp)?,
+            stride: widen(s, s_exp).filter(|&t| t <= 255)?,
             shift,
         };
-        let last = grid.origin + 65535 * grid.stride.min(255);
-        let exact = grid.stride <= 255
-            && last.unsigned_abs() < 1 << 24
+        let last = grid.origin + 65535 * grid.stride;
+        let exact = last.unsigned_abs() < 1 << 24
             && grid.value(0) == min
             && grid.value(u16::MAX) == max
             && step * 65535.0 == max - min;
@@ -497,7 +496,7 @@ pub(crate) fn element(start: usize, size: usize, index: u32) -> Option<usize> {
     }
 }
 
-/// [`element`] for ARMv6-M (no compare-and-swap, the cfg that tells it apart), which has no
+/// [`element`] for ARMv6-M ([`ARMV6M`]), which has no
 /// widening multiply: there `checked_mul` is a 64-bit library call on every record read.
 /// Below 2^24 records of under 256 bytes the product fits 32 bits and needs no check.
 #[inline]

@@ -181,9 +181,8 @@ impl SideEye {
     }
 }
 
-/// `a * b`, exact. ARMv6-M (Cortex-M0+: no compare-and-swap, the cfg that tells it apart) has no
-/// long multiply, so the 64-bit product would be a library call: there it is four 16-bit
-/// products instead ([`mul_wide_halves`]).
+/// `a * b`, exact. ARMv6-M ([`layout::ARMV6M`]) has no long multiply, so the 64-bit product
+/// would be a library call: there it is four 16-bit products instead ([`mul_wide_halves`]).
 #[inline]
 fn mul_wide(a: i32, b: i32) -> i64 {
     if layout::ARMV6M {

@@ -41,9 +41,8 @@ pub trait Tree {
     fn side_eye(&self, eye: Vec3) -> SideEye {
         SideEye::world(eye)
     }
-    /// Which side of `polygon`'s support plane the eye (as [`Tree::side_eye`] gave it) is on:
-    /// positive on the + side, which [`INTERIOR_FRONT`] refers to, 0 on the plane; only the
-    /// sign means anything.
+    /// Which side of `polygon`'s support plane the eye (as [`Tree::side_eye`] gave it) is on;
+    /// [`Side::Front`] is the + side, which [`INTERIOR_FRONT`] refers to.
     fn eye_side(&self, polygon: &Polygon, side_eye: &SideEye) -> Side;
     /// Number of nodes (bounds the walk even if the tree were malformed).
     fn node_count(&self) -> u32;
