@@ -85,6 +85,13 @@ impl<const SUB: u32> FixedPoint<SUB> {
     /// misplace a polygon but never break the fill. The same input always gives the same
     /// point, which is what keeps vertices shared by two polygons shared after snapping.
     pub fn snap(x: f32, y: f32) -> Self {
+        if SOFT_FLOAT {
+            // The scaling is exact: on the bits it is an exponent, not a multiply call.
+            return FixedPoint {
+                x: round_bits_scaled(x, SUB),
+                y: round_bits_scaled(y, SUB),
+            };
+        }
         let scale = (1u32 << SUB) as f32;
         FixedPoint {
             x: round_f32(x * scale),
@@ -110,6 +117,9 @@ impl<const SUB: u32> FixedPoint<SUB> {
     }
 }
 
+/// A soft-float ABI: every `f32` operation is a library call, so rounding works on the bits.
+const SOFT_FLOAT: bool = cfg!(all(target_arch = "arm", not(target_abi = "eabihf")));
+
 /// `v` rounded to the nearest integer, halves away from zero, saturating, NaN to 0: the same
 /// as `libm::roundf(v) as i32`, without its bit twiddling (it runs for every snapped vertex).
 /// With hardware floats [`round_f32_float`]; without (a soft-float ABI, where each `f32`
@@ -117,7 +127,7 @@ impl<const SUB: u32> FixedPoint<SUB> {
 /// every input (tested against `libm` on both).
 #[inline]
 fn round_f32(v: f32) -> i32 {
-    if cfg!(all(target_arch = "arm", not(target_abi = "eabihf"))) {
+    if SOFT_FLOAT {
         round_f32_bits(v)
     } else {
         round_f32_float(v)
@@ -149,8 +159,21 @@ fn round_f32_float(v: f32) -> i32 {
 /// magnitude), or left when `v` is already an integer.
 #[inline]
 fn round_f32_bits(v: f32) -> i32 {
+    round_bits_scaled(v, 0)
+}
+
+/// [`round_f32_bits`] of `v * 2^k` (`k < 32`), the same for every `v` without the multiply:
+/// `k` is added to the exponent field of a finite, non-zero `v`. A product that would
+/// overflow to infinity saturates as infinity does; a subnormal `v` gives 0, as its product
+/// (below `2^-94`) does.
+#[inline]
+fn round_bits_scaled(v: f32, k: u32) -> i32 {
     let bits = v.to_bits();
-    let exponent = (bits >> 23) & 0xff;
+    let field = (bits >> 23) & 0xff;
+    if field == 0xff && bits & 0x007f_ffff != 0 {
+        return 0; // NaN
+    }
+    let exponent = if field == 0 { 0 } else { field + k };
     let m = (bits & 0x007f_ffff) | 0x0080_0000;
     let negative = bits >> 31 != 0;
     let magnitude = if exponent < 126 {
@@ -161,8 +184,6 @@ fn round_f32_bits(v: f32) -> i32 {
         (m + ((1 << shift) >> 1)) >> shift
     } else if exponent < 158 {
         m << (exponent - 150) // below 2^31
-    } else if exponent == 0xff && bits & 0x007f_ffff != 0 {
-        return 0; // NaN
     } else if negative {
         return i32::MIN; // at most -2^31, or -infinity
     } else {

@@ -676,8 +676,37 @@ fn round_f32_bits_and_float_agree_on_a_sweep() {
     }
 }
 
+/// Rounding `v * 2^k` on the bits is rounding the product, on a sweep of bit patterns (every
+/// exponent, both signs, subnormals, NaNs, infinities, products that overflow) for every scale
+/// up to 31.
+#[test]
+fn scaled_rounding_is_rounding_the_product() {
+    for k in 0..32 {
+        let scale = (1u64 << k) as f32;
+        let mut bits = 0u32;
+        loop {
+            let v = f32::from_bits(bits);
+            assert_eq!(
+                round_bits_scaled(v, k),
+                round_f32_bits(v * scale),
+                "{v} ({bits:#x}) * 2^{k}"
+            );
+            match bits.checked_add(65_537) {
+                Some(b) => bits = b,
+                None => break,
+            }
+        }
+    }
+}
+
 proptest! {
     #![proptest_config(ProptestConfig { cases: 2000, ..ProptestConfig::default() })]
+
+    #[test]
+    fn scaled_rounding_matches_the_product(bits in any::<u32>(), k in 0u32..32) {
+        let v = f32::from_bits(bits);
+        prop_assert_eq!(round_bits_scaled(v, k), round_f32_float(v * (1u64 << k) as f32), "{} * 2^{}", v, k);
+    }
 
     #[test]
     fn round_f32_matches_libm(bits in any::<u32>()) {
