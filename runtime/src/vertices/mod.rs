@@ -21,22 +21,29 @@ mod tests;
 use crate::fill::{FixedPoint, SUBPIXEL_BITS};
 
 /// One vertex's snapped screen position (the coordinates of a [`FixedPoint`], at the
-/// precision of the [`VertexCache`] that wrote it), and which vertex it is
-/// ([`CachedVertex::EMPTY`]: none). Memory of any precision: the cache over it gives it one.
+/// precision of the [`VertexCache`] that wrote it), and which vertex it is: 8 bytes, so that
+/// small memories hold more vertices. Memory of any precision: the cache over it gives it one.
+///
+/// The first word holds `x` in its low 24 bits (a snapped point lies in the window, so `x` is
+/// at least 0 and, at the renderer's precision, below `2^24` for images up to 65535 pixels;
+/// a point that does not fit is not kept) and the vertex's tag in its high 8: one more than
+/// the vertex index over the number of entries (its entry is the index modulo that number),
+/// 0 for none, so that [`CachedVertex::EMPTY`] is all zeros (memory in `.bss`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct CachedVertex {
-    vertex: u32,
-    x: i32,
+    x_and_tag: u32,
     y: i32,
 }
 
+/// The bits of `x` in [`CachedVertex::x_and_tag`].
+const X_BITS: u32 = 0x00ff_ffff;
+/// The largest tag: vertices whose index over the number of entries is 255 or more are not
+/// kept.
+const MAX_TAG: u32 = 0xff;
+
 impl CachedVertex {
     /// An empty entry (the [`Default`]); `const`, for memory in a `static`.
-    pub const EMPTY: CachedVertex = CachedVertex {
-        vertex: u32::MAX,
-        x: 0,
-        y: 0,
-    };
+    pub const EMPTY: CachedVertex = CachedVertex { x_and_tag: 0, y: 0 };
 }
 
 impl Default for CachedVertex {
@@ -51,8 +58,8 @@ impl Default for CachedVertex {
 #[derive(Debug)]
 pub struct VertexCache<'m, const SUB: u32 = SUBPIXEL_BITS> {
     entries: &'m mut [CachedVertex],
-    /// `entries.len() - 1`: the entry of vertex `v` is `v & mask`.
-    mask: u32,
+    /// `log2(entries.len())`: the entry of vertex `v` is `v mod len`, its tag `v >> shift`.
+    shift: u32,
 }
 
 impl<'m, const SUB: u32> VertexCache<'m, SUB> {
@@ -62,13 +69,13 @@ impl<'m, const SUB: u32> VertexCache<'m, SUB> {
     /// a frame clears it, so whatever the memory held does not matter.
     pub fn new(entries: &'m mut [CachedVertex]) -> Self {
         let len = entries.len().min(1 << 31);
-        let used = if len == 0 { 0 } else { 1 << len.ilog2() };
+        let shift = if len == 0 { 0 } else { len.ilog2() };
+        let used = if len == 0 { 0 } else { 1 << shift };
         let entries = match entries.get_mut(..used) {
             Some(e) => e,
             None => &mut [],
         };
-        let mask = (used as u32).wrapping_sub(1);
-        VertexCache { entries, mask }
+        VertexCache { entries, shift }
     }
 
     /// Number of entries in use (a power of two, or 0).
@@ -87,26 +94,35 @@ impl<'m, const SUB: u32> VertexCache<'m, SUB> {
     }
 
     /// The position of vertex `index` in this frame: kept from an earlier call of the frame, or
-    /// computed by `compute` and kept (replacing the vertex that shared its entry).
+    /// computed by `compute` and kept (replacing the vertex that shared its entry). A vertex
+    /// whose tag would not fit in 8 bits, or a point with `x` outside `0..2^24`, is computed
+    /// each time.
     #[inline]
     pub(crate) fn get(
         &mut self,
         index: u32,
         compute: impl FnOnce() -> FixedPoint<SUB>,
     ) -> FixedPoint<SUB> {
-        match self.entries.get_mut((index & self.mask) as usize) {
-            // `u32::MAX` marks an empty entry: that vertex is never kept.
-            Some(e) if e.vertex == index && index != u32::MAX => FixedPoint::new(e.x, e.y),
-            Some(e) => {
+        let above = index >> self.shift;
+        // `index mod len` (0 with one entry, or none: then there is no entry to find).
+        let slot = index & ((1u32 << self.shift) - 1);
+        match self.entries.get_mut(slot as usize) {
+            Some(e) if above < MAX_TAG => {
+                let tag = above + 1;
+                if e.x_and_tag >> 24 == tag {
+                    return FixedPoint::new((e.x_and_tag & X_BITS) as i32, e.y);
+                }
                 let point = compute();
-                *e = CachedVertex {
-                    vertex: index,
-                    x: point.x,
-                    y: point.y,
-                };
+                // A negative `x` has its high bits set.
+                if point.x as u32 <= X_BITS {
+                    *e = CachedVertex {
+                        x_and_tag: point.x as u32 | tag << 24,
+                        y: point.y,
+                    };
+                }
                 point
             }
-            None => compute(),
+            _ => compute(),
         }
     }
 }

@@ -1,8 +1,9 @@
 use super::*;
 use crate::fill::SubpixelPoint;
 
+/// A point the memory can keep (coordinates in `0..2^24`).
 fn point(v: i32) -> SubpixelPoint {
-    FixedPoint::new(v, -v)
+    FixedPoint::new(v, 2 * v)
 }
 
 /// Calls `get` for `index` and says whether `compute` ran.
@@ -74,4 +75,54 @@ fn the_empty_marker_is_never_a_hit() {
     cache.next_frame();
     assert_eq!(computed(&mut cache, u32::MAX, 3), (point(3), true));
     assert_eq!(computed(&mut cache, u32::MAX, 4), (point(4), true));
+}
+
+#[test]
+fn an_entry_takes_eight_bytes() {
+    assert_eq!(core::mem::size_of::<CachedVertex>(), 8);
+}
+
+#[test]
+fn an_empty_entry_is_never_a_hit() {
+    let mut memory = [CachedVertex::EMPTY; 4];
+    let mut cache = VertexCache::new(&mut memory);
+    cache.next_frame();
+    // An empty entry is all zeros: vertex 0 is not in it.
+    assert_eq!(computed(&mut cache, 0, 3), (point(3), true));
+    // Index over entries 255 and 256: their tags would not fit in 8 bits, never kept.
+    for index in [255 << 2, 256 << 2, u32::MAX] {
+        assert_eq!(computed(&mut cache, index, 5), (point(5), true));
+        assert_eq!(computed(&mut cache, index, 6), (point(6), true));
+    }
+    // The largest tag kept.
+    assert_eq!(computed(&mut cache, 254 << 2 | 1, 7), (point(7), true));
+    assert_eq!(computed(&mut cache, 254 << 2 | 1, 8), (point(7), false));
+}
+
+#[test]
+fn points_with_x_outside_24_bits_are_not_kept() {
+    let mut memory = [CachedVertex::EMPTY; 4];
+    let mut cache = VertexCache::new(&mut memory);
+    cache.next_frame();
+    let keep = |cache: &mut VertexCache<'_>, index, p: SubpixelPoint| {
+        let first = cache.get(index, || p);
+        let mut ran = false;
+        let second = cache.get(index, || {
+            ran = true;
+            p
+        });
+        assert_eq!((first, second), (p, p));
+        !ran
+    };
+    assert!(keep(&mut cache, 0, FixedPoint::new(0, 0)));
+    assert!(keep(&mut cache, 1, FixedPoint::new(0xff_ffff, i32::MIN)));
+    assert!(!keep(&mut cache, 2, FixedPoint::new(0x100_0000, 0)));
+    assert!(!keep(&mut cache, 3, FixedPoint::new(-1, 0)));
+    // A point not kept leaves the entry's vertex where it was.
+    assert!(keep(&mut cache, 5, FixedPoint::new(4, 4)));
+    assert!(!keep(&mut cache, 9, FixedPoint::new(-4, 4)));
+    assert_eq!(
+        cache.get(5, || FixedPoint::new(0, 0)),
+        FixedPoint::new(4, 4)
+    );
 }

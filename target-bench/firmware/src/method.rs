@@ -22,8 +22,11 @@ mod peel {
 
     use peel_target_kit::{STACK, VERTS};
 
-    /// Vertex memory entries (12 bytes each): the vertices used close together in the walk.
-    const VERTEX_MEMORY: usize = 256;
+    /// Vertex memory entries (8 bytes each, 4,096 B): the vertices used close together in the
+    /// walk. 512 keep the teapot's streamed frame within 32 KiB of RAM on both cores.
+    const VERTEX_MEMORY: usize = 512;
+    /// The vertex memory ([`CachedVertex::EMPTY`] is all zeros: `.bss`).
+    static mut VERTEX_ENTRIES: [CachedVertex; VERTEX_MEMORY] = [CachedVertex::EMPTY; VERTEX_MEMORY];
 
     /// A Peel variant's scene, renderer and pixel memory.
     pub struct Method {
@@ -69,8 +72,11 @@ mod peel {
                 let counts = pool.u16s(rows, Use::RowCounts)?;
                 renderer = renderer.span_memory(Coverage::new(intervals, counts, width, band)?);
             }
-            let vertices = cortex_m::singleton!(: [CachedVertex; VERTEX_MEMORY] = [CachedVertex::EMPTY; VERTEX_MEMORY])
-                .ok_or(Failure::Host("vertex memory taken twice"))?;
+            // A static rather than a singleton, which would build the array in `main`'s stack
+            // frame first and so count it twice (`.bss` and the stack's high-water mark).
+            // SAFETY: the workspace singleton above makes this run once, so this is the only
+            // reference.
+            let vertices = unsafe { &mut *core::ptr::addr_of_mut!(VERTEX_ENTRIES) };
             renderer = renderer.vertex_memory(VertexCache::new(vertices));
             let pixel_count = if VARIANT == Variant::FtbStream {
                 0
