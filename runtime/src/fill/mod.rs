@@ -85,17 +85,9 @@ impl<const SUB: u32> FixedPoint<SUB> {
     /// misplace a polygon but never break the fill. The same input always gives the same
     /// point, which is what keeps vertices shared by two polygons shared after snapping.
     pub fn snap(x: f32, y: f32) -> Self {
-        if SOFT_FLOAT {
-            // The scaling is exact: on the bits it is an exponent, not a multiply call.
-            return FixedPoint {
-                x: round_bits_scaled(x, SUB),
-                y: round_bits_scaled(y, SUB),
-            };
-        }
-        let scale = (1u32 << SUB) as f32;
         FixedPoint {
-            x: round_f32(x * scale),
-            y: round_f32(y * scale),
+            x: round_scaled(x, SUB),
+            y: round_scaled(y, SUB),
         }
     }
 
@@ -120,23 +112,24 @@ impl<const SUB: u32> FixedPoint<SUB> {
 /// A soft-float ABI: every `f32` operation is a library call, so rounding works on the bits.
 const SOFT_FLOAT: bool = cfg!(all(target_arch = "arm", not(target_abi = "eabihf")));
 
-/// `v` rounded to the nearest integer, halves away from zero, saturating, NaN to 0: the same
-/// as `libm::roundf(v) as i32`, without its bit twiddling (it runs for every snapped vertex).
-/// With hardware floats [`round_f32_float`]; without (a soft-float ABI, where each `f32`
-/// operation is a library call) [`round_f32_bits`], on the integer bits. The two agree on
-/// every input (tested against `libm` on both).
+/// `v * 2^k` (`k < 32`) rounded to the nearest integer, halves away from zero, saturating,
+/// NaN to 0: the same as `libm::roundf(v * 2^k) as i32`, without its bit twiddling (it runs
+/// for every snapped vertex). With hardware floats [`round_f32_float`] of the product; without
+/// (a soft-float ABI, where each `f32` operation is a library call) [`round_bits_scaled`], on
+/// the integer bits, where the exact scaling is an exponent rather than a multiply. The two
+/// agree on every input (tested against `libm` and each other).
 #[inline]
-fn round_f32(v: f32) -> i32 {
+fn round_scaled(v: f32, k: u32) -> i32 {
     if SOFT_FLOAT {
-        round_f32_bits(v)
+        round_bits_scaled(v, k)
     } else {
-        round_f32_float(v)
+        round_f32_float(v * (1u32 << k) as f32)
     }
 }
 
-/// [`round_f32`] in `f32` arithmetic. Below `2^23` in magnitude the truncation and the
-/// fraction `v - t` are exact, so comparing the fraction with one half decides exactly; above,
-/// every `f32` is already an integer.
+/// `v` rounded as [`round_scaled`] rounds it (`k = 0`), in `f32` arithmetic. Below `2^23` in
+/// magnitude the truncation and the fraction `v - t` are exact, so comparing the fraction with
+/// one half decides exactly; above, every `f32` is already an integer.
 #[inline]
 fn round_f32_float(v: f32) -> i32 {
     const EXACT: f32 = 8_388_608.0; // 2^23
@@ -154,18 +147,12 @@ fn round_f32_float(v: f32) -> i32 {
     }
 }
 
-/// [`round_f32`] on the bits of `v`: its significand `m` (with the hidden bit) times
-/// `2^(e - 150)` is shifted right with half an output unit added (halves away from zero in
-/// magnitude), or left when `v` is already an integer.
-#[inline]
-fn round_f32_bits(v: f32) -> i32 {
-    round_bits_scaled(v, 0)
-}
-
-/// [`round_f32_bits`] of `v * 2^k` (`k < 32`), the same for every `v` without the multiply:
-/// `k` is added to the exponent field of a finite, non-zero `v`. A product that would
-/// overflow to infinity saturates as infinity does; a subnormal `v` gives 0, as its product
-/// (below `2^-94`) does.
+/// [`round_scaled`] on the bits of `v * 2^k`: its significand `m` (with the hidden bit) times
+/// `2^(e - 150)` (`e` the scaled exponent) is shifted right with half an output unit added
+/// (halves away from zero in magnitude), or left when it is already an integer. The scaling
+/// adds `k` to the exponent field of a finite, non-zero `v`: a product that would overflow to
+/// infinity saturates as infinity does, a subnormal `v` gives 0 as its product (below
+/// `2^-94`) does.
 #[inline]
 fn round_bits_scaled(v: f32, k: u32) -> i32 {
     let bits = v.to_bits();

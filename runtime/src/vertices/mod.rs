@@ -58,7 +58,9 @@ impl Default for CachedVertex {
 #[derive(Debug)]
 pub struct VertexCache<'m, const SUB: u32 = SUBPIXEL_BITS> {
     entries: &'m mut [CachedVertex],
-    /// `log2(entries.len())`: the entry of vertex `v` is `v mod len`, its tag `v >> shift`.
+    /// `entries.len() - 1` (0 without entries): the entry of vertex `v` is `v & mask`.
+    mask: u32,
+    /// `log2(entries.len())`: the tag of vertex `v` is `(v >> shift) + 1`.
     shift: u32,
 }
 
@@ -75,7 +77,12 @@ impl<'m, const SUB: u32> VertexCache<'m, SUB> {
             Some(e) => e,
             None => &mut [],
         };
-        VertexCache { entries, shift }
+        let mask = (used as u32).saturating_sub(1);
+        VertexCache {
+            entries,
+            mask,
+            shift,
+        }
     }
 
     /// Number of entries in use (a power of two, or 0).
@@ -104,9 +111,7 @@ impl<'m, const SUB: u32> VertexCache<'m, SUB> {
         compute: impl FnOnce() -> FixedPoint<SUB>,
     ) -> FixedPoint<SUB> {
         let above = index >> self.shift;
-        // `index mod len` (0 with one entry, or none: then there is no entry to find).
-        let slot = index & ((1u32 << self.shift) - 1);
-        match self.entries.get_mut(slot as usize) {
+        match self.entries.get_mut((index & self.mask) as usize) {
             Some(e) if above < MAX_TAG => {
                 let tag = above + 1;
                 if e.x_and_tag >> 24 == tag {
