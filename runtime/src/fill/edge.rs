@@ -29,14 +29,16 @@ use super::FixedPoint;
 
 /// The integer type of a walk: `i64` with `wide-coordinates`, `i32` without.
 #[cfg(feature = "wide-coordinates")]
-pub(crate) type Coord = i64;
+pub type Coord = i64;
 /// The integer type of a walk: `i64` with `wide-coordinates`, `i32` without.
 #[cfg(not(feature = "wide-coordinates"))]
-pub(crate) type Coord = i32;
+pub type Coord = i32;
 
-/// One non-horizontal edge being walked down the scanlines.
+/// One non-horizontal edge being walked down the scanlines: the fill's own walk, public so
+/// that other scanline methods (an active edge list over many polygons) cross each row exactly
+/// where the fill does.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
-pub(crate) struct EdgeWalk {
+pub struct EdgeWalk {
     /// First pixel (column) whose centre is at or right of the crossing on row `row`.
     pub(crate) x: Coord,
     /// Numerator of the fractional remainder, `0 <= rem < den`.
@@ -238,9 +240,40 @@ impl EdgeWalk {
         })
     }
 
+    /// The walk of the edge `a`-`b` (either direction, points in the fill's range, see
+    /// [`super::coordinate_limit`]) over the rows `0..height` whose centre it crosses by the
+    /// fill's rule; `None` for a horizontal edge or one that crosses none.
+    #[inline]
+    pub fn new<const SUB: u32>(
+        a: FixedPoint<SUB>,
+        b: FixedPoint<SUB>,
+        height: u32,
+    ) -> Option<Self> {
+        Self::for_edge::<SUB>(a, b, height)
+    }
+
+    /// The first pixel whose centre is at or right of the crossing with row [`Self::row`]
+    /// (a span is `[left.x(), right.x())`).
+    #[inline]
+    pub fn x(&self) -> Coord {
+        self.x
+    }
+
+    /// The row the walk is on.
+    #[inline]
+    pub fn row(&self) -> Coord {
+        self.row
+    }
+
+    /// The first row past the edge.
+    #[inline]
+    pub fn row_end(&self) -> Coord {
+        self.row_end
+    }
+
     /// Move to the next row.
     #[inline]
-    pub(crate) fn step(&mut self) {
+    pub fn step(&mut self) {
         self.x += self.step_q;
         self.rem += self.step_r;
         if self.rem >= self.den {

@@ -25,8 +25,7 @@ mod tests;
 use core::fmt;
 
 use crate::target::{Colour, SpanSink};
-use edge::Coord;
-pub(crate) use edge::EdgeWalk;
+pub use edge::{Coord, EdgeWalk};
 
 /// Fractional bits of the renderer's fixed-point screen coordinates ([`SubpixelPoint`]).
 pub const SUBPIXEL_BITS: u32 = 8;
@@ -275,6 +274,22 @@ pub fn fill_polygon<const SUB: u32, S: SpanSink + ?Sized>(
     colour: Colour,
     sink: &mut S,
 ) -> Result<u64, FillError<SUB>> {
+    fill_polygon_rows(points, width, 0..height, colour, sink)
+}
+
+/// [`fill_polygon`] of the rows `rows` only: the spans the whole polygon's fill has on those
+/// rows, for a frame drawn in bands of rows (an edge starting above the band is walked down to
+/// it, so the crossings are the same).
+///
+/// # Errors
+/// As [`fill_polygon`].
+pub fn fill_polygon_rows<const SUB: u32, S: SpanSink + ?Sized>(
+    points: &[FixedPoint<SUB>],
+    width: u32,
+    rows: core::ops::Range<u32>,
+    colour: Colour,
+    sink: &mut S,
+) -> Result<u64, FillError<SUB>> {
     const {
         assert!(
             SUB <= MAX_SUBPIXEL_BITS,
@@ -299,10 +314,10 @@ pub fn fill_polygon<const SUB: u32, S: SpanSink + ?Sized>(
     // full-size ones would cost more than filling a small polygon.
     Ok(if points.len() <= SMALL_POLYGON {
         let mut edges = [EdgeWalk::default(); SMALL_POLYGON];
-        fill_in::<SUB, S>(points, &mut edges, width, 0..height, colour, sink)
+        fill_in::<SUB, S>(points, &mut edges, width, rows, colour, sink)
     } else {
         let mut edges = [EdgeWalk::default(); MAX_FILL_VERTICES];
-        fill_in::<SUB, S>(points, &mut edges, width, 0..height, colour, sink)
+        fill_in::<SUB, S>(points, &mut edges, width, rows, colour, sink)
     })
 }
 
