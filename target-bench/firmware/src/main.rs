@@ -8,6 +8,7 @@
 //! peel-target variant=<variant> target=<target triple>
 //! frame <k> ticks=<SysTick ticks> display_bytes=<bytes> fallback=<0|1>
 //! memory pool_used=<bytes> pool_capacity=<bytes> framebuffer=<bytes> stack_peak=<bytes>
+//! gfx3d commands_peak=<commands> capacity=<commands>   (embedded-3dgfx only)
 //! done
 //! ```
 //!
@@ -52,14 +53,19 @@ variant!(
     "ftb-bands" => FtbBands,
     "b2f-framebuffer" => B2fFramebuffer,
     "b2f-bands" => B2fBands,
-    "zbuffer" => Zbuffer
+    "zbuffer" => Zbuffer,
+    "scanline-zbuffer" => ScanlineZbuffer,
+    "tiled-zbuffer" => TiledZbuffer,
+    "embedded-3dgfx" => Gfx3d
 );
 
 /// The largest image the panel memory holds.
 const MAX_PIXELS: usize = 320 * 240;
 /// Words of memory handed out by size at boot: a framebuffer and a depth buffer at the largest
-/// size, or a framebuffer and span memory (up to 64 intervals per row).
-const POOL_WORDS: usize = MAX_PIXELS + 4096;
+/// size, a framebuffer and span memory (up to 64 intervals per row), or the scanline
+/// z-buffer's lists of the largest scene (the teapot's take about 330 kB). Only what a run
+/// takes counts as its RAM.
+const POOL_WORDS: usize = 192 * 1024;
 
 /// Why a run stopped.
 #[derive(Debug)]
@@ -91,6 +97,9 @@ pub enum Failure {
     StackOverflow,
     /// A semihosting call failed.
     Host(&'static str),
+    /// embedded-3dgfx: its scene, or the library itself.
+    #[cfg(feature = "embedded-3dgfx")]
+    Gfx3d(method::Gfx3dFailure),
 }
 
 impl fmt::Display for Failure {
@@ -116,6 +125,8 @@ impl fmt::Display for Failure {
             }
             Failure::StackOverflow => write!(f, "stack overflow: the stack reached the statics"),
             Failure::Host(what) => write!(f, "semihosting: {what}"),
+            #[cfg(feature = "embedded-3dgfx")]
+            Failure::Gfx3d(e) => write!(f, "embedded-3dgfx: {e}"),
         }
     }
 }
@@ -216,6 +227,12 @@ fn run(panel: &'static mut [u16], mut pool: Pool) -> Result<(), Failure> {
         method.framebuffer_bytes(),
         stack_peak
     );
+    // The runner sizes embedded-3dgfx's command buffer from this line.
+    #[cfg(feature = "embedded-3dgfx")]
+    {
+        let (peak, capacity) = method.commands();
+        hprintln!("gfx3d commands_peak={} capacity={}", peak, capacity);
+    }
     hprintln!("done");
     Ok(())
 }

@@ -19,6 +19,8 @@ pub enum Use {
     RowCounts,
     /// The mock display's panel memory (not from the pool).
     PanelMemory,
+    /// A list of the scanline z-buffer (polygon table, vertices, heads, active edges).
+    ScanlineList,
 }
 
 impl core::fmt::Display for Use {
@@ -29,6 +31,7 @@ impl core::fmt::Display for Use {
             Use::SpanMemory => "span memory",
             Use::RowCounts => "span memory row counts",
             Use::PanelMemory => "panel memory",
+            Use::ScanlineList => "scanline z-buffer list",
         })
     }
 }
@@ -79,12 +82,43 @@ impl Pool {
     }
 
     /// `n` pairs of halfwords (span-memory intervals).
-    #[cfg(not(feature = "zbuffer"))]
+    #[cfg(any(
+        feature = "ftb-framebuffer",
+        feature = "ftb-stream",
+        feature = "ftb-bands",
+        feature = "b2f-framebuffer",
+        feature = "b2f-bands"
+    ))]
     pub fn pairs(&mut self, n: usize, what: Use) -> Result<&'static mut [(u16, u16)], Failure> {
         let words = self.words(n, what)?;
         // SAFETY: as for `u16s`; a pair is one word without padding (checked above), so every
         // bit pattern is a pair.
         Ok(unsafe { core::slice::from_raw_parts_mut(words.as_mut_ptr().cast(), n) })
+    }
+
+    /// `n` copies of `value`, aligned for `T` (a word skipped when `T` needs 8 bytes and the
+    /// next word is not), for lists of plain records.
+    #[cfg(feature = "scanline-zbuffer")]
+    pub fn filled<T: Copy>(
+        &mut self,
+        n: usize,
+        value: T,
+        what: Use,
+    ) -> Result<&'static mut [T], Failure> {
+        const { assert!(core::mem::align_of::<T>() <= 8 && core::mem::size_of::<T>() > 0) };
+        let misaligned = !(self.free.as_ptr() as usize).is_multiple_of(core::mem::align_of::<T>());
+        if misaligned {
+            self.words(1, what)?;
+        }
+        let words = self.words((n * core::mem::size_of::<T>()).div_ceil(4), what)?;
+        let first = words.as_mut_ptr().cast::<T>();
+        for k in 0..n {
+            // SAFETY: the words are ours for good and hold `n` values of `T` from `first`,
+            // which is aligned for `T` (checked above; the pool's words are 4-aligned).
+            unsafe { first.add(k).write(value) };
+        }
+        // SAFETY: as above, and every element was just written.
+        Ok(unsafe { core::slice::from_raw_parts_mut(first, n) })
     }
 
     /// Bytes handed out.

@@ -17,17 +17,21 @@
 //! | 40 | vertical field of view in degrees (f64) |
 //! | 48 | camera count (u32), then 4 bytes of padding |
 //! | 56 | [`MAX_CAMERAS`] x (azimuth, elevation) in degrees (f64, f64) |
+//! | 312 | the scanline z-buffer's active edges (u32) |
+//! | 316 | the scanline z-buffer's clipped points (u32) |
 
 use crate::bytes::{f64_at, u32_at};
 
 /// Format version.
-pub const VERSION: u32 = 1;
+pub const VERSION: u32 = 2;
 /// The block's first bytes.
 pub const MAGIC: [u8; 4] = *b"PTBC";
 /// Cameras a block holds.
 pub const MAX_CAMERAS: usize = 16;
 /// Size of the block in bytes.
-pub const SIZE: usize = 56 + 16 * MAX_CAMERAS;
+pub const SIZE: usize = LISTS + 8;
+/// Offset of the scanline z-buffer's list sizes.
+const LISTS: usize = 56 + 16 * MAX_CAMERAS;
 /// Flag: write each frame's panel memory to the host file `frame-<k>.rgb565`.
 pub const WRITE_FRAMES: u32 = 1;
 
@@ -48,17 +52,28 @@ pub enum Variant {
     B2fBands,
     /// The integer z-buffer baseline over the source triangles, full framebuffer.
     Zbuffer,
+    /// embedded-3dgfx, a `no_std` 3D engine a firmware engineer would pick: its z-buffer path
+    /// (full framebuffer, 16-bit depth buffer, command buffer).
+    Gfx3d,
+    /// The survey's scanline z-buffer: one row of depth and colour, each row sent when done.
+    ScanlineZbuffer,
+    /// The z-buffer in bands of rows: the mesh submitted again for each band, with a
+    /// band-sized colour and 16-bit depth buffer.
+    TiledZbuffer,
 }
 
 impl Variant {
     /// Every variant, in table order.
-    pub const ALL: [Variant; 6] = [
+    pub const ALL: [Variant; 9] = [
         Variant::FtbFramebuffer,
         Variant::FtbStream,
         Variant::FtbBands,
         Variant::B2fFramebuffer,
         Variant::B2fBands,
         Variant::Zbuffer,
+        Variant::Gfx3d,
+        Variant::ScanlineZbuffer,
+        Variant::TiledZbuffer,
     ];
 
     /// The variant's name, which is also its firmware feature.
@@ -70,6 +85,9 @@ impl Variant {
             Variant::B2fFramebuffer => "b2f-framebuffer",
             Variant::B2fBands => "b2f-bands",
             Variant::Zbuffer => "zbuffer",
+            Variant::Gfx3d => "embedded-3dgfx",
+            Variant::ScanlineZbuffer => "scanline-zbuffer",
+            Variant::TiledZbuffer => "tiled-zbuffer",
         }
     }
 
@@ -81,12 +99,26 @@ impl Variant {
             }
             Variant::B2fFramebuffer | Variant::B2fBands => "peel-back-to-front",
             Variant::Zbuffer => "zbuffer-int",
+            Variant::Gfx3d => "embedded-3dgfx",
+            Variant::ScanlineZbuffer => "scanline-zbuffer",
+            Variant::TiledZbuffer => "tiled-zbuffer",
         }
     }
 
     /// Whether it draws in bands (the config's band rows must then be positive).
     pub const fn banded(self) -> bool {
-        matches!(self, Variant::FtbBands | Variant::B2fBands)
+        matches!(
+            self,
+            Variant::FtbBands | Variant::B2fBands | Variant::TiledZbuffer
+        )
+    }
+
+    /// Whether it draws the z-buffer's mesh ([`crate::mesh`]) rather than the `.peel` scene.
+    pub const fn draws_mesh(self) -> bool {
+        matches!(
+            self,
+            Variant::Zbuffer | Variant::ScanlineZbuffer | Variant::TiledZbuffer
+        )
     }
 
     /// Whether it needs span memory.
@@ -106,6 +138,9 @@ impl Variant {
             4 => Some(Variant::B2fFramebuffer),
             5 => Some(Variant::B2fBands),
             6 => Some(Variant::Zbuffer),
+            7 => Some(Variant::Gfx3d),
+            8 => Some(Variant::ScanlineZbuffer),
+            9 => Some(Variant::TiledZbuffer),
             _ => None,
         }
     }
@@ -119,6 +154,9 @@ impl Variant {
             Variant::B2fFramebuffer => 4,
             Variant::B2fBands => 5,
             Variant::Zbuffer => 6,
+            Variant::Gfx3d => 7,
+            Variant::ScanlineZbuffer => 8,
+            Variant::TiledZbuffer => 9,
         }
     }
 }
@@ -157,6 +195,11 @@ pub struct Config {
     pub camera_count: u32,
     /// The camera path.
     pub cameras: [OrbitAngles; MAX_CAMERAS],
+    /// The scanline z-buffer's active edge list: the most edges active at once over the
+    /// camera path (measured on the host).
+    pub active_edges: u32,
+    /// The scanline z-buffer's points of clipped polygons, the most over the camera path.
+    pub clipped_points: u32,
 }
 
 /// Why a block was refused.
@@ -237,6 +280,8 @@ impl Config {
             fov_y_deg: f(40),
             camera_count,
             cameras,
+            active_edges: u(LISTS),
+            clipped_points: u(LISTS + 4),
         };
         let (w, h) = (config.width, config.height);
         let sized = (1..=4096).contains(&w) && (1..=4096).contains(&h);
@@ -269,6 +314,8 @@ impl Config {
             put(56 + 16 * k, &c.azimuth_deg.to_le_bytes());
             put(64 + 16 * k, &c.elevation_deg.to_le_bytes());
         }
+        put(LISTS, &self.active_edges.to_le_bytes());
+        put(LISTS + 4, &self.clipped_points.to_le_bytes());
         b
     }
 }
@@ -295,6 +342,8 @@ mod tests {
             fov_y_deg: 60.0,
             camera_count: 2,
             cameras,
+            active_edges: 300,
+            clipped_points: 17,
         }
     }
 

@@ -19,7 +19,9 @@ pub const STACK: usize = 128;
 pub const VERTS: usize = 24;
 
 pub mod config;
+pub mod gfx3d;
 pub mod mesh;
+pub mod scanline;
 pub mod zbuffer;
 
 use peel_runtime::camera::{Camera, LocalView, Orbit};

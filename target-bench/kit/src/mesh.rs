@@ -186,6 +186,24 @@ pub fn encode(
     Some(b)
 }
 
+/// The mesh `bytes` with each triangle's colour replaced by its index plus one: drawn with
+/// background 0, its frame is an id image (the triangle seen at each pixel, 0 for none).
+/// `None` for bytes that are not a mesh or with 65,535 triangles or more.
+#[cfg(any(feature = "std", test))]
+pub fn with_ids(bytes: &[u8]) -> Option<std::vec::Vec<u8>> {
+    let mesh = Mesh::parse(bytes).ok()?;
+    let count = u16::try_from(mesh.triangle_count())
+        .ok()
+        .filter(|&n| n < u16::MAX)?;
+    let first = HEADER + mesh.vertices.len();
+    let mut out = bytes.get(..first + TRIANGLE * usize::from(count))?.to_vec();
+    for t in 0..count {
+        let at = first + TRIANGLE * usize::from(t) + 6;
+        out[at..at + 2].copy_from_slice(&(t + 1).to_le_bytes());
+    }
+    Some(out)
+}
+
 /// A header with only a centre and bounds, for tests.
 #[cfg(test)]
 pub(crate) fn test_header(centre: [f64; 3], lo: Vec3, hi: Vec3) -> Header {
@@ -215,6 +233,19 @@ mod tests {
         assert_eq!(mesh.vertex(0), vertices[0]);
         assert_eq!(mesh.header().centre, [1.0, 2.0, 3.0]);
         assert_eq!(mesh.bounds(), (Vec3::splat(-1.0), Vec3::splat(1.0)));
+    }
+
+    #[test]
+    fn id_meshes() {
+        let vertices = [Vec3::new(0.5, -1.0, 0.25), Vec3::X, Vec3::Y];
+        let tris = [([0, 1, 2], 0xf800), ([2, 1, 0], 0x001f)];
+        let bytes = encode(&header(), &vertices, &tris).unwrap();
+        let ids = with_ids(&bytes).unwrap();
+        let mesh = Mesh::parse(&ids).unwrap();
+        assert_eq!(mesh.triangle(0), ([0, 1, 2], 1));
+        assert_eq!(mesh.triangle(1), ([2, 1, 0], 2));
+        assert_eq!(mesh.vertex(0), vertices[0]);
+        assert!(with_ids(&bytes[1..]).is_none());
     }
 
     #[test]

@@ -1,7 +1,7 @@
 //! The z-buffer baseline as firmware would write it: the source triangles of a [`Mesh`], each
 //! transformed, clipped, projected, snapped and filled exactly as Peel's renderer does its
-//! polygons (the runtime's [`LocalView`], [`clip_polygon`], [`snap`] and [`fill_polygon`], top-left
-//! rule included), into an RGB565 framebuffer with a **16-bit depth buffer**: per pixel the
+//! polygons (the runtime's [`LocalView`], [`clip_polygon`], [`snap`] and
+//! [`fill_polygon_rows`], top-left rule included), into an RGB565 framebuffer with a **16-bit depth buffer**: per pixel the
 //! interpolated `1/z` wins when nearer (larger), ties going to the triangle drawn first.
 //!
 //! Depth is `1/z` mapped linearly onto `1..=65535` over the scene's depth range in this view
@@ -16,7 +16,7 @@
 use glam::Vec3;
 use peel_runtime::camera::LocalView;
 use peel_runtime::clip::{clip_polygon, Frustum, CLIP_PLANES};
-use peel_runtime::fill::{coordinate_limit, fill_polygon, SubpixelPoint, SUBPIXEL_BITS};
+use peel_runtime::fill::{coordinate_limit, fill_polygon_rows, SubpixelPoint, SUBPIXEL_BITS};
 use peel_runtime::render::snap;
 use peel_runtime::target::{Colour, SpanSink};
 use peel_runtime::RenderError;
@@ -27,7 +27,7 @@ use crate::mesh::Mesh;
 /// coordinates fits in 30 bits.
 pub const FRACTION: u32 = 13;
 /// A clipped triangle's most vertices.
-const CLIPPED: usize = 3 + CLIP_PLANES;
+pub(crate) const CLIPPED: usize = 3 + CLIP_PLANES;
 /// Bound on a plane coefficient in fixed point: only a triangle seen nearly edge-on comes
 /// close, and every product below then still fits an `i64`.
 const LIMIT: i64 = 1 << 40;
@@ -42,6 +42,8 @@ pub enum ZError {
     },
     /// The view is unusable or the image too large (as the renderer would say).
     Render(RenderError),
+    /// A list of the scanline z-buffer ([`crate::scanline::Lists`]) is too small.
+    Full(crate::scanline::List),
 }
 
 impl From<RenderError> for ZError {
@@ -55,20 +57,21 @@ impl core::fmt::Display for ZError {
         match self {
             ZError::Buffer { needed } => write!(f, "z-buffer memory under {needed} pixels"),
             ZError::Render(e) => write!(f, "{e}"),
+            ZError::Full(list) => write!(f, "the {list} is full"),
         }
     }
 }
 
 /// The linear map from `1/z` to depth values for one view.
 #[derive(Debug, Clone, Copy)]
-struct DepthRange {
+pub(crate) struct DepthRange {
     inv_far: f32,
     scale: f32,
 }
 
 impl DepthRange {
     /// The range of the box `lo..hi` (the scene's bounds) seen by `view`.
-    fn new(view: &LocalView, lo: Vec3, hi: Vec3) -> DepthRange {
+    pub(crate) fn new(view: &LocalView, lo: Vec3, hi: Vec3) -> DepthRange {
         let b = view.box_to_camera(lo, hi);
         let near = (b.centre.z - b.extent.z - b.error).max(view.near);
         let far = b.centre.z + b.extent.z + b.error;
@@ -83,7 +86,7 @@ impl DepthRange {
 
     /// The depth plane of the camera-space polygon `camera` (`1 + (1/z - 1/far) * scale` at
     /// a screen point) in fixed point, or `None` when its plane passes through the eye.
-    fn plane(&self, camera: &[Vec3], view: &LocalView) -> Option<[i64; 3]> {
+    pub(crate) fn plane(&self, camera: &[Vec3], view: &LocalView) -> Option<[i64; 3]> {
         let p0 = *camera.first()?;
         let mut n = Vec3::ZERO;
         for w in camera.get(1..)?.windows(2) {
@@ -111,20 +114,22 @@ impl DepthRange {
     }
 }
 
-/// One triangle's spans, depth-tested into the frame.
-struct DepthSink<'f> {
-    colour: &'f mut [u16],
-    depth: &'f mut [u16],
-    width: usize,
-    plane: [i64; 3],
-    rgb: u16,
+/// One polygon's spans, depth-tested into the rows `first_row..` held by `colour` and
+/// `depth` (`width` pixels a row).
+pub(crate) struct DepthSink<'f> {
+    pub(crate) colour: &'f mut [u16],
+    pub(crate) depth: &'f mut [u16],
+    pub(crate) width: usize,
+    pub(crate) first_row: u32,
+    pub(crate) plane: [i64; 3],
+    pub(crate) rgb: u16,
 }
 
 impl SpanSink for DepthSink<'_> {
     #[inline]
     fn span(&mut self, y: u32, x0: u32, x1: u32, _: Colour) {
         let [a, b, c] = self.plane;
-        let row = y as usize * self.width;
+        let row = y.wrapping_sub(self.first_row) as usize * self.width;
         let (first, past) = (row + x0 as usize, row + x1 as usize);
         let (Some(colours), Some(depths)) = (
             self.colour.get_mut(first..past),
@@ -178,70 +183,168 @@ pub fn draw(
     colour: &mut [u16],
     depth: &mut [u16],
 ) -> Result<(), ZError> {
+    draw_rows(mesh, view, background, 0..view.height, colour, depth)
+}
+
+/// [`draw`] of the rows `rows` only (a band: the tiled z-buffer submits the whole mesh once per
+/// band), into `colour` and `depth` of `view.width x rows.len()` pixels: the band's pixels of
+/// the whole frame, bit for bit (the same triangles in the same order, the fill's own spans on
+/// those rows, the same depths).
+///
+/// # Errors
+/// As [`draw`]; also [`ZError::Buffer`] for rows outside the image.
+pub fn draw_rows(
+    mesh: &Mesh<'_>,
+    view: &LocalView,
+    background: u16,
+    rows: core::ops::Range<u32>,
+    colour: &mut [u16],
+    depth: &mut [u16],
+) -> Result<(), ZError> {
     const SUB: u32 = SUBPIXEL_BITS;
-    view.check()?;
-    let (width, height) = (view.width, view.height);
-    let too_large = RenderError::ImageTooLarge { width, height };
-    let fixed = |v: u32| {
-        i32::try_from(v)
-            .ok()
-            .and_then(|v| v.checked_mul(1 << SUB))
-            .filter(|&v| v <= coordinate_limit::<SUB>())
-            .ok_or(too_large)
-    };
-    let (max_x, max_y) = (fixed(width)?, fixed(height)?);
-    let needed = width as usize * height as usize;
+    let prepared = Prepared::new(mesh, view)?;
+    let width = view.width;
+    let band_rows = rows.end.saturating_sub(rows.start);
+    let needed = width as usize * band_rows as usize;
     let (Some(colour), Some(depth)) = (colour.get_mut(..needed), depth.get_mut(..needed)) else {
         return Err(ZError::Buffer { needed });
     };
+    if rows.end > view.height || band_rows == 0 {
+        return Err(ZError::Buffer { needed });
+    }
     colour.fill(background);
     depth.fill(0);
-    let frustum = Frustum::new(view);
-    let (lo, hi) = mesh.bounds();
-    // As the renderer does: a scene wholly inside the frustum needs no clipping.
-    let inside = frustum.contains_box(view, lo, hi);
-    let range = DepthRange::new(view, lo, hi);
-    let mut a = [Vec3::ZERO; CLIPPED];
-    let mut b = [Vec3::ZERO; CLIPPED];
-    let mut points = [SubpixelPoint::default(); CLIPPED];
+    let whole = rows.start == 0 && rows.end == view.height;
+    // The band in fixed point.
+    let band = (!whole).then_some(((rows.start as i32) << SUB, (rows.end as i32) << SUB));
+    let mut work = Clipped::default();
     for t in 0..mesh.triangle_count() {
-        let (corners, rgb) = mesh.triangle(t);
-        for (slot, &i) in a.iter_mut().zip(&corners) {
-            *slot = view.to_camera(mesh.vertex(i));
-        }
-        let clipped: &[Vec3] = if inside {
-            &a[..3]
-        } else {
-            clip_polygon(frustum.planes(), 3, &mut a, &mut b)?
-        };
-        if clipped.len() < 3 {
-            continue;
-        }
-        let Some(plane) = range.plane(clipped, view) else {
+        let Some(Projected { points, plane, rgb }) =
+            prepared.triangle(mesh, view, t, band, &mut work)?
+        else {
             continue;
         };
-        let mut count = 0;
-        for (slot, &c) in points.iter_mut().zip(clipped) {
-            *slot = snap::<SUB>(view.project(c), max_x, max_y);
-            count += 1;
-        }
         let mut sink = DepthSink {
             colour: &mut *colour,
             depth: &mut *depth,
             width: width as usize,
+            first_row: rows.start,
             plane,
             rgb,
         };
         // At most CLIPPED points, all snapped into the window checked above: cannot fail.
-        let _ = fill_polygon(
-            &points[..count],
-            width,
-            height,
-            Colour::default(),
-            &mut sink,
-        );
+        let _ = fill_polygon_rows(points, width, rows.clone(), Colour::default(), &mut sink);
     }
     Ok(())
+}
+
+/// A triangle ready to fill: its screen points, depth plane and colour.
+pub(crate) struct Projected<'w> {
+    pub(crate) points: &'w [SubpixelPoint],
+    pub(crate) plane: [i64; 3],
+    pub(crate) rgb: u16,
+}
+
+/// A triangle's working memory: camera-space corners and their clipped polygon, and its
+/// snapped screen points.
+#[derive(Default)]
+pub(crate) struct Clipped {
+    a: [Vec3; CLIPPED],
+    b: [Vec3; CLIPPED],
+    points: [SubpixelPoint; CLIPPED],
+}
+
+/// What every triangle of one frame shares: the view's frustum, whether the scene needs
+/// clipping, its depth range and the window in fixed point.
+pub(crate) struct Prepared {
+    frustum: Frustum,
+    inside: bool,
+    range: DepthRange,
+    max_x: i32,
+    max_y: i32,
+}
+
+impl Prepared {
+    /// Check `view` and set up its frame over `mesh`.
+    pub(crate) fn new(mesh: &Mesh<'_>, view: &LocalView) -> Result<Prepared, ZError> {
+        const SUB: u32 = SUBPIXEL_BITS;
+        view.check()?;
+        let (width, height) = (view.width, view.height);
+        let too_large = RenderError::ImageTooLarge { width, height };
+        let fixed = |v: u32| {
+            i32::try_from(v)
+                .ok()
+                .and_then(|v| v.checked_mul(1 << SUB))
+                .filter(|&v| v <= coordinate_limit::<SUB>())
+                .ok_or(too_large)
+        };
+        let (max_x, max_y) = (fixed(width)?, fixed(height)?);
+        let frustum = Frustum::new(view);
+        let (lo, hi) = mesh.bounds();
+        Ok(Prepared {
+            // As the renderer does: a scene wholly inside the frustum needs no clipping.
+            inside: frustum.contains_box(view, lo, hi),
+            frustum,
+            range: DepthRange::new(view, lo, hi),
+            max_x,
+            max_y,
+        })
+    }
+
+    /// Whether no triangle needs clipping in this view.
+    pub(crate) fn inside(&self) -> bool {
+        self.inside
+    }
+
+    /// Triangle `t` transformed, clipped, snapped and given its depth plane (in `work`): its
+    /// screen points, depth plane and colour, or `None` when it draws nothing, or nothing in
+    /// the band `band` (rows `top..bottom` in fixed point; the plane is then not computed).
+    #[inline]
+    pub(crate) fn triangle<'w>(
+        &self,
+        mesh: &Mesh<'_>,
+        view: &LocalView,
+        t: u32,
+        band: Option<(i32, i32)>,
+        work: &'w mut Clipped,
+    ) -> Result<Option<Projected<'w>>, ZError> {
+        let (corners, rgb) = mesh.triangle(t);
+        for (slot, &i) in work.a.iter_mut().zip(&corners) {
+            *slot = view.to_camera(mesh.vertex(i));
+        }
+        let clipped: &[Vec3] = if self.inside {
+            &work.a[..3]
+        } else {
+            clip_polygon(self.frustum.planes(), 3, &mut work.a, &mut work.b)?
+        };
+        if clipped.len() < 3 {
+            return Ok(None);
+        }
+        let mut count = 0;
+        for (slot, &c) in work.points.iter_mut().zip(clipped) {
+            *slot = snap::<SUBPIXEL_BITS>(view.project(c), self.max_x, self.max_y);
+            count += 1;
+        }
+        if let Some((top, bottom)) = band {
+            // Wholly above or below the band: no row centre of it inside.
+            let (lo, hi) = work.points[..count]
+                .iter()
+                .fold((i32::MAX, i32::MIN), |(lo, hi), p| {
+                    (lo.min(p.y), hi.max(p.y))
+                });
+            if hi < top || lo > bottom {
+                return Ok(None);
+            }
+        }
+        let Some(plane) = self.range.plane(clipped, view) else {
+            return Ok(None);
+        };
+        Ok(Some(Projected {
+            points: &work.points[..count],
+            plane,
+            rgb,
+        }))
+    }
 }
 
 #[cfg(test)]
@@ -309,6 +412,41 @@ mod tests {
         // Seen from behind, the blue square hides the red one.
         let back = frame(&two_squares(true), 180.0);
         assert!(!back.contains(&0xf800) && back.contains(&0x001f));
+    }
+
+    #[test]
+    fn bands_are_the_frames_rows() {
+        let bytes = two_squares(true);
+        let mesh = Mesh::parse(&bytes).unwrap();
+        for azimuth in [0.0, 30.0, 200.0] {
+            let whole = frame(&bytes, azimuth);
+            let h = mesh.header();
+            let orbit = Orbit {
+                azimuth_deg: azimuth,
+                elevation_deg: 0.0,
+                distance: Orbit::fitting_distance(60.0, 32, 24),
+            };
+            let near = Camera::default_near(h.bounds_min, h.bounds_max);
+            let camera = Camera::look_at(orbit.pose(&h), 60.0, 32, 24, near).unwrap();
+            let view = camera.view(h.centre);
+            for band in [1, 5, 7, 24] {
+                let mut banded = vec![];
+                let (mut colour, mut depth) = (vec![0u16; 32 * band], vec![0u16; 32 * band]);
+                let mut first = 0;
+                while first < 24 {
+                    let rows = first..(first + band as u32).min(24);
+                    draw_rows(&mesh, &view, 7, rows.clone(), &mut colour, &mut depth).unwrap();
+                    banded.extend_from_slice(&colour[..32 * rows.len()]);
+                    first = rows.end;
+                }
+                assert_eq!(banded, whole, "azimuth {azimuth}, bands of {band}");
+            }
+            let (mut colour, mut depth) = (vec![0u16; 64], vec![0u16; 64]);
+            assert_eq!(
+                draw_rows(&mesh, &view, 7, 20..25, &mut colour, &mut depth),
+                Err(ZError::Buffer { needed: 160 })
+            );
+        }
     }
 
     #[test]

@@ -10,10 +10,12 @@
 //! on the host) and write `target/peel-target/results.json` and `results.md`. Any differing
 //! pixel or count fails the run (after writing the results), as does any failed step.
 
+mod accuracy;
 mod elf;
 mod measure;
 mod pixels;
 mod plan;
+mod plot;
 mod report;
 mod results;
 mod scenes;
@@ -28,7 +30,8 @@ use peel_runtime::target::Colour;
 use peel_target_kit::config::{OrbitAngles, Variant};
 use peel_target_kit::mesh::Mesh;
 
-use measure::Measure;
+use accuracy::Truth;
+use measure::{Expected, Measure};
 use plan::{Args, Core, Setup, FOV_Y_DEG};
 use scenes::Compiled;
 use tools::Tools;
@@ -112,7 +115,9 @@ fn run(args: &Args) -> Result<Vec<String>, String> {
     for core in cores {
         for &variant in &variants {
             println!("== build: firmware {} for {}", variant.name(), core.name());
-            let elf = tools.build_firmware(core, variant, &firmware_dir)?;
+            // embedded-3dgfx's first build only finds how many commands a scene needs.
+            let commands = (variant == Variant::Gfx3d).then_some(GFX3D_PROBE_COMMANDS);
+            let elf = tools.build_firmware(core, variant, commands, &firmware_dir)?;
             if core == Core::M0Plus {
                 tools::check_armv6m(&elf)?;
             }
@@ -127,6 +132,7 @@ fn run(args: &Args) -> Result<Vec<String>, String> {
     let scenes = scenes::list(&root, &models, args.quick, &scene_dir)?;
     let cameras = plan::cameras(if args.quick { 2 } else { 8 });
     let (mut records, mut problems, mut skipped) = (Vec::new(), Vec::new(), Vec::new());
+    let mut gfx3d_builds: HashMap<(Core, u64), std::path::PathBuf> = HashMap::new();
     for spec in &scenes {
         println!("== scene {}", spec.name);
         let scene = scenes::compile(&tools, spec, &scene_dir)?;
@@ -165,24 +171,61 @@ fn run(args: &Args) -> Result<Vec<String>, String> {
                         )?)
                     }
                 };
+                let start = records.len();
                 for setup in &setups {
-                    let run = Measure {
+                    let mut elf = firmware[&(core, setup.variant)].clone();
+                    let dir = |setup: &plan::Setup| {
+                        runs_dir.join(stem(&scene)).join(format!(
+                            "{}-{}-{}",
+                            core.name(),
+                            size_name(size),
+                            setup.label()
+                        ))
+                    };
+                    let measure = |setup: plan::Setup, elf: &Path| Measure {
                         scene: &scene,
                         core,
                         size,
-                        setup: *setup,
+                        setup,
                         cameras: &cameras,
                         spans_per_row: refs.spans_per_row,
-                        elf: &firmware[&(core, setup.variant)],
+                        scanline_lists: refs.scanline_lists,
+                        elf: elf.to_path_buf(),
                         timeout_s: if args.quick { 120 } else { 900 },
                     };
-                    let dir = runs_dir.join(stem(&scene)).join(format!(
-                        "{}-{}-{}",
-                        core.name(),
-                        size_name(size),
-                        setup.label()
-                    ));
-                    let (record, found) = run.measure(&dir, refs.for_variant(setup.variant))?;
+                    if setup.variant == Variant::Gfx3d {
+                        // The smallest command buffer that fits the scene over the cameras.
+                        let probe = measure(*setup, &elf).probe(&dir(setup))?;
+                        let commands = probe
+                            .gfx3d_commands
+                            .ok_or("embedded-3dgfx: no command count")?;
+                        elf = match gfx3d_builds.entry((core, commands)) {
+                            Entry::Occupied(e) => e.get().clone(),
+                            Entry::Vacant(e) => {
+                                println!("== build: firmware embedded-3dgfx for {} with {commands} commands", core.name());
+                                e.insert(tools.build_firmware(
+                                    core,
+                                    Variant::Gfx3d,
+                                    Some(commands),
+                                    &firmware_dir,
+                                )?)
+                                .clone()
+                            }
+                        };
+                    }
+                    let run = |setup: plan::Setup| {
+                        measure(setup, &elf).measure(&dir(&setup), &refs.expected(setup.variant))
+                    };
+                    let (record, found) = if setup.variant == Variant::TiledZbuffer {
+                        // Bands as tall as RAM no more than Peel's streamed frame allows.
+                        let peel = records[start..].iter().find(|r: &&results::Record| {
+                            r.method == Variant::FtbStream.method() && r.path == "stream"
+                        });
+                        let budget = peel.map_or(TILED_BUDGET, |r| r.ram_bytes);
+                        tiled(size, budget, run)?
+                    } else {
+                        run(*setup)?
+                    };
                     records.push(record);
                     problems.extend(found);
                 }
@@ -200,6 +243,26 @@ fn run(args: &Args) -> Result<Vec<String>, String> {
                 .collect::<String>())
             .as_bytes(),
     )?;
+    // The plot a user decides from: the teapot's (or the first scene's); a full run with the
+    // real teapot keeps it in the repository (README, "Peel and the alternatives").
+    let pick = ["teapot", "teapot (generated)"]
+        .into_iter()
+        .find(|s| records.iter().any(|r| r.scene == *s))
+        .or(records.first().map(|r| r.scene.as_str()));
+    if let Some(png) = pick.map(|s| plot::plot(&records, s)).transpose()?.flatten() {
+        write(&out.join("alternatives.png"), &png)?;
+        let scenes: Vec<&str> = ["teapot", "cow", "teapot (generated)", "cow (generated)"]
+            .into_iter()
+            .filter(|s| records.iter().any(|r| r.scene == *s))
+            .collect();
+        write(
+            &out.join("alternatives.md"),
+            results::alternatives(&records, &scenes).as_bytes(),
+        )?;
+        if !args.quick && args.only.is_none() && pick == Some("teapot") {
+            write(&root.join("target-bench/alternatives.png"), &png)?;
+        }
+    }
     println!("\n{}", results::markdown(&records));
     println!(
         "written: {} and results.md",
@@ -217,13 +280,57 @@ fn size_name((w, h): (u32, u32)) -> String {
     format!("{w}x{h}")
 }
 
-/// The host's frames of one scene and size, for each camera: `peel render` in each order,
-/// and the z-buffer run on the host; and the span memory the firmware gets.
+/// embedded-3dgfx's command buffer in the build that finds how many a scene needs (more than
+/// the largest scene's triangles: one command per face drawn and one for the depth clear).
+const GFX3D_PROBE_COMMANDS: u64 = 16 * 1024;
+
+/// RAM for the tiled z-buffer when Peel's streamed frame was not measured (`--only`).
+const TILED_BUDGET: u64 = 32 * 1024;
+
+/// The tiled z-buffer measured with the tallest bands whose RAM is at most `budget` bytes: a
+/// first guess beside 3 kB of statics and stack, then the height that the run's own statics
+/// and stack leave room for (a few runs at most: only the band buffers change with it).
+fn tiled(
+    (width, height): (u32, u32),
+    budget: u64,
+    run: impl Fn(plan::Setup) -> Result<(results::Record, Vec<String>), String>,
+) -> Result<(results::Record, Vec<String>), String> {
+    let row_bytes = 4 * u64::from(width);
+    let mut rows = plan::tiled_band_rows(budget, 3 * 1024, width, height);
+    let mut best = None;
+    for _ in 0..4 {
+        let setup = plan::Setup {
+            variant: Variant::TiledZbuffer,
+            band_rows: rows,
+        };
+        let (record, found) = run(setup)?;
+        let other = record.ram_bytes.saturating_sub(row_bytes * u64::from(rows));
+        let fits = record.ram_bytes <= budget;
+        let next = plan::tiled_band_rows(budget, other, width, height);
+        if fits || rows == 1 {
+            best = Some((record, found));
+        }
+        if next == rows && (fits || rows == 1) {
+            break;
+        }
+        rows = if fits { next } else { next.min(rows - 1) };
+    }
+    best.ok_or_else(|| format!("tiled z-buffer: no band height fits {budget} bytes"))
+}
+
+/// The host's frames of one scene and size, for each camera: `peel render` in each order, and
+/// the z-buffers run on the host; the reference and each method's robust errors; and the
+/// memory the firmware gets (span memory, the scanline z-buffer's lists).
 struct References {
     front_to_back: Vec<Vec<u16>>,
     back_to_front: Vec<Vec<u16>>,
     zbuffer: Vec<Vec<u16>>,
+    scanline: Vec<Vec<u16>>,
     spans_per_row: u32,
+    scanline_lists: (u32, u32),
+    truth: Truth,
+    /// Robust errors per method that draws ids, summed over the cameras.
+    robust: HashMap<&'static str, u64>,
 }
 
 impl References {
@@ -236,9 +343,9 @@ impl References {
         setups: &[Setup],
         dir: &Path,
     ) -> Result<References, String> {
-        let needs = |method: &str| setups.iter().any(|s| s.variant.method() == method);
-        let peel = |order: &str| -> Result<Vec<Vec<u16>>, String> {
-            if !needs(&format!("peel-{order}")) {
+        let needs = |v: Variant| setups.iter().any(|s| s.variant.method() == v.method());
+        let peel = |order: &str, variant: Variant| -> Result<Vec<Vec<u16>>, String> {
+            if !needs(variant) {
                 return Ok(Vec::new());
             }
             let [r, g, b] = BACKGROUND;
@@ -261,49 +368,154 @@ impl References {
                 })
                 .collect()
         };
-        let zbuffer = if needs(Variant::Zbuffer.method()) {
-            let mesh = Mesh::parse(&scene.mesh_bytes)
-                .map_err(|e| format!("{}: {e}", scene.mesh.display()))?;
-            let n = width as usize * height as usize;
-            let background = Colour::new(BACKGROUND[0], BACKGROUND[1], BACKGROUND[2]).to_rgb565();
-            cameras
+        let fail = |e: String| format!("{}: {e}", scene.mesh.display());
+        let mesh = Mesh::parse(&scene.mesh_bytes).map_err(|e| fail(e.to_string()))?;
+        let ids_mesh = Mesh::parse(&scene.ids_mesh_bytes).map_err(|e| fail(e.to_string()))?;
+        let background = Colour::new(BACKGROUND[0], BACKGROUND[1], BACKGROUND[2]).to_rgb565();
+        let views = cameras
+            .iter()
+            .map(|&c| {
+                peel_target_kit::orbit_view(&mesh.header(), c, FOV_Y_DEG, width, height)
+                    .map_err(|e| e.to_string())
+            })
+            .collect::<Result<Vec<_>, String>>()?;
+        let truth = Truth::new(&scene.spec.obj, cameras, (width, height))?;
+        let mut robust = HashMap::new();
+        let zbuffers = needs(Variant::Zbuffer) || needs(Variant::TiledZbuffer);
+        let zbuffer = if zbuffers {
+            let draw = |mesh: &Mesh, view, background| {
+                let n = width as usize * height as usize;
+                let (mut colour, mut depth) = (vec![0u16; n], vec![0u16; n]);
+                peel_target_kit::zbuffer::draw(mesh, view, background, &mut colour, &mut depth)
+                    .map_err(|e| fail(format!("host z-buffer: {e}")))?;
+                Ok::<_, String>(colour)
+            };
+            let mut errors = 0;
+            for (k, view) in views.iter().enumerate() {
+                let ids = draw(&ids_mesh, view, 0)?;
+                errors +=
+                    truth.id_errors(k, &ids.iter().map(|&i| u32::from(i)).collect::<Vec<_>>());
+            }
+            // Bands are the frame's rows (the same triangles, order, spans and depths).
+            robust.insert(Variant::Zbuffer.method(), errors);
+            robust.insert(Variant::TiledZbuffer.method(), errors);
+            views
                 .iter()
-                .map(|&c| {
-                    let view =
-                        peel_target_kit::orbit_view(&mesh.header(), c, FOV_Y_DEG, width, height)
-                            .map_err(|e| e.to_string())?;
-                    let (mut colour, mut depth) = (vec![0u16; n], vec![0u16; n]);
-                    peel_target_kit::zbuffer::draw(
-                        &mesh,
-                        &view,
-                        background,
-                        &mut colour,
-                        &mut depth,
-                    )
-                    .map_err(|e| format!("{}: host z-buffer: {e}", scene.mesh.display()))?;
-                    Ok(colour)
-                })
+                .map(|view| draw(&mesh, view, background))
                 .collect::<Result<_, String>>()?
         } else {
             Vec::new()
         };
+        let (scanline, scanline_lists) = if needs(Variant::ScanlineZbuffer) {
+            let (mut frames, mut errors, mut lists) = (Vec::new(), 0, (0, 0));
+            for (k, view) in views.iter().enumerate() {
+                let (ids, _) = scanline_frame(&ids_mesh, view, 0)?;
+                errors +=
+                    truth.id_errors(k, &ids.iter().map(|&i| u32::from(i)).collect::<Vec<_>>());
+                let (frame, stats) = scanline_frame(&mesh, view, background)?;
+                frames.push(frame);
+                lists.0 = lists.0.max(stats.peak_active as u32);
+                lists.1 = lists.1.max(stats.extra_points as u32);
+            }
+            robust.insert(Variant::ScanlineZbuffer.method(), errors);
+            (frames, lists)
+        } else {
+            (Vec::new(), (0, 0))
+        };
+        for (variant, front_to_back) in
+            [(Variant::FtbStream, true), (Variant::B2fFramebuffer, false)]
+        {
+            if needs(variant) {
+                let mut errors = 0;
+                for (k, &c) in cameras.iter().enumerate() {
+                    let ids = truth.peel_ids(c, (width, height), front_to_back)?;
+                    errors += truth.id_errors(k, &ids);
+                }
+                robust.insert(variant.method(), errors);
+            }
+        }
         let spans_per_row =
             scenes::spans_per_row(&scene.peel_bytes, cameras, FOV_Y_DEG, (width, height))
                 .map_err(|e| format!("{}: {e}", scene.peel.display()))?;
         Ok(References {
-            front_to_back: peel("front-to-back")?,
-            back_to_front: peel("back-to-front")?,
+            front_to_back: peel("front-to-back", Variant::FtbStream)?,
+            back_to_front: peel("back-to-front", Variant::B2fFramebuffer)?,
             zbuffer,
+            scanline,
             spans_per_row,
+            scanline_lists,
+            truth,
+            robust,
         })
     }
 
-    /// The frames a variant's pixels must equal.
-    fn for_variant(&self, variant: Variant) -> &[Vec<u16>] {
-        match variant.method() {
-            "peel-front-to-back" => &self.front_to_back,
-            "peel-back-to-front" => &self.back_to_front,
-            _ => &self.zbuffer,
+    /// What a variant's frames are checked against.
+    fn expected(&self, variant: Variant) -> Expected<'_> {
+        let frames = match variant {
+            Variant::FtbFramebuffer | Variant::FtbStream | Variant::FtbBands => {
+                Some(&self.front_to_back[..])
+            }
+            Variant::B2fFramebuffer | Variant::B2fBands => Some(&self.back_to_front[..]),
+            // The tiled z-buffer's bands are the whole frame's rows.
+            Variant::Zbuffer | Variant::TiledZbuffer => Some(&self.zbuffer[..]),
+            Variant::ScanlineZbuffer => Some(&self.scanline[..]),
+            Variant::Gfx3d => None,
+        };
+        Expected {
+            frames,
+            robust_errors: self.robust.get(variant.method()).copied(),
+            truth: &self.truth,
         }
     }
+}
+
+/// Row by row into a frame.
+struct Rows {
+    pixels: Vec<u16>,
+    width: usize,
+}
+
+impl peel_target_kit::scanline::RowSink for Rows {
+    fn row(&mut self, y: u32, pixels: &[u16]) {
+        let at = y as usize * self.width;
+        self.pixels[at..at + self.width].copy_from_slice(pixels);
+    }
+}
+
+/// The scanline z-buffer's frame of `mesh` seen by `view` on the host, with lists as long as
+/// anything can need, and what it used of them.
+fn scanline_frame(
+    mesh: &Mesh,
+    view: &peel_runtime::camera::LocalView,
+    background: u16,
+) -> Result<(Vec<u16>, peel_target_kit::scanline::ScanStats), String> {
+    use peel_runtime::fill::SubpixelPoint;
+    use peel_target_kit::scanline::{draw, ActiveEdge, Lists, Polygon};
+    let (w, h) = (view.width as usize, view.height as usize);
+    let header = mesh.header();
+    let n = header.polygon_count as usize;
+    let most = n * (3 + peel_runtime::clip::CLIP_PLANES);
+    let (mut polygons, mut vertices, mut extra) = (
+        vec![Polygon::EMPTY; n],
+        vec![SubpixelPoint::default(); header.vertex_count as usize],
+        vec![SubpixelPoint::default(); most],
+    );
+    let (mut heads, mut active) = (vec![0u32; h], vec![ActiveEdge::default(); most]);
+    let (mut colour, mut depth) = (vec![0u16; w], vec![0u16; w]);
+    let mut lists = Lists {
+        polygons: &mut polygons,
+        vertices: &mut vertices,
+        extra: &mut extra,
+        heads: &mut heads,
+        active: &mut active,
+        colour: &mut colour,
+        depth: &mut depth,
+    };
+    let mut rows = Rows {
+        pixels: vec![0; w * h],
+        width: w,
+    };
+    let stats = draw(mesh, view, background, &mut lists, &mut rows)
+        .map_err(|e| format!("host scanline z-buffer: {e}"))?;
+    Ok((rows.pixels, stats))
 }

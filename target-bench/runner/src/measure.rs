@@ -6,6 +6,7 @@ use std::path::Path;
 
 use peel_target_kit::config::{Config, OrbitAngles, Variant, MAX_CAMERAS, WRITE_FRAMES};
 
+use crate::accuracy::Truth;
 use crate::plan::{Core, Setup, FOV_Y_DEG};
 use crate::results::Record;
 use crate::scenes::Compiled;
@@ -24,8 +25,21 @@ pub struct Measure<'a> {
     pub setup: Setup,
     pub cameras: &'a [OrbitAngles],
     pub spans_per_row: u32,
-    pub elf: &'a Path,
+    /// The scanline z-buffer's active edges and clipped points (the most over the cameras).
+    pub scanline_lists: (u32, u32),
+    pub elf: std::path::PathBuf,
     pub timeout_s: u32,
+}
+
+/// What a configuration's frames are checked against.
+pub struct Expected<'a> {
+    /// The host's frames of the same code, when it runs on the host.
+    pub frames: Option<&'a [Vec<u16>]>,
+    /// The robust errors, known from the host's id images; or `None` to count them from the
+    /// target's frames by coverage against `truth`.
+    pub robust_errors: Option<u64>,
+    /// The reference.
+    pub truth: &'a Truth,
 }
 
 /// One QEMU run's report and frames.
@@ -35,20 +49,31 @@ struct RunResult {
 }
 
 impl Measure<'_> {
-    /// Run the configuration twice in `dir`; its record and the problems found.
-    pub fn measure(
-        &self,
-        dir: &Path,
-        expected: &[Vec<u16>],
-    ) -> Result<(Record, Vec<String>), String> {
-        mkdir(dir)?;
-        let (width, height) = self.size;
-        let zbuffer = self.setup.variant == Variant::Zbuffer;
-        let (asset, asset_len) = if zbuffer {
+    /// The asset the variant draws, and its length.
+    fn asset(&self) -> (&Path, usize) {
+        let variant = self.setup.variant;
+        if variant == Variant::Gfx3d {
+            (&self.scene.gfx3d, self.scene.gfx3d_bytes.len())
+        } else if variant.draws_mesh() {
             (&self.scene.mesh, self.scene.mesh_bytes.len())
         } else {
             (&self.scene.peel, self.scene.peel_bytes.len())
-        };
+        }
+    }
+
+    /// One run in `dir`, not measured: what the firmware reports (embedded-3dgfx's command
+    /// count, to size its buffer).
+    pub fn probe(&self, dir: &Path) -> Result<report::Report, String> {
+        let config = self.config(dir)?;
+        let (asset, _) = self.asset();
+        Ok(self.run_once(&dir.join("probe"), asset, &config)?.report)
+    }
+
+    /// Write the configuration's block into `dir`; its path.
+    fn config(&self, dir: &Path) -> Result<std::path::PathBuf, String> {
+        mkdir(dir)?;
+        let (width, height) = self.size;
+        let (_, asset_len) = self.asset();
         let mut cameras = [OrbitAngles::default(); MAX_CAMERAS];
         cameras[..self.cameras.len()].copy_from_slice(self.cameras);
         let [r, g, b] = BACKGROUND;
@@ -64,9 +89,24 @@ impl Measure<'_> {
             fov_y_deg: FOV_Y_DEG,
             camera_count: self.cameras.len() as u32,
             cameras,
+            active_edges: self.scanline_lists.0,
+            clipped_points: self.scanline_lists.1,
         };
         let config_path = dir.join("config.bin");
         write(&config_path, &config.encode())?;
+        Ok(config_path)
+    }
+
+    /// Run the configuration twice in `dir`; its record and the problems found.
+    pub fn measure(
+        &self,
+        dir: &Path,
+        expected: &Expected<'_>,
+    ) -> Result<(Record, Vec<String>), String> {
+        let config_path = self.config(dir)?;
+        let (asset, asset_len) = self.asset();
+        let (width, height) = self.size;
+        let [r, g, b] = BACKGROUND;
         let runs = [1, 2]
             .map(|k| self.run_once(&dir.join(format!("run-{k}")), asset, &config_path))
             .into_iter()
@@ -95,31 +135,42 @@ impl Measure<'_> {
                 }
             ));
         }
-        if expected.len() != first.frames.len() {
-            return Err(format!(
-                "{name}: {} reference frames for {} cameras",
-                expected.len(),
-                first.frames.len()
-            ));
-        }
-        let mut differing = 0;
-        for (k, (got, want)) in first.frames.iter().zip(expected).enumerate() {
-            let d = pixels::differing(got, want);
-            if d > 0 {
-                problems.push(format!(
-                    "{name}: camera {k} ({} deg): {d} pixels differ from the host's (see {})",
-                    self.cameras[k].azimuth_deg,
-                    dir.join("run-1")
-                        .join(format!("frame-{k}.rgb565"))
-                        .display()
+        let mut differing = None;
+        if let Some(frames) = expected.frames {
+            if frames.len() != first.frames.len() {
+                return Err(format!(
+                    "{name}: {} reference frames for {} cameras",
+                    frames.len(),
+                    first.frames.len()
                 ));
             }
-            differing += d;
+            let mut total = 0;
+            for (k, (got, want)) in first.frames.iter().zip(frames).enumerate() {
+                let d = pixels::differing(got, want);
+                if d > 0 {
+                    problems.push(format!(
+                        "{name}: camera {k} ({} deg): {d} pixels differ from the host's (see {})",
+                        self.cameras[k].azimuth_deg,
+                        dir.join("run-1")
+                            .join(format!("frame-{k}.rgb565"))
+                            .display()
+                    ));
+                }
+                total += d;
+            }
+            differing = Some(total);
         }
+        let background = peel_runtime::target::Colour::new(r, g, b).to_rgb565();
+        let robust_errors = match expected.robust_errors {
+            Some(n) => n,
+            None => (first.frames.iter().enumerate())
+                .map(|(k, frame)| expected.truth.coverage_errors(k, frame, background))
+                .sum(),
+        };
         if first.report.frames.iter().any(|f| f.fallback) {
             println!("   note: {name}: span memory ran out (finished back to front: same pixels)");
         }
-        if differing == 0 {
+        if differing == Some(0) {
             // Keep the logs; the frames (150 kB each) only when they are needed.
             for k in 0..self.cameras.len() {
                 for run in ["run-1", "run-2"] {
@@ -128,7 +179,7 @@ impl Measure<'_> {
             }
         }
 
-        let elf_bytes = std::fs::read(self.elf)
+        let elf_bytes = std::fs::read(&self.elf)
             .map_err(|e| format!("{}: cannot read: {e}", self.elf.display()))?;
         let sections =
             elf::sections(&elf_bytes).map_err(|e| format!("{}: {e}", self.elf.display()))?;
@@ -154,6 +205,7 @@ impl Measure<'_> {
         let record = Record {
             scene: self.scene.spec.name.clone(),
             method: self.setup.variant.method().into(),
+            path: self.setup.path(),
             core: self.core.name().into(),
             width,
             height,
@@ -164,11 +216,15 @@ impl Measure<'_> {
             flash_bytes: flash,
             display_bytes: median(|f| f.display_bytes),
             differing_pixels: differing,
+            robust_errors,
             deterministic,
         };
         println!(
-            "   {name}: {} instructions, {} B RAM, {} differing pixels",
-            record.instructions, record.ram_bytes, record.differing_pixels
+            "   {name}: {} instructions, {} B RAM, {} differing pixels, {} robust errors",
+            record.instructions,
+            record.ram_bytes,
+            differing.map_or_else(|| "-".to_string(), |d| d.to_string()),
+            record.robust_errors
         );
         Ok((record, problems))
     }
@@ -178,7 +234,7 @@ impl Measure<'_> {
         mkdir(dir)?;
         let output = tools::qemu(&QemuRun {
             core: self.core,
-            elf: self.elf,
+            elf: &self.elf,
             asset,
             config,
             dir,

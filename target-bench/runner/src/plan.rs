@@ -66,6 +66,17 @@ pub struct Setup {
 }
 
 impl Setup {
+    /// The record's `path`: how the frame reaches the display.
+    pub fn path(&self) -> String {
+        match self.variant {
+            Variant::FtbStream => "stream".into(),
+            // One row of colour and depth, sent when done.
+            Variant::ScanlineZbuffer => "bands-1".into(),
+            v if v.banded() => format!("bands-{}", self.band_rows),
+            _ => "framebuffer".into(),
+        }
+    }
+
     /// A short name for directories and messages, e.g. `ftb-bands-16`.
     pub fn label(&self) -> String {
         if self.band_rows > 0 {
@@ -77,7 +88,9 @@ impl Setup {
 }
 
 /// Every display path: front to back into a framebuffer, streamed and in bands of 8, 16 and
-/// 30 rows; back to front into a framebuffer and in bands of 16 rows; the z-buffer.
+/// 30 rows; back to front into a framebuffer and in bands of 16 rows; the peers: the z-buffer
+/// (whole frame, and tiled, its band height chosen per scene by [`tiled_band_rows`], 0 here),
+/// the scanline z-buffer and embedded-3dgfx.
 pub fn setups(only: Option<&[Variant]>) -> Vec<Setup> {
     let whole = |variant| Setup {
         variant,
@@ -93,10 +106,21 @@ pub fn setups(only: Option<&[Variant]>) -> Vec<Setup> {
         whole(Variant::B2fFramebuffer),
         band(Variant::B2fBands, 16),
         whole(Variant::Zbuffer),
+        band(Variant::TiledZbuffer, 0),
+        whole(Variant::ScanlineZbuffer),
+        whole(Variant::Gfx3d),
     ];
     all.into_iter()
         .filter(|s| only.is_none_or(|o| o.contains(&s.variant)))
         .collect()
+}
+
+/// The tiled z-buffer's band height at `width` pixels a row: the most rows whose colour and
+/// 16-bit depth (4 bytes a pixel) fit in `budget` bytes of RAM beside `other` bytes (its code's
+/// statics and stack); at least one row, at most `height`.
+pub fn tiled_band_rows(budget: u64, other: u64, width: u32, height: u32) -> u32 {
+    let rows = budget.saturating_sub(other) / (4 * u64::from(width));
+    rows.clamp(1, u64::from(height)) as u32
 }
 
 /// Orbit elevation of the camera path, in degrees (the CLI's default).
@@ -135,7 +159,8 @@ against the host and writes target/peel-target/results.json and results.md.
   --quick         the demo scene, two cameras, 320x240, both cores, every method (CI)
   --models DIR    the shared models (default: ../shared/models from the repository root)
   --only LIST     only these firmware variants: ftb-framebuffer, ftb-stream, ftb-bands,
-                  b2f-framebuffer, b2f-bands, zbuffer";
+                  b2f-framebuffer, b2f-bands, zbuffer, tiled-zbuffer, scanline-zbuffer,
+                  embedded-3dgfx";
 
 /// Parse the arguments after the program name; `Ok(None)` for `--help`.
 pub fn parse_args<I: IntoIterator<Item = String>>(args: I) -> Result<Option<Args>, String> {
@@ -205,7 +230,28 @@ mod tests {
         assert_eq!(c.len(), 8);
         assert_eq!(c[7].azimuth_deg, 315.0);
         assert!(c.iter().all(|c| c.elevation_deg == 20.0));
-        assert_eq!(setups(None).len(), 8);
+        assert_eq!(setups(None).len(), 11);
+        let paths: Vec<String> = setups(None).iter().map(Setup::path).collect();
+        assert_eq!(
+            paths,
+            [
+                "framebuffer",
+                "stream",
+                "bands-8",
+                "bands-16",
+                "bands-30",
+                "framebuffer",
+                "bands-16",
+                "framebuffer",
+                "bands-0",
+                "bands-1",
+                "framebuffer"
+            ]
+        );
+        // 32 KiB beside 9 kB of code memory at 320 pixels a row: 18 rows of 1,280 bytes.
+        assert_eq!(tiled_band_rows(32768, 9000, 320, 240), 18);
+        assert_eq!(tiled_band_rows(1000, 9000, 320, 240), 1);
+        assert_eq!(tiled_band_rows(1 << 30, 0, 320, 240), 240);
         let z = setups(Some(&[Variant::FtbBands]));
         assert_eq!(
             z.iter().map(Setup::label).collect::<Vec<_>>(),

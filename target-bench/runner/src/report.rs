@@ -28,6 +28,8 @@ pub struct Report {
     pub framebuffer: u64,
     /// The stack's high-water mark over the frames, in bytes.
     pub stack_peak: u64,
+    /// embedded-3dgfx: the most commands a frame recorded.
+    pub gfx3d_commands: Option<u64>,
 }
 
 /// `key=value` fields of a line, after its first word.
@@ -64,6 +66,7 @@ pub fn parse(output: &str) -> Result<Report, String> {
         pool_capacity: 0,
         framebuffer: 0,
         stack_peak: 0,
+        gfx3d_commands: None,
     };
     let (mut memory, mut done) = (false, false);
     for line in output.lines() {
@@ -97,6 +100,7 @@ pub fn parse(output: &str) -> Result<Report, String> {
                 report.stack_peak = field(line, "stack_peak")?;
                 memory = true;
             }
+            Some("gfx3d") => report.gfx3d_commands = Some(field(line, "commands_peak")?),
             Some("done") => done = true,
             _ => {}
         }
@@ -147,6 +151,9 @@ mod tests {
             (r.pool_used, r.pool_capacity, r.framebuffer, r.stack_peak),
             (169440, 376832, 153600, 2596)
         );
+        assert_eq!(r.gfx3d_commands, None);
+        let gfx = GOOD.replace("done", "gfx3d commands_peak=3184 capacity=16384\ndone");
+        assert_eq!(parse(&gfx).unwrap().gfx3d_commands, Some(3184));
     }
 
     #[test]

@@ -105,6 +105,13 @@ pub struct Compiled {
     pub mesh: PathBuf,
     /// Its bytes.
     pub mesh_bytes: Vec<u8>,
+    /// The mesh with ids for colours ([`peel_target_kit::mesh::with_ids`]), for id images.
+    pub ids_mesh_bytes: Vec<u8>,
+    /// embedded-3dgfx's asset ([`peel_target_kit::gfx3d`]): the same mesh, scaled, with face
+    /// normals.
+    pub gfx3d: PathBuf,
+    /// Its bytes.
+    pub gfx3d_bytes: Vec<u8>,
     /// Source triangles (`input_triangles` of `peel compile --stats-json`).
     pub triangles: u64,
 }
@@ -131,15 +138,37 @@ pub fn compile(tools: &Tools, spec: &SceneSpec, dir: &Path) -> Result<Compiled, 
         .as_u64()
         .ok_or_else(|| format!("{}: no input_triangles", stats.display()))?;
     let mesh_bytes = export_mesh(&spec.obj, &peel_bytes)?;
+    let ids_mesh_bytes = peel_target_kit::mesh::with_ids(&mesh_bytes).ok_or_else(|| {
+        format!(
+            "{}: an id image holds fewer than 65,535 triangles",
+            spec.obj.display()
+        )
+    })?;
+    let gfx3d_bytes = {
+        let parsed = peel_target_kit::mesh::Mesh::parse(&mesh_bytes)
+            .map_err(|e| format!("{}: {e}", spec.obj.display()))?;
+        peel_target_kit::gfx3d::encode(&parsed).ok_or_else(|| {
+            format!(
+                "{}: too large for embedded-3dgfx's asset",
+                spec.obj.display()
+            )
+        })?
+    };
     let mesh = dir.join(format!("{stem}.mesh"));
-    std::fs::write(&mesh, &mesh_bytes)
-        .map_err(|e| format!("{}: cannot write: {e}", mesh.display()))?;
+    let gfx3d = dir.join(format!("{stem}.gfx3d"));
+    for (path, bytes) in [(&mesh, &mesh_bytes), (&gfx3d, &gfx3d_bytes)] {
+        std::fs::write(path, bytes)
+            .map_err(|e| format!("{}: cannot write: {e}", path.display()))?;
+    }
     Ok(Compiled {
         spec: spec.clone(),
         peel,
         peel_bytes,
         mesh,
         mesh_bytes,
+        ids_mesh_bytes,
+        gfx3d,
+        gfx3d_bytes,
         triangles,
     })
 }

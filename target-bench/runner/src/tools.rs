@@ -97,10 +97,13 @@ impl Tools {
     /// Build the firmware for `variant` on `core` and copy its ELF into `dir`. The firmware
     /// has its own workspace and target directory (under this workspace's), and its own
     /// rustflags (the linker script), so flags meant for the workspace are not passed on.
+    /// `gfx3d_commands`: embedded-3dgfx's command buffer capacity (its build's default when
+    /// `None`), also in the ELF's name.
     pub fn build_firmware(
         &self,
         core: Core,
         variant: Variant,
+        gfx3d_commands: Option<u64>,
         dir: &Path,
     ) -> Result<PathBuf, String> {
         let crate_dir = self.root.join("target-bench/firmware");
@@ -114,7 +117,11 @@ impl Tools {
             .env("CARGO_TARGET_DIR", &build_dir)
             .env_remove("RUSTFLAGS")
             .env_remove("CARGO_ENCODED_RUSTFLAGS")
-            .env_remove("CARGO_BUILD_TARGET");
+            .env_remove("CARGO_BUILD_TARGET")
+            .env_remove("PEEL_GFX3D_COMMANDS");
+        if let Some(n) = gfx3d_commands {
+            build.env("PEEL_GFX3D_COMMANDS", n.to_string());
+        }
         let what = format!(
             "firmware build (target-bench/firmware: cargo build --release --target {} --features {})",
             core.triple(),
@@ -124,7 +131,8 @@ impl Tools {
         let elf = build_dir
             .join(core.triple())
             .join("release/peel-target-firmware");
-        let copy = dir.join(format!("{}-{}.elf", core.name(), variant.name()));
+        let suffix = gfx3d_commands.map_or_else(String::new, |n| format!("-{n}"));
+        let copy = dir.join(format!("{}-{}{suffix}.elf", core.name(), variant.name()));
         std::fs::copy(&elf, &copy).map_err(|e| format!("{}: cannot copy: {e}", elf.display()))?;
         Ok(copy)
     }

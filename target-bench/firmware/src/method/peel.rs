@@ -1,0 +1,128 @@
+//! Peel's renderer: front to back (into a framebuffer, streamed, in bands) and back to
+//! front (into a framebuffer, in bands).
+
+use peel_runtime::camera::LocalView;
+use peel_runtime::coverage::Coverage;
+use peel_runtime::read::{Header, Scene};
+use peel_runtime::render::{Renderer, Workspace};
+use peel_runtime::target::{DrawTargetSink, Rgb565Framebuffer};
+use peel_runtime::vertices::{CachedVertex, VertexCache};
+use peel_target_kit::config::{Config, Variant};
+
+use crate::display::Panel;
+use crate::pool::{Pool, Use};
+use crate::{Failure, VARIANT};
+
+use peel_target_kit::{STACK, VERTS};
+
+/// Vertex memory entries (8 bytes each, 4,096 B): the vertices used close together in the
+/// walk. 512 keep the teapot's streamed frame within 32 KiB of RAM on both cores.
+const VERTEX_MEMORY: usize = 512;
+/// The vertex memory ([`CachedVertex::EMPTY`] is all zeros: `.bss`).
+static mut VERTEX_ENTRIES: [CachedVertex; VERTEX_MEMORY] = [CachedVertex::EMPTY; VERTEX_MEMORY];
+
+/// A Peel variant's scene, renderer and pixel memory.
+pub struct Method {
+    scene: Scene<'static>,
+    /// Made once, draws every frame (and band): the background set, span memory for one
+    /// frame or band when front to back.
+    renderer: Renderer<'static>,
+    /// The framebuffer, or the band buffer; empty when streaming.
+    pixels: &'static mut [u16],
+    width: u32,
+    height: u32,
+    /// Rows per band (the height when not banded).
+    band: u32,
+}
+
+impl Method {
+    /// Validate the scene (once, at boot), take the variant's memory and make the
+    /// renderer.
+    pub fn new(asset: &'static [u8], config: &Config, pool: &mut Pool) -> Result<Method, Failure> {
+        let scene = Scene::parse(asset)?;
+        let (width, height) = (config.width, config.height);
+        let band = if VARIANT.banded() {
+            config.band_rows
+        } else {
+            height
+        };
+        let workspace = cortex_m::singleton!(: Workspace<STACK, VERTS> = Workspace::new())
+            .ok_or(Failure::Host("workspace taken twice"))?;
+        let mut renderer = Renderer::new(workspace).background(config.background_colour());
+        // Without an FPU (a soft-float ABI) a subtree's box test costs more than it saves
+        // in a whole frame; a band skips most of the tree by those tests, so there they pay.
+        if !cfg!(target_abi = "eabihf") && !VARIANT.banded() {
+            renderer = renderer.without_subtree_culling();
+        }
+        if VARIANT.front_to_back() {
+            let rows = band as usize;
+            let intervals = pool.pairs(config.spans_per_row as usize * rows, Use::SpanMemory)?;
+            let counts = pool.u16s(rows, Use::RowCounts)?;
+            renderer = renderer.span_memory(Coverage::new(intervals, counts, width, band)?);
+        }
+        // A static rather than a singleton, which would build the array in `main`'s stack
+        // frame first and so count it twice (`.bss` and the stack's high-water mark).
+        // SAFETY: the workspace singleton above makes this run once, so this is the only
+        // reference.
+        let vertices = unsafe { &mut *core::ptr::addr_of_mut!(VERTEX_ENTRIES) };
+        renderer = renderer.vertex_memory(VertexCache::new(vertices));
+        let pixel_count = if VARIANT == Variant::FtbStream {
+            0
+        } else {
+            width as usize * band as usize
+        };
+        Ok(Method {
+            scene,
+            renderer,
+            pixels: pool.u16s(pixel_count, Use::Framebuffer)?,
+            width,
+            height,
+            band,
+        })
+    }
+
+    /// The scene's header (for the camera).
+    pub fn header(&self) -> Header {
+        self.scene.header()
+    }
+
+    /// Bytes of pixel memory: the framebuffer or band buffer (0 when streaming).
+    pub fn framebuffer_bytes(&self) -> usize {
+        core::mem::size_of_val(self.pixels)
+    }
+
+    /// Draw the frame seen by `view` and send it to `panel`; returns whether front to
+    /// back ran out of span memory (the frame is then finished back to front: the same
+    /// pixels, with overdraw).
+    pub fn frame(&mut self, view: &LocalView, panel: &mut Panel) -> Result<bool, Failure> {
+        let (w, h) = (self.width, self.height);
+        let scene = &self.scene;
+        if VARIANT == Variant::FtbStream {
+            // Every span straight to the panel, the uncovered ones last.
+            let mut sink = DrawTargetSink::new(panel);
+            let stats = self.renderer.draw(scene, view, &mut sink)?;
+            let Ok(()) = sink.finish();
+            return Ok(stats.fallback);
+        }
+        if !VARIANT.banded() {
+            let mut fb = Rgb565Framebuffer::new(&mut self.pixels[..], w, h)?;
+            let stats = self.renderer.draw(scene, view, &mut fb)?;
+            let Ok(()) = fb.draw_to(panel);
+            return Ok(stats.fallback);
+        }
+        // Band by band, each sent when drawn.
+        let mut fallback = false;
+        let mut first = 0;
+        while first < h {
+            let rows = first..(first + self.band).min(h);
+            let mut fb = Rgb565Framebuffer::band(&mut self.pixels[..], w, rows.clone())?;
+            let stats = self
+                .renderer
+                .draw_rows(scene, view, rows.clone(), &mut fb)?;
+            let Ok(()) = fb.draw_to(panel);
+            fallback |= stats.fallback;
+            first = rows.end;
+        }
+        Ok(fallback)
+    }
+}

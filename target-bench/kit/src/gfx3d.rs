@@ -1,0 +1,520 @@
+//! embedded-3dgfx's scene: the z-buffer baseline's mesh ([`crate::mesh`]) laid out as that
+//! library's `Geometry` takes it, so the firmware hands it slices of code memory (its README's
+//! advice for MCUs: no RAM for the mesh). Read in place like a `.peel` file.
+//!
+//! The library cuts a vertex's depth to whole world units before its depth test, so the
+//! vertices are scaled by a power of two (exact in `f32`) that puts the scene's radius in
+//! `RADIUS..2 * RADIUS`: in an OBJ's own units its depth buffer would have a handful of
+//! levels. Its lit modes draw nothing without per-face normals, hence the normals; exactly
+//! degenerate triangles, which cover nothing, are left out. The header keeps the `.peel`
+//! scene's centre and bounds (unscaled), so the firmware frames the scene with the very same
+//! [`peel_runtime::camera::Orbit`] pose as the other methods.
+//!
+//! | offset | field |
+//! |---|---|
+//! | 0 | magic `PTBG` |
+//! | 4 | [`VERSION`] (u32) |
+//! | 8, 12 | vertex count, face count (u32) |
+//! | 16 | centre (3 x f64) |
+//! | 40, 52 | bounds min, max relative to the centre, unscaled (3 x f32 each) |
+//! | 64 | scale: library units per scene unit (f32, a power of two) |
+//! | 68 | the mesh's one RGB565 colour (u16), then 0 (u16) |
+//! | 72 | vertices relative to the centre, scaled (3 x f32 each) |
+//! | then | faces: three vertex indices (3 x u32 each: the target's `usize`) |
+//! | then | unit face normals (3 x f32 each), one per face |
+//!
+//! Every section starts at a multiple of 4 bytes, so a 4-aligned file is a set of aligned
+//! `[f32; 3]` and `[u32; 3]` arrays.
+
+use glam::Vec3;
+use peel_runtime::camera::LocalView;
+use peel_runtime::read::Header;
+
+use crate::bytes::{f32_at, f64_at, u16_at, u32_at};
+
+/// Format version.
+pub const VERSION: u32 = 1;
+/// The file's first bytes.
+pub const MAGIC: [u8; 4] = *b"PTBG";
+/// Header size.
+pub const HEADER: usize = 72;
+/// Bytes per vertex, per face and per normal.
+pub const ELEMENT: usize = 12;
+/// The scaled scene's radius (half its bounds' diagonal) is at least this and under twice
+/// it. The library's depth at a point `z` away is `far + 2 near - 2 far near / z`, which
+/// [`Scene::camera`] keeps between the scene's nearest and farthest `z`: from 1.1 to 3.1
+/// radii for the benchmark's orbit (2.1 radii away), 9,000 to 51,000 whole units, inside its
+/// 16-bit depth buffer.
+pub const RADIUS: f32 = 8192.0;
+/// The unit direction towards the light for the library's per-face Lambert shading
+/// (`SolidLightDir`): the compiler's default light, `(0.4, 0.8, 0.45)` normalised, so that
+/// faces are lit from the same side as Peel's baked colours.
+pub const LIGHT: [f32; 3] = [0.399_500_9, 0.799_001_8, 0.449_438_5];
+
+/// Why scene bytes were refused.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Gfx3dError {
+    /// Not a scene of this version.
+    Magic,
+    /// Fewer bytes than the counts need.
+    Truncated,
+    /// No vertices (the library refuses such a mesh by panicking).
+    Empty,
+    /// A scale that is not a positive finite number.
+    Scale,
+    /// Face `0` names a vertex past the vertex count.
+    Index(u32),
+}
+
+impl core::fmt::Display for Gfx3dError {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        match *self {
+            Gfx3dError::Magic => write!(
+                f,
+                "not an embedded-3dgfx scene (magic PTBG, version {VERSION})"
+            ),
+            Gfx3dError::Truncated => write!(f, "embedded-3dgfx scene shorter than its counts say"),
+            Gfx3dError::Empty => write!(f, "embedded-3dgfx scene without vertices"),
+            Gfx3dError::Scale => write!(f, "embedded-3dgfx scene with an unusable scale"),
+            Gfx3dError::Index(t) => {
+                write!(f, "embedded-3dgfx scene face {t} names a missing vertex")
+            }
+        }
+    }
+}
+
+/// What the library's `Camera` needs to see what a [`LocalView`] sees, in the scene's scaled
+/// units: `set_position(eye)`, `set_target(target)`, `set_fovy(fov_y)`,
+/// `set_near_far(near, far)`, with its fixed up `+y` and its aspect ratio `width / height`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CameraSetup {
+    /// Eye position relative to the centre.
+    pub eye: [f32; 3],
+    /// A point straight ahead.
+    pub target: [f32; 3],
+    /// Vertical field of view, radians.
+    pub fov_y: f32,
+    /// Near plane distance.
+    pub near: f32,
+    /// Far plane distance.
+    pub far: f32,
+}
+
+/// A validated scene over borrowed bytes.
+#[derive(Debug, Clone, Copy)]
+pub struct Scene<'a> {
+    vertices: &'a [u8],
+    faces: &'a [u8],
+    normals: &'a [u8],
+    centre: [f64; 3],
+    bounds_min: Vec3,
+    bounds_max: Vec3,
+    scale: f32,
+    colour: u16,
+}
+
+impl<'a> Scene<'a> {
+    /// Check `bytes` once (header, lengths, every index); the accessors cannot fail after.
+    ///
+    /// # Errors
+    /// [`Gfx3dError`] for anything else than a scene of this version.
+    pub fn parse(bytes: &'a [u8]) -> Result<Scene<'a>, Gfx3dError> {
+        if bytes.get(..4) != Some(&MAGIC[..]) || u32_at(bytes, 4) != Some(VERSION) {
+            return Err(Gfx3dError::Magic);
+        }
+        let count = |at| {
+            u32_at(bytes, at)
+                .map(|n| n as usize)
+                .ok_or(Gfx3dError::Truncated)
+        };
+        let (nv, nf) = (count(8)?, count(12)?);
+        let section = |start: usize, n: usize| {
+            let end = n
+                .checked_mul(ELEMENT)
+                .and_then(|len| len.checked_add(start))
+                .ok_or(Gfx3dError::Truncated)?;
+            Ok((bytes.get(start..end).ok_or(Gfx3dError::Truncated)?, end))
+        };
+        let (vertices, v_end) = section(HEADER, nv)?;
+        let (faces, f_end) = section(v_end, nf)?;
+        let (normals, _) = section(f_end, nf)?;
+        if nv == 0 {
+            return Err(Gfx3dError::Empty);
+        }
+        let f = |at| f64_at(bytes, at).unwrap_or(0.0);
+        let v = |at: usize| {
+            let g = |k: usize| f32_at(bytes, at + 4 * k).unwrap_or(0.0);
+            Vec3::new(g(0), g(1), g(2))
+        };
+        let scale = f32_at(bytes, 64).unwrap_or(0.0);
+        if !(scale.is_finite() && scale > 0.0) {
+            return Err(Gfx3dError::Scale);
+        }
+        let scene = Scene {
+            vertices,
+            faces,
+            normals,
+            centre: [f(16), f(24), f(32)],
+            bounds_min: v(40),
+            bounds_max: v(52),
+            scale,
+            colour: u16_at(bytes, 68).unwrap_or(0),
+        };
+        for t in 0..scene.face_count() {
+            if scene.face(t).iter().any(|&i| i as usize >= nv) {
+                return Err(Gfx3dError::Index(t));
+            }
+        }
+        Ok(scene)
+    }
+
+    /// Number of vertices.
+    pub fn vertex_count(&self) -> u32 {
+        (self.vertices.len() / ELEMENT) as u32
+    }
+
+    /// Number of faces.
+    pub fn face_count(&self) -> u32 {
+        (self.faces.len() / ELEMENT) as u32
+    }
+
+    /// The vertices' bytes: `[f32; 3]` each, little-endian.
+    pub fn vertex_bytes(&self) -> &'a [u8] {
+        self.vertices
+    }
+
+    /// The faces' bytes: `[u32; 3]` each, little-endian.
+    pub fn face_bytes(&self) -> &'a [u8] {
+        self.faces
+    }
+
+    /// The normals' bytes: `[f32; 3]` each, little-endian, one per face.
+    pub fn normal_bytes(&self) -> &'a [u8] {
+        self.normals
+    }
+
+    /// Vertex `i`, scaled, relative to the centre (zeros past the end).
+    pub fn vertex(&self, i: u32) -> [f32; 3] {
+        triple(self.vertices, i).map(f32::from_bits)
+    }
+
+    /// Face `t`'s vertex indices (zeros past the end).
+    pub fn face(&self, t: u32) -> [u32; 3] {
+        triple(self.faces, t)
+    }
+
+    /// Face `t`'s unit normal (zeros past the end).
+    pub fn normal(&self, t: u32) -> [f32; 3] {
+        triple(self.normals, t).map(f32::from_bits)
+    }
+
+    /// Library units per scene unit.
+    pub fn scale(&self) -> f32 {
+        self.scale
+    }
+
+    /// The mesh's RGB565 colour.
+    pub fn colour(&self) -> u16 {
+        self.colour
+    }
+
+    /// Bounds of the scene (relative to the centre, unscaled), as the `.peel` header has them.
+    pub fn bounds(&self) -> (Vec3, Vec3) {
+        (self.bounds_min, self.bounds_max)
+    }
+
+    /// A header with the `.peel` scene's centre and bounds (the rest zero), as
+    /// [`crate::mesh::Mesh::header`]: what the orbit camera reads.
+    pub fn header(&self) -> Header {
+        Header {
+            vertex_count: self.vertex_count(),
+            polygon_count: self.face_count(),
+            max_polygon_vertices: 3,
+            centre: self.centre,
+            bounds_min: self.bounds_min,
+            bounds_max: self.bounds_max,
+            ..Header::default()
+        }
+    }
+
+    /// The library's camera for `view`. Its camera has square pixels, the principal point at
+    /// the image centre and `+y` up: it sees exactly what `view` sees when `view` has those
+    /// too (every orbit view does), the focal length `fy` becoming the field of view.
+    ///
+    /// Near and far come from the scene's depth range in this view (its box in camera space,
+    /// as the z-buffer baseline fits its depth range): far at the farthest point, near at half
+    /// the nearest. The library's depth `far + 2 near - 2 far near / z` (cut to whole units,
+    /// a negative one read as 0, the nearest) then runs from the nearest point's `z` to the
+    /// farthest's, and no vertex falls outside near..far, which would drop its triangles.
+    pub fn camera(&self, view: &LocalView) -> CameraSetup {
+        let s = self.scale;
+        let b = view.box_to_camera(self.bounds_min, self.bounds_max);
+        let nearest = b.centre.z - b.extent.z - b.error;
+        let farthest = b.centre.z + b.extent.z + b.error;
+        // An eye inside the box (no orbit view): the view's near plane, whatever the depths.
+        let near = (0.5 * nearest).max(view.near) * s;
+        // A little past the farthest point: the library computes it in its own `f32` steps.
+        let far = (farthest * s * (1.0 + 1.0 / 1024.0)).max(near * 2.0);
+        // Straight ahead, as far as the box's centre (any positive distance looks the same).
+        let ahead = b.centre.z.max(view.near);
+        CameraSetup {
+            eye: (view.eye * s).to_array(),
+            target: ((view.eye + view.forward * ahead) * s).to_array(),
+            fov_y: 2.0 * libm::atanf(0.5 * view.height as f32 / view.fy),
+            near,
+            far,
+        }
+    }
+}
+
+/// Element `i` of a section of 12-byte elements, as three words.
+fn triple(section: &[u8], i: u32) -> [u32; 3] {
+    let at = i as usize * ELEMENT;
+    [0, 1, 2].map(|k| u32_at(section, at + 4 * k).unwrap_or(0))
+}
+
+/// The scene's bytes from the z-buffer baseline's mesh: vertices scaled (see [`RADIUS`]),
+/// faces with their normals, exactly degenerate ones left out, and one colour: the brightest
+/// of the faces' baked colours (red, green and blue summed at 8 bits each, the first of
+/// equals), that of a face turned towards the light, so about the material's own colour for a
+/// one-colour mesh. `None` when the mesh's bounds are not finite.
+#[cfg(any(feature = "std", test))]
+pub fn encode(mesh: &crate::mesh::Mesh<'_>) -> Option<std::vec::Vec<u8>> {
+    use glam::DVec3;
+    let header = mesh.header();
+    let (lo, hi) = mesh.bounds();
+    let radius = (hi - lo).length() * 0.5;
+    if !radius.is_finite() {
+        return None;
+    }
+    // `radius = m 2^e` with `m` in 0.5..1, so `radius * 2^(14 - e)` lies in 8192..16384.
+    let scale = if radius > 0.0 {
+        libm::ldexpf(1.0, 14 - libm::frexpf(radius).1)
+    } else {
+        1.0
+    };
+    let vertices: std::vec::Vec<Vec3> = (0..header.vertex_count)
+        .map(|i| mesh.vertex(i as u16) * scale)
+        .collect();
+    let mut faces = std::vec::Vec::new();
+    let mut normals = std::vec::Vec::new();
+    let brightness = |c: u16| ((c >> 11) << 3) + (((c >> 5) & 0x3f) << 2) + ((c & 0x1f) << 3);
+    let mut colour: Option<u16> = None;
+    for t in 0..mesh.triangle_count() {
+        let (corners, rgb) = mesh.triangle(t);
+        let [p, q, s] = corners.map(|i| vertices[usize::from(i)].as_dvec3());
+        let n = (q - p).cross(s - p);
+        if n == DVec3::ZERO {
+            continue;
+        }
+        if colour.is_none_or(|c| brightness(rgb) > brightness(c)) {
+            colour = Some(rgb);
+        }
+        faces.push(corners.map(u32::from));
+        normals.push(n.normalize().as_vec3());
+    }
+    let mut out = std::vec::Vec::with_capacity(
+        HEADER + ELEMENT * (vertices.len() + faces.len() + normals.len()),
+    );
+    out.extend_from_slice(&MAGIC);
+    out.extend_from_slice(&VERSION.to_le_bytes());
+    out.extend_from_slice(&(vertices.len() as u32).to_le_bytes());
+    out.extend_from_slice(&(faces.len() as u32).to_le_bytes());
+    for c in header.centre {
+        out.extend_from_slice(&c.to_le_bytes());
+    }
+    let words = |out: &mut std::vec::Vec<u8>, v: [u32; 3]| {
+        for w in v {
+            out.extend_from_slice(&w.to_le_bytes());
+        }
+    };
+    for v in [lo, hi] {
+        words(&mut out, v.to_array().map(f32::to_bits));
+    }
+    out.extend_from_slice(&scale.to_le_bytes());
+    out.extend_from_slice(&colour.unwrap_or(0).to_le_bytes());
+    out.extend_from_slice(&0u16.to_le_bytes());
+    for v in &vertices {
+        words(&mut out, v.to_array().map(f32::to_bits));
+    }
+    for &f in &faces {
+        words(&mut out, f);
+    }
+    for n in &normals {
+        words(&mut out, n.to_array().map(f32::to_bits));
+    }
+    Some(out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::config::OrbitAngles;
+    use crate::mesh::{test_header, Mesh};
+    use glam::DVec3;
+    use std::vec::Vec;
+
+    /// A tetrahedron around the origin (outward faces, three colours) and one degenerate
+    /// triangle, as the z-buffer's mesh.
+    fn mesh_bytes() -> Vec<u8> {
+        let vertices = [
+            Vec3::new(1.0, 1.0, 1.0),
+            Vec3::new(1.0, -1.0, -1.0),
+            Vec3::new(-1.0, 1.0, -1.0),
+            Vec3::new(-1.0, -1.0, 1.0),
+            Vec3::new(0.0, 0.0, 1.0),
+        ];
+        let triangles = [
+            ([0, 1, 2], 0xf800),
+            ([0, 3, 1], 0x8410),
+            ([0, 2, 3], 0x0400),
+            ([1, 3, 2], 0x8410),
+            ([0, 4, 0], 0xffff),
+        ];
+        let header = test_header([10.0, 20.0, 30.0], Vec3::splat(-1.0), Vec3::splat(1.0));
+        crate::mesh::encode(&header, &vertices, &triangles).unwrap()
+    }
+
+    fn scene_bytes() -> Vec<u8> {
+        encode(&Mesh::parse(&mesh_bytes()).unwrap()).unwrap()
+    }
+
+    #[test]
+    fn round_trip() {
+        let source = mesh_bytes();
+        let mesh = Mesh::parse(&source).unwrap();
+        let bytes = encode(&mesh).unwrap();
+        let scene = Scene::parse(&bytes).unwrap();
+        // Radius sqrt(3): scaled into 8192..16384 by a power of two.
+        let s = scene.scale();
+        assert_eq!(s, 8192.0);
+        assert!((RADIUS..2.0 * RADIUS).contains(&(3f32.sqrt() * s)));
+        assert_eq!(scene.vertex_count(), 5);
+        for i in 0..5 {
+            assert_eq!(scene.vertex(i), (mesh.vertex(i as u16) * s).to_array());
+        }
+        // The degenerate triangle is left out.
+        assert_eq!(scene.face_count(), 4);
+        assert_eq!(scene.face(1), [0, 3, 1]);
+        for t in 0..4 {
+            let [a, b, c] = scene.face(t).map(|i| Vec3::from_array(scene.vertex(i)));
+            let n = Vec3::from_array(scene.normal(t));
+            assert!((n.length() - 1.0).abs() < 1e-6);
+            assert!(n.dot(b - a).abs() < 1e-2 && n.dot(c - a).abs() < 1e-2);
+            // Outward: away from the centre.
+            assert!(n.dot(a) > 0.0);
+        }
+        assert_eq!(scene.vertex_bytes().len(), 5 * ELEMENT);
+        assert_eq!(scene.face_bytes().len(), 4 * ELEMENT);
+        assert_eq!(scene.normal_bytes().len(), 4 * ELEMENT);
+        assert_eq!(bytes.len(), HEADER + 13 * ELEMENT);
+        // The brightest face's (the first of two), not the degenerate triangle's.
+        assert_eq!(scene.colour(), 0x8410);
+        let (h, m) = (scene.header(), mesh.header());
+        assert_eq!(
+            (h.centre, h.bounds_min, h.bounds_max),
+            (m.centre, m.bounds_min, m.bounds_max)
+        );
+        assert_eq!(scene.bounds(), mesh.bounds());
+    }
+
+    #[test]
+    fn light_is_the_compilers_default_normalised() {
+        let l = DVec3::new(0.4, 0.8, 0.45).normalize().as_vec3();
+        assert!((Vec3::from_array(LIGHT) - l).length() < 1e-6);
+    }
+
+    #[test]
+    fn refusals() {
+        let bytes = scene_bytes();
+        assert!(Scene::parse(&bytes).is_ok());
+        for len in 0..bytes.len() {
+            let e = Scene::parse(&bytes[..len]).err();
+            let expected = if len < 8 {
+                Gfx3dError::Magic
+            } else {
+                Gfx3dError::Truncated
+            };
+            assert_eq!(e, Some(expected), "{len} bytes");
+        }
+        let corrupt = |at: usize, value: &[u8]| {
+            let mut b = bytes.clone();
+            b[at..at + value.len()].copy_from_slice(value);
+            Scene::parse(&b).err()
+        };
+        assert_eq!(corrupt(0, b"PTBM"), Some(Gfx3dError::Magic));
+        assert_eq!(corrupt(4, &2u32.to_le_bytes()), Some(Gfx3dError::Magic));
+        assert_eq!(corrupt(8, &6u32.to_le_bytes()), Some(Gfx3dError::Truncated));
+        assert_eq!(
+            corrupt(12, &u32::MAX.to_le_bytes()),
+            Some(Gfx3dError::Truncated)
+        );
+        for bad in [0.0f32, -1.0, f32::NAN, f32::INFINITY] {
+            assert_eq!(corrupt(64, &bad.to_le_bytes()), Some(Gfx3dError::Scale));
+        }
+        // Face 2's last index: vertex 5 of 5.
+        let at = HEADER + 5 * ELEMENT + 2 * ELEMENT + 8;
+        assert_eq!(corrupt(at, &5u32.to_le_bytes()), Some(Gfx3dError::Index(2)));
+        // No vertices (and so no faces).
+        let mut empty = bytes[..HEADER].to_vec();
+        empty[8..16].fill(0);
+        assert_eq!(Scene::parse(&empty).err(), Some(Gfx3dError::Empty));
+        // Unusable bounds.
+        let header = test_header([0.0; 3], Vec3::splat(-1.0), Vec3::splat(f32::INFINITY));
+        let m = crate::mesh::encode(&header, &[Vec3::X], &[]).unwrap();
+        assert!(encode(&Mesh::parse(&m).unwrap()).is_none());
+    }
+
+    /// The library's projection, written out: `look_at_rh(eye, target, +y)`, then
+    /// `Perspective3(width / height, fov_y, near, far)`, then its viewport and depth maps.
+    fn library_projection(c: &CameraSetup, w: u32, h: u32, p: [f32; 3]) -> (f64, f64, f64) {
+        let d = |v: [f32; 3]| DVec3::from_array(v.map(f64::from));
+        let (eye, target) = (d(c.eye), d(c.target));
+        let z_axis = (eye - target).normalize();
+        let x_axis = DVec3::Y.cross(z_axis).normalize();
+        let y_axis = z_axis.cross(x_axis);
+        let v = d(p) - eye;
+        let (x, y, depth) = (v.dot(x_axis), v.dot(y_axis), -v.dot(z_axis));
+        let t = (f64::from(c.fov_y) * 0.5).tan();
+        let aspect = f64::from(w) / f64::from(h);
+        let (n, f) = (f64::from(c.near), f64::from(c.far));
+        let ndc_z = (f + n) / (f - n) - 2.0 * f * n / ((f - n) * depth);
+        (
+            (1.0 + x / (depth * aspect * t)) * 0.5 * f64::from(w),
+            (1.0 - y / (depth * t)) * 0.5 * f64::from(h),
+            ndc_z * (f - n) + n,
+        )
+    }
+
+    #[test]
+    fn camera_sees_what_the_view_sees() {
+        let bytes = scene_bytes();
+        let scene = Scene::parse(&bytes).unwrap();
+        let s = scene.scale();
+        for (az, el) in [(0.0, 20.0), (45.0, 20.0), (200.0, -30.0)] {
+            let angles = OrbitAngles {
+                azimuth_deg: az,
+                elevation_deg: el,
+            };
+            let (w, h) = (320, 240);
+            let view = crate::orbit_view(&scene.header(), angles, 60.0, w, h).unwrap();
+            let c = scene.camera(&view);
+            assert!(0.0 < c.near && c.near < c.far);
+            for i in 0..scene.vertex_count() {
+                let p = scene.vertex(i);
+                let (x, y, depth) = library_projection(&c, w, h, p);
+                let camera = view.to_camera(Vec3::from_array(p) / s);
+                let expected = view.project(camera);
+                assert!((x - f64::from(expected.x)).abs() < 1e-3, "{x} {expected}");
+                assert!((y - f64::from(expected.y)).abs() < 1e-3, "{y} {expected}");
+                // Between the nearest point's distance (twice near) and far, inside 16 bits.
+                let (n, f) = (f64::from(c.near), f64::from(c.far));
+                assert!(
+                    2.0 * n * (1.0 - 1e-6) <= depth && depth <= f,
+                    "{depth} {n} {f}"
+                );
+                assert!((1.0..65535.0).contains(&depth));
+            }
+        }
+    }
+}
