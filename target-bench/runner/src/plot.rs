@@ -46,11 +46,12 @@ pub fn plot(records: &[Record], scene: &str) -> Result<Option<Vec<u8>>, String> 
     {
         let root = BitMapBackend::with_buffer(&mut rgb, (w, h)).into_drawing_area();
         root.fill(&WHITE).map_err(|e| e.to_string())?;
+        // Whole decades around the points.
         let bound = |f: fn(&Record) -> u64| {
             let v = points.iter().map(|(r, _)| f(r) as f64);
-            let lo = v.clone().fold(f64::INFINITY, f64::min) / 2.0;
-            let hi = v.fold(1.0, f64::max) * 2.0;
-            lo.max(1.0)..hi
+            let lo = v.clone().fold(f64::INFINITY, f64::min).max(1.0);
+            let hi = v.fold(1.0, f64::max);
+            10f64.powf(lo.log10().floor())..10f64.powf(hi.log10().ceil() + 0.5)
         };
         let mut chart = ChartBuilder::on(&root)
             .caption(
@@ -69,34 +70,76 @@ pub fn plot(records: &[Record], scene: &str) -> Result<Option<Vec<u8>>, String> 
             .configure_mesh()
             .x_desc("RAM (bytes)")
             .y_desc("instructions per frame (median of the cameras)")
+            .x_labels(4)
+            .y_labels(5)
             .x_label_formatter(&|v| format!("{:.0} kB", v / 1000.0))
-            .y_label_formatter(&|v| format!("{:.1} M", v / 1e6))
+            .y_label_formatter(&|v| format!("{:.0} M", v / 1e6))
             .draw()
             .map_err(|e| e.to_string())?;
-        for (r, k) in &points {
-            let (name, _, [red, green, blue]) = METHODS[*k];
-            let colour = RGBColor(red, green, blue);
-            let at = (r.ram_bytes as f64, r.instructions as f64);
-            let m4f = r.core == "cortex-m4f";
-            if m4f {
-                chart
-                    .draw_series([Circle::new(at, 7, colour.filled())])
-                    .map_err(|e| e.to_string())?;
-            } else {
-                chart
-                    .draw_series([TriangleMarker::new(at, 8, colour.filled())])
-                    .map_err(|e| e.to_string())?;
-            }
-            let core = if m4f { "M4F" } else { "M0+" };
-            let label = format!("{name}, {core}, {} errors", r.robust_errors);
+        // One series per method (its colour), a circle on the Cortex-M4F and a triangle on the
+        // Cortex-M0+; the legend names the method and its robust errors.
+        for (k, (name, _, [red, green, blue])) in METHODS.iter().enumerate() {
+            let colour = RGBColor(*red, *green, *blue);
+            let mine: Vec<&Record> = points
+                .iter()
+                .filter(|(_, m)| *m == k)
+                .map(|(r, _)| *r)
+                .collect();
+            let Some(first) = mine.first() else {
+                continue;
+            };
+            let at = |r: &Record| (r.ram_bytes as f64, r.instructions as f64);
+            let errors = mine.iter().map(|r| r.robust_errors).max().unwrap_or(0);
             chart
-                .draw_series([Text::new(
-                    label,
-                    at,
-                    ("sans-serif", 14).into_font().color(&colour),
-                )])
+                .draw_series(
+                    mine.iter()
+                        .filter(|r| r.core == "cortex-m4f")
+                        .map(|r| Circle::new(at(r), 7, colour.filled())),
+                )
+                .map_err(|e| e.to_string())?
+                .label(format!(
+                    "{name} ({}, {errors} robust errors)",
+                    first
+                        .path
+                        .replace(char::is_numeric, "")
+                        .trim_end_matches('-')
+                ))
+                .legend(move |(x, y)| Circle::new((x, y), 5, colour.filled()));
+            chart
+                .draw_series(
+                    mine.iter()
+                        .filter(|r| r.core != "cortex-m4f")
+                        .map(|r| TriangleMarker::new(at(r), 8, colour.filled())),
+                )
                 .map_err(|e| e.to_string())?;
         }
+        // The cores' shapes.
+        for (core, m4f) in [
+            ("circle: Cortex-M4F", true),
+            ("triangle: Cortex-M0+", false),
+        ] {
+            chart
+                .draw_series(std::iter::empty::<Circle<(f64, f64), i32>>())
+                .map_err(|e| e.to_string())?
+                .label(core)
+                .legend(
+                    move |(x, y)| -> DynElement<'static, BitMapBackend, (i32, i32)> {
+                        if m4f {
+                            Circle::new((x, y), 5, BLACK.filled()).into_dyn()
+                        } else {
+                            TriangleMarker::new((x, y), 6, BLACK.filled()).into_dyn()
+                        }
+                    },
+                );
+        }
+        chart
+            .configure_series_labels()
+            .position(SeriesLabelPosition::UpperRight)
+            .background_style(WHITE.mix(0.9))
+            .border_style(BLACK)
+            .label_font(("sans-serif", 14))
+            .draw()
+            .map_err(|e| e.to_string())?;
         root.present().map_err(|e| e.to_string())?;
     }
     let image =
@@ -106,4 +149,78 @@ pub fn plot(records: &[Record], scene: &str) -> Result<Option<Vec<u8>>, String> 
         .write_to(&mut std::io::Cursor::new(&mut png), image::ImageFormat::Png)
         .map_err(|e| e.to_string())?;
     Ok(Some(png))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn record(method: &str, path: &str, core: &str, ram: u64, instructions: u64) -> Record {
+        Record {
+            scene: "teapot".into(),
+            method: method.into(),
+            path: path.into(),
+            core: core.into(),
+            width: 320,
+            height: 240,
+            triangles: 6320,
+            instructions,
+            ram_bytes: ram,
+            framebuffer_bytes: 0,
+            flash_bytes: 400_000,
+            display_bytes: 153_611,
+            differing_pixels: Some(0),
+            robust_errors: 0,
+            deterministic: true,
+        }
+    }
+
+    #[test]
+    fn plots_the_methods_of_one_scene() {
+        let records = [
+            record(
+                "peel-front-to-back",
+                "stream",
+                "cortex-m4f",
+                28_752,
+                15_717_120,
+            ),
+            record(
+                "peel-front-to-back",
+                "stream",
+                "cortex-m0plus",
+                29_320,
+                60_696_920,
+            ),
+            record(
+                "embedded-3dgfx",
+                "framebuffer",
+                "cortex-m4f",
+                456_636,
+                8_456_920,
+            ),
+            record(
+                "tiled-zbuffer",
+                "bands-20",
+                "cortex-m4f",
+                27_720,
+                46_829_040,
+            ),
+            // Not plotted: another path of Peel.
+            record(
+                "peel-front-to-back",
+                "framebuffer",
+                "cortex-m4f",
+                182_000,
+                16_000_000,
+            ),
+        ];
+        assert_eq!(plotted(&records[3], "teapot"), Some(3));
+        assert_eq!(plotted(&records[4], "teapot"), None);
+        assert_eq!(plotted(&records[0], "cow"), None);
+        let png = plot(&records, "teapot").unwrap().unwrap();
+        let image = image::load_from_memory(&png).unwrap();
+        assert_eq!((image.width(), image.height()), (900, 600));
+        assert!(plot(&records, "cow").unwrap().is_none());
+    }
 }

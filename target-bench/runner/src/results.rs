@@ -118,7 +118,7 @@ pub fn alternatives(records: &[Record], scenes: &[&str]) -> String {
                     grouped(r.instructions),
                     grouped(r.ram_bytes),
                     grouped(r.flash_bytes),
-                    r.robust_errors.to_string(),
+                    grouped(r.robust_errors),
                 ]));
             }
         }
