@@ -34,7 +34,7 @@ pub mod tools;
 pub mod tree;
 pub mod write;
 
-pub use builder::{Builder, Output};
+pub use builder::{spans, Builder, Output};
 pub use error::CompileError;
 
 /// The exact side-of-plane predicates, for the criterion benchmark (`benches/predicates.rs`).

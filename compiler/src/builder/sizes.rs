@@ -16,9 +16,26 @@ use peel_runtime::vertices::CachedVertex;
 /// back to front, with overdraw, and the same pixels.
 pub const RECOMMENDED_SPANS_PER_ROW: usize = 64;
 
+/// The span memory measured for an image size ([`super::spans::spans_per_row`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct MeasuredSpans {
+    /// Image width.
+    pub width: u32,
+    /// Image height.
+    pub height: u32,
+    /// The fewest intervals per row with which no frame of the orbit runs out.
+    pub per_row: usize,
+}
+
 /// The text of the sizes file of `header` (a `.peel` file of `bytes` bytes named `peel_name`,
-/// compiled from `source`).
-pub fn sizes_file(header: &Header, bytes: usize, peel_name: &str, source: &str) -> String {
+/// compiled from `source`), with the span memory measured for an image size if `spans`.
+pub fn sizes_file(
+    header: &Header,
+    bytes: usize,
+    peel_name: &str,
+    source: &str,
+    spans: Option<MeasuredSpans>,
+) -> String {
     // The names go into comments and string literals.
     let peel_name = &peel_name.escape_default().to_string();
     let source = &source.escape_default().to_string();
@@ -126,12 +143,37 @@ pub fn sizes_file(header: &Header, bytes: usize, peel_name: &str, source: &str) 
         ),
         format!("pub const VERTEX_MEMORY: usize = {vertex_memory};"),
     );
-    item(
-        "Span-memory intervals per row recommended for front-to-back rendering (the host's\n\
-         figure). Running out is not an error: the rest of the frame is painted back to front,\n\
-         with overdraw and the same pixels.",
-        format!("pub const SPANS_PER_ROW: usize = {RECOMMENDED_SPANS_PER_ROW};"),
-    );
+    match spans {
+        None => item(
+            "Span-memory intervals per row recommended for front-to-back rendering (the host's\n\
+             figure; `Builder::image_size` measures what the scene needs). Running out is not an\n\
+             error: the rest of the frame is painted back to front, with overdraw and the same\n\
+             pixels.",
+            format!("pub const SPANS_PER_ROW: usize = {RECOMMENDED_SPANS_PER_ROW};"),
+        ),
+        Some(MeasuredSpans {
+            width,
+            height,
+            per_row,
+        }) => {
+            item(
+                &format!(
+                    "Span-memory intervals per row this scene needs at {width}x{height}: the fewest\n\
+                     with which no frame of an orbit around it ({} cameras at elevations {:?}\n\
+                     degrees, the CLI's distance and field of view) runs out. A frame that runs\n\
+                     out is finished back to front: the same pixels, with overdraw (flicker on a\n\
+                     streamed panel) and more display writes.",
+                    super::spans::ORBIT_CAMERAS as usize * super::spans::ORBIT_ELEVATIONS.len(),
+                    super::spans::ORBIT_ELEVATIONS
+                ),
+                format!("pub const SPANS_PER_ROW: usize = {per_row};"),
+            );
+            item(
+                "The image size `SPANS_PER_ROW` was measured at.",
+                format!("pub const SPANS_MEASURED_AT: (u32, u32) = ({width}, {height});"),
+            );
+        }
+    }
     item(
         "Intervals per row that can never run out at `width`: each polygon covers one span of\n\
          a row, and a row holds at most `(width + 1) / 2` disjoint intervals.",

@@ -328,6 +328,31 @@ fn the_sizes_file_has_the_header_s_figures() {
 }
 
 #[test]
+fn an_image_size_measures_the_span_memory_of_an_orbit() {
+    let dir = tempfile::tempdir().unwrap();
+    let obj = write(dir.path(), "cube.obj", CUBE);
+    let out = builder(dir.path(), &obj)
+        .image_size(160, 120)
+        .compile()
+        .unwrap();
+    let bytes = fs::read(&out.peel).unwrap();
+    let want = spans::spans_per_row(&bytes, 160, 120).unwrap();
+    // A convex cube: a face or two beside another before they touch.
+    assert!((1..=3).contains(&want), "{want}");
+    let text = fs::read_to_string(&out.sizes).unwrap();
+    assert!(text.contains(&format!("pub const SPANS_PER_ROW: usize = {want};")));
+    assert!(text.contains("pub const SPANS_MEASURED_AT: (u32, u32) = (160, 120);"));
+    assert!(text.contains("no frame of an orbit"));
+    // From the cache, the same measurement.
+    let again = builder(dir.path(), &obj)
+        .image_size(160, 120)
+        .compile()
+        .unwrap();
+    assert!(again.from_cache);
+    assert_eq!(fs::read_to_string(&again.sizes).unwrap(), text);
+}
+
+#[test]
 fn a_default_colour_silences_the_warning_about_faces_without_material() {
     let dir = tempfile::tempdir().unwrap();
     let obj = write(dir.path(), "cube.obj", CUBE);

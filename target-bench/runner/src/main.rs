@@ -434,9 +434,11 @@ impl References {
                 robust.insert(variant.method(), errors);
             }
         }
-        let spans_per_row =
-            scenes::spans_per_row(&scene.peel_bytes, cameras, FOV_Y_DEG, (width, height))
-                .map_err(|e| format!("{}: {e}", scene.peel.display()))?;
+        // What the builder's sizes file gives firmware for this image size: an orbit that
+        // includes these cameras never falls back.
+        let spans_per_row = peel_compiler::spans::spans_per_row(&scene.peel_bytes, width, height)
+            .map_err(|e| format!("{}: {e}", scene.peel.display()))?
+            as u32;
         Ok(References {
             front_to_back: peel("front-to-back", Variant::FtbStream)?,
             back_to_front: peel("back-to-front", Variant::B2fFramebuffer)?,

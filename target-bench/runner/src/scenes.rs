@@ -10,11 +10,8 @@ use glam::{DVec3, Vec3};
 use peel_compiler::compile::{compile_mesh, CompileOptions};
 use peel_compiler::load::{load_obj, Mesh};
 use peel_compiler::tools::scenes;
-use peel_runtime::coverage::Coverage;
 use peel_runtime::read::Scene;
-use peel_runtime::render::{Renderer, Workspace};
-use peel_runtime::target::{Colour, SpanSink};
-use peel_target_kit::config::OrbitAngles;
+use peel_runtime::target::Colour;
 
 use crate::tools::Tools;
 
@@ -230,50 +227,6 @@ pub fn export_mesh(obj: &Path, peel_bytes: &[u8]) -> Result<Vec<u8>, String> {
             vertices.len()
         ))
     })
-}
-
-/// Span-memory intervals per row tried, smallest first.
-const SPANS_PER_ROW: [u32; 4] = [8, 16, 32, 64];
-
-/// A sink that draws nothing.
-struct Nowhere;
-
-impl SpanSink for Nowhere {
-    fn span(&mut self, _: u32, _: u32, _: u32, _: Colour) {}
-}
-
-/// The fewest span-memory intervals per row (of 8, 16, 32, 64) with which no frame of
-/// `cameras` runs out of span memory front to back, found on the host with the runtime
-/// itself (64 when none suffices: the firmware then reports the fallback, same pixels).
-pub fn spans_per_row(
-    peel_bytes: &[u8],
-    cameras: &[OrbitAngles],
-    fov_y_deg: f64,
-    (width, height): (u32, u32),
-) -> Result<u32, String> {
-    let scene = Scene::parse(peel_bytes).map_err(|e| e.to_string())?;
-    let header = scene.header();
-    let mut workspace: Box<Workspace<{ 1 << 14 }, 64>> = Box::default();
-    for per_row in SPANS_PER_ROW {
-        let mut intervals = vec![(0u16, 0u16); per_row as usize * height as usize];
-        let mut counts = vec![0u16; height as usize];
-        let mut enough = true;
-        for &angles in cameras {
-            let view = peel_target_kit::orbit_view(&header, angles, fov_y_deg, width, height)
-                .map_err(|e| e.to_string())?;
-            let coverage = Coverage::new(&mut intervals, &mut counts, width, height)
-                .map_err(|e| e.to_string())?;
-            let stats = Renderer::new(&mut workspace)
-                .span_memory(coverage)
-                .draw(&scene, &view, &mut Nowhere)
-                .map_err(|e| e.to_string())?;
-            enough &= !stats.fallback;
-        }
-        if enough {
-            return Ok(per_row);
-        }
-    }
-    Ok(SPANS_PER_ROW[SPANS_PER_ROW.len() - 1])
 }
 
 #[cfg(test)]

@@ -1,0 +1,136 @@
+//! The span memory a scene needs: the fewest intervals per row with which no frame of an
+//! orbit around the scene, at the image size firmware draws, runs out of span memory front to
+//! back. Running out is not an error, but the rest of that frame is painted back to front:
+//! with overdraw, which a panel streamed span by span shows as flicker, and more display
+//! writes. Firmware sized by this figure keeps every frame of the orbit front to back.
+
+use peel_runtime::camera::{Camera, Orbit, DEFAULT_FOV_Y_DEG};
+use peel_runtime::coverage::Coverage;
+use peel_runtime::read::Scene;
+use peel_runtime::render::{Renderer, Workspace};
+use peel_runtime::target::{Colour, SpanSink};
+
+/// Cameras of the orbit measured: azimuths 0, 15, ..., 345 degrees.
+pub const ORBIT_CAMERAS: u32 = 24;
+/// Their elevations, in degrees: the CLI's default view and a view from higher up.
+pub const ORBIT_ELEVATIONS: [f64; 2] = [20.0, 45.0];
+
+/// A sink that draws nothing.
+struct Nowhere;
+
+impl SpanSink for Nowhere {
+    fn span(&mut self, _: u32, _: u32, _: u32, _: Colour) {}
+}
+
+/// The fewest span-memory intervals per row (at least 1) with which no frame of the orbit
+/// ([`ORBIT_CAMERAS`] azimuths at each of [`ORBIT_ELEVATIONS`], the CLI's distance and field
+/// of view) of the scene `bytes` at `width x height` runs out; never more than the bound that
+/// can never run out (one interval per polygon, `(width + 1) / 2` in all).
+///
+/// # Errors
+/// A message for a scene that does not parse, an image size the renderer refuses, or a scene
+/// too deep for the measuring stack.
+pub fn spans_per_row(bytes: &[u8], width: u32, height: u32) -> Result<usize, String> {
+    let scene = Scene::parse(bytes).map_err(|e| e.to_string())?;
+    let header = scene.header();
+    let bound = (header.polygon_count as usize)
+        .min((width as usize).div_ceil(2))
+        .max(1);
+    let near = Camera::default_near(header.bounds_min, header.bounds_max);
+    let views = ORBIT_ELEVATIONS
+        .iter()
+        .flat_map(|&elevation_deg| {
+            (0..ORBIT_CAMERAS).map(move |k| Orbit {
+                azimuth_deg: 360.0 * f64::from(k) / f64::from(ORBIT_CAMERAS),
+                elevation_deg,
+                distance: Orbit::fitting_distance(DEFAULT_FOV_Y_DEG, width, height),
+            })
+        })
+        .map(|orbit| {
+            Camera::look_at(orbit.pose(&header), DEFAULT_FOV_Y_DEG, width, height, near)
+                .map(|c| c.view(header.centre))
+                .map_err(|e| e.to_string())
+        })
+        .collect::<Result<Vec<_>, String>>()?;
+    let mut workspace: Box<Workspace<{ 1 << 14 }, 64>> = Box::default();
+    let mut intervals = vec![(0u16, 0u16); bound * height as usize];
+    let mut counts = vec![0u16; height as usize];
+    let mut enough = |per_row: usize| -> Result<bool, String> {
+        for view in &views {
+            let coverage = Coverage::new(
+                &mut intervals[..per_row * height as usize],
+                &mut counts,
+                width,
+                height,
+            )
+            .map_err(|e| e.to_string())?;
+            let stats = Renderer::new(&mut workspace)
+                .span_memory(coverage)
+                .draw(&scene, view, &mut Nowhere)
+                .map_err(|e| e.to_string())?;
+            if stats.fallback {
+                return Ok(false);
+            }
+        }
+        Ok(true)
+    };
+    // Whether a frame runs out only shrinks as memory grows: bisect between 1 and the bound.
+    let (mut lo, mut hi) = (1, bound);
+    while lo < hi {
+        let mid = lo + (hi - lo) / 2;
+        if enough(mid)? {
+            hi = mid;
+        } else {
+            lo = mid + 1;
+        }
+    }
+    Ok(lo)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::compile::{compile_mesh, CompileOptions};
+    use crate::tools::scenes;
+
+    #[test]
+    fn the_fewest_that_never_run_out_over_the_orbit() {
+        let mesh = scenes::box_grid(3);
+        let (_, bytes) = compile_mesh(&mesh, &CompileOptions::default(), &|_| {}).unwrap();
+        let (w, h) = (96, 64);
+        let n = spans_per_row(&bytes, w, h).unwrap();
+        assert!(n >= 2, "a grid of boxes has rows of several intervals: {n}");
+        // With n no frame of the orbit falls back, with n - 1 one does.
+        let scene = Scene::parse(&bytes).unwrap();
+        let header = scene.header();
+        let near = Camera::default_near(header.bounds_min, header.bounds_max);
+        let mut workspace: Box<Workspace<{ 1 << 14 }, 64>> = Box::default();
+        let mut fallbacks = |per_row: usize| {
+            let mut intervals = vec![(0u16, 0u16); per_row * h as usize];
+            let mut counts = vec![0u16; h as usize];
+            let mut any = false;
+            for &elevation_deg in &ORBIT_ELEVATIONS {
+                for k in 0..ORBIT_CAMERAS {
+                    let orbit = Orbit {
+                        azimuth_deg: 360.0 * f64::from(k) / f64::from(ORBIT_CAMERAS),
+                        elevation_deg,
+                        distance: Orbit::fitting_distance(DEFAULT_FOV_Y_DEG, w, h),
+                    };
+                    let camera =
+                        Camera::look_at(orbit.pose(&header), DEFAULT_FOV_Y_DEG, w, h, near)
+                            .unwrap();
+                    let coverage = Coverage::new(&mut intervals, &mut counts, w, h).unwrap();
+                    any |= Renderer::new(&mut workspace)
+                        .span_memory(coverage)
+                        .draw(&scene, &camera.view(header.centre), &mut Nowhere)
+                        .unwrap()
+                        .fallback;
+                }
+            }
+            any
+        };
+        assert!(!fallbacks(n));
+        assert!(fallbacks(n - 1));
+        assert!(spans_per_row(&bytes[1..], w, h).is_err());
+    }
+}
