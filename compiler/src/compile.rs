@@ -54,23 +54,33 @@ pub fn compile_mesh(
     progress: &(dyn Fn(u64) + Sync),
 ) -> Result<(DisplayTree, Vec<u8>), CompileError> {
     let tree = build(mesh, &options.build, progress)?;
-    let colours: Vec<[u8; 3]> = tree
-        .polygons
-        .par_iter()
-        .map(|p| {
-            let kd = mesh.triangles[p.source as usize].colour;
-            options
-                .shading
-                .shade(kd, tree.planes[p.plane as usize].normal)
-        })
-        .collect();
+    let (colours, exterior) = bake(&tree, mesh, &options.shading);
     let input = crate::write::WriteInput {
         colours: &colours,
+        exterior: &exterior,
         ids: options.ids,
         wide_vertices: options.wide_vertices,
     };
     let bytes = crate::write::encode_with(&tree, &input)?;
     Ok((tree, bytes))
+}
+
+/// The colours of each polygon of `tree` (from `mesh`'s triangles): of its interior side and
+/// of its exterior side ([`Shading::sides`]).
+pub(crate) fn bake(
+    tree: &DisplayTree,
+    mesh: &Mesh,
+    shading: &Shading,
+) -> (Vec<[u8; 3]>, Vec<[u8; 3]>) {
+    tree.polygons
+        .par_iter()
+        .map(|p| {
+            let kd = mesh.triangles[p.source as usize].colour;
+            let normal = tree.planes[p.plane as usize].normal;
+            let sides = shading.sides(kd, normal, p.interior_front);
+            (sides.interior, sides.exterior)
+        })
+        .unzip()
 }
 
 /// Load and compile an OBJ file (nothing is written).

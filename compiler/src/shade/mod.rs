@@ -1,10 +1,12 @@
-//! Shade: bake two-sided Lambert lighting into each polygon's colour, so a one-colour mesh
-//! reads as 3D without any lighting work at run time.
+//! Shade: bake Lambert lighting into each polygon's colours, so a mesh reads as 3D without any
+//! lighting work at run time.
 //!
-//! `colour = Kd * (AMBIENT + (1 - AMBIENT) * |n · l|)`, rounded, with `n` the polygon's unit
-//! normal and `l` the unit direction towards the light ([`DEFAULT_LIGHT`] unless `--light`
-//! gives another). Two-sided: a face lit from behind is as bright as from the front, since
-//! faces are drawn from both sides.
+//! Each side of a face is lit on its own, as the side a viewer sees: with `n` the unit normal
+//! of the side (pointing to the eyes that see it) and `l` the unit direction towards the light
+//! ([`DEFAULT_LIGHT`] unless `--light` gives another), the side gets
+//! `Kd * (AMBIENT + (1 - AMBIENT) * max(n · l, 0))`, rounded: the side facing the light is
+//! lit, the other gets `Kd * AMBIENT`. Faces are drawn from both sides, so a polygon carries
+//! both colours ([`Sides`]) and the runtime shows the one of the side the eye is on.
 
 use glam::DVec3;
 
@@ -17,9 +19,9 @@ pub const AMBIENT: f64 = 0.3;
 /// How colours are baked.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Shading {
-    /// Keep the material colours as they are.
+    /// Keep the material colours as they are, on both sides.
     Flat,
-    /// Two-sided Lambert from a directional light (the direction towards the light).
+    /// Lambert from a directional light (the direction towards the light), each side on its own.
     Lambert(DVec3),
 }
 
@@ -29,16 +31,36 @@ impl Default for Shading {
     }
 }
 
+/// The colours of a polygon's two sides.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Sides {
+    /// Seen from its convex set's interior side.
+    pub interior: [u8; 3],
+    /// Seen from the other side.
+    pub exterior: [u8; 3],
+}
+
 impl Shading {
-    /// The baked colour of a face of material colour `kd` and unit normal `normal`.
+    /// The baked colour of the side of a face of material colour `kd` whose unit normal,
+    /// pointing to the eyes that see the side, is `normal`.
     pub fn shade(&self, kd: [u8; 3], normal: DVec3) -> [u8; 3] {
         match *self {
             Shading::Flat => kd,
             Shading::Lambert(light) => {
                 let l = light.normalize_or_zero();
-                let k = AMBIENT + (1.0 - AMBIENT) * normal.dot(l).abs().min(1.0);
+                let k = AMBIENT + (1.0 - AMBIENT) * normal.dot(l).clamp(0.0, 1.0);
                 kd.map(|c| (f64::from(c) * k).round().clamp(0.0, 255.0) as u8)
             }
+        }
+    }
+
+    /// Both sides of a face of material colour `kd` and unit normal `normal`, its interior on
+    /// the side `normal` points to when `interior_front` is set.
+    pub fn sides(&self, kd: [u8; 3], normal: DVec3, interior_front: bool) -> Sides {
+        let inward = if interior_front { normal } else { -normal };
+        Sides {
+            interior: self.shade(kd, inward),
+            exterior: self.shade(kd, -inward),
         }
     }
 }
@@ -48,20 +70,34 @@ mod tests {
     use super::*;
 
     #[test]
-    fn flat_keeps_material_colour() {
+    fn flat_keeps_material_colour_on_both_sides() {
         assert_eq!(Shading::Flat.shade([10, 20, 30], DVec3::X), [10, 20, 30]);
+        let sides = Shading::Flat.sides([10, 20, 30], DVec3::Y, true);
+        assert_eq!(sides.interior, [10, 20, 30]);
+        assert_eq!(sides.exterior, [10, 20, 30]);
     }
 
     #[test]
-    fn facing_the_light_is_full_colour_and_edge_on_is_ambient() {
+    fn the_side_facing_the_light_is_lit_and_the_other_is_ambient() {
         let s = Shading::Lambert(DVec3::Y);
         assert_eq!(s.shade([200, 100, 50], DVec3::Y), [200, 100, 50]);
-        assert_eq!(
-            s.shade([200, 100, 50], -DVec3::Y),
-            [200, 100, 50],
-            "two-sided"
-        );
-        assert_eq!(s.shade([200, 100, 50], DVec3::X), [60, 30, 15]);
+        assert_eq!(s.shade([200, 100, 50], -DVec3::Y), [60, 30, 15]);
+        assert_eq!(s.shade([200, 100, 50], DVec3::X), [60, 30, 15], "edge-on");
+        let slanted = s.shade([200, 100, 50], DVec3::new(0.0, 0.6, 0.8));
+        assert_eq!(slanted, [144, 72, 36], "Kd * (0.3 + 0.7 * 0.6)");
+    }
+
+    #[test]
+    fn sides_follow_the_interior() {
+        let s = Shading::Lambert(DVec3::Y);
+        let lit = [200, 100, 50];
+        let ambient = [60, 30, 15];
+        let up = s.sides(lit, DVec3::Y, true);
+        assert_eq!((up.interior, up.exterior), (lit, ambient));
+        let down = s.sides(lit, DVec3::Y, false);
+        assert_eq!((down.interior, down.exterior), (ambient, lit));
+        let flipped = s.sides(lit, -DVec3::Y, false);
+        assert_eq!(flipped, up, "the same face named by the opposite normal");
     }
 
     #[test]
@@ -70,6 +106,11 @@ mod tests {
         let top = s.shade([255, 255, 255], DVec3::Y)[0];
         let side = s.shade([255, 255, 255], DVec3::Z)[0];
         let other_side = s.shade([255, 255, 255], DVec3::X)[0];
-        assert!(top > side && side > other_side, "{top} {side} {other_side}");
+        let bottom = s.shade([255, 255, 255], -DVec3::Y)[0];
+        assert!(
+            top > side && side > other_side && other_side > bottom,
+            "{top} {side} {other_side} {bottom}"
+        );
+        assert_eq!(bottom, (255.0 * AMBIENT).round() as u8);
     }
 }

@@ -137,16 +137,10 @@ pub fn naive_bsp_file(
     // The same output pass as Peel's own trees: exact vertex sharing, T-junctions closed,
     // large polygons cut into convex pieces.
     let tree = to_display(&exact, &input, &BuildOptions::default());
-    let colours: Vec<[u8; 3]> = tree
-        .polygons
-        .iter()
-        .map(|p| {
-            let kd = mesh.triangles[p.source as usize].colour;
-            shading.shade(kd, tree.planes[p.plane as usize].normal)
-        })
-        .collect();
+    let (colours, exterior) = crate::compile::bake(&tree, mesh, shading);
     let input = WriteInput {
         colours: &colours,
+        exterior: &exterior,
         ids,
         ..WriteInput::default()
     };
