@@ -16,7 +16,7 @@ use peel_compiler::load::{load_obj, Mesh};
 use peel_compiler::shade::{Shading, AMBIENT};
 use peel_compiler::tools::raster::{render_bytes_with, Settings};
 use peel_compiler::tools::shot::Shot;
-use peel_e2e::{bounds, closed_sphere, mesh_closed_outward, reference};
+use peel_e2e::{bounds, closed_sphere, mesh_closed_outward, reference, shadowed};
 use peel_runtime::read::{Node, Scene};
 use peel_runtime::traverse::Order;
 
@@ -61,9 +61,11 @@ struct Compared {
     /// Robust pixels whose rendered id differs from the reference's, or whose colour is not
     /// that of the side seen.
     bad: usize,
-    /// Robust pixels whose colour was compared: their side seen faces the light (`lit`) or not.
+    /// Robust pixels whose colour was compared: their side seen faces the light (`lit`) or not,
+    /// and of the latter, those whose side faces the sun but is in shadow.
     lit: usize,
     unlit: usize,
+    shadowed: usize,
     /// Robust pixels (compared).
     robust: usize,
     /// Pixels where the reference sees a triangle.
@@ -82,6 +84,19 @@ fn compare(
     shot: &Shot,
     settings: &Settings,
 ) -> Compared {
+    compare_lit(mesh, bytes, polys, shot, settings, None)
+}
+
+/// [`compare`] for a file compiled with the default shading (`sun` `None`), or lit by a sun
+/// in direction `sun` and with its shadows: a side facing it in shadow is `Kd * AMBIENT`.
+fn compare_lit(
+    mesh: &Mesh,
+    bytes: &[u8],
+    polys: &[Vec<DVec3>],
+    shot: &Shot,
+    settings: &Settings,
+    sun: Option<DVec3>,
+) -> Compared {
     let frame = render_bytes_with(
         bytes,
         shot,
@@ -94,7 +109,11 @@ fn compare(
     let near = shot.near_over(&Scene::parse(bytes).unwrap().header());
     let tris: Vec<[DVec3; 3]> = mesh.triangles.iter().map(|t| t.vertices).collect();
     let r = reference(&tris, polys, shot, near);
-    let shading = CompileOptions::default().shading;
+    let shading = sun.map_or(CompileOptions::default().shading, Shading::Lambert);
+    let shadowed = match sun {
+        Some(sun) => shadowed(&r, &tris, shot, near, sun),
+        None => vec![false; r.ids.len()],
+    };
     let mut lighting = r.clone();
     lighting.exclude_grazing_light(&tris, &shading);
     let colours = render_bytes_with(bytes, shot, settings).expect("render");
@@ -104,10 +123,16 @@ fn compare(
             continue;
         };
         let kd = mesh.triangles[r.ids[k] as usize - 1].colour;
-        let want = shading.shade(kd, normal);
+        let ambient = kd.map(|v| (f64::from(v) * AMBIENT).round() as u8);
+        let want = if shadowed[k] {
+            c.shadowed += 1;
+            ambient
+        } else {
+            shading.shade(kd, normal)
+        };
         let p = colours.pixels[k];
         let got = [(p >> 16) as u8, (p >> 8) as u8, p as u8];
-        if want == kd.map(|v| (f64::from(v) * AMBIENT).round() as u8) {
+        if want == ambient {
             c.unlit += 1;
         } else {
             c.lit += 1;
@@ -291,6 +316,81 @@ fn fixtures_match_the_ray_caster() {
         let (lit, unlit) = check_scene(name, &mesh, &[], splits);
         // Not vacuous: the cameras see sides facing the light and sides turned away.
         assert!(lit > 100 && unlit > 100, "{name}: {lit} lit, {unlit} unlit");
+    }
+}
+
+/// Shadows from a sun: every robust pixel shows its side seen lit, turned away or in shadow
+/// as the reference's rays say, in both orders and with culling on and off, from cameras
+/// around, inside and close to the scene: a box above a plane, a box sunk into it, boxes
+/// that interpenetrate, and the demo scene, under suns from several directions.
+#[test]
+fn shadows_match_the_ray_caster() {
+    use peel_compiler::tools::scenes;
+    let ground = |t: &mut Vec<[DVec3; 3]>, y: f64| {
+        let c =
+            [(-2.0, -2.0), (2.0, -2.0), (2.0, 2.0), (-2.0, 2.0)].map(|(x, z)| DVec3::new(x, y, z));
+        t.push([c[0], c[2], c[1]]);
+        t.push([c[0], c[3], c[2]]);
+    };
+    let mut above = Vec::new();
+    ground(&mut above, 0.0);
+    scenes::boxed(
+        &mut above,
+        DVec3::new(-0.5, 0.3, -0.4),
+        DVec3::new(0.4, 1.2, 0.5),
+    );
+    let mut sunk = Vec::new();
+    ground(&mut sunk, 0.0);
+    scenes::boxed(
+        &mut sunk,
+        DVec3::new(-0.3, -0.4, -0.6),
+        DVec3::new(0.6, 0.8, 0.2),
+    );
+    let meshes = [
+        ("box above a plane", scenes::mesh(above)),
+        ("box sunk into a plane", scenes::mesh(sunk)),
+        (
+            "interpenetrating_boxes.obj",
+            load_obj(&fixture("interpenetrating_boxes.obj")).unwrap(),
+        ),
+        ("demo.obj", load_obj(&fixture("demo.obj")).unwrap()),
+    ];
+    let suns = [
+        DVec3::new(0.4, 0.8, 0.45),
+        DVec3::new(-0.9, 0.5, 0.2),
+        DVec3::new(0.1, 0.6, -0.8),
+    ];
+    for (name, mesh) in &meshes {
+        let (lo, hi) = bounds(mesh);
+        let mut in_shadow = 0;
+        for sun in suns {
+            let options = CompileOptions {
+                ids: true,
+                shading: Shading::Lambert(sun),
+                build: peel_compiler::tree::BuildOptions {
+                    shadows: Some(sun),
+                    ..Default::default()
+                },
+                ..CompileOptions::default()
+            };
+            let bytes = compile_mesh(mesh, &options, &|_| {}).expect("compile").1;
+            let polys = polygons(&bytes);
+            for (k, shot) in cameras(lo, hi).iter().enumerate() {
+                for settings in all_settings() {
+                    let c = compare_lit(mesh, &bytes, &polys, shot, &settings, Some(sun));
+                    assert_eq!(
+                        c.bad, 0,
+                        "{name}, sun {sun}, camera {k} ({shot:?}), {settings:?}: {c:?}"
+                    );
+                    in_shadow += c.shadowed;
+                }
+            }
+        }
+        // Not vacuous: every scene casts shadows the cameras see.
+        assert!(
+            in_shadow > 100,
+            "{name}: {in_shadow} pixels in shadow compared"
+        );
     }
 }
 

@@ -66,7 +66,8 @@ pub fn compile_mesh(
 }
 
 /// The colours of each polygon of `tree` (from `mesh`'s triangles): of its interior side and
-/// of its exterior side ([`Shading::sides`]).
+/// of its exterior side ([`Shading::sides`], or [`Shading::in_shadow`] for a polygon in
+/// shadow).
 pub(crate) fn bake(
     tree: &DisplayTree,
     mesh: &Mesh,
@@ -77,7 +78,11 @@ pub(crate) fn bake(
         .map(|p| {
             let kd = mesh.triangles[p.source as usize].colour;
             let normal = tree.planes[p.plane as usize].normal;
-            let sides = shading.sides(kd, normal, p.interior_front);
+            let sides = if p.shadowed {
+                shading.in_shadow(kd)
+            } else {
+                shading.sides(kd, normal, p.interior_front)
+            };
             (sides.interior, sides.exterior)
         })
         .unzip()

@@ -79,12 +79,16 @@ struct CompileArgs {
     /// Larger output polygons are split into convex pieces.
     #[arg(long, default_value_t = BuildOptions::default().max_polygon_vertices)]
     max_polygon_vertices: usize,
-    /// Direction towards the light for the baked two-sided Lambert shading.
+    /// Direction towards the light (a sun) for the baked Lambert shading.
     #[arg(long, value_parser = cli::parse_dvec3, allow_hyphen_values = true)]
     light: Option<DVec3>,
     /// Keep the raw material colours (no shading).
     #[arg(long, conflicts_with = "light")]
     flat: bool,
+    /// Cast shadows from the light: polygons are cut along them, their parts in shadow get
+    /// the ambient colour.
+    #[arg(long, conflicts_with = "flat")]
+    shadows: bool,
     /// Also write the statistics as JSON to this file.
     #[arg(long)]
     stats_json: Option<PathBuf>,
@@ -110,11 +114,13 @@ fn main() -> ExitCode {
 }
 
 fn compile(args: &CompileArgs) -> Result<(), String> {
+    let light = args.light.unwrap_or(DEFAULT_LIGHT);
     let options = CompileOptions {
         build: BuildOptions {
             candidates: args.candidates,
             seed: args.seed,
             max_polygon_vertices: args.max_polygon_vertices,
+            shadows: args.shadows.then_some(light),
             ..BuildOptions::default()
         },
         ids: args.ids,
@@ -122,7 +128,7 @@ fn compile(args: &CompileArgs) -> Result<(), String> {
         shading: if args.flat {
             Shading::Flat
         } else {
-            Shading::Lambert(args.light.unwrap_or(DEFAULT_LIGHT))
+            Shading::Lambert(light)
         },
         ..CompileOptions::default()
     };

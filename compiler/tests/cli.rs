@@ -429,6 +429,38 @@ fn compile_bakes_shading_unless_flat_and_light_moves_it() {
 }
 
 #[test]
+fn compile_casts_shadows_from_the_light() {
+    let dir = tempfile::tempdir().unwrap();
+    let one_colour = |polygons: &[[[u8; 3]; 2]]| polygons.iter().filter(|[a, b]| a == b).count();
+    for light in [None, Some("--light=-0.9,0.5,0.2")] {
+        let extra: Vec<&str> = light.into_iter().collect();
+        let lit = compile_demo(dir.path(), "lit.peel", &extra);
+        let with = [extra.clone(), vec!["--shadows"]].concat();
+        let shadows = compile_demo(dir.path(), "shadows.peel", &with);
+        // Cut along the shadows; the parts in shadow have one colour, the ambient one.
+        assert!(
+            shadows.len() > lit.len(),
+            "{light:?}: {} polygons",
+            shadows.len()
+        );
+        assert!(
+            one_colour(&shadows) > one_colour(&lit),
+            "{light:?}: no polygon in shadow"
+        );
+    }
+    let o = peel(&[
+        "compile",
+        &fixture("demo.obj"),
+        "-o",
+        s(&dir.path().join("x.peel")),
+        "--shadows",
+        "--flat",
+    ]);
+    assert!(!o.status.success(), "--shadows needs a light");
+    assert!(String::from_utf8_lossy(&o.stderr).contains("--flat"));
+}
+
+#[test]
 fn the_demo_scene_needs_split_nodes() {
     let dir = tempfile::tempdir().unwrap();
     // `peel demo` compiles the copy of fixtures/demo.obj built into the binary.

@@ -39,6 +39,8 @@ pub struct Builder {
     out_dir: Option<PathBuf>,
     out_name: Option<String>,
     options: CompileOptions,
+    /// Shadows cast from the shading's light ([`Builder::shadows`]).
+    shadows: bool,
     cache: bool,
     cache_dir: Option<PathBuf>,
 }
@@ -79,6 +81,7 @@ impl Builder {
             out_dir: None,
             out_name: None,
             options: CompileOptions::default(),
+            shadows: false,
             cache: true,
             cache_dir: None,
         }
@@ -125,6 +128,19 @@ impl Builder {
     /// How colours are baked.
     pub fn shading(mut self, shading: Shading) -> Self {
         self.options.shading = shading;
+        let on = self.shadows;
+        self.shadows(on)
+    }
+
+    /// Cast shadows from the shading's light, a sun (`peel compile --shadows`): polygons are
+    /// cut along the shadows and the parts in shadow get the ambient colour. Nothing to cast
+    /// with [`Shading::Flat`].
+    pub fn shadows(mut self, on: bool) -> Self {
+        self.shadows = on;
+        self.options.build.shadows = match self.options.shading {
+            Shading::Lambert(light) if on => Some(light),
+            _ => None,
+        };
         self
     }
 

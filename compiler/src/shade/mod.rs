@@ -54,6 +54,16 @@ impl Shading {
         }
     }
 
+    /// Both sides of a face of material colour `kd` in shadow: the ambient part of `kd` (or
+    /// `kd` itself when [`Shading::Flat`]).
+    pub fn in_shadow(&self, kd: [u8; 3]) -> Sides {
+        let ambient = self.shade(kd, DVec3::ZERO);
+        Sides {
+            interior: ambient,
+            exterior: ambient,
+        }
+    }
+
     /// Both sides of a face of material colour `kd` and unit normal `normal`, its interior on
     /// the side `normal` points to when `interior_front` is set.
     pub fn sides(&self, kd: [u8; 3], normal: DVec3, interior_front: bool) -> Sides {

@@ -71,7 +71,7 @@ fn split_all(
 
 /// The naive BSP of `mesh`.
 pub fn naive_bsp(mesh: &Mesh) -> Result<BaselineStats, CompileError> {
-    match naive_walk(&prepare(mesh)?, u64::MAX, None)? {
+    match naive_walk(&prepare(mesh, None)?, u64::MAX, None)? {
         Walk::Done(stats) | Walk::OverBudget(stats) => Ok(stats),
     }
 }
@@ -123,7 +123,7 @@ pub fn naive_bsp_file(
     ids: bool,
     shading: &Shading,
 ) -> Result<NaiveBsp, CompileError> {
-    let input = prepare(mesh)?;
+    let input = prepare(mesh, None)?;
     let mut exact = ExactTree::default();
     let stats = match naive_walk(&input, max_polygons, Some(&mut exact))? {
         Walk::Done(stats) => stats,
@@ -260,7 +260,7 @@ pub fn greedy_triangles(
     candidates: usize,
     seed: u64,
 ) -> Result<BaselineStats, CompileError> {
-    let input = prepare(mesh)?;
+    let input = prepare(mesh, None)?;
     let table = &input.table;
     let mut stats = BaselineStats {
         input_triangles: input.input_triangles,

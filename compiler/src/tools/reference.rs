@@ -157,6 +157,49 @@ pub fn reference(
     Reference { ids, front, robust }
 }
 
+/// Per pixel of `seen` (the [`reference`] of `triangles` for `shot` and `near`): whether the
+/// point its ray hits is in shadow from a sun in direction `towards` (as the compiler casts
+/// shadows, along [`crate::shadow::sun_direction`]), the side seen facing the sun: the ray from
+/// that point towards the sun meets another triangle. A pixel near a shadow's boundary is one
+/// near a compiled polygon's edge (the compiler cuts polygons there), which `seen` marks.
+pub fn shadowed(
+    seen: &Reference,
+    triangles: &[[DVec3; 3]],
+    shot: &Shot,
+    near: f64,
+    towards: DVec3,
+) -> Vec<bool> {
+    let cam = &Lens::new(shot, near);
+    let Some(l) = crate::shadow::sun_direction(towards) else {
+        return vec![false; seen.ids.len()];
+    };
+    let l = DVec3::new(l[0] as f64, l[1] as f64, l[2] as f64).normalize();
+    let w = cam.width as usize;
+    (0..seen.ids.len())
+        .map(|k| {
+            let Some(n) = seen.seen_normal(triangles, k) else {
+                return false;
+            };
+            if n.dot(l) <= 0.0 {
+                return false; // turned away from the sun: unlit anyway
+            }
+            let id = seen.ids[k] as usize - 1;
+            let (i, j) = ((k % w) as f64, (k / w) as f64);
+            let dir = cam.f + ((i + 0.5 - f64::from(cam.width) / 2.0) / cam.fpx) * cam.r
+                - ((j + 0.5 - f64::from(cam.height) / 2.0) / cam.fpx) * cam.u;
+            let Some(t) = ray_triangle(cam.eye, dir, &triangles[id]) else {
+                return false;
+            };
+            let p = cam.eye + dir * t;
+            // Hits at the point itself (a neighbour sharing its edge) are not shadows.
+            let scale = p.abs().max_element().max(1.0);
+            (triangles.iter().enumerate()).any(|(other, tri)| {
+                other != id && ray_triangle(p, l, tri).is_some_and(|s| s > 1e-9 * scale)
+            })
+        })
+        .collect()
+}
+
 /// Pixel range (`x0..x1`, `y0..y1`) that may see the camera-space polygon `c`.
 fn screen_bbox(cam: &Lens, c: &[DVec3]) -> Option<(usize, usize, usize, usize)> {
     if c.iter().all(|p| p.z < cam.near) {

@@ -50,7 +50,7 @@ pub(crate) fn bumpy_sphere(rings: usize, segments: usize, radii: &[f64]) -> Mesh
 }
 
 fn exact(mesh: &Mesh, options: &BuildOptions) -> (Input, ExactTree) {
-    let input = prepare(mesh).unwrap();
+    let input = prepare(mesh, options.shadows).unwrap();
     let tree = build_exact(&input, options, &|_| {}).unwrap();
     (input, tree)
 }

@@ -23,6 +23,7 @@ fn polygon(
         interior_front,
         vertices: vertices.to_vec(),
         source,
+        shadowed: false,
     }
 }
 
