@@ -14,6 +14,7 @@ use glam::DVec3;
 use peel_compiler::compile::{compile_mesh, CompileOptions};
 use peel_compiler::load::{load_obj, Mesh};
 use peel_compiler::shade::{Shading, AMBIENT};
+use peel_compiler::shadow::Light;
 use peel_compiler::tools::raster::{render_bytes_with, Settings};
 use peel_compiler::tools::shot::Shot;
 use peel_e2e::{bounds, closed_sphere, mesh_closed_outward, reference, shadowed};
@@ -87,15 +88,17 @@ fn compare(
     compare_lit(mesh, bytes, polys, shot, settings, None)
 }
 
-/// [`compare`] for a file compiled with the default shading (`sun` `None`), or lit by a sun
-/// in direction `sun` and with its shadows: a side facing it in shadow is `Kd * AMBIENT`.
+/// [`compare`] for a file compiled with the default shading (`shadows` `None`), or with
+/// `shadows`, the shading whose light cast its shadows: a side facing it in shadow is
+/// `Kd * AMBIENT`. A point light's colours are baked at each polygon's centroid, so there only
+/// lit or not (`Kd * AMBIENT`) is compared.
 fn compare_lit(
     mesh: &Mesh,
     bytes: &[u8],
     polys: &[Vec<DVec3>],
     shot: &Shot,
     settings: &Settings,
-    sun: Option<DVec3>,
+    shadows: Option<Shading>,
 ) -> Compared {
     let frame = render_bytes_with(
         bytes,
@@ -109,13 +112,14 @@ fn compare_lit(
     let near = shot.near_over(&Scene::parse(bytes).unwrap().header());
     let tris: Vec<[DVec3; 3]> = mesh.triangles.iter().map(|t| t.vertices).collect();
     let r = reference(&tris, polys, shot, near);
-    let shading = sun.map_or(CompileOptions::default().shading, Shading::Lambert);
-    let shadowed = match sun {
-        Some(sun) => shadowed(&r, &tris, shot, near, sun),
+    let shading = shadows.unwrap_or(CompileOptions::default().shading);
+    let shadowed = match shading.light().filter(|_| shadows.is_some()) {
+        Some(light) => shadowed(&r, &tris, shot, near, light),
         None => vec![false; r.ids.len()],
     };
+    let exact = !matches!(shading, Shading::Point(_));
     let mut lighting = r.clone();
-    lighting.exclude_grazing_light(&tris, &shading);
+    lighting.exclude_grazing_light(&tris, shot, near, &shading);
     let colours = render_bytes_with(bytes, shot, settings).expect("render");
     let mut c = Compared::default();
     for k in (0..r.ids.len()).filter(|&k| lighting.robust[k]) {
@@ -128,7 +132,10 @@ fn compare_lit(
             c.shadowed += 1;
             ambient
         } else {
-            shading.shade(kd, normal)
+            let at = r
+                .hit_point(&tris, shot, near, k)
+                .expect("a pixel on a triangle");
+            shading.shade_at(kd, normal, at)
         };
         let p = colours.pixels[k];
         let got = [(p >> 16) as u8, (p >> 8) as u8, p as u8];
@@ -137,7 +144,12 @@ fn compare_lit(
         } else {
             c.lit += 1;
         }
-        if (0..3).any(|i| got[i].abs_diff(want[i]) > 1) {
+        let wrong = if exact {
+            (0..3).any(|i| got[i].abs_diff(want[i]) > 1)
+        } else {
+            (got == ambient) != (want == ambient)
+        };
+        if wrong {
             c.bad += 1;
             if c.bad <= 5 {
                 eprintln!(
@@ -368,7 +380,7 @@ fn shadows_match_the_ray_caster() {
                 ids: true,
                 shading: Shading::Lambert(sun),
                 build: peel_compiler::tree::BuildOptions {
-                    shadows: Some(sun),
+                    shadows: Some(Light::Sun(sun)),
                     ..Default::default()
                 },
                 ..CompileOptions::default()
@@ -377,7 +389,8 @@ fn shadows_match_the_ray_caster() {
             let polys = polygons(&bytes);
             for (k, shot) in cameras(lo, hi).iter().enumerate() {
                 for settings in all_settings() {
-                    let c = compare_lit(mesh, &bytes, &polys, shot, &settings, Some(sun));
+                    let lit = Some(Shading::Lambert(sun));
+                    let c = compare_lit(mesh, &bytes, &polys, shot, &settings, lit);
                     assert_eq!(
                         c.bad, 0,
                         "{name}, sun {sun}, camera {k} ({shot:?}), {settings:?}: {c:?}"
@@ -392,6 +405,121 @@ fn shadows_match_the_ray_caster() {
             "{name}: {in_shadow} pixels in shadow compared"
         );
     }
+}
+
+/// The teapot of the shared models (skipped when they are absent) shadows itself: the spout,
+/// the handle and the lid cast shadows on the body. Every robust pixel shows its side seen
+/// lit, turned away or in shadow, in both orders, with culling on and off.
+#[test]
+fn the_teapot_shadows_itself() {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/models/teapot.obj");
+    if !path.is_file() {
+        println!("skipping: the shared models are absent");
+        return;
+    }
+    let mesh = load_obj(&path).expect("the teapot loads");
+    let sun = DVec3::new(0.4, 0.8, 0.45);
+    let options = CompileOptions {
+        ids: true,
+        shading: Shading::Lambert(sun),
+        build: peel_compiler::tree::BuildOptions {
+            shadows: Some(Light::Sun(sun)),
+            ..Default::default()
+        },
+        ..CompileOptions::default()
+    };
+    let bytes = compile_mesh(&mesh, &options, &|_| {}).expect("compile").1;
+    let polys = polygons(&bytes);
+    let (lo, hi) = bounds(&mesh);
+    let mut in_shadow = 0;
+    // Large enough images for pixels away from the small triangles' edges.
+    let shots = cameras(lo, hi)
+        .into_iter()
+        .take(8)
+        .step_by(3)
+        .map(|s| Shot {
+            width: 320,
+            height: 240,
+            ..s
+        });
+    for (k, shot) in shots.enumerate() {
+        let shot = &shot;
+        for settings in all_settings() {
+            let lit = Some(Shading::Lambert(sun));
+            let c = compare_lit(&mesh, &bytes, &polys, shot, &settings, lit);
+            assert_eq!(c.bad, 0, "camera {k} ({shot:?}), {settings:?}: {c:?}");
+            in_shadow += c.shadowed;
+        }
+    }
+    assert!(in_shadow > 100, "{in_shadow} pixels in shadow compared");
+}
+
+/// A point light inside a room-like open box (a floor and four walls, no ceiling) with a
+/// floating box and a pillar: every robust pixel is lit or not (`Kd * AMBIENT`) as the
+/// reference's segments to the light say, in both orders, with culling on and off, from
+/// cameras around, inside and close to it.
+#[test]
+fn a_point_light_in_a_room_matches_the_ray_caster() {
+    use peel_compiler::tools::scenes;
+    let v = DVec3::new;
+    let quad = |t: &mut Vec<[DVec3; 3]>, c: [DVec3; 4]| {
+        t.push([c[0], c[1], c[2]]);
+        t.push([c[0], c[2], c[3]]);
+    };
+    let mut room = Vec::new();
+    let (s, h) = (2.0, 2.0);
+    quad(
+        &mut room,
+        [v(-s, 0.0, -s), v(-s, 0.0, s), v(s, 0.0, s), v(s, 0.0, -s)],
+    );
+    quad(
+        &mut room,
+        [v(-s, 0.0, -s), v(s, 0.0, -s), v(s, h, -s), v(-s, h, -s)],
+    );
+    quad(
+        &mut room,
+        [v(-s, 0.0, s), v(-s, h, s), v(s, h, s), v(s, 0.0, s)],
+    );
+    quad(
+        &mut room,
+        [v(-s, 0.0, -s), v(-s, h, -s), v(-s, h, s), v(-s, 0.0, s)],
+    );
+    quad(
+        &mut room,
+        [v(s, 0.0, -s), v(s, 0.0, s), v(s, h, s), v(s, h, -s)],
+    );
+    scenes::boxed(&mut room, v(-0.9, 0.3, -0.5), v(0.2, 0.9, 0.6));
+    scenes::boxed(&mut room, v(0.7, -0.2, 0.6), v(1.0, 1.4, 0.9));
+    let mesh = scenes::mesh(room);
+    let (lo, hi) = bounds(&mesh);
+    let mut in_shadow = 0;
+    for light in [v(0.6, 1.8, -0.7), v(-1.5, 1.2, 1.4)] {
+        let shading = Shading::Point(light);
+        let options = CompileOptions {
+            ids: true,
+            shading,
+            build: peel_compiler::tree::BuildOptions {
+                shadows: shading.light(),
+                ..Default::default()
+            },
+            ..CompileOptions::default()
+        };
+        let bytes = compile_mesh(&mesh, &options, &|_| {}).expect("compile").1;
+        let polys = polygons(&bytes);
+        let mut shots = cameras(lo, hi);
+        shots.push(Shot::new(v(-1.2, 1.5, -1.3), v(0.5, 0.0, 0.8), 96, 72));
+        for (k, shot) in shots.iter().enumerate() {
+            for settings in all_settings() {
+                let c = compare_lit(&mesh, &bytes, &polys, shot, &settings, Some(shading));
+                assert_eq!(
+                    c.bad, 0,
+                    "light {light}, camera {k} ({shot:?}), {settings:?}: {c:?}"
+                );
+                in_shadow += c.shadowed;
+            }
+        }
+    }
+    assert!(in_shadow > 100, "{in_shadow} pixels in shadow compared");
 }
 
 /// The colour at the centre of a 9x9 image of `bytes` seen from `eye` towards `target`.

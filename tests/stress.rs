@@ -11,6 +11,7 @@ use std::time::Instant;
 use glam::{DMat3, DVec3};
 use peel_compiler::compile::{compile_mesh, CompileOptions};
 use peel_compiler::load::{load_obj, Mesh};
+use peel_compiler::shadow::Light;
 use peel_compiler::tools::raster::render_bytes;
 use peel_compiler::tools::scenes::{self, SplitMix};
 use peel_compiler::tools::shot::Shot;
@@ -251,7 +252,7 @@ fn shadows_keep_meshes_watertight_and_trees_valid() {
     for (name, mesh) in closed_meshes() {
         let sun = sun();
         let options = BuildOptions {
-            shadows: Some(sun),
+            shadows: Some(Light::Sun(sun)),
             ..BuildOptions::default()
         };
         let o = run_with(
@@ -274,7 +275,7 @@ fn shadows_keep_meshes_watertight_and_trees_valid() {
     for seed in 0..4 {
         let sun = sun();
         let options = BuildOptions {
-            shadows: Some(sun),
+            shadows: Some(Light::Sun(sun)),
             ..BuildOptions::default()
         };
         let soup = scenes::soup(60, 0.5, seed);

@@ -4,6 +4,7 @@
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
+use glam::DVec3;
 use rayon::prelude::*;
 
 use crate::error::CompileError;
@@ -81,7 +82,9 @@ pub(crate) fn bake(
             let sides = if p.shadowed {
                 shading.in_shadow(kd)
             } else {
-                shading.sides(kd, normal, p.interior_front)
+                let sum: DVec3 = p.vertices.iter().map(|&v| tree.vertices[v as usize]).sum();
+                let centroid = tree.centre + sum / p.vertices.len().max(1) as f64;
+                shading.sides(kd, normal, p.interior_front, centroid)
             };
             (sides.interior, sides.exterior)
         })

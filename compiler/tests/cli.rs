@@ -432,7 +432,11 @@ fn compile_bakes_shading_unless_flat_and_light_moves_it() {
 fn compile_casts_shadows_from_the_light() {
     let dir = tempfile::tempdir().unwrap();
     let one_colour = |polygons: &[[[u8; 3]; 2]]| polygons.iter().filter(|[a, b]| a == b).count();
-    for light in [None, Some("--light=-0.9,0.5,0.2")] {
+    for light in [
+        None,
+        Some("--light=-0.9,0.5,0.2"),
+        Some("--point-light=0.5,2.5,0.5"),
+    ] {
         let extra: Vec<&str> = light.into_iter().collect();
         let lit = compile_demo(dir.path(), "lit.peel", &extra);
         let with = [extra.clone(), vec!["--shadows"]].concat();
@@ -458,6 +462,19 @@ fn compile_casts_shadows_from_the_light() {
     ]);
     assert!(!o.status.success(), "--shadows needs a light");
     assert!(String::from_utf8_lossy(&o.stderr).contains("--flat"));
+    let o = peel(&[
+        "compile",
+        &fixture("demo.obj"),
+        "-o",
+        s(&dir.path().join("x.peel")),
+        "--shadows",
+        "--point-light=0,1e6,0",
+    ]);
+    assert!(
+        !o.status.success(),
+        "a point light too far for exact shadows"
+    );
+    assert!(String::from_utf8_lossy(&o.stderr).contains("use a sun"));
 }
 
 #[test]

@@ -38,6 +38,7 @@ use crate::compile::CompileOptions;
 use crate::error::CompileError;
 use crate::load::LoadOptions;
 use crate::shade::Shading;
+use crate::shadow::Light;
 use crate::tree::BuildOptions;
 
 /// The environment variable that sets the cache folder.
@@ -209,12 +210,20 @@ pub fn encode_options(options: &CompileOptions, out: &mut Vec<u8>) {
             out.push(1);
             direction(out, light);
         }
+        Shading::Point(at) => {
+            out.push(2);
+            direction(out, at);
+        }
     }
     match shadows {
         None => out.push(0),
-        Some(sun) => {
+        Some(Light::Sun(sun)) => {
             out.push(1);
             direction(out, sun);
+        }
+        Some(Light::Point(at)) => {
+            out.push(2);
+            direction(out, at);
         }
     }
 }

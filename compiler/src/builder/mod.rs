@@ -132,15 +132,12 @@ impl Builder {
         self.shadows(on)
     }
 
-    /// Cast shadows from the shading's light, a sun (`peel compile --shadows`): polygons are
-    /// cut along the shadows and the parts in shadow get the ambient colour. Nothing to cast
-    /// with [`Shading::Flat`].
+    /// Cast shadows from the shading's light, a sun or a point light (`peel compile
+    /// --shadows`): polygons are cut along the shadows and the parts in shadow get the ambient
+    /// colour. Nothing to cast with [`Shading::Flat`].
     pub fn shadows(mut self, on: bool) -> Self {
         self.shadows = on;
-        self.options.build.shadows = match self.options.shading {
-            Shading::Lambert(light) if on => Some(light),
-            _ => None,
-        };
+        self.options.build.shadows = self.options.shading.light().filter(|_| on);
         self
     }
 

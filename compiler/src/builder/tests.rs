@@ -4,6 +4,7 @@
 use super::cache::{self, Key, Miss};
 use super::*;
 use crate::compile::compile_obj;
+use crate::shadow::Light;
 use peel_runtime::read::Scene;
 use std::fs;
 
@@ -358,8 +359,10 @@ fn shadows_are_cast_from_the_shading_light_whatever_the_order() {
     let light = Shading::Lambert(sun);
     let a = Builder::new("x.obj").shadows(true).shading(light);
     let b = Builder::new("x.obj").shading(light).shadows(true);
-    assert_eq!(a.options.build.shadows, Some(sun));
-    assert_eq!(b.options.build.shadows, Some(sun));
+    assert_eq!(a.options.build.shadows, Some(Light::Sun(sun)));
+    assert_eq!(b.options.build.shadows, Some(Light::Sun(sun)));
+    let point = b.clone().shading(Shading::Point(sun));
+    assert_eq!(point.options.build.shadows, Some(Light::Point(sun)));
     let flat = Builder::new("x.obj").shadows(true).shading(Shading::Flat);
     assert_eq!(flat.options.build.shadows, None, "nothing to cast");
     let off = b.shadows(false);

@@ -3,10 +3,13 @@
 //!
 //! Each side of a face is lit on its own, as the side a viewer sees: with `n` the unit normal
 //! of the side (pointing to the eyes that see it) and `l` the unit direction towards the light
-//! ([`DEFAULT_LIGHT`] unless `--light` gives another), the side gets
+//! (a sun, [`DEFAULT_LIGHT`] unless `--light` gives another, or a point light), the side gets
 //! `Kd * (AMBIENT + (1 - AMBIENT) * max(n · l, 0))`, rounded: the side facing the light is
 //! lit, the other gets `Kd * AMBIENT`. Faces are drawn from both sides, so a polygon carries
-//! both colours ([`Sides`]) and the runtime shows the one of the side the eye is on.
+//! both colours ([`Sides`]) and the runtime shows the one of the side the eye is on. A point
+//! light's direction varies across a polygon: it is taken at the polygon's centroid, so every
+//! polygon keeps one colour per side (which side faces a point light is the same over a whole
+//! plane).
 
 use glam::DVec3;
 
@@ -23,6 +26,8 @@ pub enum Shading {
     Flat,
     /// Lambert from a directional light (the direction towards the light), each side on its own.
     Lambert(DVec3),
+    /// Lambert from a point light (its position), each side on its own, at the centroid.
+    Point(DVec3),
 }
 
 impl Default for Shading {
@@ -41,17 +46,32 @@ pub struct Sides {
 }
 
 impl Shading {
-    /// The baked colour of the side of a face of material colour `kd` whose unit normal,
-    /// pointing to the eyes that see the side, is `normal`.
-    pub fn shade(&self, kd: [u8; 3], normal: DVec3) -> [u8; 3] {
+    /// The light that casts shadows (`None` without lighting).
+    pub fn light(&self) -> Option<crate::shadow::Light> {
         match *self {
-            Shading::Flat => kd,
-            Shading::Lambert(light) => {
-                let l = light.normalize_or_zero();
-                let k = AMBIENT + (1.0 - AMBIENT) * normal.dot(l).clamp(0.0, 1.0);
-                kd.map(|c| (f64::from(c) * k).round().clamp(0.0, 255.0) as u8)
-            }
+            Shading::Flat => None,
+            Shading::Lambert(towards) => Some(crate::shadow::Light::Sun(towards)),
+            Shading::Point(at) => Some(crate::shadow::Light::Point(at)),
         }
+    }
+
+    /// The baked colour of the side of a face of material colour `kd` whose unit normal,
+    /// pointing to the eyes that see the side, is `normal`, at the point `at` (world
+    /// coordinates; only a point light depends on it).
+    pub fn shade_at(&self, kd: [u8; 3], normal: DVec3, at: DVec3) -> [u8; 3] {
+        let towards = match *self {
+            Shading::Flat => return kd,
+            Shading::Lambert(towards) => towards,
+            Shading::Point(light) => light - at,
+        };
+        let l = towards.normalize_or_zero();
+        let k = AMBIENT + (1.0 - AMBIENT) * normal.dot(l).clamp(0.0, 1.0);
+        kd.map(|c| (f64::from(c) * k).round().clamp(0.0, 255.0) as u8)
+    }
+
+    /// [`Shading::shade_at`] the origin: a sun lights every point alike.
+    pub fn shade(&self, kd: [u8; 3], normal: DVec3) -> [u8; 3] {
+        self.shade_at(kd, normal, DVec3::ZERO)
     }
 
     /// Both sides of a face of material colour `kd` in shadow: the ambient part of `kd` (or
@@ -65,12 +85,12 @@ impl Shading {
     }
 
     /// Both sides of a face of material colour `kd` and unit normal `normal`, its interior on
-    /// the side `normal` points to when `interior_front` is set.
-    pub fn sides(&self, kd: [u8; 3], normal: DVec3, interior_front: bool) -> Sides {
+    /// the side `normal` points to when `interior_front` is set, lit as at its point `at`.
+    pub fn sides(&self, kd: [u8; 3], normal: DVec3, interior_front: bool, at: DVec3) -> Sides {
         let inward = if interior_front { normal } else { -normal };
         Sides {
-            interior: self.shade(kd, inward),
-            exterior: self.shade(kd, -inward),
+            interior: self.shade_at(kd, inward, at),
+            exterior: self.shade_at(kd, -inward, at),
         }
     }
 }
@@ -82,7 +102,7 @@ mod tests {
     #[test]
     fn flat_keeps_material_colour_on_both_sides() {
         assert_eq!(Shading::Flat.shade([10, 20, 30], DVec3::X), [10, 20, 30]);
-        let sides = Shading::Flat.sides([10, 20, 30], DVec3::Y, true);
+        let sides = Shading::Flat.sides([10, 20, 30], DVec3::Y, true, DVec3::ZERO);
         assert_eq!(sides.interior, [10, 20, 30]);
         assert_eq!(sides.exterior, [10, 20, 30]);
     }
@@ -102,12 +122,35 @@ mod tests {
         let s = Shading::Lambert(DVec3::Y);
         let lit = [200, 100, 50];
         let ambient = [60, 30, 15];
-        let up = s.sides(lit, DVec3::Y, true);
+        let at = DVec3::new(5.0, -3.0, 2.0);
+        let up = s.sides(lit, DVec3::Y, true, at);
         assert_eq!((up.interior, up.exterior), (lit, ambient));
-        let down = s.sides(lit, DVec3::Y, false);
+        let down = s.sides(lit, DVec3::Y, false, at);
         assert_eq!((down.interior, down.exterior), (ambient, lit));
-        let flipped = s.sides(lit, -DVec3::Y, false);
+        let flipped = s.sides(lit, -DVec3::Y, false, at);
         assert_eq!(flipped, up, "the same face named by the opposite normal");
+    }
+
+    #[test]
+    fn a_point_light_lights_by_its_direction_from_the_point() {
+        let s = Shading::Point(DVec3::new(0.0, 2.0, 0.0));
+        let kd = [200, 100, 50];
+        // Straight below the light: full colour; beside it at 45 degrees: 0.3 + 0.7 / sqrt 2.
+        assert_eq!(s.shade_at(kd, DVec3::Y, DVec3::ZERO), kd);
+        assert_eq!(
+            s.shade_at(kd, DVec3::Y, DVec3::new(2.0, 0.0, 0.0)),
+            [159, 79, 40]
+        );
+        assert_eq!(
+            s.shade_at(kd, -DVec3::Y, DVec3::ZERO),
+            [60, 30, 15],
+            "turned away"
+        );
+        // Above the light, the face's top is turned away from it.
+        assert_eq!(
+            s.shade_at(kd, DVec3::Y, DVec3::new(0.0, 3.0, 0.0)),
+            [60, 30, 15]
+        );
     }
 
     #[test]

@@ -1,16 +1,20 @@
 //! Shadow: the input fragments cut exactly along the shadows the source triangles cast from a
-//! sun, so that shading bakes every piece lit or in shadow (Chin and Feiner's shadow volumes,
-//! resolved at compile time).
+//! sun or a point light, so that shading bakes every piece lit or in shadow (Chin and Feiner's
+//! shadow volumes, resolved at compile time).
 //!
-//! A point `p` of a fragment is in shadow when the ray `p + t l`, `t > 0`, towards the sun
-//! meets another source triangle `T`: `p` lies in `T`'s shadow volume, the intersection of four
-//! open half-spaces: the side of `T`'s support plane away from the sun and, for each edge of
-//! `T`, the side of the plane through that edge along `l` that holds `T`'s third vertex.
-//! `l` is the sun's direction on an integer lattice ([`sun_direction`]), so each of those
-//! planes is an exact integer plane: normal `(b − a) × l`, below the plane table's bounds for
-//! grid points `a`, `b`. A fragment is cut by them with the build's own exact cut, and the
-//! piece inside all four is in shadow. Points on a volume's boundary count as lit, and so does
-//! a fragment lying in one of its planes (it is lit edge-on or is the occluder's neighbour).
+//! A point `p` of a fragment is in shadow when the ray towards the sun (`p + t l`, `t > 0`), or
+//! the segment to the point light `L`, meets another source triangle `T`: `p` lies in `T`'s
+//! shadow volume, the intersection of four open half-spaces: the side of `T`'s support plane
+//! away from the light and, for each edge `a b` of `T`, the side of the plane through the edge
+//! and the light that holds `T`'s third vertex. The light is exact in the grid's integers: the
+//! sun's direction `l` on an integer lattice ([`sun_direction`]), a point light at its nearest
+//! grid point. Each of those planes is then an exact integer plane, of normal `(b − a) × l` or
+//! `(b − a) × (L − a)`, below the plane table's bounds for grid points `a`, `b` (and `L` within
+//! twice the grid's half-extent, which the compile checks). A fragment is cut by them with the
+//! build's own exact cut, and the piece inside all four is in shadow. Points on a volume's
+//! boundary count as lit, and so does a fragment lying in one of its planes (it is lit edge-on
+//! or is the occluder's neighbour). Which side of a fragment faces the light is exact too: a
+//! sign of `n · l`, or the side of its plane `L` is on, the same over the whole plane.
 //!
 //! Why the tree is unaffected: every piece lies in its fragment's support plane and shadow
 //! planes are only ever edge planes of pieces, never support planes. The build's support
@@ -25,8 +29,54 @@ use rayon::prelude::*;
 
 use crate::error::CompileError;
 use crate::planes::{Plane, PlaneId, PlaneTable, Side, Vertex};
-use crate::quantise::IPoint;
+use crate::quantise::{IPoint, Quantiser};
 use crate::split::{Fragment, Placement, SplitResult};
+
+/// Where the light that casts shadows is (world coordinates).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Light {
+    /// A sun: the direction towards it.
+    Sun(DVec3),
+    /// A point light: its position.
+    Point(DVec3),
+}
+
+/// The light in the grid's integers.
+#[derive(Clone, Copy)]
+enum Caster {
+    Sun([i64; 3]),
+    Point(IPoint),
+}
+
+impl Caster {
+    /// The side of `plane` the light is on (`On`: the plane is lit edge-on).
+    fn side(&self, plane: &Plane) -> Side {
+        match *self {
+            Caster::Sun(l) => facing(plane, l),
+            Caster::Point(p) => plane.side_of_point(p),
+        }
+    }
+
+    /// The plane through `a`, `b` and the light (`None` when they are collinear).
+    fn through(&self, a: IPoint, b: IPoint) -> Option<Plane> {
+        let e = [0, 1, 2].map(|i| i64::from(b[i]) - i64::from(a[i]));
+        let l = match *self {
+            Caster::Sun(l) => l,
+            Caster::Point(p) => [0, 1, 2].map(|i| i64::from(p[i]) - i64::from(a[i])),
+        };
+        let n = [
+            e[1] * l[2] - e[2] * l[1],
+            e[2] * l[0] - e[0] * l[2],
+            e[0] * l[1] - e[1] * l[0],
+        ];
+        let d: i128 = (0..3).map(|i| i128::from(n[i]) * i128::from(a[i])).sum();
+        Plane::canonical(n, d).map(|(plane, _)| plane)
+    }
+}
+
+/// How far a point light may be from the grid's centre on each axis, in grid steps: twice the
+/// grid's half-extent keeps the shadow planes' normals below 2^54 and offsets below 2^81.
+const POINT_REACH: f64 = (1u64 << 26) as f64;
 
 /// Lattice units of the sun's direction, per unit length: its direction is exact to about
 /// 2^-20 radian, and the shadow planes' normals stay below 2^48.
@@ -46,8 +96,9 @@ pub fn sun_direction(towards: DVec3) -> Option<[i64; 3]> {
 struct Volume {
     source: u32,
     bounds: [(PlaneId, Side); 4],
-    /// The triangle's corners projected across the sun's direction, for a quick rejection.
-    shadow_box: Box2,
+    /// The triangle's corners projected across the sun's direction, for a quick rejection
+    /// (none for a point light).
+    shadow_box: Option<Box2>,
 }
 
 /// A box in the plane across the sun's direction (f64, widened by a bound on its rounding).
@@ -106,21 +157,43 @@ fn facing(plane: &Plane, l: [i64; 3]) -> Side {
 }
 
 /// Each fragment of `fragments` (the source triangles, as the input stage makes them) cut
-/// along the shadows the others cast from the sun at `towards` (its direction), each piece
-/// marked in shadow or not ([`Fragment::shadowed`]); the planes of the cuts are added to
-/// `table`. Deterministic: the
-/// planes are added in source order, the pieces come in source order.
+/// along the shadows the others cast from `light`, each piece marked in shadow or not
+/// ([`Fragment::shadowed`]); the planes of the cuts are added to `table`. Deterministic: the
+/// planes are added in source order, the pieces come in source order. Fails on a point light
+/// too far from the scene for exact planes (a sun then does the same job).
 pub(crate) fn cast(
     fragments: &[Fragment],
     table: &mut PlaneTable,
-    towards: DVec3,
+    light: Light,
+    grid: &Quantiser,
 ) -> Result<Vec<Fragment>, CompileError> {
-    let Some(l) = sun_direction(towards) else {
-        return Ok(fragments.to_vec());
+    let caster = match light {
+        Light::Sun(towards) => match sun_direction(towards) {
+            Some(l) => Caster::Sun(l),
+            None => return Ok(fragments.to_vec()),
+        },
+        Light::Point(at) => {
+            let q = (at - grid.offset) / grid.scale;
+            // NaN fails as well.
+            let within = q.abs().max_element() <= POINT_REACH;
+            if !within {
+                return Err(CompileError::Light(format!(
+                    "the point light {at} is too far from the scene for exact shadows (at most \
+                     twice the scene's half-extent from its centre on each axis): use a sun"
+                )));
+            }
+            Caster::Point(grid.quantise(at))
+        }
     };
-    let lf = DVec3::new(l[0] as f64, l[1] as f64, l[2] as f64).normalize();
-    let u = lf.any_orthogonal_vector().normalize();
-    let axes = [u, lf.cross(u).normalize()];
+    // The sun's rays across: a box of a triangle there holds the shadow it casts.
+    let axes = match caster {
+        Caster::Sun(l) => {
+            let lf = DVec3::new(l[0] as f64, l[1] as f64, l[2] as f64).normalize();
+            let u = lf.any_orthogonal_vector().normalize();
+            Some([u, lf.cross(u).normalize()])
+        }
+        Caster::Point(_) => None,
+    };
     // Grid coordinates are below 2^26 in magnitude: a projection on a unit axis rounds by far
     // less than this.
     let margin = 1e-6 * f64::from(1u32 << 26);
@@ -128,29 +201,23 @@ pub(crate) fn cast(
     for f in fragments {
         let q = corners(f);
         let support = table.get(f.support).plane;
-        let light_side = facing(&support, l);
+        let light_side = caster.side(&support);
         if q.len() != 3 || light_side == Side::On {
-            continue; // parallel to the sun: no shadow
+            continue; // lit edge-on: no shadow
         }
         let mut bounds = [(f.support, light_side.opposite()); 4];
         for k in 0..3 {
             let (a, b, c) = (q[k], q[(k + 1) % 3], q[(k + 2) % 3]);
-            let e = [0, 1, 2].map(|i| i64::from(b[i]) - i64::from(a[i]));
-            let n = [
-                e[1] * l[2] - e[2] * l[1],
-                e[2] * l[0] - e[0] * l[2],
-                e[0] * l[1] - e[1] * l[0],
-            ];
-            let d: i128 = (0..3).map(|i| i128::from(n[i]) * i128::from(a[i])).sum();
-            let Some((plane, _)) = Plane::canonical(n, d) else {
-                continue; // unreachable: an edge along the sun means a triangle parallel to it
+            // Never `None`: the light off the triangle's plane is off every edge's line.
+            let Some(plane) = caster.through(a, b) else {
+                continue;
             };
             bounds[k + 1] = (table.insert(plane), plane.side_of_point(c));
         }
         volumes.push(Volume {
             source: f.source,
             bounds,
-            shadow_box: Box2::of(&q, &axes, margin),
+            shadow_box: axes.map(|axes| Box2::of(&q, &axes, margin)),
         });
     }
     let table = &*table;
@@ -158,14 +225,15 @@ pub(crate) fn cast(
         .par_iter()
         .map(|f| {
             let support = table.get(f.support).plane;
-            if facing(&support, l) == Side::On {
+            if caster.side(&support) == Side::On {
                 return Ok(vec![f.clone()]); // lit edge-on: ambient on both sides anyway
             }
-            let reach = Box2::of(&corners(f), &axes, margin);
+            let reach = axes.map(|axes| Box2::of(&corners(f), &axes, margin));
             let mut lit = vec![f.clone()];
             let mut dark = Vec::new();
             for v in &volumes {
-                if v.source == f.source || !v.shadow_box.overlaps(&reach) {
+                let apart = matches!((&v.shadow_box, &reach), (Some(a), Some(b)) if !a.overlaps(b));
+                if v.source == f.source || apart {
                     continue;
                 }
                 let mut still = Vec::with_capacity(lit.len());
@@ -285,7 +353,7 @@ mod tests {
     #[test]
     fn a_triangle_shades_exactly_its_projection_on_the_ground() {
         let roof = ground_and_roof(2.0);
-        let input = prepare(&roof, Some(DVec3::new(0.3, 0.2, 1.0))).unwrap();
+        let input = prepare(&roof, Some(Light::Sun(DVec3::new(0.3, 0.2, 1.0)))).unwrap();
         let pieces = input.build_fragments();
         let of = |source: u32, dark: bool| {
             (pieces.iter()).filter(move |f| f.source == source && f.shadowed == dark)
@@ -320,9 +388,25 @@ mod tests {
     }
 
     #[test]
+    fn a_point_light_casts_the_roof_enlarged_by_its_distance() {
+        let roof = ground_and_roof(1.0);
+        // Straight above the roof at height 3: the shadow is the roof scaled by 3 / (3 - 1).
+        let light = Light::Point(DVec3::new(0.2, 0.1, 3.0));
+        let input = prepare(&roof, Some(light)).unwrap();
+        let pieces = input.build_fragments();
+        let dark: f64 = pieces.iter().filter(|f| f.shadowed).map(area).sum();
+        let want = area(&input.fragments[2]) * 1.5 * 1.5;
+        assert!((dark - want).abs() <= 1e-6 * want, "{dark} {want}");
+        // Too far from the scene for exact planes: a clear error.
+        let far = Light::Point(DVec3::new(0.0, 0.0, 1e6));
+        let err = prepare(&roof, Some(far)).err().expect("refused");
+        assert!(err.to_string().contains("use a sun"), "{err}");
+    }
+
+    #[test]
     fn a_sun_along_a_face_casts_and_receives_nothing() {
         let roof = ground_and_roof(2.0);
-        let input = prepare(&roof, Some(DVec3::new(1.0, 0.5, 0.0))).unwrap();
+        let input = prepare(&roof, Some(Light::Sun(DVec3::new(1.0, 0.5, 0.0)))).unwrap();
         let pieces = input.build_fragments();
         assert_eq!(pieces, input.fragments.as_slice(), "nothing cut");
         assert!(pieces.iter().all(|f| !f.shadowed));
@@ -331,7 +415,7 @@ mod tests {
     #[test]
     fn the_same_input_gives_the_same_pieces() {
         let roof = ground_and_roof(1.0);
-        let sun = Some(DVec3::new(-0.2, 0.4, 1.0));
+        let sun = Some(Light::Sun(DVec3::new(-0.2, 0.4, 1.0)));
         let a = prepare(&roof, sun).unwrap();
         let one = rayon::ThreadPoolBuilder::new()
             .num_threads(1)

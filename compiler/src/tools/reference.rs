@@ -5,6 +5,7 @@
 //! ([`Reference::seen_normal`], [`Reference::exclude_grazing_light`]).
 
 use crate::shade::Shading;
+use crate::shadow::Light;
 
 use glam::{DVec2, DVec3};
 
@@ -45,6 +46,12 @@ impl Lens {
             height: shot.height,
             near,
         }
+    }
+
+    /// The ray through the centre of pixel `(i, j)` (its component along `f` is 1).
+    fn ray(&self, i: usize, j: usize) -> DVec3 {
+        self.f + ((i as f64 + 0.5 - f64::from(self.width) / 2.0) / self.fpx) * self.r
+            - ((j as f64 + 0.5 - f64::from(self.height) / 2.0) / self.fpx) * self.u
     }
 
     /// Camera-space coordinates of a world point.
@@ -95,19 +102,50 @@ impl Reference {
     }
 
     /// Marks as not robust the pixels whose side seen is lit within [`LIGHT_MARGIN`] of edge-on
-    /// by `shading`'s light (none for [`Shading::Flat`]).
-    pub fn exclude_grazing_light(&mut self, triangles: &[[DVec3; 3]], shading: &Shading) {
-        let Shading::Lambert(light) = *shading else {
-            return;
-        };
-        let l = light.normalize_or_zero();
+    /// by `shading`'s light (none for [`Shading::Flat`]), `triangles`, `shot` and `near` being
+    /// what the reference was cast with.
+    pub fn exclude_grazing_light(
+        &mut self,
+        triangles: &[[DVec3; 3]],
+        shot: &Shot,
+        near: f64,
+        shading: &Shading,
+    ) {
+        let cam = &Lens::new(shot, near);
         for k in 0..self.ids.len() {
-            if let Some(n) = self.seen_normal(triangles, k) {
-                if n.dot(l).abs() < LIGHT_MARGIN {
-                    self.robust[k] = false;
-                }
+            let (Some(n), Some(p)) = (self.seen_normal(triangles, k), self.hit(cam, triangles, k))
+            else {
+                continue;
+            };
+            let towards = match *shading {
+                Shading::Flat => return,
+                Shading::Lambert(towards) => towards,
+                Shading::Point(at) => at - p,
+            };
+            if n.dot(towards.normalize_or_zero()).abs() < LIGHT_MARGIN {
+                self.robust[k] = false;
             }
         }
+    }
+
+    /// The point pixel `k`'s ray hits (`None` for the background), `triangles`, `shot` and
+    /// `near` being what the reference was cast with.
+    pub fn hit_point(
+        &self,
+        triangles: &[[DVec3; 3]],
+        shot: &Shot,
+        near: f64,
+        k: usize,
+    ) -> Option<DVec3> {
+        self.hit(&Lens::new(shot, near), triangles, k)
+    }
+
+    /// The point pixel `k`'s ray hits.
+    fn hit(&self, cam: &Lens, triangles: &[[DVec3; 3]], k: usize) -> Option<DVec3> {
+        let id = self.ids.get(k)?.checked_sub(1)? as usize;
+        let w = cam.width as usize;
+        let dir = cam.ray(k % w, k / w);
+        ray_triangle(cam.eye, dir, triangles.get(id)?).map(|t| cam.eye + dir * t)
     }
 }
 
@@ -135,8 +173,7 @@ pub fn reference(
         };
         for j in y0..y1 {
             for i in x0..x1 {
-                let dir = cam.f + ((i as f64 + 0.5 - f64::from(cam.width) / 2.0) / cam.fpx) * cam.r
-                    - ((j as f64 + 0.5 - f64::from(cam.height) / 2.0) / cam.fpx) * cam.u;
+                let dir = cam.ray(i, j);
                 if let Some(tz) = ray_triangle(cam.eye, dir, t) {
                     // dir has unit component along f, so the ray parameter is the camera depth.
                     let k = j * w + i;
@@ -158,43 +195,45 @@ pub fn reference(
 }
 
 /// Per pixel of `seen` (the [`reference`] of `triangles` for `shot` and `near`): whether the
-/// point its ray hits is in shadow from a sun in direction `towards` (as the compiler casts
-/// shadows, along [`crate::shadow::sun_direction`]), the side seen facing the sun: the ray from
-/// that point towards the sun meets another triangle. A pixel near a shadow's boundary is one
-/// near a compiled polygon's edge (the compiler cuts polygons there), which `seen` marks.
+/// point its ray hits is in shadow from `light`, the side seen facing the light: the ray from
+/// that point towards the sun (along [`crate::shadow::sun_direction`], as the compiler casts
+/// it), or the segment to the point light, meets another triangle. A pixel near a shadow's
+/// boundary is one near a compiled polygon's edge (the compiler cuts polygons there), which
+/// `seen` marks.
 pub fn shadowed(
     seen: &Reference,
     triangles: &[[DVec3; 3]],
     shot: &Shot,
     near: f64,
-    towards: DVec3,
+    light: Light,
 ) -> Vec<bool> {
     let cam = &Lens::new(shot, near);
-    let Some(l) = crate::shadow::sun_direction(towards) else {
-        return vec![false; seen.ids.len()];
+    let sun = match light {
+        Light::Sun(towards) => match crate::shadow::sun_direction(towards) {
+            Some(l) => Some(DVec3::new(l[0] as f64, l[1] as f64, l[2] as f64).normalize()),
+            None => return vec![false; seen.ids.len()],
+        },
+        Light::Point(_) => None,
     };
-    let l = DVec3::new(l[0] as f64, l[1] as f64, l[2] as f64).normalize();
-    let w = cam.width as usize;
     (0..seen.ids.len())
         .map(|k| {
-            let Some(n) = seen.seen_normal(triangles, k) else {
+            let (Some(n), Some(p)) = (seen.seen_normal(triangles, k), seen.hit(cam, triangles, k))
+            else {
                 return false;
+            };
+            // Towards the light, and how far along it the light is.
+            let (l, reach) = match (sun, light) {
+                (Some(l), _) => (l, f64::INFINITY),
+                (None, Light::Point(at) | Light::Sun(at)) => (at - p, 1.0),
             };
             if n.dot(l) <= 0.0 {
-                return false; // turned away from the sun: unlit anyway
+                return false; // turned away from the light: unlit anyway
             }
             let id = seen.ids[k] as usize - 1;
-            let (i, j) = ((k % w) as f64, (k / w) as f64);
-            let dir = cam.f + ((i + 0.5 - f64::from(cam.width) / 2.0) / cam.fpx) * cam.r
-                - ((j + 0.5 - f64::from(cam.height) / 2.0) / cam.fpx) * cam.u;
-            let Some(t) = ray_triangle(cam.eye, dir, &triangles[id]) else {
-                return false;
-            };
-            let p = cam.eye + dir * t;
             // Hits at the point itself (a neighbour sharing its edge) are not shadows.
-            let scale = p.abs().max_element().max(1.0);
+            let from = 1e-9 * p.abs().max_element().max(1.0) / l.length();
             (triangles.iter().enumerate()).any(|(other, tri)| {
-                other != id && ray_triangle(p, l, tri).is_some_and(|s| s > 1e-9 * scale)
+                other != id && ray_triangle(p, l, tri).is_some_and(|s| s > from && s < reach)
             })
         })
         .collect()
@@ -379,15 +418,22 @@ mod tests {
         assert!(!r.front[centre]);
         assert_eq!(r.seen_normal(&back, centre), Some(DVec3::Z));
         let robust = r.robust.iter().filter(|&&x| x).count();
+        let s = shot(33, 33);
         let mut lit = r.clone();
-        lit.exclude_grazing_light(&back, &Shading::Lambert(DVec3::new(0.0, 1.0, 0.1)));
+        lit.exclude_grazing_light(
+            &back,
+            &s,
+            0.01,
+            &Shading::Lambert(DVec3::new(0.0, 1.0, 0.1)),
+        );
         assert_eq!(
             lit.robust.iter().filter(|&&x| x).count(),
             robust,
             "n.l = 0.0995"
         );
         let mut grazing = r.clone();
-        grazing.exclude_grazing_light(&back, &Shading::Lambert(DVec3::new(0.0, 1.0, -0.01)));
+        let sun = Shading::Lambert(DVec3::new(0.0, 1.0, -0.01));
+        grazing.exclude_grazing_light(&back, &s, 0.01, &sun);
         assert!(!grazing.robust[centre], "|n.l| = 0.01");
         assert!(grazing.robust[0], "the background keeps its verdict");
     }

@@ -4,13 +4,13 @@
 //! cuts only intersect existing planes, so the table is read-only (and shared by all threads)
 //! during the build, and plane ids do not depend on scheduling.
 
-use glam::DVec3;
 use rayon::prelude::*;
 
 use crate::error::CompileError;
 use crate::load::Mesh;
 use crate::planes::{edge_plane, Plane, PlaneTable, Side, Vertex};
 use crate::quantise::{IPoint, Quantiser};
+use crate::shadow::Light;
 use crate::split::{Edge, Fragment};
 
 /// Quantised triangles ready to build.
@@ -37,9 +37,8 @@ impl Input {
     }
 }
 
-/// The build's input for `mesh`, its fragments cut along the shadows of a sun at `sun` (the
-/// direction towards it) when given.
-pub(crate) fn prepare(mesh: &Mesh, sun: Option<DVec3>) -> Result<Input, CompileError> {
+/// The build's input for `mesh`, its fragments cut along the shadows `light` casts when given.
+pub(crate) fn prepare(mesh: &Mesh, light: Option<Light>) -> Result<Input, CompileError> {
     if mesh.triangles.len() > u32::MAX as usize / 4 {
         return Err(CompileError::TooLarge {
             path: mesh.files.first().cloned().unwrap_or_default(),
@@ -105,8 +104,10 @@ pub(crate) fn prepare(mesh: &Mesh, sun: Option<DVec3>) -> Result<Input, CompileE
             }
         })
         .collect();
-    let shadowed = match sun {
-        Some(towards) => Some(crate::shadow::cast(&fragments, &mut table, towards)?),
+    let shadowed = match light {
+        Some(light) => Some(crate::shadow::cast(
+            &fragments, &mut table, light, &quantiser,
+        )?),
         None => None,
     };
     Ok(Input {

@@ -38,10 +38,9 @@ pub struct BuildOptions {
     /// without it may show cracks, so no user should turn it off.
     #[doc(hidden)]
     pub watertight: bool,
-    /// Cut polygons along the shadows the mesh casts from a sun in this direction (towards
-    /// it); each piece is then lit or in shadow ([`TreePolygon::shadowed`]). `None`: no
-    /// shadows.
-    pub shadows: Option<DVec3>,
+    /// Cut polygons along the shadows the mesh casts from this light; each piece is then lit
+    /// or in shadow ([`TreePolygon::shadowed`]). `None`: no shadows.
+    pub shadows: Option<crate::shadow::Light>,
 }
 
 impl Default for BuildOptions {
