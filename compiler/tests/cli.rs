@@ -491,11 +491,13 @@ fn the_demo_scene_needs_split_nodes() {
     );
     let out = dir.path().join("again.peel");
     let stats = dir.path().join("stats.json");
+    // `peel demo` casts the default sun's shadows.
     let o = peel(&[
         "compile",
         s(&demo_obj),
         "-o",
         s(&out),
+        "--shadows",
         "--stats-json",
         s(&stats),
     ]);
@@ -515,6 +517,11 @@ fn the_demo_scene_needs_split_nodes() {
     assert!(o.status.success());
     let inspect: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
     assert_eq!(inspect["split_nodes"].as_u64(), Some(splits));
+    assert_eq!(
+        std::fs::read(dir.path().join("demo.peel")).unwrap(),
+        std::fs::read(&out).unwrap(),
+        "peel demo is peel compile --shadows"
+    );
 }
 
 /// The decoded RGB bytes of a PNG.
