@@ -131,6 +131,76 @@ impl Box2 {
     }
 }
 
+/// The sun's volumes in a uniform grid of cells across its rays: a fragment can only be
+/// shadowed by the volumes listed in the cells its box covers, so each fragment tests a few
+/// volumes instead of all of them.
+struct Buckets {
+    lo: [f64; 2],
+    cell: f64,
+    side: usize,
+    /// Per cell, the volumes whose box meets it, in increasing order.
+    cells: Vec<Vec<u32>>,
+}
+
+impl Buckets {
+    /// The buckets of `volumes` (`None` without boxes: a point light).
+    fn new(volumes: &[Volume]) -> Option<Buckets> {
+        let boxes: Vec<&Box2> = volumes
+            .iter()
+            .map(|v| v.shadow_box.as_ref())
+            .collect::<Option<_>>()?;
+        let mut lo = [f64::INFINITY; 2];
+        let mut hi = [f64::NEG_INFINITY; 2];
+        for b in &boxes {
+            for k in 0..2 {
+                lo[k] = lo[k].min(b.lo[k]);
+                hi[k] = hi[k].max(b.hi[k]);
+            }
+        }
+        let side = ((boxes.len() as f64).sqrt().ceil() as usize).clamp(1, 1024);
+        let extent = (hi[0] - lo[0]).max(hi[1] - lo[1]);
+        let mut buckets = Buckets {
+            lo,
+            cell: (extent / side as f64).max(f64::MIN_POSITIVE),
+            side,
+            cells: vec![Vec::new(); side * side],
+        };
+        for (k, b) in boxes.iter().enumerate() {
+            let ([x0, y0], [x1, y1]) = buckets.range(b);
+            for y in y0..=y1 {
+                for x in x0..=x1 {
+                    buckets.cells[y * side + x].push(k as u32);
+                }
+            }
+        }
+        Some(buckets)
+    }
+
+    /// The cells a box covers, first and last on each axis (clamped to the grid).
+    fn range(&self, b: &Box2) -> ([usize; 2], [usize; 2]) {
+        let at = |v: f64, k: usize| {
+            let c = ((v - self.lo[k]) / self.cell).floor();
+            (c.max(0.0) as usize).min(self.side - 1)
+        };
+        (
+            [at(b.lo[0], 0), at(b.lo[1], 1)],
+            [at(b.hi[0], 0), at(b.hi[1], 1)],
+        )
+    }
+
+    /// The volumes whose cells `b` covers, in increasing order.
+    fn meeting(&self, b: &Box2) -> Vec<u32> {
+        let ([x0, y0], [x1, y1]) = self.range(b);
+        let mut out: Vec<u32> = (y0..=y1)
+            .flat_map(|y| (x0..=x1).flat_map(move |x| &self.cells[y * self.side + x]))
+            .copied()
+            .collect();
+        out.sort_unstable();
+        out.dedup();
+        out
+    }
+}
+
 /// The grid corners of an input fragment (a source triangle).
 fn corners(f: &Fragment) -> Vec<IPoint> {
     f.vertices
@@ -221,6 +291,7 @@ pub(crate) fn cast(
         });
     }
     let table = &*table;
+    let buckets = Buckets::new(&volumes);
     let pieces: Vec<Vec<Fragment>> = fragments
         .par_iter()
         .map(|f| {
@@ -231,7 +302,12 @@ pub(crate) fn cast(
             let reach = axes.map(|axes| Box2::of(&corners(f), &axes, margin));
             let mut lit = vec![f.clone()];
             let mut dark = Vec::new();
-            for v in &volumes {
+            // In source order, whatever the buckets: the same pieces every time.
+            let candidates = match (&buckets, &reach) {
+                (Some(buckets), Some(reach)) => buckets.meeting(reach),
+                _ => (0..volumes.len() as u32).collect(),
+            };
+            for v in candidates.iter().map(|&k| &volumes[k as usize]) {
                 let apart = matches!((&v.shadow_box, &reach), (Some(a), Some(b)) if !a.overlaps(b));
                 if v.source == f.source || apart {
                     continue;
