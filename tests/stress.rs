@@ -238,19 +238,19 @@ fn closed_meshes() -> Vec<(String, Mesh)> {
     ]
 }
 
-/// Shadows from random suns cut polygons without opening cracks or breaking the tree's
-/// invariants (checked on every node, with the area partition of each source triangle): the
-/// closed meshes from 100 cameras each, and random soups.
+/// Shadows from random suns and point lights cut polygons without opening cracks or breaking
+/// the tree's invariants (checked on every node, with the area partition of each source
+/// triangle): the closed meshes from 100 cameras each, and random soups.
 #[test]
 fn shadows_keep_meshes_watertight_and_trees_valid() {
     let mut rng = SplitMix(77);
-    let mut sun = || {
+    let sun = |rng: &mut SplitMix| {
         let mut c = || rng.unit() * 2.0 - 1.0;
         DVec3::new(c(), c().abs() + 0.2, c())
     };
     let mut out = Vec::new();
     for (name, mesh) in closed_meshes() {
-        let sun = sun();
+        let sun = sun(&mut rng);
         let options = BuildOptions {
             shadows: Some(Light::Sun(sun)),
             ..BuildOptions::default()
@@ -272,8 +272,27 @@ fn shadows_keep_meshes_watertight_and_trees_valid() {
         );
         out.push(o);
     }
+    for (name, mesh) in closed_meshes() {
+        // A point light around the mesh, within one and a half times its half-extent.
+        let (lo, hi) = bounds(&mesh);
+        let mut c = || rng.unit() * 3.0 - 1.5;
+        let at = (lo + hi) / 2.0 + DVec3::new(c(), c(), c()) * (hi - lo) / 2.0;
+        let options = BuildOptions {
+            shadows: Some(Light::Point(at)),
+            ..BuildOptions::default()
+        };
+        let name = format!("{name}, point light {at}");
+        out.push(run_with(
+            &name,
+            &mesh,
+            Pixels::Closed,
+            100,
+            (160, 120),
+            options,
+        ));
+    }
     for seed in 0..4 {
-        let sun = sun();
+        let sun = sun(&mut rng);
         let options = BuildOptions {
             shadows: Some(Light::Sun(sun)),
             ..BuildOptions::default()
