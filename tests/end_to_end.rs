@@ -4,16 +4,20 @@
 //! Every pixel whose sample point lies farther than 1/16 pixel from all projected edges must
 //! show exactly the reference's triangle id, with culling on (the default) or off, in both
 //! orders, wherever the eye is: outside, inside a closed mesh, on its surface, or with the
-//! near plane cutting it open.
+//! near plane cutting it open. Those of them not lit nearly edge-on must also show the colour
+//! of the side of that triangle the reference sees: lit when it faces the light, `Kd * AMBIENT`
+//! when it does not.
 
 use std::path::{Path, PathBuf};
 
 use glam::DVec3;
 use peel_compiler::compile::{compile_mesh, CompileOptions};
 use peel_compiler::load::{load_obj, Mesh};
+use peel_compiler::shade::{Shading, AMBIENT};
+use peel_compiler::shadow::Light;
 use peel_compiler::tools::raster::{render_bytes_with, Settings};
 use peel_compiler::tools::shot::Shot;
-use peel_e2e::{bounds, closed_sphere, mesh_closed_outward, reference};
+use peel_e2e::{bounds, closed_sphere, mesh_closed_outward, reference, shadowed};
 use peel_runtime::read::{Node, Scene};
 use peel_runtime::traverse::Order;
 
@@ -55,8 +59,14 @@ fn polygons(bytes: &[u8]) -> Vec<Vec<DVec3>> {
 /// What [`compare`] counted.
 #[derive(Debug, Clone, Copy, Default)]
 struct Compared {
-    /// Robust pixels whose rendered id differs from the reference's.
+    /// Robust pixels whose rendered id differs from the reference's, or whose colour is not
+    /// that of the side seen.
     bad: usize,
+    /// Robust pixels whose colour was compared: their side seen faces the light (`lit`) or not,
+    /// and of the latter, those whose side faces the sun but is in shadow.
+    lit: usize,
+    unlit: usize,
+    shadowed: usize,
     /// Robust pixels (compared).
     robust: usize,
     /// Pixels where the reference sees a triangle.
@@ -65,13 +75,30 @@ struct Compared {
     robust_scene: usize,
 }
 
-/// Render `bytes` and the reference as `shot` sees them and compare their robust pixels.
+/// Render `bytes` and the reference as `shot` sees them and compare their robust pixels: the
+/// id, and away from grazing light the colour of the side seen (within 1 per channel: the
+/// compiler lights the quantised triangle's plane, the reference the source triangle).
 fn compare(
     mesh: &Mesh,
     bytes: &[u8],
     polys: &[Vec<DVec3>],
     shot: &Shot,
     settings: &Settings,
+) -> Compared {
+    compare_lit(mesh, bytes, polys, shot, settings, None)
+}
+
+/// [`compare`] for a file compiled with the default shading (`shadows` `None`), or with
+/// `shadows`, the shading whose light cast its shadows: a side facing it in shadow is
+/// `Kd * AMBIENT`. A point light's colours are baked at each polygon's centroid, so there only
+/// lit or not (`Kd * AMBIENT`) is compared.
+fn compare_lit(
+    mesh: &Mesh,
+    bytes: &[u8],
+    polys: &[Vec<DVec3>],
+    shot: &Shot,
+    settings: &Settings,
+    shadows: Option<Shading>,
 ) -> Compared {
     let frame = render_bytes_with(
         bytes,
@@ -85,7 +112,54 @@ fn compare(
     let near = shot.near_over(&Scene::parse(bytes).unwrap().header());
     let tris: Vec<[DVec3; 3]> = mesh.triangles.iter().map(|t| t.vertices).collect();
     let r = reference(&tris, polys, shot, near);
+    let shading = shadows.unwrap_or(CompileOptions::default().shading);
+    let shadowed = match shading.light().filter(|_| shadows.is_some()) {
+        Some(light) => shadowed(&r, &tris, shot, near, light),
+        None => vec![false; r.ids.len()],
+    };
+    let exact = !matches!(shading, Shading::Point(_));
+    let mut lighting = r.clone();
+    lighting.exclude_grazing_light(&tris, shot, near, &shading);
+    let colours = render_bytes_with(bytes, shot, settings).expect("render");
     let mut c = Compared::default();
+    for k in (0..r.ids.len()).filter(|&k| lighting.robust[k]) {
+        let Some(normal) = r.seen_normal(&tris, k) else {
+            continue;
+        };
+        let kd = mesh.triangles[r.ids[k] as usize - 1].colour;
+        let ambient = kd.map(|v| (f64::from(v) * AMBIENT).round() as u8);
+        let want = if shadowed[k] {
+            c.shadowed += 1;
+            ambient
+        } else {
+            let at = r
+                .hit_point(&tris, shot, near, k)
+                .expect("a pixel on a triangle");
+            shading.shade_at(kd, normal, at)
+        };
+        let p = colours.pixels[k];
+        let got = [(p >> 16) as u8, (p >> 8) as u8, p as u8];
+        if want == ambient {
+            c.unlit += 1;
+        } else {
+            c.lit += 1;
+        }
+        let wrong = if exact {
+            (0..3).any(|i| got[i].abs_diff(want[i]) > 1)
+        } else {
+            (got == ambient) != (want == ambient)
+        };
+        if wrong {
+            c.bad += 1;
+            if c.bad <= 5 {
+                eprintln!(
+                    "pixel ({}, {}): rendered colour {got:?}, the side seen is {want:?}",
+                    k % shot.width as usize,
+                    k / shot.width as usize,
+                );
+            }
+        }
+    }
     for (k, (&want, &ok)) in r.ids.iter().zip(&r.robust).enumerate() {
         if want != 0 {
             c.scene += 1;
@@ -165,7 +239,9 @@ enum Splits {
     None,
 }
 
-fn check_scene(name: &str, mesh: &Mesh, extra: &[Shot], splits: Splits) {
+/// Checks `mesh` from [`cameras`], `extra` and a camera on its first split plane in every
+/// setting; returns the robust pixels whose colour was compared, lit and unlit.
+fn check_scene(name: &str, mesh: &Mesh, extra: &[Shot], splits: Splits) -> (usize, usize) {
     let bytes = compile(mesh);
     let polys = polygons(&bytes);
     let (lo, hi) = bounds(mesh);
@@ -200,6 +276,7 @@ fn check_scene(name: &str, mesh: &Mesh, extra: &[Shot], splits: Splits) {
         }
     }
     let mut total_bad = 0;
+    let mut lighting = (0, 0);
     for (k, v) in shots.iter().enumerate() {
         // The orbit cameras are outside the bounding box; the others are inside or very close.
         let outside = k < 8;
@@ -226,12 +303,14 @@ fn check_scene(name: &str, mesh: &Mesh, extra: &[Shot], splits: Splits) {
                 "{name}: orbit camera {k} ({v:?}) sees nothing"
             );
             total_bad += c.bad;
+            lighting = (lighting.0 + c.lit, lighting.1 + c.unlit);
         }
     }
     assert_eq!(
         total_bad, 0,
         "{name}: robust pixels differ from the reference"
     );
+    lighting
 }
 
 #[test]
@@ -246,7 +325,260 @@ fn fixtures_match_the_ray_caster() {
         ("demo.obj", Splits::Expected),
     ] {
         let mesh = load_obj(&fixture(name)).expect("load fixture");
-        check_scene(name, &mesh, &[], splits);
+        let (lit, unlit) = check_scene(name, &mesh, &[], splits);
+        // Not vacuous: the cameras see sides facing the light and sides turned away.
+        assert!(lit > 100 && unlit > 100, "{name}: {lit} lit, {unlit} unlit");
+    }
+}
+
+/// Shadows from a sun: every robust pixel shows its side seen lit, turned away or in shadow
+/// as the reference's rays say, in both orders and with culling on and off, from cameras
+/// around, inside and close to the scene: a box above a plane, a box sunk into it, boxes
+/// that interpenetrate, and the demo scene, under suns from several directions.
+#[test]
+fn shadows_match_the_ray_caster() {
+    use peel_compiler::tools::scenes;
+    let ground = |t: &mut Vec<[DVec3; 3]>, y: f64| {
+        let c =
+            [(-2.0, -2.0), (2.0, -2.0), (2.0, 2.0), (-2.0, 2.0)].map(|(x, z)| DVec3::new(x, y, z));
+        t.push([c[0], c[2], c[1]]);
+        t.push([c[0], c[3], c[2]]);
+    };
+    let mut above = Vec::new();
+    ground(&mut above, 0.0);
+    scenes::boxed(
+        &mut above,
+        DVec3::new(-0.5, 0.3, -0.4),
+        DVec3::new(0.4, 1.2, 0.5),
+    );
+    let mut sunk = Vec::new();
+    ground(&mut sunk, 0.0);
+    scenes::boxed(
+        &mut sunk,
+        DVec3::new(-0.3, -0.4, -0.6),
+        DVec3::new(0.6, 0.8, 0.2),
+    );
+    let meshes = [
+        ("box above a plane", scenes::mesh(above)),
+        ("box sunk into a plane", scenes::mesh(sunk)),
+        (
+            "interpenetrating_boxes.obj",
+            load_obj(&fixture("interpenetrating_boxes.obj")).unwrap(),
+        ),
+        ("demo.obj", load_obj(&fixture("demo.obj")).unwrap()),
+    ];
+    let suns = [
+        DVec3::new(0.4, 0.8, 0.45),
+        DVec3::new(-0.9, 0.5, 0.2),
+        DVec3::new(0.1, 0.6, -0.8),
+    ];
+    for (name, mesh) in &meshes {
+        let (lo, hi) = bounds(mesh);
+        let mut in_shadow = 0;
+        for sun in suns {
+            let options = CompileOptions {
+                ids: true,
+                shading: Shading::Lambert(sun),
+                build: peel_compiler::tree::BuildOptions {
+                    shadows: Some(Light::Sun(sun)),
+                    ..Default::default()
+                },
+                ..CompileOptions::default()
+            };
+            let bytes = compile_mesh(mesh, &options, &|_| {}).expect("compile").1;
+            let polys = polygons(&bytes);
+            for (k, shot) in cameras(lo, hi).iter().enumerate() {
+                for settings in all_settings() {
+                    let lit = Some(Shading::Lambert(sun));
+                    let c = compare_lit(mesh, &bytes, &polys, shot, &settings, lit);
+                    assert_eq!(
+                        c.bad, 0,
+                        "{name}, sun {sun}, camera {k} ({shot:?}), {settings:?}: {c:?}"
+                    );
+                    in_shadow += c.shadowed;
+                }
+            }
+        }
+        // Not vacuous: every scene casts shadows the cameras see.
+        assert!(
+            in_shadow > 100,
+            "{name}: {in_shadow} pixels in shadow compared"
+        );
+    }
+}
+
+/// The teapot of the shared models (skipped when they are absent) shadows itself: the spout,
+/// the handle and the lid cast shadows on the body. Every robust pixel shows its side seen
+/// lit, turned away or in shadow, in both orders, with culling on and off.
+#[test]
+fn the_teapot_shadows_itself() {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/models/teapot.obj");
+    if !path.is_file() {
+        println!("skipping: the shared models are absent");
+        return;
+    }
+    let mesh = load_obj(&path).expect("the teapot loads");
+    let sun = DVec3::new(0.4, 0.8, 0.45);
+    let options = CompileOptions {
+        ids: true,
+        shading: Shading::Lambert(sun),
+        build: peel_compiler::tree::BuildOptions {
+            shadows: Some(Light::Sun(sun)),
+            ..Default::default()
+        },
+        ..CompileOptions::default()
+    };
+    let bytes = compile_mesh(&mesh, &options, &|_| {}).expect("compile").1;
+    let polys = polygons(&bytes);
+    let (lo, hi) = bounds(&mesh);
+    let mut in_shadow = 0;
+    // Large enough images for pixels away from the small triangles' edges.
+    let shots = cameras(lo, hi)
+        .into_iter()
+        .take(8)
+        .step_by(3)
+        .map(|s| Shot {
+            width: 320,
+            height: 240,
+            ..s
+        });
+    for (k, shot) in shots.enumerate() {
+        let shot = &shot;
+        for settings in all_settings() {
+            let lit = Some(Shading::Lambert(sun));
+            let c = compare_lit(&mesh, &bytes, &polys, shot, &settings, lit);
+            assert_eq!(c.bad, 0, "camera {k} ({shot:?}), {settings:?}: {c:?}");
+            in_shadow += c.shadowed;
+        }
+    }
+    assert!(in_shadow > 100, "{in_shadow} pixels in shadow compared");
+}
+
+/// A point light inside a room-like open box (a floor and four walls, no ceiling) with a
+/// floating box and a pillar: every robust pixel is lit or not (`Kd * AMBIENT`) as the
+/// reference's segments to the light say, in both orders, with culling on and off, from
+/// cameras around, inside and close to it.
+#[test]
+fn a_point_light_in_a_room_matches_the_ray_caster() {
+    use peel_compiler::tools::scenes;
+    let v = DVec3::new;
+    let quad = |t: &mut Vec<[DVec3; 3]>, c: [DVec3; 4]| {
+        t.push([c[0], c[1], c[2]]);
+        t.push([c[0], c[2], c[3]]);
+    };
+    let mut room = Vec::new();
+    let (s, h) = (2.0, 2.0);
+    quad(
+        &mut room,
+        [v(-s, 0.0, -s), v(-s, 0.0, s), v(s, 0.0, s), v(s, 0.0, -s)],
+    );
+    quad(
+        &mut room,
+        [v(-s, 0.0, -s), v(s, 0.0, -s), v(s, h, -s), v(-s, h, -s)],
+    );
+    quad(
+        &mut room,
+        [v(-s, 0.0, s), v(-s, h, s), v(s, h, s), v(s, 0.0, s)],
+    );
+    quad(
+        &mut room,
+        [v(-s, 0.0, -s), v(-s, h, -s), v(-s, h, s), v(-s, 0.0, s)],
+    );
+    quad(
+        &mut room,
+        [v(s, 0.0, -s), v(s, 0.0, s), v(s, h, s), v(s, h, -s)],
+    );
+    scenes::boxed(&mut room, v(-0.9, 0.3, -0.5), v(0.2, 0.9, 0.6));
+    scenes::boxed(&mut room, v(0.7, -0.2, 0.6), v(1.0, 1.4, 0.9));
+    let mesh = scenes::mesh(room);
+    let (lo, hi) = bounds(&mesh);
+    let mut in_shadow = 0;
+    for light in [v(0.6, 1.8, -0.7), v(-1.5, 1.2, 1.4)] {
+        let shading = Shading::Point(light);
+        let options = CompileOptions {
+            ids: true,
+            shading,
+            build: peel_compiler::tree::BuildOptions {
+                shadows: shading.light(),
+                ..Default::default()
+            },
+            ..CompileOptions::default()
+        };
+        let bytes = compile_mesh(&mesh, &options, &|_| {}).expect("compile").1;
+        let polys = polygons(&bytes);
+        let mut shots = cameras(lo, hi);
+        shots.push(Shot::new(v(-1.2, 1.5, -1.3), v(0.5, 0.0, 0.8), 96, 72));
+        for (k, shot) in shots.iter().enumerate() {
+            for settings in all_settings() {
+                let c = compare_lit(&mesh, &bytes, &polys, shot, &settings, Some(shading));
+                assert_eq!(
+                    c.bad, 0,
+                    "light {light}, camera {k} ({shot:?}), {settings:?}: {c:?}"
+                );
+                in_shadow += c.shadowed;
+            }
+        }
+    }
+    assert!(in_shadow > 100, "{in_shadow} pixels in shadow compared");
+}
+
+/// The colour at the centre of a 9x9 image of `bytes` seen from `eye` towards `target`.
+fn centre_colour(bytes: &[u8], eye: DVec3, target: DVec3, settings: &Settings) -> [u8; 3] {
+    let frame = render_bytes_with(bytes, &Shot::new(eye, target, 9, 9), settings).expect("render");
+    let p = frame.pixels[4 * 9 + 4];
+    [(p >> 16) as u8, (p >> 8) as u8, p as u8]
+}
+
+/// One triangle in the plane z = 0: the side facing the light is lit, the other side is
+/// `Kd * AMBIENT`, whichever way the light comes and whatever the order and culling; `--flat`
+/// shows `Kd` on both sides and stores one colour per polygon.
+#[test]
+fn a_face_is_lit_on_the_side_facing_the_light_only() {
+    let mesh = load_obj(&fixture("triangle.obj")).unwrap();
+    let kd = mesh.triangles[0].colour;
+    let ambient = kd.map(|c| (f64::from(c) * AMBIENT).round() as u8);
+    let centroid = DVec3::new(1.0, 1.0, 0.0) / 3.0;
+    let above = centroid + DVec3::new(0.1, 0.2, 3.0);
+    let below = centroid + DVec3::new(-0.2, 0.1, -3.0);
+    let two_colours = |bytes: &[u8]| {
+        let flags = Scene::parse(bytes).unwrap().header().flags;
+        flags & peel_runtime::read::layout::header_flags::TWO_COLOURS != 0
+    };
+    for light in [DVec3::new(0.3, -0.2, 1.0), DVec3::new(-0.5, 0.4, -0.7)] {
+        let shading = Shading::Lambert(light);
+        let options = CompileOptions {
+            shading,
+            ..CompileOptions::default()
+        };
+        let bytes = compile_mesh(&mesh, &options, &|_| {}).unwrap().1;
+        assert!(two_colours(&bytes));
+        let (lit_eye, dark_eye) = if light.z > 0.0 {
+            (above, below)
+        } else {
+            (below, above)
+        };
+        let lit = shading.shade(kd, (lit_eye - centroid).normalize().z.signum() * DVec3::Z);
+        assert_ne!(lit, ambient, "{light}");
+        for settings in all_settings() {
+            let seen = |eye| centre_colour(&bytes, eye, centroid, &settings);
+            assert_eq!(seen(lit_eye), lit, "{light}, {settings:?}: the lit side");
+            assert_eq!(
+                seen(dark_eye),
+                ambient,
+                "{light}, {settings:?}: the side away"
+            );
+        }
+    }
+    let flat = CompileOptions {
+        shading: Shading::Flat,
+        ..CompileOptions::default()
+    };
+    let bytes = compile_mesh(&mesh, &flat, &|_| {}).unwrap().1;
+    assert!(!two_colours(&bytes), "--flat: one colour per polygon");
+    for settings in all_settings() {
+        for eye in [above, below] {
+            assert_eq!(centre_colour(&bytes, eye, centroid, &settings), kd);
+        }
     }
 }
 
@@ -287,12 +619,13 @@ fn large_image() {
 fn generated_closed_meshes_match() {
     let sphere = closed_sphere(10, 16);
     assert!(mesh_closed_outward(&sphere));
-    check_scene("sphere", &sphere, &[], Splits::Expected);
     let torus = peel_compiler::tools::scenes::torus(16, 8);
     assert!(mesh_closed_outward(&torus));
-    check_scene("torus", &torus, &[], Splits::Expected);
     let soup = peel_compiler::tools::scenes::soup(60, 0.4, 3);
-    check_scene("soup", &soup, &[], Splits::Expected);
+    for (name, mesh) in [("sphere", sphere), ("torus", torus), ("soup", soup)] {
+        let (lit, unlit) = check_scene(name, &mesh, &[], Splits::Expected);
+        assert!(lit > 100 && unlit > 100, "{name}: {lit} lit, {unlit} unlit");
+    }
 }
 
 /// A camera of [`culling_matches_inside_on_and_through_closed_meshes`]: a name, the shot,

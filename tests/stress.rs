@@ -11,6 +11,7 @@ use std::time::Instant;
 use glam::{DMat3, DVec3};
 use peel_compiler::compile::{compile_mesh, CompileOptions};
 use peel_compiler::load::{load_obj, Mesh};
+use peel_compiler::shadow::Light;
 use peel_compiler::tools::raster::render_bytes;
 use peel_compiler::tools::scenes::{self, SplitMix};
 use peel_compiler::tools::shot::Shot;
@@ -142,8 +143,19 @@ fn compare(mesh: &Mesh, bytes: &[u8], polys: &[Vec<DVec3>], shot: &Shot) -> Diff
 
 /// Verify, compile twice (determinism), render from `views` cameras; panics with the case name.
 fn run(name: &str, mesh: &Mesh, pixels: Pixels, views: usize, size: (u32, u32)) -> Outcome {
+    run_with(name, mesh, pixels, views, size, BuildOptions::default())
+}
+
+/// [`run`] with the build's `options`.
+fn run_with(
+    name: &str,
+    mesh: &Mesh,
+    pixels: Pixels,
+    views: usize,
+    size: (u32, u32),
+    options: BuildOptions,
+) -> Outcome {
     let start = Instant::now();
-    let options = BuildOptions::default();
     let tree =
         verify(mesh, &options, 4).unwrap_or_else(|e| panic!("{name}: invariant broken: {e}"));
     let s = tree.stats;
@@ -151,6 +163,7 @@ fn run(name: &str, mesh: &Mesh, pixels: Pixels, views: usize, size: (u32, u32)) 
     assert!(s.degenerate_dropped <= s.input_triangles, "{name}");
     let compile = CompileOptions {
         ids: true,
+        build: options,
         ..CompileOptions::default()
     };
     let (again, bytes) =
@@ -223,6 +236,78 @@ fn closed_meshes() -> Vec<(String, Mesh)> {
         ("torus".into(), scenes::torus(18, 10)),
         ("box grid".into(), scenes::box_grid(3)),
     ]
+}
+
+/// Shadows from random suns and point lights cut polygons without opening cracks or breaking
+/// the tree's invariants (checked on every node, with the area partition of each source
+/// triangle): the closed meshes from 100 cameras each, and random soups.
+#[test]
+fn shadows_keep_meshes_watertight_and_trees_valid() {
+    let mut rng = SplitMix(77);
+    let sun = |rng: &mut SplitMix| {
+        let mut c = || rng.unit() * 2.0 - 1.0;
+        DVec3::new(c(), c().abs() + 0.2, c())
+    };
+    let mut out = Vec::new();
+    for (name, mesh) in closed_meshes() {
+        let sun = sun(&mut rng);
+        let options = BuildOptions {
+            shadows: Some(Light::Sun(sun)),
+            ..BuildOptions::default()
+        };
+        let o = run_with(
+            &format!("{name}, sun {sun}"),
+            &mesh,
+            Pixels::Closed,
+            100,
+            (160, 120),
+            options,
+        );
+        // A convex mesh shadows only whole faces (those turned away); the others cast
+        // shadows on themselves, along which their faces are cut.
+        assert!(
+            name == "sphere" || o.polygons > o.kept,
+            "{}: no shadow was cut",
+            o.name
+        );
+        out.push(o);
+    }
+    for (name, mesh) in closed_meshes() {
+        // A point light around the mesh, within one and a half times its half-extent.
+        let (lo, hi) = bounds(&mesh);
+        let mut c = || rng.unit() * 3.0 - 1.5;
+        let at = (lo + hi) / 2.0 + DVec3::new(c(), c(), c()) * (hi - lo) / 2.0;
+        let options = BuildOptions {
+            shadows: Some(Light::Point(at)),
+            ..BuildOptions::default()
+        };
+        let name = format!("{name}, point light {at}");
+        out.push(run_with(
+            &name,
+            &mesh,
+            Pixels::Closed,
+            100,
+            (160, 120),
+            options,
+        ));
+    }
+    for seed in 0..4 {
+        let sun = sun(&mut rng);
+        let options = BuildOptions {
+            shadows: Some(Light::Sun(sun)),
+            ..BuildOptions::default()
+        };
+        let soup = scenes::soup(60, 0.5, seed);
+        out.push(run_with(
+            &format!("soup {seed}, sun {sun}"),
+            &soup,
+            Pixels::Ids,
+            4,
+            (48, 36),
+            options,
+        ));
+    }
+    report("shadows", &out);
 }
 
 #[test]

@@ -330,7 +330,10 @@ pub fn demo(out: &Path) -> Result<(), String> {
     let mtl = out.join("demo.mtl");
     std::fs::write(&mtl, DEMO_MTL).map_err(|e| format!("{}: {e}", mtl.display()))?;
     let peel = out.join("demo.peel");
-    let bytes = crate::compile_to(&obj, &peel, &CompileOptions::default(), None)?;
+    // Lit by the default sun, with its shadows (`peel compile --shadows`).
+    let mut options = CompileOptions::default();
+    options.build.shadows = options.shading.light();
+    let bytes = crate::compile_to(&obj, &peel, &options, None)?;
     let frame = render_bytes(&bytes, &DEMO_SHOT, false, [24, 26, 32])?;
     let png_path = out.join("demo.png");
     write_png(&png_path, &frame)?;

@@ -4,6 +4,7 @@
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
+use glam::DVec3;
 use rayon::prelude::*;
 
 use crate::error::CompileError;
@@ -54,23 +55,40 @@ pub fn compile_mesh(
     progress: &(dyn Fn(u64) + Sync),
 ) -> Result<(DisplayTree, Vec<u8>), CompileError> {
     let tree = build(mesh, &options.build, progress)?;
-    let colours: Vec<[u8; 3]> = tree
-        .polygons
-        .par_iter()
-        .map(|p| {
-            let kd = mesh.triangles[p.source as usize].colour;
-            options
-                .shading
-                .shade(kd, tree.planes[p.plane as usize].normal)
-        })
-        .collect();
+    let (colours, exterior) = bake(&tree, mesh, &options.shading);
     let input = crate::write::WriteInput {
         colours: &colours,
+        exterior: &exterior,
         ids: options.ids,
         wide_vertices: options.wide_vertices,
     };
     let bytes = crate::write::encode_with(&tree, &input)?;
     Ok((tree, bytes))
+}
+
+/// The colours of each polygon of `tree` (from `mesh`'s triangles): of its interior side and
+/// of its exterior side ([`Shading::sides`], or [`Shading::in_shadow`] for a polygon in
+/// shadow).
+pub(crate) fn bake(
+    tree: &DisplayTree,
+    mesh: &Mesh,
+    shading: &Shading,
+) -> (Vec<[u8; 3]>, Vec<[u8; 3]>) {
+    tree.polygons
+        .par_iter()
+        .map(|p| {
+            let kd = mesh.triangles[p.source as usize].colour;
+            let normal = tree.planes[p.plane as usize].normal;
+            let sides = if p.shadowed {
+                shading.in_shadow(kd)
+            } else {
+                let sum: DVec3 = p.vertices.iter().map(|&v| tree.vertices[v as usize]).sum();
+                let centroid = tree.centre + sum / p.vertices.len().max(1) as f64;
+                shading.sides(kd, normal, p.interior_front, centroid)
+            };
+            (sides.interior, sides.exterior)
+        })
+        .unzip()
 }
 
 /// Load and compile an OBJ file (nothing is written).

@@ -121,7 +121,8 @@ enum Item {
 }
 
 /// The whole file as a YAML document: the header, the planes, then the tree as nested nodes
-/// with their polygons (plane, flags, colour, id if present, vertices); subtrees nested deeper
+/// with their polygons (flags, colour, the exterior side's colour where it differs, id if
+/// present, vertices); subtrees nested deeper
 /// than `MAX_INDENT` (256 spaces) follow in a `subtrees` list, in the order they are referred to.
 pub fn dump_yaml(bytes: &[u8]) -> Result<String, ReadError> {
     let scene = Scene::parse(bytes)?;
@@ -135,6 +136,7 @@ pub fn dump_yaml(bytes: &[u8]) -> Result<String, ReadError> {
         (h.flags & header_flags::BOUNDS != 0, "bounds"),
         (h.flags & header_flags::NARROW != 0, "narrow"),
         (h.flags & header_flags::MEDIUM != 0, "medium"),
+        (h.flags & header_flags::TWO_COLOURS != 0, "two_colours"),
     ]);
     // Writing into a String cannot fail.
     let _ = writeln!(
@@ -251,6 +253,14 @@ fn write_polygon(out: &mut String, scene: &Scene<'_>, p: u32, indent: usize) {
         "{:inner$}flags: {flags}\n{:inner$}colour: [{}, {}, {}]",
         "", "", c.r, c.g, c.b
     );
+    let e = scene.colour_seen(p, &polygon, false);
+    if e != c {
+        let _ = writeln!(
+            out,
+            "{:inner$}exterior_colour: [{}, {}, {}]",
+            "", e.r, e.g, e.b
+        );
+    }
     if let Some(id) = scene.id(p) {
         let _ = writeln!(out, "{:inner$}id: {id}", "");
     }
@@ -343,7 +353,7 @@ mod tests {
         );
         let origin = glam::DVec3::new(100.0, 200.0, 300.0);
         let expected = Inspect {
-            format_version: 2,
+            format_version: 3,
             output_polygons: 3,
             convex_nodes: 3,
             split_nodes: 1,

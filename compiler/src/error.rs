@@ -67,6 +67,9 @@ pub enum CompileError {
         /// Which limit was exceeded.
         message: String,
     },
+    /// A light the compiler cannot cast shadows from.
+    #[error("{0}")]
+    Light(String),
     /// An internal invariant of the display tree was violated: a bug, reported instead of a hang.
     #[error("internal invariant violated: {0}")]
     Invariant(String),

@@ -29,6 +29,7 @@ mod planes;
 mod quantise;
 mod random;
 pub mod shade;
+pub mod shadow;
 mod split;
 pub mod tools;
 pub mod tree;

@@ -79,12 +79,20 @@ struct CompileArgs {
     /// Larger output polygons are split into convex pieces.
     #[arg(long, default_value_t = BuildOptions::default().max_polygon_vertices)]
     max_polygon_vertices: usize,
-    /// Direction towards the light for the baked two-sided Lambert shading.
+    /// Direction towards the light (a sun) for the baked Lambert shading.
     #[arg(long, value_parser = cli::parse_dvec3, allow_hyphen_values = true)]
     light: Option<DVec3>,
+    /// A point light at this position instead of a sun (Lambert taken at each polygon's
+    /// centroid).
+    #[arg(long, value_parser = cli::parse_dvec3, allow_hyphen_values = true, conflicts_with = "light")]
+    point_light: Option<DVec3>,
     /// Keep the raw material colours (no shading).
-    #[arg(long, conflicts_with = "light")]
+    #[arg(long, conflicts_with_all = ["light", "point_light"])]
     flat: bool,
+    /// Cast shadows from the light: polygons are cut along them, their parts in shadow get
+    /// the ambient colour.
+    #[arg(long, conflicts_with = "flat")]
+    shadows: bool,
     /// Also write the statistics as JSON to this file.
     #[arg(long)]
     stats_json: Option<PathBuf>,
@@ -110,20 +118,22 @@ fn main() -> ExitCode {
 }
 
 fn compile(args: &CompileArgs) -> Result<(), String> {
+    let shading = match (args.flat, args.point_light) {
+        (true, _) => Shading::Flat,
+        (false, Some(at)) => Shading::Point(at),
+        (false, None) => Shading::Lambert(args.light.unwrap_or(DEFAULT_LIGHT)),
+    };
     let options = CompileOptions {
         build: BuildOptions {
             candidates: args.candidates,
             seed: args.seed,
             max_polygon_vertices: args.max_polygon_vertices,
+            shadows: shading.light().filter(|_| args.shadows),
             ..BuildOptions::default()
         },
         ids: args.ids,
         wide_vertices: args.wide_vertices,
-        shading: if args.flat {
-            Shading::Flat
-        } else {
-            Shading::Lambert(args.light.unwrap_or(DEFAULT_LIGHT))
-        },
+        shading,
         ..CompileOptions::default()
     };
     compile_to(

@@ -283,22 +283,29 @@ fn render_orders_give_the_same_picture_and_stats_report_overdraw() {
     assert!(!o.status.success());
 }
 
-/// The polygon colours of a `.peel` file in the order `peel dump` lists the polygons.
-fn dumped_colours(file: &Path) -> Vec<[u8; 3]> {
+/// The colours of each polygon of a `.peel` file, its interior side's then its exterior
+/// side's, in the order `peel dump` lists the polygons.
+fn dumped_colours(file: &Path) -> Vec<[[u8; 3]; 2]> {
     let o = peel(&["dump", s(file)]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    String::from_utf8_lossy(&o.stdout)
-        .lines()
-        .filter_map(|l| l.trim().strip_prefix("colour: ["))
-        .map(|rest| {
-            let v: Vec<u8> = rest
-                .trim_end_matches(']')
-                .split(',')
-                .map(|c| c.trim().parse().expect("a colour channel"))
-                .collect();
-            [v[0], v[1], v[2]]
-        })
-        .collect()
+    let parse = |rest: &str| -> [u8; 3] {
+        let v: Vec<u8> = rest
+            .trim_end_matches(']')
+            .split(',')
+            .map(|c| c.trim().parse().expect("a colour channel"))
+            .collect();
+        [v[0], v[1], v[2]]
+    };
+    let mut out: Vec<[[u8; 3]; 2]> = Vec::new();
+    for line in String::from_utf8_lossy(&o.stdout).lines() {
+        if let Some(rest) = line.trim().strip_prefix("colour: [") {
+            let c = parse(rest);
+            out.push([c, c]);
+        } else if let Some(rest) = line.trim().strip_prefix("exterior_colour: [") {
+            out.last_mut().expect("a polygon's colour first")[1] = parse(rest);
+        }
+    }
+    out
 }
 
 /// The `Kd` colours of an MTL file as the loader rounds them (clamped, x 255, rounded).
@@ -317,7 +324,7 @@ fn kd_colours(mtl: &str) -> Vec<[u8; 3]> {
         .collect()
 }
 
-fn compile_demo(dir: &Path, name: &str, extra: &[&str]) -> Vec<[u8; 3]> {
+fn compile_demo(dir: &Path, name: &str, extra: &[&str]) -> Vec<[[u8; 3]; 2]> {
     let out = dir.join(name);
     let mut args = vec!["compile", &fixture("demo.obj"), "-o", s(&out)]
         .into_iter()
@@ -341,9 +348,14 @@ fn compile_bakes_shading_unless_flat_and_light_moves_it() {
         "demo.mtl's first material is the ground"
     );
 
-    // --flat: exactly the materials' Kd, every material present.
-    let flat = compile_demo(dir.path(), "flat.peel", &["--flat"]);
-    assert!(flat.len() > 20);
+    // --flat: exactly the materials' Kd on both sides, every material present.
+    let flat_sides = compile_demo(dir.path(), "flat.peel", &["--flat"]);
+    assert!(flat_sides.len() > 20);
+    assert!(
+        flat_sides.iter().all(|[a, b]| a == b),
+        "--flat: one colour for both sides"
+    );
+    let flat: Vec<[u8; 3]> = flat_sides.iter().map(|[a, _]| *a).collect();
     let mut flat_set: Vec<[u8; 3]> = flat.clone();
     flat_set.sort();
     flat_set.dedup();
@@ -352,46 +364,117 @@ fn compile_bakes_shading_unless_flat_and_light_moves_it() {
     kd_set.dedup();
     assert_eq!(flat_set, kd_set, "--flat keeps the raw Kd colours");
 
-    // Default: Kd scaled by AMBIENT + (1 - AMBIENT) |n.l| in [0.3, 1], per polygon.
+    // Default: per polygon, the side facing the light Kd scaled by AMBIENT + (1 - AMBIENT) n.l
+    // in [0.3, 1], the other side Kd * AMBIENT.
+    let ambient = |kd: [u8; 3]| kd.map(|c| (f64::from(c) * 0.3).round() as u8);
     let shaded = compile_demo(dir.path(), "shaded.peel", &[]);
     assert_eq!(shaded.len(), flat.len(), "shading does not change the tree");
-    let within = |baked: &[[u8; 3]], what: &str| {
-        for (i, (b, f)) in baked.iter().zip(&flat).enumerate() {
-            for c in 0..3 {
-                let lo = (f64::from(f[c]) * 0.3).floor() as u8;
-                assert!(
-                    b[c] <= f[c] && b[c] >= lo.saturating_sub(1),
-                    "{what}: polygon {i} baked {b:?} from Kd {f:?}"
-                );
+    let within = |baked: &[[[u8; 3]; 2]], what: &str| {
+        for (i, (sides, f)) in baked.iter().zip(&flat).enumerate() {
+            assert!(
+                sides.contains(&ambient(*f)),
+                "{what}: polygon {i} baked {sides:?} from Kd {f:?}: no side is Kd * 0.3"
+            );
+            for b in sides {
+                for c in 0..3 {
+                    let lo = (f64::from(f[c]) * 0.3).floor() as u8;
+                    assert!(
+                        b[c] <= f[c] && b[c] >= lo.saturating_sub(1),
+                        "{what}: polygon {i} baked {b:?} from Kd {f:?}"
+                    );
+                }
             }
         }
     };
     within(&shaded, "default light");
-    let changed = shaded.iter().zip(&flat).filter(|(a, b)| a != b).count();
+    let two_sided = shaded.iter().filter(|[a, b]| a != b).count();
     assert!(
-        changed * 2 > flat.len(),
-        "default compile shades: only {changed} of {} polygons differ from --flat",
+        two_sided * 2 > flat.len(),
+        "default compile shades: only {two_sided} of {} polygons have two colours",
         flat.len()
     );
-    // The ground (normal +y) under the default light (0.4, 0.8, 0.45): k = 0.3 + 0.7 * 0.799.
+    // The ground (normal +y) under the default light (0.4, 0.8, 0.45): k = 0.3 + 0.7 * 0.799
+    // on top, 0.3 below.
     let grounds: Vec<usize> = (0..flat.len()).filter(|&i| flat[i] == ground).collect();
     assert!(!grounds.is_empty());
+    let sorted = |mut sides: [[u8; 3]; 2]| {
+        sides.sort();
+        sides
+    };
     for &i in &grounds {
-        assert_eq!(shaded[i], [76, 120, 66], "ground under the default light");
+        assert_eq!(
+            sorted(shaded[i]),
+            [[27, 42, 23], [76, 120, 66]],
+            "ground under the default light"
+        );
     }
 
-    // --light straight up: the ground gets its full Kd; from the side: only the ambient part.
+    // --light straight up: the ground's top gets its full Kd; from the side: only the ambient
+    // part on both sides.
     let up = compile_demo(dir.path(), "up.peel", &["--light", "0,1,0"]);
     within(&up, "--light 0,1,0");
     let side = compile_demo(dir.path(), "side.peel", &["--light=-1,0,0"]);
     within(&side, "--light -1,0,0");
     for &i in &grounds {
-        assert_eq!(up[i], ground, "ground lit from straight above");
-        assert_eq!(side[i], [27, 42, 23], "ground lit edge-on: 0.3 x Kd");
+        assert_eq!(
+            sorted(up[i]),
+            sorted([ground, [27, 42, 23]]),
+            "ground lit from straight above"
+        );
+        assert_eq!(side[i], [[27, 42, 23]; 2], "ground lit edge-on: 0.3 x Kd");
     }
     assert_ne!(up, shaded, "--light changes the baked colours");
     assert_ne!(side, shaded, "--light changes the baked colours");
     assert_ne!(up, side);
+}
+
+#[test]
+fn compile_casts_shadows_from_the_light() {
+    let dir = tempfile::tempdir().unwrap();
+    let one_colour = |polygons: &[[[u8; 3]; 2]]| polygons.iter().filter(|[a, b]| a == b).count();
+    for light in [
+        None,
+        Some("--light=-0.9,0.5,0.2"),
+        Some("--point-light=0.5,2.5,0.5"),
+    ] {
+        let extra: Vec<&str> = light.into_iter().collect();
+        let lit = compile_demo(dir.path(), "lit.peel", &extra);
+        let with = [extra.clone(), vec!["--shadows"]].concat();
+        let shadows = compile_demo(dir.path(), "shadows.peel", &with);
+        // Cut along the shadows; the parts in shadow have one colour, the ambient one.
+        assert!(
+            shadows.len() > lit.len(),
+            "{light:?}: {} polygons",
+            shadows.len()
+        );
+        assert!(
+            one_colour(&shadows) > one_colour(&lit),
+            "{light:?}: no polygon in shadow"
+        );
+    }
+    let o = peel(&[
+        "compile",
+        &fixture("demo.obj"),
+        "-o",
+        s(&dir.path().join("x.peel")),
+        "--shadows",
+        "--flat",
+    ]);
+    assert!(!o.status.success(), "--shadows needs a light");
+    assert!(String::from_utf8_lossy(&o.stderr).contains("--flat"));
+    let o = peel(&[
+        "compile",
+        &fixture("demo.obj"),
+        "-o",
+        s(&dir.path().join("x.peel")),
+        "--shadows",
+        "--point-light=0,1e6,0",
+    ]);
+    assert!(
+        !o.status.success(),
+        "a point light too far for exact shadows"
+    );
+    assert!(String::from_utf8_lossy(&o.stderr).contains("use a sun"));
 }
 
 #[test]
@@ -408,11 +491,13 @@ fn the_demo_scene_needs_split_nodes() {
     );
     let out = dir.path().join("again.peel");
     let stats = dir.path().join("stats.json");
+    // `peel demo` casts the default sun's shadows.
     let o = peel(&[
         "compile",
         s(&demo_obj),
         "-o",
         s(&out),
+        "--shadows",
         "--stats-json",
         s(&stats),
     ]);
@@ -432,6 +517,11 @@ fn the_demo_scene_needs_split_nodes() {
     assert!(o.status.success());
     let inspect: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
     assert_eq!(inspect["split_nodes"].as_u64(), Some(splits));
+    assert_eq!(
+        std::fs::read(dir.path().join("demo.peel")).unwrap(),
+        std::fs::read(&out).unwrap(),
+        "peel demo is peel compile --shadows"
+    );
 }
 
 /// The decoded RGB bytes of a PNG.

@@ -38,6 +38,7 @@ use crate::compile::CompileOptions;
 use crate::error::CompileError;
 use crate::load::LoadOptions;
 use crate::shade::Shading;
+use crate::shadow::Light;
 use crate::tree::BuildOptions;
 
 /// The environment variable that sets the cache folder.
@@ -179,6 +180,7 @@ pub fn encode_options(options: &CompileOptions, out: &mut Vec<u8>) {
                 seed,
                 max_polygon_vertices,
                 watertight,
+                shadows,
             },
         ids,
         wide_vertices,
@@ -197,13 +199,31 @@ pub fn encode_options(options: &CompileOptions, out: &mut Vec<u8>) {
     out.push(u8::from(*watertight));
     out.push(u8::from(*ids));
     out.push(u8::from(*wide_vertices));
+    let direction = |out: &mut Vec<u8>, d: &glam::DVec3| {
+        for c in d.to_array() {
+            out.extend_from_slice(&c.to_bits().to_le_bytes());
+        }
+    };
     match shading {
         Shading::Flat => out.push(0),
         Shading::Lambert(light) => {
             out.push(1);
-            for c in light.to_array() {
-                out.extend_from_slice(&c.to_bits().to_le_bytes());
-            }
+            direction(out, light);
+        }
+        Shading::Point(at) => {
+            out.push(2);
+            direction(out, at);
+        }
+    }
+    match shadows {
+        None => out.push(0),
+        Some(Light::Sun(sun)) => {
+            out.push(1);
+            direction(out, sun);
+        }
+        Some(Light::Point(at)) => {
+            out.push(2);
+            direction(out, at);
         }
     }
 }

@@ -40,6 +40,8 @@ pub struct Builder {
     out_dir: Option<PathBuf>,
     out_name: Option<String>,
     options: CompileOptions,
+    /// Shadows cast from the shading's light ([`Builder::shadows`]).
+    shadows: bool,
     cache: bool,
     cache_dir: Option<PathBuf>,
     /// The image size span memory is measured at, if any.
@@ -82,6 +84,7 @@ impl Builder {
             out_dir: None,
             out_name: None,
             options: CompileOptions::default(),
+            shadows: false,
             cache: true,
             cache_dir: None,
             image_size: None,
@@ -129,6 +132,16 @@ impl Builder {
     /// How colours are baked.
     pub fn shading(mut self, shading: Shading) -> Self {
         self.options.shading = shading;
+        let on = self.shadows;
+        self.shadows(on)
+    }
+
+    /// Cast shadows from the shading's light, a sun or a point light (`peel compile
+    /// --shadows`): polygons are cut along the shadows and the parts in shadow get the ambient
+    /// colour. Nothing to cast with [`Shading::Flat`].
+    pub fn shadows(mut self, on: bool) -> Self {
+        self.shadows = on;
+        self.options.build.shadows = self.options.shading.light().filter(|_| on);
         self
     }
 

@@ -4,6 +4,7 @@
 use super::cache::{self, Key, Miss};
 use super::*;
 use crate::compile::compile_obj;
+use crate::shadow::Light;
 use peel_runtime::read::Scene;
 use std::fs;
 
@@ -375,4 +376,28 @@ fn a_default_colour_silences_the_warning_about_faces_without_material() {
             "the faces get the colour"
         );
     }
+}
+
+#[test]
+fn shadows_are_cast_from_the_shading_light_whatever_the_order() {
+    let sun = glam::DVec3::new(0.3, 1.0, -0.2);
+    let light = Shading::Lambert(sun);
+    let a = Builder::new("x.obj").shadows(true).shading(light);
+    let b = Builder::new("x.obj").shading(light).shadows(true);
+    assert_eq!(a.options.build.shadows, Some(Light::Sun(sun)));
+    assert_eq!(b.options.build.shadows, Some(Light::Sun(sun)));
+    let point = b.clone().shading(Shading::Point(sun));
+    assert_eq!(point.options.build.shadows, Some(Light::Point(sun)));
+    let flat = Builder::new("x.obj").shadows(true).shading(Shading::Flat);
+    assert_eq!(flat.options.build.shadows, None, "nothing to cast");
+    let off = b.shadows(false);
+    assert_eq!(off.options.build.shadows, None);
+    // The option is part of the cache key: the builder does not take a lit compile for one
+    // with shadows.
+    let dir = tempfile::tempdir().unwrap();
+    let obj = write(dir.path(), "cube.obj", CUBE);
+    let bytes = fs::read(&obj).unwrap();
+    let lit = Key::new(&obj, &bytes, &builder(dir.path(), &obj).options).unwrap();
+    let cast = builder(dir.path(), &obj).shadows(true);
+    assert_ne!(lit, Key::new(&obj, &bytes, &cast.options).unwrap());
 }

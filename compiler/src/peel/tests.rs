@@ -97,6 +97,7 @@ proptest! {
                     flipped: false,
                     vertices: t.iter().map(|&q| Vertex::Int(q)).collect(),
                     edges: Vec::new(),
+                    shadowed: false,
                 });
             }
         }

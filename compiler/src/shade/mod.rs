@@ -1,10 +1,15 @@
-//! Shade: bake two-sided Lambert lighting into each polygon's colour, so a one-colour mesh
-//! reads as 3D without any lighting work at run time.
+//! Shade: bake Lambert lighting into each polygon's colours, so a mesh reads as 3D without any
+//! lighting work at run time.
 //!
-//! `colour = Kd * (AMBIENT + (1 - AMBIENT) * |n · l|)`, rounded, with `n` the polygon's unit
-//! normal and `l` the unit direction towards the light ([`DEFAULT_LIGHT`] unless `--light`
-//! gives another). Two-sided: a face lit from behind is as bright as from the front, since
-//! faces are drawn from both sides.
+//! Each side of a face is lit on its own, as the side a viewer sees: with `n` the unit normal
+//! of the side (pointing to the eyes that see it) and `l` the unit direction towards the light
+//! (a sun, [`DEFAULT_LIGHT`] unless `--light` gives another, or a point light), the side gets
+//! `Kd * (AMBIENT + (1 - AMBIENT) * max(n · l, 0))`, rounded: the side facing the light is
+//! lit, the other gets `Kd * AMBIENT`. Faces are drawn from both sides, so a polygon carries
+//! both colours ([`Sides`]) and the runtime shows the one of the side the eye is on. A point
+//! light's direction varies across a polygon: it is taken at the polygon's centroid, so every
+//! polygon keeps one colour per side (which side faces a point light is the same over a whole
+//! plane).
 
 use glam::DVec3;
 
@@ -17,10 +22,12 @@ pub const AMBIENT: f64 = 0.3;
 /// How colours are baked.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Shading {
-    /// Keep the material colours as they are.
+    /// Keep the material colours as they are, on both sides.
     Flat,
-    /// Two-sided Lambert from a directional light (the direction towards the light).
+    /// Lambert from a directional light (the direction towards the light), each side on its own.
     Lambert(DVec3),
+    /// Lambert from a point light (its position), each side on its own, at the centroid.
+    Point(DVec3),
 }
 
 impl Default for Shading {
@@ -29,16 +36,61 @@ impl Default for Shading {
     }
 }
 
+/// The colours of a polygon's two sides.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Sides {
+    /// Seen from its convex set's interior side.
+    pub interior: [u8; 3],
+    /// Seen from the other side.
+    pub exterior: [u8; 3],
+}
+
 impl Shading {
-    /// The baked colour of a face of material colour `kd` and unit normal `normal`.
-    pub fn shade(&self, kd: [u8; 3], normal: DVec3) -> [u8; 3] {
+    /// The light that casts shadows (`None` without lighting).
+    pub fn light(&self) -> Option<crate::shadow::Light> {
         match *self {
-            Shading::Flat => kd,
-            Shading::Lambert(light) => {
-                let l = light.normalize_or_zero();
-                let k = AMBIENT + (1.0 - AMBIENT) * normal.dot(l).abs().min(1.0);
-                kd.map(|c| (f64::from(c) * k).round().clamp(0.0, 255.0) as u8)
-            }
+            Shading::Flat => None,
+            Shading::Lambert(towards) => Some(crate::shadow::Light::Sun(towards)),
+            Shading::Point(at) => Some(crate::shadow::Light::Point(at)),
+        }
+    }
+
+    /// The baked colour of the side of a face of material colour `kd` whose unit normal,
+    /// pointing to the eyes that see the side, is `normal`, at the point `at` (world
+    /// coordinates; only a point light depends on it).
+    pub fn shade_at(&self, kd: [u8; 3], normal: DVec3, at: DVec3) -> [u8; 3] {
+        let towards = match *self {
+            Shading::Flat => return kd,
+            Shading::Lambert(towards) => towards,
+            Shading::Point(light) => light - at,
+        };
+        let l = towards.normalize_or_zero();
+        let k = AMBIENT + (1.0 - AMBIENT) * normal.dot(l).clamp(0.0, 1.0);
+        kd.map(|c| (f64::from(c) * k).round().clamp(0.0, 255.0) as u8)
+    }
+
+    /// [`Shading::shade_at`] the origin: a sun lights every point alike.
+    pub fn shade(&self, kd: [u8; 3], normal: DVec3) -> [u8; 3] {
+        self.shade_at(kd, normal, DVec3::ZERO)
+    }
+
+    /// Both sides of a face of material colour `kd` in shadow: the ambient part of `kd` (or
+    /// `kd` itself when [`Shading::Flat`]).
+    pub fn in_shadow(&self, kd: [u8; 3]) -> Sides {
+        let ambient = self.shade(kd, DVec3::ZERO);
+        Sides {
+            interior: ambient,
+            exterior: ambient,
+        }
+    }
+
+    /// Both sides of a face of material colour `kd` and unit normal `normal`, its interior on
+    /// the side `normal` points to when `interior_front` is set, lit as at its point `at`.
+    pub fn sides(&self, kd: [u8; 3], normal: DVec3, interior_front: bool, at: DVec3) -> Sides {
+        let inward = if interior_front { normal } else { -normal };
+        Sides {
+            interior: self.shade_at(kd, inward, at),
+            exterior: self.shade_at(kd, -inward, at),
         }
     }
 }
@@ -48,20 +100,57 @@ mod tests {
     use super::*;
 
     #[test]
-    fn flat_keeps_material_colour() {
+    fn flat_keeps_material_colour_on_both_sides() {
         assert_eq!(Shading::Flat.shade([10, 20, 30], DVec3::X), [10, 20, 30]);
+        let sides = Shading::Flat.sides([10, 20, 30], DVec3::Y, true, DVec3::ZERO);
+        assert_eq!(sides.interior, [10, 20, 30]);
+        assert_eq!(sides.exterior, [10, 20, 30]);
     }
 
     #[test]
-    fn facing_the_light_is_full_colour_and_edge_on_is_ambient() {
+    fn the_side_facing_the_light_is_lit_and_the_other_is_ambient() {
         let s = Shading::Lambert(DVec3::Y);
         assert_eq!(s.shade([200, 100, 50], DVec3::Y), [200, 100, 50]);
+        assert_eq!(s.shade([200, 100, 50], -DVec3::Y), [60, 30, 15]);
+        assert_eq!(s.shade([200, 100, 50], DVec3::X), [60, 30, 15], "edge-on");
+        let slanted = s.shade([200, 100, 50], DVec3::new(0.0, 0.6, 0.8));
+        assert_eq!(slanted, [144, 72, 36], "Kd * (0.3 + 0.7 * 0.6)");
+    }
+
+    #[test]
+    fn sides_follow_the_interior() {
+        let s = Shading::Lambert(DVec3::Y);
+        let lit = [200, 100, 50];
+        let ambient = [60, 30, 15];
+        let at = DVec3::new(5.0, -3.0, 2.0);
+        let up = s.sides(lit, DVec3::Y, true, at);
+        assert_eq!((up.interior, up.exterior), (lit, ambient));
+        let down = s.sides(lit, DVec3::Y, false, at);
+        assert_eq!((down.interior, down.exterior), (ambient, lit));
+        let flipped = s.sides(lit, -DVec3::Y, false, at);
+        assert_eq!(flipped, up, "the same face named by the opposite normal");
+    }
+
+    #[test]
+    fn a_point_light_lights_by_its_direction_from_the_point() {
+        let s = Shading::Point(DVec3::new(0.0, 2.0, 0.0));
+        let kd = [200, 100, 50];
+        // Straight below the light: full colour; beside it at 45 degrees: 0.3 + 0.7 / sqrt 2.
+        assert_eq!(s.shade_at(kd, DVec3::Y, DVec3::ZERO), kd);
         assert_eq!(
-            s.shade([200, 100, 50], -DVec3::Y),
-            [200, 100, 50],
-            "two-sided"
+            s.shade_at(kd, DVec3::Y, DVec3::new(2.0, 0.0, 0.0)),
+            [159, 79, 40]
         );
-        assert_eq!(s.shade([200, 100, 50], DVec3::X), [60, 30, 15]);
+        assert_eq!(
+            s.shade_at(kd, -DVec3::Y, DVec3::ZERO),
+            [60, 30, 15],
+            "turned away"
+        );
+        // Above the light, the face's top is turned away from it.
+        assert_eq!(
+            s.shade_at(kd, DVec3::Y, DVec3::new(0.0, 3.0, 0.0)),
+            [60, 30, 15]
+        );
     }
 
     #[test]
@@ -70,6 +159,11 @@ mod tests {
         let top = s.shade([255, 255, 255], DVec3::Y)[0];
         let side = s.shade([255, 255, 255], DVec3::Z)[0];
         let other_side = s.shade([255, 255, 255], DVec3::X)[0];
-        assert!(top > side && side > other_side, "{top} {side} {other_side}");
+        let bottom = s.shade([255, 255, 255], -DVec3::Y)[0];
+        assert!(
+            top > side && side > other_side && other_side > bottom,
+            "{top} {side} {other_side} {bottom}"
+        );
+        assert_eq!(bottom, (255.0 * AMBIENT).round() as u8);
     }
 }

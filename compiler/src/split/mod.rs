@@ -36,6 +36,8 @@ pub struct Fragment {
     pub vertices: Vec<Vertex>,
     /// `edges[i]` runs from `vertices[i]` to `vertices[i + 1]` (cyclically).
     pub edges: Vec<Edge>,
+    /// In the shadow of another source triangle (see [`crate::shadow`]).
+    pub shadowed: bool,
 }
 
 /// Where a fragment lies with respect to a plane.
@@ -144,6 +146,7 @@ impl Fragment {
             flipped: self.flipped,
             vertices: p.vertices,
             edges: p.edges,
+            shadowed: self.shadowed,
         };
         Some(SplitResult::Cut(piece(front), piece(back)))
     }
@@ -215,6 +218,7 @@ pub(crate) fn triangle_fragment(table: &mut PlaneTable, q: [[i32; 3]; 3]) -> Opt
         flipped,
         vertices: q.map(Vertex::Int).to_vec(),
         edges,
+        shadowed: false,
     })
 }
 

@@ -71,7 +71,7 @@ fn split_all(
 
 /// The naive BSP of `mesh`.
 pub fn naive_bsp(mesh: &Mesh) -> Result<BaselineStats, CompileError> {
-    match naive_walk(&prepare(mesh)?, u64::MAX, None)? {
+    match naive_walk(&prepare(mesh, None)?, u64::MAX, None)? {
         Walk::Done(stats) | Walk::OverBudget(stats) => Ok(stats),
     }
 }
@@ -123,7 +123,7 @@ pub fn naive_bsp_file(
     ids: bool,
     shading: &Shading,
 ) -> Result<NaiveBsp, CompileError> {
-    let input = prepare(mesh)?;
+    let input = prepare(mesh, None)?;
     let mut exact = ExactTree::default();
     let stats = match naive_walk(&input, max_polygons, Some(&mut exact))? {
         Walk::Done(stats) => stats,
@@ -137,16 +137,10 @@ pub fn naive_bsp_file(
     // The same output pass as Peel's own trees: exact vertex sharing, T-junctions closed,
     // large polygons cut into convex pieces.
     let tree = to_display(&exact, &input, &BuildOptions::default());
-    let colours: Vec<[u8; 3]> = tree
-        .polygons
-        .iter()
-        .map(|p| {
-            let kd = mesh.triangles[p.source as usize].colour;
-            shading.shade(kd, tree.planes[p.plane as usize].normal)
-        })
-        .collect();
+    let (colours, exterior) = crate::compile::bake(&tree, mesh, shading);
     let input = WriteInput {
         colours: &colours,
+        exterior: &exterior,
         ids,
         ..WriteInput::default()
     };
@@ -266,7 +260,7 @@ pub fn greedy_triangles(
     candidates: usize,
     seed: u64,
 ) -> Result<BaselineStats, CompileError> {
-    let input = prepare(mesh)?;
+    let input = prepare(mesh, None)?;
     let table = &input.table;
     let mut stats = BaselineStats {
         input_triangles: input.input_triangles,

@@ -1,6 +1,11 @@
 //! Reference: a brute-force f64 ray caster that follows the camera conventions of the README
 //! ("Camera and pixels") to the letter, independent of the runtime's projection, clipping and
-//! fill. The end-to-end tests and `peel bench` measure pixel errors against it.
+//! fill. The end-to-end tests and `peel bench` measure pixel errors against it. Per pixel it
+//! also knows the side of the triangle seen, so the tests check the lighting
+//! ([`Reference::seen_normal`], [`Reference::exclude_grazing_light`]).
+
+use crate::shade::Shading;
+use crate::shadow::Light;
 
 use glam::{DVec2, DVec3};
 
@@ -43,6 +48,12 @@ impl Lens {
         }
     }
 
+    /// The ray through the centre of pixel `(i, j)` (its component along `f` is 1).
+    fn ray(&self, i: usize, j: usize) -> DVec3 {
+        self.f + ((i as f64 + 0.5 - f64::from(self.width) / 2.0) / self.fpx) * self.r
+            - ((j as f64 + 0.5 - f64::from(self.height) / 2.0) / self.fpx) * self.u
+    }
+
     /// Camera-space coordinates of a world point.
     fn to_camera(&self, p: DVec3) -> DVec3 {
         let d = p - self.eye;
@@ -59,18 +70,84 @@ impl Lens {
 }
 
 /// What the reference sees: per pixel (row-major), `id + 1` of the nearest triangle hit by the
-/// ray through the pixel centre at camera depth `>= near` (0: nothing), and whether the sample
-/// point is farther than 1/16 pixel from every projected edge.
+/// ray through the pixel centre at camera depth `>= near` (0: nothing), the side of it seen,
+/// and whether the sample point is farther than 1/16 pixel from every projected edge.
 #[derive(Debug, Clone)]
 pub struct Reference {
     /// `id + 1` per pixel, 0 for background.
     pub ids: Vec<u32>,
+    /// True where the pixel's ray sees the front of its triangle (the side from which its
+    /// vertices wind counter-clockwise).
+    pub front: Vec<bool>,
     /// True where the pixel's sample point is farther than 1/16 pixel from all edges.
     pub robust: Vec<bool>,
 }
 
 /// Distance from an edge below which a pixel is not "robust".
 pub const EDGE_MARGIN: f64 = 1.0 / 16.0;
+
+/// `|n · l|` below which a pixel is not robust for lighting: a side lit that nearly edge-on is
+/// within rounding of the unlit colour, and the compiler lights the plane of the quantised
+/// triangle, whose normal may differ from the source triangle's by about the grid's precision.
+pub const LIGHT_MARGIN: f64 = 1.0 / 64.0;
+
+impl Reference {
+    /// The unit normal of the side of its triangle that pixel `k` sees (pointing to the eye),
+    /// `triangles` being those the reference was cast against; `None` for the background.
+    pub fn seen_normal(&self, triangles: &[[DVec3; 3]], k: usize) -> Option<DVec3> {
+        let id = self.ids.get(k)?.checked_sub(1)?;
+        let [a, b, c] = triangles.get(id as usize)?;
+        let n = (*b - *a).cross(*c - *a).normalize_or_zero();
+        Some(if self.front[k] { n } else { -n })
+    }
+
+    /// Marks as not robust the pixels whose side seen is lit within [`LIGHT_MARGIN`] of edge-on
+    /// by `shading`'s light (none for [`Shading::Flat`]), `triangles`, `shot` and `near` being
+    /// what the reference was cast with.
+    pub fn exclude_grazing_light(
+        &mut self,
+        triangles: &[[DVec3; 3]],
+        shot: &Shot,
+        near: f64,
+        shading: &Shading,
+    ) {
+        let cam = &Lens::new(shot, near);
+        for k in 0..self.ids.len() {
+            let (Some(n), Some(p)) = (self.seen_normal(triangles, k), self.hit(cam, triangles, k))
+            else {
+                continue;
+            };
+            let towards = match *shading {
+                Shading::Flat => return,
+                Shading::Lambert(towards) => towards,
+                Shading::Point(at) => at - p,
+            };
+            if n.dot(towards.normalize_or_zero()).abs() < LIGHT_MARGIN {
+                self.robust[k] = false;
+            }
+        }
+    }
+
+    /// The point pixel `k`'s ray hits (`None` for the background), `triangles`, `shot` and
+    /// `near` being what the reference was cast with.
+    pub fn hit_point(
+        &self,
+        triangles: &[[DVec3; 3]],
+        shot: &Shot,
+        near: f64,
+        k: usize,
+    ) -> Option<DVec3> {
+        self.hit(&Lens::new(shot, near), triangles, k)
+    }
+
+    /// The point pixel `k`'s ray hits.
+    fn hit(&self, cam: &Lens, triangles: &[[DVec3; 3]], k: usize) -> Option<DVec3> {
+        let id = self.ids.get(k)?.checked_sub(1)? as usize;
+        let w = cam.width as usize;
+        let dir = cam.ray(k % w, k / w);
+        ray_triangle(cam.eye, dir, triangles.get(id)?).map(|t| cam.eye + dir * t)
+    }
+}
 
 /// Cast one ray per pixel of `shot` against `triangles` (the source triangles: ids are
 /// indices), seeing from the near distance `near` on (the shot's own resolved over the
@@ -86,22 +163,24 @@ pub fn reference(
     let (w, h) = (cam.width as usize, cam.height as usize);
     let mut depth = vec![f64::INFINITY; w * h];
     let mut ids = vec![0u32; w * h];
+    let mut front = vec![false; w * h];
     let mut robust = vec![true; w * h];
     for (id, t) in triangles.iter().enumerate() {
+        let normal = (t[1] - t[0]).cross(t[2] - t[0]);
         let c = t.map(|p| cam.to_camera(p));
         let Some((x0, x1, y0, y1)) = screen_bbox(cam, &c) else {
             continue;
         };
         for j in y0..y1 {
             for i in x0..x1 {
-                let dir = cam.f + ((i as f64 + 0.5 - f64::from(cam.width) / 2.0) / cam.fpx) * cam.r
-                    - ((j as f64 + 0.5 - f64::from(cam.height) / 2.0) / cam.fpx) * cam.u;
+                let dir = cam.ray(i, j);
                 if let Some(tz) = ray_triangle(cam.eye, dir, t) {
                     // dir has unit component along f, so the ray parameter is the camera depth.
                     let k = j * w + i;
                     if tz >= cam.near && tz < depth[k] {
                         depth[k] = tz;
                         ids[k] = id as u32 + 1;
+                        front[k] = dir.dot(normal) < 0.0;
                     }
                 }
             }
@@ -112,7 +191,52 @@ pub fn reference(
         let c: Vec<DVec3> = p.iter().map(|&q| cam.to_camera(q)).collect();
         mark_polygon_edges(cam, &c, &mut robust);
     }
-    Reference { ids, robust }
+    Reference { ids, front, robust }
+}
+
+/// Per pixel of `seen` (the [`reference`] of `triangles` for `shot` and `near`): whether the
+/// point its ray hits is in shadow from `light`, the side seen facing the light: the ray from
+/// that point towards the sun (along [`crate::shadow::sun_direction`], as the compiler casts
+/// it), or the segment to the point light, meets another triangle. A pixel near a shadow's
+/// boundary is one near a compiled polygon's edge (the compiler cuts polygons there), which
+/// `seen` marks.
+pub fn shadowed(
+    seen: &Reference,
+    triangles: &[[DVec3; 3]],
+    shot: &Shot,
+    near: f64,
+    light: Light,
+) -> Vec<bool> {
+    let cam = &Lens::new(shot, near);
+    let sun = match light {
+        Light::Sun(towards) => match crate::shadow::sun_direction(towards) {
+            Some(l) => Some(DVec3::new(l[0] as f64, l[1] as f64, l[2] as f64).normalize()),
+            None => return vec![false; seen.ids.len()],
+        },
+        Light::Point(_) => None,
+    };
+    (0..seen.ids.len())
+        .map(|k| {
+            let (Some(n), Some(p)) = (seen.seen_normal(triangles, k), seen.hit(cam, triangles, k))
+            else {
+                return false;
+            };
+            // Towards the light, and how far along it the light is.
+            let (l, reach) = match (sun, light) {
+                (Some(l), _) => (l, f64::INFINITY),
+                (None, Light::Point(at) | Light::Sun(at)) => (at - p, 1.0),
+            };
+            if n.dot(l) <= 0.0 {
+                return false; // turned away from the light: unlit anyway
+            }
+            let id = seen.ids[k] as usize - 1;
+            // Hits at the point itself (a neighbour sharing its edge) are not shadows.
+            let from = 1e-9 * p.abs().max_element().max(1.0) / l.length();
+            (triangles.iter().enumerate()).any(|(other, tri)| {
+                other != id && ray_triangle(p, l, tri).is_some_and(|s| s > from && s < reach)
+            })
+        })
+        .collect()
 }
 
 /// Pixel range (`x0..x1`, `y0..y1`) that may see the camera-space polygon `c`.
@@ -274,6 +398,44 @@ mod tests {
         // A pixel column crossing the near triangle's left edge has a non-robust pixel.
         assert!(r.robust.iter().any(|&x| !x));
         assert!(r.robust.iter().filter(|&&x| x).count() > 64 * 64 / 2);
+    }
+
+    #[test]
+    fn each_pixel_knows_the_side_it_sees_and_grazing_light_is_not_robust() {
+        // Counter-clockwise seen from +z (the eye): its front.
+        let t = [[
+            DVec3::new(-1.0, -1.0, 0.0),
+            DVec3::new(1.0, -1.0, 0.0),
+            DVec3::new(0.0, 1.0, 0.0),
+        ]];
+        let centre = 16 * 33 + 16;
+        let r = reference(&t, &[], &shot(33, 33), 0.01);
+        assert!(r.front[centre]);
+        assert_eq!(r.seen_normal(&t, centre), Some(DVec3::Z));
+        assert_eq!(r.seen_normal(&t, 0), None, "background");
+        let back = [[t[0][0], t[0][2], t[0][1]]];
+        let r = reference(&back, &[], &shot(33, 33), 0.01);
+        assert!(!r.front[centre]);
+        assert_eq!(r.seen_normal(&back, centre), Some(DVec3::Z));
+        let robust = r.robust.iter().filter(|&&x| x).count();
+        let s = shot(33, 33);
+        let mut lit = r.clone();
+        lit.exclude_grazing_light(
+            &back,
+            &s,
+            0.01,
+            &Shading::Lambert(DVec3::new(0.0, 1.0, 0.1)),
+        );
+        assert_eq!(
+            lit.robust.iter().filter(|&&x| x).count(),
+            robust,
+            "n.l = 0.0995"
+        );
+        let mut grazing = r.clone();
+        let sun = Shading::Lambert(DVec3::new(0.0, 1.0, -0.01));
+        grazing.exclude_grazing_light(&back, &s, 0.01, &sun);
+        assert!(!grazing.robust[centre], "|n.l| = 0.01");
+        assert!(grazing.robust[0], "the background keeps its verdict");
     }
 
     #[test]

@@ -214,7 +214,7 @@ pub(crate) fn build_exact(
         placed: AtomicU64::new(0),
     };
     let root = Job::Compile {
-        frags: input.fragments.clone(),
+        frags: input.build_fragments().to_vec(),
         known: Known::default(),
         slot: Slot::Root,
         limit: Limit::at_most(u32::MAX),

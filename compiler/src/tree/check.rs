@@ -26,7 +26,7 @@ pub fn verify(
     options: &BuildOptions,
     samples: usize,
 ) -> Result<DisplayTree, String> {
-    let input = prepare(mesh).map_err(|e| e.to_string())?;
+    let input = prepare(mesh, options.shadows).map_err(|e| e.to_string())?;
     let exact = build_exact(&input, options, &|_| {}).map_err(|e| e.to_string())?;
     structure(&exact)?;
     support_planes(&exact)?;

@@ -10,6 +10,7 @@ use crate::error::CompileError;
 use crate::load::Mesh;
 use crate::planes::{edge_plane, Plane, PlaneTable, Side, Vertex};
 use crate::quantise::{IPoint, Quantiser};
+use crate::shadow::Light;
 use crate::split::{Edge, Fragment};
 
 /// Quantised triangles ready to build.
@@ -20,13 +21,24 @@ pub(crate) struct Input {
     pub table: PlaneTable,
     /// One fragment per kept triangle, in source order.
     pub fragments: Vec<Fragment>,
+    /// What the build starts from when it differs from `fragments`: their pieces lit and in
+    /// shadow ([`crate::shadow`]), in source order.
+    pub shadowed: Option<Vec<Fragment>>,
     /// Triangles read.
     pub input_triangles: u64,
     /// Triangles of zero area after quantisation.
     pub degenerate_dropped: u64,
 }
 
-pub(crate) fn prepare(mesh: &Mesh) -> Result<Input, CompileError> {
+/// The fragments the build starts from.
+impl Input {
+    pub(crate) fn build_fragments(&self) -> &[Fragment] {
+        self.shadowed.as_deref().unwrap_or(&self.fragments)
+    }
+}
+
+/// The build's input for `mesh`, its fragments cut along the shadows `light` casts when given.
+pub(crate) fn prepare(mesh: &Mesh, light: Option<Light>) -> Result<Input, CompileError> {
     if mesh.triangles.len() > u32::MAX as usize / 4 {
         return Err(CompileError::TooLarge {
             path: mesh.files.first().cloned().unwrap_or_default(),
@@ -71,7 +83,7 @@ pub(crate) fn prepare(mesh: &Mesh) -> Result<Input, CompileError> {
     let mut table = PlaneTable::default();
     let ids = table.insert_all(&planes);
     let (support_ids, edge_ids) = ids.split_at(kept.len());
-    let fragments = (kept.par_iter().zip(&edges).enumerate())
+    let fragments: Vec<Fragment> = (kept.par_iter().zip(&edges).enumerate())
         .map(|(j, (&(i, q, flipped, _), edges))| {
             let edges = (0..3)
                 .map(|k| {
@@ -88,13 +100,21 @@ pub(crate) fn prepare(mesh: &Mesh) -> Result<Input, CompileError> {
                 flipped,
                 vertices: q.iter().map(|&p| Vertex::Int(p)).collect(),
                 edges,
+                shadowed: false,
             }
         })
         .collect();
+    let shadowed = match light {
+        Some(light) => Some(crate::shadow::cast(
+            &fragments, &mut table, light, &quantiser,
+        )?),
+        None => None,
+    };
     Ok(Input {
         quantiser,
         table,
         fragments,
+        shadowed,
         input_triangles: mesh.triangles.len() as u64,
         degenerate_dropped: dropped,
     })

@@ -38,6 +38,9 @@ pub struct BuildOptions {
     /// without it may show cracks, so no user should turn it off.
     #[doc(hidden)]
     pub watertight: bool,
+    /// Cut polygons along the shadows the mesh casts from this light; each piece is then lit
+    /// or in shadow ([`TreePolygon::shadowed`]). `None`: no shadows.
+    pub shadows: Option<crate::shadow::Light>,
 }
 
 impl Default for BuildOptions {
@@ -47,6 +50,7 @@ impl Default for BuildOptions {
             seed: 0,
             max_polygon_vertices: 12,
             watertight: true,
+            shadows: None,
         }
     }
 }
@@ -74,6 +78,8 @@ pub struct TreePolygon {
     pub vertices: Vec<u32>,
     /// Source triangle id.
     pub source: u32,
+    /// In the shadow of another source triangle: both sides get the ambient colour.
+    pub shadowed: bool,
 }
 
 /// A node of the display tree. Children always have larger indices than their parent.
@@ -150,7 +156,7 @@ pub(crate) fn build(
     options: &BuildOptions,
     progress: &(dyn Fn(u64) + Sync),
 ) -> Result<DisplayTree, CompileError> {
-    let input = input::prepare(mesh)?;
+    let input = input::prepare(mesh, options.shadows)?;
     let exact = build::build_exact(&input, options, progress)?;
     let tree = output::to_display(&exact, &input, options);
     // Freeing the exact tree (millions of small allocations) overlaps the caller's next steps

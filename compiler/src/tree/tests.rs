@@ -50,7 +50,7 @@ pub(crate) fn bumpy_sphere(rings: usize, segments: usize, radii: &[f64]) -> Mesh
 }
 
 fn exact(mesh: &Mesh, options: &BuildOptions) -> (Input, ExactTree) {
-    let input = prepare(mesh).unwrap();
+    let input = prepare(mesh, options.shadows).unwrap();
     let tree = build_exact(&input, options, &|_| {}).unwrap();
     (input, tree)
 }
@@ -485,4 +485,39 @@ fn shared_models_speed_and_ratio() {
             t.elapsed().as_secs_f64()
         );
     }
+}
+
+/// With shadows (a bumpy sphere shadows itself) the file is the same on any thread count,
+/// and the tree keeps every invariant.
+#[test]
+fn shadows_give_identical_output_on_any_thread_count_and_keep_every_invariant() {
+    let radii: Vec<f64> = (0..31)
+        .map(|i| ((i * 13 % 31) as f64 / 31.0 - 0.5) * 0.6)
+        .collect();
+    let mesh = bumpy_sphere(20, 30, &radii);
+    let options = crate::compile::CompileOptions {
+        ids: true,
+        build: BuildOptions {
+            shadows: Some(crate::shadow::Light::Sun(glam::DVec3::new(0.3, 0.9, -0.4))),
+            ..BuildOptions::default()
+        },
+        ..Default::default()
+    };
+    let compile = |threads: usize| {
+        pool(threads).install(|| crate::compile::compile_mesh(&mesh, &options, &|_| {}).unwrap())
+    };
+    let (a, bytes) = compile(1);
+    assert_eq!(bytes, compile(3).1);
+    assert!(a.polygons.iter().any(|p| p.shadowed), "no shadow");
+    let (input, tree) = exact(&mesh, &options.build);
+    assert!(
+        input.build_fragments().len() > input.fragments.len(),
+        "no cut"
+    );
+    super::check::structure(&tree).unwrap();
+    super::check::support_planes(&tree).unwrap();
+    super::check::ancestor_sides(&tree, &input).unwrap();
+    super::check::fragments(&tree, &input).unwrap();
+    super::check::convex_sets(&tree, &input).unwrap();
+    super::check::area_partition(&tree, &input, 2, 1).unwrap();
 }

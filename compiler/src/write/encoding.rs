@@ -4,8 +4,8 @@
 //! smallest ([`Encoding::smallest`]); on a tie the earlier of [`Encoding::ALL`] wins (`u16`
 //! indices, then no palette), so the file stays a canonical function of the tree. `u16`
 //! indices fit when the vertex count is at most 65536 and are never larger; a palette costs
-//! 3 bytes per distinct colour and saves 2 (`u8` index) or 1 (`u16` index) byte per polygon,
-//! so it pays when colours repeat.
+//! 3 bytes per distinct colour and saves 2 (`u8` index) or 1 (`u16` index) byte per colour
+//! field (one per polygon, two when its sides differ), so it pays when colours repeat.
 
 use crate::hash::FastMap;
 
@@ -80,19 +80,29 @@ impl Encoding {
         Ok(flags)
     }
 
-    /// Bytes of the parts this encoding changes: indices, polygons and palette.
-    pub fn size(self, indices: usize, polygons: usize, colours: usize) -> usize {
-        let flags = self.flags(0, 1).unwrap_or(0);
+    /// Bytes of the parts this encoding changes: indices, polygons (with two colour fields
+    /// each when `two_colours`) and palette.
+    pub fn size(self, indices: usize, polygons: usize, colours: usize, two_colours: bool) -> usize {
+        let mut flags = self.flags(0, 1).unwrap_or(0);
+        if two_colours {
+            flags |= header_flags::TWO_COLOURS;
+        }
         let palette = if self.palette.is_some() { colours } else { 0 };
         indices * index_size(flags) + polygons * polygon_size(flags) + palette * PALETTE_SIZE
     }
 
     /// The encoding of the smallest file that can hold the scene.
-    pub fn smallest(vertices: usize, indices: usize, polygons: usize, colours: usize) -> Encoding {
+    pub fn smallest(
+        vertices: usize,
+        indices: usize,
+        polygons: usize,
+        colours: usize,
+        two_colours: bool,
+    ) -> Encoding {
         Encoding::ALL
             .into_iter()
             .filter(|e| e.flags(vertices, colours).is_ok())
-            .min_by_key(|e| e.size(indices, polygons, colours))
+            .min_by_key(|e| e.size(indices, polygons, colours, two_colours))
             // Unreachable: `u32` indices and RGB colours hold any scene.
             .unwrap_or(Encoding {
                 index16: false,

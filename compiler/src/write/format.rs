@@ -71,8 +71,11 @@ pub struct Polygon {
     pub vertex_count: u8,
     /// [`polygon_flags`].
     pub flags: u8,
-    /// Colour or palette index; its variant must match the header flags.
+    /// Colour or palette index; its variant must match the header flags. With
+    /// [`header_flags::TWO_COLOURS`] the interior side's, else both sides'.
     pub colour: ColourField,
+    /// The exterior side's colour: present exactly with [`header_flags::TWO_COLOURS`].
+    pub exterior: Option<ColourField>,
 }
 
 /// A node of the display tree (`1 + 3w` bytes, `1 + 4w` with [`header_flags::BOUNDS`], `w`
@@ -350,20 +353,24 @@ fn colour_kind(flags: u16) -> fn(ColourField) -> bool {
 
 impl Flagged for Polygon {
     fn write<S: Serializer>(&self, flags: u16, _: u32, s: S) -> Result<S::Ok, S::Error> {
-        if !colour_kind(flags)(self.colour) {
+        let two = flags & header_flags::TWO_COLOURS != 0;
+        let kind = colour_kind(flags);
+        if !kind(self.colour) || self.exterior.is_some() != two || !self.exterior.is_none_or(kind) {
             return Err(ser::Error::custom(format!(
-                "colour field {:?} disagrees with header flags {flags:#x}",
-                self.colour
+                "colour fields {:?}, {:?} disagree with header flags {flags:#x}",
+                self.colour, self.exterior
             )));
         }
-        let mut t = s.serialize_tuple(4)?;
+        let mut t = s.serialize_tuple(if two { 5 } else { 4 })?;
         field(&mut t, flags, self.first_index)?;
         t.serialize_element(&self.vertex_count)?;
         t.serialize_element(&self.flags)?;
-        match self.colour {
-            ColourField::Rgb(rgb) => t.serialize_element(&rgb)?,
-            ColourField::Index8(k) => t.serialize_element(&k)?,
-            ColourField::Index16(k) => t.serialize_element(&k)?,
+        for colour in std::iter::once(self.colour).chain(self.exterior) {
+            match colour {
+                ColourField::Rgb(rgb) => t.serialize_element(&rgb)?,
+                ColourField::Index8(k) => t.serialize_element(&k)?,
+                ColourField::Index16(k) => t.serialize_element(&k)?,
+            }
         }
         t.end()
     }
@@ -377,18 +384,27 @@ impl Flagged for Polygon {
         };
         let vertex_count = required(seq.next_element()?)?;
         let polygon_flags = required(seq.next_element()?)?;
-        let colour = if flags & header_flags::PALETTE == 0 {
-            ColourField::Rgb(required(seq.next_element()?)?)
-        } else if flags & header_flags::PALETTE16 == 0 {
-            ColourField::Index8(required(seq.next_element()?)?)
+        let mut colour = || -> Result<ColourField, A::Error> {
+            Ok(if flags & header_flags::PALETTE == 0 {
+                ColourField::Rgb(required(seq.next_element()?)?)
+            } else if flags & header_flags::PALETTE16 == 0 {
+                ColourField::Index8(required(seq.next_element()?)?)
+            } else {
+                ColourField::Index16(required(seq.next_element()?)?)
+            })
+        };
+        let interior = colour()?;
+        let exterior = if flags & header_flags::TWO_COLOURS != 0 {
+            Some(colour()?)
         } else {
-            ColourField::Index16(required(seq.next_element()?)?)
+            None
         };
         Ok(Some(Polygon {
             first_index,
             vertex_count,
             flags: polygon_flags,
-            colour,
+            colour: interior,
+            exterior,
         }))
     }
 }

@@ -51,8 +51,11 @@ fn to_f32(v: DVec3, what: &str) -> Result<[f32; 3], CompileError> {
 /// What the writer stores besides the tree.
 #[derive(Debug, Clone, Copy, Default)]
 pub(crate) struct WriteInput<'a> {
-    /// Colour of each tree polygon.
+    /// Colour of each tree polygon: of both sides, or of its interior side when `exterior`
+    /// is given.
     pub colours: &'a [[u8; 3]],
+    /// Colour of each tree polygon's exterior side, or empty: both sides have `colours`.
+    pub exterior: &'a [[u8; 3]],
     /// Keep source triangle ids.
     pub ids: bool,
     /// Store vertices as `f32` instead of 16-bit steps on the scene's bounds.
@@ -95,13 +98,20 @@ pub(crate) fn peel_file_encoded(
 ) -> Result<PeelFile, CompileError> {
     let WriteInput {
         colours,
+        exterior,
         ids,
         wide_vertices,
     } = *input;
-    if colours.len() != tree.polygons.len() {
+    let exterior = if exterior.is_empty() {
+        colours
+    } else {
+        exterior
+    };
+    if colours.len() != tree.polygons.len() || exterior.len() != tree.polygons.len() {
         return Err(invariant(format!(
-            "{} colours for {} polygons",
+            "{} and {} colours for {} polygons",
             colours.len(),
+            exterior.len(),
             tree.polygons.len()
         )));
     }
@@ -143,12 +153,13 @@ pub(crate) fn peel_file_encoded(
         file_nodes: Vec::new(),
         polygons: Vec::new(),
         rgb: Vec::new(),
+        rgb_exterior: Vec::new(),
         indices: Vec::new(),
         ids_out: Vec::new(),
         max_depth: 0,
         emitted: vec![false; tree.polygons.len()],
     };
-    out.emit_nodes(colours)?;
+    out.emit_nodes(&[colours, exterior])?;
     if let Some(unowned) = out.unowned_polygon() {
         return Err(invariant(format!(
             "polygon {unowned} belongs to no convex node"
@@ -161,27 +172,37 @@ pub(crate) fn peel_file_encoded(
         .max()
         .unwrap_or(0);
 
-    let colours = encoding::distinct_colours(&out.rgb).len();
+    // A second colour field per polygon only when some polygon's sides differ.
+    let two_colours = out.rgb != out.rgb_exterior;
+    let mut rgb = out.rgb.clone();
+    if two_colours {
+        rgb.extend_from_slice(&out.rgb_exterior);
+    }
+    let colours = encoding::distinct_colours(&rgb).len();
     let encoding = encoding.unwrap_or_else(|| {
         Encoding::smallest(
             vertices.len(),
             out.indices.len(),
             out.polygons.len(),
             colours,
+            two_colours,
         )
     });
-    let flags = encoding.flags(vertices.len(), colours)?;
-    let (fields, palette) = encoding::colour_fields(flags, &out.rgb)?;
-    for (polygon, field) in out.polygons.iter_mut().zip(fields) {
-        polygon.colour = field;
+    let mut flags = encoding.flags(vertices.len(), colours)?;
+    if two_colours {
+        flags |= header_flags::TWO_COLOURS;
+    }
+    let (fields, palette) = encoding::colour_fields(flags, &rgb)?;
+    let (interior, exterior) = fields.split_at(out.polygons.len());
+    for (k, polygon) in out.polygons.iter_mut().enumerate() {
+        polygon.colour = interior[k];
+        polygon.exterior = exterior.get(k).copied();
     }
     let node_bounds = bounds::node_bounds(&decoded, &out.indices, &out.polygons, &out.file_nodes);
     let boxes = bounds::assign(&mut out.file_nodes, &node_bounds, bounds_min, bounds_max);
-    let mut flags = if boxes.is_some() {
-        flags | header_flags::BOUNDS
-    } else {
-        flags
-    };
+    if boxes.is_some() {
+        flags |= header_flags::BOUNDS;
+    }
     if wide_vertices {
         flags |= header_flags::WIDE_VERTICES;
     }
@@ -275,8 +296,10 @@ struct Emitter<'t> {
     file_nodes: Vec<Node>,
     /// Polygons in file order, their colour field still RGB.
     polygons: Vec<Polygon>,
-    /// RGB colour of each file polygon.
+    /// RGB colour of each file polygon (of its interior side).
     rgb: Vec<[u8; 3]>,
+    /// RGB colour of each file polygon's exterior side.
+    rgb_exterior: Vec<[u8; 3]>,
     indices: Vec<u32>,
     ids_out: Vec<u32>,
     max_depth: u32,
@@ -294,7 +317,7 @@ enum Slot {
 
 impl Emitter<'_> {
     /// Pre-order walk with an explicit stack (deep trees must not overflow the call stack).
-    fn emit_nodes(&mut self, colours: &[[u8; 3]]) -> Result<(), CompileError> {
+    fn emit_nodes(&mut self, colours: &[&[[u8; 3]]; 2]) -> Result<(), CompileError> {
         let tree = self.tree;
         if tree.nodes.is_empty() {
             return Ok(());
@@ -398,7 +421,8 @@ impl Emitter<'_> {
         Ok(slot)
     }
 
-    fn emit_polygon(&mut self, p: u32, colours: &[[u8; 3]]) -> Result<(), CompileError> {
+    /// Polygon `p`, its colours `colours[0][p]` (interior side) and `colours[1][p]`.
+    fn emit_polygon(&mut self, p: u32, colours: &[&[[u8; 3]]; 2]) -> Result<(), CompileError> {
         let tree = self.tree;
         let polygon = tree
             .polygons
@@ -447,9 +471,11 @@ impl Emitter<'_> {
             first_index: count(self.indices.len(), "polygon vertices")?,
             vertex_count,
             flags,
-            colour: ColourField::Rgb(colours[p as usize]),
+            colour: ColourField::Rgb(colours[0][p as usize]),
+            exterior: None,
         });
-        self.rgb.push(colours[p as usize]);
+        self.rgb.push(colours[0][p as usize]);
+        self.rgb_exterior.push(colours[1][p as usize]);
         let (head, tail) = polygon.vertices.split_at(start);
         self.indices.extend_from_slice(tail);
         self.indices.extend_from_slice(head);

@@ -23,6 +23,7 @@ fn polygon(
         interior_front,
         vertices: vertices.to_vec(),
         source,
+        shadowed: false,
     }
 }
 
@@ -137,6 +138,14 @@ fn assert_reads_back(file: &PeelFile) {
             },
         };
         assert_eq!(read, expected);
+        let exterior = match p.exterior {
+            None => expected.colour,
+            Some(ColourField::Rgb(c)) => colour(c),
+            Some(ColourField::Index8(k)) => colour(file.palette[usize::from(k)]),
+            Some(ColourField::Index16(k)) => colour(file.palette[usize::from(k)]),
+        };
+        assert_eq!(scene.colour_seen(i as u32, &read, false), exterior);
+        assert_eq!(scene.colour_seen(i as u32, &read, true), expected.colour);
         for k in 0..u32::from(p.vertex_count) {
             let index = file.indices[(p.first_index + k) as usize];
             assert_eq!(
@@ -218,11 +227,15 @@ fn record_sizes_match_the_spec() {
     let (tree, colours) = small_tree();
     let size = |bytes: Vec<u8>| bytes.len();
     let enc = |v: &dyn erased::Encode| v.encode();
-    let inputs = [false, true].map(|wide_vertices| WriteInput {
-        colours: &colours,
-        ids: true,
-        wide_vertices,
-    });
+    // The exterior sides in other colours: a second colour field per polygon.
+    let exterior: Vec<[u8; 3]> = colours.iter().map(|c| c.map(|v| !v)).collect();
+    let inputs =
+        [(false, false), (true, false), (false, true)].map(|(wide_vertices, two)| WriteInput {
+            colours: &colours,
+            exterior: if two { &exterior } else { &[] },
+            ids: true,
+            wide_vertices,
+        });
     for (input, encoding) in inputs.iter().flat_map(|i| Encoding::ALL.map(|e| (i, e))) {
         let file = peel_file_encoded(&tree, input, Some(encoding)).unwrap();
         let bytes = to_bytes(&file).unwrap();
@@ -252,11 +265,14 @@ fn record_sizes_match_the_spec() {
         assert_eq!(layout::index_size(no_narrow_index), 4);
         // small_tree's counts all fit NARROW's u16 fields: 2 + 1 + 1 + the colour.
         assert_ne!(h.flags & header_flags::NARROW, 0);
-        let expected_polygon = match encoding.palette {
-            None => 7,
-            Some(PaletteWidth::U8) => 5,
-            Some(PaletteWidth::U16) => 6,
+        let colour_field = match encoding.palette {
+            None => 3,
+            Some(PaletteWidth::U8) => 1,
+            Some(PaletteWidth::U16) => 2,
         };
+        let two = h.flags & header_flags::TWO_COLOURS != 0;
+        assert_eq!(two, !input.exterior.is_empty());
+        let expected_polygon = 4 + colour_field * if two { 2 } else { 1 };
         assert_eq!(
             (layout::index_size(h.flags), layout::polygon_size(h.flags)),
             (expected_index, expected_polygon)
@@ -327,7 +343,7 @@ fn the_file_is_the_tree_in_pre_order() {
     assert_eq!(
         (h.version, h.flags),
         (
-            2,
+            3,
             header_flags::IDS | header_flags::INDEX16 | header_flags::BOUNDS | header_flags::NARROW
         )
     );

@@ -4,7 +4,7 @@
 /// First four bytes of every `.peel` file.
 pub const MAGIC: [u8; 4] = *b"PEEL";
 /// Bumped whenever the byte layout or the meaning of a field changes; readers refuse others.
-pub const FORMAT_VERSION: u16 = 2;
+pub const FORMAT_VERSION: u16 = 3;
 /// "No node" in a child or parent field.
 pub const NONE: u32 = u32::MAX;
 /// "No node" (or "no box") in a `u16` field of a [`header_flags::NARROW`] file.
@@ -36,9 +36,20 @@ pub mod header_flags {
     /// Indices are 3-byte little-endian integers (`u24`, for up to 2^24 vertices); with
     /// [`INDEX16`] the flags are inconsistent.
     pub const INDEX24: u16 = 1 << 8;
+    /// Each polygon record ends with a second colour field: the colour of its exterior side
+    /// (the first is its interior side's). Without it both sides have the one colour.
+    pub const TWO_COLOURS: u16 = 1 << 9;
     /// Every bit this version defines; a reader refuses others.
-    pub const KNOWN: u16 =
-        IDS | INDEX16 | PALETTE | PALETTE16 | BOUNDS | NARROW | MEDIUM | WIDE_VERTICES | INDEX24;
+    pub const KNOWN: u16 = IDS
+        | INDEX16
+        | PALETTE
+        | PALETTE16
+        | BOUNDS
+        | NARROW
+        | MEDIUM
+        | WIDE_VERTICES
+        | INDEX24
+        | TWO_COLOURS;
 }
 
 /// Bytes of an index under header `flags`.
@@ -95,10 +106,16 @@ pub const fn colour_size(flags: u16) -> usize {
 }
 
 /// Bytes of a polygon record under header `flags`: `first_index` ([`field_size`]),
-/// `vertex_count` and `flags` (a byte each), the colour. A polygon's plane is not stored: it is
-/// the plane through its first three vertices.
+/// `vertex_count` and `flags` (a byte each), the colour, and with
+/// [`header_flags::TWO_COLOURS`] the exterior side's colour. A polygon's plane is not stored:
+/// it is the plane through its first three vertices.
 pub const fn polygon_size(flags: u16) -> usize {
-    field_size(flags) + 2 + colour_size(flags)
+    let colours = if flags & header_flags::TWO_COLOURS != 0 {
+        2
+    } else {
+        1
+    };
+    field_size(flags) + 2 + colours * colour_size(flags)
 }
 
 /// Bytes of a node record under header `flags`: `kind`, then `a`, `b`, `parent` and with

@@ -92,7 +92,8 @@ pub struct Polygon {
     pub vertex_count: u16,
     /// Polygon flags ([`layout::polygon_flags`]).
     pub flags: u8,
-    /// Baked colour.
+    /// Baked colour: of both sides, or with [`layout::header_flags::TWO_COLOURS`] of the
+    /// interior side ([`Scene::colour_seen`]).
     pub colour: Colour,
 }
 
@@ -433,6 +434,21 @@ impl<'a> Scene<'a> {
             vertex_count: u16::from(vertex_count),
             flags,
             colour: self.colour_at(at + w + 2),
+        }
+    }
+
+    /// The colour polygon `i` (whose record is `polygon`) shows an eye on its interior side
+    /// (`interior`, as the traversal yields it) or on its exterior side: the record's colour,
+    /// or with [`header_flags::TWO_COLOURS`] its second colour field for the exterior side.
+    #[inline]
+    pub fn colour_seen(&self, i: u32, polygon: &Polygon, interior: bool) -> Colour {
+        let flags = self.header.flags;
+        if interior || flags & header_flags::TWO_COLOURS == 0 || i >= self.header.polygon_count {
+            return polygon.colour;
+        }
+        match element(self.polygons, self.polygon_size, i) {
+            Some(at) => self.colour_at(at + self.field_size() + 2 + layout::colour_size(flags)),
+            None => polygon.colour,
         }
     }
 

@@ -27,6 +27,8 @@ struct Spec {
     indices: Vec<u32>,
     /// first_index, vertex_count, flags, colour
     polygons: Vec<(u32, u16, u8, [u8; 3])>,
+    /// With `TWO_COLOURS`: each polygon's exterior colour field.
+    exterior: Vec<[u8; 3]>,
     ids: Vec<u32>,
     /// kind, a, b, c, parent (as [`RawNode`] before the first child becomes implicit: convex
     /// a = first polygon, b = count, c = child; split a = plane, b = + child, c = - child)
@@ -83,6 +85,7 @@ impl Spec {
                 (7, 3, 0, [70, 80, 90]),
             ],
             ids: std::vec![7, 8, 9],
+            exterior: std::vec![[11, 21, 31], [41, 51, 61], [71, 81, 91]],
             nodes: std::vec![
                 (node_kind::SPLIT, 2, 1, 2, NONE),
                 (node_kind::CONVEX, 0, 2, NONE, 0),
@@ -194,11 +197,14 @@ impl Spec {
             out.extend(&v.to_le_bytes()[..width]);
         };
         length(&mut out, self.polygons.len());
-        for &(first, count, flags, colour) in &self.polygons {
+        for (k, &(first, count, flags, colour)) in self.polygons.iter().enumerate() {
             field(&mut out, first);
             out.push(count as u8);
             out.push(flags);
             out.extend(&colour[..colour_size(self.flags)]);
+            if self.flags & header_flags::TWO_COLOURS != 0 {
+                out.extend(&self.exterior[k][..colour_size(self.flags)]);
+            }
         }
         length(&mut out, self.ids.len());
         for v in &self.ids {
@@ -403,8 +409,8 @@ fn header_identity_is_checked_first() {
     spec.magic = *b"PEEK";
     assert_eq!(spec.parse(), Err(ReadError::BadMagic));
     assert_eq!(Scene::parse(b"PNG").unwrap_err(), ReadError::BadMagic);
-    // Version 1 (the previous layout) and a later one.
-    for version in [1, 3] {
+    // Versions 1 and 2 (the previous layouts) and a later one.
+    for version in [1, 2, FORMAT_VERSION + 1] {
         let mut spec = Spec::small();
         spec.version = version;
         assert_eq!(spec.parse(), Err(ReadError::UnsupportedVersion { version }));
@@ -414,8 +420,11 @@ fn header_identity_is_checked_first() {
         );
     }
     let mut spec = Spec::small();
-    spec.flags = 1 << 9;
-    assert_eq!(spec.parse(), Err(ReadError::UnknownFlags { flags: 1 << 9 }));
+    spec.flags = 1 << 10;
+    assert_eq!(
+        spec.parse(),
+        Err(ReadError::UnknownFlags { flags: 1 << 10 })
+    );
     for both in [
         header_flags::NARROW | header_flags::MEDIUM,
         header_flags::INDEX16 | header_flags::INDEX24,
@@ -1165,4 +1174,69 @@ proptest! {
             render_untrusted(&scene);
         }
     }
+}
+
+#[test]
+fn two_colours_give_each_side_its_own() {
+    let polygon = |scene: &Scene<'_>, k: u32| {
+        let p = scene.polygon(k);
+        (
+            scene.colour_seen(k, &p, true),
+            scene.colour_seen(k, &p, false),
+        )
+    };
+    let one = Spec::small().encode();
+    let one = Scene::parse(&one).unwrap();
+    assert_eq!(
+        polygon(&one, 1),
+        (Colour::new(40, 50, 60), Colour::new(40, 50, 60))
+    );
+    let mut spec = Spec::small();
+    spec.flags |= header_flags::TWO_COLOURS;
+    let bytes = spec.encode();
+    assert_eq!(
+        bytes.len(),
+        Spec::small().encode().len() + 3 * 3,
+        "one more colour field per polygon"
+    );
+    let two = Scene::parse(&bytes).unwrap();
+    for k in 0..3u32 {
+        let (c, e) = (spec.polygons[k as usize].3, spec.exterior[k as usize]);
+        assert_eq!(
+            polygon(&two, k),
+            (Colour::new(c[0], c[1], c[2]), Colour::new(e[0], e[1], e[2]))
+        );
+        assert_eq!(two.polygon(k).first_index, spec.polygons[k as usize].0);
+    }
+    // Out of range: the record's colour (here the default), no panic.
+    assert_eq!(polygon(&two, 3), (Colour::default(), Colour::default()));
+}
+
+#[test]
+fn an_exterior_palette_index_out_of_range_is_refused() {
+    let mut spec = Spec::small_with_everything();
+    spec.flags |= header_flags::TWO_COLOURS;
+    spec.exterior = std::vec![[1, 0, 0], [0, 0, 0], [1, 0, 0]];
+    let scene = spec.encode();
+    let scene = Scene::parse(&scene).unwrap();
+    let p = scene.polygon(0);
+    assert_eq!(scene.colour_seen(0, &p, false), Colour::new(40, 50, 60));
+    spec.exterior[1] = [2, 0, 0];
+    let bytes = spec.encode();
+    let polygons = bytes.len()
+        - spec.nodes.len() * node_size(spec.flags)
+        - 8
+        - spec.boxes.len() * BOUNDS_SIZE
+        - 8
+        - spec.palette.len() * PALETTE_SIZE
+        - 8
+        - spec.ids.len() * ID_SIZE
+        - 8
+        - spec.polygons.len() * polygon_size(spec.flags);
+    assert_eq!(
+        Scene::parse(&bytes).unwrap_err(),
+        ReadError::BadRecord {
+            offset: polygons + polygon_size(spec.flags)
+        }
+    );
 }

@@ -11,10 +11,10 @@
 use glam::Vec3;
 
 use super::layout::{
-    self, f32_at, f64_at, field_at, field_size, header_flags as hf, header_offset as h, index_size,
-    node_kind, node_size, polygon_flags, polygon_size, u16_at, u64_at, u8_at, vertex_size,
-    BOUNDS_SIZE, FORMAT_VERSION, HEADER_SIZE, ID_SIZE, LENGTH_SIZE, MAGIC, NONE, PALETTE_SIZE,
-    PLANE_SIZE,
+    self, colour_size, f32_at, f64_at, field_at, field_size, header_flags as hf,
+    header_offset as h, index_size, node_kind, node_size, polygon_flags, polygon_size, u16_at,
+    u64_at, u8_at, vertex_size, BOUNDS_SIZE, FORMAT_VERSION, HEADER_SIZE, ID_SIZE, LENGTH_SIZE,
+    MAGIC, NONE, PALETTE_SIZE, PLANE_SIZE,
 };
 use super::{Header, Scene};
 use crate::error::ReadError;
@@ -303,27 +303,31 @@ fn check_indices(scene: &Scene<'_>) -> Result<(), ReadError> {
     Ok(())
 }
 
-/// Every polygon: known flags, `3 <= vertex_count <= max_polygon_vertices`, and
+/// Every polygon: palette indices in range (both colours with `TWO_COLOURS`), known flags, `3 <= vertex_count <= max_polygon_vertices`, and
 /// its vertex list right after the previous polygon's, the last one ending the index array.
 fn check_polygons(scene: &Scene<'_>) -> Result<(), ReadError> {
     let header = &scene.header;
     let mut next_index: u64 = 0;
     let palette16 = header.flags & hf::PALETTE16 != 0;
+    let colour_bytes = colour_size(header.flags);
     let w = scene.field_size();
     for (_, at) in records(scene.polygons, scene.polygon_size, header.polygon_count) {
         let b = scene.bytes;
-        let colour_at = at + w + 2;
-        let colour_ok = if header.flags & hf::PALETTE == 0 {
-            true
-        } else if palette16 {
-            u16_at(b, colour_at).is_some_and(|k| u32::from(k) < header.palette_count)
-        } else {
-            u8_at(b, colour_at).is_some_and(|k| u32::from(k) < header.palette_count)
+        let colour_ok = |colour_at: usize| {
+            if header.flags & hf::PALETTE == 0 {
+                true
+            } else if palette16 {
+                u16_at(b, colour_at).is_some_and(|k| u32::from(k) < header.palette_count)
+            } else {
+                u8_at(b, colour_at).is_some_and(|k| u32::from(k) < header.palette_count)
+            }
         };
+        let colours_ok = colour_ok(at + w + 2)
+            && (header.flags & hf::TWO_COLOURS == 0 || colour_ok(at + w + 2 + colour_bytes));
         let first_index = need(field_at(b, at, w, false), at)?;
         let vertex_count = need(u8_at(b, at + w), at)?;
         let flags = need(u8_at(b, at + w + 1), at)?;
-        let ok = colour_ok
+        let ok = colours_ok
             && flags & !polygon_flags::KNOWN == 0
             && vertex_count >= 3
             && u32::from(vertex_count) <= header.max_polygon_vertices

@@ -117,11 +117,18 @@ impl<const SUB: u32> Painter<'_, '_, SUB> {
             }
             let cov = coverage.as_deref();
             let next = traversal.next_polygon_entering(|node| self.enter(scene, node, cov, stats));
-            let Some((index, polygon)) = next else { break };
+            let Some((index, polygon, interior)) = next else {
+                break;
+            };
             if last != Some(index) {
                 tally(&mut stats.polygons_visited, 1);
             }
-            self.draw(scene, index, &polygon, coverage.as_deref_mut(), sink, stats)?;
+            let seen = Seen {
+                index,
+                polygon: &polygon,
+                interior,
+            };
+            self.draw(scene, &seen, coverage.as_deref_mut(), sink, stats)?;
             if last == Some(index) {
                 break;
             }
@@ -186,16 +193,16 @@ impl<const SUB: u32> Painter<'_, '_, SUB> {
         true
     }
 
-    /// Cull, clip, project, snap and fill polygon `index`, through `coverage` when given.
+    /// Cull, clip, project, snap and fill the polygon `seen`, through `coverage` when given.
     fn draw<T: Source + ?Sized, S: SpanSink + ?Sized>(
         &mut self,
         scene: &T,
-        index: u32,
-        polygon: &Polygon,
+        seen: &Seen<'_>,
         coverage: Option<&mut Coverage<'_>>,
         sink: &mut S,
         stats: &mut FrameStats,
     ) -> Result<(), RenderError> {
+        let (index, polygon) = (seen.index, seen.polygon);
         let n = u32::from(polygon.vertex_count);
         if clip::buffer_len_for(n) > self.available {
             // Only a source contradicting its own maximum gets here.
@@ -262,9 +269,8 @@ impl<const SUB: u32> Painter<'_, '_, SUB> {
             }
         }
         let colour = match self.paint {
-            Paint::Colours => polygon.colour,
             Paint::Ids if cfg!(feature = "ids") => id_colour(scene.id(index).unwrap_or(u32::MAX)),
-            Paint::Ids => polygon.colour,
+            Paint::Colours | Paint::Ids => scene.colour_seen(index, polygon, seen.interior),
         };
         tally(&mut stats.polygons_drawn, 1);
         // One fill for both cases (with and without span memory): one copy in the binary.
@@ -282,6 +288,14 @@ impl<const SUB: u32> Painter<'_, '_, SUB> {
         tally(&mut stats.pixels_written, through.pixels);
         Ok(())
     }
+}
+
+/// A polygon as the walk yields it: its index, its record, and whether the eye sees its
+/// interior side (which of its colours shows).
+struct Seen<'p> {
+    index: u32,
+    polygon: &'p Polygon,
+    interior: bool,
 }
 
 /// The sink the fill draws into: through the coverage when there is one (see

@@ -6,6 +6,7 @@
 use glam::Vec3;
 
 use crate::read::{Polygon, Scene};
+use crate::target::Colour;
 use crate::traverse::Tree;
 
 /// Everything a [`Renderer`] reads from a scene; [`Scene`] implements it (tests use small
@@ -23,6 +24,12 @@ pub trait Source: Tree {
     fn has_ids(&self) -> bool;
     /// Source triangle id of polygon `i`.
     fn id(&self, i: u32) -> Option<u32>;
+    /// The colour polygon `i` (whose record is `polygon`) shows an eye on its interior side
+    /// (`interior`) or on its exterior side. The default: one colour for both.
+    fn colour_seen(&self, i: u32, polygon: &Polygon, interior: bool) -> Colour {
+        let _ = (i, interior);
+        polygon.colour
+    }
     /// Bounding box `(min, max)` of the polygons of node `i`'s subtree, relative to the
     /// centre, when the scene stores one (it is never required).
     fn node_bounds(&self, i: u32) -> Option<(Vec3, Vec3)> {
@@ -62,6 +69,9 @@ impl Source for Scene<'_> {
     }
     fn id(&self, i: u32) -> Option<u32> {
         Scene::id(self, i)
+    }
+    fn colour_seen(&self, i: u32, polygon: &Polygon, interior: bool) -> Colour {
+        Scene::colour_seen(self, i, polygon, interior)
     }
     fn node_bounds(&self, i: u32) -> Option<(Vec3, Vec3)> {
         Scene::node_bounds(self, i)

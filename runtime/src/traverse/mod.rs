@@ -260,14 +260,16 @@ impl<T: Tree + ?Sized> Traversal<'_, '_, T> {
     /// the node's whole subtree (the renderer's frustum and coverage culling). Asked once per
     /// node reached, in walk order, so the answer may depend on what was drawn so far.
     pub fn next_entering<F: FnMut(u32) -> bool>(&mut self, enter: F) -> Option<u32> {
-        self.next_polygon_entering(enter).map(|(index, _)| index)
+        self.next_polygon_entering(enter).map(|(index, ..)| index)
     }
 
-    /// [`Self::next_entering`] with the polygon's record, which the walk has read anyway.
+    /// [`Self::next_entering`] with the polygon's record, which the walk has read anyway, and
+    /// whether the eye sees its interior side ([`sees_interior`]), which the walk knows anyway:
+    /// the side whose colour shows ([`crate::read::Scene::colour_seen`]).
     pub fn next_polygon_entering<F: FnMut(u32) -> bool>(
         &mut self,
         mut enter: F,
-    ) -> Option<(u32, Polygon)> {
+    ) -> Option<(u32, Polygon, bool)> {
         let back_to_front = self.order == Order::BackToFront;
         loop {
             if self.error.is_some() {
@@ -379,7 +381,7 @@ impl<T: Tree + ?Sized> Traversal<'_, '_, T> {
                                 yielded: yielded | bit,
                                 known,
                             };
-                            return Some((index, polygon));
+                            return Some((index, polygon, interior));
                         }
                     }
                     // The first scan of a node (its `interior` is `back_to_front`).

@@ -60,6 +60,42 @@ fn convex_node_interior_first_then_exterior() {
 }
 
 #[test]
+fn each_polygon_comes_with_the_side_the_eye_sees() {
+    let t = split_pair();
+    let eyes = [
+        Vec3::new(0.0, 0.0, 10.0),
+        Vec3::new(3.0, -2.0, 1.5),
+        Vec3::new(0.1, 0.2, -1.5),
+        Vec3::new(0.0, 0.0, 0.0),
+        Vec3::new(1.0, 0.0, 5.0),
+    ];
+    for eye in eyes {
+        for order in [Order::BackToFront, Order::FrontToBack] {
+            let mut stack = [StackEntry::default(); 16];
+            let mut walk = Traversal::new(&t, eye, order, &mut stack).unwrap();
+            let (mut interior, mut exterior) = (0, 0);
+            while let Some((index, polygon, seen)) = walk.next_polygon_entering(|_| true) {
+                assert_eq!(polygon, t.polygon(index));
+                let side = t.eye_side(&polygon, &t.side_eye(eye));
+                assert_eq!(
+                    seen,
+                    sees_interior(&polygon, side),
+                    "{eye} {order:?} {index}"
+                );
+                if seen {
+                    interior += 1;
+                } else {
+                    exterior += 1;
+                }
+            }
+            assert_eq!(interior + exterior, 12);
+            // Outside both boxes some faces are seen from outside; inside one, none of its.
+            assert!(exterior > 0, "{eye}");
+        }
+    }
+}
+
+#[test]
 fn eye_on_a_polygon_plane() {
     let t = one_box();
     // Exactly on the +x face's plane: seen edge-on, counted with the interior pass.

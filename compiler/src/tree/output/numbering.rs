@@ -162,6 +162,7 @@ pub(super) fn number(
                 interior_front: poly.interior_front,
                 vertices,
                 source: poly.frag.source,
+                shadowed: poly.frag.shadowed,
             })
         })
         .collect();

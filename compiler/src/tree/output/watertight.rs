@@ -235,7 +235,7 @@ mod tests {
             ),
         ] {
             let options = BuildOptions::default();
-            let input = prepare(&mesh).unwrap();
+            let input = prepare(&mesh, None).unwrap();
             let exact = build_exact(&input, &options, &|_| {}).unwrap();
             // The exact fragments as they were, without the insertions.
             let s = input.quantiser.scale;
