@@ -61,9 +61,15 @@ fn square_at(ids: &[u32], x: u32, y: u32) -> Option<u32> {
     ids[(y * W + x) as usize].checked_sub(1).map(|id| id / 2)
 }
 
+/// The three scenes, each in both orders: [`overlapping_and_hidden`], [`crossing`].
+pub fn check_hand_made_scenes(draw: &Draw<'_>) {
+    overlapping_and_hidden(draw);
+    crossing(draw);
+}
+
 /// Two overlapping squares, the far one listed first and then last; and a small square behind
 /// a larger nearer one, which hides it entirely, in both orders.
-pub fn check_known_scenes(draw: &Draw<'_>) {
+fn overlapping_and_hidden(draw: &Draw<'_>) {
     let far = square(-1.0, -1.0, 0.4, 0.4, |_, _| 0.0);
     let near = square(-0.4, -0.4, 1.0, 1.0, |_, _| 0.5);
     for (scene, near_square) in [([far, near], 1), ([near, far], 0)] {
@@ -88,7 +94,7 @@ pub fn check_known_scenes(draw: &Draw<'_>) {
 }
 
 /// Two squares crossing in depth along `x = 0`: the tilted one is nearer on the right.
-pub fn check_crossing(draw: &Draw<'_>) {
+fn crossing(draw: &Draw<'_>) {
     let flat = square(-1.0, -1.0, 1.0, 1.0, |_, _| 0.0);
     let tilted = square(-1.0, -1.0, 1.0, 1.0, |x, _| 0.6 * x);
     for (scene, tilted_square) in [([flat, tilted], 1), ([tilted, flat], 0)] {

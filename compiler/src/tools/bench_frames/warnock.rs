@@ -351,21 +351,14 @@ mod tests {
     use super::super::testing;
     use super::*;
 
-    /// Two overlapping squares, and a square behind a larger nearer one, in both orders and
-    /// both subdivisions: the reference's pixels, the nearer square in front.
+    /// Two overlapping squares, a square behind a larger nearer one, and two squares crossing
+    /// in depth (they surround the windows along their crossing without either being
+    /// eliminated, so those are subdivided down to pixels), in both orders and both
+    /// subdivisions: the reference's pixels, the nearer square in front.
     #[test]
-    fn known_scenes() {
+    fn hand_made_scenes() {
         for split in [Split::Quadrants, Split::Enclosing] {
-            testing::check_known_scenes(&|t, v, i| draw::<8>(t, v, i, split));
-        }
-    }
-
-    /// Two squares crossing in depth surround the windows along their crossing without either
-    /// being eliminated: those are subdivided down to pixels, each showing the nearer one.
-    #[test]
-    fn interpenetrating_squares_are_resolved_at_pixels() {
-        for split in [Split::Quadrants, Split::Enclosing] {
-            testing::check_crossing(&|t, v, i| draw::<8>(t, v, i, split));
+            testing::check_hand_made_scenes(&|t, v, i| draw::<8>(t, v, i, split));
         }
     }
 }

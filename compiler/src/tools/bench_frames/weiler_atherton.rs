@@ -682,18 +682,13 @@ mod tests {
     use super::super::testing;
     use super::*;
 
-    /// Two overlapping squares, and a square behind a larger nearer one, in both orders: the
-    /// reference's pixels, the nearer square in front.
+    /// Two overlapping squares, a square behind a larger nearer one, and two squares crossing
+    /// in depth (the nearer part of the one that is not the first window is cut out along the
+    /// crossing and drawn over its half), in both orders: the reference's pixels, the nearer
+    /// square in front.
     #[test]
-    fn known_scenes() {
-        testing::check_known_scenes(&draw::<8>);
-    }
-
-    /// Two squares crossing in depth: the nearer part of the one that is not the first window
-    /// is cut out along the crossing and drawn over its half.
-    #[test]
-    fn interpenetrating_squares_are_cut_along_the_crossing() {
-        testing::check_crossing(&draw::<8>);
+    fn hand_made_scenes() {
+        testing::check_hand_made_scenes(&draw::<8>);
     }
 
     /// A cut shares its crossings between both parts, and the parts keep the piece's area.
