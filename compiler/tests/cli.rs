@@ -765,3 +765,53 @@ fn render_explains_what_it_cannot_do() {
     let err = String::from_utf8_lossy(&o.stderr);
     assert!(err.contains("warning") && err.contains("no pixel"), "{err}");
 }
+
+/// `peel bench --quick` (what CI runs, here on small images from one camera) runs every
+/// method on every scene: one JSON record each, with its memory, and the table and the plot.
+#[test]
+fn bench_quick_runs_every_method_on_every_scene() {
+    let dir = tempfile::tempdir().unwrap();
+    let json = dir.path().join("frames.json");
+    let o = peel(&[
+        "bench",
+        "--quick",
+        "--size",
+        "64x48",
+        "--cameras",
+        "1",
+        "--out",
+        s(dir.path()),
+        "--json",
+        s(&json),
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let text = std::fs::read_to_string(&json).unwrap();
+    let records: Vec<serde_json::Value> = serde_json::from_str(&text).unwrap();
+    let scenes = ["demo", "sphere-9k", "torus-4k", "box-grid-768", "soup-1k"];
+    let methods = [
+        "peel-front-to-back",
+        "peel-back-to-front",
+        "zbuffer-int",
+        "zbuffer-f32",
+        "newell",
+        "naive-bsp",
+        "watkins",
+        "warnock-quadrants",
+        "warnock-enclosing",
+        "weiler-atherton",
+    ];
+    assert_eq!(records.len(), scenes.len() * methods.len());
+    for scene in scenes {
+        for method in methods {
+            let r = records
+                .iter()
+                .find(|r| r["scene"] == scene && r["method"] == method)
+                .unwrap_or_else(|| panic!("{scene} {method}"));
+            assert!(r["memory_bytes"].as_u64().unwrap() > 0, "{r}");
+            assert!(r["pixels_written"].as_u64().unwrap() > 0, "{r}");
+        }
+    }
+    let table = std::fs::read_to_string(dir.path().join("frames.md")).unwrap();
+    assert!(table.contains("| demo | weiler-atherton |"), "{table}");
+    assert!(dir.path().join("frames.png").exists());
+}

@@ -6,15 +6,18 @@ use std::time::Instant;
 
 use glam::DVec3;
 use peel_runtime::camera::Camera;
+use peel_runtime::clip;
 use peel_runtime::coverage::Coverage;
-use peel_runtime::fill::{FixedPoint, SUBPIXEL_BITS};
+use peel_runtime::fill::{EdgeWalk, FixedPoint, SUBPIXEL_BITS};
 use peel_runtime::read::Scene;
 use peel_runtime::render::{Renderer, Workspace};
 use peel_runtime::target::{Framebuffer, Xrgb8888};
-use peel_runtime::traverse::Order;
+use peel_runtime::traverse::{Order, StackEntry};
 use peel_runtime::vertices::{CachedVertex, VertexCache};
 
-use super::{newell, prepare, zbuffer, FrameRecord, Method};
+use super::frame::bytes;
+use super::warnock::Split;
+use super::{newell, prepare, warnock, watkins, weiler_atherton, zbuffer, FrameRecord, Method};
 use crate::compile::{compile_mesh, CompileOptions};
 use crate::load::Mesh;
 use crate::tools::median;
@@ -22,11 +25,37 @@ use crate::tools::raster::{HOST_SPANS_PER_ROW, HOST_STACK, HOST_VERTS};
 use crate::tools::reference::{reference, Reference};
 use crate::tools::shot::Shot;
 
-/// A frame: an id image and the pixels written.
+/// A frame: an id image, the pixels written, the polygons drawn and the memory it needed.
 struct Drawn {
     ids: Vec<u32>,
     written: u64,
     polygons: u64,
+    memory_bytes: u64,
+}
+
+/// The memory a frame of the display tree `scene` needs besides the scene: a workspace with
+/// the stack its depth needs and clip buffers for its largest polygon, vertex memory keeping
+/// every vertex, and front to back the span memory the sizes file recommends (the host's 64
+/// intervals per row, or fewer where fewer can never run out: a row holds at most one interval
+/// per polygon and `(width + 1) / 2` in all).
+fn tree_memory<const SUB: u32>(scene: &Scene<'_>, front_to_back: bool, camera: &Camera) -> u64 {
+    let h = scene.header();
+    let verts = clip::buffer_len_for(h.max_polygon_vertices) as usize;
+    let workspace = bytes::<StackEntry>(h.max_depth as usize)
+        + bytes::<glam::Vec3>(2 * verts)
+        + bytes::<FixedPoint<SUB>>(verts)
+        + bytes::<EdgeWalk>(verts);
+    let vertices = bytes::<CachedVertex>((h.vertex_count as usize).next_power_of_two());
+    let spans = if front_to_back {
+        let per_row = HOST_SPANS_PER_ROW
+            .min((camera.width() as usize).div_ceil(2))
+            .min(h.polygon_count as usize);
+        let rows = camera.height() as usize;
+        bytes::<(u16, u16)>(per_row * rows) + bytes::<u16>(rows)
+    } else {
+        0
+    };
+    workspace + vertices + spans
 }
 
 /// Everything a scene needs once: compiled bytes, source triangles, camera and reference per view.
@@ -119,26 +148,42 @@ fn draw<const SUB: u32>(
                 ids,
                 written: stats.pixels_written,
                 polygons: stats.polygons_drawn,
+                memory_bytes: tree_memory::<SUB>(scene, order == Order::FrontToBack, camera),
             })
         }
-        Method::ZbufferInt | Method::ZbufferF32 | Method::Newell => {
+        Method::ZbufferInt
+        | Method::ZbufferF32
+        | Method::Newell
+        | Method::Watkins
+        | Method::WarnockQuadrants
+        | Method::WarnockEnclosing
+        | Method::WeilerAtherton => {
             let view = camera.view(scenes.peel.header().centre);
             let tris = &mut at.triangles;
-            prepare::prepare(scenes.triangles, &view, &mut at.projected, tris);
+            let projected = prepare::prepare(scenes.triangles, &view, &mut at.projected, tris);
             let mut ids = vec![0u32; n];
-            let written = match method {
+            let frame = match method {
                 Method::ZbufferInt => {
                     zbuffer::draw_ids::<SUB, u32>(tris, &view, &mut ids, &mut work.depth_u32)
                 }
                 Method::ZbufferF32 => {
                     zbuffer::draw_ids::<SUB, f32>(tris, &view, &mut ids, &mut work.depth_f32)
                 }
-                _ => newell::draw::<SUB>(tris, &view, &mut ids),
+                Method::Newell => newell::draw::<SUB>(tris, &view, &mut ids),
+                Method::Watkins => watkins::draw::<SUB>(tris, &view, &mut ids),
+                Method::WarnockQuadrants => {
+                    warnock::draw::<SUB>(tris, &view, &mut ids, Split::Quadrants)
+                }
+                Method::WarnockEnclosing => {
+                    warnock::draw::<SUB>(tris, &view, &mut ids, Split::Enclosing)
+                }
+                _ => weiler_atherton::draw::<SUB>(tris, &view, &mut ids),
             };
             Ok(Drawn {
                 ids,
-                written,
+                written: frame.written,
                 polygons: 0,
+                memory_bytes: projected + frame.memory_bytes,
             })
         }
     }
@@ -295,7 +340,7 @@ pub(super) fn measure_scene(
     };
     let n = variants.len();
     let mut times: Vec<Vec<f64>> = vec![Vec::new(); n];
-    let mut totals = vec![(0u64, 0u64, 0u64, 0u64); n];
+    let mut totals = vec![(0u64, 0u64, 0u64, 0u64, 0u64); n];
     for (camera, r) in &p.views {
         for ((v, total), t) in variants.iter().zip(&mut totals).zip(&mut times) {
             let d = scenes.draw(v, camera, work)?;
@@ -304,6 +349,7 @@ pub(super) fn measure_scene(
             total.1 += d.polygons;
             total.2 += rb;
             total.3 += al;
+            total.4 = total.4.max(d.memory_bytes);
             let mut best = f64::INFINITY;
             for _ in 0..3 {
                 let start = Instant::now();
@@ -317,15 +363,18 @@ pub(super) fn measure_scene(
     Ok(variants
         .iter()
         .zip(times.into_iter().zip(totals))
-        .map(|(v, (t, (written, polygons, robust, all)))| FrameRecord {
-            scene: scene.into(),
-            method: v.label.clone(),
-            median_frame_ms: median(t),
-            pixels_written: written / views,
-            robust_errors: robust,
-            all_errors: all,
-            polygons_drawn: polygons / views,
-        })
+        .map(
+            |(v, (t, (written, polygons, robust, all, memory)))| FrameRecord {
+                scene: scene.into(),
+                method: v.label.clone(),
+                median_frame_ms: median(t),
+                pixels_written: written / views,
+                robust_errors: robust,
+                all_errors: all,
+                memory_bytes: memory,
+                polygons_drawn: polygons / views,
+            },
+        )
         .collect())
 }
 

@@ -6,9 +6,10 @@
 use glam::Vec3;
 use peel_runtime::camera::LocalView;
 use peel_runtime::fill::fill_polygon;
-use peel_runtime::target::{Colour, SpanSink};
+use peel_runtime::target::Colour;
 
-use super::prepare::Prepared;
+use super::frame::{bytes, Frame, IdSink};
+use super::prepare::{held_bytes, Prepared};
 
 struct Item<'p, const SUB: u32> {
     t: &'p Prepared<SUB>,
@@ -74,29 +75,17 @@ fn may_precede<const SUB: u32>(p: &Item<'_, SUB>, q: &Item<'_, SUB>) -> bool {
         || p.all_on_side(q, true)
 }
 
-struct IdSink<'a> {
-    ids: &'a mut [u32],
-    width: usize,
-    id: u32,
-    written: u64,
-}
-
-impl SpanSink for IdSink<'_> {
-    fn span(&mut self, y: u32, x0: u32, x1: u32, _: Colour) {
-        let row = y as usize * self.width;
-        self.ids[row + x0 as usize..row + x1 as usize].fill(self.id + 1);
-        self.written += u64::from(x1 - x0);
-    }
-}
-
-/// Sort and paint; returns the pixels written.
-pub fn draw<const SUB: u32>(tris: &[Prepared<SUB>], view: &LocalView, ids: &mut [u32]) -> u64 {
+/// Sort and paint. Its memory: the clipped triangles, each with its sort record in the queue
+/// and then in the order, and a flag per triangle.
+pub fn draw<const SUB: u32>(tris: &[Prepared<SUB>], view: &LocalView, ids: &mut [u32]) -> Frame {
     let mut items: Vec<Item<'_, SUB>> = tris.iter().map(Item::new).collect();
     // Farthest first.
     items.sort_by(|a, b| b.zmax.total_cmp(&a.zmax).then(a.t.id.cmp(&b.t.id)));
     let mut order: Vec<Item<'_, SUB>> = Vec::with_capacity(items.len());
     let mut moved = vec![false; tris.iter().map(|t| t.id as usize + 1).max().unwrap_or(0)];
     let mut queue: std::collections::VecDeque<Item<'_, SUB>> = items.into();
+    let memory_bytes =
+        held_bytes(tris) + bytes::<Item<'_, SUB>>(2 * tris.len()) + bytes::<bool>(moved.len());
     while let Some(p) = queue.pop_front() {
         // Find a q (overlapping p in depth) that must come before p.
         let mut swap_at = None;
@@ -119,13 +108,7 @@ pub fn draw<const SUB: u32>(tris: &[Prepared<SUB>], view: &LocalView, ids: &mut 
             None => order.push(p),
         }
     }
-    ids.fill(0);
-    let mut sink = IdSink {
-        ids,
-        width: view.width as usize,
-        id: 0,
-        written: 0,
-    };
+    let mut sink = IdSink::cleared(ids, view.width);
     for item in &order {
         sink.id = item.t.id;
         let _ = fill_polygon(
@@ -136,5 +119,8 @@ pub fn draw<const SUB: u32>(tris: &[Prepared<SUB>], view: &LocalView, ids: &mut 
             &mut sink,
         );
     }
-    sink.written
+    Frame {
+        written: sink.written,
+        memory_bytes,
+    }
 }

@@ -2,6 +2,44 @@
 
 use super::{FrameRecord, Method};
 
+/// A marker shape of the plot.
+#[derive(Debug, Clone, Copy)]
+enum Marker {
+    Dot,
+    Triangle,
+    Cross,
+}
+
+impl Marker {
+    fn of(method: Method) -> Marker {
+        match method {
+            Method::Watkins | Method::WarnockQuadrants | Method::WarnockEnclosing => {
+                Marker::Triangle
+            }
+            Method::WeilerAtherton => Marker::Cross,
+            _ => Marker::Dot,
+        }
+    }
+
+    /// The marker at `at` (data or pixel coordinates, as the series or legend gives).
+    fn draw<DB, C>(
+        self,
+        at: C,
+        style: plotters::style::ShapeStyle,
+    ) -> plotters::element::DynElement<'static, DB, C>
+    where
+        DB: plotters::prelude::DrawingBackend,
+        C: Clone + 'static,
+    {
+        use plotters::prelude::*;
+        match self {
+            Marker::Dot => Circle::new(at, 5, style).into_dyn(),
+            Marker::Triangle => TriangleMarker::new(at, 7, style).into_dyn(),
+            Marker::Cross => Cross::new(at, 6, style.stroke_width(2)).into_dyn(),
+        }
+    }
+}
+
 /// A scatter plot (PNG bytes) of median frame time against all errors, one colour per method.
 pub fn plot(records: &[FrameRecord]) -> Result<Vec<u8>, String> {
     use plotters::prelude::*;
@@ -51,19 +89,33 @@ pub fn plot(records: &[FrameRecord]) -> Result<Vec<u8>, String> {
             .y_desc("mismatched pixels + 1 (all)")
             .draw()
             .map_err(|e| e.to_string())?;
-        let palette = [RED, BLUE, GREEN, MAGENTA, CYAN, BLACK];
+        // Peel and the first baselines as dots, the survey's methods as triangles (Watkins,
+        // Warnock) and a cross (Weiler-Atherton), so ten methods stay apart.
+        let palette = [
+            RED,
+            BLUE,
+            GREEN,
+            MAGENTA,
+            CYAN,
+            BLACK,
+            RGBColor(230, 120, 0),
+            RGBColor(120, 60, 160),
+            RGBColor(140, 90, 40),
+            RGBColor(90, 130, 0),
+        ];
         for (k, m) in Method::ALL.into_iter().enumerate() {
-            let colour = palette[k % palette.len()];
+            let style = palette[k % palette.len()].filled();
             let pts: Vec<(f64, f64)> = records
                 .iter()
                 .filter(|r| r.method == m.name())
                 .map(|r| (r.median_frame_ms, r.all_errors as f64 + 1.0))
                 .collect();
+            let marker = Marker::of(m);
             chart
-                .draw_series(pts.iter().map(|&p| Circle::new(p, 5, colour.filled())))
+                .draw_series(pts.iter().map(|&p| marker.draw(p, style)))
                 .map_err(|e| e.to_string())?
                 .label(m.name())
-                .legend(move |(x, y)| Circle::new((x, y), 5, colour.filled()));
+                .legend(move |p| marker.draw(p, style));
         }
         chart
             .configure_series_labels()
@@ -98,6 +150,7 @@ mod tests {
             pixels_written: 10,
             robust_errors: 0,
             all_errors: 3,
+            memory_bytes: 1,
             polygons_drawn: 0,
         };
         let png = plot(&[r]).unwrap();

@@ -37,6 +37,16 @@ impl<const SUB: u32> Prepared<SUB> {
     }
 }
 
+/// The memory a method keeps when it holds every clipped polygon of a frame at once: an id
+/// and its screen points each. The front end's own records are the benchmark's, not the
+/// method's: fixed-size, with room for clipping's extra vertices and the camera-space points
+/// the depth planes are made from.
+pub fn held_bytes<const SUB: u32>(tris: &[Prepared<SUB>]) -> u64 {
+    tris.iter()
+        .map(|t| super::frame::bytes::<u32>(1) + super::frame::bytes::<FixedPoint<SUB>>(t.len))
+        .sum()
+}
+
 /// Source triangles as the baselines draw them, built once per scene: their distinct corners
 /// relative to the scene centre in `f32` (as the runtime's scene stores vertices), each
 /// triangle's three corner indices, and the box of the corners, which lets a frame that sees
@@ -81,13 +91,15 @@ impl Triangles {
 /// Clip and project `triangles` for `view` (built for their centre) into `out` (cleared
 /// first; its memory, and that of `projected`, is reused from frame to frame). When the
 /// frustum contains their box nothing is clipped, and each vertex is projected once, into
-/// `projected`.
+/// `projected`. Returns the bytes of projected vertices the frame used (0 when it clipped:
+/// each triangle is then projected alone), which every baseline's memory includes, as Peel's
+/// includes its vertex memory.
 pub fn prepare<const SUB: u32>(
     triangles: &Triangles,
     view: &LocalView,
     projected: &mut Vec<(Vec3, FixedPoint<SUB>)>,
     out: &mut Vec<Prepared<SUB>>,
-) {
+) -> u64 {
     out.clear();
     let frustum = Frustum::new(view);
     let (lo, hi) = triangles.bounds;
@@ -112,7 +124,7 @@ pub fn prepare<const SUB: u32>(
             }
             p
         }));
-        return;
+        return super::frame::bytes::<(Vec3, FixedPoint<SUB>)>(projected.len());
     }
     let mut a = [Vec3::ZERO; 16];
     let mut b = [Vec3::ZERO; 16];
@@ -138,6 +150,7 @@ pub fn prepare<const SUB: u32>(
         }
         out.push(t);
     }
+    0
 }
 
 /// `1/zc` at a screen point as `A x + B y + C` for the plane of a camera-space polygon, or

@@ -3,8 +3,8 @@
 
 use super::{FrameRecord, Method};
 
-/// The JSON of `peel bench --json`: one record per (scene, method) of the six [`Method`]s
-/// (the `SUBPIXEL_BITS` rows are left out).
+/// The JSON of `peel bench --json`: one record per (scene, method) of the [`Method`]s (the
+/// `SUBPIXEL_BITS` rows are left out).
 pub fn json(records: &[FrameRecord]) -> Result<String, String> {
     let main: Vec<&FrameRecord> = records
         .iter()
@@ -17,7 +17,7 @@ pub fn json(records: &[FrameRecord]) -> Result<String, String> {
 /// of the same scene (the baseline measured in the same run).
 pub fn markdown(records: &[FrameRecord]) -> String {
     let mut s = String::from(
-        "| scene | method | median frame (ms) | speed vs zbuffer-int | polygons drawn | pixels written | robust errors | all errors |\n|---|---|---:|---:|---:|---:|---:|---:|\n",
+        "| scene | method | median frame (ms) | speed vs zbuffer-int | memory (bytes) | polygons drawn | pixels written | robust errors | all errors |\n|---|---|---:|---:|---:|---:|---:|---:|---:|\n",
     );
     for r in records {
         let base = records
@@ -30,6 +30,7 @@ pub fn markdown(records: &[FrameRecord]) -> String {
             r.method.clone(),
             format!("{:.3}", r.median_frame_ms),
             format!("{:.2}x", base / r.median_frame_ms),
+            r.memory_bytes.to_string(),
             if r.polygons_drawn > 0 {
                 r.polygons_drawn.to_string()
             } else {

@@ -6,6 +6,7 @@
 use peel_runtime::fill::fill_polygon;
 use peel_runtime::target::{Colour, SpanSink};
 
+use super::frame::{bytes, Frame};
 use super::prepare::{inverse_depth_plane, Prepared};
 use peel_runtime::camera::LocalView;
 
@@ -104,20 +105,26 @@ impl<D: Depth> SpanSink for Sink<'_, '_, D> {
 }
 
 /// [`draw`] into `ids` (`view.width` x `view.height`), with `depth` (reused from frame to
-/// frame) sized to match.
+/// frame) sized to match. Its memory is the depth buffer: the triangles are drawn one at a
+/// time, so a z-buffer needs no list of them (the benchmark's front end keeps one, which is
+/// not counted here).
 pub fn draw_ids<const SUB: u32, D: Depth>(
     tris: &[Prepared<SUB>],
     view: &LocalView,
     ids: &mut [u32],
     depth: &mut Vec<D>,
-) -> u64 {
+) -> Frame {
     depth.resize(ids.len(), D::default());
+    let memory_bytes = bytes::<D>(depth.len());
     let mut frame = ZFrame {
         ids,
         depth,
         width: view.width as usize,
     };
-    draw::<SUB, D>(tris, view, &mut frame)
+    Frame {
+        written: draw::<SUB, D>(tris, view, &mut frame),
+        memory_bytes,
+    }
 }
 
 /// The z-buffer in format `D` (`f32` or `u32`): returns the pixels written.
