@@ -14,7 +14,6 @@ use glam::DVec3;
 use peel_compiler::compile::{compile_mesh, CompileOptions};
 use peel_compiler::load::{load_obj, Mesh};
 use peel_compiler::shade::{Shading, AMBIENT};
-use peel_compiler::shadow::Light;
 use peel_compiler::tools::raster::{render_bytes_with, Settings};
 use peel_compiler::tools::shot::Shot;
 use peel_e2e::{bounds, closed_sphere, mesh_closed_outward, reference, shadowed};
@@ -73,6 +72,17 @@ struct Compared {
     scene: usize,
     /// Robust pixels where the reference sees a triangle.
     robust_scene: usize,
+}
+
+impl Compared {
+    /// Counts pixel `k` of `shot` as differing (`what`), printing the first few.
+    fn differs(&mut self, shot: &Shot, k: usize, what: std::fmt::Arguments) {
+        self.bad += 1;
+        if self.bad <= 5 {
+            let w = shot.width as usize;
+            eprintln!("pixel ({}, {}): {what}", k % w, k / w);
+        }
+    }
 }
 
 /// Render `bytes` and the reference as `shot` sees them and compare their robust pixels: the
@@ -150,14 +160,11 @@ fn compare_lit(
             (got == ambient) != (want == ambient)
         };
         if wrong {
-            c.bad += 1;
-            if c.bad <= 5 {
-                eprintln!(
-                    "pixel ({}, {}): rendered colour {got:?}, the side seen is {want:?}",
-                    k % shot.width as usize,
-                    k / shot.width as usize,
-                );
-            }
+            c.differs(
+                shot,
+                k,
+                format_args!("rendered colour {got:?}, the side seen is {want:?}"),
+            );
         }
     }
     for (k, (&want, &ok)) in r.ids.iter().zip(&r.robust).enumerate() {
@@ -170,16 +177,12 @@ fn compare_lit(
                 c.robust_scene += 1;
             }
             if frame.pixels[k] != want {
-                c.bad += 1;
-                if c.bad <= 5 {
-                    eprintln!(
-                        "pixel ({}, {}): rendered id+1 {} reference {}",
-                        k % shot.width as usize,
-                        k / shot.width as usize,
-                        frame.pixels[k],
-                        want
-                    );
-                }
+                let got = frame.pixels[k];
+                c.differs(
+                    shot,
+                    k,
+                    format_args!("rendered id+1 {got} reference {want}"),
+                );
             }
         }
     }
@@ -331,6 +334,35 @@ fn fixtures_match_the_ray_caster() {
     }
 }
 
+/// Compiles `mesh` with ids, lit by `shading` and with its light's shadows, and compares it with
+/// the reference from each of `shots` in every setting; every robust pixel must match.
+/// Returns the robust pixels in shadow compared.
+fn check_shadows(name: &str, mesh: &Mesh, shading: Shading, shots: &[Shot]) -> usize {
+    let options = CompileOptions {
+        ids: true,
+        shading,
+        build: peel_compiler::tree::BuildOptions {
+            shadows: shading.light(),
+            ..Default::default()
+        },
+        ..CompileOptions::default()
+    };
+    let bytes = compile_mesh(mesh, &options, &|_| {}).expect("compile").1;
+    let polys = polygons(&bytes);
+    let mut in_shadow = 0;
+    for (k, shot) in shots.iter().enumerate() {
+        for settings in all_settings() {
+            let c = compare_lit(mesh, &bytes, &polys, shot, &settings, Some(shading));
+            assert_eq!(
+                c.bad, 0,
+                "{name}, {shading:?}, camera {k} ({shot:?}), {settings:?}: {c:?}"
+            );
+            in_shadow += c.shadowed;
+        }
+    }
+    in_shadow
+}
+
 /// Shadows from a sun: every robust pixel shows its side seen lit, turned away or in shadow
 /// as the reference's rays say, in both orders and with culling on and off, from cameras
 /// around, inside and close to the scene: a box above a plane, a box sunk into it, boxes
@@ -376,28 +408,7 @@ fn shadows_match_the_ray_caster() {
         let (lo, hi) = bounds(mesh);
         let mut in_shadow = 0;
         for sun in suns {
-            let options = CompileOptions {
-                ids: true,
-                shading: Shading::Lambert(sun),
-                build: peel_compiler::tree::BuildOptions {
-                    shadows: Some(Light::Sun(sun)),
-                    ..Default::default()
-                },
-                ..CompileOptions::default()
-            };
-            let bytes = compile_mesh(mesh, &options, &|_| {}).expect("compile").1;
-            let polys = polygons(&bytes);
-            for (k, shot) in cameras(lo, hi).iter().enumerate() {
-                for settings in all_settings() {
-                    let lit = Some(Shading::Lambert(sun));
-                    let c = compare_lit(mesh, &bytes, &polys, shot, &settings, lit);
-                    assert_eq!(
-                        c.bad, 0,
-                        "{name}, sun {sun}, camera {k} ({shot:?}), {settings:?}: {c:?}"
-                    );
-                    in_shadow += c.shadowed;
-                }
-            }
+            in_shadow += check_shadows(name, mesh, Shading::Lambert(sun), &cameras(lo, hi));
         }
         // Not vacuous: every scene casts shadows the cameras see.
         assert!(
@@ -418,22 +429,10 @@ fn the_teapot_shadows_itself() {
         return;
     }
     let mesh = load_obj(&path).expect("the teapot loads");
-    let sun = DVec3::new(0.4, 0.8, 0.45);
-    let options = CompileOptions {
-        ids: true,
-        shading: Shading::Lambert(sun),
-        build: peel_compiler::tree::BuildOptions {
-            shadows: Some(Light::Sun(sun)),
-            ..Default::default()
-        },
-        ..CompileOptions::default()
-    };
-    let bytes = compile_mesh(&mesh, &options, &|_| {}).expect("compile").1;
-    let polys = polygons(&bytes);
+    let sun = Shading::Lambert(DVec3::new(0.4, 0.8, 0.45));
     let (lo, hi) = bounds(&mesh);
-    let mut in_shadow = 0;
     // Large enough images for pixels away from the small triangles' edges.
-    let shots = cameras(lo, hi)
+    let shots: Vec<Shot> = cameras(lo, hi)
         .into_iter()
         .take(8)
         .step_by(3)
@@ -441,16 +440,9 @@ fn the_teapot_shadows_itself() {
             width: 320,
             height: 240,
             ..s
-        });
-    for (k, shot) in shots.enumerate() {
-        let shot = &shot;
-        for settings in all_settings() {
-            let lit = Some(Shading::Lambert(sun));
-            let c = compare_lit(&mesh, &bytes, &polys, shot, &settings, lit);
-            assert_eq!(c.bad, 0, "camera {k} ({shot:?}), {settings:?}: {c:?}");
-            in_shadow += c.shadowed;
-        }
-    }
+        })
+        .collect();
+    let in_shadow = check_shadows("teapot", &mesh, sun, &shots);
     assert!(in_shadow > 100, "{in_shadow} pixels in shadow compared");
 }
 
@@ -493,31 +485,10 @@ fn a_point_light_in_a_room_matches_the_ray_caster() {
     let mesh = scenes::mesh(room);
     let (lo, hi) = bounds(&mesh);
     let mut in_shadow = 0;
+    let mut shots = cameras(lo, hi);
+    shots.push(Shot::new(v(-1.2, 1.5, -1.3), v(0.5, 0.0, 0.8), 96, 72));
     for light in [v(0.6, 1.8, -0.7), v(-1.5, 1.2, 1.4)] {
-        let shading = Shading::Point(light);
-        let options = CompileOptions {
-            ids: true,
-            shading,
-            build: peel_compiler::tree::BuildOptions {
-                shadows: shading.light(),
-                ..Default::default()
-            },
-            ..CompileOptions::default()
-        };
-        let bytes = compile_mesh(&mesh, &options, &|_| {}).expect("compile").1;
-        let polys = polygons(&bytes);
-        let mut shots = cameras(lo, hi);
-        shots.push(Shot::new(v(-1.2, 1.5, -1.3), v(0.5, 0.0, 0.8), 96, 72));
-        for (k, shot) in shots.iter().enumerate() {
-            for settings in all_settings() {
-                let c = compare_lit(&mesh, &bytes, &polys, shot, &settings, Some(shading));
-                assert_eq!(
-                    c.bad, 0,
-                    "light {light}, camera {k} ({shot:?}), {settings:?}: {c:?}"
-                );
-                in_shadow += c.shadowed;
-            }
-        }
+        in_shadow += check_shadows("room", &mesh, Shading::Point(light), &shots);
     }
     assert!(in_shadow > 100, "{in_shadow} pixels in shadow compared");
 }

@@ -253,7 +253,7 @@ fn write_polygon(out: &mut String, scene: &Scene<'_>, p: u32, indent: usize) {
         "{:inner$}flags: {flags}\n{:inner$}colour: [{}, {}, {}]",
         "", "", c.r, c.g, c.b
     );
-    let e = scene.colour_seen(p, &polygon, false);
+    let e = scene.colour_seen(p, false);
     if e != c {
         let _ = writeln!(
             out,

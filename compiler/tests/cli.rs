@@ -452,29 +452,20 @@ fn compile_casts_shadows_from_the_light() {
             "{light:?}: no polygon in shadow"
         );
     }
-    let o = peel(&[
-        "compile",
-        &fixture("demo.obj"),
-        "-o",
-        s(&dir.path().join("x.peel")),
-        "--shadows",
-        "--flat",
-    ]);
-    assert!(!o.status.success(), "--shadows needs a light");
-    assert!(String::from_utf8_lossy(&o.stderr).contains("--flat"));
-    let o = peel(&[
-        "compile",
-        &fixture("demo.obj"),
-        "-o",
-        s(&dir.path().join("x.peel")),
-        "--shadows",
-        "--point-light=0,1e6,0",
-    ]);
-    assert!(
-        !o.status.success(),
-        "a point light too far for exact shadows"
-    );
-    assert!(String::from_utf8_lossy(&o.stderr).contains("use a sun"));
+    // Refused, with a message naming what to change.
+    for (light, says) in [("--flat", "--flat"), ("--point-light=0,1e6,0", "use a sun")] {
+        let x = dir.path().join("x.peel");
+        let o = peel(&[
+            "compile",
+            &fixture("demo.obj"),
+            "-o",
+            s(&x),
+            "--shadows",
+            light,
+        ]);
+        assert!(!o.status.success(), "{light}");
+        assert!(String::from_utf8_lossy(&o.stderr).contains(says), "{light}");
+    }
 }
 
 #[test]

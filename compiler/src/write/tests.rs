@@ -144,8 +144,8 @@ fn assert_reads_back(file: &PeelFile) {
             Some(ColourField::Index8(k)) => colour(file.palette[usize::from(k)]),
             Some(ColourField::Index16(k)) => colour(file.palette[usize::from(k)]),
         };
-        assert_eq!(scene.colour_seen(i as u32, &read, false), exterior);
-        assert_eq!(scene.colour_seen(i as u32, &read, true), expected.colour);
+        assert_eq!(scene.colour_seen(i as u32, false), exterior);
+        assert_eq!(scene.colour_seen(i as u32, true), expected.colour);
         for k in 0..u32::from(p.vertex_count) {
             let index = file.indices[(p.first_index + k) as usize];
             assert_eq!(

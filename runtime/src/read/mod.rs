@@ -304,6 +304,9 @@ pub struct Scene<'a> {
     node_size: usize,
     /// Bytes of a node field and a polygon's `plane` / `first_index` (2 or 4).
     field_size: usize,
+    /// Where a polygon record's exterior colour field starts: its second colour field with
+    /// [`header_flags::TWO_COLOURS`], else its one colour field.
+    exterior: usize,
     /// The vertex array when its records are 16-bit steps and the index array when its
     /// entries are `u16` (else empty): the side test's fast path reads them with one bounds
     /// check per record.
@@ -411,6 +414,17 @@ impl<'a> Scene<'a> {
     /// Polygon `i` (all zero when out of range).
     #[inline]
     pub fn polygon(&self, i: u32) -> Polygon {
+        let polygon = self.polygon_shape(i);
+        Polygon {
+            colour: self.colour_seen(i, true),
+            ..polygon
+        }
+    }
+
+    /// Polygon `i` without its colour (left at its default): what the traversal needs, which
+    /// leaves the colour to [`Scene::colour_seen`] for the polygons drawn.
+    #[inline]
+    pub fn polygon_shape(&self, i: u32) -> Polygon {
         if i >= self.header.polygon_count {
             return Polygon::default();
         }
@@ -433,23 +447,26 @@ impl<'a> Scene<'a> {
             first_index,
             vertex_count: u16::from(vertex_count),
             flags,
-            colour: self.colour_at(at + w + 2),
+            colour: Colour::default(),
         }
     }
 
-    /// The colour polygon `i` (whose record is `polygon`) shows an eye on its interior side
-    /// (`interior`, as the traversal yields it) or on its exterior side: the record's colour,
-    /// or with [`header_flags::TWO_COLOURS`] its second colour field for the exterior side.
+    /// The colour polygon `i` shows an eye on its interior side (`interior`, as the
+    /// traversal yields it) or on its exterior side: the record's colour field, or with
+    /// [`header_flags::TWO_COLOURS`] its second one for the exterior side (black when out of
+    /// range).
     #[inline]
-    pub fn colour_seen(&self, i: u32, polygon: &Polygon, interior: bool) -> Colour {
-        let flags = self.header.flags;
-        if interior || flags & header_flags::TWO_COLOURS == 0 || i >= self.header.polygon_count {
-            return polygon.colour;
+    pub fn colour_seen(&self, i: u32, interior: bool) -> Colour {
+        if i >= self.header.polygon_count {
+            return Colour::default();
         }
-        match element(self.polygons, self.polygon_size, i) {
-            Some(at) => self.colour_at(at + self.field_size() + 2 + layout::colour_size(flags)),
-            None => polygon.colour,
-        }
+        let field = if interior {
+            self.field_size() + 2
+        } else {
+            self.exterior
+        };
+        // Within the polygon array (checked by the parse): no overflow.
+        self.colour_at(self.polygons + i as usize * self.polygon_size + field)
     }
 
     /// `eye` (relative to the centre) as [`Scene::eye_side`] takes it, once per frame: in
@@ -570,15 +587,14 @@ impl<'a> Scene<'a> {
     }
 
     /// The colour field at `at`: RGB, or a palette index (see [`layout::polygon_size`]).
+    #[inline(never)]
     fn colour_at(&self, at: usize) -> Colour {
         let b = self.bytes;
         let flags = self.header.flags;
-        let rgb = |at: usize| {
-            Colour::new(
-                u8_at(b, at).unwrap_or(0),
-                u8_at(b, at + 1).unwrap_or(0),
-                u8_at(b, at + 2).unwrap_or(0),
-            )
+        // One bounds check for the three bytes.
+        let rgb = |at: usize| match b.get(at..at.wrapping_add(3)) {
+            Some(&[r, g, b]) => Colour::new(r, g, b),
+            _ => Colour::default(),
         };
         if flags & header_flags::PALETTE == 0 {
             return rgb(at);
@@ -589,8 +605,9 @@ impl<'a> Scene<'a> {
             u8_at(b, at).map(u32::from)
         };
         match index {
+            // Below 2^16 entries inside the file (checked by the parse): no overflow.
             Some(k) if k < self.header.palette_count => {
-                element(self.palette, PALETTE_SIZE, k).map_or(Colour::default(), rgb)
+                rgb(self.palette + k as usize * PALETTE_SIZE)
             }
             _ => Colour::default(),
         }

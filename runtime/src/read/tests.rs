@@ -1179,11 +1179,10 @@ proptest! {
 #[test]
 fn two_colours_give_each_side_its_own() {
     let polygon = |scene: &Scene<'_>, k: u32| {
-        let p = scene.polygon(k);
-        (
-            scene.colour_seen(k, &p, true),
-            scene.colour_seen(k, &p, false),
-        )
+        // The record's colour is the interior side's; its shape has none.
+        assert_eq!(scene.polygon(k).colour, scene.colour_seen(k, true));
+        assert_eq!(scene.polygon_shape(k).colour, Colour::default());
+        (scene.colour_seen(k, true), scene.colour_seen(k, false))
     };
     let one = Spec::small().encode();
     let one = Scene::parse(&one).unwrap();
@@ -1219,8 +1218,7 @@ fn an_exterior_palette_index_out_of_range_is_refused() {
     spec.exterior = std::vec![[1, 0, 0], [0, 0, 0], [1, 0, 0]];
     let scene = spec.encode();
     let scene = Scene::parse(&scene).unwrap();
-    let p = scene.polygon(0);
-    assert_eq!(scene.colour_seen(0, &p, false), Colour::new(40, 50, 60));
+    assert_eq!(scene.colour_seen(0, false), Colour::new(40, 50, 60));
     spec.exterior[1] = [2, 0, 0];
     let bytes = spec.encode();
     let polygons = bytes.len()

@@ -194,6 +194,11 @@ fn locate_arrays(bytes: &[u8], header: Header) -> Result<Scene<'_>, ReadError> {
         polygon_size,
         node_size,
         field_size,
+        exterior: if flags & hf::TWO_COLOURS != 0 {
+            field_size + 2 + colour_size(flags)
+        } else {
+            field_size + 2
+        },
         steps16: &[],
         indices16: &[],
     };

@@ -117,18 +117,13 @@ impl<const SUB: u32> Painter<'_, '_, SUB> {
             }
             let cov = coverage.as_deref();
             let next = traversal.next_polygon_entering(|node| self.enter(scene, node, cov, stats));
-            let Some((index, polygon, interior)) = next else {
-                break;
-            };
+            let Some((index, polygon)) = next else { break };
+            let interior = traversal.seen_interior();
             if last != Some(index) {
                 tally(&mut stats.polygons_visited, 1);
             }
-            let seen = Seen {
-                index,
-                polygon: &polygon,
-                interior,
-            };
-            self.draw(scene, &seen, coverage.as_deref_mut(), sink, stats)?;
+            let cov = coverage.as_deref_mut();
+            self.draw(scene, index, &polygon, interior, cov, sink, stats)?;
             if last == Some(index) {
                 break;
             }
@@ -193,16 +188,19 @@ impl<const SUB: u32> Painter<'_, '_, SUB> {
         true
     }
 
-    /// Cull, clip, project, snap and fill the polygon `seen`, through `coverage` when given.
+    /// Cull, clip, project, snap and fill polygon `index`, in the colour of its side the eye
+    /// sees (its interior side when `interior`), through `coverage` when given.
+    #[allow(clippy::too_many_arguments)]
     fn draw<T: Source + ?Sized, S: SpanSink + ?Sized>(
         &mut self,
         scene: &T,
-        seen: &Seen<'_>,
+        index: u32,
+        polygon: &Polygon,
+        interior: bool,
         coverage: Option<&mut Coverage<'_>>,
         sink: &mut S,
         stats: &mut FrameStats,
     ) -> Result<(), RenderError> {
-        let (index, polygon) = (seen.index, seen.polygon);
         let n = u32::from(polygon.vertex_count);
         if clip::buffer_len_for(n) > self.available {
             // Only a source contradicting its own maximum gets here.
@@ -270,7 +268,7 @@ impl<const SUB: u32> Painter<'_, '_, SUB> {
         }
         let colour = match self.paint {
             Paint::Ids if cfg!(feature = "ids") => id_colour(scene.id(index).unwrap_or(u32::MAX)),
-            Paint::Colours | Paint::Ids => scene.colour_seen(index, polygon, seen.interior),
+            Paint::Colours | Paint::Ids => scene.colour_seen(index, polygon, interior),
         };
         tally(&mut stats.polygons_drawn, 1);
         // One fill for both cases (with and without span memory): one copy in the binary.
@@ -288,14 +286,6 @@ impl<const SUB: u32> Painter<'_, '_, SUB> {
         tally(&mut stats.pixels_written, through.pixels);
         Ok(())
     }
-}
-
-/// A polygon as the walk yields it: its index, its record, and whether the eye sees its
-/// interior side (which of its colours shows).
-struct Seen<'p> {
-    index: u32,
-    polygon: &'p Polygon,
-    interior: bool,
 }
 
 /// The sink the fill draws into: through the coverage when there is one (see

@@ -71,7 +71,8 @@ impl Source for Scene<'_> {
         Scene::id(self, i)
     }
     fn colour_seen(&self, i: u32, polygon: &Polygon, interior: bool) -> Colour {
-        Scene::colour_seen(self, i, polygon, interior)
+        let _ = polygon;
+        Scene::colour_seen(self, i, interior)
     }
     fn node_bounds(&self, i: u32) -> Option<(Vec3, Vec3)> {
         Scene::node_bounds(self, i)

@@ -66,8 +66,9 @@ impl Tree for Scene<'_> {
     fn plane(&self, i: u32) -> Plane {
         Scene::plane(self, i)
     }
+    /// Without its colour: the walk needs none ([`Scene::polygon_shape`]).
     fn polygon(&self, i: u32) -> Polygon {
-        Scene::polygon(self, i)
+        Scene::polygon_shape(self, i)
     }
     fn side_eye(&self, eye: Vec3) -> SideEye {
         Scene::side_eye(self, eye)
@@ -260,16 +261,23 @@ impl<T: Tree + ?Sized> Traversal<'_, '_, T> {
     /// the node's whole subtree (the renderer's frustum and coverage culling). Asked once per
     /// node reached, in walk order, so the answer may depend on what was drawn so far.
     pub fn next_entering<F: FnMut(u32) -> bool>(&mut self, enter: F) -> Option<u32> {
-        self.next_polygon_entering(enter).map(|(index, ..)| index)
+        self.next_polygon_entering(enter).map(|(index, _)| index)
     }
 
-    /// [`Self::next_entering`] with the polygon's record, which the walk has read anyway, and
-    /// whether the eye sees its interior side ([`sees_interior`]), which the walk knows anyway:
-    /// the side whose colour shows ([`crate::read::Scene::colour_seen`]).
+    /// Whether the eye sees the interior side ([`sees_interior`]) of the polygon the walk
+    /// yielded last, which the walk knows anyway: the side whose colour shows
+    /// ([`crate::read::Scene::colour_seen`]). Only meaningful right after a polygon came.
+    #[inline]
+    pub fn seen_interior(&self) -> bool {
+        matches!(self.active, Task::Scan { interior: true, .. })
+    }
+
+    /// [`Self::next_entering`] with the polygon's record, which the walk has read anyway (the
+    /// side seen: [`Self::seen_interior`]).
     pub fn next_polygon_entering<F: FnMut(u32) -> bool>(
         &mut self,
         mut enter: F,
-    ) -> Option<(u32, Polygon, bool)> {
+    ) -> Option<(u32, Polygon)> {
         let back_to_front = self.order == Order::BackToFront;
         loop {
             if self.error.is_some() {
@@ -381,7 +389,7 @@ impl<T: Tree + ?Sized> Traversal<'_, '_, T> {
                                 yielded: yielded | bit,
                                 known,
                             };
-                            return Some((index, polygon, interior));
+                            return Some((index, polygon));
                         }
                     }
                     // The first scan of a node (its `interior` is `back_to_front`).

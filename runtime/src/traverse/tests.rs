@@ -74,7 +74,8 @@ fn each_polygon_comes_with_the_side_the_eye_sees() {
             let mut stack = [StackEntry::default(); 16];
             let mut walk = Traversal::new(&t, eye, order, &mut stack).unwrap();
             let (mut interior, mut exterior) = (0, 0);
-            while let Some((index, polygon, seen)) = walk.next_polygon_entering(|_| true) {
+            while let Some((index, polygon)) = walk.next_polygon_entering(|_| true) {
+                let seen = walk.seen_interior();
                 assert_eq!(polygon, t.polygon(index));
                 let side = t.eye_side(&polygon, &t.side_eye(eye));
                 assert_eq!(
