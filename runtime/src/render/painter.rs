@@ -278,7 +278,8 @@ impl<const SUB: u32> Painter<'_, '_, SUB> {
             pixels: 0,
         };
         let rows = self.rows.clone();
-        fill::fill_in(pts, self.edges, width, rows, colour, &mut through);
+        let rect = [x0, y0, x1, y1];
+        fill::fill_in_rect(pts, rect, self.edges, width, rows, colour, &mut through);
         tally(&mut stats.pixels_written, through.pixels);
         Ok(())
     }
