@@ -51,6 +51,9 @@ pub(crate) struct IntegerView {
     forms: [[i64; 4]; 3],
     max_x: i32,
     max_y: i32,
+    /// Bits of `max_x` and `max_y`: the quotient bits the divisions find.
+    bits_x: u32,
+    bits_y: u32,
 }
 
 /// An exponent `k` with `|x| < 2^k` (finite, non-zero `x`): from its exponent field.
@@ -119,10 +122,13 @@ impl IntegerView {
             let a = g * step;
             [round(a.x), round(a.y), round(a.z), round(g.dot(offset))]
         };
+        let (max_x, max_y) = (max_x.max(0), max_y.max(0));
         Some(IntegerView {
             forms: [form(gains[0]), form(gains[1]), form(gains[2])],
-            max_x: max_x.max(0),
-            max_y: max_y.max(0),
+            max_x,
+            max_y,
+            bits_x: 32 - (max_x as u32).leading_zeros(),
+            bits_y: 32 - (max_y as u32).leading_zeros(),
         })
     }
 
@@ -135,7 +141,10 @@ impl IntegerView {
         // The divisor in 31 bits: `t` low bits off both terms.
         let t = (64 - z.leading_zeros()).saturating_sub(31);
         let d = (z >> t) as u32;
-        FixedPoint::new(nearest(nx, t, d, self.max_x), nearest(ny, t, d, self.max_y))
+        FixedPoint::new(
+            nearest(nx, t, d, self.max_x, self.bits_x),
+            nearest(ny, t, d, self.max_y, self.bits_y),
+        )
     }
 }
 
@@ -160,11 +169,10 @@ fn value([a0, a1, a2, b]: [i64; 4], q: [u16; 3]) -> i64 {
 
 /// The integer nearest `n / z` (halves up) clamped to `0..=max`, from `n` without its `t` low
 /// bits and `d = z >> t` (`2^30 <= d < 2^31` when `t > 0`): a 64-by-32-bit long division of
-/// as many quotient bits as `max` has, in 32-bit registers.
+/// as many quotient bits as `max` has (`bits`, at most 31), in 32-bit registers.
 #[inline]
-fn nearest(n: i64, t: u32, d: u32, max: i32) -> i32 {
-    let bits = 32 - (max.max(0) as u32).leading_zeros();
-    if n <= 0 || bits == 0 || d == 0 {
+fn nearest(n: i64, t: u32, d: u32, max: i32, bits: u32) -> i32 {
+    if n <= 0 || bits == 0 || bits > 31 || d == 0 || max < 0 {
         return 0;
     }
     let n = (n as u64) >> t;
@@ -307,7 +315,8 @@ mod tests {
             let truncated = if n <= 0 { 0 } else { i128::from((n as u64) >> t) };
             let expected = ((2 * truncated + i128::from(d)) / (2 * i128::from(d)))
                 .clamp(0, i128::from(max.max(0)));
-            prop_assert_eq!(i128::from(nearest(n, t, d, max)), expected);
+            let bits = 32 - (max.max(0) as u32).leading_zeros();
+            prop_assert_eq!(i128::from(nearest(n, t, d, max, bits)), expected);
         }
 
         /// The limbs' sum is the form's value.
