@@ -17,7 +17,7 @@
 //! Over `q ∈ [0, 65535]^3` each integer form differs from `2^e` times the exact one by at most
 //! `D = 2^17`: each coefficient rounds by at most `1/2` plus its `f64` error (a few units of
 //! `2^-53` of its terms' sizes, which `2^e` keeps at most `2^44`), times `q <= 65535`, and the
-//! constant by `1/2` plus a few units of `2^-53` of at most `2^60`. With `Z*`, `X*` the exact
+//! constant by at most `1` plus a few units of `2^-53` of at most `2^60`. With `Z*`, `X*` the exact
 //! depth and snapped coordinate (in `2^-SUB` pixel), `|N/Z − X*| = |δN − X* δZ| / Z <=
 //! D (1 + |X*|) / (2^e Z* − D)`. A frame takes this path only when that is at most an eighth
 //! of a unit for every vertex of the scene's box (its least depth, and `|X*|` within the
