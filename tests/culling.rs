@@ -52,8 +52,14 @@ enum Culling {
     Off,
 }
 
-/// The id image of one front-to-back frame at `SUB` fractional bits, and the subtrees culled.
-fn frame<const SUB: u32>(scene: &Scene<'_>, camera: &Camera, culling: Culling) -> (Vec<u32>, u64) {
+/// The id image of one front-to-back frame at `SUB` fractional bits, with integer vertices or
+/// not, and the subtrees culled.
+fn frame<const SUB: u32>(
+    scene: &Scene<'_>,
+    camera: &Camera,
+    culling: Culling,
+    integer: bool,
+) -> (Vec<u32>, u64) {
     let h = camera.height();
     let mut intervals = vec![(0u16, 0u16); HOST_SPANS_PER_ROW * h as usize];
     let mut counts = vec![0u16; h as usize];
@@ -67,6 +73,9 @@ fn frame<const SUB: u32>(scene: &Scene<'_>, camera: &Camera, culling: Culling) -
         Culling::NoSubtrees => renderer.without_subtree_culling(),
         Culling::Off => renderer.without_culling(),
     };
+    if integer {
+        renderer = renderer.integer_vertices();
+    }
     draw(&mut renderer, scene, camera)
 }
 
@@ -85,6 +94,7 @@ fn same_with_and_without<const SUB: u32>(name: &str, mesh: &Mesh) -> u64 {
     let r = (hi - lo).length() / 2.0;
     let mut culled = 0;
     let mut memory = vec![CachedVertex::EMPTY; (h.vertex_count as usize).next_power_of_two()];
+    let mut integer_memory = memory.clone();
     // Direct-mapped memory far smaller than the scene: vertices keep replacing each other.
     let mut small_memory = [CachedVertex::EMPTY; 16];
     for (k, (w, ht)) in [(24, 18), (64, 48), (160, 120), (1920, 1080)]
@@ -99,6 +109,16 @@ fn same_with_and_without<const SUB: u32>(name: &str, mesh: &Mesh) -> u64 {
         let mut cached = Renderer::<SUB>::with_precision(&mut workspace)
             .span_memory(coverage)
             .vertex_memory(VertexCache::new(&mut memory))
+            .ids();
+        let mut integer_intervals = vec![(0u16, 0u16); HOST_SPANS_PER_ROW * ht as usize];
+        let mut integer_counts = vec![0u16; ht as usize];
+        let integer_coverage =
+            Coverage::new(&mut integer_intervals, &mut integer_counts, w, ht).expect("spans");
+        let mut integer_workspace: Box<Workspace<HOST_STACK, HOST_VERTS, SUB>> = Box::default();
+        let mut cached_integer = Renderer::<SUB>::with_precision(&mut integer_workspace)
+            .span_memory(integer_coverage)
+            .vertex_memory(VertexCache::new(&mut integer_memory))
+            .integer_vertices()
             .ids();
         let mut small_intervals = vec![(0u16, 0u16); HOST_SPANS_PER_ROW * ht as usize];
         let mut small_counts = vec![0u16; ht as usize];
@@ -117,37 +137,45 @@ fn same_with_and_without<const SUB: u32>(name: &str, mesh: &Mesh) -> u64 {
             let target = c + DVec3::new(0.3 * r * (step as f64 - 2.5) / 2.5, 0.0, 0.0);
             let near = Camera::default_near(h.bounds_min, h.bounds_max);
             let camera = Camera::look_at(Pose::new(eye, target), 60.0, w, ht, near).expect("cam");
-            let (with, n) = frame::<SUB>(&scene, &camera, Culling::All);
-            let (without, _) = frame::<SUB>(&scene, &camera, Culling::Off);
-            let (no_subtrees, none) = frame::<SUB>(&scene, &camera, Culling::NoSubtrees);
-            assert_eq!(none, 0, "{name}: subtrees culled without subtree culling");
-            let differ = with
-                .iter()
-                .zip(&no_subtrees)
-                .filter(|(a, b)| a != b)
-                .count();
-            assert_eq!(
-                differ, 0,
-                "{name}, SUB = {SUB}, {w}x{ht}, camera {step}: {differ} pixels change without \
-                 subtree culling"
-            );
+            let (with, n) = frame::<SUB>(&scene, &camera, Culling::All, false);
+            let (integer, _) = frame::<SUB>(&scene, &camera, Culling::All, true);
+            for (with, integer) in [(&with, false), (&integer, true)] {
+                let (without, _) = frame::<SUB>(&scene, &camera, Culling::Off, integer);
+                let (no_subtrees, none) =
+                    frame::<SUB>(&scene, &camera, Culling::NoSubtrees, integer);
+                assert_eq!(none, 0, "{name}: subtrees culled without subtree culling");
+                // Without culling no frame skips clipping, so none takes integer vertices.
+                let others = [
+                    (&no_subtrees, "without subtree culling"),
+                    (&without, "without culling"),
+                ];
+                for (other, what) in others.into_iter().take(if integer { 1 } else { 2 }) {
+                    let differ = with.iter().zip(other).filter(|(a, b)| a != b).count();
+                    assert_eq!(
+                        differ, 0,
+                        "{name}, SUB = {SUB}, {w}x{ht}, camera {step}, integer vertices {integer}: \
+                         {differ} pixels change {what}"
+                    );
+                }
+            }
             let (cached, _) = draw(&mut cached, &scene, &camera);
             let (small, _) = draw(&mut small, &scene, &camera);
-            for (images, what) in [
-                (&cached, "the vertex memory"),
-                (&small, "a small vertex memory"),
+            let (cached_integer, _) = draw(&mut cached_integer, &scene, &camera);
+            for (images, reference, what) in [
+                (&cached, &with, "the vertex memory"),
+                (&small, &with, "a small vertex memory"),
+                (
+                    &cached_integer,
+                    &integer,
+                    "the vertex memory and integer vertices",
+                ),
             ] {
-                let stale = with.iter().zip(images).filter(|(a, b)| a != b).count();
+                let stale = reference.iter().zip(images).filter(|(a, b)| a != b).count();
                 assert_eq!(
                     stale, 0,
                     "{name}, SUB = {SUB}, {w}x{ht}, camera {step}: {stale} pixels change with {what}"
                 );
             }
-            let differ = with.iter().zip(&without).filter(|(a, b)| a != b).count();
-            assert_eq!(
-                differ, 0,
-                "{name}, SUB = {SUB}, {w}x{ht}, camera {step}: {differ} pixels change with culling"
-            );
             culled += n;
         }
     }

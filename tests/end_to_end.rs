@@ -189,9 +189,9 @@ fn compare_lit(
     c
 }
 
-/// Both drawing orders, with culling (the default) and without, for every camera: culling
-/// changes no pixel, wherever the eye is: outside, inside a closed mesh, on its surface, or
-/// with the near plane cutting it open.
+/// Both drawing orders, with culling (the default) and without, and with integer vertices,
+/// for every camera: no robust pixel differs from the reference, wherever the eye is: outside,
+/// inside a closed mesh, on its surface, or with the near plane cutting it open.
 fn all_settings() -> Vec<Settings> {
     let mut v = Vec::new();
     for cull in [true, false] {
@@ -202,6 +202,14 @@ fn all_settings() -> Vec<Settings> {
                 ..Settings::default()
             });
         }
+    }
+    // Integer vertices (frames with culling and without clipping), in both orders.
+    for order in [Order::FrontToBack, Order::BackToFront] {
+        v.push(Settings {
+            order,
+            integer_vertices: true,
+            ..Settings::default()
+        });
     }
     v
 }

@@ -111,6 +111,10 @@ pub struct RenderArgs {
     /// Draw everything: no frustum or coverage culling (changes no pixel; for measuring).
     #[arg(long)]
     pub no_cull: bool,
+    /// Project vertices in integers, as firmware for a core without an FPU does
+    /// (`Renderer::integer_vertices`: a subpixel unit off now and then, so edge pixels can differ).
+    #[arg(long)]
+    pub integer_vertices: bool,
     /// Print the frame's statistics (polygons visited, culled, drawn, pixels written, overdraw).
     #[arg(long)]
     pub stats: bool,
@@ -260,6 +264,7 @@ pub fn render(args: &RenderArgs) -> Result<(), String> {
         cull: !args.no_cull,
         ids: args.ids,
         background: args.background,
+        integer_vertices: args.integer_vertices,
     };
     let frame =
         render_bytes_with(&bytes, &shot, &settings).map_err(|e| match camera_hint(&shot) {

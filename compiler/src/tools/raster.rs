@@ -53,6 +53,9 @@ pub struct Settings {
     pub ids: bool,
     /// Background colour (ignored for id images, whose background is 0).
     pub background: [u8; 3],
+    /// Vertices projected in integers, as a core without an FPU draws them
+    /// (`Renderer::integer_vertices`).
+    pub integer_vertices: bool,
 }
 
 impl Default for Settings {
@@ -62,6 +65,7 @@ impl Default for Settings {
             cull: true,
             ids: false,
             background: [0, 0, 0],
+            integer_vertices: false,
         }
     }
 }
@@ -117,6 +121,9 @@ pub fn render_bytes_with(bytes: &[u8], shot: &Shot, settings: &Settings) -> Resu
     }
     if !settings.cull {
         renderer = renderer.without_culling();
+    }
+    if settings.integer_vertices {
+        renderer = renderer.integer_vertices();
     }
     let stats = renderer
         .draw(&scene, &camera.view(scene.header().centre), &mut fb)

@@ -792,3 +792,98 @@ proptest! {
         }
     }
 }
+
+// ---------------------------------------------------------------- the small-polygon fill
+
+/// Every span a fill emits, in order.
+#[derive(Default)]
+struct Spans(Vec<(u32, u32, u32)>);
+
+impl SpanSink for Spans {
+    fn span(&mut self, y: u32, x0: u32, x1: u32, _: Colour) {
+        self.0.push((y, x0, x1));
+    }
+}
+
+/// The small-polygon fill of `points` on rows `rows` of a `w x h` window against the
+/// scanline fill: the same spans in the same order, the same count. Returns whether the
+/// small fill took the polygon.
+fn small_matches_scanline<const SUB: u32>(
+    points: &[FixedPoint<SUB>],
+    w: u32,
+    h: u32,
+    rows: core::ops::Range<u32>,
+) -> Result<bool, TestCaseError> {
+    let Some([x0, y0, x1, y1]) = sample_rect(points, w, h) else {
+        return Ok(false);
+    };
+    let (y0, y1) = (y0.max(rows.start), y1.min(rows.end));
+    if y0 >= y1 {
+        return Ok(false);
+    }
+    let mut small = Spans::default();
+    let Some(n) = small::fill_small(points, [x0, y0, x1, y1], A, &mut small) else {
+        return Ok(false);
+    };
+    let mut scan = Spans::default();
+    let mut edges = [EdgeWalk::default(); MAX_FILL_VERTICES];
+    let m = fill_in(points, &mut edges, w, rows, A, &mut scan);
+    prop_assert_eq!(&small.0, &scan.0, "{:?}", points);
+    prop_assert_eq!(n, m);
+    Ok(true)
+}
+
+/// Points within a few pixels of each other (so their sample rectangle is often small),
+/// anywhere in and around a 24 x 20 window; coordinates often on half pixels, where the tie
+/// rules decide, and often repeated (collinear and degenerate polygons).
+fn small_polygon_strategy(sub: u32) -> impl Strategy<Value = Vec<(i32, i32)>> {
+    let s = 1i32 << sub;
+    let half = (s / 2).max(1);
+    let lo = if cfg!(feature = "wide-coordinates") {
+        -3 * s
+    } else {
+        4 * s
+    };
+    let offset = move || {
+        (-3 * s..=3 * s, any::<bool>())
+            .prop_map(move |(v, snap)| if snap { v.div_euclid(half) * half } else { v })
+    };
+    (lo..=26 * s, lo..=22 * s).prop_flat_map(move |(cx, cy)| {
+        proptest::collection::vec(
+            (offset(), offset()).prop_map(move |(dx, dy)| (cx + dx, cy + dy)),
+            3..=8,
+        )
+    })
+}
+
+#[test]
+fn small_fill_takes_small_polygons_only() {
+    // A triangle over 2 x 2 centres at SUB = 4, and one over 7 x 7.
+    let small = raw::<4>(&[(8, 8), (40, 8), (8, 40)]);
+    assert_eq!(sample_rect(&small, 10, 10), Some([0, 0, 2, 2]));
+    assert!(small_matches_scanline(&small, 10, 10, 0..10).unwrap());
+    let large = raw::<4>(&[(8, 8), (120, 8), (8, 120)]);
+    assert_eq!(sample_rect(&large, 10, 10), Some([0, 0, 7, 7]));
+    assert!(!small_matches_scanline(&large, 10, 10, 0..10).unwrap());
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 2000, ..ProptestConfig::default() })]
+
+    /// Any small point list (convex or not, self-intersecting, degenerate), whole or in a
+    /// band of rows: exactly the scanline fill's spans.
+    #[test]
+    fn small_fill_gives_the_scanline_spans(
+        p0 in small_polygon_strategy(0),
+        p4 in small_polygon_strategy(4),
+        p8 in small_polygon_strategy(8),
+        r0 in 0u32..20,
+        len in 0u32..21,
+    ) {
+        let rows = r0..(r0 + len).min(20);
+        small_matches_scanline::<0>(&raw(&p0), 24, 20, rows.clone())?;
+        small_matches_scanline::<4>(&raw(&p4), 24, 20, rows.clone())?;
+        small_matches_scanline::<8>(&raw(&p8), 24, 20, rows.clone())?;
+        small_matches_scanline::<8>(&raw(&p8), 24, 20, 0..20)?;
+    }
+}

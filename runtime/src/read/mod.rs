@@ -706,6 +706,24 @@ impl<'a> Scene<'a> {
             .and_then(|slot| self.index(slot))
     }
 
+    /// `(min, step)` of the vertices' 16-bit steps when the bounds are an exact grid on every
+    /// axis ([`layout::Grid`]): vertex `v` is then exactly `min + q ∘ step` for its steps `q`
+    /// ([`Scene::vertex_steps`]). `None` for `f32` vertices.
+    pub fn step_grid(&self) -> Option<(Vec3, Vec3)> {
+        let (lo, hi) = (self.header.bounds_min, self.header.bounds_max);
+        let exact = (0..3).all(|j| layout::Grid::of(lo[j], hi[j]).is_some());
+        (self.vertex_size() == 6 && exact).then_some((lo, self.step))
+    }
+
+    /// The 16-bit steps of vertex `v` (`None` for `f32` vertices or out of range).
+    #[inline]
+    pub fn vertex_steps(&self, v: u32) -> Option<[u16; 3]> {
+        if self.vertex_size() != 6 {
+            return None;
+        }
+        self.steps_of(v)
+    }
+
     /// Vertex `i`, relative to the centre (zero when out of range).
     #[inline]
     pub fn vertex(&self, i: u32) -> Vec3 {

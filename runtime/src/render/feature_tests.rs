@@ -179,6 +179,8 @@ fn culled_cube(order: Order) -> (FrameStats, bool) {
         points: &mut points,
         edges: &mut edges,
         vertices: None,
+        #[cfg(feature = "integer-vertices")]
+        integer: None,
     };
     let entered = painter.enter(&t, 0, None, &mut FrameStats::default());
     assert!(sink.1.iter().all(|&c| c == Colour::default()));

@@ -286,6 +286,8 @@ fn a_full_screen_stops_the_walk_and_culls_covered_subtrees() {
             points: &mut pts,
             edges: &mut edges,
             vertices: None,
+            #[cfg(feature = "integer-vertices")]
+            integer: None,
         };
         let mut stats = FrameStats::default();
         // Without `bounds-culling` every subtree is entered.

@@ -16,7 +16,7 @@ use crate::fill::{self, FixedPoint};
 use crate::read::Polygon;
 use crate::target::{Colour, SpanSink};
 use crate::traverse::{Order, StackEntry, Traversal};
-use crate::vertices::VertexCache;
+use crate::vertices::{IntegerView, VertexCache};
 
 /// Snap a screen point to a [`FixedPoint<SUB>`] in the window (see the module docs);
 /// `max_x`, `max_y` are `W * 2^SUB`, `H * 2^SUB`. A NaN lands on 0.
@@ -85,6 +85,10 @@ pub(super) struct Painter<'w, 'v, const SUB: u32> {
     pub(super) edges: &'w mut [fill::EdgeWalk],
     /// Projected vertices, in frames without clipping.
     pub(super) vertices: Option<&'w mut VertexCache<'v, SUB>>,
+    /// The integer projection of the scene's steps, in frames without clipping that asked
+    /// for it ([`super::Renderer::integer_vertices`]).
+    #[cfg(feature = "integer-vertices")]
+    pub(super) integer: Option<IntegerView>,
 }
 
 impl<const SUB: u32> Painter<'_, '_, SUB> {
@@ -217,15 +221,29 @@ impl<const SUB: u32> Painter<'_, '_, SUB> {
             .vertices
             .as_deref_mut()
             .filter(|_| cfg!(feature = "vertex-cache"));
-        let count = if let Some(cache) = cache {
+        // Without the feature there are never integer vertices (nor the field).
+        #[cfg(feature = "integer-vertices")]
+        let integer = self.integer;
+        #[cfg(not(feature = "integer-vertices"))]
+        let integer: Option<IntegerView> = None;
+        let count = if cache.is_some() || integer.is_some() {
             // No clipping in this frame: each corner is its vertex's snapped projection,
-            // computed once per frame.
+            // computed once per frame when there is vertex memory.
             let corner = |v: Vec3| screen(view.to_camera(v));
+            let shared = |v: u32| {
+                let steps = integer.and_then(|g| scene.vertex_steps(v).map(|q| (g, q)));
+                match steps {
+                    Some((g, q)) => g.point::<SUB>(q),
+                    None => corner(scene.vertex(v)),
+                }
+            };
+            let mut cache = cache;
             let mut count = 0usize;
             for (i, slot) in (0..n).zip(self.points.iter_mut()) {
-                *slot = match scene.vertex_index(polygon, i) {
-                    Some(v) => cache.get(v, || corner(scene.vertex(v))),
-                    None => corner(scene.polygon_vertex(polygon, i)),
+                *slot = match (scene.vertex_index(polygon, i), cache.as_deref_mut()) {
+                    (Some(v), Some(c)) => c.get(v, || shared(v)),
+                    (Some(v), None) => shared(v),
+                    (None, _) => corner(scene.polygon_vertex(polygon, i)),
                 };
                 count += 1;
             }
@@ -282,7 +300,8 @@ impl<const SUB: u32> Painter<'_, '_, SUB> {
             pixels: 0,
         };
         let rows = self.rows.clone();
-        fill::fill_in(pts, self.edges, width, rows, colour, &mut through);
+        let rect = [x0, y0, x1, y1];
+        fill::fill_in_rect(pts, rect, self.edges, width, rows, colour, &mut through);
         tally(&mut stats.pixels_written, through.pixels);
         Ok(())
     }

@@ -52,6 +52,17 @@ pub trait Source: Tree {
         let _ = v;
         Vec3::ZERO
     }
+    /// `(min, step)` when every shared vertex lies at exactly `min + q ∘ step` for its 16-bit
+    /// steps `q` ([`Source::vertex_steps`]), which [`super::Renderer::integer_vertices`]
+    /// projects in integers; `None` (the default) keeps the `f32` path.
+    fn step_grid(&self) -> Option<(Vec3, Vec3)> {
+        None
+    }
+    /// The steps `q` of shared vertex `v` (see [`Source::step_grid`]).
+    fn vertex_steps(&self, v: u32) -> Option<[u16; 3]> {
+        let _ = v;
+        None
+    }
 }
 
 impl Source for Scene<'_> {
@@ -82,5 +93,11 @@ impl Source for Scene<'_> {
     }
     fn vertex(&self, v: u32) -> Vec3 {
         Scene::vertex(self, v)
+    }
+    fn step_grid(&self) -> Option<(Vec3, Vec3)> {
+        Scene::step_grid(self)
+    }
+    fn vertex_steps(&self, v: u32) -> Option<[u16; 3]> {
+        Scene::vertex_steps(self, v)
     }
 }

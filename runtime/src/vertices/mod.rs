@@ -15,8 +15,13 @@
 //! vertices used close together in the walk, which the compiler numbers in the order of first
 //! use. A frame starts by clearing the entries it will use.
 
+// Without the feature the renderer never asks for it.
+#[cfg_attr(not(feature = "integer-vertices"), allow(dead_code))]
+mod integer;
 #[cfg(test)]
 mod tests;
+
+pub(crate) use integer::IntegerView;
 
 use crate::fill::{FixedPoint, SUBPIXEL_BITS};
 

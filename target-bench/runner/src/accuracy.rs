@@ -97,12 +97,14 @@ impl Truth {
             .count() as u64
     }
 
-    /// Peel's id image of camera `k`, in `order` (`front-to-back` or `back-to-front`).
+    /// Peel's id image of camera `k`, front to back or back to front, with integer vertices
+    /// or not (as the firmware of a core without an FPU draws).
     pub fn peel_ids(
         &self,
         angles: OrbitAngles,
         (width, height): (u32, u32),
         front_to_back: bool,
+        integer_vertices: bool,
     ) -> Result<Vec<u32>, String> {
         let scene = Scene::parse(&self.ids_peel).map_err(|e| e.to_string())?;
         let header = scene.header();
@@ -117,6 +119,9 @@ impl Truth {
         let mut fb =
             Framebuffer::<Xrgb8888>::new(&mut ids, width, height).map_err(|e| e.to_string())?;
         let mut renderer = Renderer::new(&mut workspace).ids();
+        if integer_vertices {
+            renderer = renderer.integer_vertices();
+        }
         renderer = if front_to_back {
             renderer.span_memory(
                 Coverage::new(&mut intervals, &mut counts, width, height)
@@ -163,8 +168,8 @@ mod tests {
         let size = (64, 48);
         let truth = Truth::new(&demo, &cameras, size).unwrap();
         for (k, &c) in cameras.iter().enumerate() {
-            for front_to_back in [true, false] {
-                let ids = truth.peel_ids(c, size, front_to_back).unwrap();
+            for (front_to_back, integer) in [(true, false), (false, false), (true, true)] {
+                let ids = truth.peel_ids(c, size, front_to_back, integer).unwrap();
                 assert!(ids.iter().any(|&i| i != 0));
                 assert_eq!(truth.id_errors(k, &ids), 0);
                 // Coverage of the same image: none wrong either.

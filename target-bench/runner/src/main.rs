@@ -150,7 +150,8 @@ fn run(args: &Args) -> Result<Vec<String>, String> {
             skipped.push(notice);
             continue;
         }
-        let mut references: HashMap<(u32, u32), References> = HashMap::new();
+        // A core without an FPU draws with integer vertices: its references do too.
+        let mut references: HashMap<((u32, u32), bool), References> = HashMap::new();
         for core in cores {
             let sizes = if args.quick {
                 &core.sizes()[..1]
@@ -158,16 +159,18 @@ fn run(args: &Args) -> Result<Vec<String>, String> {
                 core.sizes()
             };
             for &size in sizes {
-                let refs = match references.entry(size) {
+                let integer = core.integer_vertices();
+                let refs = match references.entry((size, integer)) {
                     Entry::Occupied(e) => e.into_mut(),
                     Entry::Vacant(e) => {
-                        let dir = out
-                            .join("references")
-                            .join(stem(&scene))
-                            .join(size_name(size));
+                        let mut folder = size_name(size);
+                        if integer {
+                            folder.push_str("-integer");
+                        }
+                        let dir = out.join("references").join(stem(&scene)).join(folder);
                         mkdir(&dir)?;
                         e.insert(References::new(
-                            &tools, &scene, size, &cameras, &setups, &dir,
+                            &tools, &scene, size, integer, &cameras, &setups, &dir,
                         )?)
                     }
                 };
@@ -334,11 +337,13 @@ struct References {
 }
 
 impl References {
-    /// Render what `setups` need into `dir`.
+    /// Render what `setups` need into `dir` (Peel's frames with integer vertices or not).
+    #[allow(clippy::too_many_arguments)]
     fn new(
         tools: &Tools,
         scene: &Compiled,
         (width, height): (u32, u32),
+        integer: bool,
         cameras: &[OrbitAngles],
         setups: &[Setup],
         dir: &Path,
@@ -354,16 +359,23 @@ impl References {
                 .enumerate()
                 .map(|(k, c)| {
                     let png = dir.join(format!("{order}-{k}.png"));
-                    tools.peel(&[
+                    let orbit = format!("--orbit={},{}", c.azimuth_deg, c.elevation_deg);
+                    let size = format!("--size={width}x{height}");
+                    let order_arg = format!("--order={order}");
+                    let background = format!("--background={r},{g},{b}");
+                    let mut args: Vec<&std::ffi::OsStr> = vec![
                         "render".as_ref(),
                         scene.peel.as_os_str(),
-                        format!("--orbit={},{}", c.azimuth_deg, c.elevation_deg).as_ref(),
-                        format!("--size={width}x{height}").as_ref(),
-                        format!("--order={order}").as_ref(),
-                        format!("--background={r},{g},{b}").as_ref(),
-                        "-o".as_ref(),
-                        png.as_os_str(),
-                    ])?;
+                        orbit.as_ref(),
+                        size.as_ref(),
+                        order_arg.as_ref(),
+                        background.as_ref(),
+                    ];
+                    if integer {
+                        args.push("--integer-vertices".as_ref());
+                    }
+                    args.extend(["-o".as_ref(), png.as_os_str()]);
+                    tools.peel(&args)?;
                     pixels::png_rgb565(&png, width, height)
                 })
                 .collect()
@@ -428,7 +440,7 @@ impl References {
             if needs(variant) {
                 let mut errors = 0;
                 for (k, &c) in cameras.iter().enumerate() {
-                    let ids = truth.peel_ids(c, (width, height), front_to_back)?;
+                    let ids = truth.peel_ids(c, (width, height), front_to_back, integer)?;
                     errors += truth.id_errors(k, &ids);
                 }
                 robust.insert(variant.method(), errors);

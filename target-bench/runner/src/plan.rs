@@ -15,6 +15,12 @@ pub enum Core {
 }
 
 impl Core {
+    /// Whether the firmware draws with integer vertices (`Renderer::integer_vertices`): on the
+    /// core without an FPU, where they cost a fraction of the software `f32` path.
+    pub fn integer_vertices(self) -> bool {
+        self == Core::M0Plus
+    }
+
     /// The `core` of the records.
     pub fn name(self) -> &'static str {
         match self {

@@ -54,6 +54,12 @@ impl Method {
         if !cfg!(target_abi = "eabihf") && !VARIANT.banded() {
             renderer = renderer.without_subtree_culling();
         }
+        // Without an FPU a vertex costs thousands of instructions in software floats, a
+        // fraction of that in integers; with one the `f32` path is the cheaper (and the
+        // build leaves the feature out).
+        if !cfg!(target_abi = "eabihf") {
+            renderer = renderer.integer_vertices();
+        }
         if VARIANT.front_to_back() {
             let rows = band as usize;
             let intervals = pool.pairs(config.spans_per_row as usize * rows, Use::SpanMemory)?;
