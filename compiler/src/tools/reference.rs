@@ -194,7 +194,7 @@ pub fn reference(
     Reference { ids, front, robust }
 }
 
-/// Per pixel of `seen` (the [`reference`] of `triangles` for `shot` and `near`): whether the
+/// Per pixel of `seen` (the [`reference()`] of `triangles` for `shot` and `near`): whether the
 /// point its ray hits is in shadow from `light`, the side seen facing the light: the ray from
 /// that point towards the sun (along [`crate::shadow::sun_direction`], as the compiler casts
 /// it), or the segment to the point light, meets another triangle. A pixel near a shadow's

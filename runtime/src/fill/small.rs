@@ -52,7 +52,10 @@ pub(crate) fn fill_small<const SUB: u32, S: SpanSink + ?Sized>(
     let relative = |p: FixedPoint<SUB>| -> Option<(i32, i32)> {
         let (u, v) = (Coord::from(p.x) - ox, Coord::from(p.y) - oy);
         let inside = |d: Coord| -limit <= d && d <= limit;
-        (inside(u) && inside(v)).then_some((u as i32, v as i32))
+        // `Coord` is `i64` with `wide-coordinates`, `i32` without.
+        #[allow(clippy::unnecessary_cast)]
+        let relative = (u as i32, v as i32);
+        (inside(u) && inside(v)).then_some(relative)
     };
     let (w, h) = (w as i32, h as i32);
     let row_bits = if w >= 32 { u32::MAX } else { (1u32 << w) - 1 };
