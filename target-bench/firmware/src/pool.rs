@@ -82,13 +82,7 @@ impl Pool {
     }
 
     /// `n` pairs of halfwords (span-memory intervals).
-    #[cfg(any(
-        feature = "ftb-framebuffer",
-        feature = "ftb-stream",
-        feature = "ftb-bands",
-        feature = "b2f-framebuffer",
-        feature = "b2f-bands"
-    ))]
+    #[cfg(peel_method)]
     pub fn pairs(&mut self, n: usize, what: Use) -> Result<&'static mut [(u16, u16)], Failure> {
         let words = self.words(n, what)?;
         // SAFETY: as for `u16s`; a pair is one word without padding (checked above), so every

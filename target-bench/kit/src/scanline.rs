@@ -299,6 +299,83 @@ pub fn draw<S: RowSink + ?Sized>(
     Ok(stats)
 }
 
+/// Lists as long as any frame of a mesh can need, owned (the host's runs).
+#[cfg(any(feature = "std", test))]
+pub struct OwnedLists {
+    polygons: std::vec::Vec<Polygon>,
+    vertices: std::vec::Vec<SubpixelPoint>,
+    extra: std::vec::Vec<SubpixelPoint>,
+    heads: std::vec::Vec<u32>,
+    active: std::vec::Vec<ActiveEdge>,
+    colour: std::vec::Vec<u16>,
+    depth: std::vec::Vec<u16>,
+}
+
+#[cfg(any(feature = "std", test))]
+impl OwnedLists {
+    /// For frames of `mesh` of `width x height` pixels: a table entry per triangle, a point per
+    /// vertex, and room for every triangle clipped to its most points and all its edges active.
+    pub fn for_mesh(mesh: &Mesh<'_>, width: u32, height: u32) -> OwnedLists {
+        use std::vec;
+        let n = mesh.triangle_count() as usize;
+        OwnedLists {
+            polygons: vec![Polygon::EMPTY; n],
+            vertices: vec![SubpixelPoint::default(); mesh.header().vertex_count as usize],
+            extra: vec![SubpixelPoint::default(); n * CLIPPED],
+            heads: vec![0; height as usize],
+            active: vec![ActiveEdge::default(); n * CLIPPED],
+            colour: vec![0; width as usize],
+            depth: vec![0; width as usize],
+        }
+    }
+
+    /// The lists, borrowed for a frame.
+    pub fn lists(&mut self) -> Lists<'_> {
+        Lists {
+            polygons: &mut self.polygons,
+            vertices: &mut self.vertices,
+            extra: &mut self.extra,
+            heads: &mut self.heads,
+            active: &mut self.active,
+            colour: &mut self.colour,
+            depth: &mut self.depth,
+        }
+    }
+}
+
+/// Rows into a whole frame, and the order they came in (the host's runs).
+#[cfg(any(feature = "std", test))]
+pub struct FrameRows {
+    /// The frame, row by row.
+    pub pixels: std::vec::Vec<u16>,
+    /// The rows received, in order.
+    pub rows: std::vec::Vec<u32>,
+    width: usize,
+}
+
+#[cfg(any(feature = "std", test))]
+impl FrameRows {
+    /// A `width x height` frame of `fill`.
+    pub fn new(width: u32, height: u32, fill: u16) -> FrameRows {
+        FrameRows {
+            pixels: std::vec![fill; width as usize * height as usize],
+            rows: std::vec::Vec::new(),
+            width: width as usize,
+        }
+    }
+}
+
+#[cfg(any(feature = "std", test))]
+impl RowSink for FrameRows {
+    fn row(&mut self, y: u32, pixels: &[u16]) {
+        let at = y as usize * self.width;
+        if let Some(row) = self.pixels.get_mut(at..at + self.width) {
+            row.copy_from_slice(pixels);
+        }
+        self.rows.push(y);
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -308,21 +385,6 @@ mod tests {
     use peel_runtime::camera::{Camera, Orbit};
     use std::vec;
     use std::vec::Vec;
-
-    /// Rows into a frame.
-    struct Frame {
-        pixels: Vec<u16>,
-        width: usize,
-        rows: Vec<u32>,
-    }
-
-    impl RowSink for Frame {
-        fn row(&mut self, y: u32, pixels: &[u16]) {
-            let at = y as usize * self.width;
-            self.pixels[at..at + self.width].copy_from_slice(pixels);
-            self.rows.push(y);
-        }
-    }
 
     /// Closed boxes at distinct depths and sizes, some overlapping on screen, each face its
     /// own colour.
@@ -371,28 +433,10 @@ mod tests {
 
     fn scanline(bytes: &[u8], view: &LocalView) -> (Vec<u16>, ScanStats) {
         let mesh = Mesh::parse(bytes).unwrap();
-        let (w, h) = (view.width as usize, view.height as usize);
-        let n = mesh.triangle_count() as usize;
-        let mut polygons = vec![Polygon::EMPTY; n];
-        let mut vertices = vec![SubpixelPoint::default(); mesh.header().vertex_count as usize];
-        let mut extra = vec![SubpixelPoint::default(); n * CLIPPED];
-        let mut heads = vec![0; h];
-        let mut active = vec![ActiveEdge::default(); n * CLIPPED];
-        let (mut colour, mut depth) = (vec![0; w], vec![0; w]);
-        let mut lists = Lists {
-            polygons: &mut polygons,
-            vertices: &mut vertices,
-            extra: &mut extra,
-            heads: &mut heads,
-            active: &mut active,
-            colour: &mut colour,
-            depth: &mut depth,
-        };
-        let mut frame = Frame {
-            pixels: vec![0xdead; w * h],
-            width: w,
-            rows: vec![],
-        };
+        let h = view.height as usize;
+        let mut owned = OwnedLists::for_mesh(&mesh, view.width, view.height);
+        let mut lists = owned.lists();
+        let mut frame = FrameRows::new(view.width, view.height, 0xdead);
         let stats = draw(&mesh, view, 7, &mut lists, &mut frame).unwrap();
         assert_eq!(
             frame.rows,
@@ -480,11 +524,7 @@ mod tests {
             colour: &mut colour,
             depth: &mut depth,
         };
-        let mut frame = Frame {
-            pixels: vec![0; 64 * 48],
-            width: 64,
-            rows: vec![],
-        };
+        let mut frame = FrameRows::new(64, 48, 0);
         let err = draw(&mesh, &v, 0, &mut lists, &mut frame);
         assert_eq!(err, Err(ZError::Full(List::Polygons)));
         // The table that fits, and exactly the peak of active edges, suffice.

@@ -483,19 +483,6 @@ impl References {
     }
 }
 
-/// Row by row into a frame.
-struct Rows {
-    pixels: Vec<u16>,
-    width: usize,
-}
-
-impl peel_target_kit::scanline::RowSink for Rows {
-    fn row(&mut self, y: u32, pixels: &[u16]) {
-        let at = y as usize * self.width;
-        self.pixels[at..at + self.width].copy_from_slice(pixels);
-    }
-}
-
 /// The scanline z-buffer's frame of `mesh` seen by `view` on the host, with lists as long as
 /// anything can need, and what it used of them.
 fn scanline_frame(
@@ -503,33 +490,10 @@ fn scanline_frame(
     view: &peel_runtime::camera::LocalView,
     background: u16,
 ) -> Result<(Vec<u16>, peel_target_kit::scanline::ScanStats), String> {
-    use peel_runtime::fill::SubpixelPoint;
-    use peel_target_kit::scanline::{draw, ActiveEdge, Lists, Polygon};
-    let (w, h) = (view.width as usize, view.height as usize);
-    let header = mesh.header();
-    let n = header.polygon_count as usize;
-    let most = n * (3 + peel_runtime::clip::CLIP_PLANES);
-    let (mut polygons, mut vertices, mut extra) = (
-        vec![Polygon::EMPTY; n],
-        vec![SubpixelPoint::default(); header.vertex_count as usize],
-        vec![SubpixelPoint::default(); most],
-    );
-    let (mut heads, mut active) = (vec![0u32; h], vec![ActiveEdge::default(); most]);
-    let (mut colour, mut depth) = (vec![0u16; w], vec![0u16; w]);
-    let mut lists = Lists {
-        polygons: &mut polygons,
-        vertices: &mut vertices,
-        extra: &mut extra,
-        heads: &mut heads,
-        active: &mut active,
-        colour: &mut colour,
-        depth: &mut depth,
-    };
-    let mut rows = Rows {
-        pixels: vec![0; w * h],
-        width: w,
-    };
-    let stats = draw(mesh, view, background, &mut lists, &mut rows)
+    use peel_target_kit::scanline::{draw, FrameRows, OwnedLists};
+    let mut owned = OwnedLists::for_mesh(mesh, view.width, view.height);
+    let mut rows = FrameRows::new(view.width, view.height, 0);
+    let stats = draw(mesh, view, background, &mut owned.lists(), &mut rows)
         .map_err(|e| format!("host scanline z-buffer: {e}"))?;
     Ok((rows.pixels, stats))
 }

@@ -5,13 +5,7 @@
 
 #[cfg(feature = "embedded-3dgfx")]
 mod gfx3d;
-#[cfg(any(
-    feature = "ftb-framebuffer",
-    feature = "ftb-stream",
-    feature = "ftb-bands",
-    feature = "b2f-framebuffer",
-    feature = "b2f-bands"
-))]
+#[cfg(peel_method)]
 mod peel;
 #[cfg(feature = "scanline-zbuffer")]
 mod scanline;
@@ -20,13 +14,7 @@ mod zbuffer;
 
 #[cfg(feature = "embedded-3dgfx")]
 pub use gfx3d::{Gfx3dFailure, Method};
-#[cfg(any(
-    feature = "ftb-framebuffer",
-    feature = "ftb-stream",
-    feature = "ftb-bands",
-    feature = "b2f-framebuffer",
-    feature = "b2f-bands"
-))]
+#[cfg(peel_method)]
 pub use peel::Method;
 #[cfg(feature = "scanline-zbuffer")]
 pub use scanline::Method;
