@@ -34,9 +34,11 @@ pub struct Truth {
 }
 
 impl Truth {
-    /// Ray-cast the scene of the OBJ file `obj` from each of `cameras` at `width x height`.
+    /// Ray-cast the scene of the OBJ file `obj` (compiled with `options`, ids added) from each
+    /// of `cameras` at `width x height`.
     pub fn new(
         obj: &Path,
+        options: &CompileOptions,
         cameras: &[OrbitAngles],
         (width, height): (u32, u32),
     ) -> Result<Truth, String> {
@@ -44,7 +46,7 @@ impl Truth {
         let mesh = load_obj(obj).map_err(|e| fail(e.to_string()))?;
         let options = CompileOptions {
             ids: true,
-            ..CompileOptions::default()
+            ..options.clone()
         };
         let (_, ids_peel) =
             compile_mesh(&mesh, &options, &|_| {}).map_err(|e| fail(e.to_string()))?;
@@ -166,7 +168,7 @@ mod tests {
         let demo = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../fixtures/demo.obj");
         let cameras = crate::plan::cameras(2);
         let size = (64, 48);
-        let truth = Truth::new(&demo, &cameras, size).unwrap();
+        let truth = Truth::new(&demo, &CompileOptions::default(), &cameras, size).unwrap();
         for (k, &c) in cameras.iter().enumerate() {
             for (front_to_back, integer) in [(true, false), (false, false), (true, true)] {
                 let ids = truth.peel_ids(c, size, front_to_back, integer).unwrap();

@@ -135,7 +135,7 @@ fn run(args: &Args) -> Result<Vec<String>, String> {
     let mut gfx3d_builds: HashMap<(Core, u64), std::path::PathBuf> = HashMap::new();
     for spec in &scenes {
         println!("== scene {}", spec.name);
-        let scene = scenes::compile(&tools, spec, &scene_dir)?;
+        let scene = scenes::compile(&tools, spec, args.shadows, &scene_dir)?;
         let depth = peel_runtime::read::Scene::parse(&scene.peel_bytes)
             .map_err(|e| format!("{}: {e}", scene.peel.display()))?
             .header()
@@ -262,7 +262,7 @@ fn run(args: &Args) -> Result<Vec<String>, String> {
             &out.join("alternatives.md"),
             results::alternatives(&records, &scenes).as_bytes(),
         )?;
-        if !args.quick && args.only.is_none() && pick == Some("teapot") {
+        if !args.quick && args.only.is_none() && !args.shadows && pick == Some("teapot") {
             write(&root.join("target-bench/alternatives.png"), &png)?;
         }
     }
@@ -391,7 +391,12 @@ impl References {
                     .map_err(|e| e.to_string())
             })
             .collect::<Result<Vec<_>, String>>()?;
-        let truth = Truth::new(&scene.spec.obj, cameras, (width, height))?;
+        let truth = Truth::new(
+            &scene.spec.obj,
+            &scenes::options(scene.shadows),
+            cameras,
+            (width, height),
+        )?;
         let mut robust = HashMap::new();
         let zbuffers = needs(Variant::Zbuffer) || needs(Variant::TiledZbuffer);
         let zbuffer = if zbuffers {

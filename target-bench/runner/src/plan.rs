@@ -153,16 +153,19 @@ pub struct Args {
     pub models: Option<PathBuf>,
     /// Only these variants (for working on one).
     pub only: Option<Vec<Variant>>,
+    /// Scenes compiled with the default sun's shadows (`peel compile --shadows`).
+    pub shadows: bool,
 }
 
 /// Usage text.
 pub const USAGE: &str = "\
-usage: bash .ci/target [--quick] [--models DIR] [--only VARIANT,...]
+usage: bash .ci/target [--quick] [--shadows] [--models DIR] [--only VARIANT,...]
 
 Runs Peel's renderer in qemu-system-arm (Cortex-M4F and Cortex-M0+ builds), checks its pixels
 against the host and writes target/peel-target/results.json and results.md.
 
   --quick         the demo scene, two cameras, 320x240, both cores, every method (CI)
+  --shadows       scenes compiled with the default sun's shadows (peel compile --shadows)
   --models DIR    the shared models (default: ../shared/models from the repository root)
   --only LIST     only these firmware variants: ftb-framebuffer, ftb-stream, ftb-bands,
                   b2f-framebuffer, b2f-bands, zbuffer, tiled-zbuffer, scanline-zbuffer,
@@ -185,6 +188,7 @@ pub fn parse_args<I: IntoIterator<Item = String>>(args: I) -> Result<Option<Args
         };
         match flag.as_str() {
             "--quick" if inline.is_none() => parsed.quick = true,
+            "--shadows" if inline.is_none() => parsed.shadows = true,
             "--models" => parsed.models = Some(value("--models")?.into()),
             "--only" => {
                 let list = value("--only")?;
@@ -220,7 +224,8 @@ mod tests {
         let a = parse(&["--quick", "--models", "m", "--only=zbuffer,ftb-stream"])
             .unwrap()
             .unwrap();
-        assert!(a.quick);
+        assert!(a.quick && !a.shadows);
+        assert!(parse(&["--shadows"]).unwrap().unwrap().shadows);
         assert_eq!(a.models, Some(PathBuf::from("m")));
         assert_eq!(a.only, Some(vec![Variant::Zbuffer, Variant::FtbStream]));
         assert_eq!(parse(&["--help"]).unwrap(), None);

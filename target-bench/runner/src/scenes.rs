@@ -111,21 +111,32 @@ pub struct Compiled {
     pub gfx3d_bytes: Vec<u8>,
     /// Source triangles (`input_triangles` of `peel compile --stats-json`).
     pub triangles: u64,
+    /// Compiled with the default sun's shadows (`--shadows`).
+    pub shadows: bool,
 }
 
 /// Compile `spec` into `dir` with `peel compile` and export its mesh.
-pub fn compile(tools: &Tools, spec: &SceneSpec, dir: &Path) -> Result<Compiled, String> {
+pub fn compile(
+    tools: &Tools,
+    spec: &SceneSpec,
+    shadows: bool,
+    dir: &Path,
+) -> Result<Compiled, String> {
     let stem = spec.name.replace(" (generated)", "-generated");
     let peel = dir.join(format!("{stem}.peel"));
     let stats = dir.join(format!("{stem}.json"));
-    tools.peel(&[
+    let mut args: Vec<&std::ffi::OsStr> = vec![
         "compile".as_ref(),
         spec.obj.as_os_str(),
         "-o".as_ref(),
         peel.as_os_str(),
         "--stats-json".as_ref(),
         stats.as_os_str(),
-    ])?;
+    ];
+    if shadows {
+        args.push("--shadows".as_ref());
+    }
+    tools.peel(&args)?;
     let read =
         |p: &Path| std::fs::read(p).map_err(|e| format!("{}: cannot read: {e}", p.display()));
     let peel_bytes = read(&peel)?;
@@ -134,7 +145,7 @@ pub fn compile(tools: &Tools, spec: &SceneSpec, dir: &Path) -> Result<Compiled, 
     let triangles = json["input_triangles"]
         .as_u64()
         .ok_or_else(|| format!("{}: no input_triangles", stats.display()))?;
-    let mesh_bytes = export_mesh(&spec.obj, &peel_bytes)?;
+    let mesh_bytes = export_mesh(&spec.obj, &peel_bytes, &options(shadows))?;
     let ids_mesh_bytes = peel_target_kit::mesh::with_ids(&mesh_bytes).ok_or_else(|| {
         format!(
             "{}: an id image holds fewer than 65,535 triangles",
@@ -167,19 +178,32 @@ pub fn compile(tools: &Tools, spec: &SceneSpec, dir: &Path) -> Result<Compiled, 
         gfx3d,
         gfx3d_bytes,
         triangles,
+        shadows,
     })
+}
+
+/// `peel compile`'s options, with `--shadows` or not: the default sun's shadows baked.
+pub fn options(shadows: bool) -> CompileOptions {
+    let mut options = CompileOptions::default();
+    if shadows {
+        options.build.shadows = options.shading.light();
+    }
+    options
 }
 
 /// The source triangles of `obj` as the z-buffer's mesh, framed by the header of its `.peel`
 /// file `peel_bytes`: vertices relative to its centre in `f32` (as the `.peel` file stores
 /// them), each triangle in the colour the compiler baked into its polygons. The colours come
-/// from compiling the OBJ again with the library (the same default settings), which must give
-/// the very bytes `peel compile` wrote.
-pub fn export_mesh(obj: &Path, peel_bytes: &[u8]) -> Result<Vec<u8>, String> {
+/// from compiling the OBJ again with the library (the same `options`), which must give the
+/// very bytes `peel compile` wrote.
+pub fn export_mesh(
+    obj: &Path,
+    peel_bytes: &[u8],
+    options: &CompileOptions,
+) -> Result<Vec<u8>, String> {
     let fail = |e: String| format!("{}: {e}", obj.display());
     let mesh = load_obj(obj).map_err(|e| fail(e.to_string()))?;
-    let options = CompileOptions::default();
-    let (tree, bytes) = compile_mesh(&mesh, &options, &|_| {}).map_err(|e| fail(e.to_string()))?;
+    let (tree, bytes) = compile_mesh(&mesh, options, &|_| {}).map_err(|e| fail(e.to_string()))?;
     if bytes != peel_bytes {
         return Err(fail(
             "compiling it with the library does not give the bytes `peel compile` wrote".into(),
