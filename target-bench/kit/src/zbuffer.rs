@@ -378,18 +378,19 @@ mod tests {
         encode(&header, &vertices, &tris).unwrap()
     }
 
-    fn frame(bytes: &[u8], azimuth: f64) -> std::vec::Vec<u16> {
-        let mesh = Mesh::parse(bytes).unwrap();
-        let h = mesh.header();
-        let orbit = Orbit {
+    /// The 32x24 view of `mesh` from `azimuth` degrees, level.
+    fn view(mesh: &Mesh<'_>, azimuth: f64) -> LocalView {
+        let angles = crate::config::OrbitAngles {
             azimuth_deg: azimuth,
             elevation_deg: 0.0,
-            distance: Orbit::fitting_distance(60.0, 32, 24),
         };
-        let near = Camera::default_near(h.bounds_min, h.bounds_max);
-        let camera = Camera::look_at(orbit.pose(&h), 60.0, 32, 24, near).unwrap();
+        crate::orbit_view(&mesh.header(), angles, 60.0, 32, 24).unwrap()
+    }
+
+    fn frame(bytes: &[u8], azimuth: f64) -> std::vec::Vec<u16> {
+        let mesh = Mesh::parse(bytes).unwrap();
         let (mut colour, mut depth) = (vec![0u16; 32 * 24], vec![0u16; 32 * 24]);
-        draw(&mesh, &camera.view(h.centre), 7, &mut colour, &mut depth).unwrap();
+        draw(&mesh, &view(&mesh, azimuth), 7, &mut colour, &mut depth).unwrap();
         assert!(colour
             .iter()
             .zip(&depth)
@@ -420,15 +421,7 @@ mod tests {
         let mesh = Mesh::parse(&bytes).unwrap();
         for azimuth in [0.0, 30.0, 200.0] {
             let whole = frame(&bytes, azimuth);
-            let h = mesh.header();
-            let orbit = Orbit {
-                azimuth_deg: azimuth,
-                elevation_deg: 0.0,
-                distance: Orbit::fitting_distance(60.0, 32, 24),
-            };
-            let near = Camera::default_near(h.bounds_min, h.bounds_max);
-            let camera = Camera::look_at(orbit.pose(&h), 60.0, 32, 24, near).unwrap();
-            let view = camera.view(h.centre);
+            let view = view(&mesh, azimuth);
             for band in [1, 5, 7, 24] {
                 let mut banded = vec![];
                 let (mut colour, mut depth) = (vec![0u16; 32 * band], vec![0u16; 32 * band]);

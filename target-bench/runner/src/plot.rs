@@ -34,18 +34,7 @@ pub fn plot(records: &[Record], scene: &str) -> Result<Option<Vec<u8>>, String> 
     if points.is_empty() {
         return Ok(None);
     }
-    static FONT: std::sync::OnceLock<Result<(), String>> = std::sync::OnceLock::new();
-    FONT.get_or_init(|| {
-        // plotters draws text with ab_glyph from a font we ship: no system font is needed.
-        plotters::style::register_font("sans-serif", FontStyle::Normal, dejavu::sans::regular())
-            .map_err(|_| "cannot load the plot font".to_string())
-    })
-    .clone()?;
-    let (w, h) = (900u32, 600u32);
-    let mut rgb = vec![255u8; (w * h * 3) as usize];
-    {
-        let root = BitMapBackend::with_buffer(&mut rgb, (w, h)).into_drawing_area();
-        root.fill(&WHITE).map_err(|e| e.to_string())?;
+    peel_compiler::tools::bench_frames::bitmap_png(900, 600, |root| {
         // Whole decades around the points.
         let bound = |f: fn(&Record) -> u64| {
             let v = points.iter().map(|(r, _)| f(r) as f64);
@@ -53,7 +42,7 @@ pub fn plot(records: &[Record], scene: &str) -> Result<Option<Vec<u8>>, String> 
             let hi = v.fold(1.0, f64::max);
             10f64.powf(lo.log10().floor())..10f64.powf(hi.log10().ceil() + 0.5)
         };
-        let mut chart = ChartBuilder::on(&root)
+        let mut chart = ChartBuilder::on(root)
             .caption(
                 format!("{scene} at 320x240: instructions per frame against RAM"),
                 ("sans-serif", 22),
@@ -140,15 +129,9 @@ pub fn plot(records: &[Record], scene: &str) -> Result<Option<Vec<u8>>, String> 
             .label_font(("sans-serif", 14))
             .draw()
             .map_err(|e| e.to_string())?;
-        root.present().map_err(|e| e.to_string())?;
-    }
-    let image =
-        image::RgbImage::from_raw(w, h, rgb).ok_or("plot: the buffer is not the image's size")?;
-    let mut png = Vec::new();
-    image
-        .write_to(&mut std::io::Cursor::new(&mut png), image::ImageFormat::Png)
-        .map_err(|e| e.to_string())?;
-    Ok(Some(png))
+        Ok(())
+    })
+    .map(Some)
 }
 
 #[cfg(test)]

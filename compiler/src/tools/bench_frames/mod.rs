@@ -41,7 +41,7 @@ use crate::tools::shot::Shot;
 use measure::{measure_scene, prepare_scene, Variant, Work};
 
 pub use candidates::candidates_knob;
-pub use plot::plot;
+pub use plot::{bitmap_png, plot};
 pub use report::{json, markdown};
 
 /// A visibility method of the benchmark: Peel's two drawing orders and the baselines.

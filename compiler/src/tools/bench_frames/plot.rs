@@ -40,21 +40,49 @@ impl Marker {
     }
 }
 
-/// A scatter plot (PNG bytes) of median frame time against all errors, one colour per method.
-pub fn plot(records: &[FrameRecord]) -> Result<Vec<u8>, String> {
+/// The PNG bytes of a `width x height` plot on white that `draw` draws, with the font the
+/// project ships (plotters draws text with ab_glyph: no system font is needed). The one
+/// canvas of every plot (`peel bench`'s, the on-target benchmark's).
+pub fn bitmap_png(
+    width: u32,
+    height: u32,
+    draw: impl FnOnce(
+        &plotters::drawing::DrawingArea<
+            plotters::prelude::BitMapBackend<'_>,
+            plotters::coord::Shift,
+        >,
+    ) -> Result<(), String>,
+) -> Result<Vec<u8>, String> {
     use plotters::prelude::*;
     static FONT: std::sync::OnceLock<Result<(), String>> = std::sync::OnceLock::new();
     FONT.get_or_init(|| {
-        // plotters draws text with ab_glyph from a font we ship: no system font is needed.
         plotters::style::register_font("sans-serif", FontStyle::Normal, dejavu::sans::regular())
             .map_err(|_| "cannot load the plot font".to_string())
     })
     .clone()?;
-    let (w, h) = (900u32, 600u32);
-    let mut rgb = vec![255u8; (w * h * 3) as usize];
+    let mut rgb = vec![255u8; (width * height * 3) as usize];
     {
-        let root = BitMapBackend::with_buffer(&mut rgb, (w, h)).into_drawing_area();
+        let root = BitMapBackend::with_buffer(&mut rgb, (width, height)).into_drawing_area();
         root.fill(&WHITE).map_err(|e| e.to_string())?;
+        draw(&root)?;
+        root.present().map_err(|e| e.to_string())?;
+    }
+    let frame = crate::tools::raster::Frame {
+        width,
+        height,
+        pixels: rgb
+            .chunks(3)
+            .map(|c| (u32::from(c[0]) << 16) | (u32::from(c[1]) << 8) | u32::from(c[2]))
+            .collect(),
+        stats: Default::default(),
+    };
+    crate::tools::raster::png(&frame)
+}
+
+/// A scatter plot (PNG bytes) of median frame time against all errors, one colour per method.
+pub fn plot(records: &[FrameRecord]) -> Result<Vec<u8>, String> {
+    use plotters::prelude::*;
+    bitmap_png(900, 600, |root| {
         let max_t = records
             .iter()
             .map(|r| r.median_frame_ms)
@@ -73,7 +101,7 @@ pub fn plot(records: &[FrameRecord]) -> Result<Vec<u8>, String> {
             .unwrap_or(1)
             .max(1) as f64
             * 2.0;
-        let mut chart = ChartBuilder::on(&root)
+        let mut chart = ChartBuilder::on(root)
             .caption(
                 "frame time vs pixel errors (16 cameras per scene)",
                 ("sans-serif", 22),
@@ -123,18 +151,8 @@ pub fn plot(records: &[FrameRecord]) -> Result<Vec<u8>, String> {
             .border_style(BLACK)
             .draw()
             .map_err(|e| e.to_string())?;
-        root.present().map_err(|e| e.to_string())?;
-    }
-    let frame = crate::tools::raster::Frame {
-        width: w,
-        height: h,
-        pixels: rgb
-            .chunks(3)
-            .map(|c| (u32::from(c[0]) << 16) | (u32::from(c[1]) << 8) | u32::from(c[2]))
-            .collect(),
-        stats: Default::default(),
-    };
-    crate::tools::raster::png(&frame)
+        Ok(())
+    })
 }
 
 #[cfg(test)]
