@@ -24,6 +24,7 @@ mod tools;
 use std::collections::hash_map::{Entry, HashMap};
 use std::path::Path;
 use std::process::ExitCode;
+use std::rc::Rc;
 use std::time::Instant;
 
 use peel_runtime::target::Colour;
@@ -152,6 +153,8 @@ fn run(args: &Args) -> Result<Vec<String>, String> {
         }
         // A core without an FPU draws with integer vertices: its references do too.
         let mut references: HashMap<((u32, u32), bool), References> = HashMap::new();
+        // The reference of each size, shared by the cores that draw at it.
+        let mut truths: HashMap<(u32, u32), Rc<Truth>> = HashMap::new();
         for core in cores {
             let sizes = if args.quick {
                 &core.sizes()[..1]
@@ -169,8 +172,17 @@ fn run(args: &Args) -> Result<Vec<String>, String> {
                         }
                         let dir = out.join("references").join(stem(&scene)).join(folder);
                         mkdir(&dir)?;
+                        let truth = match truths.entry(size) {
+                            Entry::Occupied(t) => Rc::clone(t.get()),
+                            Entry::Vacant(t) => Rc::clone(t.insert(Rc::new(Truth::new(
+                                &scene.spec.obj,
+                                &scenes::options(scene.shadows),
+                                &cameras,
+                                size,
+                            )?))),
+                        };
                         e.insert(References::new(
-                            &tools, &scene, size, integer, &cameras, &setups, &dir,
+                            &tools, &scene, size, integer, truth, &cameras, &setups, &dir,
                         )?)
                     }
                 };
@@ -331,19 +343,21 @@ struct References {
     scanline: Vec<Vec<u16>>,
     spans_per_row: u32,
     scanline_lists: (u32, u32),
-    truth: Truth,
+    truth: Rc<Truth>,
     /// Robust errors per method that draws ids, summed over the cameras.
     robust: HashMap<&'static str, u64>,
 }
 
 impl References {
-    /// Render what `setups` need into `dir` (Peel's frames with integer vertices or not).
+    /// Render what `setups` need into `dir` (Peel's frames with integer vertices or not), and
+    /// count the robust errors against `truth`, the reference of this size.
     #[allow(clippy::too_many_arguments)]
     fn new(
         tools: &Tools,
         scene: &Compiled,
         (width, height): (u32, u32),
         integer: bool,
+        truth: Rc<Truth>,
         cameras: &[OrbitAngles],
         setups: &[Setup],
         dir: &Path,
@@ -391,12 +405,6 @@ impl References {
                     .map_err(|e| e.to_string())
             })
             .collect::<Result<Vec<_>, String>>()?;
-        let truth = Truth::new(
-            &scene.spec.obj,
-            &scenes::options(scene.shadows),
-            cameras,
-            (width, height),
-        )?;
         let mut robust = HashMap::new();
         let zbuffers = needs(Variant::Zbuffer) || needs(Variant::TiledZbuffer);
         let zbuffer = if zbuffers {
