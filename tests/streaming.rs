@@ -14,9 +14,9 @@ use peel_compiler::tools::scenes;
 use peel_e2e::closed_sphere;
 use peel_runtime::camera::{Camera, LocalView, Pose};
 use peel_runtime::coverage::Coverage;
+use peel_runtime::display::{Colour, Framebuffer, SpanSink, Xrgb8888};
 use peel_runtime::read::Scene;
 use peel_runtime::render::{FrameStats, Renderer, Workspace};
-use peel_runtime::target::{Colour, Framebuffer, SpanSink, Xrgb8888};
 use peel_runtime::traverse::Order;
 use proptest::prelude::*;
 

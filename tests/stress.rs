@@ -708,8 +708,8 @@ fn fuzz_compile_obj(data: &[u8]) {
 /// the image or an empty one (overdraw is allowed: back to front paints over).
 struct CheckedSpans<const W: u32, const H: u32>;
 
-impl<const W: u32, const H: u32> peel_runtime::target::SpanSink for CheckedSpans<W, H> {
-    fn span(&mut self, y: u32, x_start: u32, x_end: u32, _: peel_runtime::target::Colour) {
+impl<const W: u32, const H: u32> peel_runtime::display::SpanSink for CheckedSpans<W, H> {
+    fn span(&mut self, y: u32, x_start: u32, x_end: u32, _: peel_runtime::display::Colour) {
         assert!(
             y < H && x_end <= W,
             "span y={y} x={x_start}..{x_end} outside {W}x{H}"

@@ -18,9 +18,9 @@ use peel_compiler::compile::{compile_mesh, CompileOptions};
 use peel_compiler::tools::raster::{HOST_SPANS_PER_ROW, HOST_STACK, HOST_VERTS};
 use peel_runtime::camera::{Camera, Pose};
 use peel_runtime::coverage::Coverage;
+use peel_runtime::display::{Colour, Framebuffer, Xrgb8888};
 use peel_runtime::read::Scene;
 use peel_runtime::render::{Renderer, Workspace};
-use peel_runtime::target::{Colour, Framebuffer, Xrgb8888};
 use peel_runtime::traverse::Order;
 
 const W: u32 = 640;

@@ -15,8 +15,8 @@ use criterion::Criterion;
 use glam::{DVec3, Vec3};
 use peel_runtime::camera::{Camera, Pose};
 use peel_runtime::clip::{clip_polygon, Frustum};
+use peel_runtime::display::{Colour, Framebuffer, Xrgb8888};
 use peel_runtime::fill::{fill_polygon, SubpixelPoint};
-use peel_runtime::target::{Colour, Framebuffer, Xrgb8888};
 
 const W: u32 = 640;
 const H: u32 = 480;

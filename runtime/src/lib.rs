@@ -2,7 +2,7 @@
 //!
 //! `#![no_std]`, no allocator, no `unsafe`: every buffer is provided by the caller or has a
 //! fixed size. Pipeline: [`read`] -> [`traverse`] -> [`camera`] (project) -> [`clip`] ->
-//! [`fill`] -> [`target`]; [`render`] ties them together.
+//! [`fill`] -> [`display`]; [`render`] ties them together.
 #![no_std]
 #![forbid(unsafe_code)]
 #![deny(missing_docs)]
@@ -13,11 +13,11 @@ extern crate std;
 pub mod camera;
 pub mod clip;
 pub mod coverage;
+pub mod display;
 pub mod error;
 pub mod fill;
 pub mod read;
 pub mod render;
-pub mod target;
 pub mod traverse;
 pub mod vertices;
 

@@ -6,9 +6,9 @@
 
 use peel_runtime::camera::{Camera, Orbit, DEFAULT_FOV_Y_DEG};
 use peel_runtime::coverage::Coverage;
+use peel_runtime::display::{Colour, SpanSink};
 use peel_runtime::read::Scene;
 use peel_runtime::render::{Renderer, Workspace};
-use peel_runtime::target::{Colour, SpanSink};
 
 /// Cameras of the orbit measured: azimuths 0, 15, ..., 345 degrees.
 pub const ORBIT_CAMERAS: u32 = 24;

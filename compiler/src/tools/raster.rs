@@ -2,10 +2,10 @@
 //! end-to-end tests), through the no_std runtime exactly as firmware would.
 
 use peel_runtime::coverage::Coverage;
+use peel_runtime::display::Colour;
+use peel_runtime::display::{Framebuffer, Xrgb8888};
 use peel_runtime::read::Scene;
 use peel_runtime::render::{FrameStats, Renderer, Workspace};
-use peel_runtime::target::Colour;
-use peel_runtime::target::{Framebuffer, Xrgb8888};
 use peel_runtime::traverse::Order;
 use peel_runtime::vertices::{CachedVertex, VertexCache};
 

@@ -2,8 +2,8 @@
 //! and the writer's own invariant checks.
 
 use glam::{DVec3, Vec3};
+use peel_runtime::display::Colour;
 use peel_runtime::read::{self, layout, Scene};
-use peel_runtime::target::Colour;
 
 use super::encoding::{Encoding, PaletteWidth};
 use super::format::{self, header_flags, node_kind, polygon_flags, ColourField, PeelFile, NONE};

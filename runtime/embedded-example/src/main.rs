@@ -13,9 +13,9 @@ use glam::{DVec3, Vec3};
 use panic_halt as _;
 use peel_runtime::camera::{Camera, LocalView, Pose};
 use peel_runtime::coverage::Coverage;
+use peel_runtime::display::{Colour, Rgb565Framebuffer};
 use peel_runtime::read::Scene;
 use peel_runtime::render::{Renderer, Workspace};
-use peel_runtime::target::{Colour, Rgb565Framebuffer};
 
 /// The scene, compiled by build.rs.
 static SCENE: &[u8] = include_bytes!(concat!(env!("OUT_DIR"), "/scene.peel"));
@@ -43,7 +43,7 @@ const SLOTS: usize = 16;
 enum Failure {
     Read(peel_runtime::ReadError),
     Render(peel_runtime::RenderError),
-    Target(peel_runtime::target::TargetError),
+    Framebuffer(peel_runtime::display::FramebufferError),
 }
 
 /// Stop with `failure` (a real device would show it, or reset).
@@ -151,7 +151,7 @@ fn main() -> ! {
     loop {
         let view = view(&scene, s, c).unwrap_or_else(|e| fail(Failure::Render(e)));
         let mut fb = Rgb565Framebuffer::new(&mut frame[..], WIDTH, HEIGHT)
-            .unwrap_or_else(|e| fail(Failure::Target(e)));
+            .unwrap_or_else(|e| fail(Failure::Framebuffer(e)));
         fb.clear(Colour::new(24, 26, 32));
         let coverage = Coverage::new(&mut intervals[..], &mut counts[..], WIDTH, HEIGHT)
             .unwrap_or_else(|e| fail(Failure::Render(e)));

@@ -16,7 +16,7 @@ use peel_runtime::camera::{Camera, LocalView, Pose};
 use peel_runtime::coverage::Coverage;
 use peel_runtime::read::Scene;
 use peel_runtime::render::{Renderer, Workspace};
-use peel_runtime::target::{Colour, Framebuffer, Rgb565};
+use peel_runtime::display::{Colour, Framebuffer, Rgb565};
 use peel_runtime::vertices::{CachedVertex, VertexCache};
 
 /// Image size of the probe (any size: the runtime checks it).

@@ -22,8 +22,8 @@
 #[cfg(test)]
 mod tests;
 
+use crate::display::{Colour, SpanSink};
 use crate::error::RenderError;
-use crate::target::{Colour, SpanSink};
 
 /// What [`Coverage::span`] does with the list.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

@@ -3,7 +3,7 @@ extern crate std;
 use std::vec::Vec;
 
 use super::*;
-use crate::target::testing::MockTarget;
+use crate::display::testing::MockTarget;
 
 const C: Colour = Colour::new(1, 2, 3);
 

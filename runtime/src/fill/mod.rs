@@ -25,7 +25,7 @@ mod tests;
 
 use core::fmt;
 
-use crate::target::{Colour, SpanSink};
+use crate::display::{Colour, SpanSink};
 pub use edge::{Coord, EdgeWalk};
 
 /// Fractional bits of the renderer's fixed-point screen coordinates ([`SubpixelPoint`]).

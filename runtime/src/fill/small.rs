@@ -13,7 +13,7 @@
 //! does. The rectangle's pixels are the bits of two words: their parity, and the `x_e`s.
 
 use super::{edge::Coord, FixedPoint};
-use crate::target::{Colour, SpanSink};
+use crate::display::{Colour, SpanSink};
 
 /// Sample rectangles of at most this many pixels are filled by testing their centres (at
 /// most 32: a bit of a word each).

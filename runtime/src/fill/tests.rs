@@ -9,7 +9,7 @@ use std::vec::Vec;
 use proptest::prelude::*;
 
 use super::*;
-use crate::target::testing::MockTarget;
+use crate::display::testing::MockTarget;
 
 const A: Colour = Colour::new(255, 0, 0);
 const B: Colour = Colour::new(0, 255, 0);

@@ -11,8 +11,8 @@ use core::fmt;
 
 use glam::Vec3;
 
+use crate::display::Colour;
 use crate::error::ReadError;
-use crate::target::Colour;
 use layout::{
     element, header_flags, node_kind, u16_at, u32_at, u8_at, Record, BOUNDS_SIZE, ID_SIZE, NONE,
     PALETTE_SIZE, PLANE_SIZE,

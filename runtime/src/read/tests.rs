@@ -1054,8 +1054,8 @@ fn trusted_parse_checks_header_and_layout_only() {
 /// view: it must end (an image or a typed error), never panic or hang.
 fn render_untrusted(scene: &Scene<'_>) {
     use crate::coverage::Coverage;
+    use crate::display::SpanSink;
     use crate::render::{Renderer, Workspace};
-    use crate::target::SpanSink;
     use crate::traverse::Order;
     struct Count(u64);
     impl SpanSink for Count {

@@ -43,7 +43,7 @@
 //!
 //! [`RenderError`]: crate::error::RenderError
 //! [`FixedPoint<SUB>`]: crate::fill::FixedPoint
-//! [`SpanSink`]: crate::target::SpanSink
+//! [`SpanSink`]: crate::display::SpanSink
 //! [`clip::CLIP_PLANES`]: crate::clip::CLIP_PLANES
 //! [`Frustum::excludes_box`]: crate::clip::Frustum::excludes_box
 //! [`Frustum::contains_box`]: crate::clip::Frustum::contains_box

@@ -13,10 +13,10 @@ use super::*;
 use crate::camera::{Camera, Pose};
 use crate::clip::Frustum;
 use crate::coverage::Coverage;
+use crate::display::testing::MockTarget;
+use crate::display::{Colour, SpanSink};
 use crate::fill::FixedPoint;
 use crate::read::Node;
-use crate::target::testing::MockTarget;
-use crate::target::{Colour, SpanSink};
 use crate::traverse::testing::{box_faces, TestTree};
 use crate::traverse::Order;
 

@@ -11,10 +11,10 @@ use super::{FrameStats, Paint, Source};
 use crate::camera::LocalView;
 use crate::clip::{self, Frustum};
 use crate::coverage::{Coverage, Mode};
+use crate::display::{Colour, SpanSink};
 use crate::error::RenderError;
 use crate::fill::{self, FixedPoint};
 use crate::read::Polygon;
-use crate::target::{Colour, SpanSink};
 use crate::traverse::{Order, StackEntry, Traversal};
 use crate::vertices::{IntegerView, VertexCache};
 

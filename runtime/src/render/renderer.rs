@@ -11,9 +11,9 @@ use super::{FrameStats, Source, Workspace};
 use crate::camera::LocalView;
 use crate::clip::{self, Frustum};
 use crate::coverage::{Coverage, Mode};
+use crate::display::{Colour, SpanSink};
 use crate::error::RenderError;
 use crate::fill::{self, FixedPoint};
-use crate::target::{Colour, SpanSink};
 use crate::traverse::{Order, StackEntry};
 #[cfg(feature = "integer-vertices")]
 use crate::vertices::IntegerView;
@@ -58,7 +58,7 @@ pub(super) fn window<const SUB: u32>(width: u32, height: u32) -> Result<(i32, i3
 /// use peel_runtime::coverage::Coverage;
 /// use peel_runtime::read::Scene;
 /// use peel_runtime::render::{Renderer, Workspace};
-/// use peel_runtime::target::{Framebuffer, Xrgb8888};
+/// use peel_runtime::display::{Framebuffer, Xrgb8888};
 /// # let bytes: &[u8] = &[];
 /// let scene = Scene::parse(bytes).expect("a valid .peel file");
 /// let header = scene.header();
@@ -271,7 +271,7 @@ impl<'m, const SUB: u32> Renderer<'m, SUB> {
     /// high (its first rows are used, so one serves every band, the shorter last one too).
     /// Also an error: rows outside the image ([`RenderError::RowsOutsideImage`]).
     ///
-    /// [`Framebuffer::band`]: crate::target::Framebuffer::band
+    /// [`Framebuffer::band`]: crate::display::Framebuffer::band
     pub fn draw_rows<T, S>(
         &mut self,
         scene: &T,

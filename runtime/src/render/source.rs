@@ -5,8 +5,8 @@
 
 use glam::Vec3;
 
+use crate::display::Colour;
 use crate::read::{Polygon, Scene};
-use crate::target::Colour;
 use crate::traverse::Tree;
 
 /// Everything a [`Renderer`] reads from a scene; [`Scene`] implements it (tests use small

@@ -3,9 +3,9 @@
 use super::*;
 use crate::camera::{Camera, LocalView};
 use crate::coverage::Coverage;
+use crate::display::SpanSink;
 use crate::error::RenderError;
 use crate::fill;
-use crate::target::SpanSink;
 use crate::traverse::Order;
 use crate::vertices::VertexCache;
 

@@ -9,12 +9,12 @@ use super::testing::*;
 use super::*;
 use crate::camera::{Camera, LocalView, Pose};
 use crate::coverage::Coverage;
+use crate::display::testing::MockTarget;
+use crate::display::{Colour, SpanSink};
 use crate::error::RenderError;
 use crate::fill::{self, FixedPoint};
 use crate::read::Node;
 use crate::read::Scene;
-use crate::target::testing::MockTarget;
-use crate::target::{Colour, SpanSink};
 use crate::traverse::testing::{box_faces, TestTree};
 use crate::traverse::Order;
 

@@ -6,9 +6,9 @@ use glam::Vec3;
 use std::vec::Vec;
 
 use super::{Tree, INTERIOR_FRONT};
+use crate::display::Colour;
 use crate::read::{Node, Plane, Polygon, Side, SideEye};
 use crate::render::Source;
-use crate::target::Colour;
 
 /// An in-memory display tree.
 #[derive(Debug, Clone, Default)]

@@ -6,7 +6,7 @@ use std::vec::Vec;
 
 use super::testing::{box_faces, TestTree};
 use super::*;
-use crate::target::Colour;
+use crate::display::Colour;
 
 fn order_of(tree: &TestTree, eye: Vec3, order: Order) -> Vec<u32> {
     let mut stack = [StackEntry::default(); 16];

@@ -81,7 +81,7 @@ pub enum Failure {
     /// The renderer.
     Render(peel_runtime::RenderError),
     /// A framebuffer.
-    Target(peel_runtime::target::TargetError),
+    Framebuffer(peel_runtime::display::FramebufferError),
     /// The z-buffer.
     ZBuffer(peel_target_kit::zbuffer::ZError),
     /// A pool too small for what the block asks.
@@ -115,7 +115,7 @@ impl fmt::Display for Failure {
             Failure::Read(e) => write!(f, "scene: {e}"),
             Failure::Mesh(e) => write!(f, "mesh: {e}"),
             Failure::Render(e) => write!(f, "render: {e}"),
-            Failure::Target(e) => write!(f, "framebuffer: {e}"),
+            Failure::Framebuffer(e) => write!(f, "framebuffer: {e}"),
             Failure::ZBuffer(e) => write!(f, "z-buffer: {e}"),
             Failure::OutOfMemory { what, needed, free } => {
                 write!(
@@ -146,7 +146,7 @@ from!(
     Read(peel_runtime::ReadError),
     Mesh(peel_target_kit::mesh::MeshError),
     Render(peel_runtime::RenderError),
-    Target(peel_runtime::target::TargetError),
+    Framebuffer(peel_runtime::display::FramebufferError),
     ZBuffer(peel_target_kit::zbuffer::ZError)
 );
 

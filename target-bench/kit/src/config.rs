@@ -236,9 +236,9 @@ impl Config {
     }
 
     /// The background as a colour.
-    pub fn background_colour(&self) -> peel_runtime::target::Colour {
+    pub fn background_colour(&self) -> peel_runtime::display::Colour {
         let b = self.background;
-        peel_runtime::target::Colour::new((b >> 16) as u8, (b >> 8) as u8, b as u8)
+        peel_runtime::display::Colour::new((b >> 16) as u8, (b >> 8) as u8, b as u8)
     }
 
     /// Decode and check a block.
@@ -354,7 +354,7 @@ mod tests {
         assert_eq!(c.cameras().len(), 2);
         assert_eq!(
             c.background_colour(),
-            peel_runtime::target::Colour::new(0x18, 0x1a, 0x20)
+            peel_runtime::display::Colour::new(0x18, 0x1a, 0x20)
         );
     }
 

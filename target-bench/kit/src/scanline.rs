@@ -19,8 +19,8 @@
 //! sized for a camera path.
 
 use peel_runtime::camera::LocalView;
+use peel_runtime::display::{Colour, SpanSink};
 use peel_runtime::fill::{Coord, EdgeWalk, SubpixelPoint, SUBPIXEL_BITS};
-use peel_runtime::target::{Colour, SpanSink};
 
 use crate::mesh::Mesh;
 use crate::zbuffer::{Clipped, DepthSink, Prepared, Projected, ZError, CLIPPED};

@@ -16,9 +16,9 @@
 use glam::Vec3;
 use peel_runtime::camera::LocalView;
 use peel_runtime::clip::{clip_polygon, Frustum, CLIP_PLANES};
+use peel_runtime::display::{Colour, SpanSink};
 use peel_runtime::fill::{coordinate_limit, fill_polygon_rows, SubpixelPoint, SUBPIXEL_BITS};
 use peel_runtime::render::snap;
-use peel_runtime::target::{Colour, SpanSink};
 use peel_runtime::RenderError;
 
 use crate::mesh::Mesh;

@@ -17,9 +17,9 @@ use peel_compiler::tools::reference::{reference, Reference};
 use peel_compiler::tools::shot::Shot;
 use peel_runtime::camera::{Camera, Orbit};
 use peel_runtime::coverage::Coverage;
+use peel_runtime::display::{Framebuffer, Xrgb8888};
 use peel_runtime::read::Scene;
 use peel_runtime::render::{Renderer, Workspace};
-use peel_runtime::target::{Framebuffer, Xrgb8888};
 use peel_target_kit::config::OrbitAngles;
 
 use std::path::Path;

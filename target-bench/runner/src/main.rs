@@ -27,7 +27,7 @@ use std::process::ExitCode;
 use std::rc::Rc;
 use std::time::Instant;
 
-use peel_runtime::target::Colour;
+use peel_runtime::display::Colour;
 use peel_target_kit::config::{OrbitAngles, Variant};
 use peel_target_kit::mesh::Mesh;
 

@@ -160,7 +160,7 @@ impl Measure<'_> {
             }
             differing = Some(total);
         }
-        let background = peel_runtime::target::Colour::new(r, g, b).to_rgb565();
+        let background = peel_runtime::display::Colour::new(r, g, b).to_rgb565();
         let robust_errors = match expected.robust_errors {
             Some(n) => n,
             None => (first.frames.iter().enumerate())

@@ -3,7 +3,7 @@
 
 use std::path::Path;
 
-use peel_runtime::target::Colour;
+use peel_runtime::display::Colour;
 
 /// A PNG file's pixels as RGB565, checked to be `width x height`.
 pub fn png_rgb565(path: &Path, width: u32, height: u32) -> Result<Vec<u16>, String> {

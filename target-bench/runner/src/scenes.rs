@@ -10,8 +10,8 @@ use glam::{DVec3, Vec3};
 use peel_compiler::compile::{compile_mesh, CompileOptions};
 use peel_compiler::load::{load_obj, Mesh};
 use peel_compiler::tools::scenes;
+use peel_runtime::display::Colour;
 use peel_runtime::read::Scene;
-use peel_runtime::target::Colour;
 
 use crate::tools::Tools;
 

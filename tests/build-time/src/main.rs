@@ -5,9 +5,9 @@
 use glam::DVec3;
 use peel_runtime::camera::{Camera, Pose};
 use peel_runtime::coverage::Coverage;
+use peel_runtime::display::{Colour, Rgb565Framebuffer};
 use peel_runtime::read::Scene;
 use peel_runtime::render::{FrameStats, Renderer, Workspace};
-use peel_runtime::target::{Colour, Rgb565Framebuffer};
 use peel_runtime::vertices::{CachedVertex, VertexCache};
 
 mod demo {

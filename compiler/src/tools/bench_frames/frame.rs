@@ -3,7 +3,7 @@
 //! memory the frame needed besides the scene and the image ([`Frame`]), so that the table
 //! compares what each method buys with its memory.
 
-use peel_runtime::target::{Colour, SpanSink};
+use peel_runtime::display::{Colour, SpanSink};
 
 /// A baseline frame's figures.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]

@@ -8,10 +8,10 @@ use glam::DVec3;
 use peel_runtime::camera::Camera;
 use peel_runtime::clip;
 use peel_runtime::coverage::Coverage;
+use peel_runtime::display::{Framebuffer, Xrgb8888};
 use peel_runtime::fill::{EdgeWalk, FixedPoint, SUBPIXEL_BITS};
 use peel_runtime::read::Scene;
 use peel_runtime::render::{Renderer, Workspace};
-use peel_runtime::target::{Framebuffer, Xrgb8888};
 use peel_runtime::traverse::{Order, StackEntry};
 use peel_runtime::vertices::{CachedVertex, VertexCache};
 

@@ -5,8 +5,8 @@
 
 use glam::Vec3;
 use peel_runtime::camera::LocalView;
+use peel_runtime::display::Colour;
 use peel_runtime::fill::fill_polygon;
-use peel_runtime::target::Colour;
 
 use super::frame::{bytes, Frame, IdSink};
 use super::prepare::{held_bytes, Prepared};

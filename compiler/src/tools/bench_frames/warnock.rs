@@ -15,8 +15,8 @@
 //! rounding.
 
 use peel_runtime::camera::LocalView;
+use peel_runtime::display::{Colour, SpanSink};
 use peel_runtime::fill::{fill_polygon_rows, sample_rect, FixedPoint};
-use peel_runtime::target::{Colour, SpanSink};
 
 use super::frame::{bytes, Frame, IdSink, Peak};
 use super::prepare::{held_bytes, inverse_depth_plane, Prepared};

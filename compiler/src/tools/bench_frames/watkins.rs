@@ -12,8 +12,8 @@
 //! exact up to rounding, and a zone whose two ends agree has one nearest segment throughout.
 
 use peel_runtime::camera::LocalView;
+use peel_runtime::display::{Colour, SpanSink};
 use peel_runtime::fill::{Coord, EdgeWalk};
-use peel_runtime::target::{Colour, SpanSink};
 
 use super::frame::{bytes, Frame, IdSink, Peak};
 use super::prepare::{held_bytes, inverse_depth_plane, Prepared};

@@ -21,8 +21,8 @@ use std::collections::BinaryHeap;
 use std::ops::RangeInclusive;
 
 use peel_runtime::camera::LocalView;
+use peel_runtime::display::Colour;
 use peel_runtime::fill::{fill_polygon, sample_rect, FixedPoint};
-use peel_runtime::target::Colour;
 
 use super::frame::{bytes, Frame, IdSink, Peak};
 use super::prepare::{inverse_depth_plane, Prepared};

@@ -3,8 +3,8 @@
 //! `f32` or in fixed-point integers. One frame loop serves both; a [`Depth`] type says how a
 //! triangle's `1/z` plane is stored and walked along a span.
 
+use peel_runtime::display::{Colour, SpanSink};
 use peel_runtime::fill::fill_polygon;
-use peel_runtime::target::{Colour, SpanSink};
 
 use super::frame::{bytes, Frame};
 use super::prepare::{inverse_depth_plane, Prepared};

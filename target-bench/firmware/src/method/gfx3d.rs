@@ -22,8 +22,8 @@ use embedded_graphics_core::pixelcolor::{IntoStorage, Rgb565};
 use embedded_graphics_core::Pixel;
 use nalgebra::{Point3, Vector3};
 use peel_runtime::camera::LocalView;
+use peel_runtime::display::Rgb565Framebuffer;
 use peel_runtime::read::Header;
-use peel_runtime::target::Rgb565Framebuffer;
 use peel_target_kit::config::Config;
 use peel_target_kit::gfx3d::{Gfx3dError, Scene, LIGHT};
 

@@ -3,9 +3,9 @@
 
 use peel_runtime::camera::LocalView;
 use peel_runtime::coverage::Coverage;
+use peel_runtime::display::{DrawTargetSink, Rgb565Framebuffer};
 use peel_runtime::read::{Header, Scene};
 use peel_runtime::render::{Renderer, Workspace};
-use peel_runtime::target::{DrawTargetSink, Rgb565Framebuffer};
 use peel_runtime::vertices::{CachedVertex, VertexCache};
 use peel_target_kit::config::{Config, Variant};
 

@@ -3,8 +3,8 @@
 //! band-sized colour and depth buffer sent when done.
 
 use peel_runtime::camera::LocalView;
+use peel_runtime::display::Rgb565Framebuffer;
 use peel_runtime::read::Header;
-use peel_runtime::target::Rgb565Framebuffer;
 use peel_target_kit::config::Config;
 use peel_target_kit::mesh::Mesh;
 

@@ -1,4 +1,4 @@
-//! Target: where spans land. The fill produces spans ([`SpanSink`], in [`Colour`]); the
+//! Display: where spans land. The fill produces spans ([`SpanSink`], in [`Colour`]); the
 //! framebuffers, a display or a test's mock consume them.
 //!
 //! [`Framebuffer`] writes into a caller's slice in one of three pixel formats ([`Gray8`],
@@ -16,7 +16,7 @@ mod embedded;
 #[cfg(feature = "embedded-graphics")]
 pub use embedded::{DisplayFormat, DrawTargetSink};
 pub use framebuffer::{
-    Framebuffer, Gray8, Gray8Framebuffer, PixelFormat, Rgb565, Rgb565Framebuffer, TargetError,
+    Framebuffer, FramebufferError, Gray8, Gray8Framebuffer, PixelFormat, Rgb565, Rgb565Framebuffer,
     Xrgb8888, Xrgb8888Framebuffer,
 };
 

@@ -52,7 +52,7 @@ impl PixelFormat for Xrgb8888 {
 
 /// Why a slice cannot back a framebuffer.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum TargetError {
+pub enum FramebufferError {
     /// The slice holds fewer pixels than `stride * (height - 1) + width`.
     BufferTooSmall {
         /// Pixels needed.
@@ -71,23 +71,23 @@ pub enum TargetError {
     TooLarge,
 }
 
-impl fmt::Display for TargetError {
+impl fmt::Display for FramebufferError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match *self {
-            TargetError::BufferTooSmall { needed, len } => write!(
+            FramebufferError::BufferTooSmall { needed, len } => write!(
                 f,
                 "framebuffer slice holds {len} pixels, the image needs {needed}"
             ),
-            TargetError::StrideTooSmall { stride, width } => {
+            FramebufferError::StrideTooSmall { stride, width } => {
                 write!(f, "row stride {stride} is shorter than the width {width}")
             }
-            TargetError::TooLarge => write!(f, "framebuffer size overflows usize"),
+            FramebufferError::TooLarge => write!(f, "framebuffer size overflows usize"),
         }
     }
 }
 
 #[cfg(feature = "std")]
-impl std::error::Error for TargetError {}
+impl std::error::Error for FramebufferError {}
 
 /// A `width x height` image in a caller's slice, row `y` starting at `y * stride`; or a band
 /// of a larger frame's rows ([`Framebuffer::band`]).
@@ -113,33 +113,33 @@ impl<'a, P: PixelFormat> Framebuffer<'a, P> {
     /// A framebuffer whose rows are packed (`stride = width`).
     ///
     /// # Errors
-    /// [`TargetError`] if `buf` is too small.
-    pub fn new(buf: &'a mut [P::Raw], width: u32, height: u32) -> Result<Self, TargetError> {
+    /// [`FramebufferError`] if `buf` is too small.
+    pub fn new(buf: &'a mut [P::Raw], width: u32, height: u32) -> Result<Self, FramebufferError> {
         Self::with_stride(buf, width, height, width as usize)
     }
 
     /// A framebuffer whose rows are `stride` pixels apart (padding is never written).
     ///
     /// # Errors
-    /// [`TargetError`] if `stride < width` or `buf` is too small.
+    /// [`FramebufferError`] if `stride < width` or `buf` is too small.
     pub fn with_stride(
         buf: &'a mut [P::Raw],
         width: u32,
         height: u32,
         stride: usize,
-    ) -> Result<Self, TargetError> {
+    ) -> Result<Self, FramebufferError> {
         if stride < width as usize {
-            return Err(TargetError::StrideTooSmall { stride, width });
+            return Err(FramebufferError::StrideTooSmall { stride, width });
         }
         let needed = match height {
             0 => 0,
             h => stride
                 .checked_mul(h as usize - 1)
                 .and_then(|n| n.checked_add(width as usize))
-                .ok_or(TargetError::TooLarge)?,
+                .ok_or(FramebufferError::TooLarge)?,
         };
         if buf.len() < needed {
-            return Err(TargetError::BufferTooSmall {
+            return Err(FramebufferError::BufferTooSmall {
                 needed,
                 len: buf.len(),
             });
@@ -160,12 +160,12 @@ impl<'a, P: PixelFormat> Framebuffer<'a, P> {
     /// band of memory instead of a whole image.
     ///
     /// # Errors
-    /// [`TargetError`] if `buf` is too small.
+    /// [`FramebufferError`] if `buf` is too small.
     pub fn band(
         buf: &'a mut [P::Raw],
         width: u32,
         rows: core::ops::Range<u32>,
-    ) -> Result<Self, TargetError> {
+    ) -> Result<Self, FramebufferError> {
         let mut band = Self::new(buf, width, rows.end.saturating_sub(rows.start))?;
         band.first_row = rows.start;
         Ok(band)
@@ -255,7 +255,7 @@ mod tests {
         assert!(Gray8Framebuffer::new(&mut buf, 4, 3).is_ok());
         assert_eq!(
             Gray8Framebuffer::new(&mut buf, 4, 4).unwrap_err(),
-            TargetError::BufferTooSmall {
+            FramebufferError::BufferTooSmall {
                 needed: 16,
                 len: 12
             }
@@ -264,14 +264,14 @@ mod tests {
         assert!(Gray8Framebuffer::with_stride(&mut buf, 2, 3, 5).is_ok());
         assert_eq!(
             Gray8Framebuffer::with_stride(&mut buf, 4, 1, 3).unwrap_err(),
-            TargetError::StrideTooSmall {
+            FramebufferError::StrideTooSmall {
                 stride: 3,
                 width: 4
             }
         );
         assert_eq!(
             Gray8Framebuffer::with_stride(&mut buf, 4, u32::MAX, usize::MAX).unwrap_err(),
-            TargetError::TooLarge
+            FramebufferError::TooLarge
         );
         assert!(Gray8Framebuffer::new(&mut [], 0, 0).is_ok());
     }
@@ -325,7 +325,7 @@ mod tests {
         assert_eq!(buf, [0xf800, 0xf800, 0, 0, 0x001f, 0x001f]);
         assert_eq!(
             Rgb565Framebuffer::band(&mut [0; 5], 3, 4..6).unwrap_err(),
-            TargetError::BufferTooSmall { needed: 6, len: 5 }
+            FramebufferError::BufferTooSmall { needed: 6, len: 5 }
         );
     }
 

@@ -255,7 +255,7 @@ mod tests {
     #[test]
     fn a_band_goes_to_its_rows_in_one_call() {
         let mut buf = [0u16; 6];
-        let mut band = crate::target::Rgb565Framebuffer::band(&mut buf, 3, 5..7).unwrap();
+        let mut band = crate::display::Rgb565Framebuffer::band(&mut buf, 3, 5..7).unwrap();
         band.span(5, 1, 3, Colour::new(255, 0, 0));
         band.span(6, 0, 1, Colour::new(0, 0, 255));
         let mut panel = Panel::default();
