@@ -21,12 +21,13 @@ use mipidsi::interface::SpiInterface;
 use mipidsi::models::ST7789;
 use mipidsi::options::{ColorInversion, Orientation, Rotation};
 use panic_halt as _;
-use peel_runtime::camera::{LocalOrbit, LocalView};
+use peel_runtime::camera::{Camera, LocalOrbit, LocalView, Orbit};
 use peel_runtime::coverage::Coverage;
 use peel_runtime::display::{Colour, DrawTargetSink};
-use peel_runtime::read::Scene;
+use peel_runtime::read::{Header, Scene};
 use peel_runtime::render::{Renderer, Workspace};
 use peel_runtime::vertices::{CachedVertex, VertexCache};
+use peel_runtime::RenderError;
 use rp_pico::entry;
 use rp_pico::hal::fugit::RateExtU32;
 use rp_pico::hal::{self, gpio, pac, spi, Clock};
@@ -66,14 +67,14 @@ const STEP_DEG: f32 = 3.0;
 #[allow(dead_code)] // Read by a debugger, not by the program.
 enum Failure {
     Read(peel_runtime::ReadError),
-    Render(peel_runtime::RenderError),
+    Render(RenderError),
     /// The hardware: the clocks did not start, a peripheral was taken twice, or the panel
     /// refused its set-up or a write (SPI or a pin).
     Hardware,
 }
 
-impl From<peel_runtime::RenderError> for Failure {
-    fn from(e: peel_runtime::RenderError) -> Self {
+impl From<RenderError> for Failure {
+    fn from(e: RenderError) -> Self {
         Failure::Render(e)
     }
 }
@@ -82,6 +83,38 @@ impl From<peel_runtime::RenderError> for Failure {
 fn fail(failure: Failure) -> ! {
     loop {
         core::hint::black_box(&failure);
+    }
+}
+
+/// The view of the orbit's frame at `azimuth_deg`: in `f32` alone ([`LocalOrbit`], no `f64`
+/// and no libm linked). With the feature `f64-orbit`, the same orbit through the `f64`
+/// [`Orbit`] and [`Camera`] instead: only to measure the flash the `f32` one saves (README,
+/// "On a board").
+fn orbit_view(header: &Header, azimuth_deg: f32) -> Result<LocalView, RenderError> {
+    if cfg!(feature = "f64-orbit") {
+        let fov = f64::from(FOV_Y_DEG);
+        let orbit = Orbit {
+            azimuth_deg: f64::from(azimuth_deg),
+            elevation_deg: f64::from(ELEVATION_DEG),
+            distance: Orbit::fitting_distance(fov, WIDTH, HEIGHT),
+        };
+        let near = Camera::default_near(header.bounds_min, header.bounds_max);
+        let camera = Camera::look_at(orbit.pose(header), fov, WIDTH, HEIGHT, near)?;
+        Ok(camera.view(header.centre))
+    } else {
+        let focal = LocalOrbit::focal(FOV_Y_DEG, HEIGHT);
+        let orbit = LocalOrbit {
+            azimuth_deg,
+            elevation_deg: ELEVATION_DEG,
+            distance: LocalOrbit::fitting_distance(focal, WIDTH, HEIGHT),
+        };
+        orbit.view(
+            header,
+            focal,
+            WIDTH,
+            HEIGHT,
+            LocalOrbit::default_near(header),
+        )
     }
 }
 
@@ -176,28 +209,19 @@ fn main() -> ! {
         .integer_vertices()
         .without_subtree_culling();
 
-    // The orbit, in `f32` alone.
     let header = scene.header();
-    let focal = LocalOrbit::focal(FOV_Y_DEG, HEIGHT);
-    let near = LocalOrbit::default_near(&header);
-    let mut orbit = LocalOrbit {
-        azimuth_deg: 0.0,
-        elevation_deg: ELEVATION_DEG,
-        distance: LocalOrbit::fitting_distance(focal, WIDTH, HEIGHT),
-    };
+    let mut azimuth_deg = 0.0;
     loop {
-        let view = orbit
-            .view(&header, focal, WIDTH, HEIGHT, near)
-            .unwrap_or_else(|e| fail(Failure::Render(e)));
+        let view = orbit_view(&header, azimuth_deg).unwrap_or_else(|e| fail(Failure::Render(e)));
         let fallback =
             draw_frame(&mut renderer, &scene, &view, &mut panel).unwrap_or_else(|e| fail(e));
         // Kept for a debugger: a frame that ran out of span memory was finished back to
         // front (the same pixels, with overdraw the panel shows). build.rs sized the memory
         // for this orbit, so none should.
         core::hint::black_box(fallback);
-        orbit.azimuth_deg += STEP_DEG;
-        if orbit.azimuth_deg >= 360.0 {
-            orbit.azimuth_deg -= 360.0;
+        azimuth_deg += STEP_DEG;
+        if azimuth_deg >= 360.0 {
+            azimuth_deg -= 360.0;
         }
     }
 }
