@@ -52,11 +52,18 @@
 //! one step earlier (the basis is normalised in `f32`): fine for a scene near its centre,
 //! which is where the compiler puts it. Firmware that never calls [`Camera`] links no `f64`
 //! arithmetic at all.
+//!
+//! [`LocalOrbit`] is [`Orbit`] the same way: the view of an orbit around a scene, made in
+//! `f32` alone, with no libm either (polynomial sines and cosines, a Newton square root, the
+//! basis written out); see its module for how close it stays to the `f64` path.
 
 use glam::{DVec3, Vec2, Vec3};
 
 use crate::error::RenderError;
 use crate::read::Header;
+
+mod local_orbit;
+pub use local_orbit::{sin_cos_deg, LocalOrbit};
 
 /// Field of view used when the caller has no preference, in degrees.
 pub const DEFAULT_FOV_Y_DEG: f64 = 60.0;

@@ -1,0 +1,219 @@
+//! Peel on an STM32F411 "Black Pill" (Cortex-M4F at 100 MHz, 512 KiB flash, 128 KiB RAM)
+//! with a 320x240 ILI9341 panel: an orbit around the scene compiled by build.rs, drawn front
+//! to back frame after frame and streamed span by span to the panel (no framebuffer: 150 KiB
+//! at this size, more than the part's RAM).
+//!
+//! Wiring: SPI1 with SCK on PA5 and MOSI on PA7, chip select PA4, data/command PB1, reset PB0,
+//! backlight PB10 (or the module's LED pin to 3.3 V). The board's 25 MHz crystal clocks it.
+//!
+//! The memory comes from the scene's sizes file: the traversal stack (`scene::STACK`), the
+//! clip buffers (`scene::VERTS`) and the span memory (`scene::span_memory`, measured by
+//! build.rs over an orbit at 320x240), so another mesh (`PEEL_BOARD_MESH`) needs no edit here.
+//! The camera is a [`LocalOrbit`]: `f32` alone, no `f64` and no libm (the FPU does `f32`
+//! only; `f64` would be software).
+#![no_std]
+#![no_main]
+
+use embedded_graphics_core::draw_target::DrawTarget;
+use embedded_graphics_core::pixelcolor::Rgb565;
+use embedded_hal_bus::spi::ExclusiveDevice;
+use mipidsi::interface::SpiInterface;
+use mipidsi::models::ILI9341Rgb565;
+use mipidsi::options::{ColorOrder, Orientation, Rotation};
+use panic_halt as _;
+use peel_runtime::camera::{Camera, LocalOrbit, LocalView, Orbit};
+use peel_runtime::coverage::Coverage;
+use peel_runtime::display::{Colour, DrawTargetSink};
+use peel_runtime::read::{Header, Scene};
+use peel_runtime::render::{Renderer, Workspace};
+use peel_runtime::vertices::{CachedVertex, VertexCache};
+use peel_runtime::RenderError;
+use stm32f4xx_hal::gpio::Speed;
+use stm32f4xx_hal::pac::{self, SPI1};
+use stm32f4xx_hal::prelude::*;
+use stm32f4xx_hal::rcc::Config;
+use stm32f4xx_hal::spi::{Mode, Phase, Polarity, Spi};
+
+use cortex_m_rt::entry;
+
+/// The scene, compiled by build.rs.
+static SCENE: &[u8] = include_bytes!(concat!(env!("OUT_DIR"), "/scene.peel"));
+
+/// The scene's sizes, written beside it by build.rs.
+mod scene {
+    include!(concat!(env!("OUT_DIR"), "/scene.rs"));
+}
+
+/// The panel in landscape.
+const WIDTH: u32 = 320;
+const HEIGHT: u32 = 240;
+/// Span memory: the intervals per row the scene's orbit needs at this size (build.rs
+/// measured it), `HEIGHT` rows.
+const SPANS: usize = scene::span_memory(WIDTH, HEIGHT);
+/// Vertex memory: every vertex of a small scene, 512 entries (4 KiB) of a larger one (the
+/// vertices used close together in the walk, as in the target benchmark).
+const VERTEX_MEMORY: usize = if scene::VERTEX_MEMORY < 512 {
+    scene::VERTEX_MEMORY
+} else {
+    512
+};
+/// What no polygon covers.
+const BACKGROUND: Colour = Colour::new(24, 26, 32);
+/// Vertical field of view, degrees.
+const FOV_Y_DEG: f32 = 60.0;
+/// The orbit: its elevation (one of those build.rs measured the span memory at) and its
+/// step per frame, degrees.
+const ELEVATION_DEG: f32 = 20.0;
+const STEP_DEG: f32 = 3.0;
+
+/// What stopped the firmware, kept where a debugger finds it.
+#[derive(Debug)]
+#[allow(dead_code)] // Read by a debugger, not by the program.
+enum Failure {
+    Read(peel_runtime::ReadError),
+    Render(RenderError),
+    /// The hardware: the clocks did not start, a peripheral was taken twice, or the panel
+    /// refused its set-up or a write (SPI or a pin).
+    Hardware,
+}
+
+impl From<RenderError> for Failure {
+    fn from(e: RenderError) -> Self {
+        Failure::Render(e)
+    }
+}
+
+/// Stop with `failure` (a real device might blink it, or reset).
+fn fail(failure: Failure) -> ! {
+    loop {
+        core::hint::black_box(&failure);
+    }
+}
+
+/// The view of the orbit's frame at `azimuth_deg`: in `f32` alone ([`LocalOrbit`], no `f64`
+/// and no libm linked). With the feature `f64-orbit`, the same orbit through the `f64`
+/// [`Orbit`] and [`Camera`] instead: only to measure the flash the `f32` one saves (README,
+/// "On a board").
+fn orbit_view(header: &Header, azimuth_deg: f32) -> Result<LocalView, RenderError> {
+    if cfg!(feature = "f64-orbit") {
+        let fov = f64::from(FOV_Y_DEG);
+        let orbit = Orbit {
+            azimuth_deg: f64::from(azimuth_deg),
+            elevation_deg: f64::from(ELEVATION_DEG),
+            distance: Orbit::fitting_distance(fov, WIDTH, HEIGHT),
+        };
+        let near = Camera::default_near(header.bounds_min, header.bounds_max);
+        let camera = Camera::look_at(orbit.pose(header), fov, WIDTH, HEIGHT, near)?;
+        Ok(camera.view(header.centre))
+    } else {
+        let focal = LocalOrbit::focal(FOV_Y_DEG, HEIGHT);
+        let orbit = LocalOrbit {
+            azimuth_deg,
+            elevation_deg: ELEVATION_DEG,
+            distance: LocalOrbit::fitting_distance(focal, WIDTH, HEIGHT),
+        };
+        orbit.view(
+            header,
+            focal,
+            WIDTH,
+            HEIGHT,
+            LocalOrbit::default_near(header),
+        )
+    }
+}
+
+/// Draw the frame `view` sees and send it to `panel`: every pixel once, in depth order, the
+/// background last, each span one `fill_solid` (one address window and one burst). The one
+/// place that decides how a frame reaches the panel. Returns whether span memory ran out (the
+/// rest of the frame was then painted back to front: the same pixels, with overdraw).
+fn draw_frame<D>(
+    renderer: &mut Renderer<'_>,
+    scene: &Scene<'_>,
+    view: &LocalView,
+    panel: &mut D,
+) -> Result<bool, Failure>
+where
+    D: DrawTarget<Color = Rgb565>,
+{
+    let mut sink = DrawTargetSink::new(panel);
+    let stats = renderer.draw(scene, view, &mut sink)?;
+    sink.finish().map_err(|_| Failure::Hardware)?;
+    Ok(stats.fallback)
+}
+
+#[entry]
+fn main() -> ! {
+    // cortex-m-rt turns these `static mut` into `&'static mut` owned by `main`: zeros, in
+    // `.bss`, no code to set them up.
+    static mut WORKSPACE: Workspace<{ scene::STACK }, { scene::VERTS }> = Workspace::new();
+    static mut INTERVALS: [(u16, u16); SPANS] = [(0, 0); SPANS];
+    static mut COUNTS: [u16; HEIGHT as usize] = [0; HEIGHT as usize];
+    static mut VERTICES: [CachedVertex; VERTEX_MEMORY] = [CachedVertex::EMPTY; VERTEX_MEMORY];
+    // mipidsi's transfer buffer: pixels of one fill go out in bursts of this many bytes.
+    static mut SPI_BUFFER: [u8; 512] = [0; 512];
+
+    let Some(dp) = pac::Peripherals::take() else {
+        fail(Failure::Hardware)
+    };
+    let mut rcc = dp.RCC.freeze(Config::hse(25.MHz()).sysclk(100.MHz()));
+    let gpioa = dp.GPIOA.split(&mut rcc);
+    let gpiob = dp.GPIOB.split(&mut rcc);
+    let mut delay = dp.TIM5.delay_us(&mut rcc);
+
+    // The panel: SPI1 at 50 MHz (its APB2 clock of 100 MHz halved, the fastest).
+    let sck = gpioa.pa5.into_alternate().speed(Speed::VeryHigh);
+    let mosi = gpioa.pa7.into_alternate().speed(Speed::VeryHigh);
+    let mode = Mode {
+        polarity: Polarity::IdleLow,
+        phase: Phase::CaptureOnFirstTransition,
+    };
+    let bus = Spi::new(
+        dp.SPI1,
+        (Some(sck), SPI1::NoMiso, Some(mosi)),
+        mode,
+        50.MHz(),
+        &mut rcc,
+    );
+    let cs = gpioa.pa4.into_push_pull_output();
+    let dc = gpiob.pb1.into_push_pull_output();
+    let reset = gpiob.pb0.into_push_pull_output();
+    let mut backlight = gpiob.pb10.into_push_pull_output();
+    let Ok(device) = ExclusiveDevice::new_no_delay(bus, cs);
+    let interface = SpiInterface::new(device, dc, SPI_BUFFER);
+    // Most ILI9341 modules take their colours in BGR order.
+    let mut panel = mipidsi::Builder::new(ILI9341Rgb565, interface)
+        .display_size(240, 320)
+        .orientation(Orientation::new().rotate(Rotation::Deg90))
+        .color_order(ColorOrder::Bgr)
+        .reset_pin(reset)
+        .init(&mut delay)
+        .unwrap_or_else(|_| fail(Failure::Hardware));
+    backlight.set_high();
+
+    // The scene, validated once at boot; the renderer over the static memory, made once.
+    let scene = Scene::parse(SCENE).unwrap_or_else(|e| fail(Failure::Read(e)));
+    let coverage = Coverage::new(INTERVALS, COUNTS, WIDTH, HEIGHT)
+        .unwrap_or_else(|e| fail(Failure::Render(e)));
+    // With an FPU, vertices are projected in `f32` and subtrees outside the view or behind
+    // covered pixels are skipped by their boxes (BENCHMARKS.md, "On the target").
+    let mut renderer = Renderer::new(WORKSPACE)
+        .span_memory(coverage)
+        .vertex_memory(VertexCache::new(VERTICES))
+        .background(BACKGROUND);
+
+    let header = scene.header();
+    let mut azimuth_deg = 0.0;
+    loop {
+        let view = orbit_view(&header, azimuth_deg).unwrap_or_else(|e| fail(Failure::Render(e)));
+        let fallback =
+            draw_frame(&mut renderer, &scene, &view, &mut panel).unwrap_or_else(|e| fail(e));
+        // Kept for a debugger: a frame that ran out of span memory was finished back to
+        // front (the same pixels, with overdraw the panel shows). build.rs sized the memory
+        // for this orbit, so none should.
+        core::hint::black_box(fallback);
+        azimuth_deg += STEP_DEG;
+        if azimuth_deg >= 360.0 {
+            azimuth_deg -= 360.0;
+        }
+    }
+}
