@@ -125,21 +125,36 @@ impl<M: MaskSink + ?Sized> SpanSink for MaskRows<'_, M> {
             self.flush();
             self.y = row;
         }
-        let base = (y % SAMPLE_ROWS) * SAMPLE_COLUMNS;
-        let (first, last) = (x_start / SAMPLE_COLUMNS, (x_end - 1) / SAMPLE_COLUMNS);
-        self.lo = self.lo.min(first);
-        self.hi = self.hi.max(last + 1);
-        for pixel in first..=last {
-            let left = pixel * SAMPLE_COLUMNS;
-            // The pixel's samples in the span: columns `s0 .. s1` of its grid row.
-            let s0 = x_start.max(left) - left;
-            let s1 = x_end.min(left + SAMPLE_COLUMNS) - left;
-            let bits = ((1u16 << s1) - (1u16 << s0)) << base;
-            if let Some(m) = self.masks.get_mut(pixel as usize) {
-                *m |= bits;
-            }
+        if let Some((lo, hi)) = add_span_bits(self.masks, y, x_start, x_end) {
+            self.lo = self.lo.min(lo);
+            self.hi = self.hi.max(hi);
         }
     }
+}
+
+/// Set in `masks` (a pixel row's) the bits of the samples `[x_start, x_end)` (columns of the
+/// sample grid) of sample row `sample_row`; returns the pixels touched, `lo .. hi`.
+pub fn add_span_bits(
+    masks: &mut [u16],
+    sample_row: u32,
+    x_start: u32,
+    x_end: u32,
+) -> Option<(u32, u32)> {
+    if x_start >= x_end {
+        return None;
+    }
+    let base = (sample_row % SAMPLE_ROWS) * SAMPLE_COLUMNS;
+    let (first, last) = (x_start / SAMPLE_COLUMNS, (x_end - 1) / SAMPLE_COLUMNS);
+    for pixel in first..=last {
+        let left = pixel * SAMPLE_COLUMNS;
+        // The pixel's samples in the span: columns `s0 .. s1` of its grid row.
+        let s0 = x_start.max(left) - left;
+        let s1 = x_end.min(left + SAMPLE_COLUMNS) - left;
+        if let Some(m) = masks.get_mut(pixel as usize) {
+            *m |= ((1u16 << s1) - (1u16 << s0)) << base;
+        }
+    }
+    Some((first, last + 1))
 }
 
 #[cfg(test)]

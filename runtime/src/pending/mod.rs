@@ -22,7 +22,7 @@ mod tests;
 
 use crate::display::{Colour, SpanSink};
 use crate::error::RenderError;
-use crate::fill::samples::{FULL_MASK, SAMPLES};
+use crate::fill::samples::{add_span_bits, CENTRE_SAMPLE, FULL_MASK, SAMPLES, SAMPLE_ROWS};
 
 /// No record (the end of a list).
 const NONE: u16 = 0x7fff;
@@ -58,16 +58,26 @@ pub enum Outcome {
     /// The pixel is pending (or the run added no new sample to it): nothing to draw yet.
     Pending,
     /// The pixel's row fell back and the pixel has no record: draw it as without
-    /// anti-aliasing, in the run's colour if its mask holds the centre sample.
-    Unrecorded,
+    /// anti-aliasing, in the run's colour if `centre` (its mask holds the centre sample).
+    Unrecorded {
+        /// The run covers the pixel's centre sample.
+        centre: bool,
+    },
 }
 
-/// The pending pixels of a frame of `height` rows, in caller memory (see the module docs).
+/// The pending pixels of a frame of `height` rows, and the row of masks the fill gathers a
+/// polygon's samples into, in caller memory (see the module docs).
 #[derive(Debug)]
 pub struct Pending<'m> {
     records: &'m mut [PendingPixel],
     /// Per row: the first record of its list (or [`NONE`]), and [`FALLEN_BACK`].
     heads: &'m mut [u16],
+    /// A polygon's masks of one pixel row (`gathered`), zero outside `lo .. hi`.
+    row: &'m mut [u16],
+    /// The pixel row gathered in `row`, and its columns holding bits.
+    gathered: u32,
+    lo: u32,
+    hi: u32,
     height: u32,
     /// First free record ([`NONE`]: none), linked through `next`.
     free: u16,
@@ -76,19 +86,27 @@ pub struct Pending<'m> {
 }
 
 impl<'m> Pending<'m> {
-    /// Records in `records` (at most 32,767 are used), a list head per row in `heads`, which
-    /// needs `heads.len() >= height`, else [`RenderError::SpanMemory`].
+    /// Records in `records` (at most 32,767 are used), a list head per row in `heads` and a
+    /// mask per column in `row`, for frames (or bands) of up to `width x height` pixels; needs
+    /// `heads.len() >= height` and `row.len() >= width`, else [`RenderError::PendingMemory`].
     pub fn new(
         records: &'m mut [PendingPixel],
         heads: &'m mut [u16],
+        row: &'m mut [u16],
+        width: u32,
         height: u32,
     ) -> Result<Self, RenderError> {
-        if usize::try_from(height).map_or(true, |h| heads.len() < h) {
-            return Err(RenderError::SpanMemory);
+        let short = |len: usize, n: u32| usize::try_from(n).map_or(true, |n| len < n);
+        if short(heads.len(), height) || short(row.len(), width) {
+            return Err(RenderError::PendingMemory);
         }
         let mut p = Pending {
             records,
             heads,
+            row,
+            gathered: 0,
+            lo: u32::MAX,
+            hi: 0,
             height,
             free: NONE,
             in_use: 0,
@@ -103,6 +121,10 @@ impl<'m> Pending<'m> {
         for h in self.heads.iter_mut() {
             *h = NONE;
         }
+        for m in self.row.iter_mut() {
+            *m = 0;
+        }
+        (self.lo, self.hi) = (u32::MAX, 0);
         let n = self.records.len().min(usize::from(NONE));
         for (i, r) in self.records.iter_mut().take(n).enumerate() {
             *r = PendingPixel {
@@ -113,6 +135,64 @@ impl<'m> Pending<'m> {
         self.free = if n > 0 { 0 } else { NONE };
         self.in_use = 0;
         self.peak = 0;
+    }
+
+    /// Rows the memory holds.
+    pub fn height(&self) -> u32 {
+        self.height
+    }
+
+    /// Columns the mask row holds.
+    pub fn width(&self) -> usize {
+        self.row.len()
+    }
+
+    /// Gather the fill's span `[x_start, x_end)` of sample row `sample_row` (of the grid of
+    /// [`crate::fill::samples`]) into the mask row. The fill emits its rows top to bottom; a
+    /// span of another pixel row than the one gathered returns that row first, to be
+    /// [added](Pending::add_gathered) before this span is gathered again.
+    pub fn gather(&mut self, sample_row: u32, x_start: u32, x_end: u32) -> Result<(), u32> {
+        let y = sample_row / SAMPLE_ROWS;
+        if self.lo < self.hi && y != self.gathered {
+            return Err(self.gathered);
+        }
+        self.gathered = y;
+        if let Some((lo, hi)) = add_span_bits(self.row, sample_row, x_start, x_end) {
+            self.lo = self.lo.min(lo);
+            self.hi = self.hi.max(hi);
+        }
+        Ok(())
+    }
+
+    /// The pixel row gathered, and whether it holds bits.
+    pub fn gathered(&self) -> Option<u32> {
+        (self.lo < self.hi).then_some(self.gathered)
+    }
+
+    /// Clear the gathered masks of the pixels in `intervals` (the finished pixels of the row
+    /// gathered: their samples all belong to nearer polygons).
+    pub fn skip_finished(&mut self, intervals: &[(u16, u16)]) {
+        for &(a, b) in intervals {
+            let (a, b) = (u32::from(a).max(self.lo), u32::from(b).min(self.hi));
+            if let Some(run) = self.row.get_mut(a as usize..b as usize) {
+                run.fill(0);
+            }
+        }
+    }
+
+    /// [`Pending::add_run`] the gathered row's masks, in `colour`, and clear them.
+    pub fn add_gathered<F: FnMut(u32, Outcome)>(&mut self, colour: Colour, out: F) {
+        if self.lo >= self.hi {
+            return;
+        }
+        let (lo, hi) = (self.lo as usize, self.hi as usize);
+        let row = core::mem::take(&mut self.row);
+        if let Some(run) = row.get_mut(lo..hi) {
+            self.add_run(self.gathered, lo as u32, run, colour, out);
+            run.fill(0);
+        }
+        self.row = row;
+        (self.lo, self.hi) = (u32::MAX, 0);
     }
 
     /// Records in use now.
@@ -203,8 +283,9 @@ impl<'m> Pending<'m> {
                 out(x, Outcome::Finished(colour));
                 continue;
             }
+            let centre = mask >> CENTRE_SAMPLE & 1 == 1;
             if fallen {
-                out(x, Outcome::Unrecorded);
+                out(x, Outcome::Unrecorded { centre });
                 continue;
             }
             let Some(new) = self.take_free() else {
@@ -212,7 +293,7 @@ impl<'m> Pending<'m> {
                 if let Some(h) = self.heads.get_mut(row) {
                     *h |= FALLEN_BACK;
                 }
-                out(x, Outcome::Unrecorded);
+                out(x, Outcome::Unrecorded { centre });
                 continue;
             };
             let n = mask.count_ones() as u16;

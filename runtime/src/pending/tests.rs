@@ -7,7 +7,7 @@ use proptest::prelude::*;
 
 use super::*;
 use crate::fill::samples::{fill_polygon_masks, MaskSink, CENTRE_SAMPLE};
-use crate::fill::FixedPoint;
+use crate::fill::{fill_polygon, FixedPoint};
 
 const W: usize = 12;
 const H: usize = 8;
@@ -29,27 +29,51 @@ impl Frame<'_, '_> {
     }
 }
 
-impl MaskSink for Frame<'_, '_> {
-    fn masks(&mut self, y: u32, x_start: u32, masks: &[u16], colour: Colour) {
-        // Finished pixels are skipped, as span memory will skip them.
-        let mut done = Vec::new();
-        let mut live = masks.to_vec();
-        for (k, m) in live.iter_mut().enumerate() {
-            if self.pixels[y as usize][x_start as usize + k].is_some() {
-                *m = 0;
-            }
-        }
-        self.pending
-            .add_run(y, x_start, &live, colour, |x, outcome| {
-                let m = live[(x - x_start) as usize];
-                match outcome {
-                    Outcome::Finished(c) => done.push((x, c)),
-                    Outcome::Unrecorded if m >> CENTRE_SAMPLE & 1 == 1 => done.push((x, colour)),
-                    Outcome::Unrecorded | Outcome::Pending => {}
+impl Frame<'_, '_> {
+    /// Add the gathered row, as the renderer does: finished pixels skipped (span memory's
+    /// intervals), finished and unrecorded pixels written.
+    fn add_gathered(&mut self, colour: Colour) {
+        let Some(y) = self.pending.gathered() else {
+            return;
+        };
+        let row = &self.pixels[y as usize];
+        let mut finished = Vec::new();
+        let mut x = 0;
+        while x < W {
+            if row[x].is_some() {
+                let start = x;
+                while x < W && row[x].is_some() {
+                    x += 1;
                 }
+                finished.push((start as u16, x as u16));
+            }
+            x += 1;
+        }
+        self.pending.skip_finished(&finished);
+        let mut done = Vec::new();
+        self.pending
+            .add_gathered(colour, |x, outcome| match outcome {
+                Outcome::Finished(c) => done.push((x, c)),
+                Outcome::Unrecorded { centre: true } => done.push((x, colour)),
+                Outcome::Unrecorded { centre: false } | Outcome::Pending => {}
             });
         for (x, c) in done {
             self.write(x, y, c);
+        }
+    }
+}
+
+/// A polygon's fill on the sample grid into a [`Frame`], through [`Pending::gather`].
+struct Gather<'f, 'p, 'm> {
+    frame: &'f mut Frame<'p, 'm>,
+    colour: Colour,
+}
+
+impl SpanSink for Gather<'_, '_, '_> {
+    fn span(&mut self, y: u32, x_start: u32, x_end: u32, _: Colour) {
+        if self.frame.pending.gather(y, x_start, x_end).is_err() {
+            self.frame.add_gathered(self.colour);
+            assert!(self.frame.pending.gather(y, x_start, x_end).is_ok());
         }
     }
 }
@@ -75,23 +99,20 @@ type Triangle = ([FixedPoint<8>; 3], Colour);
 /// Draw `polygons` front to back with `records` records; the picture and the peak.
 fn draw(polygons: &[Triangle], records: usize) -> (Vec<Colour>, usize, Vec<bool>) {
     let mut pool = vec![PendingPixel::default(); records];
-    let mut heads = [0u16; H];
-    let mut pending = Pending::new(&mut pool, &mut heads, H as u32).unwrap();
+    let (mut heads, mut row) = ([0u16; H], [0u16; W]);
+    let mut pending = Pending::new(&mut pool, &mut heads, &mut row, W as u32, H as u32).unwrap();
     let mut frame = Frame {
         pending: &mut pending,
         pixels: [[None; W]; H],
     };
-    let mut scratch = [0u16; W];
     for (tri, colour) in polygons {
-        fill_polygon_masks(
-            tri,
-            W as u32,
-            0..H as u32,
-            *colour,
-            &mut scratch,
-            &mut frame,
-        )
-        .unwrap();
+        let scaled = tri.map(|p| FixedPoint::<8>::new(p.x * 5, p.y * 3));
+        let mut gather = Gather {
+            frame: &mut frame,
+            colour: *colour,
+        };
+        fill_polygon(&scaled, 5 * W as u32, 3 * H as u32, *colour, &mut gather).unwrap();
+        frame.add_gathered(*colour);
     }
     let fallen: Vec<bool> = (0..H as u32)
         .map(|y| frame.pending.fallen_back(y))
@@ -199,8 +220,8 @@ proptest! {
 #[test]
 fn a_record_fills_up_and_is_freed() {
     let mut pool = [PendingPixel::default(); 2];
-    let mut heads = [0u16; 2];
-    let mut p = Pending::new(&mut pool, &mut heads, 2).unwrap();
+    let (mut heads, mut row) = ([0u16; 2], [0u16; 8]);
+    let mut p = Pending::new(&mut pool, &mut heads, &mut row, 8, 2).unwrap();
     let red = Colour::new(255, 0, 0);
     let blue = Colour::new(0, 0, 255);
     let mut heard = Vec::new();
@@ -230,7 +251,7 @@ fn a_record_fills_up_and_is_freed() {
         [
             (0, Outcome::Pending),
             (2, Outcome::Pending),
-            (3, Outcome::Unrecorded)
+            (3, Outcome::Unrecorded { centre: false })
         ]
     );
     assert!(p.fallen_back(0) && !p.fallen_back(1));
@@ -251,10 +272,15 @@ fn a_record_fills_up_and_is_freed() {
 }
 
 #[test]
-fn too_few_heads_is_refused() {
-    let mut heads = [0u16; 3];
+fn too_few_heads_or_columns_are_refused() {
+    let (mut heads, mut row) = ([0u16; 3], [0u16; 5]);
     assert!(matches!(
-        Pending::new(&mut [], &mut heads, 4),
-        Err(RenderError::SpanMemory)
+        Pending::new(&mut [], &mut heads, &mut row, 5, 4),
+        Err(RenderError::PendingMemory)
     ));
+    assert!(matches!(
+        Pending::new(&mut [], &mut heads, &mut row, 6, 3),
+        Err(RenderError::PendingMemory)
+    ));
+    assert!(Pending::new(&mut [], &mut heads, &mut row, 5, 3).is_ok());
 }
