@@ -115,6 +115,10 @@ pub struct RenderArgs {
     /// (`Renderer::integer_vertices`: a subpixel unit off now and then, so edge pixels can differ).
     #[arg(long)]
     pub integer_vertices: bool,
+    /// Anti-aliased: each pixel the average of 5 x 3 samples, edges blended with the
+    /// background (`Renderer::antialias`).
+    #[arg(long)]
+    pub antialias: bool,
     /// Print the frame's statistics (polygons visited, culled, drawn, pixels written, overdraw).
     #[arg(long)]
     pub stats: bool,
@@ -265,6 +269,7 @@ pub fn render(args: &RenderArgs) -> Result<(), String> {
         ids: args.ids,
         background: args.background,
         integer_vertices: args.integer_vertices,
+        antialias: args.antialias.then_some(peel_compiler::tools::raster::HOST_PENDING),
     };
     let frame =
         render_bytes_with(&bytes, &shot, &settings).map_err(|e| match camera_hint(&shot) {

@@ -128,6 +128,9 @@ pub enum RenderError {
     /// The span memory does not match the frame: fewer row counters than rows, or a width
     /// beyond `u16`.
     SpanMemory,
+    /// The memory for pending pixels ([`crate::render::Renderer::antialias`]) does not match
+    /// the frame: fewer row heads than rows, or a mask row shorter than the width.
+    PendingMemory,
     /// [`crate::render::Renderer::draw_rows`] was given rows that are not a range of the
     /// image's rows.
     RowsOutsideImage {
@@ -165,6 +168,10 @@ impl fmt::Display for RenderError {
             RenderError::SpanMemory => write!(
                 f,
                 "the span memory needs one counter per row and a width of at most 65535"
+            ),
+            RenderError::PendingMemory => write!(
+                f,
+                "the pending-pixel memory needs one list head per row and a mask per column"
             ),
             RenderError::RowsOutsideImage { start, end, height } => write!(
                 f,

@@ -16,6 +16,8 @@ pub mod coverage;
 pub mod display;
 pub mod error;
 pub mod fill;
+#[cfg(feature = "antialias")]
+pub mod pending;
 pub mod read;
 pub mod render;
 pub mod traverse;

@@ -4,6 +4,7 @@
 use peel_runtime::coverage::Coverage;
 use peel_runtime::display::Colour;
 use peel_runtime::display::{Framebuffer, Xrgb8888};
+use peel_runtime::pending::{Pending, PendingPixel};
 use peel_runtime::read::Scene;
 use peel_runtime::render::{FrameStats, Renderer, Workspace};
 use peel_runtime::traverse::Order;
@@ -56,7 +57,13 @@ pub struct Settings {
     /// Vertices projected in integers, as a core without an FPU draws them
     /// (`Renderer::integer_vertices`).
     pub integer_vertices: bool,
+    /// Anti-aliased (`Renderer::antialias`) with this many pending-pixel records (the CLI
+    /// gives [`HOST_PENDING`]), blending edges with the background.
+    pub antialias: Option<usize>,
 }
+
+/// Pending-pixel records given to anti-aliased frames on the host: all a pool can use.
+pub const HOST_PENDING: usize = 32_767;
 
 impl Default for Settings {
     fn default() -> Self {
@@ -66,6 +73,7 @@ impl Default for Settings {
             ids: false,
             background: [0, 0, 0],
             integer_vertices: false,
+            antialias: None,
         }
     }
 }
@@ -124,6 +132,19 @@ pub fn render_bytes_with(bytes: &[u8], shot: &Shot, settings: &Settings) -> Resu
     }
     if settings.integer_vertices {
         renderer = renderer.integer_vertices();
+    }
+    let mut records = vec![PendingPixel::default(); settings.antialias.unwrap_or(0)];
+    let (mut heads, mut mask_row) = (vec![0u16; rows], vec![0u16; shot.width as usize]);
+    if settings.antialias.is_some() {
+        let pending = Pending::new(
+            &mut records,
+            &mut heads,
+            &mut mask_row,
+            shot.width,
+            shot.height,
+        )
+        .map_err(|e| e.to_string())?;
+        renderer = renderer.antialias(pending).background(bg);
     }
     let stats = renderer
         .draw(&scene, &camera.view(scene.header().centre), &mut fb)

@@ -18,6 +18,8 @@
 //! from both sides, two polygons sharing an edge never both draw a pixel nor both skip one.
 
 mod edge;
+#[cfg(feature = "antialias")]
+pub mod samples;
 mod small;
 
 #[cfg(test)]

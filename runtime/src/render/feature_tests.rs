@@ -181,6 +181,8 @@ fn culled_cube(order: Order) -> (FrameStats, bool) {
         vertices: None,
         #[cfg(feature = "integer-vertices")]
         integer: None,
+        #[cfg(feature = "antialias")]
+        antialias: None,
     };
     let entered = painter.enter(&t, 0, None, &mut FrameStats::default());
     assert!(sink.1.iter().all(|&c| c == Colour::default()));

@@ -288,6 +288,8 @@ fn a_full_screen_stops_the_walk_and_culls_covered_subtrees() {
             vertices: None,
             #[cfg(feature = "integer-vertices")]
             integer: None,
+            #[cfg(feature = "antialias")]
+            antialias: None,
         };
         let mut stats = FrameStats::default();
         // Without `bounds-culling` every subtree is entered.

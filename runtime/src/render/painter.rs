@@ -14,6 +14,8 @@ use crate::coverage::{Coverage, Mode};
 use crate::display::{Colour, SpanSink};
 use crate::error::RenderError;
 use crate::fill::{self, FixedPoint};
+#[cfg(feature = "antialias")]
+use crate::pending::{Outcome, Pending};
 use crate::read::Polygon;
 use crate::traverse::{Order, StackEntry, Traversal};
 use crate::vertices::{IntegerView, VertexCache};
@@ -89,6 +91,9 @@ pub(super) struct Painter<'w, 'v, const SUB: u32> {
     /// for it ([`super::Renderer::integer_vertices`]).
     #[cfg(feature = "integer-vertices")]
     pub(super) integer: Option<IntegerView>,
+    /// Pending pixels, in an anti-aliased frame ([`super::Renderer::antialias`]).
+    #[cfg(feature = "antialias")]
+    pub(super) antialias: Option<&'w mut Pending<'v>>,
 }
 
 impl<const SUB: u32> Painter<'_, '_, SUB> {
@@ -179,7 +184,8 @@ impl<const SUB: u32> Painter<'_, '_, SUB> {
         // The pixels of the rows drawn whose sample point `(x + 0.5, y + 0.5)` is within
         // `slack` of the box's screen rectangle: the only ones its polygons can draw. None:
         // nothing to draw; all covered: nothing shows.
-        let slack = slack::<SUB>(w.max(h));
+        // Anti-aliased, a pixel's samples lie within 0.4 pixel of its centre.
+        let slack = slack::<SUB>(w.max(h)) + if self.antialiased() { 0.5 } else { 0.0 };
         let first = |v: f32, limit: u32| ceil_pixel(v - slack - 0.5).min(limit);
         let past = |v: f32, limit: u32| floor_pixel(v + slack + 0.5).min(limit);
         let (x0, y0) = (first(min.x, w), first(min.y, h).max(r0));
@@ -190,6 +196,15 @@ impl<const SUB: u32> Painter<'_, '_, SUB> {
             return false;
         }
         true
+    }
+
+    /// Whether the frame is anti-aliased.
+    #[inline(always)]
+    fn antialiased(&self) -> bool {
+        #[cfg(feature = "antialias")]
+        return self.antialias.is_some();
+        #[cfg(not(feature = "antialias"))]
+        false
     }
 
     /// Cull, clip, project, snap and fill polygon `index`, in the colour of its side the eye
@@ -267,10 +282,26 @@ impl<const SUB: u32> Painter<'_, '_, SUB> {
         if count < 3 {
             return Ok(());
         }
-        let pts = self.points.get(..count).unwrap_or(&[]);
         let (width, height) = (self.view.width, self.view.height);
-        // No pixel centre inside: the fill would draw nothing. All covered: nothing shows.
-        let Some([x0, y0, x1, y1]) = fill::sample_rect(pts, width, height) else {
+        // Anti-aliased: the points scaled to the sample grid (exact: the renderer checked that
+        // five times the window is in the fill's range), and the pixels holding a sample of
+        // their box.
+        let antialiased = self.antialiased();
+        if antialiased {
+            for p in self.points.iter_mut().take(count) {
+                *p = FixedPoint::new(p.x.saturating_mul(5), p.y.saturating_mul(3));
+            }
+        }
+        let pts = self.points.get(..count).unwrap_or(&[]);
+        // No pixel centre (sample) inside: the fill would draw nothing. All covered: nothing
+        // shows.
+        let rect = if antialiased {
+            fill::sample_rect(pts, width.saturating_mul(5), height.saturating_mul(3))
+                .map(|[x0, y0, x1, y1]| [x0 / 5, y0 / 3, x1.div_ceil(5), y1.div_ceil(3)])
+        } else {
+            fill::sample_rect(pts, width, height)
+        };
+        let Some([x0, y0, x1, y1]) = rect else {
             return Ok(());
         };
         let (r0, r1) = (self.rows.start, self.rows.end);
@@ -293,6 +324,28 @@ impl<const SUB: u32> Painter<'_, '_, SUB> {
         // Its checks hold: `count <= available <= min(VERTS, MAX_FILL_VERTICES)` edges, and
         // `snap` keeps every point in the window, which `window` kept within
         // `fill::coordinate_limit`.
+        #[cfg(feature = "antialias")]
+        let coverage = match (self.antialias.as_deref_mut(), coverage) {
+            (Some(pending), Some(coverage)) => {
+                let mut through = Antialiased {
+                    coverage,
+                    pending,
+                    sink,
+                    first_row: r0,
+                    colour,
+                    run: None,
+                    pixels: 0,
+                };
+                // The sample rows of the pixel rows `y0 .. y1`, all in the band.
+                let rows = y0 * 3..y1 * 3;
+                fill::fill_in(pts, self.edges, width * 5, rows, colour, &mut through);
+                through.add_gathered();
+                through.end_run();
+                tally(&mut stats.pixels_written, through.pixels);
+                return Ok(());
+            }
+            (_, coverage) => coverage,
+        };
         let mut through = Through {
             coverage,
             sink,
@@ -333,6 +386,85 @@ impl<S: SpanSink + ?Sized> SpanSink for Through<'_, '_, S> {
                 self.sink.span(y, x_start, x_end, colour);
                 tally(&mut self.pixels, u64::from(x_end.saturating_sub(x_start)));
             }
+        }
+    }
+}
+
+/// The sink an anti-aliased fill draws into (the polygon's spans on the sample grid, frame
+/// rows): each pixel row's masks are gathered, the finished pixels skipped, and the rest
+/// added to the pending pixels; the pixels that finish go through the coverage (in runs of
+/// neighbours of one colour) into `sink`.
+#[cfg(feature = "antialias")]
+struct Antialiased<'c, 'm, 'p, S: SpanSink + ?Sized> {
+    coverage: &'c mut Coverage<'m>,
+    pending: &'c mut Pending<'p>,
+    sink: &'c mut S,
+    first_row: u32,
+    colour: Colour,
+    /// Finished pixels not yet sent: band row, columns, colour.
+    run: Option<(u32, u32, u32, Colour)>,
+    pixels: u64,
+}
+
+#[cfg(feature = "antialias")]
+impl<S: SpanSink + ?Sized> Antialiased<'_, '_, '_, S> {
+    /// Add the gathered row to the pending pixels.
+    fn add_gathered(&mut self) {
+        let Some(y) = self.pending.gathered() else {
+            return;
+        };
+        self.pending.skip_finished(self.coverage.row(y));
+        let colour = self.colour;
+        let mut finished = |x: u32, c: Colour, run: &mut Option<(u32, u32, u32, Colour)>| match run
+        {
+            Some((ry, _, end, rc)) if *ry == y && *end == x && *rc == c => *end = x + 1,
+            _ => {
+                if let Some(r) = run.replace((y, x, x + 1, c)) {
+                    self.pixels += send(self.coverage, self.sink, self.first_row, r);
+                }
+            }
+        };
+        let mut run = self.run.take();
+        self.pending
+            .add_gathered(colour, |x, outcome| match outcome {
+                Outcome::Finished(c) => finished(x, c, &mut run),
+                Outcome::Unrecorded { centre: true } => finished(x, colour, &mut run),
+                Outcome::Unrecorded { centre: false } | Outcome::Pending => {}
+            });
+        self.run = run;
+    }
+
+    /// Send the run of finished pixels.
+    fn end_run(&mut self) {
+        if let Some(r) = self.run.take() {
+            self.pixels += send(self.coverage, self.sink, self.first_row, r);
+        }
+    }
+}
+
+/// Send a run of finished pixels (band row, columns, colour) through `coverage` to `sink`.
+#[cfg(feature = "antialias")]
+fn send<S: SpanSink + ?Sized>(
+    coverage: &mut Coverage<'_>,
+    sink: &mut S,
+    first_row: u32,
+    (y, x0, x1, colour): (u32, u32, u32, Colour),
+) -> u64 {
+    let mut sink = Shifted {
+        sink,
+        by: first_row,
+    };
+    coverage.span(y, x0, x1, colour, &mut sink)
+}
+
+#[cfg(feature = "antialias")]
+impl<S: SpanSink + ?Sized> SpanSink for Antialiased<'_, '_, '_, S> {
+    fn span(&mut self, y: u32, x_start: u32, x_end: u32, _: Colour) {
+        // Band rows: the band starts on a pixel row, so a sample row keeps its place in it.
+        let local = y.wrapping_sub(self.first_row * 3);
+        if self.pending.gather(local, x_start, x_end).is_err() {
+            self.add_gathered();
+            let _ = self.pending.gather(local, x_start, x_end);
         }
     }
 }

@@ -14,6 +14,8 @@ use crate::coverage::{Coverage, Mode};
 use crate::display::{Colour, SpanSink};
 use crate::error::RenderError;
 use crate::fill::{self, FixedPoint};
+#[cfg(feature = "antialias")]
+use crate::pending::Pending;
 use crate::traverse::{Order, StackEntry};
 #[cfg(feature = "integer-vertices")]
 use crate::vertices::IntegerView;
@@ -111,6 +113,8 @@ pub struct Renderer<'m, const SUB: u32 = { fill::SUBPIXEL_BITS }> {
     cull_subtrees: bool,
     integer_vertices: bool,
     background: Option<Colour>,
+    #[cfg(feature = "antialias")]
+    pending: Option<Pending<'m>>,
 }
 
 impl<'m> Renderer<'m> {
@@ -152,6 +156,8 @@ impl<'m, const SUB: u32> Renderer<'m, SUB> {
             cull_subtrees: true,
             integer_vertices: false,
             background: None,
+            #[cfg(feature = "antialias")]
+            pending: None,
         }
     }
 
@@ -228,6 +234,26 @@ impl<'m, const SUB: u32> Renderer<'m, SUB> {
     pub fn integer_vertices(mut self) -> Self {
         self.integer_vertices = true;
         self
+    }
+
+    /// Anti-aliased frames (with the `antialias` feature): each pixel the average of its
+    /// [`SAMPLES`](crate::fill::samples::SAMPLES) samples' colours, each sample taking the
+    /// nearest polygon covering it (front to back, the first) and the background colour
+    /// (black without [`Renderer::background`]) where none does; partly covered pixels wait
+    /// in `pending` (see [`crate::pending`]). Only frames drawn front to back in colours are
+    /// anti-aliased: when the span memory runs out, or in back-to-front and id frames, the
+    /// frame is drawn as without anti-aliasing ([`FrameStats::antialiased`] says which).
+    #[cfg(feature = "antialias")]
+    #[inline(always)]
+    pub fn antialias(mut self, pending: Pending<'m>) -> Self {
+        self.pending = Some(pending);
+        self
+    }
+
+    /// The pending pixels' memory, if any (after a frame: its peak).
+    #[cfg(feature = "antialias")]
+    pub fn pending(&self) -> Option<&Pending<'m>> {
+        self.pending.as_ref()
     }
 
     /// The order frames are drawn in: front to back exactly when span memory was given and
@@ -354,6 +380,21 @@ impl<'m, const SUB: u32> Renderer<'m, SUB> {
         if let Some(v) = vertices.as_deref_mut() {
             v.next_frame();
         }
+        // Anti-aliased: front to back in colours, with the sample grid in the fill's range.
+        #[cfg(feature = "antialias")]
+        let mut pending = self.pending.as_mut().filter(|_| {
+            order == Order::FrontToBack
+                && paint == Paint::Colours
+                && coverage.is_some()
+                && window::<SUB>(width.saturating_mul(5), height.saturating_mul(3)).is_ok()
+        });
+        #[cfg(feature = "antialias")]
+        if let Some(p) = pending.as_deref_mut() {
+            if p.width() < width as usize || p.height() < rows.end - rows.start {
+                return Err(RenderError::PendingMemory);
+            }
+            p.clear();
+        }
         let (first_row, end_row) = (rows.start, rows.end);
         let mut painter = Painter::<SUB> {
             view,
@@ -373,6 +414,8 @@ impl<'m, const SUB: u32> Renderer<'m, SUB> {
             vertices,
             #[cfg(feature = "integer-vertices")]
             integer,
+            #[cfg(feature = "antialias")]
+            antialias: pending,
         };
         let mut stats = FrameStats {
             // Front to back was asked for, but the feature is off: painted back to front.
@@ -392,8 +435,9 @@ impl<'m, const SUB: u32> Renderer<'m, SUB> {
             paint_uncovered(None, width, first_row..end_row, colour, target);
         }
 
-        // Pass 1: the frame's order.
-        let overflow = painter.walk(
+        // Pass 1: the frame's order (again without anti-aliasing if its span memory runs out).
+        #[cfg_attr(not(feature = "antialias"), allow(unused_mut))]
+        let mut overflow = painter.walk(
             scene,
             order,
             &mut self.stack[..],
@@ -402,6 +446,40 @@ impl<'m, const SUB: u32> Renderer<'m, SUB> {
             &mut stats,
             None,
         )?;
+        #[cfg(feature = "antialias")]
+        if let (Some(p), Some(c)) = (painter.antialias.take(), coverage.as_deref_mut()) {
+            if overflow.is_none() {
+                // The pending pixels take the background for their uncovered samples.
+                let mut sink = Rows {
+                    sink: &mut *target,
+                    by: first_row,
+                };
+                let mut through = crate::coverage::CoverageSink {
+                    coverage: c,
+                    sink: &mut sink,
+                    pixels: 0,
+                };
+                p.drain(background.unwrap_or_default(), &mut through);
+                stats.pixels_written += through.pixels;
+                stats.antialiased = true;
+            } else {
+                // The span memory ran out: the frame again, without anti-aliasing, over
+                // what was sent (the sink gets the frame without anti-aliasing in the end).
+                p.clear();
+                c.clear();
+                c.use_rows(end_row - first_row);
+                c.set_mode(Mode::Exclusive);
+                overflow = painter.walk(
+                    scene,
+                    order,
+                    &mut self.stack[..],
+                    coverage.as_deref_mut(),
+                    target,
+                    &mut stats,
+                    None,
+                )?;
+            }
+        }
 
         // Pass 2 (span memory exhausted at polygon `last`): the polygons from the farthest up
         // to `last`, back to front, clipped against the frozen coverage.
@@ -432,6 +510,22 @@ impl<'m, const SUB: u32> Renderer<'m, SUB> {
             _ => None,
         };
         Ok(stats)
+    }
+}
+
+/// A sink whose rows are `by` below the rows it is given: from a band's rows back to frame
+/// rows.
+#[cfg(feature = "antialias")]
+struct Rows<'s, S: SpanSink + ?Sized> {
+    sink: &'s mut S,
+    by: u32,
+}
+
+#[cfg(feature = "antialias")]
+impl<S: SpanSink + ?Sized> SpanSink for Rows<'_, S> {
+    fn span(&mut self, y: u32, x_start: u32, x_end: u32, colour: Colour) {
+        self.sink
+            .span(y.wrapping_add(self.by), x_start, x_end, colour);
     }
 }
 

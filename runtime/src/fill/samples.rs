@@ -1,0 +1,161 @@
+//! Sample masks: which of a pixel's [`SAMPLES`] sample points a polygon covers, the coverage
+//! an anti-aliased frame averages.
+//!
+//! The samples form a grid of [`SAMPLE_COLUMNS`] x [`SAMPLE_ROWS`] per pixel, sample `(s, t)`
+//! of pixel `(i, j)` at `(i + (s + 1/2) / 5, j + (t + 1/2) / 3)`. Scaling the polygon's points
+//! exactly by `(5, 3)` puts every sample on a pixel centre of the scaled grid, so the masks
+//! are the scanline fill of the scaled polygon, with its top-left rule and its exact shared
+//! edges: each sample belongs to exactly one polygon of a closed mesh, as each pixel does.
+//! The grid's middle sample `(2, 1)` is the pixel centre, so bit [`CENTRE_SAMPLE`] of a mask is
+//! the pixel the ordinary fill draws, bit for bit.
+
+use core::ops::Range;
+
+use super::{fill_polygon_rows, FillError, FixedPoint};
+use crate::display::{Colour, SpanSink};
+
+/// Sample columns per pixel.
+pub const SAMPLE_COLUMNS: u32 = 5;
+/// Sample rows per pixel.
+pub const SAMPLE_ROWS: u32 = 3;
+/// Samples per pixel: bit `t * SAMPLE_COLUMNS + s` of a mask is sample `(s, t)`.
+pub const SAMPLES: u32 = SAMPLE_COLUMNS * SAMPLE_ROWS;
+/// The mask of a pixel whose samples are all covered.
+pub const FULL_MASK: u16 = (1 << SAMPLES) - 1;
+/// The bit of the sample at the pixel's centre.
+pub const CENTRE_SAMPLE: u32 = SAMPLE_COLUMNS * (SAMPLE_ROWS / 2) + SAMPLE_COLUMNS / 2;
+
+/// Receives a row's sample masks: pixels `x_start ..` of row `y`, one mask each, every one
+/// non-zero at the run's ends (a run may hold zero masks between two covered pixels).
+pub trait MaskSink {
+    /// The masks of pixels `x_start .. x_start + masks.len()` of row `y`.
+    fn masks(&mut self, y: u32, x_start: u32, masks: &[u16], colour: Colour);
+}
+
+/// Fill `points` (as [`super::fill_polygon_rows`] takes them, in a `width`-pixel window)
+/// on the sample grid of the pixel rows `rows`, and emit each row's masks, top to bottom;
+/// returns the number of samples covered. `row_masks` is the caller's scratch row: at least
+/// `width` masks, all zero, and left zero.
+///
+/// # Errors
+/// The fill's, for the scaled points: [`FillError::TooManyVertices`], or
+/// [`FillError::OutOfRange`] (naming the scaled point) when a scaled point leaves the fill's
+/// range (only without the `wide-coordinates` feature, where five times the window's width
+/// must be in range).
+/// [`FillError::TooManyVertices`] with `max` the scratch row's length is also returned when
+/// `row_masks` is shorter than `width`; nothing is drawn.
+pub fn fill_polygon_masks<const SUB: u32, M: MaskSink + ?Sized>(
+    points: &[FixedPoint<SUB>],
+    width: u32,
+    rows: Range<u32>,
+    colour: Colour,
+    row_masks: &mut [u16],
+    sink: &mut M,
+) -> Result<u64, FillError<SUB>> {
+    let mut scaled = [FixedPoint::<SUB>::default(); super::MAX_FILL_VERTICES];
+    if points.len() > scaled.len() {
+        return Err(FillError::TooManyVertices {
+            count: points.len(),
+            max: scaled.len(),
+        });
+    }
+    if row_masks.len() < width as usize {
+        return Err(FillError::TooManyVertices {
+            count: width as usize,
+            max: row_masks.len(),
+        });
+    }
+    for (s, p) in scaled.iter_mut().zip(points) {
+        // Saturated: a saturated point is out of the fill's range, or beyond any window.
+        *s = FixedPoint::new(
+            p.x.saturating_mul(SAMPLE_COLUMNS as i32),
+            p.y.saturating_mul(SAMPLE_ROWS as i32),
+        );
+    }
+    let mut rows_sink = MaskRows {
+        masks: row_masks,
+        y: u32::MAX,
+        lo: u32::MAX,
+        hi: 0,
+        colour,
+        sink,
+    };
+    let scaled_rows = rows.start.saturating_mul(SAMPLE_ROWS)..rows.end.saturating_mul(SAMPLE_ROWS);
+    let covered = fill_polygon_rows(
+        &scaled[..points.len()],
+        width.saturating_mul(SAMPLE_COLUMNS),
+        scaled_rows,
+        colour,
+        &mut rows_sink,
+    )?;
+    rows_sink.flush();
+    Ok(covered)
+}
+
+/// The fill's spans on the sample grid, gathered into one pixel row's masks at a time (the
+/// fill emits its rows top to bottom).
+struct MaskRows<'a, M: MaskSink + ?Sized> {
+    masks: &'a mut [u16],
+    /// The pixel row being gathered (`u32::MAX`: none yet).
+    y: u32,
+    /// Pixels `lo .. hi` of it hold bits.
+    lo: u32,
+    hi: u32,
+    colour: Colour,
+    sink: &'a mut M,
+}
+
+impl<M: MaskSink + ?Sized> MaskRows<'_, M> {
+    /// Emit the gathered row and clear its masks.
+    fn flush(&mut self) {
+        if self.lo < self.hi {
+            if let Some(run) = self.masks.get_mut(self.lo as usize..self.hi as usize) {
+                self.sink.masks(self.y, self.lo, run, self.colour);
+                run.fill(0);
+            }
+        }
+        (self.lo, self.hi) = (u32::MAX, 0);
+    }
+}
+
+impl<M: MaskSink + ?Sized> SpanSink for MaskRows<'_, M> {
+    fn span(&mut self, y: u32, x_start: u32, x_end: u32, _: Colour) {
+        let row = y / SAMPLE_ROWS;
+        if row != self.y {
+            self.flush();
+            self.y = row;
+        }
+        if let Some((lo, hi)) = add_span_bits(self.masks, y, x_start, x_end) {
+            self.lo = self.lo.min(lo);
+            self.hi = self.hi.max(hi);
+        }
+    }
+}
+
+/// Set in `masks` (a pixel row's) the bits of the samples `[x_start, x_end)` (columns of the
+/// sample grid) of sample row `sample_row`; returns the pixels touched, `lo .. hi`.
+pub fn add_span_bits(
+    masks: &mut [u16],
+    sample_row: u32,
+    x_start: u32,
+    x_end: u32,
+) -> Option<(u32, u32)> {
+    if x_start >= x_end {
+        return None;
+    }
+    let base = (sample_row % SAMPLE_ROWS) * SAMPLE_COLUMNS;
+    let (first, last) = (x_start / SAMPLE_COLUMNS, (x_end - 1) / SAMPLE_COLUMNS);
+    for pixel in first..=last {
+        let left = pixel * SAMPLE_COLUMNS;
+        // The pixel's samples in the span: columns `s0 .. s1` of its grid row.
+        let s0 = x_start.max(left) - left;
+        let s1 = x_end.min(left + SAMPLE_COLUMNS) - left;
+        if let Some(m) = masks.get_mut(pixel as usize) {
+            *m |= ((1u16 << s1) - (1u16 << s0)) << base;
+        }
+    }
+    Some((first, last + 1))
+}
+
+#[cfg(test)]
+mod tests;
