@@ -67,6 +67,9 @@ fn probe() {
         if black_box(false) {
             renderer = renderer.back_to_front();
         }
+        if black_box(true) {
+            renderer = renderer.integer_vertices();
+        }
         let _ = black_box(renderer.draw(&scene, &view, &mut fb));
     }
     black_box(&pixels);

@@ -224,12 +224,15 @@ impl<'m, const SUB: u32> Renderer<'m, SUB> {
 
     /// Project and snap the vertices in integer arithmetic in frames without clipping, for
     /// scenes of 16-bit vertices on an exact grid (the compiler's), when the frame's error
-    /// bound holds (see [`crate::vertices`], "Integer vertices"; other frames take the `f32`
-    /// path). Points then differ from the `f32` path's by a unit in their last place now and
-    /// then, so pixels can differ along edges; the same bits on every core, and culling stays
-    /// exact. On a core without an FPU it saves most of a vertex's cost (thousands of
-    /// instructions in software floats); with one it costs more than the `f32` path. With the
-    /// `integer-vertices` feature; without it the option is ignored.
+    /// bound holds (see [`crate::vertices`], "Integer vertices": among others, the depths of
+    /// the scene's box within a factor of about 4 of each other, as in an orbit from 1.7
+    /// bounding radii or farther, and a window side below `2^18` subpixel units, 1,023 pixels
+    /// at 8 bits; other frames take the `f32` path). Points then differ from the `f32` path's
+    /// by a unit in their last place now and then, so pixels can differ along edges; the same
+    /// bits on every core, and culling stays exact. On a core without an FPU it saves most of
+    /// a vertex's cost (thousands of instructions in software floats); with one it costs more
+    /// than the `f32` path. With the `integer-vertices` feature; without it the option is
+    /// ignored.
     #[inline(always)]
     pub fn integer_vertices(mut self) -> Self {
         self.integer_vertices = true;

@@ -8,41 +8,55 @@
 //! snapped point of the `f32` path is `S (c_x + f_x (r·d) / (f·d))` across (and likewise down),
 //! `S = 2^SUB`: the quotient of two forms affine in `q`,
 //! `N_x = S (f_x r + c_x f)·d`, `N_y = S (c_y f − f_y u)·d` over the depth `Z = f·d`.
-//! A frame computes their coefficients once in `f64`, scaled by a power of two `2^e` and
-//! rounded to `i64`; a vertex then takes nine integer multiply-adds and two divisions, the
-//! same bits on every core. The point is `⌊(2N + Z) / 2Z⌋` (the nearest), clamped to the
-//! window as [`crate::render::snap`] clamps.
+//! A frame computes their coefficients once in `f64`, scaled by a power of two `2^e` chosen so
+//! that every depth of the scene's box lies in `[2^41, 2^44)`, and rounded to `i64`; a vertex
+//! then takes nine integer multiply-adds, one reciprocal of its depth and two multiplies, the
+//! same bits on every core (no division: a core without a divide instruction pays dearly for
+//! one). The point is the nearest integer to the quotient (halves up), clamped to the window
+//! as [`crate::render::snap`] clamps.
+//!
+//! # The reciprocal
+//! With the depth in `[2^41, 2^44)`, `d = ⌊Z / 2^13⌋` lies in `[2^28, 2^31)`, and
+//! [`reciprocal`] gives `R ≈ 2^59 / d` in 32 bits: a seed from a table of the `2^22`-wide
+//! intervals of `d` (`2^21 / (i + 1/2)`, within `1/129` of `2^43 / d`), one Newton step on the
+//! top 17 bits of `d` (relative error `ε1 <= ε0² + 2^-14 + 2^-19 <= 2^-12.9`) and one on all of
+//! them, its residual `(2^59 − d R1) / 2^17` taken modulo `2^32` (it lies within
+//! `±2^42 ε1 < ±2^30`), every product of 16-bit limbs in 32 bits (ARMv6-M has no widening
+//! multiply): `|1 − d R / 2^59| <= ε1² + 4 / 2^28 <= 2^-25`. A coordinate is then the high word
+//! of `⌊N / 2^32⌋ R` (16-bit limbs again), which is `2^8 N / Z` within `2` (the dropped limb and
+//! the floor) `+ 2^-25 2^26` (the reciprocal) `+ 2^40 / 2^41` (`N`'s low word) `+ 2^-2` (`Z`'s
+//! low 13 bits) units of `2^-8`: `|q − N/Z| <= 2^-5` (with `N / Z < 2^18`: the window's side
+//! in `2^-SUB` pixel is below [`REACH`]), so `⌊q + 1/2⌋` is within `1/2 + 2^-5` of `N/Z`.
 //!
 //! # Error bound
 //! Over `q ∈ [0, 65535]^3` each integer form differs from `2^e` times the exact one by at most
-//! `D = 2^17`: each coefficient rounds by at most `1/2` plus its `f64` error (a few units of
-//! `2^-53` of its terms' sizes, which `2^e` keeps at most `2^44`), times `q <= 65535`, and the
-//! constant by at most `1` plus a few units of `2^-53` of at most `2^60`. With `Z*`, `X*` the exact
-//! depth and snapped coordinate (in `2^-SUB` pixel), `|N/Z − X*| = |δN − X* δZ| / Z <=
-//! D (1 + |X*|) / (2^e Z* − D)`. A frame takes this path only when that is at most an eighth
-//! of a unit for every vertex of the scene's box (its least depth, and `|X*|` within the
-//! window, where every vertex of a frame without clipping projects), else the `f32` path.
-//! The division drops the `t` low bits of `N` and `Z` that leave `Z` 31 bits (`>= 2^30` when
-//! any are dropped), which moves the quotient by at most `(1 + X*) / 2^30 < 2^-4`. So the
-//! point is within half a unit (the rounding, as the `f32` path's snapping) and `3/16` of the
-//! exact projection, inside the subtree test's slack (`1/64` pixel beyond the snapping): culling
-//! stays exact. The forms stay below `2^62` in magnitude (`3 · 2^44 · 65535 + 2^60`), so
-//! nothing overflows.
+//! `D`: each coefficient rounds by at most `1/2` plus its `f64` error (at most `2^-51` of its
+//! terms' sizes), times `q <= 65535`, and the constant by at most `1/2` plus `2^-50` of its
+//! terms' sizes (the frame computes `D` from them). With `Z*`, `X*` the exact depth and snapped
+//! coordinate (in `2^-SUB` pixel), `|N/Z − X*| = |δN − X* δZ| / Z <= D (1 + |X*|) / (2^e Z* −
+//! D)`. A frame takes this path only when that is at most an eighth of a unit for every vertex
+//! of the scene's box (its least depth, and `|X*|` within the window, where every vertex of a
+//! frame without clipping projects) and its integer depths lie in `[2^41, 2^44)`, else the
+//! `f32` path. So the point is within half a unit (the rounding, as the `f32` path's snapping)
+//! and `1/8 + 1/32 < 3/16` of the exact projection, inside the subtree test's slack (`1/64`
+//! pixel beyond the snapping): culling stays exact. The forms of a vertex in the window stay
+//! below `2^62` in magnitude (`2^18 · 2^44`), so nothing overflows; each is summed modulo
+//! `2^64`, exact whatever its terms.
 
 use glam::Vec3;
 
 use crate::camera::LocalView;
 use crate::fill::FixedPoint;
 
-/// Coefficients of a step are at most `2^COEFFICIENT_BITS` in magnitude.
-const COEFFICIENT_BITS: i32 = 44;
-/// Constants are at most `2^CONSTANT_BITS` in magnitude.
-const CONSTANT_BITS: i32 = 60;
-/// `D`: how far an integer form may lie from `2^e` times the exact one (module docs).
-const ROUNDING: f64 = 131_072.0;
-/// Largest window side, in `2^-SUB` pixel, plus one: keeps the division's truncation below
-/// `2^-4` of a unit.
-const REACH: f64 = 67_108_864.0;
+/// Integer depths lie below `2^DEPTH_BITS`...
+const DEPTH_BITS: i32 = 44;
+/// ... and at or above `2^LEAST_DEPTH_BITS` (so that `d` lies in `[2^28, 2^31)`).
+const LEAST_DEPTH_BITS: i32 = 41;
+/// `d = Z >> DEPTH_SHIFT`: the depth in 31 bits.
+const DEPTH_SHIFT: u32 = 13;
+/// The window's largest side in `2^-SUB` pixel, plus one, is at most this: keeps the forms
+/// of a vertex in the window below `2^62` and the quotient's error below `2^-5`.
+const REACH: f64 = 262_144.0;
 
 /// One frame's integer projection of 16-bit steps (see the module docs).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -51,14 +65,16 @@ pub(crate) struct IntegerView {
     forms: [[i64; 4]; 3],
     max_x: i32,
     max_y: i32,
-    /// Bits of `max_x` and `max_y`: the quotient bits the divisions find.
-    bits_x: u32,
-    bits_y: u32,
 }
 
 /// An exponent `k` with `|x| < 2^k` (finite, non-zero `x`): from its exponent field.
 fn exponent_above(x: f64) -> i32 {
     ((x.abs().to_bits() >> 52) & 0x7ff) as i32 - 1022
+}
+
+/// `2^e`, for `|e| <= 1000`.
+fn power_of_two(e: i32) -> f64 {
+    f64::from_bits(((e + 1023) as u64) << 52)
 }
 
 impl IntegerView {
@@ -89,31 +105,54 @@ impl IntegerView {
             f.abs(),
         ];
         let (step, eye) = (step.as_dvec3(), view.eye.as_dvec3());
-        let offset = min.as_dvec3() - eye;
+        let (min64, offset) = (min.as_dvec3(), min.as_dvec3() - eye);
+        // The offset's own rounding is below 2^-53 of `|min| + |eye|`.
+        let reach_of_offset = offset.abs() + min64.abs() + eye.abs();
         let (mut a, mut b) = (0.0f64, 0.0f64);
         for size in sizes {
             a = a.max((size * step.abs()).max_element());
-            b = b.max(size.dot(offset.abs()));
+            b = b.max(size.dot(reach_of_offset));
         }
-        if !(a.is_finite() && b.is_finite() && a > 0.0 && b > 0.0) {
+        // The least and greatest depth over the box, each widened by a bound on its `f64`
+        // error.
+        let (lo, hi) = (lo.as_dvec3(), hi.as_dvec3());
+        let (mid, half) = ((lo + hi) * 0.5 - eye, (hi - lo) * 0.5);
+        let (centre, spread) = (f.dot(mid), f.abs().dot(half));
+        let size = ((f * mid).abs().element_sum() + spread) / 1_099_511_627_776.0;
+        let (least, greatest) = (centre - spread - size, centre + spread + size);
+        let finite = [a, b, least, greatest].iter().all(|v| v.is_finite());
+        if !(finite && a > 0.0 && b > 0.0 && least > 0.0) {
             return None;
         }
-        let e = (COEFFICIENT_BITS - exponent_above(a)).min(CONSTANT_BITS - exponent_above(b));
+        // The largest scale that keeps the greatest depth below 2^DEPTH_BITS, less one when
+        // the rounding would reach it.
+        let mut e = DEPTH_BITS - exponent_above(greatest);
+        let rounding = |e: i32| {
+            let scale = power_of_two(e);
+            3.0 * 65535.0 * (0.5 + a * scale / 2_251_799_813_685_248.0)
+                + 0.5
+                + b * scale / 1_125_899_906_842_624.0
+        };
         if !(-1000..=1000).contains(&e) {
             return None;
         }
-        let scale = f64::from_bits(((e + 1023) as u64) << 52); // 2^e
-                                                               // The least depth over the box, less a bound on its own `f64` error.
-        let (lo, hi) = (lo.as_dvec3(), hi.as_dvec3());
-        let (mid, half) = ((lo + hi) * 0.5 - eye, (hi - lo) * 0.5);
-        let depth = f.dot(mid) - f.abs().dot(half);
-        let size = (f * mid).abs().element_sum() + f.abs().dot(half);
-        let least = (depth - size / 1_099_511_627_776.0) * scale - ROUNDING;
+        if greatest * power_of_two(e) + rounding(e) >= power_of_two(DEPTH_BITS) {
+            e -= 1;
+        }
+        let (scale, rounding) = (power_of_two(e), rounding(e));
+        let least = least * scale - rounding;
         let reach = f64::from(max_x.max(max_y).max(0)) + 1.0;
-        if !(least.is_finite() && ROUNDING * reach <= least * 0.125 && reach <= REACH) {
+        let bounded = rounding * reach <= (least - rounding) * 0.125
+            && least >= power_of_two(LEAST_DEPTH_BITS)
+            && greatest * scale + rounding < power_of_two(DEPTH_BITS)
+            && reach <= REACH
+            // Every coefficient and constant fits an `i64`.
+            && a * scale <= 4.0e18
+            && b * scale <= 4.0e18;
+        if !bounded {
             return None;
         }
-        // Nearest, halves away from zero (`as` truncates; every value is below 2^61).
+        // Nearest, halves away from zero (`as` truncates; every value is below 2^62).
         let round = |x: f64| {
             let x = x * scale;
             (if x < 0.0 { x - 0.5 } else { x + 0.5 }) as i64
@@ -122,13 +161,10 @@ impl IntegerView {
             let a = g * step;
             [round(a.x), round(a.y), round(a.z), round(g.dot(offset))]
         };
-        let (max_x, max_y) = (max_x.max(0), max_y.max(0));
         Some(IntegerView {
             forms: [form(gains[0]), form(gains[1]), form(gains[2])],
-            max_x,
-            max_y,
-            bits_x: 32 - (max_x as u32).leading_zeros(),
-            bits_y: 32 - (max_y as u32).leading_zeros(),
+            max_x: max_x.max(0),
+            max_y: max_y.max(0),
         })
     }
 
@@ -136,27 +172,23 @@ impl IntegerView {
     #[inline]
     pub(crate) fn point<const SUB: u32>(&self, q: [u16; 3]) -> FixedPoint<SUB> {
         let [nx, ny, z] = self.forms.map(|form| value(form, q));
-        // Positive and below 2^62 by the frame's bound (the clamp only keeps that provable).
-        let z = z.clamp(1, 1 << 62) as u64;
-        // The divisor in 31 bits: `t` low bits off both terms.
-        let t = (64 - z.leading_zeros()).saturating_sub(31);
-        let d = (z >> t) as u32;
-        FixedPoint::new(
-            nearest(nx, t, d, self.max_x, self.bits_x),
-            nearest(ny, t, d, self.max_y, self.bits_y),
-        )
+        // In `[2^28, 2^31)` by the frame's bound (the clamp only keeps that provable).
+        let d = ((z as u64 >> DEPTH_SHIFT) as u32).clamp(1 << 28, (1 << 31) - 1);
+        let r = reciprocal(d);
+        FixedPoint::new(nearest(nx, r, self.max_x), nearest(ny, r, self.max_y))
     }
 }
 
-/// `a ∘ q + b` for a form `[a_0, a_1, a_2, b]` with `|a_j| <= 2^44`: each coefficient in 16-bit
-/// limbs, so that a core without a widening multiply (ARMv6-M) takes 32-bit multiplies
-/// (every limb times a step fits 32 bits) rather than a 64-bit multiply's library call.
+/// `a ∘ q + b` for a form `[a_0, a_1, a_2, b]`, modulo `2^64` (exact when the value fits an
+/// `i64`): each coefficient in 16-bit limbs, so that a core without a widening multiply
+/// (ARMv6-M) takes 32-bit multiplies (every low limb times a step fits 32 bits) rather than a
+/// 64-bit multiply's library call.
 #[inline]
 fn value([a0, a1, a2, b]: [i64; 4], q: [u16; 3]) -> i64 {
     let (mut high, mut middle, mut low) = (0i32, 0u64, 0u64);
     for (a, q) in [a0, a1, a2].into_iter().zip(q) {
         let q = u32::from(q);
-        // `a = high 2^32 + middle 2^16 + low`, `|high| < 2^13`.
+        // `a = high 2^32 + middle 2^16 + low` (only `high`'s low 32 bits count below 2^64).
         high = high.wrapping_add(((a >> 32) as i32).wrapping_mul(q as i32));
         middle += u64::from(((a >> 16) as u32 & 0xffff) * q);
         low += u64::from((a as u32 & 0xffff) * q);
@@ -167,36 +199,69 @@ fn value([a0, a1, a2, b]: [i64; 4], q: [u16; 3]) -> i64 {
         .wrapping_add(b)
 }
 
-/// The integer nearest `n / z` (halves up) clamped to `0..=max`, from `n` without its `t` low
-/// bits and `d = z >> t` (`2^30 <= d < 2^31` when `t > 0`): a 64-by-32-bit long division of
-/// as many quotient bits as `max` has (`bits`, at most 31), in 32-bit registers.
+/// Seeds of [`reciprocal`]: entry `i − 64` is `2^21 / (i + 1/2)` rounded, for the interval
+/// `[i 2^22, (i + 1) 2^22)` of `d` (within `1 / (2i + 1)` of `2^43 / d` there).
+const SEEDS: [u16; 448] = {
+    let mut seeds = [0u16; 448];
+    let mut k = 0;
+    while k < 448 {
+        let i = k as u32 + 64;
+        seeds[k] = ((1u32 << 23) / (2 * i + 1)).div_ceil(2) as u16;
+        k += 1;
+    }
+    seeds
+};
+
+/// `R ≈ 2^59 / d` for `d` in `[2^28, 2^31)`, within `2^-25` of it relatively (module docs):
+/// a seed, then two Newton steps in 32-bit arithmetic with 16-bit limbs. Any other `d` gives
+/// some value, without panicking.
 #[inline]
-fn nearest(n: i64, t: u32, d: u32, max: i32, bits: u32) -> i32 {
-    if n <= 0 || bits == 0 || bits > 31 || d == 0 || max < 0 {
+fn reciprocal(d: u32) -> u32 {
+    let seed = SEEDS
+        .get((d >> 22).wrapping_sub(64) as usize)
+        .copied()
+        .unwrap_or(1);
+    let y0 = u32::from(seed);
+    // Step 1, on the top 17 bits: `2^29 (1 − (d >> 14) y0 / 2^29)`, within ±2^22.
+    let e1 = (1u32 << 29).wrapping_sub((d >> 14).wrapping_mul(y0)) as i32;
+    let r1 = (y0 << 16).wrapping_add(((y0 as i32).wrapping_mul(e1 >> 7) >> 6) as u32);
+    // Step 2, on all of `d`: `(2^59 − d r1) / 2^17` modulo 2^32, within ±2^30.
+    let (dh, dl) = (d >> 16, d & 0xffff);
+    let (rh, rl) = (r1 >> 16, r1 & 0xffff);
+    let product = (dh.wrapping_mul(rh) << 15)
+        .wrapping_add(dh.wrapping_mul(rl) >> 1)
+        .wrapping_add(dl.wrapping_mul(rh) >> 1)
+        .wrapping_add(dl.wrapping_mul(rl) >> 17);
+    let e2 = 0u32.wrapping_sub(product) as i32;
+    // `r1 e2 / 2^42`.
+    let (eh, el) = (e2 >> 16, (e2 as u32) & 0xffff);
+    let correction = ((rh as i32).wrapping_mul(eh) >> 10)
+        .wrapping_add((rh.wrapping_mul(el) >> 26) as i32)
+        .wrapping_add((rl as i32).wrapping_mul(eh) >> 26);
+    r1.wrapping_add(correction as u32)
+}
+
+/// The integer nearest `n / z` (halves up) clamped to `0..=max`, from `n` and `r` the
+/// [`reciprocal`] of `z >> 13`, for `z` in `[2^41, 2^44)`: the high word of `⌊n / 2^32⌋ r` is
+/// `2^8 n / z` (module docs).
+#[inline]
+fn nearest(n: i64, r: u32, max: i32) -> i32 {
+    let high = (n >> 32) as i32;
+    if high < 0 || max <= 0 {
         return 0;
     }
-    let n = (n as u64) >> t;
-    // The quotient is below `2^bits` unless this first remainder is `>= d`.
-    let top = n >> bits;
-    if top >= u64::from(d) {
+    // `n < 2^62` in the window: beyond it the quotient is over `2^62 / 2^44 > max`.
+    if high >= 1 << 30 {
         return max;
     }
-    let (mut remainder, mut rest, mut quotient) = (top as u32, (n as u32) << (32 - bits), 0u32);
-    for _ in 0..bits {
-        // `remainder < d < 2^31`: the shift keeps every bit.
-        remainder = remainder << 1 | rest >> 31;
-        rest <<= 1;
-        quotient <<= 1;
-        if remainder >= d {
-            remainder -= d;
-            quotient |= 1;
-        }
-    }
-    // `2 remainder < 2d < 2^32`.
-    if remainder.wrapping_mul(2) >= d {
-        quotient += 1;
-    }
-    quotient.min(max as u32) as i32
+    let high = high as u32;
+    let (nh, nl) = (high >> 16, high & 0xffff);
+    let (rh, rl) = (r >> 16, r & 0xffff);
+    // Each product below 2^31, their sum below 2^32 (`nh < 2^14`, `rh <= 2^15 + 1`).
+    let fraction = nh
+        .wrapping_mul(rh)
+        .wrapping_add(nh.wrapping_mul(rl).wrapping_add(nl.wrapping_mul(rh)) >> 16);
+    ((fraction.wrapping_add(128) >> 8) as i32).min(max)
 }
 
 #[cfg(test)]
@@ -301,29 +366,76 @@ mod tests {
         }
     }
 
+    /// `|1 − d R / 2^59| <= 2^-25`, as exact rationals: `2^25 |2^59 − d R| <= 2^59`.
+    fn reciprocal_holds(d: u32) -> Result<(), TestCaseError> {
+        let r = reciprocal(d);
+        let residual = (1i128 << 59) - i128::from(d) * i128::from(r);
+        prop_assert!(
+            residual.abs() << 25 <= 1i128 << 59,
+            "d {} r {} residual {}",
+            d,
+            r,
+            residual
+        );
+        Ok(())
+    }
+
+    /// Every seed's interval at its ends, and a sweep of the whole range.
+    #[test]
+    fn reciprocals_are_within_the_bound() {
+        for i in 64u32..512 {
+            for d in [
+                i << 22,
+                (i << 22) + 1,
+                (i << 22) + (1 << 21),
+                ((i + 1) << 22) - 1,
+            ] {
+                reciprocal_holds(d).unwrap();
+            }
+        }
+        let mut d = 1u32 << 28;
+        while d < 1 << 31 {
+            reciprocal_holds(d).unwrap();
+            d += 4099;
+        }
+    }
+
     proptest! {
-        /// The long division is the nearest quotient of the truncated terms, clamped.
         #[test]
-        fn nearest_divides_exactly(
-            n in prop_oneof![any::<i64>(), 0i64..1 << 40],
-            z in prop_oneof![1u64..1 << 62, 1u64..1 << 31],
-            max in prop_oneof![any::<i32>(), 0i32..100_000],
-        ) {
-            let t = (64 - z.leading_zeros()).saturating_sub(31);
-            let d = (z >> t) as u32;
-            let n = n.min(1 << 62);
-            let truncated = if n <= 0 { 0 } else { i128::from((n as u64) >> t) };
-            let expected = ((2 * truncated + i128::from(d)) / (2 * i128::from(d)))
-                .clamp(0, i128::from(max.max(0)));
-            let bits = 32 - (max.max(0) as u32).leading_zeros();
-            prop_assert_eq!(i128::from(nearest(n, t, d, max, bits)), expected);
+        fn reciprocal_within_the_bound(d in (1u32 << 28)..(1 << 31)) {
+            reciprocal_holds(d)?;
         }
 
-        /// The limbs' sum is the form's value.
+        /// The rounded quotient is within `1/2 + 1/32` of `n / z` clamped to the window, for a
+        /// depth in `[2^41, 2^44)` and a quotient below `2^18`, or anything clamped.
         #[test]
-        fn limbs_add_up(a in proptest::array::uniform3(-(1i64 << 44)..=1 << 44), b in -(1i64 << 60)..=1 << 60, q in any::<[u16; 3]>()) {
+        fn nearest_is_within_the_bound(
+            z in (1i64 << 41)..(1 << 44),
+            x in prop_oneof![0.0f64..262_144.0, -10.0f64..10.0, 0.0f64..1_000.0],
+            max in prop_oneof![0i32..262_144, Just(81_920), Just(61_440)],
+            noise in any::<i32>(),
+        ) {
+            let n = (x * z as f64) as i64 + i64::from(noise);
+            let r = reciprocal((z >> 13) as u32);
+            let q = nearest(n, r, max);
+            let target = i128::from(n).clamp(0, i128::from(max) * i128::from(z));
+            let off = (i128::from(q) * i128::from(z) - target).abs();
+            prop_assert!(32 * off <= 17 * i128::from(z), "n {} z {} max {} q {}", n, z, max, q);
+            prop_assert!((0..=max.max(0)).contains(&q));
+        }
+
+        /// The limbs' sum is the form's value modulo 2^64, whatever the coefficients.
+        #[test]
+        fn limbs_add_up(
+            a in prop_oneof![
+                proptest::array::uniform3(-(1i64 << 46)..=1 << 46),
+                any::<[i64; 3]>()
+            ],
+            b in any::<i64>(),
+            q in any::<[u16; 3]>(),
+        ) {
             let expected: i128 = (0..3).map(|j| i128::from(a[j]) * i128::from(q[j])).sum::<i128>() + i128::from(b);
-            prop_assert_eq!(i128::from(value([a[0], a[1], a[2], b], q)), expected);
+            prop_assert_eq!(value([a[0], a[1], a[2], b], q), expected as i64);
         }
     }
 
