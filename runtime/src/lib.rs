@@ -18,6 +18,8 @@ pub mod error;
 pub mod fill;
 pub mod read;
 pub mod render;
+#[cfg(feature = "scan-order")]
+pub mod scan;
 pub mod traverse;
 pub mod vertices;
 
