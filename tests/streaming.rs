@@ -3,7 +3,8 @@
 //! framebuffer frame pixel for pixel, in both orders, at every precision, for cameras inside,
 //! cutting and outside closed solids and an open soup; front to back every pixel is written
 //! exactly once, also across bands, and when the span memory runs out (the fallback) the image
-//! is still the same.
+//! is still the same. A frame in scan order (scan memory, read out row by row) is the
+//! framebuffer frame in RGB565, and scan memory one node short of its need is a typed error.
 
 use std::sync::OnceLock;
 
@@ -15,8 +16,10 @@ use peel_e2e::closed_sphere;
 use peel_runtime::camera::{Camera, LocalView, Pose};
 use peel_runtime::coverage::Coverage;
 use peel_runtime::display::{Colour, Framebuffer, SpanSink, Xrgb8888};
+use peel_runtime::error::RenderError;
 use peel_runtime::read::Scene;
 use peel_runtime::render::{FrameStats, Renderer, Workspace};
+use peel_runtime::scan::{ScanMemory, ScanNode};
 use peel_runtime::traverse::Order;
 use proptest::prelude::*;
 
@@ -140,6 +143,57 @@ fn reference<const SUB: u32>(scene: &Scene<'_>, view: &LocalView, order: Order) 
     pixels
 }
 
+/// The scan-order frame of `view` against `expected` (the front-to-back framebuffer frame),
+/// in RGB565, read as one run and row by row; one node less than it used is an error.
+fn check_scan<const SUB: u32>(
+    scene: &Scene<'_>,
+    view: &LocalView,
+    expected: &[u32],
+) -> Result<(), TestCaseError> {
+    let (w, h) = (view.width, view.height);
+    let want: Vec<u16> = expected
+        .iter()
+        .map(|&p| Colour::new((p >> 16) as u8, (p >> 8) as u8, p as u8).to_rgb565())
+        .collect();
+    let draw = |nodes: usize| -> Result<(Vec<u16>, Vec<u16>, usize), RenderError> {
+        let mut pool = vec![ScanNode::EMPTY; nodes];
+        let mut heads = vec![0u16; h as usize];
+        let memory = ScanMemory::new(&mut pool, &mut heads, w, h).unwrap();
+        let mut workspace: Box<Workspace<HOST_STACK, HOST_VERTS, SUB>> = Box::default();
+        let mut renderer = Renderer::<SUB>::with_precision(&mut workspace)
+            .ids()
+            .scan_memory(memory)
+            .background(BACKGROUND);
+        let frame = renderer.draw_scan(scene, view)?;
+        let mut rows = Vec::new();
+        let mut row = vec![0u16; w as usize];
+        for y in 0..h {
+            frame.row_into(y, &mut row);
+            rows.extend_from_slice(&row);
+        }
+        Ok((frame.pixels().collect(), rows, frame.nodes_used()))
+    };
+    let (pixels, rows, used) = draw(4096).expect("a scan-order frame");
+    prop_assert!(
+        pixels == want,
+        "scan order differs from the framebuffer frame"
+    );
+    prop_assert!(
+        rows == want,
+        "scan-order rows differ from the framebuffer frame"
+    );
+    prop_assert!(draw(used).is_ok());
+    if used > 0 {
+        prop_assert_eq!(
+            draw(used - 1).err(),
+            Some(RenderError::ScanMemoryFull {
+                nodes: used as u32 - 1
+            })
+        );
+    }
+    Ok(())
+}
+
 /// Streamed and banded frames of `scene` against the framebuffer frame.
 fn check<const SUB: u32>(
     scene: &Scene<'_>,
@@ -150,6 +204,9 @@ fn check<const SUB: u32>(
     let (w, h) = (view.width, view.height);
     for order in [Order::FrontToBack, Order::BackToFront] {
         let expected = reference::<SUB>(scene, view, order);
+        if order == Order::FrontToBack {
+            check_scan::<SUB>(scene, view, &expected)?;
+        }
         let way = Way {
             order,
             slots,

@@ -269,7 +269,9 @@ pub fn render(args: &RenderArgs) -> Result<(), String> {
         ids: args.ids,
         background: args.background,
         integer_vertices: args.integer_vertices,
-        antialias: args.antialias.then_some(peel_compiler::tools::raster::HOST_PENDING),
+        antialias: args
+            .antialias
+            .then_some(peel_compiler::tools::raster::HOST_PENDING),
     };
     let frame =
         render_bytes_with(&bytes, &shot, &settings).map_err(|e| match camera_hint(&shot) {

@@ -131,6 +131,22 @@ pub enum RenderError {
     /// The memory for pending pixels ([`crate::render::Renderer::antialias`]) does not match
     /// the frame: fewer row heads than rows, or a mask row shorter than the width.
     PendingMemory,
+    /// A frame that must be drawn front to back (a scan-order frame, or spans streamed to a
+    /// display, whose sink says [`crate::display::SpanSink::write_once`]) would be painted
+    /// back to front: there is no span or scan memory, [`crate::render::Renderer::back_to_front`]
+    /// was asked for, or the runtime lacks its `front-to-back` feature. Refused before the
+    /// first pixel.
+    NotFrontToBack,
+    /// A streamed frame ran out of span memory: it stops there, with what was sent so far,
+    /// rather than finishing back to front with overdraw. Give the memory the sizes file
+    /// measures (`SPANS_PER_ROW`).
+    SpanMemoryFull,
+    /// A scan-order frame needs more scan memory nodes than the memory holds; nothing was
+    /// sent. Give the memory the sizes file measures (`SCAN_NODES`).
+    ScanMemoryFull {
+        /// Nodes in the memory.
+        nodes: u32,
+    },
     /// [`crate::render::Renderer::draw_rows`] was given rows that are not a range of the
     /// image's rows.
     RowsOutsideImage {
@@ -172,6 +188,20 @@ impl fmt::Display for RenderError {
             RenderError::PendingMemory => write!(
                 f,
                 "the pending-pixel memory needs one list head per row and a mask per column"
+            ),
+            RenderError::NotFrontToBack => write!(
+                f,
+                "this frame must be drawn front to back (span or scan memory, the front-to-back \
+                 feature, no back_to_front)"
+            ),
+            RenderError::SpanMemoryFull => write!(
+                f,
+                "the streamed frame ran out of span memory (stopped; give SPANS_PER_ROW per row)"
+            ),
+            RenderError::ScanMemoryFull { nodes } => write!(
+                f,
+                "the frame needs more than the {nodes} nodes of scan memory (nothing sent; give \
+                 SCAN_NODES)"
             ),
             RenderError::RowsOutsideImage { start, end, height } => write!(
                 f,

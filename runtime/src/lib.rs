@@ -20,6 +20,8 @@ pub mod fill;
 pub mod pending;
 pub mod read;
 pub mod render;
+#[cfg(feature = "scan-order")]
+pub mod scan;
 pub mod traverse;
 pub mod vertices;
 

@@ -10,6 +10,7 @@ fn main() {
         "FTB_FRAMEBUFFER",
         "FTB_STREAM",
         "FTB_BANDS",
+        "SCAN_ORDER",
         "B2F_FRAMEBUFFER",
         "B2F_BANDS",
     ];

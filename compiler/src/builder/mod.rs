@@ -256,10 +256,16 @@ impl Builder {
                         "measuring span memory at {width}x{height}: {e}"
                     ))
                 })?;
+                let scan_nodes = spans::scan_nodes(&result.peel, width, height).map_err(|e| {
+                    CompileError::Invariant(format!(
+                        "measuring scan memory at {width}x{height}: {e}"
+                    ))
+                })?;
                 Some(sizes::MeasuredSpans {
                     width,
                     height,
                     per_row,
+                    scan_nodes,
                 })
             }
             None => None,

@@ -25,7 +25,13 @@ pub struct MeasuredSpans {
     pub height: u32,
     /// The fewest intervals per row with which no frame of the orbit runs out.
     pub per_row: usize,
+    /// The scan memory nodes with which no scan-order frame of the orbit runs out
+    /// ([`super::spans::scan_nodes`]).
+    pub scan_nodes: usize,
 }
+
+/// Scan memory nodes the sizes file gives without a measurement (32 KiB).
+pub const RECOMMENDED_SCAN_NODES: usize = 4096;
 
 /// The text of the sizes file of `header` (a `.peel` file of `bytes` bytes named `peel_name`,
 /// compiled from `source`), with the span memory measured for an image size if `spans`.
@@ -155,6 +161,7 @@ pub fn sizes_file(
             width,
             height,
             per_row,
+            ..
         }) => {
             item(
                 &format!(
@@ -173,6 +180,29 @@ pub fn sizes_file(
                 format!("pub const SPANS_MEASURED_AT: (u32, u32) = ({width}, {height});"),
             );
         }
+    }
+    match spans {
+        None => item(
+            "Scan memory nodes (`scan::ScanNode`, 8 bytes each) for frames in scan order\n\
+             (`Renderer::draw_scan`): a guess (`Builder::image_size` measures what the scene\n\
+             needs). Running out is an error (`RenderError::ScanMemoryFull`): nothing is sent.",
+            format!("pub const SCAN_NODES: usize = {RECOMMENDED_SCAN_NODES};"),
+        ),
+        Some(MeasuredSpans {
+            width,
+            height,
+            scan_nodes,
+            ..
+        }) => item(
+            &format!(
+                "Scan memory nodes (`scan::ScanNode`, 8 bytes each: {} bytes) this scene needs\n\
+                 at {width}x{height} for frames in scan order (`Renderer::draw_scan`): the most\n\
+                 any frame of the orbit of `SPANS_PER_ROW` holds. Running out is an error\n\
+                 (`RenderError::ScanMemoryFull`): nothing is sent.",
+                scan_nodes * 8
+            ),
+            format!("pub const SCAN_NODES: usize = {scan_nodes};"),
+        ),
     }
     item(
         "Intervals per row that can never run out at `width`: each polygon covers one span of\n\

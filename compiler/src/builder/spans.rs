@@ -9,11 +9,63 @@ use peel_runtime::coverage::Coverage;
 use peel_runtime::display::{Colour, SpanSink};
 use peel_runtime::read::Scene;
 use peel_runtime::render::{Renderer, Workspace};
+use peel_runtime::scan::{ScanMemory, ScanNode};
 
 /// Cameras of the orbit measured: azimuths 0, 15, ..., 345 degrees.
 pub const ORBIT_CAMERAS: u32 = 24;
 /// Their elevations, in degrees: the CLI's default view and a view from higher up.
 pub const ORBIT_ELEVATIONS: [f64; 2] = [20.0, 45.0];
+
+/// The orbit's views of `scene` at `width x height` (see [`spans_per_row`]).
+fn orbit_views(
+    scene: &Scene<'_>,
+    width: u32,
+    height: u32,
+) -> Result<Vec<peel_runtime::camera::LocalView>, String> {
+    let header = scene.header();
+    let near = Camera::default_near(header.bounds_min, header.bounds_max);
+    ORBIT_ELEVATIONS
+        .iter()
+        .flat_map(|&elevation_deg| {
+            (0..ORBIT_CAMERAS).map(move |k| Orbit {
+                azimuth_deg: 360.0 * f64::from(k) / f64::from(ORBIT_CAMERAS),
+                elevation_deg,
+                distance: Orbit::fitting_distance(DEFAULT_FOV_Y_DEG, width, height),
+            })
+        })
+        .map(|orbit| {
+            Camera::look_at(orbit.pose(&header), DEFAULT_FOV_Y_DEG, width, height, near)
+                .map(|c| c.view(header.centre))
+                .map_err(|e| e.to_string())
+        })
+        .collect()
+}
+
+/// The scan memory nodes (`peel_runtime::scan::ScanNode`, 8 bytes each) with which no
+/// scan-order frame of the orbit of [`spans_per_row`] runs out: the most any of its frames
+/// holds at once.
+///
+/// # Errors
+/// As [`spans_per_row`]'s, and a frame that needs more than the 65,535 nodes scan memory can
+/// address.
+pub fn scan_nodes(bytes: &[u8], width: u32, height: u32) -> Result<usize, String> {
+    let scene = Scene::parse(bytes).map_err(|e| e.to_string())?;
+    let views = orbit_views(&scene, width, height)?;
+    let mut workspace: Box<Workspace<{ 1 << 14 }, 64>> = Box::default();
+    let mut nodes = vec![ScanNode::EMPTY; usize::from(u16::MAX)];
+    let mut heads = vec![0u16; height as usize];
+    let memory =
+        ScanMemory::new(&mut nodes, &mut heads, width, height).map_err(|e| e.to_string())?;
+    let mut renderer = Renderer::new(&mut workspace).scan_memory(memory);
+    let mut most = 0;
+    for view in &views {
+        let frame = renderer
+            .draw_scan(&scene, view)
+            .map_err(|e| e.to_string())?;
+        most = most.max(frame.nodes_used());
+    }
+    Ok(most)
+}
 
 /// A sink that draws nothing.
 struct Nowhere;
@@ -36,22 +88,7 @@ pub fn spans_per_row(bytes: &[u8], width: u32, height: u32) -> Result<usize, Str
     let bound = (header.polygon_count as usize)
         .min((width as usize).div_ceil(2))
         .max(1);
-    let near = Camera::default_near(header.bounds_min, header.bounds_max);
-    let views = ORBIT_ELEVATIONS
-        .iter()
-        .flat_map(|&elevation_deg| {
-            (0..ORBIT_CAMERAS).map(move |k| Orbit {
-                azimuth_deg: 360.0 * f64::from(k) / f64::from(ORBIT_CAMERAS),
-                elevation_deg,
-                distance: Orbit::fitting_distance(DEFAULT_FOV_Y_DEG, width, height),
-            })
-        })
-        .map(|orbit| {
-            Camera::look_at(orbit.pose(&header), DEFAULT_FOV_Y_DEG, width, height, near)
-                .map(|c| c.view(header.centre))
-                .map_err(|e| e.to_string())
-        })
-        .collect::<Result<Vec<_>, String>>()?;
+    let views = orbit_views(&scene, width, height)?;
     let mut workspace: Box<Workspace<{ 1 << 14 }, 64>> = Box::default();
     let mut intervals = vec![(0u16, 0u16); bound * height as usize];
     let mut counts = vec![0u16; height as usize];
@@ -132,5 +169,19 @@ mod tests {
         assert!(!fallbacks(n));
         assert!(fallbacks(n - 1));
         assert!(spans_per_row(&bytes[1..], w, h).is_err());
+        // Scan memory of the measured nodes draws every frame of the orbit; one node less
+        // fails one of them, with the typed error.
+        let nodes = scan_nodes(&bytes, w, h).unwrap();
+        assert!(nodes > 0);
+        let views = orbit_views(&scene, w, h).unwrap();
+        let mut fails = |n: usize| {
+            let mut pool = vec![ScanNode::EMPTY; n];
+            let mut heads = vec![0u16; h as usize];
+            let memory = ScanMemory::new(&mut pool, &mut heads, w, h).unwrap();
+            let mut renderer = Renderer::new(&mut workspace).scan_memory(memory);
+            views.iter().any(|v| renderer.draw_scan(&scene, v).is_err())
+        };
+        assert!(!fails(nodes));
+        assert!(fails(nodes - 1));
     }
 }

@@ -24,6 +24,8 @@ mod tests;
 
 use crate::display::{Colour, SpanSink};
 use crate::error::RenderError;
+#[cfg(feature = "scan-order")]
+use crate::scan::ScanMemory;
 
 /// What [`Coverage::span`] does with the list.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -52,6 +54,9 @@ pub struct Coverage<'m> {
     covered: u64,
     mode: Mode,
     exhausted: bool,
+    /// Scan order's coloured intervals, which then stand in for the rows above.
+    #[cfg(feature = "scan-order")]
+    scan: Option<ScanMemory<'m>>,
 }
 
 impl<'m> Coverage<'m> {
@@ -85,13 +90,47 @@ impl<'m> Coverage<'m> {
             covered: 0,
             mode: Mode::Exclusive,
             exhausted: false,
+            #[cfg(feature = "scan-order")]
+            scan: None,
         };
         c.clear();
         Ok(c)
     }
 
+    /// A coverage kept in scan memory (scan order: each interval with its colour). Only
+    /// [`Mode::Exclusive`] applies to it: spans are merged into the memory, none is forwarded.
+    #[cfg(feature = "scan-order")]
+    pub(crate) fn from_scan(scan: ScanMemory<'m>) -> Self {
+        let (width, height) = (scan.width() as u16, scan.height());
+        let mut c = Coverage {
+            intervals: &mut [],
+            counts: &mut [],
+            per_row: 0,
+            width,
+            height,
+            in_use: height,
+            full_rows: 0,
+            covered: 0,
+            mode: Mode::Exclusive,
+            exhausted: false,
+            scan: Some(scan),
+        };
+        c.clear();
+        c
+    }
+
+    /// The scan memory of [`Coverage::from_scan`].
+    #[cfg(feature = "scan-order")]
+    pub(crate) fn into_scan(self) -> Option<ScanMemory<'m>> {
+        self.scan
+    }
+
     /// Forget everything (a new frame), back to [`Mode::Exclusive`].
     pub fn clear(&mut self) {
+        #[cfg(feature = "scan-order")]
+        if let Some(s) = self.scan.as_mut() {
+            s.clear();
+        }
         for c in self.counts.iter_mut() {
             *c = 0;
         }
@@ -135,17 +174,29 @@ impl<'m> Coverage<'m> {
     /// Whether a span could not be merged for lack of slots (it and every later span were
     /// dropped until [`Coverage::freeze`] or [`Coverage::clear`]).
     pub fn exhausted(&self) -> bool {
+        #[cfg(feature = "scan-order")]
+        if let Some(s) = self.scan.as_ref() {
+            return s.exhausted();
+        }
         self.exhausted
     }
 
     /// Distinct pixels covered (exact while not exhausted).
     pub fn covered(&self) -> u64 {
+        #[cfg(feature = "scan-order")]
+        if let Some(s) = self.scan.as_ref() {
+            return s.covered();
+        }
         self.covered
     }
 
     /// Whether every pixel of the frame is covered (of its first `rows` rows after
     /// [`Coverage::use_rows`]).
     pub fn is_full(&self) -> bool {
+        #[cfg(feature = "scan-order")]
+        if let Some(s) = self.scan.as_ref() {
+            return s.is_full(self.in_use);
+        }
         self.full_rows == self.in_use || self.width == 0
     }
 
@@ -155,7 +206,8 @@ impl<'m> Coverage<'m> {
         self.in_use = rows.min(self.height);
     }
 
-    /// The covered intervals of row `y` (empty outside the frame).
+    /// The covered intervals of row `y` (empty outside the frame, and for a coverage in scan
+    /// memory).
     pub fn row(&self, y: u32) -> &[(u16, u16)] {
         let Some(y) = usize::try_from(y).ok().filter(|_| y < self.height) else {
             return &[];
@@ -167,6 +219,10 @@ impl<'m> Coverage<'m> {
 
     /// Whether every pixel `x0 <= x < x1`, `y0 <= y < y1` is covered (an empty rectangle is).
     pub fn covers(&self, x0: u32, y0: u32, x1: u32, y1: u32) -> bool {
+        #[cfg(feature = "scan-order")]
+        if let Some(s) = self.scan.as_ref() {
+            return s.covers(x0, y0, x1, y1);
+        }
         (y0..y1.min(self.height)).all(|y| {
             // The intervals are sorted and disjoint: only the first one ending past `x0` can
             // hold `[x0, x1)` (a binary search; rows of a dense mesh hold dozens).
@@ -190,6 +246,11 @@ impl<'m> Coverage<'m> {
         colour: Colour,
         sink: &mut S,
     ) -> u64 {
+        #[cfg(feature = "scan-order")]
+        if let Some(s) = self.scan.as_mut() {
+            let _ = sink;
+            return s.span(y, x_start, x_end, colour);
+        }
         let x_end = x_end.min(u32::from(self.width));
         if x_start >= x_end || y >= self.height || (self.exhausted && self.mode == Mode::Exclusive)
         {

@@ -26,8 +26,12 @@ where
     D: DrawTarget,
     D::Color: From<Rgb888>,
 {
-    /// A sink drawing into `target`.
+    /// A sink drawing into `target`. It streams spans straight to a display, so frames drawn
+    /// into it are front to back or refused ([`SpanSink::write_once`]); without the runtime's
+    /// `front-to-back` feature it does not compile (the error names the feature).
     pub fn new(target: &'a mut D) -> Self {
+        #[cfg(not(feature = "front-to-back"))]
+        let () = NeedsFrontToBack::<D>::CHECK;
         DrawTargetSink {
             target,
             error: None,
@@ -47,11 +51,27 @@ where
     }
 }
 
+/// The compile error of [`DrawTargetSink::new`] without the `front-to-back` feature.
+#[cfg(not(feature = "front-to-back"))]
+struct NeedsFrontToBack<D>(core::marker::PhantomData<D>);
+
+#[cfg(not(feature = "front-to-back"))]
+impl<D> NeedsFrontToBack<D> {
+    const CHECK: () = panic!(
+        "DrawTargetSink streams spans to a display, which needs frames drawn front to back: \
+         enable peel-runtime's `front-to-back` feature (or draw into a Framebuffer band)"
+    );
+}
+
 impl<D> SpanSink for DrawTargetSink<'_, D>
 where
     D: DrawTarget,
     D::Color: From<Rgb888>,
 {
+    fn write_once(&self) -> bool {
+        true
+    }
+
     fn span(&mut self, y: u32, x_start: u32, x_end: u32, colour: Colour) {
         if self.error.is_some() || x_start >= x_end {
             return;
@@ -129,7 +149,8 @@ impl<P: DisplayFormat> Framebuffer<'_, P> {
     }
 }
 
-#[cfg(test)]
+// `DrawTargetSink` does not compile without `front-to-back` (its purpose).
+#[cfg(all(test, feature = "front-to-back"))]
 mod tests {
     use super::*;
     use crate::fill::{fill_polygon, FixedPoint};

@@ -67,12 +67,30 @@ impl Colour {
 pub trait SpanSink {
     /// Paint one span.
     fn span(&mut self, y: u32, x_start: u32, x_end: u32, colour: Colour);
+
+    /// Whether every pixel must be written at most once (a display streamed span by span,
+    /// where overdraw shows as flicker): the renderer then draws front to back or not at all
+    /// ([`RenderError::NotFrontToBack`] before the first pixel, [`RenderError::SpanMemoryFull`]
+    /// where the span memory runs out, instead of finishing the frame back to front).
+    /// `false` unless a sink says otherwise (`DrawTargetSink`, with `embedded-graphics`, says
+    /// `true`).
+    ///
+    /// [`RenderError::NotFrontToBack`]: crate::error::RenderError::NotFrontToBack
+    /// [`RenderError::SpanMemoryFull`]: crate::error::RenderError::SpanMemoryFull
+    fn write_once(&self) -> bool {
+        false
+    }
 }
 
 impl<S: SpanSink + ?Sized> SpanSink for &mut S {
     #[inline]
     fn span(&mut self, y: u32, x_start: u32, x_end: u32, colour: Colour) {
         (**self).span(y, x_start, x_end, colour);
+    }
+
+    #[inline]
+    fn write_once(&self) -> bool {
+        (**self).write_once()
     }
 }
 

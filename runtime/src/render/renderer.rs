@@ -16,6 +16,8 @@ use crate::error::RenderError;
 use crate::fill::{self, FixedPoint};
 #[cfg(feature = "antialias")]
 use crate::pending::Pending;
+#[cfg(feature = "scan-order")]
+use crate::scan::{ScanFrame, ScanMemory};
 use crate::traverse::{Order, StackEntry};
 #[cfg(feature = "integer-vertices")]
 use crate::vertices::IntegerView;
@@ -115,6 +117,22 @@ pub struct Renderer<'m, const SUB: u32 = { fill::SUBPIXEL_BITS }> {
     background: Option<Colour>,
     #[cfg(feature = "antialias")]
     pending: Option<Pending<'m>>,
+    /// Scan memory ([`Renderer::scan_memory`]).
+    #[cfg(feature = "scan-order")]
+    scan: Option<ScanMemory<'m>>,
+    /// A scan-order frame is being drawn: its coverage is the scan memory, nothing is sent.
+    #[cfg(feature = "scan-order")]
+    scan_pass: bool,
+}
+
+/// A sink that draws nothing (scan order keeps its spans in the scan memory).
+#[cfg(feature = "scan-order")]
+struct Nowhere;
+
+#[cfg(feature = "scan-order")]
+impl SpanSink for Nowhere {
+    #[inline]
+    fn span(&mut self, _: u32, _: u32, _: u32, _: Colour) {}
 }
 
 impl<'m> Renderer<'m> {
@@ -158,7 +176,60 @@ impl<'m, const SUB: u32> Renderer<'m, SUB> {
             background: None,
             #[cfg(feature = "antialias")]
             pending: None,
+            #[cfg(feature = "scan-order")]
+            scan: None,
+            #[cfg(feature = "scan-order")]
+            scan_pass: false,
         }
+    }
+
+    /// Scan memory for frames in scan order ([`Renderer::draw_scan`]; feature `scan-order`):
+    /// each covered interval kept with its colour, the frame then read out row by row.
+    #[cfg(feature = "scan-order")]
+    #[inline(always)]
+    pub fn scan_memory(mut self, memory: ScanMemory<'m>) -> Self {
+        self.scan = Some(memory);
+        self
+    }
+
+    /// Draw `scene` seen by `view` front to back into the scan memory ([`Renderer::scan_memory`])
+    /// and return the frame, to be sent to a display in scan order: every row top to bottom,
+    /// the pixels no polygon covers in the background colour ([`Renderer::background`], black
+    /// without one), in one address window ([`ScanFrame::pixels`], `ScanFrame::draw_to` with
+    /// `embedded-graphics`) or a row at a time ([`ScanFrame::row_into`]). Nothing reaches a
+    /// display during the walk.
+    ///
+    /// Never back to front: [`RenderError::NotFrontToBack`] without scan memory or with
+    /// [`Renderer::back_to_front`], and [`RenderError::ScanMemoryFull`] when the frame needs
+    /// more nodes than the memory holds (nothing was sent: the panel keeps its last frame).
+    /// The other errors are [`Renderer::draw`]'s.
+    #[cfg(feature = "scan-order")]
+    pub fn draw_scan<T: Source + ?Sized>(
+        &mut self,
+        scene: &T,
+        view: &LocalView,
+    ) -> Result<ScanFrame<'_>, RenderError> {
+        if self.back_to_front {
+            return Err(RenderError::NotFrontToBack);
+        }
+        let memory = self.scan.take().ok_or(RenderError::NotFrontToBack)?;
+        let nodes = u32::try_from(memory.capacity()).unwrap_or(u32::MAX);
+        let saved = self.coverage.replace(Coverage::from_scan(memory));
+        self.scan_pass = true;
+        let result = self.draw_rows(scene, view, 0..view.height, &mut Nowhere);
+        self.scan_pass = false;
+        let used = core::mem::replace(&mut self.coverage, saved);
+        self.scan = used.and_then(Coverage::into_scan);
+        let stats = match result {
+            Err(RenderError::SpanMemoryFull) => return Err(RenderError::ScanMemoryFull { nodes }),
+            r => r?,
+        };
+        let memory = self.scan.as_ref().ok_or(RenderError::NotFrontToBack)?;
+        Ok(ScanFrame {
+            memory,
+            background: self.background.unwrap_or_default().to_rgb565(),
+            stats,
+        })
     }
 
     /// Span memory for images of the coverage's size: frames are then drawn front to back,
@@ -244,8 +315,10 @@ impl<'m, const SUB: u32> Renderer<'m, SUB> {
     /// nearest polygon covering it (front to back, the first) and the background colour
     /// (black without [`Renderer::background`]) where none does; partly covered pixels wait
     /// in `pending` (see [`crate::pending`]). Only frames drawn front to back in colours are
-    /// anti-aliased: when the span memory runs out, or in back-to-front and id frames, the
-    /// frame is drawn as without anti-aliasing ([`FrameStats::antialiased`] says which).
+    /// anti-aliased: when the span memory runs out the frame is drawn again without
+    /// anti-aliasing (a display sink, whose [`SpanSink::write_once`] holds, gets
+    /// [`RenderError::SpanMemoryFull`] instead), and back-to-front, id and scan-order frames
+    /// are drawn without it ([`FrameStats::antialiased`] says which).
     #[cfg(feature = "antialias")]
     #[inline(always)]
     pub fn antialias(mut self, pending: Pending<'m>) -> Self {
@@ -321,6 +394,15 @@ impl<'m, const SUB: u32> Renderer<'m, SUB> {
             });
         }
         let order = self.order();
+        // A display streamed span by span, or a scan-order frame: front to back or nothing.
+        #[cfg(feature = "scan-order")]
+        let scan_pass = self.scan_pass;
+        #[cfg(not(feature = "scan-order"))]
+        let scan_pass = false;
+        let once = scan_pass || target.write_once();
+        if once && order != Order::FrontToBack {
+            return Err(RenderError::NotFrontToBack);
+        }
         let paint = self.paint;
         let cull = self.cull;
         // Without the features the memory is never used: the optimiser drops that code.
@@ -385,8 +467,10 @@ impl<'m, const SUB: u32> Renderer<'m, SUB> {
         }
         // Anti-aliased: front to back in colours, with the sample grid in the fill's range.
         #[cfg(feature = "antialias")]
+        // (Not yet in scan order, whose memory is not rows of intervals.)
         let mut pending = self.pending.as_mut().filter(|_| {
-            order == Order::FrontToBack
+            !scan_pass
+                && order == Order::FrontToBack
                 && paint == Paint::Colours
                 && coverage.is_some()
                 && window::<SUB>(width.saturating_mul(5), height.saturating_mul(3)).is_ok()
@@ -432,7 +516,8 @@ impl<'m, const SUB: u32> Renderer<'m, SUB> {
                 Mode::Measure
             });
         }
-        let background = self.background;
+        // Scan order paints its gaps when the frame is read out.
+        let background = if scan_pass { None } else { self.background };
         // Back to front: the background first, then every polygon over it.
         if let (Some(colour), Order::BackToFront) = (background, order) {
             paint_uncovered(None, width, first_row..end_row, colour, target);
@@ -466,6 +551,10 @@ impl<'m, const SUB: u32> Renderer<'m, SUB> {
                 stats.pixels_written += through.pixels;
                 stats.antialiased = true;
             } else {
+                if once {
+                    // No overdraw on a display: the frame stops here.
+                    return Err(RenderError::SpanMemoryFull);
+                }
                 // The span memory ran out: the frame again, without anti-aliasing, over
                 // what was sent (the sink gets the frame without anti-aliasing in the end).
                 p.clear();
@@ -486,6 +575,10 @@ impl<'m, const SUB: u32> Renderer<'m, SUB> {
 
         // Pass 2 (span memory exhausted at polygon `last`): the polygons from the farthest up
         // to `last`, back to front, clipped against the frozen coverage.
+        if overflow.is_some() && once {
+            // No overdraw on a display: the frame stops here.
+            return Err(RenderError::SpanMemoryFull);
+        }
         if let (Some(last), Some(c)) = (overflow, coverage.as_deref_mut()) {
             stats.fallback = true;
             c.freeze();

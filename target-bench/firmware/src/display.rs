@@ -4,11 +4,12 @@
 //!
 //! Such a panel takes a write as an address window, CASET (1 command byte + 4 data bytes) for
 //! the columns and RASET (1 + 4) for the rows, then RAMWR (1) and 2 bytes per pixel, for each
-//! `fill_solid` or `fill_contiguous` call and for each pixel of `draw_iter`. The panel keeps
-//! its window between writes, so the driver sends CASET only when the columns change and RASET
-//! only when the rows do (a span on the same row as the last write needs no RASET): at most
-//! 11 bytes of set-up per write. Storing the pixels is the stand-in for the transfer and is
-//! timed with the frame, as the transfer would be.
+//! `fill_solid` or `fill_contiguous` call and for each pixel of `draw_iter`. The mock charges
+//! the whole window set-up (11 bytes) on every write, as mipidsi 0.10 sends it (it does not
+//! remember the panel's window), and counts the driver's separate writes: a window set-up and
+//! a run of pixels per call (`display_writes`; each is its own chip-select cycle or DMA
+//! transfer). Storing the pixels is the stand-in for the transfer and is timed with the frame,
+//! as the transfer would be.
 
 use core::convert::Infallible;
 
@@ -36,8 +37,8 @@ pub struct Panel {
     width: u32,
     height: u32,
     bytes: u64,
-    /// The panel's window (first and last column, first and last row), once set.
-    window: Option<[u32; 4]>,
+    /// Separate writes: window set-ups and pixel runs.
+    writes: u64,
 }
 
 impl Panel {
@@ -48,7 +49,7 @@ impl Panel {
             width,
             height,
             bytes: 0,
-            window: None,
+            writes: 0,
         }
     }
 
@@ -56,12 +57,17 @@ impl Panel {
     pub fn start_frame(&mut self) {
         self.memory.fill(UNWRITTEN);
         self.bytes = 0;
-        self.window = None;
+        self.writes = 0;
     }
 
     /// Bytes sent since [`Panel::start_frame`].
     pub fn bytes(&self) -> u64 {
         self.bytes
+    }
+
+    /// Separate writes since [`Panel::start_frame`]: a window set-up and a pixel run per call.
+    pub fn writes(&self) -> u64 {
+        self.writes
     }
 
     /// What the panel holds, row by row.
@@ -81,19 +87,11 @@ impl Panel {
         Some((first, a.size.width as usize, a.size.height as usize))
     }
 
-    /// Count a write of `area` (its pixels on the panel: `pixels`): the window commands that
-    /// change it, RAMWR, the pixels.
-    fn count(&mut self, area: &Rectangle, pixels: u64) {
-        let (x, y) = (area.top_left.x as u32, area.top_left.y as u32);
-        let (w, h) = (area.size.width.max(1), area.size.height.max(1));
-        let window = [x, x + w - 1, y, y + h - 1];
-        let last = self.window.replace(window);
-        let columns = last.map(|l| [l[0], l[1]]) != Some([window[0], window[1]]);
-        let rows = last.map(|l| [l[2], l[3]]) != Some([window[2], window[3]]);
-        self.bytes += RAMWR_BYTES
-            + if columns { CASET_BYTES } else { 0 }
-            + if rows { RASET_BYTES } else { 0 }
-            + PIXEL_BYTES * pixels;
+    /// Count a write of `pixels` pixels: the window set-up (CASET, RASET, RAMWR) and the
+    /// pixels, two writes.
+    fn count(&mut self, pixels: u64) {
+        self.bytes += CASET_BYTES + RASET_BYTES + RAMWR_BYTES + PIXEL_BYTES * pixels;
+        self.writes += 2;
     }
 }
 
@@ -112,7 +110,7 @@ impl DrawTarget for Panel {
         I: IntoIterator<Item = Pixel<Rgb565>>,
     {
         for Pixel(p, colour) in pixels {
-            self.count(&Rectangle::new(p, Size::new(1, 1)), 1);
+            self.count(1);
             let (Ok(x), Ok(y)) = (u32::try_from(p.x), u32::try_from(p.y)) else {
                 continue;
             };
@@ -130,7 +128,7 @@ impl DrawTarget for Panel {
         let Some((first, w, h)) = self.clipped(area) else {
             return Ok(());
         };
-        self.count(area, (w * h) as u64);
+        self.count((w * h) as u64);
         if (w, h) == (area.size.width as usize, area.size.height as usize) {
             // Wholly on the panel (the usual case): row by row, no per-pixel checks.
             let stride = self.width as usize;
@@ -158,7 +156,7 @@ impl DrawTarget for Panel {
         let Some((first, w, h)) = self.clipped(area) else {
             return Ok(());
         };
-        self.count(area, (w * h) as u64);
+        self.count((w * h) as u64);
         let raw = colour.into_storage();
         let stride = self.width as usize;
         for row in 0..h {

@@ -6,7 +6,7 @@
 //!
 //! ```text
 //! peel-target variant=<variant> target=<target triple>
-//! frame <k> ticks=<SysTick ticks> display_bytes=<bytes> fallback=<0|1>
+//! frame <k> ticks=<SysTick ticks> display_bytes=<bytes> display_writes=<writes> fallback=<0|1>
 //! memory pool_used=<bytes> pool_capacity=<bytes> framebuffer=<bytes> stack_peak=<bytes>
 //! gfx3d commands_peak=<commands> capacity=<commands>   (embedded-3dgfx only)
 //! done
@@ -51,6 +51,7 @@ variant!(
     "ftb-framebuffer" => FtbFramebuffer,
     "ftb-stream" => FtbStream,
     "ftb-bands" => FtbBands,
+    "scan-order" => ScanOrder,
     "b2f-framebuffer" => B2fFramebuffer,
     "b2f-bands" => B2fBands,
     "zbuffer" => Zbuffer,
@@ -209,10 +210,11 @@ fn run(panel: &'static mut [u16], mut pool: Pool) -> Result<(), Failure> {
         let ticks = clock.ticks() - start;
         stack_peak = stack_peak.max(stack::high_water()?);
         hprintln!(
-            "frame {} ticks={} display_bytes={} fallback={}",
+            "frame {} ticks={} display_bytes={} display_writes={} fallback={}",
             k,
             ticks,
             display.bytes(),
+            display.writes(),
             u8::from(fallback)
         );
         if config.flags & WRITE_FRAMES != 0 {

@@ -17,6 +17,10 @@ pub enum Use {
     SpanMemory,
     /// Span memory's per-row counts.
     RowCounts,
+    /// Scan memory's nodes.
+    ScanNodes,
+    /// Scan memory's row heads.
+    ScanHeads,
     /// The mock display's panel memory (not from the pool).
     PanelMemory,
     /// A list of the scanline z-buffer (polygon table, vertices, heads, active edges).
@@ -30,6 +34,8 @@ impl core::fmt::Display for Use {
             Use::DepthBuffer => "depth buffer",
             Use::SpanMemory => "span memory",
             Use::RowCounts => "span memory row counts",
+            Use::ScanNodes => "scan memory nodes",
+            Use::ScanHeads => "scan memory row heads",
             Use::PanelMemory => "panel memory",
             Use::ScanlineList => "scanline z-buffer list",
         })
@@ -88,6 +94,24 @@ impl Pool {
         // SAFETY: as for `u16s`; a pair is one word without padding (checked above), so every
         // bit pattern is a pair.
         Ok(unsafe { core::slice::from_raw_parts_mut(words.as_mut_ptr().cast(), n) })
+    }
+
+    /// `n` scan memory nodes.
+    #[cfg(feature = "scan-order")]
+    pub fn scan_nodes(
+        &mut self,
+        n: usize,
+    ) -> Result<&'static mut [peel_runtime::scan::ScanNode], Failure> {
+        use peel_runtime::scan::{ScanNode, SCAN_NODE_BYTES};
+        const { assert!(SCAN_NODE_BYTES == 8 && core::mem::align_of::<ScanNode>() <= 4) };
+        let words = self.words(2 * n, Use::ScanNodes)?;
+        let first = words.as_mut_ptr().cast::<ScanNode>();
+        for k in 0..n {
+            // SAFETY: the words are ours for good, 4-aligned, and hold `n` nodes of 8 bytes.
+            unsafe { first.add(k).write(ScanNode::EMPTY) };
+        }
+        // SAFETY: as above, and every node was just written.
+        Ok(unsafe { core::slice::from_raw_parts_mut(first, n) })
     }
 
     /// `n` copies of `value`, aligned for `T` (a word skipped when `T` needs 8 bytes and the

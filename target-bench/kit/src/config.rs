@@ -19,17 +19,18 @@
 //! | 56 | [`MAX_CAMERAS`] x (azimuth, elevation) in degrees (f64, f64) |
 //! | 312 | the scanline z-buffer's active edges (u32) |
 //! | 316 | the scanline z-buffer's clipped points (u32) |
+//! | 320 | scan memory nodes (u32; scan order) |
 
 use crate::bytes::{f64_at, u32_at};
 
 /// Format version.
-pub const VERSION: u32 = 2;
+pub const VERSION: u32 = 3;
 /// The block's first bytes.
 pub const MAGIC: [u8; 4] = *b"PTBC";
 /// Cameras a block holds.
 pub const MAX_CAMERAS: usize = 16;
 /// Size of the block in bytes.
-pub const SIZE: usize = LISTS + 8;
+pub const SIZE: usize = LISTS + 12;
 /// Offset of the scanline z-buffer's list sizes.
 const LISTS: usize = 56 + 16 * MAX_CAMERAS;
 /// Flag: write each frame's panel memory to the host file `frame-<k>.rgb565`.
@@ -46,6 +47,9 @@ pub enum Variant {
     FtbStream,
     /// Peel front to back in bands of rows, each band sent when done.
     FtbBands,
+    /// Peel front to back into scan memory (each covered interval with its colour), the frame
+    /// then sent in scan order as one window: no framebuffer.
+    ScanOrder,
     /// Peel back to front (painter's algorithm) into a full framebuffer.
     B2fFramebuffer,
     /// Peel back to front in bands of rows.
@@ -64,10 +68,11 @@ pub enum Variant {
 
 impl Variant {
     /// Every variant, in table order.
-    pub const ALL: [Variant; 9] = [
+    pub const ALL: [Variant; 10] = [
         Variant::FtbFramebuffer,
         Variant::FtbStream,
         Variant::FtbBands,
+        Variant::ScanOrder,
         Variant::B2fFramebuffer,
         Variant::B2fBands,
         Variant::Zbuffer,
@@ -82,6 +87,7 @@ impl Variant {
             Variant::FtbFramebuffer => "ftb-framebuffer",
             Variant::FtbStream => "ftb-stream",
             Variant::FtbBands => "ftb-bands",
+            Variant::ScanOrder => "scan-order",
             Variant::B2fFramebuffer => "b2f-framebuffer",
             Variant::B2fBands => "b2f-bands",
             Variant::Zbuffer => "zbuffer",
@@ -94,9 +100,10 @@ impl Variant {
     /// The method it measures (the `method` of a result record).
     pub const fn method(self) -> &'static str {
         match self {
-            Variant::FtbFramebuffer | Variant::FtbStream | Variant::FtbBands => {
-                "peel-front-to-back"
-            }
+            Variant::FtbFramebuffer
+            | Variant::FtbStream
+            | Variant::FtbBands
+            | Variant::ScanOrder => "peel-front-to-back",
             Variant::B2fFramebuffer | Variant::B2fBands => "peel-back-to-front",
             Variant::Zbuffer => "zbuffer-int",
             Variant::Gfx3d => "embedded-3dgfx",
@@ -129,6 +136,11 @@ impl Variant {
         )
     }
 
+    /// Whether it needs scan memory.
+    pub const fn scan_order(self) -> bool {
+        matches!(self, Variant::ScanOrder)
+    }
+
     /// The variant of a code, as the block stores it.
     pub const fn from_code(code: u32) -> Option<Variant> {
         match code {
@@ -141,6 +153,7 @@ impl Variant {
             7 => Some(Variant::Gfx3d),
             8 => Some(Variant::ScanlineZbuffer),
             9 => Some(Variant::TiledZbuffer),
+            10 => Some(Variant::ScanOrder),
             _ => None,
         }
     }
@@ -157,6 +170,7 @@ impl Variant {
             Variant::Gfx3d => 7,
             Variant::ScanlineZbuffer => 8,
             Variant::TiledZbuffer => 9,
+            Variant::ScanOrder => 10,
         }
     }
 }
@@ -200,6 +214,8 @@ pub struct Config {
     pub active_edges: u32,
     /// The scanline z-buffer's points of clipped polygons, the most over the camera path.
     pub clipped_points: u32,
+    /// Scan memory nodes (scan order): what the builder measures over an orbit.
+    pub scan_nodes: u32,
 }
 
 /// Why a block was refused.
@@ -282,11 +298,13 @@ impl Config {
             cameras,
             active_edges: u(LISTS),
             clipped_points: u(LISTS + 4),
+            scan_nodes: u(LISTS + 8),
         };
         let (w, h) = (config.width, config.height);
         let sized = (1..=4096).contains(&w) && (1..=4096).contains(&h);
         let bands = !variant.banded() || (1..=h).contains(&config.band_rows);
-        let spans = !variant.front_to_back() || config.spans_per_row > 0;
+        let spans = (!variant.front_to_back() || config.spans_per_row > 0)
+            && (!variant.scan_order() || config.scan_nodes > 0);
         if !(sized && bands && spans) || config.asset_len > crate::layout::MAX_ASSET {
             return Err(ConfigError::Size);
         }
@@ -316,6 +334,7 @@ impl Config {
         }
         put(LISTS, &self.active_edges.to_le_bytes());
         put(LISTS + 4, &self.clipped_points.to_le_bytes());
+        put(LISTS + 8, &self.scan_nodes.to_le_bytes());
         b
     }
 }
@@ -344,6 +363,7 @@ mod tests {
             cameras,
             active_edges: 300,
             clipped_points: 17,
+            scan_nodes: 2000,
         }
     }
 

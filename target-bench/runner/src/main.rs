@@ -204,6 +204,7 @@ fn run(args: &Args) -> Result<Vec<String>, String> {
                         setup,
                         cameras: &cameras,
                         spans_per_row: refs.spans_per_row,
+                        scan_nodes: refs.scan_nodes,
                         scanline_lists: refs.scanline_lists,
                         elf: elf.to_path_buf(),
                         timeout_s: if args.quick { 120 } else { 900 },
@@ -342,6 +343,7 @@ struct References {
     zbuffer: Vec<Vec<u16>>,
     scanline: Vec<Vec<u16>>,
     spans_per_row: u32,
+    scan_nodes: u32,
     scanline_lists: (u32, u32),
     truth: Rc<Truth>,
     /// Robust errors per method that draws ids, summed over the cameras.
@@ -464,12 +466,19 @@ impl References {
         let spans_per_row = peel_compiler::spans::spans_per_row(&scene.peel_bytes, width, height)
             .map_err(|e| format!("{}: {e}", scene.peel.display()))?
             as u32;
+        let scan_nodes = if needs(Variant::ScanOrder) {
+            peel_compiler::spans::scan_nodes(&scene.peel_bytes, width, height)
+                .map_err(|e| format!("{}: {e}", scene.peel.display()))? as u32
+        } else {
+            0
+        };
         Ok(References {
             front_to_back: peel("front-to-back", Variant::FtbStream)?,
             back_to_front: peel("back-to-front", Variant::B2fFramebuffer)?,
             zbuffer,
             scanline,
             spans_per_row,
+            scan_nodes,
             scanline_lists,
             truth,
             robust,
@@ -479,9 +488,10 @@ impl References {
     /// What a variant's frames are checked against.
     fn expected(&self, variant: Variant) -> Expected<'_> {
         let frames = match variant {
-            Variant::FtbFramebuffer | Variant::FtbStream | Variant::FtbBands => {
-                Some(&self.front_to_back[..])
-            }
+            Variant::FtbFramebuffer
+            | Variant::FtbStream
+            | Variant::FtbBands
+            | Variant::ScanOrder => Some(&self.front_to_back[..]),
             Variant::B2fFramebuffer | Variant::B2fBands => Some(&self.back_to_front[..]),
             // The tiled z-buffer's bands are the whole frame's rows.
             Variant::Zbuffer | Variant::TiledZbuffer => Some(&self.zbuffer[..]),

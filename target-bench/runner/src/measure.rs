@@ -25,6 +25,8 @@ pub struct Measure<'a> {
     pub setup: Setup,
     pub cameras: &'a [OrbitAngles],
     pub spans_per_row: u32,
+    /// Scan memory nodes (scan order).
+    pub scan_nodes: u32,
     /// The scanline z-buffer's active edges and clipped points (the most over the cameras).
     pub scanline_lists: (u32, u32),
     pub elf: std::path::PathBuf,
@@ -91,6 +93,7 @@ impl Measure<'_> {
             cameras,
             active_edges: self.scanline_lists.0,
             clipped_points: self.scanline_lists.1,
+            scan_nodes: self.scan_nodes,
         };
         let config_path = dir.join("config.bin");
         write(&config_path, &config.encode())?;
@@ -215,6 +218,7 @@ impl Measure<'_> {
             framebuffer_bytes: report.framebuffer,
             flash_bytes: flash,
             display_bytes: median(|f| f.display_bytes),
+            display_writes: median(|f| f.display_writes),
             differing_pixels: differing,
             robust_errors,
             deterministic,

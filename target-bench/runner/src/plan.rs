@@ -76,6 +76,7 @@ impl Setup {
     pub fn path(&self) -> String {
         match self.variant {
             Variant::FtbStream => "stream".into(),
+            Variant::ScanOrder => "scan-order".into(),
             // One row of colour and depth, sent when done.
             Variant::ScanlineZbuffer => "bands-1".into(),
             v if v.banded() => format!("bands-{}", self.band_rows),
@@ -106,6 +107,7 @@ pub fn setups(only: Option<&[Variant]>) -> Vec<Setup> {
     let all = [
         whole(Variant::FtbFramebuffer),
         whole(Variant::FtbStream),
+        whole(Variant::ScanOrder),
         band(Variant::FtbBands, 8),
         band(Variant::FtbBands, 16),
         band(Variant::FtbBands, 30),
@@ -167,8 +169,8 @@ against the host and writes target/peel-target/results.json and results.md.
   --quick         the demo scene, two cameras, 320x240, both cores, every method (CI)
   --shadows       scenes compiled with the default sun's shadows (peel compile --shadows)
   --models DIR    the shared models (default: ../shared/models from the repository root)
-  --only LIST     only these firmware variants: ftb-framebuffer, ftb-stream, ftb-bands,
-                  b2f-framebuffer, b2f-bands, zbuffer, tiled-zbuffer, scanline-zbuffer,
+  --only LIST     only these firmware variants: ftb-framebuffer, ftb-stream, scan-order,
+                  ftb-bands, b2f-framebuffer, b2f-bands, zbuffer, tiled-zbuffer, scanline-zbuffer,
                   embedded-3dgfx";
 
 /// Parse the arguments after the program name; `Ok(None)` for `--help`.
@@ -241,13 +243,14 @@ mod tests {
         assert_eq!(c.len(), 8);
         assert_eq!(c[7].azimuth_deg, 315.0);
         assert!(c.iter().all(|c| c.elevation_deg == 20.0));
-        assert_eq!(setups(None).len(), 11);
+        assert_eq!(setups(None).len(), 12);
         let paths: Vec<String> = setups(None).iter().map(Setup::path).collect();
         assert_eq!(
             paths,
             [
                 "framebuffer",
                 "stream",
+                "scan-order",
                 "bands-8",
                 "bands-16",
                 "bands-30",

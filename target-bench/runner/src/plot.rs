@@ -152,6 +152,7 @@ mod tests {
             framebuffer_bytes: 0,
             flash_bytes: 400_000,
             display_bytes: 153_611,
+            display_writes: 2,
             differing_pixels: Some(0),
             robust_errors: 0,
             deterministic: true,

@@ -7,6 +7,8 @@ pub struct Frame {
     pub ticks: u64,
     /// Bytes sent to the mock display.
     pub display_bytes: u64,
+    /// Separate driver writes to the mock display: window set-ups and pixel runs.
+    pub display_writes: u64,
     /// Front to back ran out of span memory.
     pub fallback: bool,
 }
@@ -90,6 +92,7 @@ pub fn parse(output: &str) -> Result<Report, String> {
                 report.frames.push(Frame {
                     ticks: field(line, "ticks")?,
                     display_bytes: field(line, "display_bytes")?,
+                    display_writes: field(line, "display_writes")?,
                     fallback: field(line, "fallback")? != 0,
                 });
             }
@@ -128,8 +131,8 @@ mod tests {
     use super::*;
 
     const GOOD: &str = "peel-target variant=ftb-framebuffer target=thumbv7em-none-eabihf\n\
-        frame 0 ticks=42079 display_bytes=153611 fallback=0\n\
-        frame 1 ticks=44539 display_bytes=153611 fallback=1\n\
+        frame 0 ticks=42079 display_bytes=153611 display_writes=2 fallback=0\n\
+        frame 1 ticks=44539 display_bytes=153611 display_writes=2 fallback=1\n\
         memory pool_used=169440 pool_capacity=376832 framebuffer=153600 stack_peak=2596\n\
         done\n";
 
@@ -144,6 +147,7 @@ mod tests {
             Frame {
                 ticks: 44539,
                 display_bytes: 153611,
+                display_writes: 2,
                 fallback: true
             }
         );

@@ -33,6 +33,9 @@ pub struct Record {
     pub flash_bytes: u64,
     /// Median bytes a frame sends to the display.
     pub display_bytes: u64,
+    /// Median separate writes a frame makes to the display driver: window set-ups and pixel
+    /// runs (a `fill_solid` or `fill_contiguous` is one of each, as mipidsi sends them).
+    pub display_writes: u64,
     /// Pixels differing from the host's run of the same code, summed over the cameras; `None`
     /// for a method whose code does not run on the host (embedded-3dgfx).
     pub differing_pixels: Option<u64>,
@@ -66,9 +69,9 @@ fn grouped(n: u64) -> String {
 pub fn markdown(records: &[Record]) -> String {
     let mut s = String::from(
         "| scene | method | path | core | width | height | triangles | instructions | ram_bytes | \
-         framebuffer_bytes | flash_bytes | display_bytes | differing_pixels | robust_errors | \
+         framebuffer_bytes | flash_bytes | display_bytes | display_writes | differing_pixels | robust_errors | \
          deterministic |\n\
-         |---|---|---|---|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|---|\n",
+         |---|---|---|---|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|---|\n",
     );
     for r in records {
         s.push_str(&peel_compiler::tools::markdown_row([
@@ -84,6 +87,7 @@ pub fn markdown(records: &[Record]) -> String {
             grouped(r.framebuffer_bytes),
             grouped(r.flash_bytes),
             grouped(r.display_bytes),
+            grouped(r.display_writes),
             r.differing_pixels
                 .map_or_else(|| "-".to_string(), |d| d.to_string()),
             r.robust_errors.to_string(),
@@ -144,6 +148,7 @@ mod tests {
             framebuffer_bytes: 153_600,
             flash_bytes: 63_302,
             display_bytes: 153_611,
+            display_writes: 2,
             differing_pixels: Some(0),
             robust_errors: 3,
             deterministic: true,
@@ -172,6 +177,7 @@ mod tests {
                 "framebuffer_bytes",
                 "flash_bytes",
                 "display_bytes",
+                "display_writes",
                 "differing_pixels",
                 "robust_errors",
                 "deterministic"
@@ -206,7 +212,7 @@ mod tests {
         assert_eq!(
             lines[2],
             "| demo | peel-front-to-back | framebuffer | cortex-m4f | 320 | 240 | 38 | 1 683 160 | \
-             172 000 | 153 600 | 63 302 | 153 611 | 0 | 3 | yes |"
+             172 000 | 153 600 | 63 302 | 153 611 | 2 | 0 | 3 | yes |"
         );
         assert_eq!(grouped(0), "0");
         assert_eq!(grouped(999), "999");

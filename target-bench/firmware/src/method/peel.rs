@@ -1,11 +1,14 @@
-//! Peel's renderer: front to back (into a framebuffer, streamed, in bands) and back to
-//! front (into a framebuffer, in bands).
+//! Peel's renderer: front to back (into a framebuffer, streamed, in scan order, in bands) and
+//! back to front (into a framebuffer, in bands).
 
 use peel_runtime::camera::LocalView;
 use peel_runtime::coverage::Coverage;
+#[cfg(not(feature = "scan-order"))]
 use peel_runtime::display::{DrawTargetSink, Rgb565Framebuffer};
 use peel_runtime::read::{Header, Scene};
 use peel_runtime::render::{Renderer, Workspace};
+#[cfg(feature = "scan-order")]
+use peel_runtime::scan::ScanMemory;
 use peel_runtime::vertices::{CachedVertex, VertexCache};
 use peel_target_kit::config::{Config, Variant};
 
@@ -22,6 +25,7 @@ const VERTEX_MEMORY: usize = 512;
 static mut VERTEX_ENTRIES: [CachedVertex; VERTEX_MEMORY] = [CachedVertex::EMPTY; VERTEX_MEMORY];
 
 /// A Peel variant's scene, renderer and pixel memory.
+#[cfg_attr(feature = "scan-order", allow(dead_code))]
 pub struct Method {
     scene: Scene<'static>,
     /// Made once, draws every frame (and band): the background set, span memory for one
@@ -66,13 +70,20 @@ impl Method {
             let counts = pool.u16s(rows, Use::RowCounts)?;
             renderer = renderer.span_memory(Coverage::new(intervals, counts, width, band)?);
         }
+        // Scan order: the nodes the builder measures over an orbit, a head per row.
+        #[cfg(feature = "scan-order")]
+        {
+            let nodes = pool.scan_nodes(config.scan_nodes as usize)?;
+            let heads = pool.u16s(height as usize, Use::ScanHeads)?;
+            renderer = renderer.scan_memory(ScanMemory::new(nodes, heads, width, height)?);
+        }
         // A static rather than a singleton, which would build the array in `main`'s stack
         // frame first and so count it twice (`.bss` and the stack's high-water mark).
         // SAFETY: the workspace singleton above makes this run once, so this is the only
         // reference.
         let vertices = unsafe { &mut *core::ptr::addr_of_mut!(VERTEX_ENTRIES) };
         renderer = renderer.vertex_memory(VertexCache::new(vertices));
-        let pixel_count = if VARIANT == Variant::FtbStream {
+        let pixel_count = if matches!(VARIANT, Variant::FtbStream | Variant::ScanOrder) {
             0
         } else {
             width as usize * band as usize
@@ -92,7 +103,8 @@ impl Method {
         self.scene.header()
     }
 
-    /// Bytes of pixel memory: the framebuffer or band buffer (0 when streaming).
+    /// Bytes of pixel memory: the framebuffer or band buffer (0 when streaming or in scan
+    /// order).
     pub fn framebuffer_bytes(&self) -> usize {
         core::mem::size_of_val(self.pixels)
     }
@@ -101,6 +113,20 @@ impl Method {
     /// back ran out of span memory (the frame is then finished back to front: the same
     /// pixels, with overdraw).
     pub fn frame(&mut self, view: &LocalView, panel: &mut Panel) -> Result<bool, Failure> {
+        #[cfg(feature = "scan-order")]
+        {
+            // The frame into scan memory, then to the panel in one window, row by row.
+            let frame = self.renderer.draw_scan(&self.scene, view)?;
+            let Ok(()) = frame.draw_to(panel);
+            Ok(false)
+        }
+        #[cfg(not(feature = "scan-order"))]
+        self.other_frame(view, panel)
+    }
+
+    /// [`Method::frame`] of the variants other than scan order.
+    #[cfg(not(feature = "scan-order"))]
+    fn other_frame(&mut self, view: &LocalView, panel: &mut Panel) -> Result<bool, Failure> {
         let (w, h) = (self.width, self.height);
         let scene = &self.scene;
         if VARIANT == Variant::FtbStream {
