@@ -16,6 +16,7 @@ use peel_runtime::display::{Colour, Framebuffer, Xrgb8888};
 use peel_runtime::pending::{Pending, PendingPixel};
 use peel_runtime::read::Scene;
 use peel_runtime::render::{Renderer, Workspace};
+use peel_runtime::RenderError;
 
 /// The scene in white, flat.
 fn white(mut mesh: Mesh) -> (Mesh, Vec<u8>) {
@@ -172,7 +173,8 @@ fn bands_match_and_running_out_of_span_memory_draws_the_plain_frame() {
 }
 
 /// Streamed (no framebuffer), an anti-aliased frame with a background writes every pixel
-/// exactly once, in bands too: finished pixels as they finish, pending ones at the end.
+/// exactly once, in bands too: finished pixels as they finish, pending ones at the end; and
+/// a display whose span memory runs out gets the error, not the frame drawn again.
 #[test]
 fn an_antialiased_frame_writes_each_pixel_once() {
     struct Once {
@@ -187,6 +189,10 @@ fn an_antialiased_frame_writes_each_pixel_once() {
                 *w = 1;
             }
         }
+        // A display: front to back or nothing, never drawn over.
+        fn write_once(&self) -> bool {
+            true
+        }
     }
     for (name, mesh) in scenes() {
         let (mesh, bytes) = white(mesh);
@@ -196,9 +202,10 @@ fn an_antialiased_frame_writes_each_pixel_once() {
                 .camera(&scene.header())
                 .unwrap()
                 .view(scene.header().centre);
-            for band in [shot.height, 7] {
+            // Span memory of 64 intervals a row suffices; of 1, a display gets the error.
+            for (band, spans) in [(shot.height, 64), (7, 64), (shot.height, 1)] {
                 let mut workspace: Box<Workspace<4096, 64>> = Box::default();
-                let mut intervals = vec![(0u16, 0u16); 64 * band as usize];
+                let mut intervals = vec![(0u16, 0u16); spans * band as usize];
                 let mut counts = vec![0u16; band as usize];
                 let coverage = Coverage::new(&mut intervals, &mut counts, 160, band).unwrap();
                 let mut records = vec![PendingPixel::default(); 4096];
@@ -212,6 +219,11 @@ fn an_antialiased_frame_writes_each_pixel_once() {
                     width: 160,
                     writes: vec![0; 160 * 120],
                 };
+                if spans == 1 {
+                    let refused = renderer.draw(&scene, &view, &mut once);
+                    assert_eq!(refused, Err(RenderError::SpanMemoryFull), "{name}");
+                    continue;
+                }
                 for y in (0..120).step_by(band as usize) {
                     let stats = renderer
                         .draw_rows(&scene, &view, y..(y + band).min(120), &mut once)
