@@ -400,9 +400,6 @@ impl<'m, const SUB: u32> Renderer<'m, SUB> {
         #[cfg(not(feature = "scan-order"))]
         let scan_pass = false;
         let once = scan_pass || target.write_once();
-        if once && order != Order::FrontToBack {
-            return Err(RenderError::NotFrontToBack);
-        }
         let paint = self.paint;
         let cull = self.cull;
         // Without the features the memory is never used: the optimiser drops that code.
@@ -441,6 +438,11 @@ impl<'m, const SUB: u32> Renderer<'m, SUB> {
             }
             c.clear();
             c.use_rows(rows.end - rows.start);
+        }
+        // Through `black_box`: knowing the order past this check, LLVM specialised the walk of
+        // a streamed frame for it and laid it out 2% slower (the teapot on both cores).
+        if once && core::hint::black_box(order) != Order::FrontToBack {
+            return Err(RenderError::NotFrontToBack);
         }
         let frustum = Frustum::new(view);
         // The whole scene inside the frustum (the usual case for an object in view): no
