@@ -1,13 +1,13 @@
 //! Peel on a Raspberry Pi Pico (RP2040, Cortex-M0+ at 125 MHz, no FPU) with a 320x240 ST7789
 //! panel: an orbit around the scene compiled by build.rs, drawn front to back frame after
-//! frame and streamed span by span to the panel (no framebuffer: 150 KiB at this size).
+//! frame and sent to the panel in scan order (no framebuffer: 150 KiB at this size).
 //!
 //! Wiring (as on Waveshare's Pico-LCD-2, an ST7789 of 240x320 turned to landscape): SPI1 with
 //! SCK on GP10 and MOSI on GP11, chip select GP9, data/command GP8, reset GP12, backlight
 //! GP13.
 //!
 //! The memory comes from the scene's sizes file: the traversal stack (`scene::STACK`), the
-//! clip buffers (`scene::VERTS`) and the span memory (`scene::span_memory`, measured by
+//! clip buffers (`scene::VERTS`) and the scan memory (`scene::SCAN_NODES`, measured by
 //! build.rs over an orbit at 320x240), so another mesh (`PEEL_BOARD_MESH`) needs no edit here.
 //! The camera is a [`LocalOrbit`]: `f32` alone, no `f64` and no libm.
 #![no_std]
@@ -22,10 +22,10 @@ use mipidsi::models::ST7789;
 use mipidsi::options::{ColorInversion, Orientation, Rotation};
 use panic_halt as _;
 use peel_runtime::camera::{Camera, LocalOrbit, LocalView, Orbit};
-use peel_runtime::coverage::Coverage;
-use peel_runtime::display::{Colour, DrawTargetSink};
+use peel_runtime::display::Colour;
 use peel_runtime::read::{Header, Scene};
 use peel_runtime::render::{Renderer, Workspace};
+use peel_runtime::scan::{ScanMemory, ScanNode};
 use peel_runtime::vertices::{CachedVertex, VertexCache};
 use peel_runtime::RenderError;
 use rp_pico::entry;
@@ -43,9 +43,6 @@ mod scene {
 /// The panel in landscape.
 const WIDTH: u32 = 320;
 const HEIGHT: u32 = 240;
-/// Span memory: the intervals per row the scene's orbit needs at this size (build.rs
-/// measured it), `HEIGHT` rows.
-const SPANS: usize = scene::span_memory(WIDTH, HEIGHT);
 /// Vertex memory: every vertex of a small scene, 512 entries (4 KiB) of a larger one (the
 /// vertices used close together in the walk, as in the target benchmark).
 const VERTEX_MEMORY: usize = if scene::VERTEX_MEMORY < 512 {
@@ -118,23 +115,22 @@ fn orbit_view(header: &Header, azimuth_deg: f32) -> Result<LocalView, RenderErro
     }
 }
 
-/// Draw the frame `view` sees and send it to `panel`: every pixel once, in depth order, the
-/// background last, each span one `fill_solid` (one address window and one burst). The one
-/// place that decides how a frame reaches the panel. Returns whether span memory ran out (the
-/// rest of the frame was then painted back to front: the same pixels, with overdraw).
+/// Draw the frame `view` sees and send it to `panel` in scan order: the walk keeps every
+/// covered interval with its colour in scan memory, then the frame goes out row by row, top to
+/// bottom, in one address window (one `fill_contiguous`: mipidsi sets the window once and
+/// streams the pixels), so the panel never shows two frames mixed beyond the row being
+/// written. The one place that decides how a frame reaches the panel.
 fn draw_frame<D>(
     renderer: &mut Renderer<'_>,
     scene: &Scene<'_>,
     view: &LocalView,
     panel: &mut D,
-) -> Result<bool, Failure>
+) -> Result<(), Failure>
 where
     D: DrawTarget<Color = Rgb565>,
 {
-    let mut sink = DrawTargetSink::new(panel);
-    let stats = renderer.draw(scene, view, &mut sink)?;
-    sink.finish().map_err(|_| Failure::Hardware)?;
-    Ok(stats.fallback)
+    let frame = renderer.draw_scan(scene, view)?;
+    frame.draw_to(panel).map_err(|_| Failure::Hardware)
 }
 
 #[entry]
@@ -142,8 +138,8 @@ fn main() -> ! {
     // cortex-m-rt turns these `static mut` into `&'static mut` owned by `main`: zeros, in
     // `.bss`, no code to set them up.
     static mut WORKSPACE: Workspace<{ scene::STACK }, { scene::VERTS }> = Workspace::new();
-    static mut INTERVALS: [(u16, u16); SPANS] = [(0, 0); SPANS];
-    static mut COUNTS: [u16; HEIGHT as usize] = [0; HEIGHT as usize];
+    static mut NODES: [ScanNode; scene::SCAN_NODES] = [ScanNode::EMPTY; scene::SCAN_NODES];
+    static mut HEADS: [u16; HEIGHT as usize] = [0; HEIGHT as usize];
     static mut VERTICES: [CachedVertex; VERTEX_MEMORY] = [CachedVertex::EMPTY; VERTEX_MEMORY];
     // mipidsi's transfer buffer: pixels of one fill go out in bursts of this many bytes.
     static mut SPI_BUFFER: [u8; 512] = [0; 512];
@@ -198,12 +194,12 @@ fn main() -> ! {
 
     // The scene, validated once at boot; the renderer over the static memory, made once.
     let scene = Scene::parse(SCENE).unwrap_or_else(|e| fail(Failure::Read(e)));
-    let coverage = Coverage::new(INTERVALS, COUNTS, WIDTH, HEIGHT)
-        .unwrap_or_else(|e| fail(Failure::Render(e)));
+    let memory =
+        ScanMemory::new(NODES, HEADS, WIDTH, HEIGHT).unwrap_or_else(|e| fail(Failure::Render(e)));
     // Without an FPU, vertices are projected in integers and a subtree's box test costs more
     // than the subtrees it skips (BENCHMARKS.md, "On the target").
     let mut renderer = Renderer::new(WORKSPACE)
-        .span_memory(coverage)
+        .scan_memory(memory)
         .vertex_memory(VertexCache::new(VERTICES))
         .background(BACKGROUND)
         .integer_vertices()
@@ -213,12 +209,9 @@ fn main() -> ! {
     let mut azimuth_deg = 0.0;
     loop {
         let view = orbit_view(&header, azimuth_deg).unwrap_or_else(|e| fail(Failure::Render(e)));
-        let fallback =
-            draw_frame(&mut renderer, &scene, &view, &mut panel).unwrap_or_else(|e| fail(e));
-        // Kept for a debugger: a frame that ran out of span memory was finished back to
-        // front (the same pixels, with overdraw the panel shows). build.rs sized the memory
-        // for this orbit, so none should.
-        core::hint::black_box(fallback);
+        // A frame needing more scan memory than build.rs measured for this orbit is an error
+        // (`RenderError::ScanMemoryFull`), sent nowhere: never a frame with overdraw.
+        draw_frame(&mut renderer, &scene, &view, &mut panel).unwrap_or_else(|e| fail(e));
         azimuth_deg += STEP_DEG;
         if azimuth_deg >= 360.0 {
             azimuth_deg -= 360.0;
