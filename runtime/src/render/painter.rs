@@ -159,6 +159,22 @@ impl<const SUB: u32> Painter<'_, '_, SUB> {
         if !(self.cull && self.cull_subtrees && cfg!(feature = "bounds-culling")) {
             return true;
         }
+        self.test_subtree(scene, node, coverage, stats)
+    }
+
+    /// [`Self::enter`]'s tests. Out of line on a soft-float ARM core: inlined into the walk,
+    /// LLVM may compute some of its `f32` sums before the branch that skips them, each a
+    /// library call there, for every node of a frame without subtree tests (the teapot's
+    /// frame on the Cortex-M0+ took 2.4 times its instructions so when the painter borrowed
+    /// the frame's integer view rather than copying it).
+    #[cfg_attr(all(target_arch = "arm", not(target_abi = "eabihf")), inline(never))]
+    fn test_subtree<T: Source + ?Sized>(
+        &self,
+        scene: &T,
+        node: u32,
+        coverage: Option<&Coverage<'_>>,
+        stats: &mut FrameStats,
+    ) -> bool {
         let coverage = coverage.filter(|c| c.mode() != Mode::Measure);
         let (w, h) = (self.view.width, self.view.height);
         let (r0, r1) = (self.rows.start, self.rows.end);
@@ -237,10 +253,11 @@ impl<const SUB: u32> Painter<'_, '_, SUB> {
             .as_deref_mut()
             .filter(|_| cfg!(feature = "vertex-cache"));
         // Without the feature there are never integer vertices (nor the field).
+        // Borrowed: a copy of the view (112 bytes) per polygon took a `memcpy` on ARMv6-M.
         #[cfg(feature = "integer-vertices")]
-        let integer = self.integer;
+        let integer = self.integer.as_ref();
         #[cfg(not(feature = "integer-vertices"))]
-        let integer: Option<IntegerView> = None;
+        let integer: Option<&IntegerView> = None;
         let count = if cache.is_some() || integer.is_some() {
             // No clipping in this frame: each corner is its vertex's snapped projection,
             // computed once per frame when there is vertex memory.
