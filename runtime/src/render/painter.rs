@@ -488,9 +488,9 @@ impl<S: SpanSink + ?Sized> SpanSink for Antialiased<'_, '_, '_, S> {
 
 /// A sink whose rows are `by` below the rows it is given: from a band's coverage rows back
 /// to frame rows.
-struct Shifted<'s, S: SpanSink + ?Sized> {
-    sink: &'s mut S,
-    by: u32,
+pub(super) struct Shifted<'s, S: SpanSink + ?Sized> {
+    pub(super) sink: &'s mut S,
+    pub(super) by: u32,
 }
 
 impl<S: SpanSink + ?Sized> SpanSink for Shifted<'_, S> {

@@ -7,6 +7,8 @@
 use glam::Vec3;
 
 use super::painter::Painter;
+#[cfg(feature = "antialias")]
+use super::painter::Shifted;
 use super::{FrameStats, Source, Workspace};
 use crate::camera::LocalView;
 use crate::clip::{self, Frustum};
@@ -525,55 +527,45 @@ impl<'m, const SUB: u32> Renderer<'m, SUB> {
             paint_uncovered(None, width, first_row..end_row, colour, target);
         }
 
-        // Pass 1: the frame's order (again without anti-aliasing if its span memory runs out).
-        #[cfg_attr(not(feature = "antialias"), allow(unused_mut))]
-        let mut overflow = painter.walk(
-            scene,
-            order,
-            &mut self.stack[..],
-            coverage.as_deref_mut(),
-            target,
-            &mut stats,
-            None,
-        )?;
-        #[cfg(feature = "antialias")]
-        if let (Some(p), Some(c)) = (painter.antialias.take(), coverage.as_deref_mut()) {
-            if overflow.is_none() {
-                // The pending pixels take the background for their uncovered samples.
-                let mut sink = Rows {
-                    sink: &mut *target,
-                    by: first_row,
-                };
-                let mut through = crate::coverage::CoverageSink {
-                    coverage: c,
-                    sink: &mut sink,
-                    pixels: 0,
-                };
-                p.drain(background.unwrap_or_default(), &mut through);
-                stats.pixels_written += through.pixels;
-                stats.antialiased = true;
-            } else {
-                if once {
-                    // No overdraw on a display: the frame stops here.
-                    return Err(RenderError::SpanMemoryFull);
+        // Pass 1: the frame's order; anti-aliased, again without if its span memory runs out
+        // (a display, which must not be drawn over, gets the error below instead).
+        #[cfg_attr(not(feature = "antialias"), allow(clippy::never_loop))]
+        let overflow = loop {
+            let overflow = painter.walk(
+                scene,
+                order,
+                &mut self.stack[..],
+                coverage.as_deref_mut(),
+                target,
+                &mut stats,
+                None,
+            )?;
+            #[cfg(feature = "antialias")]
+            if let (Some(p), Some(c)) = (painter.antialias.take(), coverage.as_deref_mut()) {
+                if overflow.is_none() {
+                    // The pending pixels take the background for their uncovered samples.
+                    let mut sink = Shifted {
+                        sink: &mut *target,
+                        by: first_row,
+                    };
+                    let mut through = crate::coverage::CoverageSink {
+                        coverage: c,
+                        sink: &mut sink,
+                        pixels: 0,
+                    };
+                    p.drain(background.unwrap_or_default(), &mut through);
+                    stats.pixels_written += through.pixels;
+                    stats.antialiased = true;
+                } else if !once {
+                    p.clear();
+                    c.clear();
+                    c.use_rows(end_row - first_row);
+                    c.set_mode(Mode::Exclusive);
+                    continue;
                 }
-                // The span memory ran out: the frame again, without anti-aliasing, over
-                // what was sent (the sink gets the frame without anti-aliasing in the end).
-                p.clear();
-                c.clear();
-                c.use_rows(end_row - first_row);
-                c.set_mode(Mode::Exclusive);
-                overflow = painter.walk(
-                    scene,
-                    order,
-                    &mut self.stack[..],
-                    coverage.as_deref_mut(),
-                    target,
-                    &mut stats,
-                    None,
-                )?;
             }
-        }
+            break overflow;
+        };
 
         // Pass 2 (span memory exhausted at polygon `last`): the polygons from the farthest up
         // to `last`, back to front, clipped against the frozen coverage.
@@ -608,22 +600,6 @@ impl<'m, const SUB: u32> Renderer<'m, SUB> {
             _ => None,
         };
         Ok(stats)
-    }
-}
-
-/// A sink whose rows are `by` below the rows it is given: from a band's rows back to frame
-/// rows.
-#[cfg(feature = "antialias")]
-struct Rows<'s, S: SpanSink + ?Sized> {
-    sink: &'s mut S,
-    by: u32,
-}
-
-#[cfg(feature = "antialias")]
-impl<S: SpanSink + ?Sized> SpanSink for Rows<'_, S> {
-    fn span(&mut self, y: u32, x_start: u32, x_end: u32, colour: Colour) {
-        self.sink
-            .span(y.wrapping_add(self.by), x_start, x_end, colour);
     }
 }
 
