@@ -52,12 +52,13 @@ pub struct ScanNode {
 }
 
 impl ScanNode {
-    /// An unused node, for static arrays.
+    /// An unused node, for static arrays: all zeros, so that a `static` pool lands in `.bss`
+    /// and costs no flash (a node's content matters only once the memory hands it out).
     pub const EMPTY: ScanNode = ScanNode {
         start: 0,
         end: 0,
         colour: 0,
-        next: NIL,
+        next: 0,
     };
 }
 
@@ -173,11 +174,15 @@ impl<'m> ScanMemory<'m> {
             .unwrap_or(NIL)
     }
 
+    /// Node `i`; beyond the pool (never, by construction) an empty one ending its list.
     fn node(&self, i: u16) -> ScanNode {
         self.nodes
             .get(usize::from(i))
             .copied()
-            .unwrap_or(ScanNode::EMPTY)
+            .unwrap_or(ScanNode {
+                next: NIL,
+                ..ScanNode::EMPTY
+            })
     }
 
     fn node_mut(&mut self, i: u16) -> Option<&mut ScanNode> {
