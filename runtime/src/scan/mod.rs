@@ -176,13 +176,10 @@ impl<'m> ScanMemory<'m> {
 
     /// Node `i`; beyond the pool (never, by construction) an empty one ending its list.
     fn node(&self, i: u16) -> ScanNode {
-        self.nodes
-            .get(usize::from(i))
-            .copied()
-            .unwrap_or(ScanNode {
-                next: NIL,
-                ..ScanNode::EMPTY
-            })
+        self.nodes.get(usize::from(i)).copied().unwrap_or(ScanNode {
+            next: NIL,
+            ..ScanNode::EMPTY
+        })
     }
 
     fn node_mut(&mut self, i: u16) -> Option<&mut ScanNode> {
