@@ -375,9 +375,10 @@ impl<'m> Pending<'m> {
 /// The average of [`SAMPLES`] samples: `sums` plus `missing` samples of `fill`, rounded to
 /// nearest.
 fn average(sums: [u16; 3], fill: [u16; 3], missing: u16) -> Colour {
-    let [r, g, b] = [0, 1, 2].map(|c| {
-        let total = u32::from(sums[c]) + u32::from(missing) * u32::from(fill[c]);
+    let channel = |sum: u16, fill: u16| {
+        let total = u32::from(sum) + u32::from(missing) * u32::from(fill);
         ((2 * total + SAMPLES) / (2 * SAMPLES)) as u8
-    });
-    Colour::new(r, g, b)
+    };
+    let ([r, g, b], [fr, fg, fb]) = (sums, fill);
+    Colour::new(channel(r, fr), channel(g, fg), channel(b, fb))
 }
