@@ -1,5 +1,6 @@
 //! Panic probe: calls the runtime's public render path (parse, camera, render back to front
-//! and front to back into a framebuffer, with span and vertex memory; the trusted parse with
+//! and front to back into a framebuffer, with span and vertex memory, anti-aliased with
+//! pending pixels; the trusted parse with
 //! the `f32` view) on inputs the
 //! optimiser cannot see through (`black_box`), so every panic the runtime could reach on some
 //! input stays in the program.
@@ -14,9 +15,11 @@ use glam::{DVec3, Vec3};
 use panic_never as _;
 use peel_runtime::camera::{Camera, LocalView, Pose};
 use peel_runtime::coverage::Coverage;
+use peel_runtime::display::{Colour, Framebuffer, Rgb565};
+#[cfg(feature = "antialias")]
+use peel_runtime::pending::{Pending, PendingPixel};
 use peel_runtime::read::Scene;
 use peel_runtime::render::{Renderer, Workspace};
-use peel_runtime::display::{Colour, Framebuffer, Rgb565};
 use peel_runtime::vertices::{CachedVertex, VertexCache};
 
 /// Image size of the probe (any size: the runtime checks it).
@@ -72,7 +75,35 @@ fn probe() {
         }
         let _ = black_box(renderer.draw(&scene, &view, &mut fb));
     }
+    // Anti-aliased, with pending pixels of any size.
+    #[cfg(feature = "antialias")]
+    antialiased(&scene, &view, &mut workspace, &mut fb);
     black_box(&pixels);
+}
+
+/// [`probe`]'s frame anti-aliased.
+#[cfg(feature = "antialias")]
+fn antialiased(
+    scene: &Scene<'_>,
+    view: &LocalView,
+    workspace: &mut Workspace<64, 32>,
+    fb: &mut Framebuffer<'_, Rgb565>,
+) {
+    let mut intervals = [(0u16, 0u16); 8 * H as usize];
+    let mut counts = [0u16; H as usize];
+    let mut records = [PendingPixel::default(); 32];
+    let (mut heads, mut row) = ([0u16; H as usize], [0u16; W as usize]);
+    let records = records.get_mut(..black_box(32)).unwrap_or_default();
+    if let (Ok(coverage), Ok(pending)) = (
+        Coverage::new(&mut intervals, &mut counts, W, H),
+        Pending::new(records, &mut heads, &mut row, W, H),
+    ) {
+        let mut renderer = Renderer::new(workspace)
+            .span_memory(coverage)
+            .antialias(pending)
+            .background(black_box(Colour::new(4, 5, 6)));
+        let _ = black_box(renderer.draw(scene, view, fb));
+    }
 }
 
 /// The smallest firmware's path: a file read with `parse_trusted` (any bytes past a valid
