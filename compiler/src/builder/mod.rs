@@ -261,11 +261,18 @@ impl Builder {
                         "measuring scan memory at {width}x{height}: {e}"
                     ))
                 })?;
+                let pending_pixels =
+                    spans::pending_pixels(&result.peel, width, height).map_err(|e| {
+                        CompileError::Invariant(format!(
+                            "measuring pending pixels at {width}x{height}: {e}"
+                        ))
+                    })?;
                 Some(sizes::MeasuredSpans {
                     width,
                     height,
                     per_row,
                     scan_nodes,
+                    pending_pixels,
                 })
             }
             None => None,

@@ -28,10 +28,16 @@ pub struct MeasuredSpans {
     /// The scan memory nodes with which no scan-order frame of the orbit runs out
     /// ([`super::spans::scan_nodes`]).
     pub scan_nodes: usize,
+    /// The pending-pixel records with which no anti-aliased frame of the orbit has a row fall
+    /// back to plain pixels ([`super::spans::pending_pixels`]).
+    pub pending_pixels: usize,
 }
 
 /// Scan memory nodes the sizes file gives without a measurement (32 KiB).
 pub const RECOMMENDED_SCAN_NODES: usize = 4096;
+
+/// Pending-pixel records the sizes file gives without a measurement (24 KiB).
+pub const RECOMMENDED_PENDING_PIXELS: usize = 2048;
 
 /// The text of the sizes file of `header` (a `.peel` file of `bytes` bytes named `peel_name`,
 /// compiled from `source`), with the span memory measured for an image size if `spans`.
@@ -202,6 +208,29 @@ pub fn sizes_file(
                 scan_nodes * 8
             ),
             format!("pub const SCAN_NODES: usize = {scan_nodes};"),
+        ),
+    }
+    match spans {
+        None => item(
+            "Pending-pixel records (`pending::PendingPixel`, 12 bytes each) for anti-aliased\n\
+             frames (`Renderer::antialias`): a guess (`Builder::image_size` measures what the\n\
+             scene needs). Running out draws a row's remaining edge pixels without anti-aliasing.",
+            format!("pub const PENDING_PIXELS: usize = {RECOMMENDED_PENDING_PIXELS};"),
+        ),
+        Some(MeasuredSpans {
+            width,
+            height,
+            pending_pixels,
+            ..
+        }) => item(
+            &format!(
+                "Pending-pixel records (`pending::PendingPixel`, 12 bytes each: {} bytes) this\n\
+                 scene needs at {width}x{height} for anti-aliased frames (`Renderer::antialias`):\n\
+                 the most any frame of the orbit of `SPANS_PER_ROW` keeps pending. Running out\n\
+                 draws a row's remaining edge pixels without anti-aliasing.",
+                pending_pixels * 12
+            ),
+            format!("pub const PENDING_PIXELS: usize = {pending_pixels};"),
         ),
     }
     item(

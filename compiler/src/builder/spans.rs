@@ -7,6 +7,7 @@
 use peel_runtime::camera::{Camera, Orbit, DEFAULT_FOV_Y_DEG};
 use peel_runtime::coverage::Coverage;
 use peel_runtime::display::{Colour, SpanSink};
+use peel_runtime::pending::{Pending, PendingPixel};
 use peel_runtime::read::Scene;
 use peel_runtime::render::{Renderer, Workspace};
 use peel_runtime::scan::{ScanMemory, ScanNode};
@@ -63,6 +64,47 @@ pub fn scan_nodes(bytes: &[u8], width: u32, height: u32) -> Result<usize, String
             .draw_scan(&scene, view)
             .map_err(|e| e.to_string())?;
         most = most.max(frame.nodes_used());
+    }
+    Ok(most)
+}
+
+/// Records an anti-aliased pool can address (`peel_runtime::pending`).
+const MOST_PENDING: usize = 32_767;
+
+/// The pending-pixel records (`peel_runtime::pending::PendingPixel`, 12 bytes each) with
+/// which no anti-aliased frame of the orbit of [`spans_per_row`] has a row fall back to
+/// plain pixels: the most any of its frames keeps pending at once (with span memory enough,
+/// `spans_per_row_bound`).
+///
+/// # Errors
+/// As [`spans_per_row`]'s, and a frame that keeps more pixels pending than a pool can address.
+pub fn pending_pixels(bytes: &[u8], width: u32, height: u32) -> Result<usize, String> {
+    let scene = Scene::parse(bytes).map_err(|e| e.to_string())?;
+    let views = orbit_views(&scene, width, height)?;
+    let per_row = (width as usize).div_ceil(2).max(1);
+    let mut workspace: Box<Workspace<{ 1 << 14 }, 64>> = Box::default();
+    let mut intervals = vec![(0u16, 0u16); per_row * height as usize];
+    let mut counts = vec![0u16; height as usize];
+    let mut records = vec![PendingPixel::default(); MOST_PENDING];
+    let (mut heads, mut row) = (vec![0u16; height as usize], vec![0u16; width as usize]);
+    let coverage =
+        Coverage::new(&mut intervals, &mut counts, width, height).map_err(|e| e.to_string())?;
+    let pending = Pending::new(&mut records, &mut heads, &mut row, width, height)
+        .map_err(|e| e.to_string())?;
+    let mut renderer = Renderer::new(&mut workspace)
+        .span_memory(coverage)
+        .antialias(pending);
+    let mut most = 0;
+    for view in &views {
+        renderer
+            .draw(&scene, view, &mut Nowhere)
+            .map_err(|e| e.to_string())?;
+        most = most.max(renderer.pending().map_or(0, |p| p.peak()));
+    }
+    if most >= MOST_PENDING {
+        return Err(format!(
+            "a frame keeps more than {MOST_PENDING} pixels pending"
+        ));
     }
     Ok(most)
 }
@@ -183,5 +225,37 @@ mod tests {
         };
         assert!(!fails(nodes));
         assert!(fails(nodes - 1));
+        // Pending pixels: with the measured records every anti-aliased frame of the orbit is
+        // the one with records to spare; with one less, a row falls back and a frame differs.
+        let pending = pending_pixels(&bytes, w, h).unwrap();
+        assert!(pending > 0);
+        let mut frames = |records: usize| -> Vec<Vec<u32>> {
+            views
+                .iter()
+                .map(|view| {
+                    let per_row = (w as usize).div_ceil(2);
+                    let mut intervals = vec![(0u16, 0u16); per_row * h as usize];
+                    let mut counts = vec![0u16; h as usize];
+                    let mut pool = vec![PendingPixel::default(); records];
+                    let (mut heads, mut row) = (vec![0u16; h as usize], vec![0u16; w as usize]);
+                    let mut pixels = vec![0u32; (w * h) as usize];
+                    let mut fb = peel_runtime::display::Framebuffer::<
+                        peel_runtime::display::Xrgb8888,
+                    >::new(&mut pixels, w, h)
+                    .unwrap();
+                    let coverage = Coverage::new(&mut intervals, &mut counts, w, h).unwrap();
+                    let pending = Pending::new(&mut pool, &mut heads, &mut row, w, h).unwrap();
+                    Renderer::new(&mut workspace)
+                        .span_memory(coverage)
+                        .antialias(pending)
+                        .draw(&scene, view, &mut fb)
+                        .unwrap();
+                    pixels
+                })
+                .collect()
+        };
+        let spare = frames(MOST_PENDING);
+        assert!(frames(pending) == spare);
+        assert!(frames(pending - 1) != spare);
     }
 }

@@ -116,8 +116,14 @@ impl<'m> Pending<'m> {
         Ok(p)
     }
 
-    /// Forget every pending pixel and fallen-back row (a new frame or band).
+    /// Forget every pending pixel and fallen-back row, and the peak (a new frame or band).
     pub fn clear(&mut self) {
+        self.empty();
+        self.peak = 0;
+    }
+
+    /// Forget every pending pixel and fallen-back row.
+    fn empty(&mut self) {
         for h in self.heads.iter_mut() {
             *h = NONE;
         }
@@ -134,7 +140,6 @@ impl<'m> Pending<'m> {
         }
         self.free = if n > 0 { 0 } else { NONE };
         self.in_use = 0;
-        self.peak = 0;
     }
 
     /// Rows the memory holds.
@@ -352,8 +357,9 @@ impl<'m> Pending<'m> {
     }
 
     /// End the frame (or band): every pending pixel takes `background` for its uncovered
-    /// samples and is painted into `sink`, row by row, in column order; then
-    /// [`Pending::clear`]. Returns the pixels painted.
+    /// samples and is painted into `sink`, row by row, in column order; then the pool is
+    /// empty again ([`Pending::peak`] stays until [`Pending::clear`]). Returns the pixels
+    /// painted.
     pub fn drain<S: SpanSink + ?Sized>(&mut self, background: Colour, sink: &mut S) -> u64 {
         let bg = [background.r, background.g, background.b].map(u16::from);
         let mut painted = 0;
@@ -367,7 +373,7 @@ impl<'m> Pending<'m> {
                 at = r.next;
             }
         }
-        self.clear();
+        self.empty();
         painted
     }
 }
