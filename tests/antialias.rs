@@ -32,7 +32,12 @@ fn white(mut mesh: Mesh) -> (Mesh, Vec<u8>) {
 }
 
 fn scenes() -> Vec<(String, Mesh)> {
+    let demo = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("fixtures/demo.obj");
     let mut all = vec![
+        (
+            "demo".to_string(),
+            load_obj(&demo).expect("the demo fixture"),
+        ),
         ("sphere".to_string(), scenes::sphere(10, 20)),
         ("torus".to_string(), scenes::torus(24, 12)),
         ("box grid".to_string(), scenes::box_grid(3)),
@@ -58,13 +63,13 @@ fn render(bytes: &[u8], shot: &Shot, antialias: Option<usize>) -> Frame {
     render_bytes_with(bytes, shot, &settings).expect("a frame")
 }
 
-/// The 5 x 3 samples of a pixel stand for a fifth of its width and a third of its height, so
-/// an edge passing between two sample rows is off by up to a sixth of the range (42.5), and a
-/// strip a third of a pixel high can pass between two rows unseen (85 off): the largest errors
-/// found are 30-48 on the closed scenes and the teapot, 69 on the soup's slivers (the issue
-/// asks 32: a finer grid's work), and stay below 96 (that strip and a corner). The 99.9th
-/// percentile is at most 20 and the mean at most 0.25, but for the grid of boxes, whose long
-/// horizontal edges put many pixels at that sixth (its 99.9th percentile is 32).
+/// The 5 x 5 samples of a pixel stand for a fifth of its width and height, so an edge passing
+/// between two sample rows or columns is off by up to a tenth of the range (25.5), plus the
+/// 16 x 16 reference's own step: the issue's goals (largest error 32, 99.9th percentile 20,
+/// mean 0.25) hold on every scene and view but two. The soup's slivers, thinner than a fifth
+/// of a pixel, can pass between two sample rows unseen (up to 51 off; 38 is found), and the
+/// grid of boxes puts so many pixels on long axis-aligned edges that its 99.9th percentile
+/// is that tenth (20.3 is found).
 #[test]
 fn antialiased_frames_are_close_to_the_supersampled_picture() {
     for (name, mesh) in scenes() {
@@ -81,8 +86,9 @@ fn antialiased_frames_are_close_to_the_supersampled_picture() {
                 ImageError::of(&plain.to_rgb(), &truth),
             );
             eprintln!("{name}: anti-aliased {e:?}, plain {before:?}");
-            assert!(e.max <= 96.0, "{name}: {e:?}");
-            let p999 = if name == "box grid" { 32.0 } else { 20.0 };
+            let max = if name == "soup" { 51.0 } else { 32.0 };
+            assert!(e.max <= max, "{name}: {e:?}");
+            let p999 = if name == "box grid" { 25.5 } else { 20.0 };
             assert!(e.p999 <= p999, "{name}: {e:?}");
             assert!(e.mean <= 0.25, "{name}: {e:?}");
             assert!(
@@ -138,7 +144,7 @@ fn draw(bytes: &[u8], shot: &Shot, spans: usize, band: u32) -> (Vec<u32>, bool) 
     let mut counts = vec![0u16; band as usize];
     let coverage = Coverage::new(&mut intervals, &mut counts, w, band).unwrap();
     let mut records = vec![PendingPixel::default(); HOST_PENDING];
-    let (mut heads, mut row) = (vec![0u16; band as usize], vec![0u16; w as usize]);
+    let (mut heads, mut row) = (vec![0u16; band as usize], vec![0; w as usize]);
     let pending = Pending::new(&mut records, &mut heads, &mut row, w, band).unwrap();
     let mut renderer = Renderer::new(&mut workspace)
         .span_memory(coverage)
@@ -209,7 +215,7 @@ fn an_antialiased_frame_writes_each_pixel_once() {
                 let mut counts = vec![0u16; band as usize];
                 let coverage = Coverage::new(&mut intervals, &mut counts, 160, band).unwrap();
                 let mut records = vec![PendingPixel::default(); 4096];
-                let (mut heads, mut row) = (vec![0u16; band as usize], vec![0u16; 160]);
+                let (mut heads, mut row) = (vec![0u16; band as usize], vec![0; 160]);
                 let pending = Pending::new(&mut records, &mut heads, &mut row, 160, band).unwrap();
                 let mut renderer = Renderer::new(&mut workspace)
                     .span_memory(coverage)

@@ -115,7 +115,7 @@ pub struct RenderArgs {
     /// (`Renderer::integer_vertices`: a subpixel unit off now and then, so edge pixels can differ).
     #[arg(long)]
     pub integer_vertices: bool,
-    /// Anti-aliased: each pixel the average of 5 x 3 samples, edges blended with the
+    /// Anti-aliased: each pixel the average of 5 x 5 samples, edges blended with the
     /// background (`Renderer::antialias`).
     #[arg(long)]
     pub antialias: bool,

@@ -22,7 +22,7 @@ mod tests;
 
 use crate::display::{Colour, SpanSink};
 use crate::error::RenderError;
-use crate::fill::samples::{add_span_bits, CENTRE_SAMPLE, FULL_MASK, SAMPLES, SAMPLE_ROWS};
+use crate::fill::samples::{add_span_bits, Mask, CENTRE_SAMPLE, FULL_MASK, SAMPLES, SAMPLE_ROWS};
 
 /// No record (the end of a list).
 const NONE: u16 = 0x7fff;
@@ -30,24 +30,49 @@ const NONE: u16 = 0x7fff;
 const FALLEN_BACK: u16 = 0x8000;
 
 /// One pending pixel: its column, its row list's next record, its covered samples and the sums
-/// of their colours (at most [`SAMPLES`] x 255 per channel). 12 bytes.
+/// of their colours. 12 bytes: the mask and the sums share one 64-bit accumulator
+/// ([`SAMPLES`] bits of mask, then [`SUM_BITS`] per channel, red lowest), kept as two words so
+/// that the record stays 4-byte aligned. Adding a polygon's new samples is then one addition.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct PendingPixel {
     x: u16,
     next: u16,
-    mask: u16,
-    sums: [u16; 3],
+    acc: [u32; 2],
 }
+
+/// Bits of a colour sum: at most [`SAMPLES`] x 255 per channel.
+const SUM_BITS: u32 = 13;
+const _: () = assert!(SAMPLES * 255 < 1 << SUM_BITS && SAMPLES + 3 * SUM_BITS <= 64);
 
 impl Default for PendingPixel {
     fn default() -> Self {
         PendingPixel {
             x: 0,
             next: NONE,
-            mask: 0,
-            sums: [0; 3],
+            acc: [0; 2],
         }
     }
+}
+
+impl PendingPixel {
+    fn acc(&self) -> u64 {
+        u64::from(self.acc[0]) | u64::from(self.acc[1]) << 32
+    }
+
+    fn set_acc(&mut self, acc: u64) {
+        self.acc = [acc as u32, (acc >> 32) as u32];
+    }
+
+    fn mask(&self) -> Mask {
+        self.acc[0] & FULL_MASK
+    }
+}
+
+/// `colour`'s channels placed as a [`PendingPixel`]'s sums: the accumulator's increment for one
+/// sample.
+fn packed(colour: Colour) -> u64 {
+    (u64::from(colour.r) | u64::from(colour.g) << SUM_BITS | u64::from(colour.b) << (2 * SUM_BITS))
+        << SAMPLES
 }
 
 /// What [`Pending::add_run`] says of a pixel of the run whose mask was not zero.
@@ -73,7 +98,7 @@ pub struct Pending<'m> {
     /// Per row: the first record of its list (or [`NONE`]), and [`FALLEN_BACK`].
     heads: &'m mut [u16],
     /// A polygon's masks of one pixel row (`gathered`), zero outside `lo .. hi`.
-    row: &'m mut [u16],
+    row: &'m mut [Mask],
     /// The pixel row gathered in `row`, and its columns holding bits.
     gathered: u32,
     lo: u32,
@@ -92,7 +117,7 @@ impl<'m> Pending<'m> {
     pub fn new(
         records: &'m mut [PendingPixel],
         heads: &'m mut [u16],
-        row: &'m mut [u16],
+        row: &'m mut [Mask],
         width: u32,
         height: u32,
     ) -> Result<Self, RenderError> {
@@ -234,7 +259,7 @@ impl<'m> Pending<'m> {
         &mut self,
         y: u32,
         x_start: u32,
-        masks: &[u16],
+        masks: &[Mask],
         colour: Colour,
         mut out: F,
     ) {
@@ -248,7 +273,7 @@ impl<'m> Pending<'m> {
         // The link to the current record: the row's head (`None`) or a record's `next`.
         let mut link: Option<u16> = None;
         let mut at = head & !FALLEN_BACK;
-        let channels = [colour.r, colour.g, colour.b].map(u16::from);
+        let sample = packed(colour);
         for (k, &mask) in masks.iter().enumerate() {
             let mask = mask & FULL_MASK;
             if mask == 0 {
@@ -261,21 +286,18 @@ impl<'m> Pending<'m> {
                 at = r.next;
             }
             if let Some(r) = self.record(at).filter(|r| u32::from(r.x) == x) {
-                let new = mask & !r.mask;
+                let new = mask & !r.mask();
                 if new == 0 {
                     out(x, Outcome::Pending);
                     continue;
                 }
-                let n = new.count_ones() as u16;
                 let (next, mut r) = (r.next, *r);
-                r.mask |= new;
-                for (s, c) in r.sums.iter_mut().zip(channels) {
-                    *s += n * c;
-                }
-                if r.mask == FULL_MASK {
+                // The new samples' bits and colours: no carry crosses a field.
+                r.set_acc(r.acc() + u64::from(new) + u64::from(new.count_ones()) * sample);
+                if r.mask() == FULL_MASK {
                     self.unlink(row, link, at, next);
                     at = next;
-                    out(x, Outcome::Finished(average(r.sums, [0; 3], 0)));
+                    out(x, Outcome::Finished(average(&r, [0; 3])));
                 } else {
                     if let Some(slot) = self.records.get_mut(usize::from(at)) {
                         *slot = r;
@@ -301,14 +323,13 @@ impl<'m> Pending<'m> {
                 out(x, Outcome::Unrecorded { centre });
                 continue;
             };
-            let n = mask.count_ones() as u16;
             if let Some(slot) = self.records.get_mut(usize::from(new)) {
                 *slot = PendingPixel {
                     x: x as u16,
                     next: at,
-                    mask,
-                    sums: channels.map(|c| n * c),
+                    ..PendingPixel::default()
                 };
+                slot.set_acc(u64::from(mask) + u64::from(mask.count_ones()) * sample);
             }
             self.set_link(row, link, new);
             link = Some(new);
@@ -361,14 +382,13 @@ impl<'m> Pending<'m> {
     /// empty again ([`Pending::peak`] stays until [`Pending::clear`]). Returns the pixels
     /// painted.
     pub fn drain<S: SpanSink + ?Sized>(&mut self, background: Colour, sink: &mut S) -> u64 {
-        let bg = [background.r, background.g, background.b].map(u16::from);
+        let fill = [background.r, background.g, background.b].map(u32::from);
         let mut painted = 0;
         for y in 0..self.height {
             let mut at = self.head(y) & !FALLEN_BACK;
             while let Some(r) = self.record(at) {
-                let missing = (FULL_MASK & !r.mask).count_ones() as u16;
                 let x = u32::from(r.x);
-                sink.span(y, x, x + 1, average(r.sums, bg, missing));
+                sink.span(y, x, x + 1, average(r, fill));
                 painted += 1;
                 at = r.next;
             }
@@ -378,13 +398,15 @@ impl<'m> Pending<'m> {
     }
 }
 
-/// The average of [`SAMPLES`] samples: `sums` plus `missing` samples of `fill`, rounded to
+/// The average of [`SAMPLES`] samples: `r`'s, plus its missing samples in `fill`, rounded to
 /// nearest.
-fn average(sums: [u16; 3], fill: [u16; 3], missing: u16) -> Colour {
-    let channel = |sum: u16, fill: u16| {
-        let total = u32::from(sum) + u32::from(missing) * u32::from(fill);
+fn average(r: &PendingPixel, fill: [u32; 3]) -> Colour {
+    let acc = r.acc();
+    let missing = SAMPLES - r.mask().count_ones();
+    let channel = |k: u32| {
+        let sum = (acc >> (SAMPLES + k * SUM_BITS)) as u32 & ((1 << SUM_BITS) - 1);
+        let total = sum + missing * fill[k as usize];
         ((2 * total + SAMPLES) / (2 * SAMPLES)) as u8
     };
-    let ([r, g, b], [fr, fg, fb]) = (sums, fill);
-    Colour::new(channel(r, fr), channel(g, fg), channel(b, fb))
+    Colour::new(channel(0), channel(1), channel(2))
 }

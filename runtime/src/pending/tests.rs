@@ -6,7 +6,7 @@ use std::vec::Vec;
 use proptest::prelude::*;
 
 use super::*;
-use crate::fill::samples::{fill_polygon_masks, MaskSink, CENTRE_SAMPLE};
+use crate::fill::samples::{fill_polygon_masks, Mask, MaskSink, CENTRE_SAMPLE, SAMPLE_COLUMNS};
 use crate::fill::{fill_polygon, FixedPoint};
 
 const W: usize = 12;
@@ -99,19 +99,20 @@ type Triangle = ([FixedPoint<8>; 3], Colour);
 /// Draw `polygons` front to back with `records` records; the picture and the peak.
 fn draw(polygons: &[Triangle], records: usize) -> (Vec<Colour>, usize, Vec<bool>) {
     let mut pool = vec![PendingPixel::default(); records];
-    let (mut heads, mut row) = ([0u16; H], [0u16; W]);
+    let (mut heads, mut row) = ([0u16; H], [0 as Mask; W]);
     let mut pending = Pending::new(&mut pool, &mut heads, &mut row, W as u32, H as u32).unwrap();
     let mut frame = Frame {
         pending: &mut pending,
         pixels: [[None; W]; H],
     };
     for (tri, colour) in polygons {
-        let scaled = tri.map(|p| FixedPoint::<8>::new(p.x * 5, p.y * 3));
+        let (c, r) = (SAMPLE_COLUMNS, SAMPLE_ROWS);
+        let scaled = tri.map(|p| FixedPoint::<8>::new(p.x * c as i32, p.y * r as i32));
         let mut gather = Gather {
             frame: &mut frame,
             colour: *colour,
         };
-        fill_polygon(&scaled, 5 * W as u32, 3 * H as u32, *colour, &mut gather).unwrap();
+        fill_polygon(&scaled, c * W as u32, r * H as u32, *colour, &mut gather).unwrap();
         frame.add_gathered(*colour);
     }
     let fallen: Vec<bool> = (0..H as u32)
@@ -133,16 +134,16 @@ fn draw(polygons: &[Triangle], records: usize) -> (Vec<Colour>, usize, Vec<bool>
 /// Per pixel, each sample's first polygon: the anti-aliased picture and the one without
 /// anti-aliasing (the centre sample's), by brute force over the polygons' masks.
 fn expected(polygons: &[Triangle]) -> (Vec<Colour>, Vec<Colour>) {
-    struct All(Vec<u16>);
+    struct All(Vec<Mask>);
     impl MaskSink for All {
-        fn masks(&mut self, y: u32, x_start: u32, masks: &[u16], _: Colour) {
+        fn masks(&mut self, y: u32, x_start: u32, masks: &[Mask], _: Colour) {
             for (k, &m) in masks.iter().enumerate() {
                 self.0[y as usize * W + x_start as usize + k] |= m;
             }
         }
     }
     let mut owner = vec![[None::<Colour>; SAMPLES as usize]; W * H];
-    let mut scratch = [0u16; W];
+    let mut scratch = [0 as Mask; W];
     for (tri, colour) in polygons {
         let mut all = All(vec![0; W * H]);
         fill_polygon_masks(tri, W as u32, 0..H as u32, *colour, &mut scratch, &mut all).unwrap();
@@ -220,19 +221,19 @@ proptest! {
 #[test]
 fn a_record_fills_up_and_is_freed() {
     let mut pool = [PendingPixel::default(); 2];
-    let (mut heads, mut row) = ([0u16; 2], [0u16; 8]);
+    let (mut heads, mut row) = ([0u16; 2], [0 as Mask; 8]);
     let mut p = Pending::new(&mut pool, &mut heads, &mut row, 8, 2).unwrap();
     let red = Colour::new(255, 0, 0);
     let blue = Colour::new(0, 0, 255);
     let mut heard = Vec::new();
-    // Left two columns of pixel 3, then all of it: only the other 9 samples are blue.
-    let left = 0b00011_00011_00011;
+    // Left two columns of pixel 3, then all of it: only the other 15 samples are blue.
+    let left = 0b00011_00011_00011_00011_00011;
     p.add_run(1, 3, &[left], red, |x, o| heard.push((x, o)));
     assert_eq!(p.in_use(), 1);
     p.add_run(1, 2, &[0, FULL_MASK, FULL_MASK], blue, |x, o| {
         heard.push((x, o))
     });
-    // 6 red and 9 blue samples: (6 * 255 + 7) / 15 = 102, (9 * 255 + 7) / 15 = 153.
+    // 10 red and 15 blue samples: 10 * 255 / 25 = 102, 15 * 255 / 25 = 153.
     let mixed = Colour::new(102, 0, 153);
     assert_eq!(
         heard,
@@ -263,9 +264,9 @@ fn a_record_fills_up_and_is_freed() {
             self.0.push((y, x, c));
         }
     }
-    // One red sample of 15 over a white background: (255 + 14 * 255) / 15 and 14 * 255 / 15.
+    // One red sample of 25 over a white background: (255 + 24 * 255) / 25 and 24 * 255 / 25.
     assert_eq!(p.drain(Colour::grey(255), &mut Spans(&mut drained)), 2);
-    let pink = Colour::new(255, 238, 238);
+    let pink = Colour::new(255, 245, 245);
     assert_eq!(drained, [(0, 0, pink), (0, 2, pink)]);
     assert!(!p.fallen_back(0));
     assert_eq!(p.in_use(), 0);
@@ -273,7 +274,7 @@ fn a_record_fills_up_and_is_freed() {
 
 #[test]
 fn too_few_heads_or_columns_are_refused() {
-    let (mut heads, mut row) = ([0u16; 3], [0u16; 5]);
+    let (mut heads, mut row) = ([0u16; 3], [0 as Mask; 5]);
     assert!(matches!(
         Pending::new(&mut [], &mut heads, &mut row, 5, 4),
         Err(RenderError::PendingMemory)

@@ -16,6 +16,17 @@ use crate::error::RenderError;
 use crate::fill::{self, FixedPoint};
 #[cfg(feature = "antialias")]
 use crate::pending::{Outcome, Pending};
+
+/// The sample grid's columns and rows per pixel (`fill::samples`), as the points' type; one
+/// without anti-aliasing.
+#[cfg(feature = "antialias")]
+const COLUMNS: i32 = fill::samples::SAMPLE_COLUMNS as i32;
+#[cfg(feature = "antialias")]
+const ROWS: i32 = fill::samples::SAMPLE_ROWS as i32;
+#[cfg(not(feature = "antialias"))]
+const COLUMNS: i32 = 1;
+#[cfg(not(feature = "antialias"))]
+const ROWS: i32 = 1;
 use crate::read::Polygon;
 use crate::traverse::{Order, StackEntry, Traversal};
 use crate::vertices::{IntegerView, VertexCache};
@@ -301,25 +312,31 @@ impl<const SUB: u32> Painter<'_, '_, SUB> {
         }
         let (width, height) = (self.view.width, self.view.height);
         // Anti-aliased: the points scaled to the sample grid (exact: the renderer checked that
-        // five times the window is in the fill's range), and the pixels holding a sample of
-        // their box.
+        // the scaled window is in the fill's range), and the pixels holding a sample of their
+        // box.
         let antialiased = self.antialiased();
         if antialiased {
             for p in self.points.iter_mut().take(count) {
-                *p = FixedPoint::new(p.x.saturating_mul(5), p.y.saturating_mul(3));
+                *p = FixedPoint::new(p.x.saturating_mul(COLUMNS), p.y.saturating_mul(ROWS));
             }
         }
         let pts = self.points.get(..count).unwrap_or(&[]);
         // No pixel centre (sample) inside: the fill would draw nothing. All covered: nothing
-        // shows.
-        let rect = if antialiased {
-            fill::sample_rect(pts, width.saturating_mul(5), height.saturating_mul(3))
-                .map(|[x0, y0, x1, y1]| [x0 / 5, y0 / 3, x1.div_ceil(5), y1.div_ceil(3)])
+        // shows. Anti-aliased, `grid` is the samples' rectangle and `x0 .. y1` their pixels'.
+        let (c, r) = (COLUMNS as u32, ROWS as u32);
+        let (w, h) = if antialiased {
+            (width.saturating_mul(c), height.saturating_mul(r))
         } else {
-            fill::sample_rect(pts, width, height)
+            (width, height)
         };
-        let Some([x0, y0, x1, y1]) = rect else {
+        let Some(grid) = fill::sample_rect(pts, w, h) else {
             return Ok(());
+        };
+        let [x0, y0, x1, y1] = if antialiased {
+            let [x0, y0, x1, y1] = grid;
+            [x0 / c, y0 / r, x1.div_ceil(c), y1.div_ceil(r)]
+        } else {
+            grid
         };
         let (r0, r1) = (self.rows.start, self.rows.end);
         let (y0, y1) = (y0.max(r0), y1.min(r1));
@@ -337,41 +354,42 @@ impl<const SUB: u32> Painter<'_, '_, SUB> {
             Paint::Colours | Paint::Ids => scene.colour_seen(index, polygon, interior),
         };
         tally(&mut stats.polygons_drawn, 1);
-        // One fill for both cases (with and without span memory): one copy in the binary.
-        // Its checks hold: `count <= available <= min(VERTS, MAX_FILL_VERTICES)` edges, and
-        // `snap` keeps every point in the window, which `window` kept within
-        // `fill::coordinate_limit`.
-        #[cfg(feature = "antialias")]
-        let coverage = match (self.antialias.as_deref_mut(), coverage) {
-            (Some(pending), Some(coverage)) => {
-                let mut through = Antialiased {
-                    coverage,
-                    pending,
-                    sink,
-                    first_row: r0,
-                    colour,
-                    run: None,
-                    pixels: 0,
-                };
-                // The sample rows of the pixel rows `y0 .. y1`, all in the band.
-                let rows = y0 * 3..y1 * 3;
-                fill::fill_in(pts, self.edges, width * 5, rows, colour, &mut through);
-                through.add_gathered();
-                through.end_run();
-                tally(&mut stats.pixels_written, through.pixels);
-                return Ok(());
-            }
-            (_, coverage) => coverage,
+        // One fill for every case (with and without span memory, anti-aliased or not): one
+        // copy in the binary. Its checks hold: `count <= available <= min(VERTS,
+        // MAX_FILL_VERTICES)` edges, and `snap` keeps every point in the window, which `window`
+        // kept within `fill::coordinate_limit` (anti-aliased: the sample grid's window).
+        let (rect, fill_width, rows) = if antialiased {
+            // The sample rows of the pixel rows `y0 .. y1`, all in the band.
+            let rect = [grid[0], grid[1].max(y0 * r), grid[2], grid[3].min(y1 * r)];
+            (rect, width * c, y0 * r..y1 * r)
+        } else {
+            ([x0, y0, x1, y1], width, self.rows.clone())
         };
         let mut through = Through {
             coverage,
             sink,
             first_row: r0,
             pixels: 0,
+            #[cfg(feature = "antialias")]
+            samples: self.antialias.as_deref_mut().map(|pending| Samples {
+                pending,
+                colour,
+                run: None,
+            }),
+            #[cfg(not(feature = "antialias"))]
+            samples: core::marker::PhantomData,
         };
-        let rows = self.rows.clone();
-        let rect = [x0, y0, x1, y1];
-        fill::fill_in_rect(pts, rect, self.edges, width, rows, colour, &mut through);
+        fill::fill_in_rect(
+            pts,
+            rect,
+            self.edges,
+            fill_width,
+            rows,
+            colour,
+            &mut through,
+        );
+        #[cfg(feature = "antialias")]
+        through.end_samples();
         tally(&mut stats.pixels_written, through.pixels);
         Ok(())
     }
@@ -379,16 +397,26 @@ impl<const SUB: u32> Painter<'_, '_, SUB> {
 
 /// The sink the fill draws into: through the coverage when there is one (see
 /// [`crate::coverage::CoverageSink`]; its row 0 is frame row `first_row`), else straight to
-/// `sink`; counts the pixels forwarded.
-struct Through<'c, 'm, S: SpanSink + ?Sized> {
+/// `sink`; counts the pixels forwarded. Anti-aliased, the fill's spans are samples, gathered
+/// into the pending pixels ([`Samples`]).
+struct Through<'c, 'm, 'p, S: SpanSink + ?Sized> {
     coverage: Option<&'c mut Coverage<'m>>,
     sink: &'c mut S,
     first_row: u32,
     pixels: u64,
+    #[cfg(feature = "antialias")]
+    samples: Option<Samples<'c, 'p>>,
+    #[cfg(not(feature = "antialias"))]
+    samples: core::marker::PhantomData<&'p ()>,
 }
 
-impl<S: SpanSink + ?Sized> SpanSink for Through<'_, '_, S> {
+impl<S: SpanSink + ?Sized> SpanSink for Through<'_, '_, '_, S> {
     fn span(&mut self, y: u32, x_start: u32, x_end: u32, colour: Colour) {
+        #[cfg(feature = "antialias")]
+        if self.samples.is_some() {
+            self.sample_span(y, x_start, x_end);
+            return;
+        }
         match self.coverage.as_deref_mut() {
             Some(c) => {
                 let mut sink = Shifted {
@@ -407,54 +435,70 @@ impl<S: SpanSink + ?Sized> SpanSink for Through<'_, '_, S> {
     }
 }
 
-/// The sink an anti-aliased fill draws into (the polygon's spans on the sample grid, frame
-/// rows): each pixel row's masks are gathered, the finished pixels skipped, and the rest
-/// added to the pending pixels; the pixels that finish go through the coverage (in runs of
-/// neighbours of one colour) into `sink`.
+/// An anti-aliased polygon's pending pixels, its colour, and its finished pixels not yet sent
+/// (band row, columns, colour).
 #[cfg(feature = "antialias")]
-struct Antialiased<'c, 'm, 'p, S: SpanSink + ?Sized> {
-    coverage: &'c mut Coverage<'m>,
+struct Samples<'c, 'p> {
     pending: &'c mut Pending<'p>,
-    sink: &'c mut S,
-    first_row: u32,
     colour: Colour,
-    /// Finished pixels not yet sent: band row, columns, colour.
     run: Option<(u32, u32, u32, Colour)>,
-    pixels: u64,
 }
 
 #[cfg(feature = "antialias")]
-impl<S: SpanSink + ?Sized> Antialiased<'_, '_, '_, S> {
-    /// Add the gathered row to the pending pixels.
-    fn add_gathered(&mut self) {
-        let Some(y) = self.pending.gathered() else {
+impl<S: SpanSink + ?Sized> Through<'_, '_, '_, S> {
+    /// Gather a span of sample row `y` (the band starts on a pixel row, so a sample row keeps
+    /// its place in it); a span of the next pixel row first adds the gathered one.
+    #[inline(never)]
+    fn sample_span(&mut self, y: u32, x_start: u32, x_end: u32) {
+        let local = y.wrapping_sub(self.first_row * ROWS as u32);
+        let Some(s) = self.samples.as_mut() else {
             return;
         };
-        self.pending.skip_finished(self.coverage.row(y));
-        let colour = self.colour;
-        let mut finished = |x: u32, c: Colour, run: &mut Option<(u32, u32, u32, Colour)>| match run
-        {
+        if s.pending.gather(local, x_start, x_end).is_err() {
+            self.add_gathered();
+            if let Some(s) = self.samples.as_mut() {
+                let _ = s.pending.gather(local, x_start, x_end);
+            }
+        }
+    }
+
+    /// Add the gathered row to the pending pixels, sending the pixels it finishes in runs.
+    fn add_gathered(&mut self) {
+        let (Some(s), Some(coverage)) = (self.samples.as_mut(), self.coverage.as_deref_mut())
+        else {
+            return;
+        };
+        let Some(y) = s.pending.gathered() else {
+            return;
+        };
+        s.pending.skip_finished(coverage.row(y));
+        let (colour, sink, first_row) = (s.colour, &mut *self.sink, self.first_row);
+        let (mut run, pixels) = (s.run.take(), &mut self.pixels);
+        let mut finished = |x: u32, c: Colour| match &mut run {
             Some((ry, _, end, rc)) if *ry == y && *end == x && *rc == c => *end = x + 1,
             _ => {
                 if let Some(r) = run.replace((y, x, x + 1, c)) {
-                    self.pixels += send(self.coverage, self.sink, self.first_row, r);
+                    *pixels += send(coverage, sink, first_row, r);
                 }
             }
         };
-        let mut run = self.run.take();
-        self.pending
-            .add_gathered(colour, |x, outcome| match outcome {
-                Outcome::Finished(c) => finished(x, c, &mut run),
-                Outcome::Unrecorded { centre: true } => finished(x, colour, &mut run),
-                Outcome::Unrecorded { centre: false } | Outcome::Pending => {}
-            });
-        self.run = run;
+        s.pending.add_gathered(colour, |x, outcome| match outcome {
+            Outcome::Finished(c) => finished(x, c),
+            Outcome::Unrecorded { centre: true } => finished(x, colour),
+            Outcome::Unrecorded { centre: false } | Outcome::Pending => {}
+        });
+        s.run = run;
     }
 
-    /// Send the run of finished pixels.
-    fn end_run(&mut self) {
-        if let Some(r) = self.run.take() {
-            self.pixels += send(self.coverage, self.sink, self.first_row, r);
+    /// The polygon is filled: add its last row and send the last run.
+    fn end_samples(&mut self) {
+        self.add_gathered();
+        let (Some(s), Some(coverage)) = (self.samples.as_mut(), self.coverage.as_deref_mut())
+        else {
+            return;
+        };
+        if let Some(r) = s.run.take() {
+            self.pixels += send(coverage, self.sink, self.first_row, r);
         }
     }
 }
@@ -472,18 +516,6 @@ fn send<S: SpanSink + ?Sized>(
         by: first_row,
     };
     coverage.span(y, x0, x1, colour, &mut sink)
-}
-
-#[cfg(feature = "antialias")]
-impl<S: SpanSink + ?Sized> SpanSink for Antialiased<'_, '_, '_, S> {
-    fn span(&mut self, y: u32, x_start: u32, x_end: u32, _: Colour) {
-        // Band rows: the band starts on a pixel row, so a sample row keeps its place in it.
-        let local = y.wrapping_sub(self.first_row * 3);
-        if self.pending.gather(local, x_start, x_end).is_err() {
-            self.add_gathered();
-            let _ = self.pending.gather(local, x_start, x_end);
-        }
-    }
 }
 
 /// A sink whose rows are `by` below the rows it is given: from a band's coverage rows back

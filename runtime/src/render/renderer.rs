@@ -477,7 +477,11 @@ impl<'m, const SUB: u32> Renderer<'m, SUB> {
                 && order == Order::FrontToBack
                 && paint == Paint::Colours
                 && coverage.is_some()
-                && window::<SUB>(width.saturating_mul(5), height.saturating_mul(3)).is_ok()
+                && window::<SUB>(
+                    width.saturating_mul(fill::samples::SAMPLE_COLUMNS),
+                    height.saturating_mul(fill::samples::SAMPLE_ROWS),
+                )
+                .is_ok()
         });
         #[cfg(feature = "antialias")]
         if let Some(p) = pending.as_deref_mut() {

@@ -11,7 +11,7 @@ const A: Colour = Colour::new(200, 100, 50);
 
 /// The masks of a `W x H` window, each pixel's masks received at most once per polygon.
 struct MaskImage<const W: usize, const H: usize> {
-    masks: [[u16; W]; H],
+    masks: [[Mask; W]; H],
     seen: [[bool; W]; H],
     rows: Vec<u32>,
 }
@@ -33,7 +33,7 @@ impl<const W: usize, const H: usize> MaskImage<W, H> {
 }
 
 impl<const W: usize, const H: usize> MaskSink for MaskImage<W, H> {
-    fn masks(&mut self, y: u32, x_start: u32, masks: &[u16], colour: Colour) {
+    fn masks(&mut self, y: u32, x_start: u32, masks: &[Mask], colour: Colour) {
         assert_eq!(colour, A);
         assert!(!masks.is_empty() && masks[0] != 0 && masks[masks.len() - 1] != 0);
         assert!(self.rows.last().is_none_or(|&r| r < y), "rows out of order");
@@ -91,18 +91,20 @@ fn inside<const SUB: u32>(poly: &[FixedPoint<SUB>], cx: i128, cy: i128) -> bool 
 }
 
 /// The mask brute force gives pixel `(i, j)`: sample `(s, t)` at
-/// `(i + (s + 1/2) / 5, j + (t + 1/2) / 3)`, tested on the polygon scaled by `(5, 3)`.
-fn brute_mask<const SUB: u32>(poly: &[FixedPoint<SUB>], i: usize, j: usize) -> u16 {
+/// `(i + (s + 1/2) / C, j + (t + 1/2) / R)`, tested on the polygon scaled by `(C, R)`, the
+/// grid's columns and rows.
+fn brute_mask<const SUB: u32>(poly: &[FixedPoint<SUB>], i: usize, j: usize) -> Mask {
     let scaled: Vec<FixedPoint<SUB>> = poly
         .iter()
-        .map(|p| FixedPoint::new(p.x * 5, p.y * 3))
+        .map(|p| FixedPoint::new(p.x * C as i32, p.y * R as i32))
         .collect();
+    let (c, r) = (C as usize, R as usize);
     let unit = 1i128 << SUB;
     let mut mask = 0;
     for t in 0..SAMPLE_ROWS as usize {
         for s in 0..SAMPLE_COLUMNS as usize {
-            let cx = (2 * (5 * i + s) as i128 + 1) * unit;
-            let cy = (2 * (3 * j + t) as i128 + 1) * unit;
+            let cx = (2 * (c * i + s) as i128 + 1) * unit;
+            let cy = (2 * (r * j + t) as i128 + 1) * unit;
             if inside(&scaled, cx, cy) {
                 mask |= 1 << (t * SAMPLE_COLUMNS as usize + s);
             }
@@ -111,13 +113,15 @@ fn brute_mask<const SUB: u32>(poly: &[FixedPoint<SUB>], i: usize, j: usize) -> u
     mask
 }
 
+const C: u32 = SAMPLE_COLUMNS;
+const R: u32 = SAMPLE_ROWS;
 const W: usize = 14;
 const H: usize = 10;
 
 fn check<const SUB: u32>(raw: &[(i32, i32)]) -> Result<(), TestCaseError> {
     let poly: Vec<FixedPoint<SUB>> = raw.iter().map(|&(x, y)| FixedPoint::new(x, y)).collect();
     let mut image = MaskImage::<W, H>::new();
-    let mut scratch = [0u16; W];
+    let mut scratch = [0 as Mask; W];
     let covered =
         fill_polygon_masks(&poly, W as u32, 0..H as u32, A, &mut scratch, &mut image).unwrap();
     prop_assert!(scratch.iter().all(|&m| m == 0), "scratch row left dirty");
@@ -203,7 +207,7 @@ proptest! {
             FixedPoint::new(x0, along(y0, y1, cuts[3])),
         ];
         let mut image = MaskImage::<W, H>::new();
-        let mut scratch = [0u16; W];
+        let mut scratch = [0 as Mask; W];
         for k in 0..outline.len() {
             image.next_polygon();
             let tri = [centre, outline[k], outline[(k + 1) % outline.len()]];
@@ -220,30 +224,30 @@ proptest! {
 
 #[test]
 fn the_grid_has_the_centre_in_the_middle() {
-    assert_eq!(SAMPLES, 15);
-    assert_eq!(CENTRE_SAMPLE, 7);
-    assert_eq!(FULL_MASK, 0x7fff);
+    assert_eq!(SAMPLES, 25);
+    assert_eq!(CENTRE_SAMPLE, 12);
+    assert_eq!(FULL_MASK, 0x1ff_ffff);
     // A pixel-sized square on pixel boundaries covers all of its pixel's samples.
     let square = [(1, 1), (2, 1), (2, 2), (1, 2)].map(|(x, y)| FixedPoint::<8>::from_pixels(x, y));
     let mut image = MaskImage::<W, H>::new();
-    let mut scratch = [0u16; W];
+    let mut scratch = [0 as Mask; W];
     let covered =
         fill_polygon_masks(&square, W as u32, 0..H as u32, A, &mut scratch, &mut image).unwrap();
-    assert_eq!((covered, image.masks[1][1]), (15, FULL_MASK));
+    assert_eq!((covered, image.masks[1][1]), (25, FULL_MASK));
     // Half of it, x in [1, 1.5): the samples at x = 1.1 and 1.3 of each row; the one at 1.5
     // lies on its right edge, which the top-left rule gives to the polygon right of it.
     let half =
         [(256, 256), (384, 256), (384, 512), (256, 512)].map(|(x, y)| FixedPoint::<8>::new(x, y));
     let mut image = MaskImage::<W, H>::new();
     fill_polygon_masks(&half, W as u32, 0..H as u32, A, &mut scratch, &mut image).unwrap();
-    assert_eq!(image.masks[1][1], 0b00011_00011_00011);
+    assert_eq!(image.masks[1][1], 0b00011_00011_00011_00011_00011);
 }
 
 #[test]
 fn rows_limit_the_masks_and_a_short_scratch_row_is_refused() {
     let tri = [(0, 0), (12, 1), (3, 9)].map(|(x, y)| FixedPoint::<8>::from_pixels(x, y));
     let mut image = MaskImage::<W, H>::new();
-    let mut scratch = [0u16; W];
+    let mut scratch = [0 as Mask; W];
     fill_polygon_masks(&tri, W as u32, 3..5, A, &mut scratch, &mut image).unwrap();
     assert_eq!(image.rows, [3, 4]);
     for j in 0..H {
@@ -256,7 +260,7 @@ fn rows_limit_the_masks_and_a_short_scratch_row_is_refused() {
             assert_eq!(image.masks[j][i], want, "pixel ({i}, {j})");
         }
     }
-    let mut short = [0u16; W - 1];
+    let mut short = [0 as Mask; W - 1];
     let mut image = MaskImage::<W, H>::new();
     let refused = fill_polygon_masks(&tri, W as u32, 0..H as u32, A, &mut short, &mut image);
     assert_eq!(
