@@ -246,7 +246,8 @@ pub enum ConfigError {
     Variant(u32),
     /// More cameras than the block holds, or none.
     Cameras(u32),
-    /// A zero or too large size, or a banded variant without band rows.
+    /// A zero or too large size, a banded variant without band rows, or a variant without
+    /// the span memory, scan memory or pending-pixel records it needs.
     Size,
 }
 

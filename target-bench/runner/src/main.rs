@@ -6,9 +6,10 @@
 //! Steps: build `peel` and one firmware per variant and core; compile the scenes with `peel
 //! compile` and export the z-buffer's meshes; for each scene, core, size and variant write a
 //! config block, run QEMU twice (instruction counts must agree), compare each frame the panel
-//! received with the host's (`peel render` in the same order, or the same z-buffer code run
-//! on the host) and write `target/peel-target/results.json` and `results.md`. Any differing
-//! pixel or count fails the run (after writing the results), as does any failed step.
+//! received with the host's (`peel render` in the same order, the compiler's host renderer
+//! anti-aliased, or the same z-buffer code run on the host) and write
+//! `target/peel-target/results.json` and `results.md`. Any differing pixel or count fails the
+//! run (after writing the results), as does any failed step.
 
 mod accuracy;
 mod elf;
