@@ -25,11 +25,14 @@ pub enum Use {
     PanelMemory,
     /// A list of the scanline z-buffer (polygon table, vertices, heads, active edges).
     ScanlineList,
-    /// Pending-pixel records (anti-aliased frames).
+    /// Pending-pixel records (anti-aliased frames; in that build only, like their names).
+    #[cfg(feature = "stream-aa")]
     PendingRecords,
     /// The pending pixels' row heads.
+    #[cfg(feature = "stream-aa")]
     PendingHeads,
     /// The pending pixels' row of masks (one per column).
+    #[cfg(feature = "stream-aa")]
     PendingMasks,
 }
 
@@ -44,8 +47,11 @@ impl core::fmt::Display for Use {
             Use::ScanHeads => "scan memory row heads",
             Use::PanelMemory => "panel memory",
             Use::ScanlineList => "scanline z-buffer list",
+            #[cfg(feature = "stream-aa")]
             Use::PendingRecords => "pending-pixel records",
+            #[cfg(feature = "stream-aa")]
             Use::PendingHeads => "pending-pixel row heads",
+            #[cfg(feature = "stream-aa")]
             Use::PendingMasks => "pending-pixel mask row",
         })
     }
