@@ -9,6 +9,7 @@ fn main() {
     let peel = [
         "FTB_FRAMEBUFFER",
         "FTB_STREAM",
+        "STREAM_AA",
         "FTB_BANDS",
         "SCAN_ORDER",
         "B2F_FRAMEBUFFER",

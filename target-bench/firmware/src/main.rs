@@ -7,6 +7,7 @@
 //! ```text
 //! peel-target variant=<variant> target=<target triple>
 //! frame <k> ticks=<SysTick ticks> display_bytes=<bytes> display_writes=<writes> fallback=<0|1>
+//! aa <k> antialiased=<0|1> pending_peak=<records> pending_records=<records>  (stream-aa)
 //! memory pool_used=<bytes> pool_capacity=<bytes> framebuffer=<bytes> stack_peak=<bytes>
 //! gfx3d commands_peak=<commands> capacity=<commands>   (embedded-3dgfx only)
 //! done
@@ -50,6 +51,7 @@ macro_rules! variant {
 variant!(
     "ftb-framebuffer" => FtbFramebuffer,
     "ftb-stream" => FtbStream,
+    "stream-aa" => StreamAa,
     "ftb-bands" => FtbBands,
     "scan-order" => ScanOrder,
     "b2f-framebuffer" => B2fFramebuffer,
@@ -217,6 +219,18 @@ fn run(panel: &'static mut [u16], mut pool: Pool) -> Result<(), Failure> {
             display.writes(),
             u8::from(fallback)
         );
+        // Anti-aliased: whether the frame was, and its pending pixels against the records.
+        #[cfg(feature = "stream-aa")]
+        {
+            let (antialiased, peak, records) = method.antialiasing();
+            hprintln!(
+                "aa {} antialiased={} pending_peak={} pending_records={}",
+                k,
+                u8::from(antialiased),
+                peak,
+                records
+            );
+        }
         if config.flags & WRITE_FRAMES != 0 {
             host::write_frame(k, display.pixels())?;
         }

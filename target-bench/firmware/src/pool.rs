@@ -25,6 +25,15 @@ pub enum Use {
     PanelMemory,
     /// A list of the scanline z-buffer (polygon table, vertices, heads, active edges).
     ScanlineList,
+    /// Pending-pixel records (anti-aliased frames; in that build only, like their names).
+    #[cfg(feature = "stream-aa")]
+    PendingRecords,
+    /// The pending pixels' row heads.
+    #[cfg(feature = "stream-aa")]
+    PendingHeads,
+    /// The pending pixels' row of masks (one per column).
+    #[cfg(feature = "stream-aa")]
+    PendingMasks,
 }
 
 impl core::fmt::Display for Use {
@@ -38,6 +47,12 @@ impl core::fmt::Display for Use {
             Use::ScanHeads => "scan memory row heads",
             Use::PanelMemory => "panel memory",
             Use::ScanlineList => "scanline z-buffer list",
+            #[cfg(feature = "stream-aa")]
+            Use::PendingRecords => "pending-pixel records",
+            #[cfg(feature = "stream-aa")]
+            Use::PendingHeads => "pending-pixel row heads",
+            #[cfg(feature = "stream-aa")]
+            Use::PendingMasks => "pending-pixel mask row",
         })
     }
 }
@@ -116,7 +131,7 @@ impl Pool {
 
     /// `n` copies of `value`, aligned for `T` (a word skipped when `T` needs 8 bytes and the
     /// next word is not), for lists of plain records.
-    #[cfg(feature = "scanline-zbuffer")]
+    #[cfg(any(feature = "scanline-zbuffer", feature = "stream-aa"))]
     pub fn filled<T: Copy>(
         &mut self,
         n: usize,

@@ -20,17 +20,18 @@
 //! | 312 | the scanline z-buffer's active edges (u32) |
 //! | 316 | the scanline z-buffer's clipped points (u32) |
 //! | 320 | scan memory nodes (u32; scan order) |
+//! | 324 | pending-pixel records (u32; anti-aliased) |
 
 use crate::bytes::{f64_at, u32_at};
 
 /// Format version.
-pub const VERSION: u32 = 3;
+pub const VERSION: u32 = 4;
 /// The block's first bytes.
 pub const MAGIC: [u8; 4] = *b"PTBC";
 /// Cameras a block holds.
 pub const MAX_CAMERAS: usize = 16;
 /// Size of the block in bytes.
-pub const SIZE: usize = LISTS + 12;
+pub const SIZE: usize = LISTS + 16;
 /// Offset of the scanline z-buffer's list sizes.
 const LISTS: usize = 56 + 16 * MAX_CAMERAS;
 /// Flag: write each frame's panel memory to the host file `frame-<k>.rgb565`.
@@ -45,6 +46,9 @@ pub enum Variant {
     FtbFramebuffer,
     /// Peel front to back, each span sent to the display as it is drawn: no framebuffer.
     FtbStream,
+    /// As [`Variant::FtbStream`], anti-aliased (`Renderer::antialias`): partly covered pixels
+    /// wait in a pool of pending-pixel records and reach the display when finished.
+    StreamAa,
     /// Peel front to back in bands of rows, each band sent when done.
     FtbBands,
     /// Peel front to back into scan memory (each covered interval with its colour), the frame
@@ -68,9 +72,10 @@ pub enum Variant {
 
 impl Variant {
     /// Every variant, in table order.
-    pub const ALL: [Variant; 10] = [
+    pub const ALL: [Variant; 11] = [
         Variant::FtbFramebuffer,
         Variant::FtbStream,
+        Variant::StreamAa,
         Variant::FtbBands,
         Variant::ScanOrder,
         Variant::B2fFramebuffer,
@@ -86,6 +91,7 @@ impl Variant {
         match self {
             Variant::FtbFramebuffer => "ftb-framebuffer",
             Variant::FtbStream => "ftb-stream",
+            Variant::StreamAa => "stream-aa",
             Variant::FtbBands => "ftb-bands",
             Variant::ScanOrder => "scan-order",
             Variant::B2fFramebuffer => "b2f-framebuffer",
@@ -104,6 +110,7 @@ impl Variant {
             | Variant::FtbStream
             | Variant::FtbBands
             | Variant::ScanOrder => "peel-front-to-back",
+            Variant::StreamAa => "peel-front-to-back-aa",
             Variant::B2fFramebuffer | Variant::B2fBands => "peel-back-to-front",
             Variant::Zbuffer => "zbuffer-int",
             Variant::Gfx3d => "embedded-3dgfx",
@@ -132,8 +139,13 @@ impl Variant {
     pub const fn front_to_back(self) -> bool {
         matches!(
             self,
-            Variant::FtbFramebuffer | Variant::FtbStream | Variant::FtbBands
+            Variant::FtbFramebuffer | Variant::FtbStream | Variant::StreamAa | Variant::FtbBands
         )
+    }
+
+    /// Whether it draws anti-aliased frames (and needs pending-pixel records).
+    pub const fn antialiased(self) -> bool {
+        matches!(self, Variant::StreamAa)
     }
 
     /// Whether it needs scan memory.
@@ -154,6 +166,7 @@ impl Variant {
             8 => Some(Variant::ScanlineZbuffer),
             9 => Some(Variant::TiledZbuffer),
             10 => Some(Variant::ScanOrder),
+            11 => Some(Variant::StreamAa),
             _ => None,
         }
     }
@@ -171,6 +184,7 @@ impl Variant {
             Variant::ScanlineZbuffer => 8,
             Variant::TiledZbuffer => 9,
             Variant::ScanOrder => 10,
+            Variant::StreamAa => 11,
         }
     }
 }
@@ -216,6 +230,9 @@ pub struct Config {
     pub clipped_points: u32,
     /// Scan memory nodes (scan order): what the builder measures over an orbit.
     pub scan_nodes: u32,
+    /// Pending-pixel records (anti-aliased): what the builder measures over an orbit
+    /// (`PENDING_PIXELS`).
+    pub pending_pixels: u32,
 }
 
 /// Why a block was refused.
@@ -229,7 +246,8 @@ pub enum ConfigError {
     Variant(u32),
     /// More cameras than the block holds, or none.
     Cameras(u32),
-    /// A zero or too large size, or a banded variant without band rows.
+    /// A zero or too large size, a banded variant without band rows, or a variant without
+    /// the span memory, scan memory or pending-pixel records it needs.
     Size,
 }
 
@@ -299,12 +317,14 @@ impl Config {
             active_edges: u(LISTS),
             clipped_points: u(LISTS + 4),
             scan_nodes: u(LISTS + 8),
+            pending_pixels: u(LISTS + 12),
         };
         let (w, h) = (config.width, config.height);
         let sized = (1..=4096).contains(&w) && (1..=4096).contains(&h);
         let bands = !variant.banded() || (1..=h).contains(&config.band_rows);
         let spans = (!variant.front_to_back() || config.spans_per_row > 0)
-            && (!variant.scan_order() || config.scan_nodes > 0);
+            && (!variant.scan_order() || config.scan_nodes > 0)
+            && (!variant.antialiased() || config.pending_pixels > 0);
         if !(sized && bands && spans) || config.asset_len > crate::layout::MAX_ASSET {
             return Err(ConfigError::Size);
         }
@@ -335,6 +355,7 @@ impl Config {
         put(LISTS, &self.active_edges.to_le_bytes());
         put(LISTS + 4, &self.clipped_points.to_le_bytes());
         put(LISTS + 8, &self.scan_nodes.to_le_bytes());
+        put(LISTS + 12, &self.pending_pixels.to_le_bytes());
         b
     }
 }
@@ -364,6 +385,7 @@ mod tests {
             active_edges: 300,
             clipped_points: 17,
             scan_nodes: 2000,
+            pending_pixels: 1714,
         }
     }
 
@@ -400,6 +422,12 @@ mod tests {
         assert!(Config::decode(&c.encode()).is_ok());
         c.spans_per_row = 0;
         assert_eq!(Config::decode(&c.encode()), Err(ConfigError::Size));
+        // Pending records are only required of anti-aliased variants.
+        let mut c = sample();
+        c.variant = Variant::StreamAa;
+        assert!(Config::decode(&c.encode()).is_ok());
+        c.pending_pixels = 0;
+        assert_eq!(Config::decode(&c.encode()), Err(ConfigError::Size));
     }
 
     #[test]
@@ -410,6 +438,8 @@ mod tests {
         assert_eq!(Variant::from_code(0), None);
         assert_eq!(Variant::FtbStream.method(), "peel-front-to-back");
         assert_eq!(Variant::B2fBands.method(), "peel-back-to-front");
+        assert_eq!(Variant::StreamAa.method(), "peel-front-to-back-aa");
+        assert!(Variant::StreamAa.front_to_back() && Variant::StreamAa.antialiased());
         assert_eq!(Variant::Zbuffer.name(), "zbuffer");
     }
 }

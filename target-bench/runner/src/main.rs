@@ -6,9 +6,10 @@
 //! Steps: build `peel` and one firmware per variant and core; compile the scenes with `peel
 //! compile` and export the z-buffer's meshes; for each scene, core, size and variant write a
 //! config block, run QEMU twice (instruction counts must agree), compare each frame the panel
-//! received with the host's (`peel render` in the same order, or the same z-buffer code run
-//! on the host) and write `target/peel-target/results.json` and `results.md`. Any differing
-//! pixel or count fails the run (after writing the results), as does any failed step.
+//! received with the host's (`peel render` in the same order, the compiler's host renderer
+//! anti-aliased, or the same z-buffer code run on the host) and write
+//! `target/peel-target/results.json` and `results.md`. Any differing pixel or count fails the
+//! run (after writing the results), as does any failed step.
 
 mod accuracy;
 mod elf;
@@ -32,7 +33,7 @@ use peel_target_kit::config::{OrbitAngles, Variant};
 use peel_target_kit::mesh::Mesh;
 
 use accuracy::Truth;
-use measure::{Expected, Measure};
+use measure::{Expected, Measure, Robust};
 use plan::{Args, Core, Setup, FOV_Y_DEG};
 use scenes::Compiled;
 use tools::Tools;
@@ -205,6 +206,7 @@ fn run(args: &Args) -> Result<Vec<String>, String> {
                         cameras: &cameras,
                         spans_per_row: refs.spans_per_row,
                         scan_nodes: refs.scan_nodes,
+                        pending_pixels: refs.pending_pixels,
                         scanline_lists: refs.scanline_lists,
                         elf: elf.to_path_buf(),
                         timeout_s: if args.quick { 120 } else { 900 },
@@ -253,6 +255,7 @@ fn run(args: &Args) -> Result<Vec<String>, String> {
     write(
         &out.join("results.md"),
         (results::markdown(&records)
+            + &results::antialiased(&records)
             + &skipped
                 .iter()
                 .map(|n| format!("\n{n}\n"))
@@ -279,7 +282,11 @@ fn run(args: &Args) -> Result<Vec<String>, String> {
             write(&root.join("target-bench/alternatives.png"), &png)?;
         }
     }
-    println!("\n{}", results::markdown(&records));
+    println!(
+        "\n{}{}",
+        results::markdown(&records),
+        results::antialiased(&records)
+    );
     println!(
         "written: {} and results.md",
         out.join("results.json").display()
@@ -334,11 +341,17 @@ fn tiled(
     best.ok_or_else(|| format!("tiled z-buffer: no band height fits {budget} bytes"))
 }
 
-/// The host's frames of one scene and size, for each camera: `peel render` in each order, and
-/// the z-buffers run on the host; the reference and each method's robust errors; and the
-/// memory the firmware gets (span memory, the scanline z-buffer's lists).
+/// The host's frames of one scene and size, for each camera: `peel render` in each order, the
+/// anti-aliased frames of the compiler's host renderer, and the z-buffers run on the host; the
+/// reference and each method's robust errors; and the memory the firmware gets (span memory,
+/// scan memory, pending pixels, the scanline z-buffer's lists).
 struct References {
     front_to_back: Vec<Vec<u16>>,
+    /// Anti-aliased, with the firmware's pending-pixel records.
+    antialiased: Vec<Vec<u16>>,
+    /// Anti-aliased: the most pending pixels each frame holds at once with records to spare.
+    pending_peaks: Vec<u64>,
+    pending_pixels: u32,
     back_to_front: Vec<Vec<u16>>,
     zbuffer: Vec<Vec<u16>>,
     scanline: Vec<Vec<u16>>,
@@ -472,8 +485,28 @@ impl References {
         } else {
             0
         };
+        // Anti-aliased: the records the builder's sizes file gives (`PENDING_PIXELS`), and the
+        // frames of the compiler's host renderer with as many.
+        let (antialiased, pending_peaks, pending_pixels) =
+            if setups.iter().any(|s| s.variant.antialiased()) {
+                let records =
+                    peel_compiler::spans::pending_pixels(&scene.peel_bytes, width, height)
+                        .map_err(|e| format!("{}: {e}", scene.peel.display()))?;
+                let (mut frames, mut peaks) = (Vec::new(), Vec::new());
+                for &c in cameras {
+                    let size = (width, height);
+                    frames.push(antialiased_frame(scene, c, size, integer, records)?);
+                    peaks.push(pending_peak(scene, c, size, integer)?);
+                }
+                (frames, peaks, records as u32)
+            } else {
+                (Vec::new(), Vec::new(), 0)
+            };
         Ok(References {
             front_to_back: peel("front-to-back", Variant::FtbStream)?,
+            antialiased,
+            pending_peaks,
+            pending_pixels,
             back_to_front: peel("back-to-front", Variant::B2fFramebuffer)?,
             zbuffer,
             scanline,
@@ -496,12 +529,21 @@ impl References {
             // The tiled z-buffer's bands are the whole frame's rows.
             Variant::Zbuffer | Variant::TiledZbuffer => Some(&self.zbuffer[..]),
             Variant::ScanlineZbuffer => Some(&self.scanline[..]),
+            Variant::StreamAa => Some(&self.antialiased[..]),
             Variant::Gfx3d => None,
+        };
+        let robust_errors = if variant.antialiased() {
+            Robust::NotApplicable
+        } else {
+            self.robust
+                .get(variant.method())
+                .map_or(Robust::FromFrames, |&n| Robust::Known(n))
         };
         Expected {
             frames,
-            robust_errors: self.robust.get(variant.method()).copied(),
+            robust_errors,
             truth: &self.truth,
+            pending_peaks: variant.antialiased().then_some(&self.pending_peaks[..]),
         }
     }
 }
@@ -519,4 +561,109 @@ fn scanline_frame(
     let stats = draw(mesh, view, background, &mut owned.lists(), &mut rows)
         .map_err(|e| format!("host scanline z-buffer: {e}"))?;
     Ok((rows.pixels, stats))
+}
+
+/// The anti-aliased frame of `scene` from the orbit camera `angles` at `size` as the compiler's
+/// host renderer draws it (`peel_compiler::tools::raster`, `Settings::antialias`) with
+/// `records` pending-pixel records, the background of every frame and the firmware's vertices,
+/// as RGB565 (as `pixels::png_rgb565` converts the other frames).
+fn antialiased_frame(
+    scene: &Compiled,
+    angles: OrbitAngles,
+    (width, height): (u32, u32),
+    integer: bool,
+    records: usize,
+) -> Result<Vec<u16>, String> {
+    use peel_compiler::tools::raster::{render_bytes_with, Settings};
+    use peel_compiler::tools::shot::Shot;
+    use peel_runtime::camera::Orbit;
+    let header = peel_runtime::read::Scene::parse(&scene.peel_bytes)
+        .map_err(|e| format!("{}: {e}", scene.peel.display()))?
+        .header();
+    let pose = Orbit {
+        azimuth_deg: angles.azimuth_deg,
+        elevation_deg: angles.elevation_deg,
+        distance: Orbit::fitting_distance(FOV_Y_DEG, width, height),
+    }
+    .pose(&header);
+    let shot = Shot {
+        fov_y_deg: FOV_Y_DEG,
+        ..Shot::new(pose.eye, pose.target, width, height)
+    };
+    let settings = Settings {
+        background: BACKGROUND,
+        integer_vertices: integer,
+        antialias: Some(records),
+        ..Settings::default()
+    };
+    let frame = render_bytes_with(&scene.peel_bytes, &shot, &settings)
+        .map_err(|e| format!("{}: host anti-aliased frame: {e}", scene.peel.display()))?;
+    if !frame.stats.antialiased {
+        return Err(format!(
+            "{}: the host's frame at {} deg is not anti-aliased",
+            scene.peel.display(),
+            angles.azimuth_deg
+        ));
+    }
+    Ok(frame
+        .pixels
+        .iter()
+        .map(|&p| Colour::new((p >> 16) as u8, (p >> 8) as u8, p as u8).to_rgb565())
+        .collect())
+}
+
+/// The most pending pixels the anti-aliased frame of `scene` from the orbit camera `angles`
+/// at `size` (the firmware's view) holds at once with records to spare (all a pool can
+/// address) and span memory that never runs out: with at least as many, no row of the frame
+/// falls back.
+fn pending_peak(
+    scene: &Compiled,
+    angles: OrbitAngles,
+    (w, h): (u32, u32),
+    integer: bool,
+) -> Result<u64, String> {
+    use peel_runtime::coverage::Coverage;
+    use peel_runtime::display::SpanSink;
+    use peel_runtime::pending::{Pending, PendingPixel};
+    use peel_runtime::render::{Renderer, Workspace};
+    struct Nowhere;
+    impl SpanSink for Nowhere {
+        fn span(&mut self, _: u32, _: u32, _: u32, _: Colour) {}
+    }
+    let fail = |e: String| format!("{}: pending pixels: {e}", scene.peel.display());
+    let parsed =
+        peel_runtime::read::Scene::parse(&scene.peel_bytes).map_err(|e| fail(e.to_string()))?;
+    let view = peel_target_kit::orbit_view(&parsed.header(), angles, FOV_Y_DEG, w, h)
+        .map_err(|e| fail(e.to_string()))?;
+    let rows = h as usize;
+    let mut workspace: Box<Workspace<{ 1 << 14 }, 64>> = Box::default();
+    let mut intervals = vec![(0u16, 0u16); (w as usize).div_ceil(2) * rows];
+    let mut counts = vec![0u16; rows];
+    let mut records = vec![PendingPixel::default(); peel_compiler::tools::raster::HOST_PENDING];
+    let (mut heads, mut row) = (
+        vec![Default::default(); rows],
+        vec![Default::default(); w as usize],
+    );
+    let coverage =
+        Coverage::new(&mut intervals, &mut counts, w, h).map_err(|e| fail(e.to_string()))?;
+    let pending =
+        Pending::new(&mut records, &mut heads, &mut row, w, h).map_err(|e| fail(e.to_string()))?;
+    let [r, g, b] = BACKGROUND;
+    let mut renderer = Renderer::new(&mut workspace)
+        .span_memory(coverage)
+        .antialias(pending)
+        .background(Colour::new(r, g, b));
+    if integer {
+        renderer = renderer.integer_vertices();
+    }
+    let stats = renderer
+        .draw(&parsed, &view, &mut Nowhere)
+        .map_err(|e| fail(e.to_string()))?;
+    let peak = renderer.pending().map_or(0, |p| p.peak());
+    if !stats.antialiased || peak >= peel_compiler::tools::raster::HOST_PENDING {
+        return Err(fail(
+            "the frame is not anti-aliased with every record a pool can address".into(),
+        ));
+    }
+    Ok(peak as u64)
 }

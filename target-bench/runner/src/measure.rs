@@ -27,6 +27,8 @@ pub struct Measure<'a> {
     pub spans_per_row: u32,
     /// Scan memory nodes (scan order).
     pub scan_nodes: u32,
+    /// Pending-pixel records (anti-aliased).
+    pub pending_pixels: u32,
     /// The scanline z-buffer's active edges and clipped points (the most over the cameras).
     pub scanline_lists: (u32, u32),
     pub elf: std::path::PathBuf,
@@ -37,11 +39,26 @@ pub struct Measure<'a> {
 pub struct Expected<'a> {
     /// The host's frames of the same code, when it runs on the host.
     pub frames: Option<&'a [Vec<u16>]>,
-    /// The robust errors, known from the host's id images; or `None` to count them from the
-    /// target's frames by coverage against `truth`.
-    pub robust_errors: Option<u64>,
+    /// How the robust errors are known.
+    pub robust_errors: Robust,
     /// The reference.
     pub truth: &'a Truth,
+    /// Anti-aliased: the most pending pixels each frame holds at once on the host with records
+    /// to spare (the same code, so the target's peak when none of its rows fell back).
+    pub pending_peaks: Option<&'a [u64]>,
+}
+
+/// How a configuration's robust errors are known.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Robust {
+    /// From the host's id images of the same code.
+    Known(u64),
+    /// Counted from the target's frames by coverage against the reference.
+    FromFrames,
+    /// Not applicable: an anti-aliased pixel blends the triangles it sees, so it is no one
+    /// triangle's (its accuracy is measured against a supersampled reference instead,
+    /// BENCHMARKS.md "Anti-aliased frames").
+    NotApplicable,
 }
 
 /// One QEMU run's report and frames.
@@ -94,6 +111,7 @@ impl Measure<'_> {
             active_edges: self.scanline_lists.0,
             clipped_points: self.scanline_lists.1,
             scan_nodes: self.scan_nodes,
+            pending_pixels: self.pending_pixels,
         };
         let config_path = dir.join("config.bin");
         write(&config_path, &config.encode())?;
@@ -165,11 +183,51 @@ impl Measure<'_> {
         }
         let background = peel_runtime::display::Colour::new(r, g, b).to_rgb565();
         let robust_errors = match expected.robust_errors {
-            Some(n) => n,
-            None => (first.frames.iter().enumerate())
-                .map(|(k, frame)| expected.truth.coverage_errors(k, frame, background))
-                .sum(),
+            Robust::Known(n) => Some(n),
+            Robust::FromFrames => Some(
+                (first.frames.iter().enumerate())
+                    .map(|(k, frame)| expected.truth.coverage_errors(k, frame, background))
+                    .sum(),
+            ),
+            Robust::NotApplicable => None,
         };
+        // Anti-aliased: every frame must be, with no row fallen back to plain pixels. A row
+        // falls back only when a pixel finds every record in use, so a peak below the records
+        // means none did; a peak at the records is an exact fit when the host, with records
+        // to spare, needs no more.
+        let (mut pending_peak, mut pending_fallback) = (None, None);
+        if self.setup.variant.antialiased() {
+            let aa = &first.report.antialiasing;
+            let host = expected.pending_peaks.unwrap_or(&[]);
+            if aa.len() != self.cameras.len() || host.len() != self.cameras.len() {
+                return Err(format!(
+                    "{name}: {} anti-aliasing reports and {} host peaks for {} cameras",
+                    aa.len(),
+                    host.len(),
+                    self.cameras.len()
+                ));
+            }
+            let mut fell_back = false;
+            for (k, (a, &spare)) in aa.iter().zip(host).enumerate() {
+                let full = spare > a.pending_records || a.pending_peak != spare;
+                if !a.antialiased || full {
+                    fell_back = true;
+                    problems.push(format!(
+                        "{name}: camera {k}: {} (pending peak {} of {} records; the host's with \
+                         records to spare: {spare})",
+                        if a.antialiased {
+                            "a row fell back to plain pixels"
+                        } else {
+                            "the frame is not anti-aliased"
+                        },
+                        a.pending_peak,
+                        a.pending_records,
+                    ));
+                }
+            }
+            pending_peak = aa.iter().map(|a| a.pending_peak).max();
+            pending_fallback = Some(fell_back);
+        }
         if first.report.frames.iter().any(|f| f.fallback) {
             println!("   note: {name}: span memory ran out (finished back to front: same pixels)");
         }
@@ -217,18 +275,27 @@ impl Measure<'_> {
             ram_bytes: ram,
             framebuffer_bytes: report.framebuffer,
             flash_bytes: flash,
+            text_bytes: size(".text"),
             display_bytes: median(|f| f.display_bytes),
             display_writes: median(|f| f.display_writes),
             differing_pixels: differing,
             robust_errors,
+            pending_peak,
+            pending_records: self
+                .setup
+                .variant
+                .antialiased()
+                .then_some(u64::from(self.pending_pixels)),
+            pending_fallback,
             deterministic,
         };
+        let dash = |n: Option<u64>| n.map_or_else(|| "-".to_string(), |d| d.to_string());
         println!(
             "   {name}: {} instructions, {} B RAM, {} differing pixels, {} robust errors",
             record.instructions,
             record.ram_bytes,
-            differing.map_or_else(|| "-".to_string(), |d| d.to_string()),
-            record.robust_errors
+            dash(differing),
+            dash(record.robust_errors)
         );
         Ok((record, problems))
     }

@@ -75,7 +75,8 @@ impl Setup {
     /// The record's `path`: how the frame reaches the display.
     pub fn path(&self) -> String {
         match self.variant {
-            Variant::FtbStream => "stream".into(),
+            // Streamed, anti-aliased (the record's method says which).
+            Variant::FtbStream | Variant::StreamAa => "stream".into(),
             Variant::ScanOrder => "scan-order".into(),
             // One row of colour and depth, sent when done.
             Variant::ScanlineZbuffer => "bands-1".into(),
@@ -94,8 +95,8 @@ impl Setup {
     }
 }
 
-/// Every display path: front to back into a framebuffer, streamed and in bands of 8, 16 and
-/// 30 rows; back to front into a framebuffer and in bands of 16 rows; the peers: the z-buffer
+/// Every display path: front to back into a framebuffer, streamed (also anti-aliased) and in
+/// bands of 8, 16 and 30 rows; back to front into a framebuffer and in bands of 16 rows; the peers: the z-buffer
 /// (whole frame, and tiled, its band height chosen per scene by [`tiled_band_rows`], 0 here),
 /// the scanline z-buffer and embedded-3dgfx.
 pub fn setups(only: Option<&[Variant]>) -> Vec<Setup> {
@@ -107,6 +108,7 @@ pub fn setups(only: Option<&[Variant]>) -> Vec<Setup> {
     let all = [
         whole(Variant::FtbFramebuffer),
         whole(Variant::FtbStream),
+        whole(Variant::StreamAa),
         whole(Variant::ScanOrder),
         band(Variant::FtbBands, 8),
         band(Variant::FtbBands, 16),
@@ -169,9 +171,9 @@ against the host and writes target/peel-target/results.json and results.md.
   --quick         the demo scene, two cameras, 320x240, both cores, every method (CI)
   --shadows       scenes compiled with the default sun's shadows (peel compile --shadows)
   --models DIR    the shared models (default: ../shared/models from the repository root)
-  --only LIST     only these firmware variants: ftb-framebuffer, ftb-stream, scan-order,
-                  ftb-bands, b2f-framebuffer, b2f-bands, zbuffer, tiled-zbuffer, scanline-zbuffer,
-                  embedded-3dgfx";
+  --only LIST     only these firmware variants: ftb-framebuffer, ftb-stream, stream-aa,
+                  scan-order, ftb-bands, b2f-framebuffer, b2f-bands, zbuffer, tiled-zbuffer,
+                  scanline-zbuffer, embedded-3dgfx";
 
 /// Parse the arguments after the program name; `Ok(None)` for `--help`.
 pub fn parse_args<I: IntoIterator<Item = String>>(args: I) -> Result<Option<Args>, String> {
@@ -243,12 +245,13 @@ mod tests {
         assert_eq!(c.len(), 8);
         assert_eq!(c[7].azimuth_deg, 315.0);
         assert!(c.iter().all(|c| c.elevation_deg == 20.0));
-        assert_eq!(setups(None).len(), 12);
+        assert_eq!(setups(None).len(), 13);
         let paths: Vec<String> = setups(None).iter().map(Setup::path).collect();
         assert_eq!(
             paths,
             [
                 "framebuffer",
+                "stream",
                 "stream",
                 "scan-order",
                 "bands-8",

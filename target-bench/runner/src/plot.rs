@@ -78,7 +78,11 @@ pub fn plot(records: &[Record], scene: &str) -> Result<Option<Vec<u8>>, String> 
                 continue;
             };
             let at = |r: &Record| (r.ram_bytes as f64, r.instructions as f64);
-            let errors = mine.iter().map(|r| r.robust_errors).max().unwrap_or(0);
+            let errors = mine
+                .iter()
+                .filter_map(|r| r.robust_errors)
+                .max()
+                .unwrap_or(0);
             chart
                 .draw_series(
                     mine.iter()
@@ -151,10 +155,14 @@ mod tests {
             ram_bytes: ram,
             framebuffer_bytes: 0,
             flash_bytes: 400_000,
+            text_bytes: 40_000,
             display_bytes: 153_611,
             display_writes: 2,
             differing_pixels: Some(0),
-            robust_errors: 0,
+            robust_errors: Some(0),
+            pending_peak: None,
+            pending_records: None,
+            pending_fallback: None,
             deterministic: true,
         }
     }

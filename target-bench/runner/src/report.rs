@@ -13,6 +13,17 @@ pub struct Frame {
     pub fallback: bool,
 }
 
+/// One anti-aliased frame's pending pixels (stream-aa).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Antialiasing {
+    /// The renderer says the frame was anti-aliased (`FrameStats::antialiased`).
+    pub antialiased: bool,
+    /// The most pending-pixel records the frame held at once.
+    pub pending_peak: u64,
+    /// The records the firmware has.
+    pub pending_records: u64,
+}
+
 /// A whole run's report.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct Report {
@@ -32,6 +43,8 @@ pub struct Report {
     pub stack_peak: u64,
     /// embedded-3dgfx: the most commands a frame recorded.
     pub gfx3d_commands: Option<u64>,
+    /// stream-aa: each frame's pending pixels, in camera order (empty for other builds).
+    pub antialiasing: Vec<Antialiasing>,
 }
 
 /// `key=value` fields of a line, after its first word.
@@ -69,6 +82,7 @@ pub fn parse(output: &str) -> Result<Report, String> {
         framebuffer: 0,
         stack_peak: 0,
         gfx3d_commands: None,
+        antialiasing: Vec::new(),
     };
     let (mut memory, mut done) = (false, false);
     for line in output.lines() {
@@ -102,6 +116,21 @@ pub fn parse(output: &str) -> Result<Report, String> {
                 report.framebuffer = field(line, "framebuffer")?;
                 report.stack_peak = field(line, "stack_peak")?;
                 memory = true;
+            }
+            Some("aa") => {
+                let k: usize = line
+                    .split_whitespace()
+                    .nth(1)
+                    .and_then(|k| k.parse().ok())
+                    .ok_or_else(|| format!("no frame number in {line:?}"))?;
+                if k != report.antialiasing.len() || k + 1 != report.frames.len() {
+                    return Err(format!("{line:?} out of order"));
+                }
+                report.antialiasing.push(Antialiasing {
+                    antialiased: field(line, "antialiased")? != 0,
+                    pending_peak: field(line, "pending_peak")?,
+                    pending_records: field(line, "pending_records")?,
+                });
             }
             Some("gfx3d") => report.gfx3d_commands = Some(field(line, "commands_peak")?),
             Some("done") => done = true,
@@ -156,6 +185,34 @@ mod tests {
             (169440, 376832, 153600, 2596)
         );
         assert_eq!(r.gfx3d_commands, None);
+        assert!(r.antialiasing.is_empty());
+        let aa = GOOD
+            .replace(
+                "fallback=0\n",
+                "fallback=0\naa 0 antialiased=1 pending_peak=80 pending_records=90\n",
+            )
+            .replace(
+                "fallback=1\n",
+                "fallback=1\naa 1 antialiased=0 pending_peak=90 pending_records=90\n",
+            );
+        let a = parse(&aa).unwrap().antialiasing;
+        assert_eq!(
+            a,
+            [
+                Antialiasing {
+                    antialiased: true,
+                    pending_peak: 80,
+                    pending_records: 90
+                },
+                Antialiasing {
+                    antialiased: false,
+                    pending_peak: 90,
+                    pending_records: 90
+                }
+            ]
+        );
+        let early = aa.replacen("aa 1", "aa 0", 1);
+        assert!(parse(&early).unwrap_err().contains("out of order"));
         let gfx = GOOD.replace("done", "gfx3d commands_peak=3184 capacity=16384\ndone");
         assert_eq!(parse(&gfx).unwrap().gfx3d_commands, Some(3184));
     }

@@ -31,6 +31,8 @@ pub struct Record {
     pub framebuffer_bytes: u64,
     /// Code, read-only data, initialised data and the scene.
     pub flash_bytes: u64,
+    /// The firmware's `.text` (part of `flash_bytes`).
+    pub text_bytes: u64,
     /// Median bytes a frame sends to the display.
     pub display_bytes: u64,
     /// Median separate writes a frame makes to the display driver: window set-ups and pixel
@@ -42,7 +44,16 @@ pub struct Record {
     /// Robust pixels (farther than 1/16 pixel from every projected edge) whose triangle is not
     /// the exact ray-casting reference's, summed over the cameras; for embedded-3dgfx, which
     /// draws no ids, robust pixels covered where the reference sees nothing or the reverse.
-    pub robust_errors: u64,
+    /// `None` (not applicable) for anti-aliased frames, whose pixels are blends of triangles.
+    pub robust_errors: Option<u64>,
+    /// Anti-aliased frames: the most pending-pixel records a frame held at once, over the
+    /// cameras (`None` for others).
+    pub pending_peak: Option<u64>,
+    /// Anti-aliased frames: the records the firmware has (the builder's `PENDING_PIXELS`).
+    pub pending_records: Option<u64>,
+    /// Anti-aliased frames: a row of some frame ran out of records and fell back to plain
+    /// pixels, or a frame was not anti-aliased at all (either fails the run).
+    pub pending_fallback: Option<bool>,
     /// Two runs gave the same instruction count for every frame (and the same pixels).
     pub deterministic: bool,
 }
@@ -90,8 +101,146 @@ pub fn markdown(records: &[Record]) -> String {
             grouped(r.display_writes),
             r.differing_pixels
                 .map_or_else(|| "-".to_string(), |d| d.to_string()),
-            r.robust_errors.to_string(),
+            r.robust_errors
+                .map_or_else(|| "-".to_string(), |d| d.to_string()),
             (if r.deterministic { "yes" } else { "no" }).to_string(),
+        ]));
+    }
+    s
+}
+
+/// Goals for the anti-aliased streamed frame of the teapot on the Cortex-M4F at 320x240: RAM
+/// (bytes), instructions against the streamed frame's, display bytes against a full frame's
+/// pixels (153,600), `.text` growth against the streamed build's (bytes).
+pub const AA_GOALS: (u64, f64, f64, i64) = (49_152, 1.8, 1.4, 3_000);
+
+/// Whether `r` is Peel's streamed frame of the scene, core and size of `aa`.
+fn stream_of(r: &Record, aa: &Record) -> bool {
+    r.method == "peel-front-to-back"
+        && r.path == "stream"
+        && (r.scene.as_str(), r.core.as_str(), r.width, r.height)
+            == (aa.scene.as_str(), aa.core.as_str(), aa.width, aa.height)
+}
+
+/// The anti-aliased frames (`stream-aa`), each under Peel's streamed frame of the same scene,
+/// core and size: instructions and their ratio to the streamed frame's, RAM, display bytes and
+/// writes, `.text` against the streamed build's, pending records and differing pixels; then
+/// the goals for the teapot on the Cortex-M4F at 320x240 when it was measured. Empty without
+/// anti-aliased records.
+pub fn antialiased(records: &[Record]) -> String {
+    let aa: Vec<&Record> = records
+        .iter()
+        .filter(|r| r.method == "peel-front-to-back-aa")
+        .collect();
+    if aa.is_empty() {
+        return String::new();
+    }
+    let mut s = String::from(
+        "\n## Anti-aliased frames (stream-aa)\n\n\
+         | scene | core | size | path | instructions | x stream | ram_bytes | display_bytes | \
+         display_writes | .text delta | pending peak / records | fallback | differing_pixels |\n\
+         |---|---|---|---|--:|--:|--:|--:|--:|--:|--:|---|--:|\n",
+    );
+    let dash = || "-".to_string();
+    for a in &aa {
+        let stream = records.iter().find(|r| stream_of(r, a));
+        let ratio = |r: &Record| {
+            stream.map_or_else(dash, |s| {
+                format!(
+                    "{:.2}x",
+                    r.instructions as f64 / s.instructions.max(1) as f64
+                )
+            })
+        };
+        let row = |r: &Record, path: &str, text: String, pending: String, fallback: String| {
+            peel_compiler::tools::markdown_row([
+                r.scene.clone(),
+                r.core.clone(),
+                format!("{}x{}", r.width, r.height),
+                path.to_string(),
+                grouped(r.instructions),
+                ratio(r),
+                grouped(r.ram_bytes),
+                grouped(r.display_bytes),
+                grouped(r.display_writes),
+                text,
+                pending,
+                fallback,
+                r.differing_pixels.map_or_else(dash, |d| d.to_string()),
+            ])
+        };
+        if let Some(st) = stream {
+            s.push_str(&row(st, "stream", dash(), dash(), dash()));
+        }
+        let text = stream.map_or_else(dash, |st| {
+            format!("{:+}", a.text_bytes as i64 - st.text_bytes as i64)
+        });
+        let pending = match (a.pending_peak, a.pending_records) {
+            (Some(p), Some(n)) => format!("{} / {}", grouped(p), grouped(n)),
+            _ => dash(),
+        };
+        let fallback = match a.pending_fallback {
+            Some(true) => "YES".to_string(),
+            Some(false) => "no".to_string(),
+            None => dash(),
+        };
+        s.push_str(&row(a, "stream-aa", text, pending, fallback));
+    }
+    let goal = aa.iter().find(|r| {
+        r.scene.starts_with("teapot") && r.core == "cortex-m4f" && (r.width, r.height) == (320, 240)
+    });
+    if let Some(a) = goal {
+        let (ram, ratio, display, text) = AA_GOALS;
+        let stream = records.iter().find(|r| stream_of(r, a));
+        let yes = |ok: bool| (if ok { "yes" } else { "NO" }).to_string();
+        s.push_str(&format!(
+            "\nGoals ({}, cortex-m4f, 320x240):\n\n| goal | measured | limit | met |\n|---|--:|--:|---|\n",
+            a.scene
+        ));
+        s.push_str(&peel_compiler::tools::markdown_row([
+            "ram_bytes".into(),
+            grouped(a.ram_bytes),
+            grouped(ram),
+            yes(a.ram_bytes <= ram),
+        ]));
+        let fallback = a.pending_fallback.unwrap_or(true);
+        s.push_str(&peel_compiler::tools::markdown_row([
+            "no row falling back".into(),
+            (if fallback { "a row fell back" } else { "none" }).into(),
+            "none".into(),
+            yes(!fallback),
+        ]));
+        if let Some(st) = stream {
+            let x = a.instructions as f64 / st.instructions.max(1) as f64;
+            s.push_str(&peel_compiler::tools::markdown_row([
+                "instructions / streamed frame's".into(),
+                format!("{x:.2}x"),
+                format!("{ratio:.1}x"),
+                yes(x <= ratio),
+            ]));
+        }
+        let full = 153_600.0;
+        let x = a.display_bytes as f64 / full;
+        s.push_str(&peel_compiler::tools::markdown_row([
+            "display_bytes / 153,600".into(),
+            format!("{x:.3}x ({})", grouped(a.display_bytes)),
+            format!("{display:.1}x ({})", grouped((display * full) as u64)),
+            yes(x <= display),
+        ]));
+        if let Some(st) = stream {
+            let d = a.text_bytes as i64 - st.text_bytes as i64;
+            s.push_str(&peel_compiler::tools::markdown_row([
+                ".text growth (bytes)".into(),
+                format!("{d:+}"),
+                format!("{text}"),
+                yes(d <= text),
+            ]));
+        }
+        s.push_str(&peel_compiler::tools::markdown_row([
+            "differing pixels".into(),
+            a.differing_pixels.map_or_else(dash, |d| d.to_string()),
+            "0".into(),
+            yes(a.differing_pixels == Some(0)),
         ]));
     }
     s
@@ -122,7 +271,7 @@ pub fn alternatives(records: &[Record], scenes: &[&str]) -> String {
                     grouped(r.instructions),
                     grouped(r.ram_bytes),
                     grouped(r.flash_bytes),
-                    grouped(r.robust_errors),
+                    r.robust_errors.map_or_else(|| "-".to_string(), grouped),
                 ]));
             }
         }
@@ -147,10 +296,14 @@ mod tests {
             ram_bytes: 172_000,
             framebuffer_bytes: 153_600,
             flash_bytes: 63_302,
+            text_bytes: 40_000,
             display_bytes: 153_611,
             display_writes: 2,
             differing_pixels: Some(0),
-            robust_errors: 3,
+            robust_errors: Some(3),
+            pending_peak: None,
+            pending_records: None,
+            pending_fallback: None,
             deterministic: true,
         }
     }
@@ -176,10 +329,14 @@ mod tests {
                 "ram_bytes",
                 "framebuffer_bytes",
                 "flash_bytes",
+                "text_bytes",
                 "display_bytes",
                 "display_writes",
                 "differing_pixels",
                 "robust_errors",
+                "pending_peak",
+                "pending_records",
+                "pending_fallback",
                 "deterministic"
             ]
         );
@@ -202,6 +359,45 @@ mod tests {
         assert!(lines[2].contains("| peel-front-to-back | stream |"));
         assert!(lines[3].contains("| embedded-3dgfx | framebuffer | 1 683 160 |"));
         assert!(markdown(&[gfx]).contains("| - | 3 | yes |"));
+    }
+
+    #[test]
+    fn antialiased_table_and_goals() {
+        assert_eq!(antialiased(&[record()]), "");
+        let (mut stream, mut aa) = (record(), record());
+        (stream.scene, stream.path, stream.ram_bytes) = ("teapot".into(), "stream".into(), 24_000);
+        (aa.scene, aa.method, aa.path) = (
+            "teapot".into(),
+            "peel-front-to-back-aa".into(),
+            "stream".into(),
+        );
+        (aa.instructions, aa.ram_bytes, aa.display_bytes) = (2_000_000, 45_000, 230_000);
+        (aa.text_bytes, aa.robust_errors) = (42_500, None);
+        (aa.pending_peak, aa.pending_records, aa.pending_fallback) =
+            (Some(1_700), Some(1_714), Some(false));
+        let md = antialiased(&[stream, aa.clone()]);
+        assert!(
+            md.contains("| stream | 1 683 160 | 1.00x | 24 000 |"),
+            "{md}"
+        );
+        assert!(
+            md.contains("| stream-aa | 2 000 000 | 1.19x | 45 000 | 230 000 | 2 | +2500 | 1 700 / 1 714 | no | 0 |"),
+            "{md}"
+        );
+        assert!(md.contains("| ram_bytes | 45 000 | 49 152 | yes |"), "{md}");
+        assert!(
+            md.contains("| no row falling back | none | none | yes |"),
+            "{md}"
+        );
+        assert!(
+            md.contains("| 1.497x (230 000) | 1.4x (215 040) | NO |"),
+            "{md}"
+        );
+        assert!(
+            md.contains("| .text growth (bytes) | +2500 | 3000 | yes |"),
+            "{md}"
+        );
+        assert!(markdown(&[aa]).contains("| 0 | - | yes |"));
     }
 
     #[test]

@@ -5,6 +5,8 @@ use peel_runtime::camera::LocalView;
 use peel_runtime::coverage::Coverage;
 #[cfg(not(feature = "scan-order"))]
 use peel_runtime::display::{DrawTargetSink, Rgb565Framebuffer};
+#[cfg(feature = "stream-aa")]
+use peel_runtime::pending::Pending;
 use peel_runtime::read::{Header, Scene};
 use peel_runtime::render::{Renderer, Workspace};
 #[cfg(feature = "scan-order")]
@@ -37,6 +39,11 @@ pub struct Method {
     height: u32,
     /// Rows per band (the height when not banded).
     band: u32,
+    /// Anti-aliased: the pending-pixel records, and whether the last frame was anti-aliased.
+    #[cfg(feature = "stream-aa")]
+    pending_records: usize,
+    #[cfg(feature = "stream-aa")]
+    antialiased: bool,
 }
 
 impl Method {
@@ -77,13 +84,27 @@ impl Method {
             let heads = pool.u16s(height as usize, Use::ScanHeads)?;
             renderer = renderer.scan_memory(ScanMemory::new(nodes, heads, width, height)?);
         }
+        // Anti-aliased: the records the builder measures over an orbit (`PENDING_PIXELS`), a
+        // list head per row and a mask per column. Element types as `Pending::new` takes them.
+        #[cfg(feature = "stream-aa")]
+        {
+            let n = config.pending_pixels as usize;
+            let records = pool.filled(n, Default::default(), Use::PendingRecords)?;
+            let heads = pool.filled(height as usize, Default::default(), Use::PendingHeads)?;
+            let row = pool.filled(width as usize, Default::default(), Use::PendingMasks)?;
+            renderer = renderer.antialias(Pending::new(records, heads, row, width, height)?);
+        }
         // A static rather than a singleton, which would build the array in `main`'s stack
         // frame first and so count it twice (`.bss` and the stack's high-water mark).
         // SAFETY: the workspace singleton above makes this run once, so this is the only
         // reference.
         let vertices = unsafe { &mut *core::ptr::addr_of_mut!(VERTEX_ENTRIES) };
         renderer = renderer.vertex_memory(VertexCache::new(vertices));
-        let pixel_count = if matches!(VARIANT, Variant::FtbStream | Variant::ScanOrder) {
+        let streamed = matches!(
+            VARIANT,
+            Variant::FtbStream | Variant::StreamAa | Variant::ScanOrder
+        );
+        let pixel_count = if streamed {
             0
         } else {
             width as usize * band as usize
@@ -95,7 +116,20 @@ impl Method {
             width,
             height,
             band,
+            #[cfg(feature = "stream-aa")]
+            pending_records: config.pending_pixels as usize,
+            #[cfg(feature = "stream-aa")]
+            antialiased: false,
         })
+    }
+
+    /// Anti-aliased: whether the last frame was, the most records it held pending at once
+    /// and the records there are. A row falls back to plain pixels only when a pixel finds
+    /// every record in use, so a peak below the records means none did.
+    #[cfg(feature = "stream-aa")]
+    pub fn antialiasing(&self) -> (bool, usize, usize) {
+        let peak = self.renderer.pending().map_or(0, |p| p.peak());
+        (self.antialiased, peak, self.pending_records)
     }
 
     /// The scene's header (for the camera).
@@ -129,11 +163,16 @@ impl Method {
     fn other_frame(&mut self, view: &LocalView, panel: &mut Panel) -> Result<bool, Failure> {
         let (w, h) = (self.width, self.height);
         let scene = &self.scene;
-        if VARIANT == Variant::FtbStream {
-            // Every span straight to the panel, the uncovered ones last.
+        if matches!(VARIANT, Variant::FtbStream | Variant::StreamAa) {
+            // Every span straight to the panel, the uncovered ones last (anti-aliased: the
+            // pending pixels before them).
             let mut sink = DrawTargetSink::new(panel);
             let stats = self.renderer.draw(scene, view, &mut sink)?;
             let Ok(()) = sink.finish();
+            #[cfg(feature = "stream-aa")]
+            {
+                self.antialiased = stats.antialiased;
+            }
             return Ok(stats.fallback);
         }
         if !VARIANT.banded() {
