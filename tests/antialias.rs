@@ -1,6 +1,8 @@
-//! Anti-aliased frames (`Renderer::antialias`, `peel render --antialias`): against a 16 x 16
-//! supersampled ray cast of white scenes on black (the silhouettes alone), and what running
-//! out of memory does: every pixel is its anti-aliased or its plain colour, never a mix.
+//! Anti-aliased frames (`Renderer::antialias`, `peel render --antialias`): against the exact
+//! ray cast sampled at the runtime's own sample points (every pixel within rounding but for
+//! the samples near an edge), against a 16 x 16 supersampled ray cast of white scenes on black
+//! (the silhouettes alone), and what running out of memory does: every pixel is its
+//! anti-aliased or its plain colour, never a mix.
 
 use glam::DVec3;
 use peel_compiler::compile::{compile_mesh, CompileOptions};
@@ -8,11 +10,13 @@ use peel_compiler::load::{load_obj, Mesh};
 use peel_compiler::shade::Shading;
 use peel_compiler::tools::bench_frames::ring_shots;
 use peel_compiler::tools::raster::{render_bytes_with, Frame, Settings, HOST_PENDING};
-use peel_compiler::tools::reference::{supersampled, ImageError};
+use peel_compiler::tools::reference::{sampled, supersampled, Grid, ImageError, EDGE_MARGIN};
 use peel_compiler::tools::scenes;
 use peel_compiler::tools::shot::Shot;
+use peel_e2e::polygons;
 use peel_runtime::coverage::Coverage;
 use peel_runtime::display::{Colour, Framebuffer, Xrgb8888};
+use peel_runtime::fill::samples::{SAMPLES, SAMPLE_COLUMNS, SAMPLE_ROWS};
 use peel_runtime::pending::{Pending, PendingPixel};
 use peel_runtime::read::Scene;
 use peel_runtime::render::{Renderer, Workspace};
@@ -23,6 +27,11 @@ fn white(mut mesh: Mesh) -> (Mesh, Vec<u8>) {
     for t in &mut mesh.triangles {
         t.colour = [255, 255, 255];
     }
+    flat(mesh)
+}
+
+/// The scene in its own colours, flat: each side of a triangle shows its `Kd`.
+fn flat(mesh: Mesh) -> (Mesh, Vec<u8>) {
     let options = CompileOptions {
         shading: Shading::Flat,
         ..CompileOptions::default()
@@ -56,6 +65,109 @@ fn render(bytes: &[u8], shot: &Shot, antialias: Option<usize>) -> Frame {
         ..Settings::default()
     };
     render_bytes_with(bytes, shot, &settings).expect("a frame")
+}
+
+/// The demo scene (`peel demo`'s, also `fixtures/demo.obj`).
+fn demo() -> Mesh {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("fixtures/demo.obj");
+    load_obj(&path).expect("the demo scene loads")
+}
+
+/// Against the exact reference sampled at the same points.
+///
+/// The runtime samples each pixel at the [`SAMPLES`] points `k` of its grid (sample `(s, t)` of
+/// pixel `(i, j)` at `(i + (s + 1/2) / SAMPLE_COLUMNS, j + (t + 1/2) / SAMPLE_ROWS)`), each
+/// taking the colour of the nearest polygon covering it, and draws the mean rounded to nearest
+/// per channel. The reference ([`sampled`] on [`Grid::RUNTIME`]) casts rays through the very
+/// same points against the source triangles, in `f64`, and keeps the exact mean `ref`, not
+/// rounded. A sample can see differently only where snapping to the fixed-point grid and the
+/// compiler's quantisation can move an edge across it: within 1/16 pixel of a projected edge
+/// (of a source triangle, seen or hidden, or of a compiled polygon, whose edges include the
+/// cuts where triangles interpenetrate, each clipped to the near plane), as the exact tests'
+/// robust pixels are away from edges. With `m` the pixel's samples so near an edge
+/// ([`peel_compiler::tools::reference::Sampled::near_edge`]), every pixel and channel obeys
+///
+/// `|AA - ref| <= 1/2 + m * (c_max - c_min) / k + 1e-9`
+///
+/// where `c_max`, `c_min` are the channel's largest and smallest value among the scene's colours
+/// and the background (each near-edge sample may show any of them instead of the one the
+/// reference sees, moving the mean by at most `(c_max - c_min) / k`; the others agree): at most
+/// `1/2 + 255 m / k`, which it is for white scenes on black. `1/2` is the rounding, exact: the
+/// runtime rounds the integer sum over `k` to nearest. The `1e-9` covers the `f64` rounding of
+/// `ref` and of the bound (a few units in the last place of numbers below 256); no `f32` is
+/// involved.
+///
+/// The generated scenes and the shared models (skipped when absent) in white on black, and the
+/// demo scene in its own colours on a dark grey, at 320 x 240 around the ring of cameras.
+#[test]
+fn antialiased_frames_match_the_exact_samples_but_near_edges() {
+    let grid = Grid::RUNTIME;
+    assert_eq!((grid.columns, grid.rows), (SAMPLE_COLUMNS, SAMPLE_ROWS));
+    assert_eq!(grid.samples(), SAMPLES);
+    let k = f64::from(SAMPLES);
+    let mut all = vec![("demo".to_string(), flat(demo()), [24, 26, 32])];
+    all.extend((scenes().into_iter()).map(|(name, mesh)| (name, white(mesh), [0; 3])));
+    for (name, (mesh, bytes), background) in all {
+        let near_of = |shot: &Shot| shot.near_over(&Scene::parse(&bytes).unwrap().header());
+        let tris: Vec<[DVec3; 3]> = mesh.triangles.iter().map(|t| t.vertices).collect();
+        let polys = polygons(&bytes);
+        // Per channel, the widest difference two of the colours a sample may show can make.
+        let palette = mesh.triangles.iter().map(|t| t.colour).chain([background]);
+        let (lo, hi) = palette.fold(([255u8; 3], [0u8; 3]), |(lo, hi), c| {
+            (
+                [0, 1, 2].map(|i| lo[i].min(c[i])),
+                [0, 1, 2].map(|i| hi[i].max(c[i])),
+            )
+        });
+        let range = [0, 1, 2].map(|i| f64::from(hi[i] - lo[i]));
+        let colour = |id: usize, _: bool| mesh.triangles[id].colour;
+        let (mut worst, mut near_pixels, mut pixels) = (f64::NEG_INFINITY, 0, 0);
+        // The largest difference of a pixel without samples near an edge, and with (its `m`).
+        let (mut worst_away, mut worst_near) = (0f64, (0f64, 0));
+        for (s, shot) in ring_shots(&mesh, 4, 320, 240).iter().enumerate() {
+            let exact = sampled(&tris, &polys, shot, near_of(shot), grid, colour, background);
+            let settings = Settings {
+                antialias: Some(HOST_PENDING),
+                background,
+                ..Settings::default()
+            };
+            let aa = render_bytes_with(&bytes, shot, &settings).expect("a frame");
+            assert!(aa.stats.antialiased, "{name}: not anti-aliased");
+            let rgb = aa.to_rgb();
+            for (p, (want, &m)) in exact.colours.iter().zip(&exact.near_edge).enumerate() {
+                pixels += 1;
+                near_pixels += usize::from(m > 0);
+                for c in 0..3 {
+                    let error = (f64::from(rgb[3 * p + c]) - want[c]).abs();
+                    let bound = 0.5 + f64::from(m) * range[c] / k;
+                    if m == 0 {
+                        worst_away = worst_away.max(error);
+                    } else if error > worst_near.0 {
+                        worst_near = (error, m);
+                    }
+                    worst = worst.max(error - bound);
+                    assert!(
+                        error <= bound + 1e-9,
+                        "{name}, camera {s}: pixel ({}, {}) channel {c} is {}, the exact mean \
+                         {:.3}, {m} samples within {EDGE_MARGIN} px of an edge: off by \
+                         {error:.3} > {bound:.3}",
+                        p % 320,
+                        p / 320,
+                        rgb[3 * p + c],
+                        want[c],
+                    );
+                }
+            }
+        }
+        eprintln!(
+            "{name}: worst excess over the bound {worst:+.3}; worst error without samples near \
+             an edge {worst_away:.3}, with {:.3} (m = {}); {near_pixels} of {pixels} pixels have \
+             samples near an edge",
+            worst_near.0, worst_near.1
+        );
+        // Not vacuous: the frames have edges, and pixels away from them.
+        assert!(near_pixels > 0 && near_pixels < pixels, "{name}");
+    }
 }
 
 /// The 5 x 3 samples of a pixel stand for a fifth of its width and a third of its height, so
