@@ -1,6 +1,8 @@
-//! Anti-aliased frames (`Renderer::antialias`, `peel render --antialias`): against a 16 x 16
-//! supersampled ray cast of white scenes on black (the silhouettes alone), and what running
-//! out of memory does: every pixel is its anti-aliased or its plain colour, never a mix.
+//! Anti-aliased frames (`Renderer::antialias`, `peel render --antialias`): against the exact
+//! ray cast sampled at the runtime's own sample points (every pixel within rounding but for
+//! the samples near an edge), against a 16 x 16 supersampled ray cast of white scenes on black
+//! (the silhouettes alone), and what running out of memory does: every pixel is its
+//! anti-aliased or its plain colour, never a mix.
 
 use glam::DVec3;
 use peel_compiler::compile::{compile_mesh, CompileOptions};
@@ -8,11 +10,13 @@ use peel_compiler::load::{load_obj, Mesh};
 use peel_compiler::shade::Shading;
 use peel_compiler::tools::bench_frames::ring_shots;
 use peel_compiler::tools::raster::{render_bytes_with, Frame, Settings, HOST_PENDING};
-use peel_compiler::tools::reference::{supersampled, ImageError};
+use peel_compiler::tools::reference::{sampled, supersampled, Grid, ImageError, EDGE_MARGIN};
 use peel_compiler::tools::scenes;
 use peel_compiler::tools::shot::Shot;
+use peel_e2e::polygons;
 use peel_runtime::coverage::Coverage;
 use peel_runtime::display::{Colour, Framebuffer, Xrgb8888};
+use peel_runtime::fill::samples::{SAMPLES, SAMPLE_COLUMNS, SAMPLE_ROWS};
 use peel_runtime::pending::{Pending, PendingPixel};
 use peel_runtime::read::Scene;
 use peel_runtime::render::{Renderer, Workspace};
@@ -23,6 +27,11 @@ fn white(mut mesh: Mesh) -> (Mesh, Vec<u8>) {
     for t in &mut mesh.triangles {
         t.colour = [255, 255, 255];
     }
+    flat(mesh)
+}
+
+/// The scene in its own colours, flat: each side of a triangle shows its `Kd`.
+fn flat(mesh: Mesh) -> (Mesh, Vec<u8>) {
     let options = CompileOptions {
         shading: Shading::Flat,
         ..CompileOptions::default()
@@ -32,12 +41,8 @@ fn white(mut mesh: Mesh) -> (Mesh, Vec<u8>) {
 }
 
 fn scenes() -> Vec<(String, Mesh)> {
-    let demo = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("fixtures/demo.obj");
     let mut all = vec![
-        (
-            "demo".to_string(),
-            load_obj(&demo).expect("the demo fixture"),
-        ),
+        ("demo".to_string(), demo()),
         ("sphere".to_string(), scenes::sphere(10, 20)),
         ("torus".to_string(), scenes::torus(24, 12)),
         ("box grid".to_string(), scenes::box_grid(3)),
@@ -61,6 +66,135 @@ fn render(bytes: &[u8], shot: &Shot, antialias: Option<usize>) -> Frame {
         ..Settings::default()
     };
     render_bytes_with(bytes, shot, &settings).expect("a frame")
+}
+
+/// The demo scene (`peel demo`'s, also `fixtures/demo.obj`).
+fn demo() -> Mesh {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("fixtures/demo.obj");
+    load_obj(&path).expect("the demo scene loads")
+}
+
+/// Against the exact reference sampled at the same points.
+///
+/// The runtime samples each pixel at the [`SAMPLES`] points `k` of its grid (sample `(s, t)` of
+/// pixel `(i, j)` at `(i + (s + 1/2) / SAMPLE_COLUMNS, j + (t + 1/2) / SAMPLE_ROWS)`), each
+/// taking the colour of the nearest polygon covering it, and draws the mean rounded to nearest
+/// per channel. The reference ([`sampled`] on [`Grid::RUNTIME`]) casts rays through the very
+/// same points against the source triangles, in `f64`, and keeps the exact mean `ref`, not
+/// rounded. A sample can see differently only where snapping to the fixed-point grid and the
+/// compiler's quantisation can move an edge across it: within 1/16 pixel of a projected edge
+/// (of a source triangle, seen or hidden, or of a compiled polygon, whose edges include the
+/// cuts where triangles interpenetrate, each clipped to the near plane), as the exact tests'
+/// robust pixels are away from edges. With `m` the pixel's samples so near an edge
+/// ([`peel_compiler::tools::reference::Sampled::near_edge`]), every pixel and channel obeys
+///
+/// `|AA - ref| <= 1/2 + m * (c_max - c_min) / k + 1e-9`
+///
+/// where `c_max`, `c_min` are the channel's largest and smallest value among the colours of the
+/// scene's sides and the background (each near-edge sample may show any of them instead of the one the
+/// reference sees, moving the mean by at most `(c_max - c_min) / k`; the others agree): at most
+/// `1/2 + 255 m / k`, which it is for white scenes on black. `1/2` is the rounding, exact: the
+/// runtime rounds the integer sum over `k` to nearest. The `1e-9` covers the `f64` rounding of
+/// `ref` and of the bound (a few units in the last place of numbers below 256); no `f32` is
+/// involved.
+///
+/// A lit scene adds 1 (each sample may be 1 off): the compiler lights the plane of the
+/// quantised triangle, whose normal may differ from the source triangle's by about the grid's
+/// precision, within 1 per channel of the reference's colour (as `tests/end_to_end.rs`
+/// checks).
+///
+/// The generated scenes and the shared models (skipped when absent) in white on black, and the
+/// demo scene in its own colours on a dark grey, flat and lit by the default sun (each side on
+/// its own, without shadows), at 320 x 240 around the ring of cameras.
+#[test]
+fn antialiased_frames_match_the_exact_samples_but_near_edges() {
+    let grid = Grid::RUNTIME;
+    assert_eq!((grid.columns, grid.rows), (SAMPLE_COLUMNS, SAMPLE_ROWS));
+    assert_eq!(grid.samples(), SAMPLES);
+    let k = f64::from(SAMPLES);
+    let grey = [24, 26, 32];
+    let sun = CompileOptions::default().shading;
+    let lit = |mesh: Mesh| {
+        let (_, bytes) =
+            compile_mesh(&mesh, &CompileOptions::default(), &|_| {}).expect("compiles");
+        (mesh, bytes)
+    };
+    let mut all = vec![
+        ("demo".to_string(), flat(demo()), grey, Shading::Flat),
+        ("demo, lit".to_string(), lit(demo()), grey, sun),
+    ];
+    all.extend(
+        (scenes().into_iter().filter(|(name, _)| name != "demo"))
+            .map(|(name, mesh)| (name, white(mesh), [0; 3], Shading::Flat)),
+    );
+    for (name, (mesh, bytes), background, shading) in all {
+        let near_of = |shot: &Shot| shot.near_over(&Scene::parse(&bytes).unwrap().header());
+        let tris: Vec<[DVec3; 3]> = mesh.triangles.iter().map(|t| t.vertices).collect();
+        let polys = polygons(&bytes);
+        // The colour of the side seen, and how far the frame's may be from it.
+        let colour = |id: usize, front: bool| {
+            let [a, b, c] = tris[id];
+            let n = (b - a).cross(c - a).normalize_or_zero();
+            shading.shade(mesh.triangles[id].colour, if front { n } else { -n })
+        };
+        let lighting = if shading == Shading::Flat { 0.0 } else { 1.0 };
+        // Per channel, the widest difference two of the colours a sample may show can make.
+        let sides = (0..tris.len()).flat_map(|id| [colour(id, true), colour(id, false)]);
+        let palette = sides.chain([background]);
+        let (lo, hi) = palette.fold(([255u8; 3], [0u8; 3]), |(lo, hi), c| {
+            (
+                [0, 1, 2].map(|i| lo[i].min(c[i])),
+                [0, 1, 2].map(|i| hi[i].max(c[i])),
+            )
+        });
+        let range = [0, 1, 2].map(|i| f64::from(hi[i] - lo[i]));
+        let (mut worst, mut near_pixels, mut pixels) = (f64::NEG_INFINITY, 0, 0);
+        // The largest difference of a pixel without samples near an edge, and with (its `m`).
+        let (mut worst_away, mut worst_near) = (0f64, (0f64, 0));
+        for (s, shot) in ring_shots(&mesh, 4, 320, 240).iter().enumerate() {
+            let exact = sampled(&tris, &polys, shot, near_of(shot), grid, colour, background);
+            let settings = Settings {
+                antialias: Some(HOST_PENDING),
+                background,
+                ..Settings::default()
+            };
+            let aa = render_bytes_with(&bytes, shot, &settings).expect("a frame");
+            assert!(aa.stats.antialiased, "{name}: not anti-aliased");
+            let rgb = aa.to_rgb();
+            for (p, (want, &m)) in exact.colours.iter().zip(&exact.near_edge).enumerate() {
+                pixels += 1;
+                near_pixels += usize::from(m > 0);
+                for c in 0..3 {
+                    let error = (f64::from(rgb[3 * p + c]) - want[c]).abs();
+                    let bound = 0.5 + lighting + f64::from(m) * range[c] / k;
+                    if m == 0 {
+                        worst_away = worst_away.max(error);
+                    } else if error > worst_near.0 {
+                        worst_near = (error, m);
+                    }
+                    worst = worst.max(error - bound);
+                    assert!(
+                        error <= bound + 1e-9,
+                        "{name}, camera {s}: pixel ({}, {}) channel {c} is {}, the exact mean \
+                         {:.3}, {m} samples within {EDGE_MARGIN} px of an edge: off by \
+                         {error:.3} > {bound:.3}",
+                        p % 320,
+                        p / 320,
+                        rgb[3 * p + c],
+                        want[c],
+                    );
+                }
+            }
+        }
+        eprintln!(
+            "{name}: worst excess over the bound {worst:+.3}; worst error without samples near \
+             an edge {worst_away:.3}, with {:.3} (m = {}); {near_pixels} of {pixels} pixels have \
+             samples near an edge",
+            worst_near.0, worst_near.1
+        );
+        // Not vacuous: the frames have edges, and pixels away from them.
+        assert!(near_pixels > 0 && near_pixels < pixels, "{name}");
+    }
 }
 
 /// The 5 x 5 samples of a pixel stand for a fifth of its width and height, so an edge passing

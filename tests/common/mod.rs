@@ -64,6 +64,20 @@ pub fn mesh_closed_outward(mesh: &Mesh) -> bool {
     closed_outward(&triangles)
 }
 
+/// World-space polygons of a compiled file (their edges include every cut).
+pub fn polygons(bytes: &[u8]) -> Vec<Vec<DVec3>> {
+    let scene = peel_runtime::read::Scene::parse(bytes).expect("valid file");
+    let c = DVec3::from_array(scene.header().centre);
+    (0..scene.header().polygon_count)
+        .map(|i| {
+            let p = scene.polygon(i);
+            (0..u32::from(p.vertex_count))
+                .map(|k| c + scene.polygon_vertex(&p, k).as_dvec3())
+                .collect()
+        })
+        .collect()
+}
+
 /// The README's Rust examples, compiled by `cargo test` as doctests (run too, unless marked
 /// `no_run`), so that what a user copies builds.
 #[doc = include_str!("../../README.md")]

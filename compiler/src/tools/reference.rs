@@ -248,7 +248,8 @@ pub fn shadowed(
 /// in 8-bit units: each sample's ray, at `(i + (a + 1/2) / n, j + (b + 1/2) / n)`, takes
 /// `colour(id, front)` of the nearest of `triangles` it hits at camera depth `>= near` (the
 /// triangle's index, and whether the front is seen, as in [`Reference`]), `background` where
-/// it hits none. The reference an anti-aliased frame is measured against.
+/// it hits none. The reference an anti-aliased frame is measured against. [`sampled`] on an
+/// `n x n` grid, its means as `f32`.
 pub fn supersampled(
     triangles: &[[DVec3; 3]],
     shot: &Shot,
@@ -257,37 +258,151 @@ pub fn supersampled(
     colour: impl Fn(usize, bool) -> [u8; 3],
     background: [u8; 3],
 ) -> Vec<[f32; 3]> {
+    let n = n.max(1);
+    let grid = Grid {
+        columns: n,
+        rows: n,
+    };
+    let seen = cast_samples(triangles, None, shot, near, grid, colour, background);
+    seen.colours.iter().map(|c| c.map(|v| v as f32)).collect()
+}
+
+/// A grid of sample points per pixel: sample `(s, t)` of pixel `(i, j)` at
+/// `(i + (s + 1/2) / columns, j + (t + 1/2) / rows)`, as the runtime's anti-aliased frames
+/// place theirs (`peel_runtime::fill::samples`, whose `SAMPLE_COLUMNS` and `SAMPLE_ROWS` give
+/// its grid).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Grid {
+    /// Samples per pixel across.
+    pub columns: u32,
+    /// Samples per pixel down.
+    pub rows: u32,
+}
+
+impl Grid {
+    /// The runtime's grid (`peel_runtime::fill::samples`).
+    pub const RUNTIME: Grid = Grid {
+        columns: peel_runtime::fill::samples::SAMPLE_COLUMNS,
+        rows: peel_runtime::fill::samples::SAMPLE_ROWS,
+    };
+
+    /// Samples per pixel.
+    pub fn samples(self) -> u32 {
+        self.columns * self.rows
+    }
+}
+
+/// What [`sampled`] sees, per pixel (row-major).
+#[derive(Debug, Clone)]
+pub struct Sampled {
+    /// The grid sampled.
+    pub grid: Grid,
+    /// Per pixel and channel, in 8-bit units: the exact mean of its samples' colours (a sum of
+    /// integers over the sample count, correctly rounded to `f64`).
+    pub colours: Vec<[f64; 3]>,
+    /// Per pixel: how many of its samples are within [`EDGE_MARGIN`] (1/16 pixel, Euclidean,
+    /// in screen pixels) of a projected edge: see [`sampled`].
+    pub near_edge: Vec<u32>,
+}
+
+/// The colour the samples of `grid` see, per pixel of `shot`: each sample's ray takes
+/// `colour(id, front)` of the nearest of `triangles` it hits at camera depth `>= near` (the
+/// triangle's index, and whether the front is seen, as in [`Reference`]), `background` where
+/// it hits none; a pixel's colour is their exact mean, not rounded. On the runtime's grid
+/// ([`Grid::RUNTIME`]) these are the very points an anti-aliased frame samples, so its pixels
+/// are these means rounded, but for samples so near an edge that snapping and the compiler's
+/// quantisation may move them to the other side.
+///
+/// Those are counted per pixel ([`Sampled::near_edge`]), conservatively: a sample is near an
+/// edge when it lies within [`EDGE_MARGIN`] (Euclidean distance in screen pixels) of a
+/// projected edge of any of `triangles` (seen or hidden) or of `extra_polygons` (e.g. the
+/// compiled polygons, whose edges include the cuts: where interpenetrating triangles meet),
+/// each clipped to the near plane first (the clip adds the near-plane edge, which the
+/// renderer also draws), as [`reference()`] marks pixel centres.
+pub fn sampled(
+    triangles: &[[DVec3; 3]],
+    extra_polygons: &[Vec<DVec3>],
+    shot: &Shot,
+    near: f64,
+    grid: Grid,
+    colour: impl Fn(usize, bool) -> [u8; 3],
+    background: [u8; 3],
+) -> Sampled {
+    let grid = Grid {
+        columns: grid.columns.max(1),
+        rows: grid.rows.max(1),
+    };
+    cast_samples(
+        triangles,
+        Some(extra_polygons),
+        shot,
+        near,
+        grid,
+        colour,
+        background,
+    )
+}
+
+/// [`sampled`], counting the samples near edges only given `extra_polygons` (else
+/// [`Sampled::near_edge`] is all zero); `grid` has no zero side.
+fn cast_samples(
+    triangles: &[[DVec3; 3]],
+    extra_polygons: Option<&[Vec<DVec3>]>,
+    shot: &Shot,
+    near: f64,
+    grid: Grid,
+    colour: impl Fn(usize, bool) -> [u8; 3],
+    background: [u8; 3],
+) -> Sampled {
     let cam = &Lens::new(shot, near);
-    let (w, h, n) = (cam.width as usize, cam.height as usize, n.max(1) as usize);
+    let (w, h) = (cam.width as usize, cam.height as usize);
+    let (nx, ny) = (grid.columns as usize, grid.rows as usize);
     let boxes: Vec<Option<(usize, usize, usize, usize)>> = triangles
         .iter()
         .map(|t| screen_bbox(cam, &t.map(|p| cam.to_camera(p))))
         .collect();
-    let mut out = vec![[0f32; 3]; w * h];
+    // The projected edges, when counting the samples near them.
+    let mut edges: Vec<(DVec2, DVec2)> = Vec::new();
+    if let Some(extra) = extra_polygons {
+        let camera_space = |p: &[DVec3]| p.iter().map(|&q| cam.to_camera(q)).collect::<Vec<_>>();
+        let outlines = (triangles.iter().map(|t| camera_space(t)))
+            .chain(extra.iter().map(|p| camera_space(p)));
+        for c in outlines {
+            let s = screen_outline(cam, &c);
+            edges.extend((0..s.len()).map(|k| (s[k], s[(k + 1) % s.len()])));
+        }
+    }
+    let mut out = Sampled {
+        grid,
+        colours: vec![[0.0; 3]; w * h],
+        near_edge: vec![0; w * h],
+    };
     // A band of 8 pixel rows at a time keeps the samples' depths small.
     const BAND: usize = 8;
-    let per_row = w * n;
-    let mut depth = vec![f64::INFINITY; per_row * BAND * n];
-    let mut seen = vec![None::<(usize, bool)>; per_row * BAND * n];
+    let per_row = w * nx;
+    let mut depth = vec![f64::INFINITY; per_row * BAND * ny];
+    let mut seen = vec![None::<(usize, bool)>; per_row * BAND * ny];
+    let mut near_edge = vec![false; if edges.is_empty() { 0 } else { seen.len() }];
     for band in (0..h).step_by(BAND) {
         let rows = band..(band + BAND).min(h);
         depth.fill(f64::INFINITY);
         seen.fill(None);
+        near_edge.fill(false);
         for (id, t) in triangles.iter().enumerate() {
             let Some((x0, x1, y0, y1)) = boxes[id] else {
                 continue;
             };
             let normal = (t[1] - t[0]).cross(t[2] - t[0]);
             for j in y0.max(rows.start)..y1.min(rows.end) {
-                for sj in 0..n {
-                    let y = j as f64 + (sj as f64 + 0.5) / n as f64;
-                    let row = ((j - rows.start) * n + sj) * per_row;
+                for sj in 0..ny {
+                    let y = j as f64 + (sj as f64 + 0.5) / ny as f64;
+                    let row = ((j - rows.start) * ny + sj) * per_row;
                     for i in x0..x1 {
-                        for si in 0..n {
-                            let x = i as f64 + (si as f64 + 0.5) / n as f64;
+                        for si in 0..nx {
+                            let x = i as f64 + (si as f64 + 0.5) / nx as f64;
                             let dir = cam.ray_at(x, y);
                             if let Some(tz) = ray_triangle(cam.eye, dir, t) {
-                                let k = row + i * n + si;
+                                let k = row + i * nx + si;
                                 if tz >= cam.near && tz < depth[k] {
                                     depth[k] = tz;
                                     seen[k] = Some((id, dir.dot(normal) < 0.0));
@@ -298,20 +413,25 @@ pub fn supersampled(
                 }
             }
         }
+        for &(a, b) in &edges {
+            mark_samples(a, b, w, grid, rows.clone(), &mut near_edge);
+        }
         for j in rows.clone() {
             for i in 0..w {
-                let mut sum = [0u32; 3];
-                for sj in 0..n {
-                    let row = ((j - rows.start) * n + sj) * per_row;
-                    for si in 0..n {
-                        let c = seen[row + i * n + si]
-                            .map_or(background, |(id, front)| colour(id, front));
+                let (mut sum, mut near) = ([0u64; 3], 0);
+                for sj in 0..ny {
+                    let row = ((j - rows.start) * ny + sj) * per_row;
+                    for si in 0..nx {
+                        let k = row + i * nx + si;
+                        let c = seen[k].map_or(background, |(id, front)| colour(id, front));
                         for (s, v) in sum.iter_mut().zip(c) {
-                            *s += u32::from(v);
+                            *s += u64::from(v);
                         }
+                        near += u32::from(near_edge.get(k).copied().unwrap_or(false));
                     }
                 }
-                out[j * w + i] = sum.map(|s| s as f32 / (n * n) as f32);
+                out.colours[j * w + i] = sum.map(|s| s as f64 / (nx * ny) as f64);
+                out.near_edge[j * w + i] = near;
             }
         }
     }
@@ -401,6 +521,15 @@ fn ray_triangle(o: DVec3, d: DVec3, t: &[DVec3; 3]) -> Option<f64> {
 /// Mark pixels near the projected edges of the camera-space polygon `c`, after clipping it to
 /// the near plane (the clip adds the near-plane edge, which the renderer also draws).
 fn mark_polygon_edges(cam: &Lens, c: &[DVec3], robust: &mut [bool]) {
+    let s = screen_outline(cam, c);
+    for k in 0..s.len() {
+        mark_segment(cam, s[k], s[(k + 1) % s.len()], robust);
+    }
+}
+
+/// The camera-space polygon `c` clipped to the near plane (the clip adds the near-plane edge,
+/// which the renderer also draws) and projected: its screen outline.
+fn screen_outline(cam: &Lens, c: &[DVec3]) -> Vec<DVec2> {
     let mut clipped = Vec::with_capacity(c.len() + 1);
     for k in 0..c.len() {
         let (p, q) = (c[k], c[(k + 1) % c.len()]);
@@ -412,9 +541,54 @@ fn mark_polygon_edges(cam: &Lens, c: &[DVec3], robust: &mut [bool]) {
             clipped.push(p + (q - p) * t);
         }
     }
-    let s: Vec<DVec2> = clipped.iter().map(|&p| cam.project(p)).collect();
-    for k in 0..s.len() {
-        mark_segment(cam, s[k], s[(k + 1) % s.len()], robust);
+    clipped.iter().map(|&p| cam.project(p)).collect()
+}
+
+/// Mark in `near` every sample of `grid` within [`EDGE_MARGIN`] of the screen segment `a`-`b`
+/// in the pixel rows `rows` of a `width`-pixel image, `near` holding those rows' samples as
+/// [`cast_samples`] lays them out (row-major, sample rows of pixel row `rows.start` first).
+fn mark_samples(
+    a: DVec2,
+    b: DVec2,
+    width: usize,
+    grid: Grid,
+    rows: std::ops::Range<usize>,
+    near: &mut [bool],
+) {
+    let (nx, ny) = (f64::from(grid.columns), f64::from(grid.rows));
+    let per_row = width * grid.columns as usize;
+    let m = EDGE_MARGIN;
+    // The candidates are found with a little slack; the distance alone decides.
+    let slack = 1e-9;
+    // Sample index `g` (of the image's sample columns or rows, `n` a pixel) of the samples
+    // whose coordinates `(g + 1/2) / n` lie in `[lo, hi]`: `first .. end`, within `limit`.
+    let span = |lo: f64, hi: f64, n: f64, limit: std::ops::Range<usize>| {
+        let first = ((lo - slack) * n - 0.5).ceil();
+        let end = ((hi + slack) * n - 0.5).floor() + 1.0;
+        let clamp = |v: f64| v.clamp(limit.start as f64, limit.end as f64) as usize;
+        clamp(first)..clamp(end)
+    };
+    let d = b - a;
+    let sample_rows = rows.start * grid.rows as usize..rows.end * grid.rows as usize;
+    let ys = span(a.y.min(b.y) - m, a.y.max(b.y) + m, ny, sample_rows.clone());
+    for g in ys {
+        let y = (g as f64 + 0.5) / ny;
+        // The part of the segment within `m` of the sample row, vertically, grown by `m`.
+        let (t0, t1) = if d.y == 0.0 {
+            (0.0, 1.0)
+        } else {
+            let (u, v) = ((y - m - a.y) / d.y, (y + m - a.y) / d.y);
+            (u.min(v).max(0.0), u.max(v).min(1.0))
+        };
+        let (xa, xb) = (a.x + d.x * t0, a.x + d.x * t1);
+        let xs = span(xa.min(xb) - m, xa.max(xb) + m, nx, 0..per_row);
+        let row = (g - sample_rows.start) * per_row;
+        for s in xs {
+            let p = DVec2::new((s as f64 + 0.5) / nx, y);
+            if segment_distance(p, a, b) <= m {
+                near[row + s] = true;
+            }
+        }
     }
 }
 
@@ -533,6 +707,90 @@ mod tests {
         let facing = tris[0];
         let front = (facing[1] - facing[0]).cross(facing[2] - facing[0]).z > 0.0;
         assert_eq!(sides[4 * 9 + 2], [if front { 9.0 } else { 7.0 }; 3]);
+    }
+
+    /// One big white triangle on black whose only edge on screen is vertical, through pixel
+    /// column 4 just right of a sample column: on every grid (the runtime's too), that column's
+    /// pixels see the samples left of the edge, and count the samples within 1/16 pixel of it
+    /// (of it alone: the others are off screen); an extra polygon's edge counts too.
+    #[test]
+    fn samples_see_the_triangle_and_count_those_near_its_edges() {
+        let s = shot(9, 9);
+        let px = 5.0 / Lens::new(&s, 0.01).fpx; // world units a pixel, at the triangle's depth
+        let world_x = |x: f64| (x - 4.5) * px;
+        let world_y = |y: f64| (4.5 - y) * px;
+        for grid in [
+            Grid::RUNTIME,
+            Grid {
+                columns: 4,
+                rows: 2,
+            },
+            Grid {
+                columns: 16,
+                rows: 16,
+            },
+        ] {
+            let (nx, ny) = (f64::from(grid.columns), f64::from(grid.rows));
+            let k = f64::from(grid.samples());
+            // The edge 0.03 pixel right of the middle sample column of pixel column 4.
+            let edge = 4.0 + (f64::from(grid.columns / 2) + 0.5) / nx + 0.03;
+            let e = world_x(edge);
+            let tri = [[
+                DVec3::new(e, -10.0, 0.0),
+                DVec3::new(e, 10.0, 0.0),
+                DVec3::new(-30.0, 0.0, 0.0),
+            ]];
+            let xs = (0..grid.columns).map(|c| 4.0 + (f64::from(c) + 0.5) / nx);
+            let inside = xs.clone().filter(|&x| x < edge).count() as f64 * ny;
+            let near = xs.filter(|&x| (x - edge).abs() <= EDGE_MARGIN).count() as u32;
+            let near = near * grid.rows;
+            assert!(
+                near >= grid.rows,
+                "{grid:?}: the middle sample column is near"
+            );
+            let white = |_: usize, _: bool| [255, 255, 255];
+            let seen = sampled(&tri, &[], &s, 0.01, grid, white, [0, 0, 0]);
+            assert_eq!(seen.grid, grid);
+            for j in 0..9 {
+                let at = |i: usize| (seen.colours[j * 9 + i], seen.near_edge[j * 9 + i]);
+                assert_eq!(at(3), ([255.0; 3], 0), "{grid:?}: left of the edge");
+                assert_eq!(at(4), ([255.0 * inside / k; 3], near), "{grid:?}: on it");
+                assert_eq!(at(5), ([0.0; 3], 0), "{grid:?}: right of it");
+            }
+            // The same means as `supersampled`'s on square grids.
+            if nx == ny {
+                let square = supersampled(&tri, &s, 0.01, grid.columns, white, [0, 0, 0]);
+                let means: Vec<[f32; 3]> =
+                    seen.colours.iter().map(|c| c.map(|v| v as f32)).collect();
+                assert_eq!(square, means);
+            }
+            // A polygon whose one edge on screen is horizontal, 0.02 pixel below the first
+            // sample row of pixel row 2: those samples are near it, the rest of the row's not
+            // (but column 4's near the triangle).
+            let y = 2.0 + 0.5 / ny + 0.02;
+            let below = world_y(y);
+            let quad = vec![
+                DVec3::new(-30.0, below, 0.0),
+                DVec3::new(30.0, below, 0.0),
+                DVec3::new(30.0, 30.0, 0.0),
+                DVec3::new(-30.0, 30.0, 0.0),
+            ];
+            let cut = sampled(&tri, &[quad], &s, 0.01, grid, white, [0, 0, 0]);
+            assert_eq!(
+                cut.colours, seen.colours,
+                "{grid:?}: extra polygons are not seen"
+            );
+            let rows_near = (0..grid.rows)
+                .filter(|&t| (2.0 + (f64::from(t) + 0.5) / ny - y).abs() <= EDGE_MARGIN)
+                .count() as u32;
+            assert!(rows_near >= 1);
+            for j in 0..9 {
+                let want = if j == 2 { rows_near * grid.columns } else { 0 };
+                assert_eq!(cut.near_edge[j * 9], want, "{grid:?}: pixel (0, {j})");
+            }
+            let both = near + rows_near * grid.columns - near / grid.rows * rows_near;
+            assert_eq!(cut.near_edge[2 * 9 + 4], both, "{grid:?}: near both edges");
+        }
     }
 
     fn shot(w: u32, h: u32) -> Shot {
