@@ -278,8 +278,8 @@ fn draw(bytes: &[u8], shot: &Shot, spans: usize, band: u32) -> (Vec<u32>, bool) 
     let mut counts = vec![0u16; band as usize];
     let coverage = Coverage::new(&mut intervals, &mut counts, w, band).unwrap();
     let mut records = vec![PendingPixel::default(); HOST_PENDING];
-    let (mut heads, mut row) = (vec![0u16; band as usize], vec![0; w as usize]);
-    let pending = Pending::new(&mut records, &mut heads, &mut row, w, band).unwrap();
+    let mut heads = vec![0u16; band as usize];
+    let pending = Pending::new(&mut records, &mut heads, band).unwrap();
     let mut renderer = Renderer::new(&mut workspace)
         .span_memory(coverage)
         .antialias(pending)
@@ -349,8 +349,8 @@ fn an_antialiased_frame_writes_each_pixel_once() {
                 let mut counts = vec![0u16; band as usize];
                 let coverage = Coverage::new(&mut intervals, &mut counts, 160, band).unwrap();
                 let mut records = vec![PendingPixel::default(); 4096];
-                let (mut heads, mut row) = (vec![0u16; band as usize], vec![0; 160]);
-                let pending = Pending::new(&mut records, &mut heads, &mut row, 160, band).unwrap();
+                let mut heads = vec![0u16; band as usize];
+                let pending = Pending::new(&mut records, &mut heads, band).unwrap();
                 let mut renderer = Renderer::new(&mut workspace)
                     .span_memory(coverage)
                     .antialias(pending)

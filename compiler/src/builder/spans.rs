@@ -86,11 +86,10 @@ pub fn pending_pixels(bytes: &[u8], width: u32, height: u32) -> Result<usize, St
     let mut intervals = vec![(0u16, 0u16); per_row * height as usize];
     let mut counts = vec![0u16; height as usize];
     let mut records = vec![PendingPixel::default(); MOST_PENDING];
-    let (mut heads, mut row) = (vec![0u16; height as usize], vec![0; width as usize]);
+    let mut heads = vec![0u16; height as usize];
     let coverage =
         Coverage::new(&mut intervals, &mut counts, width, height).map_err(|e| e.to_string())?;
-    let pending = Pending::new(&mut records, &mut heads, &mut row, width, height)
-        .map_err(|e| e.to_string())?;
+    let pending = Pending::new(&mut records, &mut heads, height).map_err(|e| e.to_string())?;
     let mut renderer = Renderer::new(&mut workspace)
         .span_memory(coverage)
         .antialias(pending);
@@ -237,14 +236,14 @@ mod tests {
                     let mut intervals = vec![(0u16, 0u16); per_row * h as usize];
                     let mut counts = vec![0u16; h as usize];
                     let mut pool = vec![PendingPixel::default(); records];
-                    let (mut heads, mut row) = (vec![0u16; h as usize], vec![0; w as usize]);
+                    let mut heads = vec![0u16; h as usize];
                     let mut pixels = vec![0u32; (w * h) as usize];
                     let mut fb = peel_runtime::display::Framebuffer::<
                         peel_runtime::display::Xrgb8888,
                     >::new(&mut pixels, w, h)
                     .unwrap();
                     let coverage = Coverage::new(&mut intervals, &mut counts, w, h).unwrap();
-                    let pending = Pending::new(&mut pool, &mut heads, &mut row, w, h).unwrap();
+                    let pending = Pending::new(&mut pool, &mut heads, h).unwrap();
                     Renderer::new(&mut workspace)
                         .span_memory(coverage)
                         .antialias(pending)

@@ -134,16 +134,10 @@ pub fn render_bytes_with(bytes: &[u8], shot: &Shot, settings: &Settings) -> Resu
         renderer = renderer.integer_vertices();
     }
     let mut records = vec![PendingPixel::default(); settings.antialias.unwrap_or(0)];
-    let (mut heads, mut mask_row) = (vec![0u16; rows], vec![0; shot.width as usize]);
+    let mut heads = vec![0u16; rows];
     if settings.antialias.is_some() {
-        let pending = Pending::new(
-            &mut records,
-            &mut heads,
-            &mut mask_row,
-            shot.width,
-            shot.height,
-        )
-        .map_err(|e| e.to_string())?;
+        let pending =
+            Pending::new(&mut records, &mut heads, shot.height).map_err(|e| e.to_string())?;
         renderer = renderer.antialias(pending).background(bg);
     }
     let stats = renderer

@@ -92,11 +92,11 @@ fn antialiased(
     let mut intervals = [(0u16, 0u16); 8 * H as usize];
     let mut counts = [0u16; H as usize];
     let mut records = [PendingPixel::default(); 32];
-    let (mut heads, mut row) = ([0u16; H as usize], [0; W as usize]);
+    let mut heads = [0u16; H as usize];
     let records = records.get_mut(..black_box(32)).unwrap_or_default();
     if let (Ok(coverage), Ok(pending)) = (
         Coverage::new(&mut intervals, &mut counts, W, H),
-        Pending::new(records, &mut heads, &mut row, W, H),
+        Pending::new(records, &mut heads, H),
     ) {
         let mut renderer = Renderer::new(workspace)
             .span_memory(coverage)

@@ -6,14 +6,19 @@
 //! at once is finished at once, as without anti-aliasing. A partly covered pixel is *pending*:
 //! a [`PendingPixel`] record holds its mask and the sums of its samples' colours, each later
 //! polygon adds only the samples it newly covers, and the record is freed when its mask fills
-//! up ([`Outcome::Finished`]). At the end of the frame (or band) [`Pending::drain`] gives the
-//! background to the samples still uncovered.
+//! up. At the end of the frame (or band) [`Pending::drain`] gives the background to the
+//! samples still uncovered.
+//!
+//! A polygon's samples arrive as the fill's spans on the sample grid, one per sample row for a
+//! convex polygon; [`Pending::gather`] keeps a pixel row's spans, and [`Pending::add_gathered`]
+//! turns them into masks only for the pixels at the spans' ends: the pixels between, whose
+//! samples the polygon covers all, finish as one run.
 //!
 //! # Memory
 //! Records come from the caller's slice; each row keeps its own list, sorted by column, so a
 //! run of masks walks its row's list once. When the records run out, the row that needed one
 //! *falls back*: until the frame ends, its pixels without a record are drawn as without
-//! anti-aliasing, from their centre sample ([`Outcome::Unrecorded`]); those with one go on.
+//! anti-aliasing, from their centre sample; those with one go on.
 //! So every pixel is either its anti-aliased colour or exactly its colour without
 //! anti-aliasing, never a mix.
 
@@ -22,7 +27,7 @@ mod tests;
 
 use crate::display::{Colour, SpanSink};
 use crate::error::RenderError;
-use crate::fill::samples::{add_span_bits, Mask, CENTRE_SAMPLE, FULL_MASK, SAMPLES, SAMPLE_ROWS};
+use crate::fill::samples::{Mask, CENTRE_SAMPLE, FULL_MASK, SAMPLES, SAMPLE_COLUMNS, SAMPLE_ROWS};
 
 /// No record (the end of a list).
 const NONE: u16 = 0x7fff;
@@ -75,34 +80,19 @@ fn packed(colour: Colour) -> u64 {
         << SAMPLES
 }
 
-/// What [`Pending::add_run`] says of a pixel of the run whose mask was not zero.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Outcome {
-    /// The pixel's samples are all covered now: draw it in this colour and count it covered.
-    Finished(Colour),
-    /// The pixel is pending (or the run added no new sample to it): nothing to draw yet.
-    Pending,
-    /// The pixel's row fell back and the pixel has no record: draw it as without
-    /// anti-aliasing, in the run's colour if `centre` (its mask holds the centre sample).
-    Unrecorded {
-        /// The run covers the pixel's centre sample.
-        centre: bool,
-    },
-}
-
-/// The pending pixels of a frame of `height` rows, and the row of masks the fill gathers a
-/// polygon's samples into, in caller memory (see the module docs).
+/// The pending pixels of a frame of `height` rows, and the spans of the pixel row the fill is
+/// gathering, in caller memory (see the module docs).
 #[derive(Debug)]
 pub struct Pending<'m> {
     records: &'m mut [PendingPixel],
     /// Per row: the first record of its list (or [`NONE`]), and [`FALLEN_BACK`].
     heads: &'m mut [u16],
-    /// A polygon's masks of one pixel row (`gathered`), zero outside `lo .. hi`.
-    row: &'m mut [Mask],
-    /// The pixel row gathered in `row`, and its columns holding bits.
+    /// The gathered pixel row's span per sample row (columns of the sample grid), for the
+    /// sample rows whose bit `present` holds.
+    spans: [(u32, u32); SAMPLE_ROWS as usize],
+    present: u32,
+    /// The pixel row gathered.
     gathered: u32,
-    lo: u32,
-    hi: u32,
     height: u32,
     /// First free record ([`NONE`]: none), linked through `next`.
     free: u16,
@@ -110,28 +100,50 @@ pub struct Pending<'m> {
     peak: usize,
 }
 
+/// A walk along a row's list of records, in column order.
+#[derive(Debug)]
+struct Cursor {
+    row: usize,
+    /// The link to `at`: the row's head (`None`) or a record's `next`.
+    link: Option<u16>,
+    at: u16,
+    fallen: bool,
+}
+
+/// Adding a gathered pixel row ([`Pending::begin_add`], [`Pending::next_run`]): the polygon's
+/// colour, the pixels with a sample (`x .. hi`, `x` the next one), those with all
+/// (`inner_lo .. inner_hi`), and the run of finished pixels being extended.
+#[derive(Debug)]
+pub struct RowAdd {
+    present: u32,
+    x: u32,
+    hi: u32,
+    inner_lo: u32,
+    inner_hi: u32,
+    colour: Colour,
+    sample: u64,
+    cursor: Cursor,
+    run: Option<(u32, u32, Colour)>,
+}
+
 impl<'m> Pending<'m> {
-    /// Records in `records` (at most 32,767 are used), a list head per row in `heads` and a
-    /// mask per column in `row`, for frames (or bands) of up to `width x height` pixels; needs
-    /// `heads.len() >= height` and `row.len() >= width`, else [`RenderError::PendingMemory`].
+    /// Records in `records` (at most 32,767 are used) and a list head per row in `heads`, for
+    /// frames (or bands) of up to `height` rows; needs `heads.len() >= height`, else
+    /// [`RenderError::PendingMemory`].
     pub fn new(
         records: &'m mut [PendingPixel],
         heads: &'m mut [u16],
-        row: &'m mut [Mask],
-        width: u32,
         height: u32,
     ) -> Result<Self, RenderError> {
-        let short = |len: usize, n: u32| usize::try_from(n).map_or(true, |n| len < n);
-        if short(heads.len(), height) || short(row.len(), width) {
+        if usize::try_from(height).map_or(true, |h| heads.len() < h) {
             return Err(RenderError::PendingMemory);
         }
         let mut p = Pending {
             records,
             heads,
-            row,
+            spans: [(0, 0); SAMPLE_ROWS as usize],
+            present: 0,
             gathered: 0,
-            lo: u32::MAX,
-            hi: 0,
             height,
             free: NONE,
             in_use: 0,
@@ -152,10 +164,7 @@ impl<'m> Pending<'m> {
         for h in self.heads.iter_mut() {
             *h = NONE;
         }
-        for m in self.row.iter_mut() {
-            *m = 0;
-        }
-        (self.lo, self.hi) = (u32::MAX, 0);
+        self.present = 0;
         let n = self.records.len().min(usize::from(NONE));
         for (i, r) in self.records.iter_mut().take(n).enumerate() {
             *r = PendingPixel {
@@ -172,57 +181,207 @@ impl<'m> Pending<'m> {
         self.height
     }
 
-    /// Columns the mask row holds.
-    pub fn width(&self) -> usize {
-        self.row.len()
-    }
-
     /// Gather the fill's span `[x_start, x_end)` of sample row `sample_row` (of the grid of
-    /// [`crate::fill::samples`]) into the mask row. The fill emits its rows top to bottom; a
-    /// span of another pixel row than the one gathered returns that row first, to be
-    /// [added](Pending::add_gathered) before this span is gathered again.
+    /// [`crate::fill::samples`]). The fill emits its rows top to bottom; a span of another
+    /// pixel row than the one gathered, or a second span of a sample row (a polygon that is not
+    /// convex), returns the gathered pixel row first, to be [added](Pending::add_gathered)
+    /// before this span is gathered again.
     pub fn gather(&mut self, sample_row: u32, x_start: u32, x_end: u32) -> Result<(), u32> {
-        let y = sample_row / SAMPLE_ROWS;
-        if self.lo < self.hi && y != self.gathered {
+        let (y, t) = (sample_row / SAMPLE_ROWS, sample_row % SAMPLE_ROWS);
+        if self.present != 0 && (y != self.gathered || self.present >> t & 1 == 1) {
             return Err(self.gathered);
         }
-        self.gathered = y;
-        if let Some((lo, hi)) = add_span_bits(self.row, sample_row, x_start, x_end) {
-            self.lo = self.lo.min(lo);
-            self.hi = self.hi.max(hi);
+        if x_start < x_end {
+            self.gathered = y;
+            self.present |= 1 << t;
+            if let Some(s) = self.spans.get_mut(t as usize) {
+                *s = (x_start, x_end);
+            }
         }
         Ok(())
     }
 
-    /// The pixel row gathered, and whether it holds bits.
+    /// The pixel row gathered, if it holds a span.
     pub fn gathered(&self) -> Option<u32> {
-        (self.lo < self.hi).then_some(self.gathered)
+        (self.present != 0).then_some(self.gathered)
     }
 
-    /// Clear the gathered masks of the pixels in `intervals` (the finished pixels of the row
-    /// gathered: their samples all belong to nearer polygons).
-    pub fn skip_finished(&mut self, intervals: &[(u16, u16)]) {
-        for &(a, b) in intervals {
-            let (a, b) = (u32::from(a).max(self.lo), u32::from(b).min(self.hi));
-            if let Some(run) = self.row.get_mut(a as usize..b as usize) {
-                run.fill(0);
+    /// Start adding the gathered row's samples in `colour` (and forget them), if it holds any:
+    /// then call [`Pending::next_run`] until it returns `None`.
+    pub fn begin_add(&mut self, colour: Colour) -> Option<RowAdd> {
+        let present = core::mem::take(&mut self.present);
+        let y = self.gathered;
+        let row = usize::try_from(y).ok().filter(|_| y < self.height)?;
+        let head = *self.heads.get(row)?;
+        // The pixels with a sample, and those with all (every sample row has a span).
+        let (mut lo, mut hi, mut inner_lo, mut inner_hi) = (u32::MAX, 0, 0, u32::MAX);
+        for (t, &(a, b)) in self.spans.iter().enumerate() {
+            if present >> t & 1 == 1 {
+                (lo, hi) = (lo.min(a), hi.max(b));
+                (inner_lo, inner_hi) = (inner_lo.max(a), inner_hi.min(b));
             }
         }
+        let (inner_lo, inner_hi) = if present == (1 << SAMPLE_ROWS) - 1 {
+            (inner_lo.div_ceil(SAMPLE_COLUMNS), inner_hi / SAMPLE_COLUMNS)
+        } else {
+            (0, 0)
+        };
+        Some(RowAdd {
+            present,
+            x: lo / SAMPLE_COLUMNS,
+            hi: hi.div_ceil(SAMPLE_COLUMNS),
+            inner_lo,
+            inner_hi,
+            colour,
+            sample: packed(colour),
+            cursor: Cursor {
+                row,
+                link: None,
+                at: head & !FALLEN_BACK,
+                fallen: head & FALLEN_BACK != 0,
+            },
+            run: None,
+        })
     }
 
-    /// [`Pending::add_run`] the gathered row's masks, in `colour`, and clear them.
-    pub fn add_gathered<F: FnMut(u32, Outcome)>(&mut self, colour: Colour, out: F) {
-        if self.lo >= self.hi {
-            return;
+    /// The next run of pixels of `add`'s row that its samples finish, in column order, in one
+    /// colour: draw it and count it covered. Each pixel gets the samples not yet covered, but
+    /// those of `finished` (the row's finished pixels, as sorted intervals of columns: their
+    /// samples belong to nearer polygons); a run of pixels the polygon covers whole can hold
+    /// finished pixels, to be skipped. In a fallen-back row, a pixel without a record is drawn
+    /// when the polygon covers its centre sample, as without anti-aliasing.
+    pub fn next_run(
+        &mut self,
+        add: &mut RowAdd,
+        finished: &[(u16, u16)],
+    ) -> Option<(u32, u32, Colour)> {
+        while add.x < add.hi {
+            let x = add.x;
+            let (x0, x1, c) = if add.inner_lo <= x && x < add.inner_hi {
+                // Covered whole: every pixel finishes, a pending one in its average.
+                self.walk_to(&mut add.cursor, x);
+                match self.record(add.cursor.at).map(|r| u32::from(r.x)) {
+                    Some(rx) if rx == x => (
+                        x,
+                        x + 1,
+                        self.finish(&mut add.cursor, FULL_MASK, add.sample),
+                    ),
+                    Some(rx) if rx < add.inner_hi => (x, rx, add.colour),
+                    _ => (x, add.inner_hi, add.colour),
+                }
+            } else {
+                add.x += 1;
+                let k = finished.partition_point(|&(_, b)| u32::from(b) <= x);
+                let is_finished = finished.get(k).is_some_and(|&(a, _)| u32::from(a) <= x);
+                let mask = self.mask_of(add.present, x);
+                if mask == 0 || is_finished {
+                    continue;
+                }
+                match self.add_pixel(&mut add.cursor, x, mask, add.sample, add.colour) {
+                    Some(c) => (x, x + 1, c),
+                    None => continue,
+                }
+            };
+            add.x = x1;
+            match &mut add.run {
+                Some((_, end, rc)) if *end == x0 && *rc == c => *end = x1,
+                run => {
+                    if let Some(done) = run.replace((x0, x1, c)) {
+                        return Some(done);
+                    }
+                }
+            }
         }
-        let (lo, hi) = (self.lo as usize, self.hi as usize);
-        let row = core::mem::take(&mut self.row);
-        if let Some(run) = row.get_mut(lo..hi) {
-            self.add_run(self.gathered, lo as u32, run, colour, out);
-            run.fill(0);
+        add.run.take()
+    }
+
+    /// Pixel `x`'s mask from the gathered spans of the sample rows in `present`.
+    fn mask_of(&self, present: u32, x: u32) -> Mask {
+        let left = x * SAMPLE_COLUMNS;
+        let mut mask = 0;
+        for (t, &(a, b)) in self.spans.iter().enumerate() {
+            let (s0, s1) = (a.max(left), b.min(left + SAMPLE_COLUMNS));
+            if present >> t & 1 == 1 && s0 < s1 {
+                let bits = (1 << (s1 - left)) - (1 << (s0 - left));
+                mask |= bits << (t as u32 * SAMPLE_COLUMNS);
+            }
         }
-        self.row = row;
-        (self.lo, self.hi) = (u32::MAX, 0);
+        mask
+    }
+
+    /// Move `cursor` to the first record at or right of column `x`.
+    fn walk_to(&self, cursor: &mut Cursor, x: u32) {
+        while let Some(r) = self.record(cursor.at).filter(|r| u32::from(r.x) < x) {
+            cursor.link = Some(cursor.at);
+            cursor.at = r.next;
+        }
+    }
+
+    /// Add samples `mask` (not zero, none of them finished) of pixel `x` in `colour`
+    /// (`sample`: its [`packed`] channels); the pixel's colour if it finishes.
+    fn add_pixel(
+        &mut self,
+        cursor: &mut Cursor,
+        x: u32,
+        mask: Mask,
+        sample: u64,
+        colour: Colour,
+    ) -> Option<Colour> {
+        self.walk_to(cursor, x);
+        if self.record(cursor.at).is_some_and(|r| u32::from(r.x) == x) {
+            let r = self.record(cursor.at)?;
+            if mask & !r.mask() == 0 {
+                return None;
+            }
+            if (r.mask() | mask) == FULL_MASK {
+                return Some(self.finish(cursor, mask, sample));
+            }
+            let at = cursor.at;
+            let r = self.records.get_mut(usize::from(at))?;
+            let new = mask & !r.mask();
+            // The new samples' bits and colours: no carry crosses a field.
+            r.set_acc(r.acc() + u64::from(new) + u64::from(new.count_ones()) * sample);
+            return None;
+        }
+        if mask == FULL_MASK {
+            return Some(colour);
+        }
+        let centre = (mask >> CENTRE_SAMPLE & 1 == 1).then_some(colour);
+        if cursor.fallen {
+            return centre;
+        }
+        let Some(new) = self.take_free() else {
+            cursor.fallen = true;
+            if let Some(h) = self.heads.get_mut(cursor.row) {
+                *h |= FALLEN_BACK;
+            }
+            return centre;
+        };
+        if let Some(slot) = self.records.get_mut(usize::from(new)) {
+            *slot = PendingPixel {
+                x: x as u16,
+                next: cursor.at,
+                ..PendingPixel::default()
+            };
+            slot.set_acc(u64::from(mask) + u64::from(mask.count_ones()) * sample);
+        }
+        self.set_link(cursor.row, cursor.link, new);
+        cursor.link = Some(new);
+        None
+    }
+
+    /// Give the record at `cursor` the samples of `mask` it lacks (which fills it), free it,
+    /// and return its average.
+    fn finish(&mut self, cursor: &mut Cursor, mask: Mask, sample: u64) -> Colour {
+        let at = cursor.at;
+        let Some(mut r) = self.record(at).copied() else {
+            return Colour::default();
+        };
+        let new = mask & !r.mask();
+        r.set_acc(r.acc() + u64::from(new) + u64::from(new.count_ones()) * sample);
+        self.unlink(cursor.row, cursor.link, at, r.next);
+        cursor.at = r.next;
+        average(&r, [0; 3])
     }
 
     /// Records in use now.
@@ -250,91 +409,6 @@ impl<'m> Pending<'m> {
 
     fn record(&self, i: u16) -> Option<&PendingPixel> {
         self.records.get(usize::from(i))
-    }
-
-    /// Add a polygon's masks of row `y`, pixels `x_start ..` (none of them finished), in
-    /// `colour`: each pixel gets the samples of its mask not yet covered. `out` hears of every
-    /// pixel whose mask is not zero, with its column, in column order.
-    pub fn add_run<F: FnMut(u32, Outcome)>(
-        &mut self,
-        y: u32,
-        x_start: u32,
-        masks: &[Mask],
-        colour: Colour,
-        mut out: F,
-    ) {
-        let Some(row) = usize::try_from(y).ok().filter(|_| y < self.height) else {
-            return;
-        };
-        let Some(&head) = self.heads.get(row) else {
-            return;
-        };
-        let mut fallen = head & FALLEN_BACK != 0;
-        // The link to the current record: the row's head (`None`) or a record's `next`.
-        let mut link: Option<u16> = None;
-        let mut at = head & !FALLEN_BACK;
-        let sample = packed(colour);
-        for (k, &mask) in masks.iter().enumerate() {
-            let mask = mask & FULL_MASK;
-            if mask == 0 {
-                continue;
-            }
-            let x = x_start.saturating_add(k as u32);
-            // Walk the sorted list to the first record at or right of `x`.
-            while let Some(r) = self.record(at).filter(|r| u32::from(r.x) < x) {
-                link = Some(at);
-                at = r.next;
-            }
-            if let Some(r) = self.record(at).filter(|r| u32::from(r.x) == x) {
-                let new = mask & !r.mask();
-                if new == 0 {
-                    out(x, Outcome::Pending);
-                    continue;
-                }
-                let (next, mut r) = (r.next, *r);
-                // The new samples' bits and colours: no carry crosses a field.
-                r.set_acc(r.acc() + u64::from(new) + u64::from(new.count_ones()) * sample);
-                if r.mask() == FULL_MASK {
-                    self.unlink(row, link, at, next);
-                    at = next;
-                    out(x, Outcome::Finished(average(&r, [0; 3])));
-                } else {
-                    if let Some(slot) = self.records.get_mut(usize::from(at)) {
-                        *slot = r;
-                    }
-                    out(x, Outcome::Pending);
-                }
-                continue;
-            }
-            if mask == FULL_MASK {
-                out(x, Outcome::Finished(colour));
-                continue;
-            }
-            let centre = mask >> CENTRE_SAMPLE & 1 == 1;
-            if fallen {
-                out(x, Outcome::Unrecorded { centre });
-                continue;
-            }
-            let Some(new) = self.take_free() else {
-                fallen = true;
-                if let Some(h) = self.heads.get_mut(row) {
-                    *h |= FALLEN_BACK;
-                }
-                out(x, Outcome::Unrecorded { centre });
-                continue;
-            };
-            if let Some(slot) = self.records.get_mut(usize::from(new)) {
-                *slot = PendingPixel {
-                    x: x as u16,
-                    next: at,
-                    ..PendingPixel::default()
-                };
-                slot.set_acc(u64::from(mask) + u64::from(mask.count_ones()) * sample);
-            }
-            self.set_link(row, link, new);
-            link = Some(new);
-            out(x, Outcome::Pending);
-        }
     }
 
     /// The first free record, taken off the free list.

@@ -30,8 +30,9 @@ impl Frame<'_, '_> {
 }
 
 impl Frame<'_, '_> {
-    /// Add the gathered row, as the renderer does: finished pixels skipped (span memory's
-    /// intervals), finished and unrecorded pixels written.
+    /// Add the gathered row, as the renderer does: finished pixels given as span memory's
+    /// intervals, the runs of pixels that finish written where not yet written (as span memory
+    /// does: a run of pixels covered whole may hold finished ones).
     fn add_gathered(&mut self, colour: Colour) {
         let Some(y) = self.pending.gathered() else {
             return;
@@ -49,16 +50,16 @@ impl Frame<'_, '_> {
             }
             x += 1;
         }
-        self.pending.skip_finished(&finished);
         let mut done = Vec::new();
-        self.pending
-            .add_gathered(colour, |x, outcome| match outcome {
-                Outcome::Finished(c) => done.push((x, c)),
-                Outcome::Unrecorded { centre: true } => done.push((x, colour)),
-                Outcome::Unrecorded { centre: false } | Outcome::Pending => {}
-            });
+        if let Some(mut add) = self.pending.begin_add(colour) {
+            while let Some((a, b, c)) = self.pending.next_run(&mut add, &finished) {
+                done.extend((a..b).map(|x| (x, c)));
+            }
+        }
         for (x, c) in done {
-            self.write(x, y, c);
+            if self.pixels[y as usize][x as usize].is_none() {
+                self.write(x, y, c);
+            }
         }
     }
 }
@@ -99,8 +100,8 @@ type Triangle = ([FixedPoint<8>; 3], Colour);
 /// Draw `polygons` front to back with `records` records; the picture and the peak.
 fn draw(polygons: &[Triangle], records: usize) -> (Vec<Colour>, usize, Vec<bool>) {
     let mut pool = vec![PendingPixel::default(); records];
-    let (mut heads, mut row) = ([0u16; H], [0 as Mask; W]);
-    let mut pending = Pending::new(&mut pool, &mut heads, &mut row, W as u32, H as u32).unwrap();
+    let mut heads = [0u16; H];
+    let mut pending = Pending::new(&mut pool, &mut heads, H as u32).unwrap();
     let mut frame = Frame {
         pending: &mut pending,
         pixels: [[None; W]; H],
@@ -218,44 +219,52 @@ proptest! {
     }
 }
 
+/// Gather the spans `(sample row, start, end)` and add them in `colour`: the runs that finish.
+fn add(p: &mut Pending<'_>, spans: &[(u32, u32, u32)], colour: Colour) -> Vec<(u32, u32, Colour)> {
+    let mut runs = Vec::new();
+    let mut add_gathered = |p: &mut Pending<'_>| {
+        if let Some(mut add) = p.begin_add(colour) {
+            while let Some(run) = p.next_run(&mut add, &[]) {
+                runs.push(run);
+            }
+        }
+    };
+    for &(row, a, b) in spans {
+        if p.gather(row, a, b).is_err() {
+            add_gathered(p);
+            assert!(p.gather(row, a, b).is_ok());
+        }
+    }
+    add_gathered(p);
+    runs
+}
+
 #[test]
 fn a_record_fills_up_and_is_freed() {
     let mut pool = [PendingPixel::default(); 2];
-    let (mut heads, mut row) = ([0u16; 2], [0 as Mask; 8]);
-    let mut p = Pending::new(&mut pool, &mut heads, &mut row, 8, 2).unwrap();
+    let mut heads = [0u16; 2];
+    let mut p = Pending::new(&mut pool, &mut heads, 2).unwrap();
     let red = Colour::new(255, 0, 0);
     let blue = Colour::new(0, 0, 255);
-    let mut heard = Vec::new();
-    // Left two columns of pixel 3, then all of it: only the other 15 samples are blue.
-    let left = 0b00011_00011_00011_00011_00011;
-    p.add_run(1, 3, &[left], red, |x, o| heard.push((x, o)));
+    // The left two sample columns of pixel (3, 1), then pixels 3 and 4 whole: only the other
+    // 15 samples of pixel 3 are blue, and pixel 4 finishes at once.
+    let rows = |a, b| (5..10).map(move |t| (t, a, b)).collect::<Vec<_>>();
+    assert_eq!(add(&mut p, &rows(15, 17), red), []);
     assert_eq!(p.in_use(), 1);
-    p.add_run(1, 2, &[0, FULL_MASK, FULL_MASK], blue, |x, o| {
-        heard.push((x, o))
-    });
     // 10 red and 15 blue samples: 10 * 255 / 25 = 102, 15 * 255 / 25 = 153.
     let mixed = Colour::new(102, 0, 153);
     assert_eq!(
-        heard,
-        [
-            (3, Outcome::Pending),
-            (3, Outcome::Finished(mixed)),
-            (4, Outcome::Finished(blue))
-        ]
+        add(&mut p, &rows(15, 25), blue),
+        [(3, 4, mixed), (4, 5, blue)]
     );
     assert_eq!((p.in_use(), p.peak()), (0, 1));
-    // Records are reused: three pending pixels in a two-record pool make row 0 fall back.
-    heard.clear();
-    p.add_run(0, 0, &[1, 0, 1, 1], red, |x, o| heard.push((x, o)));
-    assert_eq!(
-        heard,
-        [
-            (0, Outcome::Pending),
-            (2, Outcome::Pending),
-            (3, Outcome::Unrecorded { centre: false })
-        ]
-    );
+    // Records are reused: three pending pixels (one sample each, not the centre) in a
+    // two-record pool make row 0 fall back, and the third is not drawn.
+    assert_eq!(add(&mut p, &[(0, 0, 1), (0, 10, 11), (0, 15, 16)], red), []);
+    assert_eq!(p.in_use(), 2);
     assert!(p.fallen_back(0) && !p.fallen_back(1));
+    // A fallen-back row draws a pixel without a record from its centre sample.
+    assert_eq!(add(&mut p, &[(2, 22, 23)], blue), [(4, 5, blue)]);
     let mut drained = Vec::new();
     struct Spans<'a>(&'a mut Vec<(u32, u32, Colour)>);
     impl SpanSink for Spans<'_> {
@@ -273,15 +282,26 @@ fn a_record_fills_up_and_is_freed() {
 }
 
 #[test]
-fn too_few_heads_or_columns_are_refused() {
-    let (mut heads, mut row) = ([0u16; 3], [0 as Mask; 5]);
+fn a_row_without_every_sample_row_has_no_pixel_covered_whole() {
+    let mut pool = [PendingPixel::default(); 8];
+    let mut heads = [0u16; 1];
+    let mut p = Pending::new(&mut pool, &mut heads, 1).unwrap();
+    let red = Colour::new(255, 0, 0);
+    // Four of five sample rows over pixels 0..4: nothing finishes, four pixels wait.
+    let spans: Vec<_> = (0..4).map(|t| (t, 0, 20)).collect();
+    assert_eq!(add(&mut p, &spans, red), []);
+    assert_eq!(p.in_use(), 4);
+    // The fifth row finishes them, in one run.
+    assert_eq!(add(&mut p, &[(4, 0, 20)], red), [(0, 4, red)]);
+    assert_eq!(p.in_use(), 0);
+}
+
+#[test]
+fn too_few_heads_are_refused() {
+    let mut heads = [0u16; 3];
     assert!(matches!(
-        Pending::new(&mut [], &mut heads, &mut row, 5, 4),
+        Pending::new(&mut [], &mut heads, 4),
         Err(RenderError::PendingMemory)
     ));
-    assert!(matches!(
-        Pending::new(&mut [], &mut heads, &mut row, 6, 3),
-        Err(RenderError::PendingMemory)
-    ));
-    assert!(Pending::new(&mut [], &mut heads, &mut row, 5, 3).is_ok());
+    assert!(Pending::new(&mut [], &mut heads, 3).is_ok());
 }

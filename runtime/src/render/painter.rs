@@ -15,7 +15,7 @@ use crate::display::{Colour, SpanSink};
 use crate::error::RenderError;
 use crate::fill::{self, FixedPoint};
 #[cfg(feature = "antialias")]
-use crate::pending::{Outcome, Pending};
+use crate::pending::Pending;
 
 /// The sample grid's columns and rows per pixel (`fill::samples`), as the points' type; one
 /// without anti-aliasing.
@@ -371,11 +371,10 @@ impl<const SUB: u32> Painter<'_, '_, SUB> {
             first_row: r0,
             pixels: 0,
             #[cfg(feature = "antialias")]
-            samples: self.antialias.as_deref_mut().map(|pending| Samples {
-                pending,
-                colour,
-                run: None,
-            }),
+            samples: self
+                .antialias
+                .as_deref_mut()
+                .map(|pending| Samples { pending, colour }),
             #[cfg(not(feature = "antialias"))]
             samples: core::marker::PhantomData,
         };
@@ -435,13 +434,11 @@ impl<S: SpanSink + ?Sized> SpanSink for Through<'_, '_, '_, S> {
     }
 }
 
-/// An anti-aliased polygon's pending pixels, its colour, and its finished pixels not yet sent
-/// (band row, columns, colour).
+/// An anti-aliased polygon's pending pixels, and its colour.
 #[cfg(feature = "antialias")]
 struct Samples<'c, 'p> {
     pending: &'c mut Pending<'p>,
     colour: Colour,
-    run: Option<(u32, u32, u32, Colour)>,
 }
 
 #[cfg(feature = "antialias")]
@@ -462,7 +459,7 @@ impl<S: SpanSink + ?Sized> Through<'_, '_, '_, S> {
         }
     }
 
-    /// Add the gathered row to the pending pixels, sending the pixels it finishes in runs.
+    /// Add the gathered row to the pending pixels, sending the runs of pixels it finishes.
     fn add_gathered(&mut self) {
         let (Some(s), Some(coverage)) = (self.samples.as_mut(), self.coverage.as_deref_mut())
         else {
@@ -471,35 +468,17 @@ impl<S: SpanSink + ?Sized> Through<'_, '_, '_, S> {
         let Some(y) = s.pending.gathered() else {
             return;
         };
-        s.pending.skip_finished(coverage.row(y));
-        let (colour, sink, first_row) = (s.colour, &mut *self.sink, self.first_row);
-        let (mut run, pixels) = (s.run.take(), &mut self.pixels);
-        let mut finished = |x: u32, c: Colour| match &mut run {
-            Some((ry, _, end, rc)) if *ry == y && *end == x && *rc == c => *end = x + 1,
-            _ => {
-                if let Some(r) = run.replace((y, x, x + 1, c)) {
-                    *pixels += send(coverage, sink, first_row, r);
-                }
-            }
-        };
-        s.pending.add_gathered(colour, |x, outcome| match outcome {
-            Outcome::Finished(c) => finished(x, c),
-            Outcome::Unrecorded { centre: true } => finished(x, colour),
-            Outcome::Unrecorded { centre: false } | Outcome::Pending => {}
-        });
-        s.run = run;
-    }
-
-    /// The polygon is filled: add its last row and send the last run.
-    fn end_samples(&mut self) {
-        self.add_gathered();
-        let (Some(s), Some(coverage)) = (self.samples.as_mut(), self.coverage.as_deref_mut())
-        else {
+        let Some(mut add) = s.pending.begin_add(s.colour) else {
             return;
         };
-        if let Some(r) = s.run.take() {
-            self.pixels += send(coverage, self.sink, self.first_row, r);
+        while let Some((x0, x1, c)) = s.pending.next_run(&mut add, coverage.row(y)) {
+            self.pixels += send(coverage, self.sink, self.first_row, (y, x0, x1, c));
         }
+    }
+
+    /// The polygon is filled: add its last row.
+    fn end_samples(&mut self) {
+        self.add_gathered();
     }
 }
 

@@ -485,7 +485,7 @@ impl<'m, const SUB: u32> Renderer<'m, SUB> {
         });
         #[cfg(feature = "antialias")]
         if let Some(p) = pending.as_deref_mut() {
-            if p.width() < width as usize || p.height() < rows.end - rows.start {
+            if p.height() < rows.end - rows.start {
                 return Err(RenderError::PendingMemory);
             }
             p.clear();

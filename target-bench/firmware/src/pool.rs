@@ -31,9 +31,6 @@ pub enum Use {
     /// The pending pixels' row heads.
     #[cfg(feature = "stream-aa")]
     PendingHeads,
-    /// The pending pixels' row of masks (one per column).
-    #[cfg(feature = "stream-aa")]
-    PendingMasks,
 }
 
 impl core::fmt::Display for Use {
@@ -51,8 +48,6 @@ impl core::fmt::Display for Use {
             Use::PendingRecords => "pending-pixel records",
             #[cfg(feature = "stream-aa")]
             Use::PendingHeads => "pending-pixel row heads",
-            #[cfg(feature = "stream-aa")]
-            Use::PendingMasks => "pending-pixel mask row",
         })
     }
 }

@@ -640,14 +640,10 @@ fn pending_peak(
     let mut intervals = vec![(0u16, 0u16); (w as usize).div_ceil(2) * rows];
     let mut counts = vec![0u16; rows];
     let mut records = vec![PendingPixel::default(); peel_compiler::tools::raster::HOST_PENDING];
-    let (mut heads, mut row) = (
-        vec![Default::default(); rows],
-        vec![Default::default(); w as usize],
-    );
+    let mut heads = vec![Default::default(); rows];
     let coverage =
         Coverage::new(&mut intervals, &mut counts, w, h).map_err(|e| fail(e.to_string()))?;
-    let pending =
-        Pending::new(&mut records, &mut heads, &mut row, w, h).map_err(|e| fail(e.to_string()))?;
+    let pending = Pending::new(&mut records, &mut heads, h).map_err(|e| fail(e.to_string()))?;
     let [r, g, b] = BACKGROUND;
     let mut renderer = Renderer::new(&mut workspace)
         .span_memory(coverage)

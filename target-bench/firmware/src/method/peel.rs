@@ -85,14 +85,13 @@ impl Method {
             renderer = renderer.scan_memory(ScanMemory::new(nodes, heads, width, height)?);
         }
         // Anti-aliased: the records the builder measures over an orbit (`PENDING_PIXELS`), a
-        // list head per row and a mask per column. Element types as `Pending::new` takes them.
+        // list head per row. Element types as `Pending::new` takes them.
         #[cfg(feature = "stream-aa")]
         {
             let n = config.pending_pixels as usize;
             let records = pool.filled(n, Default::default(), Use::PendingRecords)?;
             let heads = pool.filled(height as usize, Default::default(), Use::PendingHeads)?;
-            let row = pool.filled(width as usize, Default::default(), Use::PendingMasks)?;
-            renderer = renderer.antialias(Pending::new(records, heads, row, width, height)?);
+            renderer = renderer.antialias(Pending::new(records, heads, height)?);
         }
         // A static rather than a singleton, which would build the array in `main`'s stack
         // frame first and so count it twice (`.bss` and the stack's high-water mark).
