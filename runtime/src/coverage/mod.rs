@@ -125,6 +125,12 @@ impl<'m> Coverage<'m> {
         self.scan
     }
 
+    /// The scan memory of [`Coverage::from_scan`], without taking it.
+    #[cfg(all(feature = "scan-order", feature = "antialias"))]
+    pub(crate) fn scan(&self) -> Option<&ScanMemory<'m>> {
+        self.scan.as_ref()
+    }
+
     /// Forget everything (a new frame), back to [`Mode::Exclusive`].
     pub fn clear(&mut self) {
         #[cfg(feature = "scan-order")]

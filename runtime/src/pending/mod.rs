@@ -7,7 +7,9 @@
 //! a [`PendingPixel`] record holds its mask and the sums of its samples' colours, each later
 //! polygon adds only the samples it newly covers, and the record is freed when its mask fills
 //! up ([`Outcome::Finished`]). At the end of the frame (or band) [`Pending::drain`] gives the
-//! background to the samples still uncovered.
+//! background to the samples still uncovered. A scan-order frame does not drain its pool: it
+//! reads each row's pending pixels with their colours ([`Pending::row_pixels`], the colours
+//! the drain would give) into the gaps of its scan memory as it is read out.
 //!
 //! # Memory
 //! Records come from the caller's slice; each row keeps its own list, sorted by column, so a
@@ -375,6 +377,42 @@ impl<'m> Pending<'m> {
         }
         self.empty();
         painted
+    }
+}
+
+impl Pending<'_> {
+    /// Row `y`'s pending pixels in column order, each with the colour [`Pending::drain`] would
+    /// paint it (`background` for its uncovered samples), leaving them pending: for a frame
+    /// read out after the walk ([`crate::scan::ScanFrame`], which merges them into its gaps).
+    pub fn row_pixels(&self, y: u32, background: Colour) -> PendingRow<'_> {
+        PendingRow {
+            records: &*self.records,
+            at: self.head(y) & !FALLEN_BACK,
+            fill: [background.r, background.g, background.b].map(u16::from),
+        }
+    }
+}
+
+/// The pending pixels of a row with their colours, column by column: [`Pending::row_pixels`].
+#[derive(Debug, Clone)]
+pub struct PendingRow<'a> {
+    records: &'a [PendingPixel],
+    at: u16,
+    fill: [u16; 3],
+}
+
+impl Iterator for PendingRow<'_> {
+    /// A pixel's column and colour.
+    type Item = (u32, Colour);
+
+    fn next(&mut self) -> Option<(u32, Colour)> {
+        let r = self
+            .records
+            .get(usize::from(self.at))
+            .filter(|_| self.at < NONE)?;
+        self.at = r.next;
+        let missing = (FULL_MASK & !r.mask).count_ones() as u16;
+        Some((u32::from(r.x), average(r.sums, self.fill, missing)))
     }
 }
 

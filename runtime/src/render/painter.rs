@@ -431,6 +431,12 @@ impl<S: SpanSink + ?Sized> Antialiased<'_, '_, '_, S> {
             return;
         };
         self.pending.skip_finished(self.coverage.row(y));
+        // In scan order the covered intervals are the scan memory's.
+        #[cfg(feature = "scan-order")]
+        if let Some(scan) = self.coverage.scan() {
+            let pending = &mut *self.pending;
+            scan.each_interval(y, |a, b| pending.skip_finished(&[(a, b)]));
+        }
         let colour = self.colour;
         let mut finished = |x: u32, c: Colour, run: &mut Option<(u32, u32, u32, Colour)>| match run
         {
