@@ -19,7 +19,8 @@ use peel_runtime::display::{Colour, Framebuffer, Xrgb8888};
 use peel_runtime::fill::samples::{SAMPLES, SAMPLE_COLUMNS, SAMPLE_ROWS};
 use peel_runtime::pending::{Pending, PendingPixel};
 use peel_runtime::read::Scene;
-use peel_runtime::render::{Renderer, Workspace};
+use peel_runtime::render::{FrameStats, Renderer, Workspace};
+use peel_runtime::scan::{ScanMemory, ScanNode};
 use peel_runtime::RenderError;
 
 /// The scene in white, flat.
@@ -377,4 +378,153 @@ fn an_antialiased_frame_writes_each_pixel_once() {
             }
         }
     }
+}
+
+/// The background of the scan-order tests (not black: the pending pixels blend with it).
+const SCAN_BACKGROUND: [u8; 3] = [40, 90, 200];
+
+/// The scene in its own colours, shaded.
+fn coloured(mesh: &Mesh) -> Vec<u8> {
+    compile_mesh(mesh, &CompileOptions::default(), &|_| {})
+        .expect("compiles")
+        .1
+}
+
+/// A streamed frame (XRGB8888) in RGB565, as a scan-order frame gives it.
+fn rgb565(frame: &Frame) -> Vec<u16> {
+    frame
+        .pixels
+        .iter()
+        .map(|&p| Colour::new((p >> 16) as u8, (p >> 8) as u8, p as u8).to_rgb565())
+        .collect()
+}
+
+/// `bytes` in scan order with `nodes` scan-memory nodes, anti-aliased with `records` pending
+/// records if some: the pixels (read as one run, checked against the rows read one by one),
+/// what the walk did, and the nodes it held.
+fn scan(
+    bytes: &[u8],
+    shot: &Shot,
+    nodes: usize,
+    records: Option<usize>,
+) -> Result<(Vec<u16>, FrameStats, usize), RenderError> {
+    let scene = Scene::parse(bytes).unwrap();
+    let view = shot
+        .camera(&scene.header())
+        .unwrap()
+        .view(scene.header().centre);
+    let (w, h) = (shot.width, shot.height);
+    let mut workspace: Box<Workspace<4096, 64>> = Box::default();
+    let mut pool = vec![ScanNode::EMPTY; nodes];
+    let mut heads = vec![0u16; h as usize];
+    let memory = ScanMemory::new(&mut pool, &mut heads, w, h).unwrap();
+    let [r, g, b] = SCAN_BACKGROUND;
+    let mut renderer = Renderer::new(&mut workspace)
+        .scan_memory(memory)
+        .background(Colour::new(r, g, b));
+    let mut pending = vec![PendingPixel::default(); records.unwrap_or(0)];
+    let mut pending_heads = vec![0u16; h as usize];
+    if records.is_some() {
+        let pool = Pending::new(&mut pending, &mut pending_heads, h).unwrap();
+        renderer = renderer.antialias(pool);
+    }
+    let frame = renderer.draw_scan(&scene, &view)?;
+    let pixels: Vec<u16> = frame.pixels().collect();
+    let mut rows = Vec::with_capacity(pixels.len());
+    let mut buffer = vec![0u16; w as usize];
+    for y in 0..h {
+        frame.row_into(y, &mut buffer);
+        rows.extend_from_slice(&buffer);
+    }
+    assert!(rows == pixels, "rows differ from the run");
+    Ok((pixels, frame.stats(), frame.nodes_used()))
+}
+
+/// Anti-aliased in scan order: the streamed anti-aliased frame (through a framebuffer, with a
+/// background), pixel for pixel, with a full pool and with a tiny one (0 or 64 records: each
+/// pixel the anti-aliased or the plain one, all plain with none); plain, the plain frame.
+#[test]
+fn antialiased_scan_frames_are_the_streamed_frames() {
+    let settings = |antialias| Settings {
+        antialias,
+        background: SCAN_BACKGROUND,
+        ..Settings::default()
+    };
+    for (name, mesh) in scenes() {
+        let bytes = coloured(&mesh);
+        let mut shots = ring_shots(&mesh, 3, 160, 120);
+        if name == "teapot" {
+            shots.extend(ring_shots(&mesh, 2, 320, 240));
+        }
+        for shot in shots {
+            let streamed =
+                |records| rgb565(&render_bytes_with(&bytes, &shot, &settings(records)).unwrap());
+            let (aa, plain) = (streamed(Some(HOST_PENDING)), streamed(None));
+            let (pixels, stats, _) = scan(&bytes, &shot, 1 << 15, Some(HOST_PENDING)).unwrap();
+            assert!(stats.antialiased, "{name}");
+            assert!(pixels == aa, "{name}: not the streamed anti-aliased frame");
+            let (pixels, stats, _) = scan(&bytes, &shot, 1 << 15, None).unwrap();
+            assert!(!stats.antialiased, "{name}");
+            assert!(pixels == plain, "{name}: not the streamed plain frame");
+            for records in [0, 64] {
+                let (few, stats, _) = scan(&bytes, &shot, 1 << 15, Some(records)).unwrap();
+                assert!(stats.antialiased, "{name}");
+                assert!(few == streamed(Some(records)), "{name}, {records} records");
+                for k in 0..few.len() {
+                    assert!(
+                        few[k] == aa[k] || few[k] == plain[k],
+                        "{name}, {records} records: pixel {k} mixed"
+                    );
+                }
+                if records == 0 {
+                    assert!(few == plain, "{name}: no record, no anti-aliasing");
+                }
+            }
+        }
+    }
+}
+
+/// Scan memory enough for the plain frame but not for the anti-aliased one draws the plain
+/// frame (`antialiased` false); less than both is the error, with nothing drawn. Prints what
+/// each needs.
+#[test]
+fn scan_memory_short_of_the_antialiased_frame_draws_the_plain_one() {
+    let mut between = 0;
+    for (name, mesh) in scenes() {
+        let bytes = coloured(&mesh);
+        let mut most = (0, 0);
+        for shot in ring_shots(&mesh, 4, 160, 120) {
+            let (plain, _, plain_nodes) = scan(&bytes, &shot, 1 << 15, None).unwrap();
+            let (aa, _, aa_nodes) = scan(&bytes, &shot, 1 << 15, Some(HOST_PENDING)).unwrap();
+            most = (most.0.max(plain_nodes), most.1.max(aa_nodes));
+            let (exact, stats, _) = scan(&bytes, &shot, aa_nodes, Some(HOST_PENDING)).unwrap();
+            assert!(
+                stats.antialiased && exact == aa,
+                "{name}: the measured nodes suffice"
+            );
+            if plain_nodes < aa_nodes {
+                between += 1;
+                for nodes in [plain_nodes, aa_nodes - 1] {
+                    let (short, stats, used) =
+                        scan(&bytes, &shot, nodes, Some(HOST_PENDING)).unwrap();
+                    assert!(!stats.antialiased, "{name}: {nodes} nodes");
+                    assert!(short == plain, "{name}: {nodes} nodes, not the plain frame");
+                    assert_eq!(used, plain_nodes, "{name}");
+                }
+            }
+            let fewest = plain_nodes.min(aa_nodes);
+            assert_eq!(
+                scan(&bytes, &shot, fewest - 1, Some(HOST_PENDING)).err(),
+                Some(RenderError::ScanMemoryFull {
+                    nodes: fewest as u32 - 1
+                }),
+                "{name}"
+            );
+        }
+        eprintln!(
+            "{name} at 160x120: scan nodes {} plain, {} anti-aliased",
+            most.0, most.1
+        );
+    }
+    assert!(between > 0, "no frame needs more nodes anti-aliased");
 }

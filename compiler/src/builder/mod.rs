@@ -261,6 +261,12 @@ impl Builder {
                         "measuring scan memory at {width}x{height}: {e}"
                     ))
                 })?;
+                let scan_nodes_antialiased =
+                    spans::scan_nodes_antialiased(&result.peel, width, height).map_err(|e| {
+                        CompileError::Invariant(format!(
+                            "measuring anti-aliased scan memory at {width}x{height}: {e}"
+                        ))
+                    })?;
                 let pending_pixels =
                     spans::pending_pixels(&result.peel, width, height).map_err(|e| {
                         CompileError::Invariant(format!(
@@ -272,6 +278,7 @@ impl Builder {
                     height,
                     per_row,
                     scan_nodes,
+                    scan_nodes_antialiased,
                     pending_pixels,
                 })
             }

@@ -28,6 +28,9 @@ pub struct MeasuredSpans {
     /// The scan memory nodes with which no scan-order frame of the orbit runs out
     /// ([`super::spans::scan_nodes`]).
     pub scan_nodes: usize,
+    /// The same for anti-aliased scan-order frames
+    /// ([`super::spans::scan_nodes_antialiased`]).
+    pub scan_nodes_antialiased: usize,
     /// The pending-pixel records with which no anti-aliased frame of the orbit has a row fall
     /// back to plain pixels ([`super::spans::pending_pixels`]).
     pub pending_pixels: usize,
@@ -35,6 +38,10 @@ pub struct MeasuredSpans {
 
 /// Scan memory nodes the sizes file gives without a measurement (32 KiB).
 pub const RECOMMENDED_SCAN_NODES: usize = 4096;
+
+/// Scan memory nodes the sizes file gives anti-aliased scan-order frames without a
+/// measurement (48 KiB: anti-aliased, the scenes measured need 25-66% more than plain).
+pub const RECOMMENDED_SCAN_NODES_AA: usize = 6144;
 
 /// Pending-pixel records the sizes file gives without a measurement (24 KiB).
 pub const RECOMMENDED_PENDING_PIXELS: usize = 2048;
@@ -208,6 +215,31 @@ pub fn sizes_file(
                 scan_nodes * 8
             ),
             format!("pub const SCAN_NODES: usize = {scan_nodes};"),
+        ),
+    }
+    match spans {
+        None => item(
+            "Scan memory nodes for anti-aliased frames in scan order (`Renderer::draw_scan` with\n\
+             `Renderer::antialias`): a guess (`Builder::image_size` measures what the scene\n\
+             needs). A frame that runs out is drawn without anti-aliasing (with at least\n\
+             `SCAN_NODES`; with fewer, `RenderError::ScanMemoryFull`).",
+            format!("pub const SCAN_NODES_AA: usize = {RECOMMENDED_SCAN_NODES_AA};"),
+        ),
+        Some(MeasuredSpans {
+            width,
+            height,
+            scan_nodes_antialiased,
+            ..
+        }) => item(
+            &format!(
+                "Scan memory nodes (8 bytes each: {} bytes) this scene needs at {width}x{height}\n\
+                 for anti-aliased frames in scan order (`Renderer::draw_scan` with\n\
+                 `Renderer::antialias`): the most any frame of the orbit of `SPANS_PER_ROW`\n\
+                 holds. A frame that runs out is drawn without anti-aliasing (with at least\n\
+                 `SCAN_NODES`; with fewer, `RenderError::ScanMemoryFull`).",
+                scan_nodes_antialiased * 8
+            ),
+            format!("pub const SCAN_NODES_AA: usize = {scan_nodes_antialiased};"),
         ),
     }
     match spans {

@@ -50,6 +50,20 @@ fn orbit_views(
 /// As [`spans_per_row`]'s, and a frame that needs more than the 65,535 nodes scan memory can
 /// address.
 pub fn scan_nodes(bytes: &[u8], width: u32, height: u32) -> Result<usize, String> {
+    scan_nodes_with(bytes, width, height, false)
+}
+
+/// [`scan_nodes`] for anti-aliased scan-order frames (`Renderer::antialias`, with records to
+/// spare): more than the plain frames need, as each pending pixel splits an interval. With
+/// fewer nodes (but at least [`scan_nodes`]) a frame that runs out is drawn plain.
+///
+/// # Errors
+/// As [`scan_nodes`]'.
+pub fn scan_nodes_antialiased(bytes: &[u8], width: u32, height: u32) -> Result<usize, String> {
+    scan_nodes_with(bytes, width, height, true)
+}
+
+fn scan_nodes_with(bytes: &[u8], width: u32, height: u32, aa: bool) -> Result<usize, String> {
     let scene = Scene::parse(bytes).map_err(|e| e.to_string())?;
     let views = orbit_views(&scene, width, height)?;
     let mut workspace: Box<Workspace<{ 1 << 14 }, 64>> = Box::default();
@@ -57,12 +71,22 @@ pub fn scan_nodes(bytes: &[u8], width: u32, height: u32) -> Result<usize, String
     let mut heads = vec![0u16; height as usize];
     let memory =
         ScanMemory::new(&mut nodes, &mut heads, width, height).map_err(|e| e.to_string())?;
+    let mut records = vec![PendingPixel::default(); if aa { MOST_PENDING } else { 0 }];
+    let mut pending_heads = vec![0u16; height as usize];
     let mut renderer = Renderer::new(&mut workspace).scan_memory(memory);
+    if aa {
+        let pending =
+            Pending::new(&mut records, &mut pending_heads, height).map_err(|e| e.to_string())?;
+        renderer = renderer.antialias(pending);
+    }
     let mut most = 0;
     for view in &views {
         let frame = renderer
             .draw_scan(&scene, view)
             .map_err(|e| e.to_string())?;
+        if aa && !frame.stats().antialiased {
+            return Err("an anti-aliased frame needs more than 65,535 nodes".to_string());
+        }
         most = most.max(frame.nodes_used());
     }
     Ok(most)
@@ -224,6 +248,27 @@ mod tests {
         };
         assert!(!fails(nodes));
         assert!(fails(nodes - 1));
+        // Anti-aliased: with the measured nodes every frame of the orbit is anti-aliased; with
+        // one less, one is drawn plain (or not at all).
+        let aa_nodes = scan_nodes_antialiased(&bytes, w, h).unwrap();
+        let mut all_antialiased = |n: usize| {
+            let mut pool = vec![ScanNode::EMPTY; n];
+            let mut heads = vec![0u16; h as usize];
+            let memory = ScanMemory::new(&mut pool, &mut heads, w, h).unwrap();
+            let mut records = vec![PendingPixel::default(); MOST_PENDING];
+            let mut pending_heads = vec![0u16; h as usize];
+            let pending = Pending::new(&mut records, &mut pending_heads, h).unwrap();
+            let mut renderer = Renderer::new(&mut workspace)
+                .scan_memory(memory)
+                .antialias(pending);
+            views.iter().all(|v| {
+                renderer
+                    .draw_scan(&scene, v)
+                    .is_ok_and(|f| f.stats().antialiased)
+            })
+        };
+        assert!(all_antialiased(aa_nodes));
+        assert!(!all_antialiased(aa_nodes - 1));
         // Pending pixels: with the measured records every anti-aliased frame of the orbit is
         // the one with records to spare; with one less, a row falls back and a frame differs.
         let pending = pending_pixels(&bytes, w, h).unwrap();

@@ -344,6 +344,8 @@ fn an_image_size_measures_the_span_memory_of_an_orbit() {
     assert!(text.contains(&format!("pub const SPANS_PER_ROW: usize = {want};")));
     assert!(text.contains("pub const SPANS_MEASURED_AT: (u32, u32) = (160, 120);"));
     assert!(text.contains("no frame of an orbit"));
+    let aa = spans::scan_nodes_antialiased(&bytes, 160, 120).unwrap();
+    assert!(text.contains(&format!("pub const SCAN_NODES_AA: usize = {aa};")));
     // From the cache, the same measurement.
     let again = builder(dir.path(), &obj)
         .image_size(160, 120)

@@ -1,6 +1,6 @@
 //! Panic probe: calls the runtime's public render path (parse, camera, render back to front
 //! and front to back into a framebuffer, with span and vertex memory, anti-aliased with
-//! pending pixels; the trusted parse with
+//! pending pixels, anti-aliased in scan order and read out; the trusted parse with
 //! the `f32` view) on inputs the
 //! optimiser cannot see through (`black_box`), so every panic the runtime could reach on some
 //! input stays in the program.
@@ -20,6 +20,8 @@ use peel_runtime::display::{Colour, Framebuffer, Rgb565};
 use peel_runtime::pending::{Pending, PendingPixel};
 use peel_runtime::read::Scene;
 use peel_runtime::render::{Renderer, Workspace};
+#[cfg(feature = "antialias")]
+use peel_runtime::scan::{ScanMemory, ScanNode};
 use peel_runtime::vertices::{CachedVertex, VertexCache};
 
 /// Image size of the probe (any size: the runtime checks it).
@@ -103,6 +105,38 @@ fn antialiased(
             .antialias(pending)
             .background(black_box(Colour::new(4, 5, 6)));
         let _ = black_box(renderer.draw(scene, view, fb));
+    }
+    scan_antialiased(scene, view, workspace);
+}
+
+/// [`probe`]'s frame anti-aliased in scan order, read out as one run and row by row. (Out of
+/// line: inlined, it changed what LLVM proved of the framebuffer's `clear` in `probe`.)
+#[cfg(feature = "antialias")]
+#[inline(never)]
+fn scan_antialiased(scene: &Scene<'_>, view: &LocalView, workspace: &mut Workspace<64, 32>) {
+    let mut nodes = [ScanNode::EMPTY; 64];
+    let mut scan_heads = [0u16; H as usize];
+    let mut records = [PendingPixel::default(); 32];
+    let mut heads = [0u16; H as usize];
+    let nodes = nodes.get_mut(..black_box(64)).unwrap_or_default();
+    let records = records.get_mut(..black_box(32)).unwrap_or_default();
+    if let (Ok(memory), Ok(pending)) = (
+        ScanMemory::new(nodes, &mut scan_heads, W, H),
+        Pending::new(records, &mut heads, H),
+    ) {
+        let mut renderer = Renderer::new(workspace)
+            .scan_memory(memory)
+            .antialias(pending)
+            .background(black_box(Colour::new(7, 8, 9)));
+        if let Ok(frame) = renderer.draw_scan(scene, view) {
+            let mut sum = 0u16;
+            for p in frame.pixels() {
+                sum = sum.wrapping_add(p);
+            }
+            let mut line = [0u16; W as usize];
+            frame.row_into(black_box(3), &mut line);
+            black_box((sum, line));
+        }
     }
 }
 

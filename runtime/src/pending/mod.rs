@@ -7,10 +7,12 @@
 //! a [`PendingPixel`] record holds its mask and the sums of its samples' colours, each later
 //! polygon adds only the samples it newly covers, and the record is freed when its mask fills
 //! up. At the end of the frame (or band) [`Pending::drain`] gives the background to the
-//! samples still uncovered.
+//! samples still uncovered. A scan-order frame does not drain its pool: it reads each row's
+//! pending pixels with their colours ([`Pending::row_pixels`], the colours the drain would
+//! give) into the gaps of its scan memory as it is read out.
 //!
 //! A polygon's samples arrive as the fill's spans on the sample grid, one per sample row for a
-//! convex polygon; [`Pending::gather`] keeps a pixel row's spans, and [`Pending::add_gathered`]
+//! convex polygon; [`Pending::gather`] keeps a pixel row's spans, and [`Pending::next_run`]
 //! turns them into masks only for the pixels at the spans' ends: the pixels between, whose
 //! samples the polygon covers all, finish as one run.
 //!
@@ -247,14 +249,14 @@ impl<'m> Pending<'m> {
 
     /// The next run of pixels of `add`'s row that its samples finish, in column order, in one
     /// colour: draw it and count it covered. Each pixel gets the samples not yet covered, but
-    /// those of `finished` (the row's finished pixels, as sorted intervals of columns: their
-    /// samples belong to nearer polygons); a run of pixels the polygon covers whole can hold
-    /// finished pixels, to be skipped. In a fallen-back row, a pixel without a record is drawn
-    /// when the polygon covers its centre sample, as without anti-aliasing.
+    /// those of the pixels `finished` says are (their samples belong to nearer polygons); a run
+    /// of pixels the polygon covers whole can hold finished pixels, to be skipped. In a
+    /// fallen-back row, a pixel without a record is drawn when the polygon covers its centre
+    /// sample, as without anti-aliasing.
     pub fn next_run(
         &mut self,
         add: &mut RowAdd,
-        finished: &[(u16, u16)],
+        finished: impl Fn(u32) -> bool,
     ) -> Option<(u32, u32, Colour)> {
         while add.x < add.hi {
             let x = add.x;
@@ -272,10 +274,8 @@ impl<'m> Pending<'m> {
                 }
             } else {
                 add.x += 1;
-                let k = finished.partition_point(|&(_, b)| u32::from(b) <= x);
-                let is_finished = finished.get(k).is_some_and(|&(a, _)| u32::from(a) <= x);
                 let mask = self.mask_of(add.present, x);
-                if mask == 0 || is_finished {
+                if mask == 0 || finished(x) {
                     continue;
                 }
                 match self.add_pixel(&mut add.cursor, x, mask, add.sample, add.colour) {
@@ -448,8 +448,9 @@ impl<'m> Pending<'m> {
             .unwrap_or(NONE)
     }
 
+    /// Record `i`, if it is one: never [`NONE`], even in a pool of more than 32,767 records.
     fn record(&self, i: u16) -> Option<&PendingPixel> {
-        self.records.get(usize::from(i))
+        self.records.get(usize::from(i)).filter(|_| i < NONE)
     }
 
     /// The first free record, taken off the free list.
@@ -510,6 +511,41 @@ impl<'m> Pending<'m> {
         }
         self.empty();
         painted
+    }
+}
+
+impl Pending<'_> {
+    /// Row `y`'s pending pixels in column order, each with the colour [`Pending::drain`] would
+    /// paint it (`background` for its uncovered samples), leaving them pending: for a frame
+    /// read out after the walk ([`crate::scan::ScanFrame`], which merges them into its gaps).
+    pub fn row_pixels(&self, y: u32, background: Colour) -> PendingRow<'_> {
+        PendingRow {
+            records: &*self.records,
+            at: self.head(y) & !FALLEN_BACK,
+            fill: [background.r, background.g, background.b].map(u32::from),
+        }
+    }
+}
+
+/// The pending pixels of a row with their colours, column by column: [`Pending::row_pixels`].
+#[derive(Debug, Clone)]
+pub struct PendingRow<'a> {
+    records: &'a [PendingPixel],
+    at: u16,
+    fill: [u32; 3],
+}
+
+impl Iterator for PendingRow<'_> {
+    /// A pixel's column and colour.
+    type Item = (u32, Colour);
+
+    fn next(&mut self) -> Option<(u32, Colour)> {
+        let r = self
+            .records
+            .get(usize::from(self.at))
+            .filter(|_| self.at < NONE)?;
+        self.at = r.next;
+        Some((u32::from(r.x), average(r, self.fill)))
     }
 }
 

@@ -52,7 +52,11 @@ impl Frame<'_, '_> {
         }
         let mut done = Vec::new();
         if let Some(mut add) = self.pending.begin_add(colour) {
-            while let Some((a, b, c)) = self.pending.next_run(&mut add, &finished) {
+            while let Some((a, b, c)) = self.pending.next_run(&mut add, |x| {
+                finished
+                    .iter()
+                    .any(|&(a, b)| (u32::from(a)..u32::from(b)).contains(&x))
+            }) {
                 done.extend((a..b).map(|x| (x, c)));
             }
         }
@@ -224,7 +228,7 @@ fn add(p: &mut Pending<'_>, spans: &[(u32, u32, u32)], colour: Colour) -> Vec<(u
     let mut runs = Vec::new();
     let mut add_gathered = |p: &mut Pending<'_>| {
         if let Some(mut add) = p.begin_add(colour) {
-            while let Some(run) = p.next_run(&mut add, &[]) {
+            while let Some(run) = p.next_run(&mut add, |_| false) {
                 runs.push(run);
             }
         }
@@ -294,6 +298,19 @@ fn a_row_without_every_sample_row_has_no_pixel_covered_whole() {
     // The fifth row finishes them, in one run.
     assert_eq!(add(&mut p, &[(4, 0, 20)], red), [(0, 4, red)]);
     assert_eq!(p.in_use(), 0);
+}
+
+/// A pool past the lists' end marker (32,767) uses the records below it, and its lists end.
+#[test]
+fn a_larger_pool_than_the_records_used_ends_its_lists() {
+    let mut pool = vec![PendingPixel::default(); 40_000];
+    let mut heads = [0u16; 1];
+    let mut p = Pending::new(&mut pool, &mut heads, 1).unwrap();
+    let red = Colour::new(255, 0, 0);
+    assert_eq!(add(&mut p, &[(0, 0, 1), (0, 10, 11)], red), []);
+    assert_eq!(p.in_use(), 2);
+    let mut pixels = Pixels([[None; W]; H]);
+    assert_eq!(p.drain(Colour::grey(0), &mut pixels), 2);
 }
 
 #[test]

@@ -483,7 +483,9 @@ impl<S: SpanSink + ?Sized> Through<'_, '_, '_, S> {
         let Some(mut add) = s.pending.begin_add(s.colour) else {
             return;
         };
-        while let Some((x0, x1, c)) = s.pending.next_run(&mut add, coverage.row(y)) {
+        // (A test per pixel, as scan memory, whose rows are lists, answers it too.)
+        let finished = |c: &Coverage<'_>, x: u32| c.covers(x, y, x + 1, y + 1);
+        while let Some((x0, x1, c)) = s.pending.next_run(&mut add, |x| finished(coverage, x)) {
             self.pixels += send(coverage, self.sink, self.first_row, (y, x0, x1, c));
         }
     }

@@ -19,7 +19,7 @@ use crate::fill::{self, FixedPoint};
 #[cfg(feature = "antialias")]
 use crate::pending::Pending;
 #[cfg(feature = "scan-order")]
-use crate::scan::{ScanFrame, ScanMemory};
+use crate::scan::{Gaps, ScanFrame, ScanMemory};
 use crate::traverse::{Order, StackEntry};
 #[cfg(feature = "integer-vertices")]
 use crate::vertices::IntegerView;
@@ -201,10 +201,20 @@ impl<'m, const SUB: u32> Renderer<'m, SUB> {
     /// `embedded-graphics`) or a row at a time ([`ScanFrame::row_into`]). Nothing reaches a
     /// display during the walk.
     ///
+    /// Anti-aliased ([`Renderer::antialias`]): the finished pixels go into the scan memory
+    /// with their colours, the partly covered ones stay in the pending pool (not drained
+    /// into the scan memory, where each would cost a node), and the read-out merges each
+    /// row's pending pixels into its gaps, their uncovered samples in the background colour:
+    /// the anti-aliased frame [`Renderer::draw`] gives. The frame borrows the pool until it
+    /// is dropped. It mostly needs more nodes than the plain frame (a pending pixel splits
+    /// the interval it would have joined); when the memory runs out, the frame is drawn again
+    /// without anti-aliasing (nothing was sent yet), so every pixel is the anti-aliased or
+    /// exactly the plain one ([`FrameStats::antialiased`] says which).
+    ///
     /// Never back to front: [`RenderError::NotFrontToBack`] without scan memory or with
     /// [`Renderer::back_to_front`], and [`RenderError::ScanMemoryFull`] when the frame needs
-    /// more nodes than the memory holds (nothing was sent: the panel keeps its last frame).
-    /// The other errors are [`Renderer::draw`]'s.
+    /// more nodes than the memory holds, without anti-aliasing too (nothing was sent: the
+    /// panel keeps its last frame). The other errors are [`Renderer::draw`]'s.
     #[cfg(feature = "scan-order")]
     pub fn draw_scan<T: Source + ?Sized>(
         &mut self,
@@ -227,9 +237,19 @@ impl<'m, const SUB: u32> Renderer<'m, SUB> {
             r => r?,
         };
         let memory = self.scan.as_ref().ok_or(RenderError::NotFrontToBack)?;
+        let background = self.background.unwrap_or_default();
+        // An anti-aliased frame's pending pixels stay in the pool until the read-out.
+        #[cfg(feature = "antialias")]
+        let gaps = Gaps::pending(
+            self.pending.as_ref().filter(|_| stats.antialiased),
+            background,
+        );
+        #[cfg(not(feature = "antialias"))]
+        let gaps = Gaps::default();
         Ok(ScanFrame {
             memory,
-            background: self.background.unwrap_or_default().to_rgb565(),
+            background: background.to_rgb565(),
+            gaps,
             stats,
         })
     }
@@ -319,8 +339,11 @@ impl<'m, const SUB: u32> Renderer<'m, SUB> {
     /// in `pending` (see [`crate::pending`]). Only frames drawn front to back in colours are
     /// anti-aliased: when the span memory runs out the frame is drawn again without
     /// anti-aliasing (a display sink, whose [`SpanSink::write_once`] holds, gets
-    /// [`RenderError::SpanMemoryFull`] instead), and back-to-front, id and scan-order frames
-    /// are drawn without it ([`FrameStats::antialiased`] says which).
+    /// [`RenderError::SpanMemoryFull`] instead), and back-to-front and id frames are drawn
+    /// without it ([`FrameStats::antialiased`] says which). Scan-order frames
+    /// ([`Renderer::draw_scan`]) are anti-aliased too: their pending pixels stay in `pending`
+    /// until the [`ScanFrame`] is read out, and a frame whose scan memory runs out is drawn
+    /// again without anti-aliasing.
     #[cfg(feature = "antialias")]
     #[inline(always)]
     pub fn antialias(mut self, pending: Pending<'m>) -> Self {
@@ -471,10 +494,8 @@ impl<'m, const SUB: u32> Renderer<'m, SUB> {
         }
         // Anti-aliased: front to back in colours, with the sample grid in the fill's range.
         #[cfg(feature = "antialias")]
-        // (Not yet in scan order, whose memory is not rows of intervals.)
         let mut pending = self.pending.as_mut().filter(|_| {
-            !scan_pass
-                && order == Order::FrontToBack
+            order == Order::FrontToBack
                 && paint == Paint::Colours
                 && coverage.is_some()
                 && window::<SUB>(
@@ -531,8 +552,14 @@ impl<'m, const SUB: u32> Renderer<'m, SUB> {
             paint_uncovered(None, width, first_row..end_row, colour, target);
         }
 
-        // Pass 1: the frame's order; anti-aliased, again without if its span memory runs out
-        // (a display, which must not be drawn over, gets the error below instead).
+        // Pixels left pending for a scan-order frame's read-out.
+        #[cfg(feature = "antialias")]
+        let mut kept = 0u64;
+        #[cfg(not(feature = "antialias"))]
+        let kept = 0u64;
+        // Pass 1: the frame's order; anti-aliased, again without if its span (or scan) memory
+        // runs out (a display, which must not be drawn over, gets the error below instead; a
+        // scan-order frame has sent nothing yet).
         #[cfg_attr(not(feature = "antialias"), allow(clippy::never_loop))]
         let overflow = loop {
             let overflow = painter.walk(
@@ -546,7 +573,13 @@ impl<'m, const SUB: u32> Renderer<'m, SUB> {
             )?;
             #[cfg(feature = "antialias")]
             if let (Some(p), Some(c)) = (painter.antialias.take(), coverage.as_deref_mut()) {
-                if overflow.is_none() {
+                if overflow.is_none() && scan_pass {
+                    // Kept: the read-out puts them into the scan memory's gaps (each drained
+                    // into it would cost a node).
+                    kept = p.in_use() as u64;
+                    stats.pixels_written += kept;
+                    stats.antialiased = true;
+                } else if overflow.is_none() {
                     // The pending pixels take the background for their uncovered samples.
                     let mut sink = Shifted {
                         sink: &mut *target,
@@ -560,7 +593,7 @@ impl<'m, const SUB: u32> Renderer<'m, SUB> {
                     p.drain(background.unwrap_or_default(), &mut through);
                     stats.pixels_written += through.pixels;
                     stats.antialiased = true;
-                } else if !once {
+                } else if !once || scan_pass {
                     p.clear();
                     c.clear();
                     c.use_rows(end_row - first_row);
@@ -600,7 +633,7 @@ impl<'m, const SUB: u32> Renderer<'m, SUB> {
             }
         }
         stats.distinct_pixels = match coverage.as_deref() {
-            Some(c) if !c.exhausted() && !stats.fallback => Some(c.covered()),
+            Some(c) if !c.exhausted() && !stats.fallback => Some(c.covered() + kept),
             _ => None,
         };
         Ok(stats)

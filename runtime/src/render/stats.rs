@@ -31,8 +31,8 @@ pub struct FrameStats {
     pub stopped_full: bool,
     /// Front to back ran out of span memory (or had none) and painted the rest back to front.
     pub fallback: bool,
-    /// The frame was anti-aliased ([`super::Renderer::antialias`]; not when the span memory ran
-    /// out, which draws the frame without).
+    /// The frame was anti-aliased ([`super::Renderer::antialias`]; not when the span or scan
+    /// memory ran out, which draws the frame without).
     pub antialiased: bool,
 }
 

@@ -20,6 +20,18 @@
 //! The lists answer the walk's coverage queries (which subtrees and polygons are hidden) as
 //! span memory does, so a scan-order frame culls and draws exactly what a streamed frame does.
 //!
+//! # Anti-aliased frames
+//!
+//! With [`Renderer::antialias`](crate::render::Renderer::antialias) the finished pixels go
+//! into the lists with their colours and the partly covered ones stay in the pending pool
+//! ([`crate::pending`]), which the frame borrows: the read-out merges each row's intervals
+//! with its pending pixels, which lie in its gaps, each the average of its samples with the
+//! background for those uncovered. Those pixels cost no node, but each splits the interval it
+//! would have joined, so an anti-aliased frame mostly needs more nodes than the plain one
+//! (the teapot at 320x240: 3,458 over the orbit against 2,751; the builder's
+//! `spans::scan_nodes_antialiased`). A frame that runs out is drawn again without
+//! anti-aliasing; only when the plain frame runs out too is it an error.
+//!
 //! # Running out
 //!
 //! A frame that needs more nodes than the pool holds is not drawn:
@@ -34,6 +46,8 @@ mod tests;
 
 use crate::display::Colour;
 use crate::error::RenderError;
+#[cfg(feature = "antialias")]
+use crate::pending::{Pending, PendingRow};
 
 /// The end of a list.
 const NIL: u16 = u16::MAX;
@@ -341,8 +355,10 @@ impl<'m> ScanMemory<'m> {
         covered
     }
 
-    /// The frame as pixels, row by row, gaps in `background` (RGB565).
-    fn pixels(&self, background: u16) -> ScanPixels<'_> {
+    /// The frame as pixels, row by row, gaps in `background` (RGB565) but for the pending
+    /// pixels of `gaps`.
+    fn pixels<'a>(&'a self, background: u16, gaps: Gaps<'a>) -> ScanPixels<'a> {
+        let mut row = gaps.row(0);
         ScanPixels {
             memory: self,
             background,
@@ -351,30 +367,98 @@ impl<'m> ScanMemory<'m> {
             node: self.head(0),
             run: 0,
             colour: background,
+            gaps,
+            next_gap: row.next(),
+            row,
         }
     }
 
-    /// Row `y` into `out` (its first `width` pixels), gaps in `background`.
-    fn row_into(&self, y: u32, background: u16, out: &mut [u16]) {
+    /// Row `y` into `out` (its first `width` pixels), gaps in `background` but for the
+    /// pending pixels of `gaps`.
+    fn row_into(&self, y: u32, background: u16, gaps: Gaps<'_>, out: &mut [u16]) {
         let w = usize::from(self.width).min(out.len());
         let Some(out) = out.get_mut(..w) else { return };
+        let mut pending = gaps.row(y);
+        let mut next = pending.next();
+        // Gap `at..end`: the background, then its pending pixels (any left of it lie under an
+        // interval, which wins: never, by construction).
+        let mut gap = |at: usize, end: usize, out: &mut [u16]| {
+            if let Some(gap) = out.get_mut(at..end) {
+                gap.fill(background);
+            }
+            while let Some((x, c)) = next.filter(|&(x, _)| usize::from(x) < end) {
+                if usize::from(x) >= at {
+                    if let Some(p) = out.get_mut(usize::from(x)) {
+                        *p = c;
+                    }
+                }
+                next = pending.next();
+            }
+        };
         let mut at = 0usize;
         let mut i = self.head(y);
         while i != NIL {
             let n = self.node(i);
             let (s, e) = (usize::from(n.start).min(w), usize::from(n.end).min(w));
-            if let Some(gap) = out.get_mut(at..s) {
-                gap.fill(background);
-            }
+            gap(at, s, out);
             if let Some(run) = out.get_mut(s..e) {
                 run.fill(n.colour);
             }
             at = e;
             i = n.next;
         }
-        if let Some(gap) = out.get_mut(at..) {
-            gap.fill(background);
+        gap(at, w, out);
+    }
+}
+
+/// The pending pixels of an anti-aliased frame, which the read-out puts into its gaps (with
+/// the `antialias` feature; none without it).
+#[derive(Debug, Clone, Copy, Default)]
+pub(crate) struct Gaps<'a> {
+    #[cfg(feature = "antialias")]
+    pending: Option<(&'a Pending<'a>, Colour)>,
+    _frame: core::marker::PhantomData<&'a ()>,
+}
+
+impl<'a> Gaps<'a> {
+    /// The pending pixels of `pending`, their uncovered samples in `background`.
+    #[cfg(feature = "antialias")]
+    pub(crate) fn pending(pending: Option<&'a Pending<'a>>, background: Colour) -> Self {
+        Gaps {
+            pending: pending.map(|p| (p, background)),
+            _frame: core::marker::PhantomData,
         }
+    }
+
+    /// Row `y`'s pending pixels.
+    #[cfg_attr(not(feature = "antialias"), allow(unused_variables))]
+    fn row(&self, y: u32) -> GapRow<'a> {
+        GapRow {
+            #[cfg(feature = "antialias")]
+            pending: self
+                .pending
+                .map(|(p, background)| p.row_pixels(y, background)),
+            _frame: core::marker::PhantomData,
+        }
+    }
+}
+
+/// A row's pending pixels, column by column: column and RGB565 colour.
+#[derive(Debug, Clone)]
+struct GapRow<'a> {
+    #[cfg(feature = "antialias")]
+    pending: Option<PendingRow<'a>>,
+    _frame: core::marker::PhantomData<&'a ()>,
+}
+
+impl GapRow<'_> {
+    #[inline]
+    fn next(&mut self) -> Option<(u16, u16)> {
+        #[cfg(feature = "antialias")]
+        if let Some((x, c)) = self.pending.as_mut().and_then(Iterator::next) {
+            return Some((x as u16, c.to_rgb565()));
+        }
+        None
     }
 }
 
@@ -390,6 +474,10 @@ pub struct ScanPixels<'a> {
     /// Pixels left of the current run, all `colour`.
     run: u16,
     colour: u16,
+    gaps: Gaps<'a>,
+    /// Row `y`'s pending pixels, and the next of them (column, colour).
+    row: GapRow<'a>,
+    next_gap: Option<(u16, u16)>,
 }
 
 impl ScanPixels<'_> {
@@ -405,27 +493,42 @@ impl ScanPixels<'_> {
                 self.y += 1;
                 self.x = 0;
                 self.node = m.head(self.y);
+                self.row = self.gaps.row(self.y);
+                self.next_gap = self.row.next();
                 continue;
             }
             let n = (self.node != NIL).then(|| m.node(self.node));
-            match n {
+            let gap_end = match n {
                 Some(n) if n.start <= self.x && self.x < n.end => {
                     self.colour = n.colour;
                     self.run = n.end.min(m.width) - self.x;
                     self.node = n.next;
+                    None
                 }
-                Some(n) if n.start > self.x => {
-                    self.colour = self.background;
-                    self.run = n.start.min(m.width) - self.x;
-                }
+                Some(n) if n.start > self.x => Some(n.start.min(m.width)),
                 Some(n) => {
                     // Only a corrupt list gets here: skip the node.
                     self.node = n.next;
                     continue;
                 }
-                None => {
-                    self.colour = self.background;
-                    self.run = m.width - self.x;
+                None => Some(m.width),
+            };
+            if let Some(end) = gap_end {
+                // A gap: the background up to its next pending pixel, or that pixel (those
+                // left of it lie under an interval, which wins: never, by construction).
+                while self.next_gap.is_some_and(|(x, _)| x < self.x) {
+                    self.next_gap = self.row.next();
+                }
+                self.colour = self.background;
+                self.run = end - self.x;
+                match self.next_gap {
+                    Some((x, c)) if x == self.x => {
+                        self.colour = c;
+                        self.run = 1;
+                        self.next_gap = self.row.next();
+                    }
+                    Some((x, _)) if x < end => self.run = x - self.x,
+                    _ => {}
                 }
             }
             if self.run == 0 {
@@ -460,6 +563,8 @@ impl Iterator for ScanPixels<'_> {
 pub struct ScanFrame<'a> {
     pub(crate) memory: &'a ScanMemory<'a>,
     pub(crate) background: u16,
+    /// An anti-aliased frame's pending pixels, read out in its gaps.
+    pub(crate) gaps: Gaps<'a>,
     pub(crate) stats: crate::render::FrameStats,
 }
 
@@ -488,14 +593,14 @@ impl<'a> ScanFrame<'a> {
     /// (`0, 0` to `width - 1, height - 1`) takes, e.g. mipidsi's
     /// `set_pixels(0, 0, w - 1, h - 1, frame.pixels().map(RawU16::new).map(Rgb565::from))`.
     pub fn pixels(&self) -> ScanPixels<'a> {
-        self.memory.pixels(self.background)
+        self.memory.pixels(self.background, self.gaps)
     }
 
     /// Row `y` into `row` (its first `width` pixels), RGB565: for a row buffer sent by DMA
     /// while the next row is filled. Nothing for a row outside the frame.
     pub fn row_into(&self, y: u32, row: &mut [u16]) {
         if y < self.height() {
-            self.memory.row_into(y, self.background, row);
+            self.memory.row_into(y, self.background, self.gaps, row);
         }
     }
 }

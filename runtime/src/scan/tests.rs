@@ -92,7 +92,7 @@ fn intervals_merge_by_colour_and_answer_coverage() {
     assert_eq!(m.span(0, 0, 10, blue), 4);
     assert!(m.covers(0, 0, 10, 1) && !m.covers(0, 0, 10, 2));
     assert!(m.is_full(1) && !m.is_full(2));
-    let frame: Vec<u16> = m.pixels(7).collect();
+    let frame: Vec<u16> = m.pixels(7, Gaps::default()).collect();
     let (r, b) = (red.to_rgb565(), blue.to_rgb565());
     assert_eq!(frame[..10], [b, b, r, r, r, r, r, r, b, b]);
     assert!(frame[10..].iter().all(|&p| p == 7));
@@ -105,6 +105,111 @@ fn intervals_merge_by_colour_and_answer_coverage() {
     assert_eq!(m.span(0, 5, 6, red), 0);
     assert!(m.exhausted());
     assert!(ScanMemory::new(&mut [], &mut [0; 1], 10, 2).is_err());
+}
+
+/// An anti-aliased frame's read-out: each row merges the scan memory's intervals (`a`, `b`)
+/// with the pool's pending pixels (`p`, `q`: partly covered, their other samples the
+/// background), the rest background (`.`); one run, row by row, and the colours the pool's
+/// drain gives.
+#[cfg(feature = "antialias")]
+#[test]
+fn pending_pixels_fill_their_gaps_in_the_read_out() {
+    use crate::fill::samples::{SAMPLES, SAMPLE_COLUMNS, SAMPLE_ROWS};
+    use crate::pending::{Pending, PendingPixel};
+    let picture = ["aa.p.bbbp..q", "p...........", "qaaaaaaaaaap"];
+    let (w, h) = (12u32, 3u32);
+    let (a, b) = (Colour::new(200, 10, 10), Colour::new(10, 10, 200));
+    let (p, q) = (Colour::new(250, 250, 0), Colour::new(0, 250, 250));
+    // Nine samples of `p`, four of `q`: the first `k` of pixel `(x, y)`, row by row.
+    let pend = |pool: &mut Pending<'_>, x: u32, y: u32, k: u32, c: Colour| {
+        let (cols, rows) = (SAMPLE_COLUMNS, SAMPLE_ROWS);
+        for t in 0..k.div_ceil(cols) {
+            let n = (k - t * cols).min(cols);
+            pool.gather(y * rows + t, x * cols, x * cols + n).unwrap();
+        }
+        let mut add = pool.begin_add(c).unwrap();
+        assert_eq!(pool.next_run(&mut add, |_| false), None);
+    };
+    let (mut nodes, mut heads) = ([ScanNode::EMPTY; 16], [0u16; 3]);
+    let mut m = ScanMemory::new(&mut nodes, &mut heads, w, h).unwrap();
+    let mut records = [PendingPixel::default(); 16];
+    let mut pending_heads = [0u16; 3];
+    let mut pool = Pending::new(&mut records, &mut pending_heads, h).unwrap();
+    for (y, line) in picture.iter().enumerate() {
+        for (x, c) in line.bytes().enumerate() {
+            let (x, y) = (x as u32, y as u32);
+            match c {
+                b'a' => {
+                    m.span(y, x, x + 1, a);
+                }
+                b'b' => {
+                    m.span(y, x, x + 1, b);
+                }
+                b'p' => pend(&mut pool, x, y, 9, p),
+                b'q' => pend(&mut pool, x, y, 4, q),
+                _ => {}
+            }
+        }
+    }
+    assert_eq!(m.nodes_used(), 3, "a, b and a's run of the last row");
+    assert_eq!(pool.in_use(), 6);
+    // `k` of the samples in `c`, the rest `BACKGROUND`, rounded to nearest.
+    let blend = |c: Colour, k: u32| {
+        let ch = |v: u8, bg: u8| {
+            let total = k * u32::from(v) + (SAMPLES - k) * u32::from(bg);
+            ((2 * total + SAMPLES) / (2 * SAMPLES)) as u8
+        };
+        let (r, g, b) = (
+            ch(c.r, BACKGROUND.r),
+            ch(c.g, BACKGROUND.g),
+            ch(c.b, BACKGROUND.b),
+        );
+        Colour::new(r, g, b).to_rgb565()
+    };
+    let bg = BACKGROUND.to_rgb565();
+    let expected: Vec<u16> = picture
+        .iter()
+        .flat_map(|line| line.bytes())
+        .map(|c| match c {
+            b'a' => a.to_rgb565(),
+            b'b' => b.to_rgb565(),
+            b'p' => blend(p, 9),
+            b'q' => blend(q, 4),
+            _ => bg,
+        })
+        .collect();
+    assert!(expected.iter().all(|&c| c != 0));
+    let gaps = Gaps::pending(Some(&pool), BACKGROUND);
+    assert_eq!(m.pixels(bg, gaps).collect::<Vec<_>>(), expected);
+    let mut row = [0u16; 12];
+    for y in 0..h {
+        m.row_into(y, bg, gaps, &mut row);
+        assert_eq!(
+            row[..],
+            expected[(y * w) as usize..][..w as usize],
+            "row {y}"
+        );
+    }
+    // Without the pool: the plain gaps.
+    let plain: Vec<u16> = m.pixels(bg, Gaps::default()).collect();
+    assert!(plain
+        .iter()
+        .zip(&expected)
+        .all(|(&g, &e)| g == e || g == bg));
+    // The colours the drain paints.
+    let mut drained = Model::new(w, h);
+    struct Into<'a>(&'a mut Model);
+    impl SpanSink for Into<'_> {
+        fn span(&mut self, y: u32, a: u32, b: u32, c: Colour) {
+            self.0.span(y, a, b, c);
+        }
+    }
+    assert_eq!(pool.drain(BACKGROUND, &mut Into(&mut drained)), 6);
+    for (k, d) in drained.pixels.iter().enumerate() {
+        if let Some(d) = d {
+            assert_eq!(*d, expected[k], "pixel {k}");
+        }
+    }
 }
 
 proptest! {
@@ -129,10 +234,10 @@ proptest! {
         }
         prop_assert!(well_formed(&m));
         prop_assert!(!m.exhausted());
-        prop_assert_eq!(m.pixels(3).collect::<Vec<_>>(), model.image(3));
+        prop_assert_eq!(m.pixels(3, Gaps::default()).collect::<Vec<_>>(), model.image(3));
         let mut row = vec![0u16; w as usize];
         for y in 0..h {
-            m.row_into(y, 3, &mut row);
+            m.row_into(y, 3, Gaps::default(), &mut row);
             prop_assert_eq!(&row[..], &model.image(3)[(y * w) as usize..((y + 1) * w) as usize]);
         }
         let (x0, y0, x1, y1) = query;
@@ -273,6 +378,131 @@ proptest! {
                     Some(RenderError::ScanMemoryFull { nodes: used as u32 - 1 })
                 );
             }
+        }
+    }
+}
+
+/// The anti-aliased front-to-back frame into an RGB565 framebuffer with the background, and
+/// whether it was anti-aliased.
+#[cfg(feature = "antialias")]
+fn antialiased_framebuffer_frame(t: &TestTree, cam: &Camera, records: usize) -> (Vec<u16>, bool) {
+    use crate::pending::{Pending, PendingPixel};
+    let mut pixels = vec![0u16; (W * H) as usize];
+    let mut fb = Rgb565Framebuffer::new(&mut pixels, W, H).unwrap();
+    let (mut intervals, mut counts) = (vec![(0u16, 0u16); 32 * H as usize], vec![0u16; H as usize]);
+    let mut pool = vec![PendingPixel::default(); records];
+    let mut heads = vec![0u16; H as usize];
+    let mut ws = Workspace::<16, 12>::new();
+    let coverage = Coverage::new(&mut intervals, &mut counts, W, H).unwrap();
+    let pending = Pending::new(&mut pool, &mut heads, H).unwrap();
+    let stats = Renderer::new(&mut ws)
+        .span_memory(coverage)
+        .antialias(pending)
+        .background(BACKGROUND)
+        .draw(t, &cam.view(t.centre()), &mut fb)
+        .unwrap();
+    assert!(!stats.fallback);
+    (pixels, stats.antialiased)
+}
+
+/// The scan-order frame with `nodes` nodes, anti-aliased with `records` records (read as one
+/// run and row by row, which must agree), its stats and nodes used.
+#[cfg(feature = "antialias")]
+fn antialiased_scan_frame(
+    t: &TestTree,
+    cam: &Camera,
+    nodes: usize,
+    records: usize,
+) -> Result<(Vec<u16>, crate::render::FrameStats, usize), RenderError> {
+    use crate::pending::{Pending, PendingPixel};
+    let mut pool = vec![ScanNode::EMPTY; nodes];
+    let mut heads = vec![0u16; H as usize];
+    let memory = ScanMemory::new(&mut pool, &mut heads, W, H).unwrap();
+    let mut records = vec![PendingPixel::default(); records];
+    let mut pending_heads = vec![0u16; H as usize];
+    let pending = Pending::new(&mut records, &mut pending_heads, H).unwrap();
+    let mut ws = Workspace::<16, 12>::new();
+    let mut renderer = Renderer::new(&mut ws)
+        .scan_memory(memory)
+        .antialias(pending)
+        .background(BACKGROUND);
+    let frame = renderer.draw_scan(t, &cam.view(t.centre()))?;
+    let pixels: Vec<u16> = frame.pixels().collect();
+    let mut rows = Rows {
+        next: 0,
+        image: Vec::new(),
+    };
+    let mut buffer = [0u16; W as usize];
+    for y in 0..frame.height() {
+        frame.row_into(y, &mut buffer);
+        rows.row(y, &buffer);
+    }
+    assert_eq!(rows.image, pixels, "row by row as in one run");
+    Ok((pixels, frame.stats(), frame.nodes_used()))
+}
+
+#[cfg(feature = "antialias")]
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(40))]
+
+    /// Random boxes and eyes, anti-aliased: the scan-order frame is the framebuffer's; with
+    /// a pool of 0 or 8 records each pixel is the anti-aliased or the plain one (all plain
+    /// with none), as streamed; scan memory enough for the plain frame but not for the
+    /// anti-aliased one draws the plain frame; less than both is an error.
+    #[test]
+    fn antialiased_scan_order_is_the_framebuffer_frame(
+        sizes in proptest::collection::vec((0.3f32..2.0, -2.0f32..2.0, -2.0f32..2.0), 1..5),
+        eye in (-9.0f64..9.0, -6.0f64..6.0, 3.0f64..12.0),
+    ) {
+        let items: Vec<(Vec3, f32)> =
+            sizes.iter().map(|&(r, y, z)| (Vec3::new(0.0, y, z), r)).collect();
+        let t = boxes(&items);
+        let cam = camera(DVec3::new(eye.0, eye.1, eye.2));
+        let (reference, antialiased) = antialiased_framebuffer_frame(&t, &cam, 4096);
+        prop_assert!(antialiased);
+        let plain = framebuffer_frame(&t, &cam);
+        let (pixels, stats, aa_nodes) = antialiased_scan_frame(&t, &cam, 2048, 4096).unwrap();
+        prop_assert!(stats.antialiased);
+        prop_assert_eq!(&pixels, &reference);
+        for records in [0, 8] {
+            let (few, stats, _) = antialiased_scan_frame(&t, &cam, 2048, records).unwrap();
+            prop_assert!(stats.antialiased);
+            for k in 0..few.len() {
+                prop_assert!(few[k] == reference[k] || few[k] == plain[k], "pixel {}", k);
+            }
+            if records == 0 {
+                prop_assert_eq!(&few, &plain);
+            }
+            let (streamed, _) = antialiased_framebuffer_frame(&t, &cam, records);
+            prop_assert_eq!(&few, &streamed);
+        }
+        // The plain frame's need (more or less than the anti-aliased one's), then memory
+        // between the two.
+        let plain_nodes = {
+            let mut nodes = vec![ScanNode::EMPTY; 2048];
+            let mut heads = vec![0u16; H as usize];
+            let memory = ScanMemory::new(&mut nodes, &mut heads, W, H).unwrap();
+            let mut ws = Workspace::<16, 12>::new();
+            let mut renderer = Renderer::new(&mut ws).scan_memory(memory);
+            renderer.draw_scan(&t, &cam.view(t.centre())).unwrap().nodes_used()
+        };
+        let (exact, stats, _) = antialiased_scan_frame(&t, &cam, aa_nodes, 4096).unwrap();
+        prop_assert!(stats.antialiased);
+        prop_assert_eq!(&exact, &reference);
+        for nodes in [plain_nodes, aa_nodes.saturating_sub(1)] {
+            if nodes < aa_nodes && nodes >= plain_nodes {
+                let (short, stats, _) = antialiased_scan_frame(&t, &cam, nodes, 4096).unwrap();
+                prop_assert!(!stats.antialiased && !stats.fallback);
+                prop_assert_eq!(&short, &plain);
+            }
+        }
+        // Less than both: nothing.
+        let fewest = plain_nodes.min(aa_nodes);
+        if fewest > 0 {
+            prop_assert_eq!(
+                antialiased_scan_frame(&t, &cam, fewest - 1, 4096).err(),
+                Some(RenderError::ScanMemoryFull { nodes: fewest as u32 - 1 })
+            );
         }
     }
 }
@@ -443,5 +673,36 @@ mod embedded {
         };
         frame.draw_to(&mut panel).unwrap();
         assert_eq!(panel.pixels, reference);
+    }
+
+    /// Anti-aliased: still one window, the merged frame.
+    #[cfg(feature = "antialias")]
+    #[test]
+    fn one_window_for_an_antialiased_frame() {
+        use crate::pending::{Pending, PendingPixel};
+        let t = boxes(&[(Vec3::ZERO, 1.0), (Vec3::ZERO, 1.5)]);
+        let cam = camera(DVec3::new(-7.0, 1.0, 3.0));
+        let (reference, _) = antialiased_framebuffer_frame(&t, &cam, 4096);
+        assert_ne!(reference, framebuffer_frame(&t, &cam), "edges blended");
+        let (mut nodes, mut heads) = (vec![ScanNode::EMPTY; 512], vec![0u16; H as usize]);
+        let memory = ScanMemory::new(&mut nodes, &mut heads, W, H).unwrap();
+        let mut records = vec![PendingPixel::default(); 4096];
+        let mut pending_heads = vec![0u16; H as usize];
+        let pending = Pending::new(&mut records, &mut pending_heads, H).unwrap();
+        let mut ws = Workspace::<16, 12>::new();
+        let mut r = Renderer::new(&mut ws)
+            .scan_memory(memory)
+            .antialias(pending)
+            .background(BACKGROUND);
+        let frame = r.draw_scan(&t, &cam.view(t.centre())).unwrap();
+        assert!(frame.stats().antialiased);
+        let mut panel = Panel {
+            windows: 0,
+            pixels: Vec::new(),
+        };
+        frame.draw_to(&mut panel).unwrap();
+        assert_eq!(panel.pixels, reference);
+        let colours: Vec<u16> = frame.colours().map(|c| c.into_storage()).collect();
+        assert_eq!(colours, reference);
     }
 }
