@@ -129,7 +129,7 @@ pub enum RenderError {
     /// beyond `u16`.
     SpanMemory,
     /// The memory for pending pixels ([`crate::render::Renderer::antialias`]) does not match
-    /// the frame: fewer row heads than rows, or a mask row shorter than the width.
+    /// the frame: fewer row heads than rows.
     PendingMemory,
     /// A frame that must be drawn front to back (a scan-order frame, or spans streamed to a
     /// display, whose sink says [`crate::display::SpanSink::write_once`]) would be painted
@@ -185,10 +185,9 @@ impl fmt::Display for RenderError {
                 f,
                 "the span memory needs one counter per row and a width of at most 65535"
             ),
-            RenderError::PendingMemory => write!(
-                f,
-                "the pending-pixel memory needs one list head per row and a mask per column"
-            ),
+            RenderError::PendingMemory => {
+                write!(f, "the pending-pixel memory needs one list head per row")
+            }
             RenderError::NotFrontToBack => write!(
                 f,
                 "this frame must be drawn front to back (span or scan memory, the front-to-back \

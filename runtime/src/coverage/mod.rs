@@ -217,6 +217,19 @@ impl<'m> Coverage<'m> {
         self.intervals.get(start..start + n).unwrap_or(&[])
     }
 
+    /// Whether pixel `(x, y)` is covered: [`Coverage::covers`] of one pixel, inlined for the
+    /// anti-aliased fill's test of each pixel at a polygon's edges.
+    #[inline]
+    pub fn covers_pixel(&self, x: u32, y: u32) -> bool {
+        #[cfg(feature = "scan-order")]
+        if let Some(s) = self.scan.as_ref() {
+            return s.covers(x, y, x + 1, y + 1);
+        }
+        let row = self.row(y);
+        let i = row.partition_point(|&(_, b)| u32::from(b) <= x);
+        row.get(i).is_some_and(|&(a, _)| u32::from(a) <= x)
+    }
+
     /// Whether every pixel `x0 <= x < x1`, `y0 <= y < y1` is covered (an empty rectangle is).
     pub fn covers(&self, x0: u32, y0: u32, x1: u32, y1: u32) -> bool {
         #[cfg(feature = "scan-order")]

@@ -484,8 +484,10 @@ impl<S: SpanSink + ?Sized> Through<'_, '_, '_, S> {
             return;
         };
         // (A test per pixel, as scan memory, whose rows are lists, answers it too.)
-        let finished = |c: &Coverage<'_>, x: u32| c.covers(x, y, x + 1, y + 1);
-        while let Some((x0, x1, c)) = s.pending.next_run(&mut add, |x| finished(coverage, x)) {
+        while let Some((x0, x1, c)) = s
+            .pending
+            .next_run(&mut add, |x| coverage.covers_pixel(x, y))
+        {
             self.pixels += send(coverage, self.sink, self.first_row, (y, x0, x1, c));
         }
     }
