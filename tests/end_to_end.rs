@@ -16,6 +16,7 @@ use peel_compiler::load::{load_obj, Mesh};
 use peel_compiler::shade::{Shading, AMBIENT};
 use peel_compiler::tools::raster::{render_bytes_with, Settings};
 use peel_compiler::tools::shot::Shot;
+use peel_e2e::polygons;
 use peel_e2e::{bounds, closed_sphere, mesh_closed_outward, reference, shadowed};
 use peel_runtime::read::{Node, Scene};
 use peel_runtime::traverse::Order;
@@ -39,20 +40,6 @@ fn compile_vertices(mesh: &Mesh, wide_vertices: bool) -> Vec<u8> {
         ..CompileOptions::default()
     };
     compile_mesh(mesh, &options, &|_| {}).expect("compile").1
-}
-
-/// World-space polygons of a compiled file (their edges include every cut).
-fn polygons(bytes: &[u8]) -> Vec<Vec<DVec3>> {
-    let scene = Scene::parse(bytes).expect("valid file");
-    let c = DVec3::from_array(scene.header().centre);
-    (0..scene.header().polygon_count)
-        .map(|i| {
-            let p = scene.polygon(i);
-            (0..u32::from(p.vertex_count))
-                .map(|k| c + scene.polygon_vertex(&p, k).as_dvec3())
-                .collect()
-        })
-        .collect()
 }
 
 /// What [`compare`] counted.

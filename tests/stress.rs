@@ -16,6 +16,7 @@ use peel_compiler::tools::raster::render_bytes;
 use peel_compiler::tools::scenes::{self, SplitMix};
 use peel_compiler::tools::shot::Shot;
 use peel_compiler::tree::{verify, BuildOptions, DisplayTree, TreeNode};
+use peel_e2e::polygons;
 use peel_e2e::{bounds, reference};
 use peel_runtime::read::Scene;
 
@@ -57,20 +58,6 @@ fn same_tree(a: &DisplayTree, b: &DisplayTree) -> bool {
         && a.polygons == b.polygons
         && a.nodes == b.nodes
         && a.stats == b.stats
-}
-
-/// World-space polygons of a compiled file (their edges include every cut).
-fn polygons(bytes: &[u8]) -> Vec<Vec<DVec3>> {
-    let scene = Scene::parse(bytes).expect("valid file");
-    let c = DVec3::from_array(scene.header().centre);
-    (0..scene.header().polygon_count)
-        .map(|i| {
-            let p = scene.polygon(i);
-            (0..u32::from(p.vertex_count))
-                .map(|k| c + scene.polygon_vertex(&p, k).as_dvec3())
-                .collect()
-        })
-        .collect()
 }
 
 /// `n` cameras outside the bounding sphere, spread over it (golden-angle spiral), with a

@@ -38,7 +38,7 @@ const FALLEN_BACK: u16 = 0x8000;
 
 /// One pending pixel: its column, its row list's next record, its covered samples and the sums
 /// of their colours. 12 bytes: the mask and the sums share one 64-bit accumulator
-/// ([`SAMPLES`] bits of mask, then [`SUM_BITS`] per channel, red lowest), kept as two words so
+/// ([`SAMPLES`] bits of mask, then 13 per channel, red lowest), kept as two words so
 /// that the record stays 4-byte aligned. Adding a polygon's new samples is then one addition.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct PendingPixel {
@@ -187,7 +187,7 @@ impl<'m> Pending<'m> {
     /// Gather the fill's span `[x_start, x_end)` of sample row `sample_row` (of the grid of
     /// [`crate::fill::samples`]). The fill emits its rows top to bottom; a span of another
     /// pixel row than the one gathered, or a second span of a sample row (a polygon that is not
-    /// convex), returns the gathered pixel row first, to be [added](Pending::add_gathered)
+    /// convex), returns the gathered pixel row first, to be [added](Pending::begin_add)
     /// before this span is gathered again.
     pub fn gather(&mut self, sample_row: u32, x_start: u32, x_end: u32) -> Result<(), u32> {
         let (y, t) = (sample_row / SAMPLE_ROWS, sample_row % SAMPLE_ROWS);
