@@ -16,6 +16,9 @@ use crate::error::RenderError;
 use crate::fill::{self, FixedPoint};
 #[cfg(feature = "antialias")]
 use crate::pending::Pending;
+use crate::read::Polygon;
+use crate::traverse::{Order, StackEntry, Traversal};
+use crate::vertices::{IntegerView, VertexCache};
 
 /// The sample grid's columns and rows per pixel (`fill::samples`), as the points' type; one
 /// without anti-aliasing.
@@ -27,9 +30,6 @@ const ROWS: i32 = fill::samples::SAMPLE_ROWS as i32;
 const COLUMNS: i32 = 1;
 #[cfg(not(feature = "antialias"))]
 const ROWS: i32 = 1;
-use crate::read::Polygon;
-use crate::traverse::{Order, StackEntry, Traversal};
-use crate::vertices::{IntegerView, VertexCache};
 
 /// Snap a screen point to a [`FixedPoint<SUB>`] in the window (see the module docs);
 /// `max_x`, `max_y` are `W * 2^SUB`, `H * 2^SUB`. A NaN lands on 0.
