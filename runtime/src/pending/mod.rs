@@ -66,12 +66,16 @@ impl PendingPixel {
         u64::from(self.acc[0]) | u64::from(self.acc[1]) << 32
     }
 
-    fn set_acc(&mut self, acc: u64) {
-        self.acc = [acc as u32, (acc >> 32) as u32];
-    }
-
     fn mask(&self) -> Mask {
         self.acc[0] & FULL_MASK
+    }
+
+    /// Add the samples of `mask` the record lacks, each of colour `sample` ([`packed`]): their
+    /// bits and colours in one addition, no carry crossing a field.
+    fn add(&mut self, mask: Mask, sample: u64) {
+        let new = mask & !self.mask();
+        let acc = self.acc() + u64::from(new) + u64::from(new.count_ones()) * sample;
+        self.acc = [acc as u32, (acc >> 32) as u32];
     }
 }
 
@@ -369,19 +373,16 @@ impl<'m> Pending<'m> {
         colour: Colour,
     ) -> Option<Colour> {
         self.walk_to(cursor, x);
-        if self.record(cursor.at).is_some_and(|r| u32::from(r.x) == x) {
-            let r = self.record(cursor.at)?;
+        if let Some(r) = self.record(cursor.at).filter(|r| u32::from(r.x) == x) {
             if mask & !r.mask() == 0 {
                 return None;
             }
             if (r.mask() | mask) == FULL_MASK {
                 return Some(self.finish(cursor, mask, sample));
             }
-            let at = cursor.at;
-            let r = self.records.get_mut(usize::from(at))?;
-            let new = mask & !r.mask();
-            // The new samples' bits and colours: no carry crosses a field.
-            r.set_acc(r.acc() + u64::from(new) + u64::from(new.count_ones()) * sample);
+            self.records
+                .get_mut(usize::from(cursor.at))?
+                .add(mask, sample);
             return None;
         }
         if mask == FULL_MASK {
@@ -404,7 +405,7 @@ impl<'m> Pending<'m> {
                 next: cursor.at,
                 ..PendingPixel::default()
             };
-            slot.set_acc(u64::from(mask) + u64::from(mask.count_ones()) * sample);
+            slot.add(mask, sample);
         }
         self.set_link(cursor.row, cursor.link, new);
         cursor.link = Some(new);
@@ -418,8 +419,7 @@ impl<'m> Pending<'m> {
         let Some(mut r) = self.record(at).copied() else {
             return Colour::default();
         };
-        let new = mask & !r.mask();
-        r.set_acc(r.acc() + u64::from(new) + u64::from(new.count_ones()) * sample);
+        r.add(mask, sample);
         self.unlink(cursor.row, cursor.link, at, r.next);
         cursor.at = r.next;
         average(&r, [0; 3])
