@@ -11,7 +11,7 @@
 
 use core::ops::Range;
 
-use super::{fill_polygon_rows, FillError, FixedPoint};
+use super::{fill_polygon_rows, Coord, EdgeWalk, FillError, FixedPoint};
 use crate::display::{Colour, SpanSink};
 
 /// Sample columns per pixel.
@@ -159,6 +159,167 @@ pub fn add_span_bits(
         }
     }
     Some((first, last + 1))
+}
+
+/// A pixel row's spans on the sample grid: sample row `t`'s is `[spans[t].0, spans[t].1)`, or
+/// [`NO_SPAN`].
+pub type RowSpans = [(u32, u32); SAMPLE_ROWS as usize];
+
+/// A sample row without a span: the start past every end, so that the least start and the
+/// greatest end of a row's spans, and the samples of a pixel in them, need no test for it.
+pub const NO_SPAN: (u32, u32) = (u32::MAX, 0);
+
+/// Receives a polygon's spans on the sample grid a pixel row at a time
+/// ([`fill_sample_rows`]).
+pub(crate) trait SampleRowSink {
+    /// The spans of pixel row `y`'s sample rows, at least one of them not empty.
+    fn sample_rows(&mut self, y: u32, spans: &RowSpans);
+}
+
+/// The spans [`super::fill_in`] gives `points` (on the sample grid, `width` columns) over the
+/// sample rows `rows` (whole pixel rows), handed to `sink` a pixel row at a time, top to
+/// bottom, when every sample row crosses at most two of its edges: one going down and one going
+/// up in the order of `points`, as in any convex polygon. Each row's span is then the one
+/// the general fill pairs from the same two crossings, without its sorting and pairing per
+/// sample row, nor a call per sample row. Returns `false`, having drawn nothing, for any other
+/// polygon (or more edges than `edges` holds): the caller fills it with the general fill.
+pub(crate) fn fill_sample_rows<const SUB: u32, S: SampleRowSink + ?Sized>(
+    points: &[FixedPoint<SUB>],
+    edges: &mut [EdgeWalk],
+    width: u32,
+    rows: Range<u32>,
+    sink: &mut S,
+) -> bool {
+    #[allow(clippy::unnecessary_fallible_conversions)]
+    let first_row = Coord::try_from(rows.start).unwrap_or(Coord::MAX);
+    let room = edges.len().min(super::MAX_FILL_VERTICES);
+    // Edges going down at `edges[..down]`, going up at `edges[room - up..room]`, each sorted
+    // by first row.
+    let (mut down, mut up) = (0, 0);
+    for (i, &a) in points.iter().enumerate() {
+        let b = points.get(i + 1).or(points.first()).copied().unwrap_or(a);
+        let Some(mut walk) = EdgeWalk::for_edge::<SUB>(a, b, rows.end) else {
+            continue;
+        };
+        while walk.row < first_row.min(walk.row_end) {
+            walk.step();
+        }
+        if walk.row >= walk.row_end {
+            continue;
+        }
+        if down + up >= room {
+            return false;
+        }
+        let (lo, at) = if a.y < b.y {
+            down += 1;
+            (0, down - 1)
+        } else {
+            up += 1;
+            (room - up, room - up)
+        };
+        if let Some(slot) = edges.get_mut(at) {
+            *slot = walk;
+        }
+        // Insertion, as the general fill keeps its edges: the down chain grows to the right,
+        // the up chain to the left.
+        let (mut k, last) = (at, if lo == 0 { 0 } else { room - 1 });
+        if lo == 0 {
+            while let Some([prev, this]) = k.checked_sub(1).and_then(|j| edges.get_mut(j..=k)) {
+                if prev.row <= this.row {
+                    break;
+                }
+                core::mem::swap(prev, this);
+                k -= 1;
+            }
+        } else {
+            while k < last {
+                let Some([this, next]) = edges.get_mut(k..=k + 1) else {
+                    break;
+                };
+                if this.row <= next.row {
+                    break;
+                }
+                core::mem::swap(this, next);
+                k += 1;
+            }
+        }
+    }
+    if down == 0 && up == 0 {
+        return true;
+    }
+    // Each chain's edges must follow one another down the rows.
+    let (downs, ups) = edges.split_at_mut(room - up);
+    let (Some(downs), Some(ups)) = (downs.get_mut(..down), ups.get_mut(..up)) else {
+        return false;
+    };
+    let disjoint = |chain: &[EdgeWalk]| chain.windows(2).all(|w| w[0].row_end <= w[1].row);
+    if downs.is_empty() || ups.is_empty() || !disjoint(downs) || !disjoint(ups) {
+        return false;
+    }
+    #[allow(clippy::unnecessary_fallible_conversions)]
+    let width = Coord::try_from(width).unwrap_or(Coord::MAX);
+    // The chains' current edges, walked in registers.
+    let (mut d, mut u) = (0, 0);
+    let (mut a, mut b) = (downs[0], ups[0]);
+    let mut row = a.row.min(b.row);
+    let group = SAMPLE_ROWS as Coord;
+    let (mut pixel_row, mut t) = (row.div_euclid(group), row.rem_euclid(group) as usize);
+    let mut spans: RowSpans = [NO_SPAN; SAMPLE_ROWS as usize];
+    let mut any = false;
+    loop {
+        if row >= a.row_end {
+            d += 1;
+            let Some(&next) = downs.get(d) else { break };
+            a = next;
+        }
+        if row >= b.row_end {
+            u += 1;
+            let Some(&next) = ups.get(u) else { break };
+            b = next;
+        }
+        // The rows both edges cross, or one row that at most one crosses (no span: the
+        // general fill ignores an odd crossing).
+        let (stop, both) = if a.row == row && b.row == row {
+            (a.row_end.min(b.row_end), true)
+        } else {
+            (row + 1, false)
+        };
+        while row < stop {
+            if both {
+                let (l, r) = if a.x <= b.x { (a.x, b.x) } else { (b.x, a.x) };
+                let (l, r) = (l.max(0), r.min(width));
+                if l < r {
+                    if let Some(span) = spans.get_mut(t) {
+                        *span = (l as u32, r as u32);
+                    }
+                    any = true;
+                }
+                a.step();
+                b.step();
+            } else {
+                for e in [&mut a, &mut b] {
+                    if e.row == row {
+                        e.step();
+                    }
+                }
+            }
+            row += 1;
+            t += 1;
+            if t == SAMPLE_ROWS as usize {
+                if any {
+                    sink.sample_rows(pixel_row as u32, &spans);
+                    spans = [NO_SPAN; SAMPLE_ROWS as usize];
+                    any = false;
+                }
+                pixel_row += 1;
+                t = 0;
+            }
+        }
+    }
+    if any {
+        sink.sample_rows(pixel_row as u32, &spans);
+    }
+    true
 }
 
 #[cfg(test)]

@@ -29,7 +29,9 @@ mod tests;
 
 use crate::display::{Colour, SpanSink};
 use crate::error::RenderError;
-use crate::fill::samples::{Mask, CENTRE_SAMPLE, FULL_MASK, SAMPLES, SAMPLE_COLUMNS, SAMPLE_ROWS};
+use crate::fill::samples::{
+    Mask, RowSpans, CENTRE_SAMPLE, FULL_MASK, NO_SPAN, SAMPLES, SAMPLE_COLUMNS, SAMPLE_ROWS,
+};
 
 /// No record (the end of a list).
 const NONE: u16 = 0x7fff;
@@ -93,10 +95,10 @@ pub struct Pending<'m> {
     records: &'m mut [PendingPixel],
     /// Per row: the first record of its list (or [`NONE`]), and [`FALLEN_BACK`].
     heads: &'m mut [u16],
-    /// The gathered pixel row's span per sample row (columns of the sample grid), for the
-    /// sample rows whose bit `present` holds.
-    spans: [(u32, u32); SAMPLE_ROWS as usize],
-    present: u32,
+    /// The gathered pixel row's span per sample row (columns of the sample grid),
+    /// [`NO_SPAN`] for a sample row without one, and whether it holds any.
+    spans: RowSpans,
+    holding: bool,
     /// The pixel row gathered.
     gathered: u32,
     height: u32,
@@ -121,7 +123,6 @@ struct Cursor {
 /// (`inner_lo .. inner_hi`), and the run of finished pixels being extended.
 #[derive(Debug)]
 pub struct RowAdd {
-    present: u32,
     x: u32,
     hi: u32,
     inner_lo: u32,
@@ -144,11 +145,14 @@ impl<'m> Pending<'m> {
         if usize::try_from(height).map_or(true, |h| heads.len() < h) {
             return Err(RenderError::PendingMemory);
         }
+        // Past `NONE` records, an index would be `NONE`: the slice ends there, so that an index
+        // in it is a record.
+        let used = records.len().min(usize::from(NONE));
         let mut p = Pending {
-            records,
+            records: records.get_mut(..used).unwrap_or_default(),
             heads,
-            spans: [(0, 0); SAMPLE_ROWS as usize],
-            present: 0,
+            spans: [NO_SPAN; SAMPLE_ROWS as usize],
+            holding: false,
             gathered: 0,
             height,
             free: NONE,
@@ -171,8 +175,8 @@ impl<'m> Pending<'m> {
         for h in self.heads.iter_mut() {
             *h = NONE;
         }
-        self.present = 0;
-        let n = self.records.len().min(usize::from(NONE));
+        self.holding = false;
+        let n = self.records.len();
         for (i, r) in self.records.iter_mut().take(n).enumerate() {
             *r = PendingPixel {
                 next: if i + 1 < n { (i + 1) as u16 } else { NONE },
@@ -195,12 +199,16 @@ impl<'m> Pending<'m> {
     /// before this span is gathered again.
     pub fn gather(&mut self, sample_row: u32, x_start: u32, x_end: u32) -> Result<(), u32> {
         let (y, t) = (sample_row / SAMPLE_ROWS, sample_row % SAMPLE_ROWS);
-        if self.present != 0 && (y != self.gathered || self.present >> t & 1 == 1) {
+        let taken = self.spans.get(t as usize).is_some_and(|s| *s != NO_SPAN);
+        if self.holding && (y != self.gathered || taken) {
             return Err(self.gathered);
         }
         if x_start < x_end {
+            if !self.holding {
+                self.spans = [NO_SPAN; SAMPLE_ROWS as usize];
+            }
             self.gathered = y;
-            self.present |= 1 << t;
+            self.holding = true;
             if let Some(s) = self.spans.get_mut(t as usize) {
                 *s = (x_start, x_end);
             }
@@ -208,33 +216,41 @@ impl<'m> Pending<'m> {
         Ok(())
     }
 
+    /// Gather pixel row `y`'s spans at once ([`NO_SPAN`] for a sample row without one), as
+    /// [`Pending::gather`] would one by one; the row gathered before is forgotten.
+    pub(crate) fn gather_row(&mut self, y: u32, spans: &RowSpans) {
+        self.gathered = y;
+        self.spans = *spans;
+        self.holding = true;
+    }
+
     /// The pixel row gathered, if it holds a span.
     pub fn gathered(&self) -> Option<u32> {
-        (self.present != 0).then_some(self.gathered)
+        self.holding.then_some(self.gathered)
     }
 
     /// Start adding the gathered row's samples in `colour` (and forget them), if it holds any:
     /// then call [`Pending::next_run`] until it returns `None`.
     pub fn begin_add(&mut self, colour: Colour) -> Option<RowAdd> {
-        let present = core::mem::take(&mut self.present);
+        if !core::mem::take(&mut self.holding) {
+            return None;
+        }
         let y = self.gathered;
         let row = usize::try_from(y).ok().filter(|_| y < self.height)?;
         let head = *self.heads.get(row)?;
-        // The pixels with a sample, and those with all (every sample row has a span).
+        // The pixels with a sample, and those with all (every sample row has a span; a
+        // [`NO_SPAN`] leaves none).
         let (mut lo, mut hi, mut inner_lo, mut inner_hi) = (u32::MAX, 0, 0, u32::MAX);
-        for (t, &(a, b)) in self.spans.iter().enumerate() {
-            if present >> t & 1 == 1 {
-                (lo, hi) = (lo.min(a), hi.max(b));
-                (inner_lo, inner_hi) = (inner_lo.max(a), inner_hi.min(b));
-            }
+        for &(a, b) in &self.spans {
+            (lo, hi) = (lo.min(a), hi.max(b));
+            (inner_lo, inner_hi) = (inner_lo.max(a), inner_hi.min(b));
         }
-        let (inner_lo, inner_hi) = if present == (1 << SAMPLE_ROWS) - 1 {
+        let (inner_lo, inner_hi) = if inner_lo < inner_hi {
             (inner_lo.div_ceil(SAMPLE_COLUMNS), inner_hi / SAMPLE_COLUMNS)
         } else {
             (0, 0)
         };
         Some(RowAdd {
-            present,
             x: lo / SAMPLE_COLUMNS,
             hi: hi.div_ceil(SAMPLE_COLUMNS),
             inner_lo,
@@ -278,7 +294,7 @@ impl<'m> Pending<'m> {
                 }
             } else {
                 add.x += 1;
-                let mask = self.mask_of(add.present, x);
+                let mask = self.mask_of(x);
                 if mask == 0 || finished(x) {
                     continue;
                 }
@@ -340,16 +356,16 @@ impl<'m> Pending<'m> {
         true
     }
 
-    /// Pixel `x`'s mask from the gathered spans of the sample rows in `present`.
-    fn mask_of(&self, present: u32, x: u32) -> Mask {
+    /// Pixel `x`'s mask from the gathered spans (a [`NO_SPAN`] gives no bit: no test).
+    fn mask_of(&self, x: u32) -> Mask {
         let left = x * SAMPLE_COLUMNS;
         let mut mask = 0;
         for (t, &(a, b)) in self.spans.iter().enumerate() {
-            let (s0, s1) = (a.max(left), b.min(left + SAMPLE_COLUMNS));
-            if present >> t & 1 == 1 && s0 < s1 {
-                let bits = (1 << (s1 - left)) - (1 << (s0 - left));
-                mask |= bits << (t as u32 * SAMPLE_COLUMNS);
-            }
+            // The pixel's samples `s0 .. s1` of the span (none when `s1 <= s0`).
+            let s0 = a.saturating_sub(left).min(SAMPLE_COLUMNS);
+            let s1 = b.saturating_sub(left).min(SAMPLE_COLUMNS);
+            let bits = ((1 << s1) - 1) & !((1 << s0) - 1);
+            mask |= bits << (t as u32 * SAMPLE_COLUMNS);
         }
         mask
     }
@@ -448,9 +464,9 @@ impl<'m> Pending<'m> {
             .unwrap_or(NONE)
     }
 
-    /// Record `i`, if it is one: never [`NONE`], even in a pool of more than 32,767 records.
+    /// Record `i`, if it is one: never [`NONE`] (the pool ends before it).
     fn record(&self, i: u16) -> Option<&PendingPixel> {
-        self.records.get(usize::from(i)).filter(|_| i < NONE)
+        self.records.get(usize::from(i))
     }
 
     /// The first free record, taken off the free list.

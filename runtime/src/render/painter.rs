@@ -390,15 +390,30 @@ impl<const SUB: u32> Painter<'_, '_, SUB> {
             #[cfg(not(feature = "antialias"))]
             samples: core::marker::PhantomData,
         };
-        fill::fill_in_rect(
-            pts,
-            rect,
-            self.edges,
-            fill_width,
-            rows,
-            colour,
-            &mut through,
-        );
+        // Anti-aliased, a polygon crossing two edges per sample row (any convex one) is handed
+        // over a pixel row at a time.
+        #[cfg(feature = "antialias")]
+        let filled = antialiased
+            && fill::samples::fill_sample_rows(
+                pts,
+                self.edges,
+                fill_width,
+                rows.clone(),
+                &mut through,
+            );
+        #[cfg(not(feature = "antialias"))]
+        let filled = false;
+        if !filled {
+            fill::fill_in_rect(
+                pts,
+                rect,
+                self.edges,
+                fill_width,
+                rows,
+                colour,
+                &mut through,
+            );
+        }
         #[cfg(feature = "antialias")]
         through.end_samples();
         tally(&mut stats.pixels_written, through.pixels);
@@ -494,6 +509,16 @@ impl<S: SpanSink + ?Sized> Through<'_, '_, '_, S> {
 
     /// The polygon is filled: add its last row.
     fn end_samples(&mut self) {
+        self.add_gathered();
+    }
+}
+
+#[cfg(feature = "antialias")]
+impl<S: SpanSink + ?Sized> fill::samples::SampleRowSink for Through<'_, '_, '_, S> {
+    fn sample_rows(&mut self, y: u32, spans: &fill::samples::RowSpans) {
+        if let Some(s) = self.samples.as_mut() {
+            s.pending.gather_row(y.wrapping_sub(self.first_row), spans);
+        }
         self.add_gathered();
     }
 }
