@@ -358,14 +358,17 @@ impl<'m> Pending<'m> {
 
     /// Pixel `x`'s mask from the gathered spans (a [`NO_SPAN`] gives no bit: no test).
     fn mask_of(&self, x: u32) -> Mask {
+        // A row's samples at or right of column `s` of the pixel, and left of it, for `s`
+        // clamped to `0..=7` (one saturation on ARMv7-M).
+        const FROM: [u8; 8] = [31, 30, 28, 24, 16, 0, 0, 0];
+        const BELOW: [u8; 8] = [0, 1, 3, 7, 15, 31, 31, 31];
+        const _: () = assert!(SAMPLE_COLUMNS == 5);
         let left = x * SAMPLE_COLUMNS;
+        let column = |v: u32| (v.wrapping_sub(left) as i32).clamp(0, 7) as usize & 7;
         let mut mask = 0;
         for (t, &(a, b)) in self.spans.iter().enumerate() {
-            // The pixel's samples `s0 .. s1` of the span (none when `s1 <= s0`).
-            let s0 = a.saturating_sub(left).min(SAMPLE_COLUMNS);
-            let s1 = b.saturating_sub(left).min(SAMPLE_COLUMNS);
-            let bits = ((1 << s1) - 1) & !((1 << s0) - 1);
-            mask |= bits << (t as u32 * SAMPLE_COLUMNS);
+            let bits = FROM[column(a)] & BELOW[column(b)];
+            mask |= Mask::from(bits) << (t as u32 * SAMPLE_COLUMNS);
         }
         mask
     }

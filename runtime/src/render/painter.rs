@@ -317,7 +317,7 @@ impl<const SUB: u32> Painter<'_, '_, SUB> {
         let antialiased = self.antialiased();
         if antialiased {
             for p in self.points.iter_mut().take(count) {
-                *p = FixedPoint::new(p.x.saturating_mul(COLUMNS), p.y.saturating_mul(ROWS));
+                *p = FixedPoint::new(p.x.wrapping_mul(COLUMNS), p.y.wrapping_mul(ROWS));
             }
         }
         let pts = self.points.get(..count).unwrap_or(&[]);
