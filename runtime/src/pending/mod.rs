@@ -316,46 +316,6 @@ impl<'m> Pending<'m> {
         add.run.take()
     }
 
-    /// Whether a polygon whose samples lie in the rectangle `grid` (`[x0, y0, x1, y1)` of the
-    /// sample grid, rows of the band) would add none: each pixel it touches is finished (in
-    /// `finished(y)`, the sorted intervals of row `y`) or pending with every sample of `grid` in
-    /// it covered. The covered test of span memory, at the samples of pending pixels.
-    pub fn covers<'a>(&self, grid: [u32; 4], finished: impl Fn(u32) -> &'a [(u16, u16)]) -> bool {
-        let [sx0, sy0, sx1, sy1] = grid;
-        let (c, r) = (SAMPLE_COLUMNS, SAMPLE_ROWS);
-        for y in sy0 / r..sy1.div_ceil(r) {
-            // The samples rows of `grid` in pixel row `y`, as a mask of one column.
-            let (t0, t1) = (sy0.max(y * r) - y * r, sy1.min(y * r + r) - y * r);
-            let column = (0..SAMPLE_ROWS)
-                .filter(|t| (t0..t1).contains(t))
-                .fold(0, |m, t| m | 1 << (t * c));
-            let ints = finished(y);
-            let mut k = ints.partition_point(|&(_, b)| u32::from(b) <= sx0 / c);
-            let mut at = self.head(y) & !FALLEN_BACK;
-            let mut x = sx0 / c;
-            while x < sx1.div_ceil(c) {
-                if let Some(&(_, b)) = ints.get(k).filter(|&&(a, _)| u32::from(a) <= x) {
-                    x = u32::from(b);
-                    k += 1;
-                    continue;
-                }
-                while let Some(rec) = self.record(at).filter(|rec| u32::from(rec.x) < x) {
-                    at = rec.next;
-                }
-                let Some(rec) = self.record(at).filter(|rec| u32::from(rec.x) == x) else {
-                    return false;
-                };
-                let (s0, s1) = (sx0.max(x * c) - x * c, sx1.min(x * c + c) - x * c);
-                let mask = ((1 << s1) - (1 << s0)) * column;
-                if mask & !rec.mask() != 0 {
-                    return false;
-                }
-                x += 1;
-            }
-        }
-        true
-    }
-
     /// Pixel `x`'s mask from the gathered spans (a [`NO_SPAN`] gives no bit: no test).
     fn mask_of(&self, x: u32) -> Mask {
         // A row's samples at or right of column `s` of the pixel, and left of it, for `s`

@@ -348,18 +348,8 @@ impl<const SUB: u32> Painter<'_, '_, SUB> {
                 tally(&mut stats.polygons_culled_covered, 1);
                 return Ok(());
             }
-            // Anti-aliased, pending pixels hold the polygon's samples back from the test
-            // above: it shows nothing either if their samples in its box are all covered.
-            #[cfg(feature = "antialias")]
-            if let Some(p) = self.antialias.as_deref() {
-                // Its samples' rectangle, in the band's rows.
-                let (top, bottom) = (grid[1].max(y0 * r), grid[3].min(y1 * r));
-                let band = [grid[0], top - r0 * r, grid[2], bottom - r0 * r];
-                if p.covers(band, |y| c.row(y)) {
-                    tally(&mut stats.polygons_culled_covered, 1);
-                    return Ok(());
-                }
-            }
+            // (Anti-aliased, a polygon is not also tested at the samples of the pending pixels in
+            // its box: drawing those that add none costs less than testing every polygon.)
         }
         let colour = match self.paint {
             Paint::Ids if cfg!(feature = "ids") => id_colour(scene.id(index).unwrap_or(u32::MAX)),

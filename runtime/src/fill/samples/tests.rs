@@ -272,3 +272,361 @@ fn rows_limit_the_masks_and_a_short_scratch_row_is_refused() {
     );
     assert!(image.rows.is_empty());
 }
+
+// `fill_sample_rows`: the spans of a polygon on the sample grid, a pixel row at a time, against
+// the general fill's.
+
+use crate::fill::{MAX_FILL_VERTICES, SUBPIXEL_BITS};
+
+/// A point on the sample grid at the renderer's precision.
+type Point = FixedPoint<SUBPIXEL_BITS>;
+
+/// `2^-SUBPIXEL_BITS` units per sample.
+const UNIT: i32 = 1 << SUBPIXEL_BITS;
+/// The window of the `fill_sample_rows` tests, in pixels.
+const PIXELS_W: u32 = 40;
+const PIXELS_H: u32 = 30;
+
+/// What `fill_sample_rows` hands over: each pixel row's sample-row spans, in order.
+#[derive(Default)]
+struct SampleRows(Vec<(u32, RowSpans)>);
+
+impl SampleRowSink for SampleRows {
+    fn sample_rows(&mut self, y: u32, spans: &RowSpans) {
+        self.0.push((y, *spans));
+    }
+}
+
+/// Every span of a fill, in the order received.
+#[derive(Default)]
+struct AllSpans(Vec<(u32, u32, u32)>);
+
+impl SpanSink for AllSpans {
+    fn span(&mut self, y: u32, x_start: u32, x_end: u32, colour: Colour) {
+        assert_eq!(colour, A);
+        self.0.push((y, x_start, x_end));
+    }
+}
+
+/// The general fill's spans of `points` over the sample rows `rows`.
+fn general_spans(points: &[Point], width: u32, rows: Range<u32>) -> Vec<(u32, u32, u32)> {
+    let mut all = AllSpans::default();
+    fill_polygon_rows(points, width, rows, A, &mut all).unwrap();
+    all.0
+}
+
+/// [`general_spans`] grouped as `fill_sample_rows` hands them over: a pixel row per entry, in
+/// the order the general fill reaches them, each sample row's span or [`NO_SPAN`]; `None` when
+/// some sample row has more than one span (no single span per sample row can match it).
+fn general_rows(points: &[Point], width: u32, rows: Range<u32>) -> Option<Vec<(u32, RowSpans)>> {
+    let mut grouped: Vec<(u32, RowSpans)> = Vec::new();
+    for (y, x_start, x_end) in general_spans(points, width, rows) {
+        let pixel_row = y / SAMPLE_ROWS;
+        if grouped.last().is_none_or(|&(r, _)| r != pixel_row) {
+            grouped.push((pixel_row, [NO_SPAN; SAMPLE_ROWS as usize]));
+        }
+        let slot = &mut grouped.last_mut()?.1[(y % SAMPLE_ROWS) as usize];
+        if *slot != NO_SPAN {
+            return None;
+        }
+        *slot = (x_start, x_end);
+    }
+    Some(grouped)
+}
+
+/// Run `fill_sample_rows` on `points` and check it against the general fill: when it accepts
+/// the polygon, the same spans grouped the same way; when it refuses, nothing drawn. Returns
+/// whether it accepted.
+fn check_sample_rows(
+    points: &[Point],
+    width: u32,
+    rows: Range<u32>,
+) -> Result<bool, TestCaseError> {
+    let mut edges = [EdgeWalk::default(); MAX_FILL_VERTICES];
+    let mut fast = SampleRows::default();
+    let accepted = fill_sample_rows(points, &mut edges, width, rows.clone(), &mut fast);
+    if accepted {
+        let general = general_rows(points, width, rows.clone());
+        prop_assert_eq!(
+            Some(fast.0),
+            general,
+            "{:?}, width {}, rows {:?}",
+            points,
+            width,
+            rows
+        );
+    } else {
+        prop_assert!(
+            fast.0.is_empty(),
+            "refused {:?} but drew {:?}",
+            points,
+            fast.0
+        );
+    }
+    Ok(accepted)
+}
+
+/// A coordinate in `0..=samples` samples: anywhere, on a sample centre or boundary (multiples
+/// of half a sample), on a pixel boundary, or on the window's border.
+fn sample_coord(samples: i32) -> impl Strategy<Value = i32> {
+    let hi = samples * UNIT;
+    prop_oneof![
+        3 => 0..=hi,
+        2 => (0..=2 * samples).prop_map(|k| k * UNIT / 2),
+        1 => (0..=samples / 5).prop_map(|k| k * 5 * UNIT),
+        1 => prop_oneof![Just(0), Just(hi)],
+    ]
+}
+
+/// A point of the sample grid of the `PIXELS_W x PIXELS_H` window, border included.
+fn sample_point() -> impl Strategy<Value = Point> {
+    (
+        sample_coord((PIXELS_W * SAMPLE_COLUMNS) as i32),
+        sample_coord((PIXELS_H * SAMPLE_ROWS) as i32),
+    )
+        .prop_map(|(x, y)| Point::new(x, y))
+}
+
+/// Strictly convex hull of `p` (Andrew's monotone chain, collinear points dropped), as in
+/// `fill::tests`.
+fn hull(mut p: Vec<Point>) -> Vec<Point> {
+    p.sort_by_key(|q| (q.x, q.y));
+    p.dedup();
+    if p.len() < 3 {
+        return p;
+    }
+    let cross = |o: Point, a: Point, b: Point| {
+        (i64::from(a.x) - i64::from(o.x)) * (i64::from(b.y) - i64::from(o.y))
+            - (i64::from(a.y) - i64::from(o.y)) * (i64::from(b.x) - i64::from(o.x))
+    };
+    let mut h: Vec<Point> = Vec::new();
+    for pass in 0..2 {
+        let start = h.len();
+        let ordered: Vec<Point> = if pass == 0 {
+            p.clone()
+        } else {
+            p.iter().rev().copied().collect()
+        };
+        for q in ordered {
+            while h.len() >= start + 2 && cross(h[h.len() - 2], h[h.len() - 1], q) <= 0 {
+                h.pop();
+            }
+            h.push(q);
+        }
+        h.pop();
+    }
+    h
+}
+
+/// The hull of `p` in either winding, starting at any of its vertices.
+fn convex_polygon(p: Vec<Point>, reverse: bool, rotate: usize) -> Vec<Point> {
+    let mut h = hull(p);
+    if reverse {
+        h.reverse();
+    }
+    if !h.is_empty() {
+        let k = rotate % h.len();
+        h.rotate_left(k);
+    }
+    h
+}
+
+/// An axis-aligned rectangle with corners `a` and `b`, in either winding.
+fn rectangle(a: Point, b: Point, reverse: bool) -> Vec<Point> {
+    let mut r = std::vec![a, Point::new(b.x, a.y), b, Point::new(a.x, b.y)];
+    if reverse {
+        r.reverse();
+    }
+    r
+}
+
+/// Polygons of 3 to 8 points: arbitrary point lists (non-convex, self-intersecting,
+/// degenerate), and convex ones in either winding.
+fn sample_polygon() -> impl Strategy<Value = Vec<Point>> {
+    prop_oneof![
+        proptest::collection::vec(sample_point(), 3..=8),
+        (
+            proptest::collection::vec(sample_point(), 3..=8),
+            any::<bool>(),
+            any::<usize>()
+        )
+            .prop_map(|(p, reverse, rotate)| {
+                let h = convex_polygon(p.clone(), reverse, rotate);
+                if h.len() >= 3 {
+                    h
+                } else {
+                    p
+                }
+            }),
+    ]
+}
+
+/// A band of whole pixel rows of the window, as sample rows (possibly empty).
+fn sample_band() -> impl Strategy<Value = Range<u32>> {
+    (0..=PIXELS_H, 0..=PIXELS_H).prop_map(|(a, b)| a.min(b) * SAMPLE_ROWS..a.max(b) * SAMPLE_ROWS)
+}
+
+/// The window's width in samples, sometimes narrower than the polygons (spans clipped).
+fn sample_width() -> impl Strategy<Value = u32> {
+    prop_oneof![Just(PIXELS_W), 1..=PIXELS_W].prop_map(|w| w * SAMPLE_COLUMNS)
+}
+
+/// Three points: anywhere, collinear (a zero-area triangle), or with two equal.
+fn triangle() -> impl Strategy<Value = Vec<Point>> {
+    prop_oneof![
+        2 => proptest::collection::vec(sample_point(), 3),
+        1 => (sample_point(), sample_point(), 0..=4i32, any::<usize>()).prop_map(
+            |(a, b, k, rotate)| {
+                // a, its midpoint with b (exact: even coordinates), b, and k/4 of the way.
+                let (ax, ay, bx, by) = (a.x & !3, a.y & !3, b.x & !3, b.y & !3);
+                let along = Point::new(ax + (bx - ax) / 4 * k, ay + (by - ay) / 4 * k);
+                let mut t = std::vec![Point::new(ax, ay), Point::new(bx, by), along];
+                t.rotate_left(rotate % 3);
+                t
+            }
+        ),
+        1 => (sample_point(), sample_point(), any::<usize>()).prop_map(|(a, b, rotate)| {
+            let mut t = std::vec![a, a, b];
+            t.rotate_left(rotate % 3);
+            t
+        }),
+    ]
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 2000, ..ProptestConfig::default() })]
+
+    /// Whenever `fill_sample_rows` accepts a polygon (arbitrary or convex, points on the
+    /// window's border too) over a band of pixel rows, it hands over the general fill's spans,
+    /// sample row for sample row, grouped into the pixel rows that have any, top to bottom,
+    /// the others [`NO_SPAN`]; when it refuses one it draws nothing.
+    #[test]
+    fn sample_rows_match_the_general_fill(
+        points in sample_polygon(),
+        width in sample_width(),
+        rows in sample_band(),
+    ) {
+        check_sample_rows(&points, width, rows)?;
+    }
+
+    /// Every triangle, degenerate ones included, is accepted, over any band, with the general
+    /// fill's spans.
+    #[test]
+    fn sample_rows_accept_every_triangle(
+        points in triangle(),
+        width in sample_width(),
+        rows in sample_band(),
+    ) {
+        prop_assert!(check_sample_rows(&points, width, rows)?, "refused {:?}", points);
+    }
+
+    /// Every strictly convex polygon (the hull of exact grid points, so nothing is snapped),
+    /// and every rectangle, in either winding and from any first vertex, is accepted, over any
+    /// band, with the general fill's spans.
+    #[test]
+    fn sample_rows_accept_every_convex_polygon(
+        p in proptest::collection::vec(sample_point(), 3..=12),
+        (a, b) in (sample_point(), sample_point()),
+        reverse in any::<bool>(),
+        rotate in any::<usize>(),
+        width in sample_width(),
+        rows in sample_band(),
+    ) {
+        let convex = convex_polygon(p, reverse, rotate);
+        if convex.len() >= 3 {
+            prop_assert!(check_sample_rows(&convex, width, rows.clone())?, "refused {:?}", convex);
+        }
+        let rect = rectangle(a, b, reverse);
+        prop_assert!(check_sample_rows(&rect, width, rows)?, "refused {:?}", rect);
+    }
+}
+
+/// Samples as points of the sample grid.
+fn sample_points(p: &[(i32, i32)]) -> Vec<Point> {
+    p.iter()
+        .map(|&(x, y)| Point::new(x * UNIT, y * UNIT))
+        .collect()
+}
+
+/// A "W" (three teeth hanging from a bar): the sample rows through the teeth cross three
+/// edges going down and three going up, so it is refused and nothing is drawn, though the
+/// general fill draws three spans on those rows; below the teeth, where only the bar's two
+/// sides cross, a band of it is accepted with the general fill's spans.
+#[test]
+fn sample_rows_refuse_a_comb_but_accept_its_convex_band() {
+    let comb = sample_points(&[
+        (0, 0),
+        (50, 100),
+        (100, 0),
+        (150, 100),
+        (200, 0),
+        (200, 150),
+        (0, 150),
+    ]);
+    let (width, all) = (PIXELS_W * SAMPLE_COLUMNS, 0..PIXELS_H * SAMPLE_ROWS);
+    let mut edges = [EdgeWalk::default(); MAX_FILL_VERTICES];
+    let mut fast = SampleRows::default();
+    assert!(!fill_sample_rows(
+        &comb,
+        &mut edges,
+        width,
+        all.clone(),
+        &mut fast
+    ));
+    assert!(fast.0.is_empty());
+    let general = general_spans(&comb, width, all.clone());
+    assert_eq!(general.iter().filter(|s| s.0 == 50).count(), 3);
+    assert!(general.iter().any(|s| s.0 == 149));
+    assert_eq!(general_rows(&comb, width, all), None);
+    // Pixel rows 21 .. 30: sample rows 105 .. 150, below the teeth.
+    let below = 21 * SAMPLE_ROWS..30 * SAMPLE_ROWS;
+    let accepted = check_sample_rows(&comb, width, below).unwrap();
+    assert!(accepted);
+    // A band reaching into the teeth is refused again.
+    assert!(!check_sample_rows(&comb, width, 19 * SAMPLE_ROWS..30 * SAMPLE_ROWS).unwrap());
+}
+
+/// A band starting below the polygon's top vertex (a y-monotone, non-convex hexagon), with
+/// vertices inside it on both sides (each chain moves to its next edge mid-band) and edges
+/// crossing the band's top: the general fill's spans, on every sample row of every pixel row
+/// of the band, and the same as the whole polygon's fill on those rows.
+#[test]
+fn sample_rows_of_a_band_starting_inside_the_polygon() {
+    // In samples: top (100, 12.6), right (150, 36) (138, 104), bottom (200, 144), left
+    // (60, 88) (30, 52); band: sample rows 25 .. 75 (pixel rows 5 .. 15).
+    let pentagon: Vec<Point> = [
+        (1000, 315),
+        (1500, 900),
+        (1380, 2600),
+        (2000, 3600),
+        (600, 2200),
+        (300, 1300),
+    ]
+    .iter()
+    .map(|&(x, y)| Point::new(x * UNIT / 10, y * UNIT / 25))
+    .collect();
+    let (width, band) = (PIXELS_W * SAMPLE_COLUMNS, 5 * SAMPLE_ROWS..15 * SAMPLE_ROWS);
+    let mut edges = [EdgeWalk::default(); MAX_FILL_VERTICES];
+    let mut fast = SampleRows::default();
+    assert!(fill_sample_rows(
+        &pentagon,
+        &mut edges,
+        width,
+        band.clone(),
+        &mut fast
+    ));
+    assert_eq!(
+        Some(fast.0.clone()),
+        general_rows(&pentagon, width, band.clone())
+    );
+    let pixel_rows: Vec<u32> = fast.0.iter().map(|r| r.0).collect();
+    assert_eq!(pixel_rows, (5..15).collect::<Vec<u32>>());
+    assert!(fast
+        .0
+        .iter()
+        .all(|(_, spans)| spans.iter().all(|&(l, r)| l < r && r <= width)));
+    // The band's spans are the whole polygon's on those rows.
+    let whole = general_spans(&pentagon, width, 0..PIXELS_H * SAMPLE_ROWS);
+    let in_band: Vec<(u32, u32, u32)> = whole.into_iter().filter(|s| band.contains(&s.0)).collect();
+    assert_eq!(in_band, general_spans(&pentagon, width, band));
+}
