@@ -294,8 +294,14 @@ impl<'m> Pending<'m> {
                 }
             } else {
                 add.x += 1;
+                // A pixel with a record is not finished: only one without is tested.
+                self.walk_to(&mut add.cursor, x);
+                let pending = self.record(add.cursor.at).is_some_and(|r| u32::from(r.x) == x);
+                if !pending && finished(x) {
+                    continue;
+                }
                 let mask = self.mask_of(x);
-                if mask == 0 || finished(x) {
+                if mask == 0 {
                     continue;
                 }
                 match self.add_pixel(&mut add.cursor, x, mask, add.sample, add.colour) {
