@@ -296,7 +296,9 @@ impl<'m> Pending<'m> {
                 add.x += 1;
                 // A pixel with a record is not finished: only one without is tested.
                 self.walk_to(&mut add.cursor, x);
-                let pending = self.record(add.cursor.at).is_some_and(|r| u32::from(r.x) == x);
+                let pending = self
+                    .record(add.cursor.at)
+                    .is_some_and(|r| u32::from(r.x) == x);
                 if !pending && finished(x) {
                     continue;
                 }

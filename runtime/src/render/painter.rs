@@ -256,6 +256,21 @@ impl<const SUB: u32> Painter<'_, '_, SUB> {
             });
         }
         let (view, max_x, max_y) = (self.view, self.max_x, self.max_y);
+        // Anti-aliased, the points are scaled to the sample grid (exact: the renderer checked
+        // that the scaled window is in the fill's range), once per vertex with vertex memory.
+        #[cfg(feature = "antialias")]
+        let antialiased = self.antialiased();
+        #[cfg(feature = "antialias")]
+        let grid = |p: FixedPoint<SUB>| {
+            if antialiased {
+                FixedPoint::new(p.x.wrapping_mul(COLUMNS), p.y.wrapping_mul(ROWS))
+            } else {
+                p
+            }
+        };
+        #[cfg(feature = "antialias")]
+        let screen = |c: Vec3| grid(snap::<SUB>(view.project(c), max_x, max_y));
+        #[cfg(not(feature = "antialias"))]
         let screen = |c: Vec3| snap::<SUB>(view.project(c), max_x, max_y);
         // Without the feature there is never a cache: the test keeps that path out of the
         // binary (the optimiser cannot see through the painter's field).
@@ -276,6 +291,9 @@ impl<const SUB: u32> Painter<'_, '_, SUB> {
             let shared = |v: u32| {
                 let steps = integer.and_then(|g| scene.vertex_steps(v).map(|q| (g, q)));
                 match steps {
+                    #[cfg(feature = "antialias")]
+                    Some((g, q)) => grid(g.point::<SUB>(q)),
+                    #[cfg(not(feature = "antialias"))]
                     Some((g, q)) => g.point::<SUB>(q),
                     None => corner(scene.vertex(v)),
                 }
@@ -311,15 +329,8 @@ impl<const SUB: u32> Painter<'_, '_, SUB> {
             return Ok(());
         }
         let (width, height) = (self.view.width, self.view.height);
-        // Anti-aliased: the points scaled to the sample grid (exact: the renderer checked that
-        // the scaled window is in the fill's range), and the pixels holding a sample of their
-        // box.
+        #[cfg(not(feature = "antialias"))]
         let antialiased = self.antialiased();
-        if antialiased {
-            for p in self.points.iter_mut().take(count) {
-                *p = FixedPoint::new(p.x.wrapping_mul(COLUMNS), p.y.wrapping_mul(ROWS));
-            }
-        }
         let pts = self.points.get(..count).unwrap_or(&[]);
         // No pixel centre (sample) inside: the fill would draw nothing. All covered: nothing
         // shows. Anti-aliased, `grid` is the samples' rectangle and `x0 .. y1` their pixels'.
