@@ -120,7 +120,9 @@ struct Cursor {
 
 /// Adding a gathered pixel row ([`Pending::begin_add`], [`Pending::next_run`]): the polygon's
 /// colour, the pixels with a sample (`x .. hi`, `x` the next one), those with all
-/// (`inner_lo .. inner_hi`), and the run of finished pixels being extended.
+/// (`inner_lo .. inner_hi`, from the pixel at or right of every span's start to the one left
+/// of every span's end: not an interval when the spans are narrow), and the run of finished
+/// pixels being extended.
 #[derive(Debug)]
 pub struct RowAdd {
     x: u32,
@@ -245,16 +247,11 @@ impl<'m> Pending<'m> {
             (lo, hi) = (lo.min(a), hi.max(b));
             (inner_lo, inner_hi) = (inner_lo.max(a), inner_hi.min(b));
         }
-        let (inner_lo, inner_hi) = if inner_lo < inner_hi {
-            (inner_lo.div_ceil(SAMPLE_COLUMNS), inner_hi / SAMPLE_COLUMNS)
-        } else {
-            (0, 0)
-        };
         Some(RowAdd {
             x: lo / SAMPLE_COLUMNS,
             hi: hi.div_ceil(SAMPLE_COLUMNS),
-            inner_lo,
-            inner_hi,
+            inner_lo: inner_lo.div_ceil(SAMPLE_COLUMNS),
+            inner_hi: inner_hi / SAMPLE_COLUMNS,
             colour,
             sample: packed(colour),
             cursor: Cursor {
@@ -302,7 +299,9 @@ impl<'m> Pending<'m> {
                 if !pending && finished(x) {
                     continue;
                 }
-                let mask = self.mask_of(x);
+                // Left of `inner_lo` the spans' starts cut the pixel, right of `inner_hi` their
+                // ends (a missing sample row leaves both: `inner_lo` past every pixel).
+                let mask = self.mask_of(x, x < add.inner_lo, x >= add.inner_hi);
                 if mask == 0 {
                     continue;
                 }
@@ -324,8 +323,9 @@ impl<'m> Pending<'m> {
         add.run.take()
     }
 
-    /// Pixel `x`'s mask from the gathered spans (a [`NO_SPAN`] gives no bit: no test).
-    fn mask_of(&self, x: u32) -> Mask {
+    /// Pixel `x`'s mask from the gathered spans (a [`NO_SPAN`] gives no bit: no test), from
+    /// their `starts`, their `ends`, or both (the others lie outside the pixel).
+    fn mask_of(&self, x: u32, starts: bool, ends: bool) -> Mask {
         // A row's samples at or right of column `s` of the pixel, and left of it, for `s`
         // clamped to `0..=7` (one saturation on ARMv7-M).
         const FROM: [u8; 8] = [31, 30, 28, 24, 16, 0, 0, 0];
@@ -335,7 +335,9 @@ impl<'m> Pending<'m> {
         let column = |v: u32| (v.wrapping_sub(left) as i32).clamp(0, 7) as usize & 7;
         let mut mask = 0;
         for (t, &(a, b)) in self.spans.iter().enumerate() {
-            let bits = FROM[column(a)] & BELOW[column(b)];
+            let from = if starts { FROM[column(a)] } else { 31 };
+            let below = if ends { BELOW[column(b)] } else { 31 };
+            let bits = from & below;
             mask |= Mask::from(bits) << (t as u32 * SAMPLE_COLUMNS);
         }
         mask
