@@ -274,13 +274,19 @@ impl EdgeWalk {
     /// Move to the next row.
     #[inline]
     pub fn step(&mut self) {
+        self.step_x();
+        self.row += 1;
+    }
+
+    /// [`Self::step`] of the crossing alone, for a caller counting the rows itself.
+    #[inline]
+    pub(crate) fn step_x(&mut self) {
         self.x += self.step_q;
         self.rem += self.step_r;
         if self.rem >= self.den {
             self.rem -= self.den;
             self.x += 1;
         }
-        self.row += 1;
     }
 
     /// The classic walk's `N` after the division of the current row.

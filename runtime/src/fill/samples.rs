@@ -265,7 +265,6 @@ pub(crate) fn fill_sample_rows<const SUB: u32, S: SampleRowSink + ?Sized>(
     let group = SAMPLE_ROWS as Coord;
     let (mut pixel_row, mut t) = (row.div_euclid(group), row.rem_euclid(group) as usize);
     let mut spans: RowSpans = [NO_SPAN; SAMPLE_ROWS as usize];
-    let mut any = false;
     loop {
         if row >= a.row_end {
             d += 1;
@@ -277,49 +276,54 @@ pub(crate) fn fill_sample_rows<const SUB: u32, S: SampleRowSink + ?Sized>(
             let Some(&next) = ups.get(u) else { break };
             b = next;
         }
-        // The rows both edges cross, or one row that at most one crosses (no span: the
-        // general fill ignores an odd crossing).
-        let (stop, both) = if a.row == row && b.row == row {
-            (a.row_end.min(b.row_end), true)
-        } else {
-            (row + 1, false)
-        };
-        while row < stop {
-            if both {
+        if a.row == row && b.row == row {
+            // The rows both edges cross: a span each (the walks' own rows are set past them at
+            // once, so that the loop keeps less in registers).
+            let n = a.row_end.min(b.row_end) - row;
+            (a.row, b.row, row) = (a.row + n, b.row + n, row + n);
+            for _ in 0..n {
                 let (l, r) = if a.x <= b.x { (a.x, b.x) } else { (b.x, a.x) };
                 let (l, r) = (l.max(0), r.min(width));
                 if l < r {
                     if let Some(span) = spans.get_mut(t) {
                         *span = (l as u32, r as u32);
                     }
-                    any = true;
                 }
-                a.step();
-                b.step();
-            } else {
-                for e in [&mut a, &mut b] {
-                    if e.row == row {
-                        e.step();
-                    }
+                a.step_x();
+                b.step_x();
+                t += 1;
+                if t == SAMPLE_ROWS as usize {
+                    send_row(sink, pixel_row as u32, &mut spans);
+                    (pixel_row, t) = (pixel_row + 1, 0);
+                }
+            }
+        } else {
+            // A row that at most one crosses: no span (the general fill ignores an odd
+            // crossing).
+            for e in [&mut a, &mut b] {
+                if e.row == row {
+                    e.step();
                 }
             }
             row += 1;
             t += 1;
             if t == SAMPLE_ROWS as usize {
-                if any {
-                    sink.sample_rows(pixel_row as u32, &spans);
-                    spans = [NO_SPAN; SAMPLE_ROWS as usize];
-                    any = false;
-                }
-                pixel_row += 1;
-                t = 0;
+                send_row(sink, pixel_row as u32, &mut spans);
+                (pixel_row, t) = (pixel_row + 1, 0);
             }
         }
     }
-    if any {
-        sink.sample_rows(pixel_row as u32, &spans);
-    }
+    send_row(sink, pixel_row as u32, &mut spans);
     true
+}
+
+/// Hand pixel row `y`'s spans to `sink` if it holds any, and empty them.
+#[inline]
+fn send_row<S: SampleRowSink + ?Sized>(sink: &mut S, y: u32, spans: &mut RowSpans) {
+    if spans.iter().any(|&s| s != NO_SPAN) {
+        sink.sample_rows(y, spans);
+        *spans = [NO_SPAN; SAMPLE_ROWS as usize];
+    }
 }
 
 #[cfg(test)]
