@@ -165,6 +165,23 @@ pub fn add_span_bits(
 /// [`NO_SPAN`].
 pub type RowSpans = [(u32, u32); SAMPLE_ROWS as usize];
 
+/// The extent of a pixel row's spans, in columns of the sample grid: the least start and the
+/// greatest end (`lo < hi` unless there is no span), then the greatest start and the least
+/// end (the columns every sample row holds, when `inner_lo < inner_hi`; a [`NO_SPAN`] leaves
+/// none).
+pub type RowExtent = [u32; 4];
+
+/// [`RowExtent`] of `spans`.
+#[inline]
+pub fn row_extent(spans: &RowSpans) -> RowExtent {
+    let [mut lo, mut hi, mut inner_lo, mut inner_hi] = [u32::MAX, 0, 0, u32::MAX];
+    for &(a, b) in spans {
+        (lo, hi) = (lo.min(a), hi.max(b));
+        (inner_lo, inner_hi) = (inner_lo.max(a), inner_hi.min(b));
+    }
+    [lo, hi, inner_lo, inner_hi]
+}
+
 /// A sample row without a span: the start past every end, so that the least start and the
 /// greatest end of a row's spans, and the samples of a pixel in them, need no test for it.
 pub const NO_SPAN: (u32, u32) = (u32::MAX, 0);
@@ -172,8 +189,9 @@ pub const NO_SPAN: (u32, u32) = (u32::MAX, 0);
 /// Receives a polygon's spans on the sample grid a pixel row at a time
 /// ([`fill_sample_rows`]).
 pub(crate) trait SampleRowSink {
-    /// The spans of pixel row `y`'s sample rows, at least one of them not empty.
-    fn sample_rows(&mut self, y: u32, spans: &RowSpans);
+    /// The spans of pixel row `y`'s sample rows, at least one of them not empty, and their
+    /// extent.
+    fn sample_rows(&mut self, y: u32, spans: &RowSpans, extent: &RowExtent);
 }
 
 /// The spans [`super::fill_in`] gives `points` (on the sample grid, `width` columns) over the
@@ -320,8 +338,9 @@ pub(crate) fn fill_sample_rows<const SUB: u32, S: SampleRowSink + ?Sized>(
 /// Hand pixel row `y`'s spans to `sink` if it holds any, and empty them.
 #[inline]
 fn send_row<S: SampleRowSink + ?Sized>(sink: &mut S, y: u32, spans: &mut RowSpans) {
-    if spans.iter().any(|&s| s != NO_SPAN) {
-        sink.sample_rows(y, spans);
+    let extent = row_extent(spans);
+    if extent[0] < extent[1] {
+        sink.sample_rows(y, spans, &extent);
         *spans = [NO_SPAN; SAMPLE_ROWS as usize];
     }
 }

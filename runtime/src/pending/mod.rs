@@ -30,7 +30,8 @@ mod tests;
 use crate::display::{Colour, SpanSink};
 use crate::error::RenderError;
 use crate::fill::samples::{
-    Mask, RowSpans, CENTRE_SAMPLE, FULL_MASK, NO_SPAN, SAMPLES, SAMPLE_COLUMNS, SAMPLE_ROWS,
+    row_extent, Mask, RowExtent, RowSpans, CENTRE_SAMPLE, FULL_MASK, NO_SPAN, SAMPLES,
+    SAMPLE_COLUMNS, SAMPLE_ROWS,
 };
 
 /// No record (the end of a list).
@@ -99,6 +100,8 @@ pub struct Pending<'m> {
     /// [`NO_SPAN`] for a sample row without one, and whether it holds any.
     spans: RowSpans,
     holding: bool,
+    /// The gathered row's extent, when it was gathered at once.
+    extent: Option<RowExtent>,
     /// The pixel row gathered.
     gathered: u32,
     height: u32,
@@ -155,6 +158,7 @@ impl<'m> Pending<'m> {
             heads,
             spans: [NO_SPAN; SAMPLE_ROWS as usize],
             holding: false,
+            extent: None,
             gathered: 0,
             height,
             free: NONE,
@@ -218,11 +222,13 @@ impl<'m> Pending<'m> {
         Ok(())
     }
 
-    /// Gather pixel row `y`'s spans at once ([`NO_SPAN`] for a sample row without one), as
-    /// [`Pending::gather`] would one by one; the row gathered before is forgotten.
-    pub(crate) fn gather_row(&mut self, y: u32, spans: &RowSpans) {
+    /// Gather pixel row `y`'s spans at once ([`NO_SPAN`] for a sample row without one) with
+    /// their extent, as [`Pending::gather`] would one by one; the row gathered before is
+    /// forgotten.
+    pub(crate) fn gather_row(&mut self, y: u32, spans: &RowSpans, extent: &RowExtent) {
         self.gathered = y;
         self.spans = *spans;
+        self.extent = Some(*extent);
         self.holding = true;
     }
 
@@ -240,13 +246,11 @@ impl<'m> Pending<'m> {
         let y = self.gathered;
         let row = usize::try_from(y).ok().filter(|_| y < self.height)?;
         let head = *self.heads.get(row)?;
-        // The pixels with a sample, and those with all (every sample row has a span; a
-        // [`NO_SPAN`] leaves none).
-        let (mut lo, mut hi, mut inner_lo, mut inner_hi) = (u32::MAX, 0, 0, u32::MAX);
-        for &(a, b) in &self.spans {
-            (lo, hi) = (lo.min(a), hi.max(b));
-            (inner_lo, inner_hi) = (inner_lo.max(a), inner_hi.min(b));
-        }
+        // The pixels with a sample, and those with all.
+        let [lo, hi, inner_lo, inner_hi] = self
+            .extent
+            .take()
+            .unwrap_or_else(|| row_extent(&self.spans));
         Some(RowAdd {
             x: lo / SAMPLE_COLUMNS,
             hi: hi.div_ceil(SAMPLE_COLUMNS),

@@ -516,9 +516,15 @@ impl<S: SpanSink + ?Sized> Through<'_, '_, '_, S> {
 
 #[cfg(feature = "antialias")]
 impl<S: SpanSink + ?Sized> fill::samples::SampleRowSink for Through<'_, '_, '_, S> {
-    fn sample_rows(&mut self, y: u32, spans: &fill::samples::RowSpans) {
+    fn sample_rows(
+        &mut self,
+        y: u32,
+        spans: &fill::samples::RowSpans,
+        extent: &fill::samples::RowExtent,
+    ) {
         if let Some(s) = self.samples.as_mut() {
-            s.pending.gather_row(y.wrapping_sub(self.first_row), spans);
+            s.pending
+                .gather_row(y.wrapping_sub(self.first_row), spans, extent);
         }
         self.add_gathered();
     }

@@ -292,7 +292,8 @@ const PIXELS_H: u32 = 30;
 struct SampleRows(Vec<(u32, RowSpans)>);
 
 impl SampleRowSink for SampleRows {
-    fn sample_rows(&mut self, y: u32, spans: &RowSpans) {
+    fn sample_rows(&mut self, y: u32, spans: &RowSpans, extent: &RowExtent) {
+        assert_eq!(*extent, row_extent(spans), "pixel row {y}");
         self.0.push((y, *spans));
     }
 }
