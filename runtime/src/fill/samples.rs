@@ -174,12 +174,13 @@ pub type RowExtent = [u32; 4];
 /// [`RowExtent`] of `spans`.
 #[inline]
 pub fn row_extent(spans: &RowSpans) -> RowExtent {
-    let [mut lo, mut hi, mut inner_lo, mut inner_hi] = [u32::MAX, 0, 0, u32::MAX];
-    for &(a, b) in spans {
-        (lo, hi) = (lo.min(a), hi.max(b));
-        (inner_lo, inner_hi) = (inner_lo.max(a), inner_hi.min(b));
-    }
-    [lo, hi, inner_lo, inner_hi]
+    let [(a0, b0), (a1, b1), (a2, b2), (a3, b3), (a4, b4)] = *spans;
+    [
+        a0.min(a1).min(a2).min(a3).min(a4),
+        b0.max(b1).max(b2).max(b3).max(b4),
+        a0.max(a1).max(a2).max(a3).max(a4),
+        b0.min(b1).min(b2).min(b3).min(b4),
+    ]
 }
 
 /// A sample row without a span: the start past every end, so that the least start and the
