@@ -212,7 +212,7 @@ impl<const SUB: u32> Painter<'_, '_, SUB> {
         // `slack` of the box's screen rectangle: the only ones its polygons can draw. None:
         // nothing to draw; all covered: nothing shows.
         // Anti-aliased, a pixel's samples lie within 0.4 pixel of its centre.
-        let slack = slack::<SUB>(w.max(h)) + if self.antialiased() { 0.5 } else { 0.0 };
+        let slack = slack::<SUB>(w.max(h)) + if self.antialiased() { 0.4 } else { 0.0 };
         let first = |v: f32, limit: u32| ceil_pixel(v - slack - 0.5).min(limit);
         let past = |v: f32, limit: u32| floor_pixel(v + slack + 0.5).min(limit);
         let (x0, y0) = (first(min.x, w), first(min.y, h).max(r0));
