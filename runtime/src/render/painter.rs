@@ -336,7 +336,8 @@ impl<const SUB: u32> Painter<'_, '_, SUB> {
         // shows. Anti-aliased, `grid` is the samples' rectangle and `x0 .. y1` their pixels'.
         let (c, r) = (COLUMNS as u32, ROWS as u32);
         let (w, h) = if antialiased {
-            (width.saturating_mul(c), height.saturating_mul(r))
+            // (In range: the renderer checked the scaled window.)
+            (width.wrapping_mul(c), height.wrapping_mul(r))
         } else {
             (width, height)
         };
