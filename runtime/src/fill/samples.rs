@@ -201,7 +201,8 @@ pub(crate) trait SampleRowSink {
 /// up in the order of `points`, as in any convex polygon. Each row's span is then the one
 /// the general fill pairs from the same two crossings, without its sorting and pairing per
 /// sample row, nor a call per sample row. Returns `false`, having drawn nothing, for any other
-/// polygon (or more edges than `edges` holds): the caller fills it with the general fill.
+/// polygon, one with a point left or right of the window (whose spans the general fill clips)
+/// or more edges than `edges` holds: the caller fills it with the general fill.
 pub(crate) fn fill_sample_rows<const SUB: u32, S: SampleRowSink + ?Sized>(
     points: &[FixedPoint<SUB>],
     edges: &mut [EdgeWalk],
@@ -215,7 +216,12 @@ pub(crate) fn fill_sample_rows<const SUB: u32, S: SampleRowSink + ?Sized>(
     // Edges going down at `edges[..down]`, going up at `edges[room - up..room]`, each sorted
     // by first row.
     let (mut down, mut up) = (0, 0);
+    // Within the window's columns, every crossing is a column `0..=width`: no span to clip.
+    let right = i64::from(width) << SUB;
     for (i, &a) in points.iter().enumerate() {
+        if !(0..=right).contains(&i64::from(a.x)) {
+            return false;
+        }
         let b = points.get(i + 1).or(points.first()).copied().unwrap_or(a);
         let Some(mut walk) = EdgeWalk::for_edge::<SUB>(a, b, rows.end) else {
             continue;
@@ -275,8 +281,6 @@ pub(crate) fn fill_sample_rows<const SUB: u32, S: SampleRowSink + ?Sized>(
     if downs.is_empty() || ups.is_empty() || !disjoint(downs) || !disjoint(ups) {
         return false;
     }
-    #[allow(clippy::unnecessary_fallible_conversions)]
-    let width = Coord::try_from(width).unwrap_or(Coord::MAX);
     // The chains' current edges, walked in registers.
     let (mut d, mut u) = (0, 0);
     let (mut a, mut b) = (downs[0], ups[0]);
@@ -302,7 +306,6 @@ pub(crate) fn fill_sample_rows<const SUB: u32, S: SampleRowSink + ?Sized>(
             (a.row, b.row, row) = (a.row + n, b.row + n, row + n);
             for _ in 0..n {
                 let (l, r) = if a.x <= b.x { (a.x, b.x) } else { (b.x, a.x) };
-                let (l, r) = (l.max(0), r.min(width));
                 if l < r {
                     if let Some(span) = spans.get_mut(t) {
                         *span = (l as u32, r as u32);
