@@ -415,9 +415,9 @@ impl<const SUB: u32> Painter<'_, '_, SUB> {
                 colour,
                 &mut through,
             );
+            #[cfg(feature = "antialias")]
+            through.end_samples();
         }
-        #[cfg(feature = "antialias")]
-        through.end_samples();
         tally(&mut stats.pixels_written, through.pixels);
         Ok(())
     }
@@ -509,7 +509,7 @@ impl<S: SpanSink + ?Sized> Through<'_, '_, '_, S> {
         }
     }
 
-    /// The polygon is filled: add its last row.
+    /// The general fill is done: add its last row.
     fn end_samples(&mut self) {
         self.add_gathered();
     }
