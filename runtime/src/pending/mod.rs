@@ -82,6 +82,24 @@ impl PendingPixel {
     }
 }
 
+/// A polygon's colour, and its channels placed as a [`PendingPixel`]'s sums (the accumulator's
+/// increment for one sample), placed once per polygon.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct SampleColour {
+    colour: Colour,
+    sample: u64,
+}
+
+impl SampleColour {
+    /// `colour`, placed.
+    pub fn new(colour: Colour) -> Self {
+        SampleColour {
+            colour,
+            sample: packed(colour),
+        }
+    }
+}
+
 /// `colour`'s channels placed as a [`PendingPixel`]'s sums: the accumulator's increment for one
 /// sample.
 fn packed(colour: Colour) -> u64 {
@@ -239,7 +257,7 @@ impl<'m> Pending<'m> {
 
     /// Start adding the gathered row's samples in `colour` (and forget them), if it holds any:
     /// then call [`Pending::next_run`] until it returns `None`.
-    pub fn begin_add(&mut self, colour: Colour) -> Option<RowAdd> {
+    pub fn begin_add(&mut self, colour: &SampleColour) -> Option<RowAdd> {
         if !core::mem::take(&mut self.holding) {
             return None;
         }
@@ -256,8 +274,8 @@ impl<'m> Pending<'m> {
             hi: hi.div_ceil(SAMPLE_COLUMNS),
             inner_lo: inner_lo.div_ceil(SAMPLE_COLUMNS),
             inner_hi: inner_hi / SAMPLE_COLUMNS,
-            colour,
-            sample: packed(colour),
+            colour: colour.colour,
+            sample: colour.sample,
             cursor: Cursor {
                 row,
                 link: None,

@@ -15,7 +15,7 @@ use crate::display::{Colour, SpanSink};
 use crate::error::RenderError;
 use crate::fill::{self, FixedPoint};
 #[cfg(feature = "antialias")]
-use crate::pending::Pending;
+use crate::pending::{Pending, SampleColour};
 use crate::read::Polygon;
 use crate::traverse::{Order, StackEntry, Traversal};
 use crate::vertices::{IntegerView, VertexCache};
@@ -385,10 +385,10 @@ impl<const SUB: u32> Painter<'_, '_, SUB> {
             first_row: r0,
             pixels: 0,
             #[cfg(feature = "antialias")]
-            samples: self
-                .antialias
-                .as_deref_mut()
-                .map(|pending| Samples { pending, colour }),
+            samples: self.antialias.as_deref_mut().map(|pending| Samples {
+                pending,
+                colour: SampleColour::new(colour),
+            }),
             #[cfg(not(feature = "antialias"))]
             samples: core::marker::PhantomData,
         };
@@ -467,7 +467,7 @@ impl<S: SpanSink + ?Sized> SpanSink for Through<'_, '_, '_, S> {
 #[cfg(feature = "antialias")]
 struct Samples<'c, 'p> {
     pending: &'c mut Pending<'p>,
-    colour: Colour,
+    colour: SampleColour,
 }
 
 #[cfg(feature = "antialias")]
@@ -497,7 +497,7 @@ impl<S: SpanSink + ?Sized> Through<'_, '_, '_, S> {
         let Some(y) = s.pending.gathered() else {
             return;
         };
-        let Some(mut add) = s.pending.begin_add(s.colour) else {
+        let Some(mut add) = s.pending.begin_add(&s.colour) else {
             return;
         };
         // (A test per pixel, as scan memory, whose rows are lists, answers it too.)

@@ -127,7 +127,9 @@ fn pending_pixels_fill_their_gaps_in_the_read_out() {
             let n = (k - t * cols).min(cols);
             pool.gather(y * rows + t, x * cols, x * cols + n).unwrap();
         }
-        let mut add = pool.begin_add(c).unwrap();
+        let mut add = pool
+            .begin_add(&crate::pending::SampleColour::new(c))
+            .unwrap();
         assert_eq!(pool.next_run(&mut add, |_| false), None);
     };
     let (mut nodes, mut heads) = ([ScanNode::EMPTY; 16], [0u16; 3]);
