@@ -165,9 +165,10 @@ impl<'m> Pending<'m> {
         heads: &'m mut [u16],
         height: u32,
     ) -> Result<Self, RenderError> {
-        if usize::try_from(height).map_or(true, |h| heads.len() < h) {
+        // A head per row of the frame, no more: a row's head is found by one check.
+        let Some(heads) = usize::try_from(height).ok().and_then(|h| heads.get_mut(..h)) else {
             return Err(RenderError::PendingMemory);
-        }
+        };
         // Past `NONE` records, an index would be `NONE`: the slice ends there, so that an index
         // in it is a record.
         let used = records.len().min(usize::from(NONE));
@@ -262,7 +263,7 @@ impl<'m> Pending<'m> {
             return None;
         }
         let y = self.gathered;
-        let row = usize::try_from(y).ok().filter(|_| y < self.height)?;
+        let row = y as usize;
         let head = *self.heads.get(row)?;
         // The pixels with a sample, and those with all.
         let [lo, hi, inner_lo, inner_hi] = self
