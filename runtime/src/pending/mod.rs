@@ -123,8 +123,10 @@ pub struct Pending<'m> {
     /// The pixel row gathered.
     gathered: u32,
     height: u32,
-    /// First free record ([`NONE`]: none), linked through `next`.
+    /// First freed record ([`NONE`]: none), linked through `next`; then the records from
+    /// `unused` on, never taken since the frame began.
     free: u16,
+    unused: u16,
     in_use: usize,
     peak: usize,
 }
@@ -166,7 +168,10 @@ impl<'m> Pending<'m> {
         height: u32,
     ) -> Result<Self, RenderError> {
         // A head per row of the frame, no more: a row's head is found by one check.
-        let Some(heads) = usize::try_from(height).ok().and_then(|h| heads.get_mut(..h)) else {
+        let Some(heads) = usize::try_from(height)
+            .ok()
+            .and_then(|h| heads.get_mut(..h))
+        else {
             return Err(RenderError::PendingMemory);
         };
         // Past `NONE` records, an index would be `NONE`: the slice ends there, so that an index
@@ -181,6 +186,7 @@ impl<'m> Pending<'m> {
             gathered: 0,
             height,
             free: NONE,
+            unused: 0,
             in_use: 0,
             peak: 0,
         };
@@ -201,14 +207,9 @@ impl<'m> Pending<'m> {
             *h = NONE;
         }
         self.holding = false;
-        let n = self.records.len();
-        for (i, r) in self.records.iter_mut().take(n).enumerate() {
-            *r = PendingPixel {
-                next: if i + 1 < n { (i + 1) as u16 } else { NONE },
-                ..PendingPixel::default()
-            };
-        }
-        self.free = if n > 0 { 0 } else { NONE };
+        // The records are left as they are: each is written whole when taken.
+        self.free = NONE;
+        self.unused = 0;
         self.in_use = 0;
     }
 
@@ -467,9 +468,15 @@ impl<'m> Pending<'m> {
 
     /// The first free record, taken off the free list.
     fn take_free(&mut self) -> Option<u16> {
-        let i = self.free;
-        let next = self.record(i)?.next;
-        self.free = next;
+        let i = match self.record(self.free).map(|r| r.next) {
+            Some(next) => core::mem::replace(&mut self.free, next),
+            // Then those never used in this frame, in order.
+            None if usize::from(self.unused) < self.records.len() => {
+                self.unused += 1;
+                self.unused - 1
+            }
+            None => return None,
+        };
         self.in_use += 1;
         self.peak = self.peak.max(self.in_use);
         Some(i)
