@@ -12,9 +12,10 @@
 //! give) into the gaps of its scan memory as it is read out.
 //!
 //! A polygon's samples arrive as the fill's spans on the sample grid, one per sample row for a
-//! convex polygon; [`Pending::gather`] keeps a pixel row's spans, and [`Pending::next_run`]
-//! turns them into masks only for the pixels at the spans' ends: the pixels between, whose
-//! samples the polygon covers all, finish as one run.
+//! convex polygon: a pixel row of them at a time, with their extent, from the fill by pixel
+//! rows of a convex polygon, else one by one from the general fill, which [`Pending::gather`]
+//! keeps. [`Pending::next_run`] turns them into masks only for the pixels at the spans' ends:
+//! the pixels between, whose samples the polygon covers all, finish as one run.
 //!
 //! # Memory
 //! Records come from the caller's slice; each row keeps its own list, sorted by column, so a
