@@ -376,8 +376,9 @@ fn brute_force<const SUB: u32, const W: usize, const H: usize>(
     out
 }
 
-/// Strictly convex hull (Andrew's monotone chain, collinear points dropped).
-fn hull<const SUB: u32>(mut p: Vec<FixedPoint<SUB>>) -> Vec<FixedPoint<SUB>> {
+/// Strictly convex hull (Andrew's monotone chain, collinear points dropped); also for
+/// `fill::samples`' tests.
+pub(super) fn hull<const SUB: u32>(mut p: Vec<FixedPoint<SUB>>) -> Vec<FixedPoint<SUB>> {
     p.sort_by_key(|q| (q.x, q.y));
     p.dedup();
     if p.len() < 3 {

@@ -276,6 +276,7 @@ fn rows_limit_the_masks_and_a_short_scratch_row_is_refused() {
 // `fill_sample_rows`: the spans of a polygon on the sample grid, a pixel row at a time, against
 // the general fill's.
 
+use crate::fill::tests::hull;
 use crate::fill::{MAX_FILL_VERTICES, SUBPIXEL_BITS};
 
 /// A point on the sample grid at the renderer's precision.
@@ -386,37 +387,6 @@ fn sample_point() -> impl Strategy<Value = Point> {
         sample_coord((PIXELS_H * SAMPLE_ROWS) as i32),
     )
         .prop_map(|(x, y)| Point::new(x, y))
-}
-
-/// Strictly convex hull of `p` (Andrew's monotone chain, collinear points dropped), as in
-/// `fill::tests`.
-fn hull(mut p: Vec<Point>) -> Vec<Point> {
-    p.sort_by_key(|q| (q.x, q.y));
-    p.dedup();
-    if p.len() < 3 {
-        return p;
-    }
-    let cross = |o: Point, a: Point, b: Point| {
-        (i64::from(a.x) - i64::from(o.x)) * (i64::from(b.y) - i64::from(o.y))
-            - (i64::from(a.y) - i64::from(o.y)) * (i64::from(b.x) - i64::from(o.x))
-    };
-    let mut h: Vec<Point> = Vec::new();
-    for pass in 0..2 {
-        let start = h.len();
-        let ordered: Vec<Point> = if pass == 0 {
-            p.clone()
-        } else {
-            p.iter().rev().copied().collect()
-        };
-        for q in ordered {
-            while h.len() >= start + 2 && cross(h[h.len() - 2], h[h.len() - 1], q) <= 0 {
-                h.pop();
-            }
-            h.push(q);
-        }
-        h.pop();
-    }
-    h
 }
 
 /// The hull of `p` in either winding, starting at any of its vertices.
