@@ -329,6 +329,8 @@ impl<const SUB: u32> Painter<'_, '_, SUB> {
             return Ok(());
         }
         let (width, height) = (self.view.width, self.view.height);
+        // (Without the feature it is found here, after the projection: found before it, the
+        // optimiser laid out the plain frame's walk less well.)
         #[cfg(not(feature = "antialias"))]
         let antialiased = self.antialiased();
         let pts = self.points.get(..count).unwrap_or(&[]);
