@@ -273,7 +273,8 @@ pub(crate) fn fill_sample_rows<const SUB: u32, S: SampleRowSink + ?Sized>(
         return true;
     }
     // Each chain's edges must follow one another down the rows.
-    let (downs, ups) = edges.split_at_mut(room - up);
+    // (`room - up` is within `edges`: the `min` only makes it provably so.)
+    let (downs, ups) = edges.split_at_mut((room - up).min(edges.len()));
     let (Some(downs), Some(ups)) = (downs.get_mut(..down), ups.get_mut(..up)) else {
         return false;
     };
