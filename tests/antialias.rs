@@ -14,6 +14,7 @@ use peel_compiler::tools::reference::{sampled, supersampled, Grid, ImageError, E
 use peel_compiler::tools::scenes;
 use peel_compiler::tools::shot::Shot;
 use peel_e2e::polygons;
+use peel_runtime::camera::LocalView;
 use peel_runtime::coverage::Coverage;
 use peel_runtime::display::{Colour, Framebuffer, Xrgb8888};
 use peel_runtime::fill::samples::{SAMPLES, SAMPLE_COLUMNS, SAMPLE_ROWS};
@@ -263,14 +264,20 @@ fn few_records_give_antialiased_or_plain_pixels() {
     }
 }
 
-/// Draw `bytes` anti-aliased through the runtime with `spans` intervals a row, in bands of
-/// `band` rows.
-fn draw(bytes: &[u8], shot: &Shot, spans: usize, band: u32) -> (Vec<u32>, bool) {
+/// `bytes` parsed, and the view `shot` gives of it.
+fn scene_view<'a>(bytes: &'a [u8], shot: &Shot) -> (Scene<'a>, LocalView) {
     let scene = Scene::parse(bytes).unwrap();
     let view = shot
         .camera(&scene.header())
         .unwrap()
         .view(scene.header().centre);
+    (scene, view)
+}
+
+/// Draw `bytes` anti-aliased through the runtime with `spans` intervals a row, in bands of
+/// `band` rows.
+fn draw(bytes: &[u8], shot: &Shot, spans: usize, band: u32) -> (Vec<u32>, bool) {
+    let (scene, view) = scene_view(bytes, shot);
     let (w, h) = (shot.width, shot.height);
     let mut pixels = vec![0u32; (w * h) as usize];
     let mut fb = Framebuffer::<Xrgb8888>::new(&mut pixels, w, h).unwrap();
@@ -408,11 +415,7 @@ fn scan(
     nodes: usize,
     records: Option<usize>,
 ) -> Result<(Vec<u16>, FrameStats, usize), RenderError> {
-    let scene = Scene::parse(bytes).unwrap();
-    let view = shot
-        .camera(&scene.header())
-        .unwrap()
-        .view(scene.header().centre);
+    let (scene, view) = scene_view(bytes, shot);
     let (w, h) = (shot.width, shot.height);
     let mut workspace: Box<Workspace<4096, 64>> = Box::default();
     let mut pool = vec![ScanNode::EMPTY; nodes];

@@ -250,6 +250,15 @@ proptest! {
     }
 }
 
+/// The proptests' scene and camera: [`boxes`] of `(size, y, z)` along x, seen from `eye`.
+fn boxes_seen(sizes: &[(f32, f32, f32)], eye: (f64, f64, f64)) -> (TestTree, Camera) {
+    let items: Vec<(Vec3, f32)> = sizes
+        .iter()
+        .map(|&(r, y, z)| (Vec3::new(0.0, y, z), r))
+        .collect();
+    (boxes(&items), camera(DVec3::new(eye.0, eye.1, eye.2)))
+}
+
 /// Boxes along x, each a convex node, split planes between them, a colour per face.
 fn boxes(items: &[(Vec3, f32)]) -> TestTree {
     let mut t = TestTree::default();
@@ -338,10 +347,7 @@ proptest! {
         sizes in proptest::collection::vec((0.3f32..2.0, -2.0f32..2.0, -2.0f32..2.0), 1..5),
         eye in (-9.0f64..9.0, -6.0f64..6.0, 3.0f64..12.0),
     ) {
-        let items: Vec<(Vec3, f32)> =
-            sizes.iter().map(|&(r, y, z)| (Vec3::new(0.0, y, z), r)).collect();
-        let t = boxes(&items);
-        let cam = camera(DVec3::new(eye.0, eye.1, eye.2));
+        let (t, cam) = boxes_seen(&sizes, eye);
         let reference = framebuffer_frame(&t, &cam);
         let mut nodes = vec![ScanNode::EMPTY; 2048];
         let mut heads = vec![0u16; H as usize];
@@ -456,10 +462,7 @@ proptest! {
         sizes in proptest::collection::vec((0.3f32..2.0, -2.0f32..2.0, -2.0f32..2.0), 1..5),
         eye in (-9.0f64..9.0, -6.0f64..6.0, 3.0f64..12.0),
     ) {
-        let items: Vec<(Vec3, f32)> =
-            sizes.iter().map(|&(r, y, z)| (Vec3::new(0.0, y, z), r)).collect();
-        let t = boxes(&items);
-        let cam = camera(DVec3::new(eye.0, eye.1, eye.2));
+        let (t, cam) = boxes_seen(&sizes, eye);
         let (reference, antialiased) = antialiased_framebuffer_frame(&t, &cam, 4096);
         prop_assert!(antialiased);
         let plain = framebuffer_frame(&t, &cam);
