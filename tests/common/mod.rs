@@ -77,8 +77,3 @@ pub fn polygons(bytes: &[u8]) -> Vec<Vec<DVec3>> {
         })
         .collect()
 }
-
-/// The README's Rust examples, compiled by `cargo test` as doctests (run too, unless marked
-/// `no_run`), so that what a user copies builds.
-#[doc = include_str!("../../README.md")]
-mod readme {}

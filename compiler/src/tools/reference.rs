@@ -1,4 +1,4 @@
-//! Reference: a brute-force f64 ray caster that follows the camera conventions of the README
+//! Reference: a brute-force f64 ray caster that follows the camera conventions of `docs/host.md`
 //! ("Camera and pixels") to the letter, independent of the runtime's projection, clipping and
 //! fill. The end-to-end tests and `peel bench` measure pixel errors against it. Per pixel it
 //! also knows the side of the triangle seen, so the tests check the lighting
@@ -11,7 +11,7 @@ use glam::{DVec2, DVec3};
 
 use super::shot::Shot;
 
-/// A [`Shot`] as the README defines its camera: the basis `f`, `r`, `u`, the focal length
+/// A [`Shot`] as `docs/host.md` defines its camera: the basis `f`, `r`, `u`, the focal length
 /// `fpx` in pixels, and the near distance resolved.
 #[derive(Debug)]
 struct Lens {
@@ -30,7 +30,7 @@ struct Lens {
 }
 
 impl Lens {
-    /// `f`, `r`, `u`, `fpx` of `shot` as the README defines them.
+    /// `f`, `r`, `u`, `fpx` of `shot` as `docs/host.md` defines them.
     fn new(shot: &Shot, near: f64) -> Lens {
         let f = (shot.target - shot.eye).normalize();
         let r = f.cross(shot.up).normalize();

@@ -1,4 +1,4 @@
-//! Shot: the host's one description of a camera, in the README's terms ("Camera and pixels"):
+//! Shot: the host's one description of a camera, in the terms of `docs/host.md` ("Camera and pixels"):
 //! where the eye is, what it looks at, the field of view, the image size and the near
 //! distance. The CLI, the raster, the reference ray caster, the benchmark and the tests all
 //! describe their cameras with it; [`Shot::camera`] makes the runtime's validated
@@ -8,7 +8,7 @@ use glam::DVec3;
 use peel_runtime::camera::{Camera, Pose, DEFAULT_FOV_Y_DEG, DEFAULT_UP};
 use peel_runtime::read::Header;
 
-/// A camera in the README's terms; `near: None` is the default near distance.
+/// A camera in the terms of `docs/host.md`; `near: None` is the default near distance.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Shot {
     /// Eye position (world).
