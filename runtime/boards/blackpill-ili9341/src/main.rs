@@ -36,8 +36,9 @@ use stm32f4xx_hal::spi::{Mode, Phase, Polarity, Spi};
 
 use cortex_m_rt::entry;
 
-/// The scene, compiled by build.rs.
-static SCENE: &[u8] = include_bytes!(concat!(env!("OUT_DIR"), "/scene.peel"));
+/// The scene, compiled by build.rs: an array of its own, so that its symbol's size in the ELF
+/// is the scene's flash (`.ci/board-size` prints it).
+static SCENE: [u8; scene::BYTES] = *include_bytes!(concat!(env!("OUT_DIR"), "/scene.peel"));
 
 /// The scene's sizes, written beside it by build.rs.
 mod scene {
@@ -187,7 +188,7 @@ fn main() -> ! {
     backlight.set_high();
 
     // The scene, validated once at boot; the renderer over the static memory, made once.
-    let scene = Scene::parse(SCENE).unwrap_or_else(|e| fail(Failure::Read(e)));
+    let scene = Scene::parse(&SCENE).unwrap_or_else(|e| fail(Failure::Read(e)));
     let memory =
         ScanMemory::new(NODES, HEADS, WIDTH, HEIGHT).unwrap_or_else(|e| fail(Failure::Render(e)));
     // With an FPU, vertices are projected in `f32` and subtrees outside the view or behind

@@ -32,8 +32,9 @@ use rp_pico::entry;
 use rp_pico::hal::fugit::RateExtU32;
 use rp_pico::hal::{self, gpio, pac, spi, Clock};
 
-/// The scene, compiled by build.rs.
-static SCENE: &[u8] = include_bytes!(concat!(env!("OUT_DIR"), "/scene.peel"));
+/// The scene, compiled by build.rs: an array of its own, so that its symbol's size in the ELF
+/// is the scene's flash (`.ci/board-size` prints it).
+static SCENE: [u8; scene::BYTES] = *include_bytes!(concat!(env!("OUT_DIR"), "/scene.peel"));
 
 /// The scene's sizes, written beside it by build.rs.
 mod scene {
@@ -193,7 +194,7 @@ fn main() -> ! {
     let Ok(()) = backlight.set_high();
 
     // The scene, validated once at boot; the renderer over the static memory, made once.
-    let scene = Scene::parse(SCENE).unwrap_or_else(|e| fail(Failure::Read(e)));
+    let scene = Scene::parse(&SCENE).unwrap_or_else(|e| fail(Failure::Read(e)));
     let memory =
         ScanMemory::new(NODES, HEADS, WIDTH, HEIGHT).unwrap_or_else(|e| fail(Failure::Render(e)));
     // Without an FPU, vertices are projected in integers and a subtree's box test costs more
