@@ -1,15 +1,26 @@
-//! The mock display: an embedded-graphics `DrawTarget<Color = Rgb565>` that counts the bytes
-//! a frame would send to an ILI9341/ST7789 panel over SPI and keeps the pixels it received in
-//! its panel memory (the panel's GRAM, which the runner compares with the host's pixels).
+//! The mock display: an ILI9341/ST7789 panel on an SPI bus. It counts the bytes a frame sends
+//! and the driver's separate writes, and keeps the pixels it received in its panel memory (the
+//! panel's GRAM, which the runner compares with the host's pixels).
 //!
-//! Such a panel takes a write as an address window, CASET (1 command byte + 4 data bytes) for
-//! the columns and RASET (1 + 4) for the rows, then RAMWR (1) and 2 bytes per pixel, for each
-//! `fill_solid` or `fill_contiguous` call and for each pixel of `draw_iter`. The mock charges
-//! the whole window set-up (11 bytes) on every write, as mipidsi 0.10 sends it (it does not
-//! remember the panel's window), and counts the driver's separate writes: a window set-up and
-//! a run of pixels per call (`display_writes`; each is its own chip-select cycle or DMA
-//! transfer). Storing the pixels is the stand-in for the transfer and is timed with the frame,
-//! as the transfer would be.
+//! Such a panel takes pixels into an address window: CASET (1 command byte + 4 data bytes)
+//! for its columns, RASET (1 + 4) for its rows, RAMWR (1), then 2 bytes per pixel, filled row
+//! by row. Every method hands its pixels over as a firmware engineer would:
+//!
+//! * a buffer of whole rows (a framebuffer, a band): [`Panel::write_rows`], one window and one
+//!   run of pixels, a DMA transfer of the buffer (a slice copy here);
+//! * rows made one at a time, top to bottom, in a row buffer (scan order, the scanline
+//!   z-buffer): [`Panel::open_rows`], one window for the frame, then [`Panel::send`] per row,
+//!   a DMA transfer of the row buffer each, the panel's write position running on from row to
+//!   row (a window per row would add 11 bytes and a chip-select cycle a row for nothing);
+//! * spans streamed as drawn: `fill_solid` and `fill_contiguous` of the
+//!   [`DrawTarget`] (as mipidsi 0.10 implements it: a window each, and a window per pixel of
+//!   `draw_iter`).
+//!
+//! Every window set-up is charged in full (11 bytes: mipidsi 0.10 does not remember the
+//! panel's window). `display_writes` counts the driver's separate writes, each its own
+//! chip-select cycle or DMA transfer: a window set-up is one, a run of pixels one (a buffer,
+//! or one `fill_*` call, is 2). Storing the pixels stands in for the transfer and is timed
+//! with the frame, as the transfer would be: a run is one slice copy, as a DMA moves a block.
 
 use core::convert::Infallible;
 
@@ -18,6 +29,7 @@ use embedded_graphics_core::geometry::{OriginDimensions, Size};
 use embedded_graphics_core::pixelcolor::{IntoStorage, Rgb565};
 use embedded_graphics_core::primitives::{PointsIter, Rectangle};
 use embedded_graphics_core::Pixel;
+use peel_runtime::display::Rgb565Framebuffer;
 
 /// Bytes of CASET (the window's columns): command and two 16-bit columns.
 const CASET_BYTES: u64 = 5;
@@ -25,13 +37,15 @@ const CASET_BYTES: u64 = 5;
 const RASET_BYTES: u64 = 5;
 /// Bytes of RAMWR (start writing at the window's first pixel).
 const RAMWR_BYTES: u64 = 1;
+/// Bytes of a window set-up.
+const WINDOW_BYTES: u64 = CASET_BYTES + RASET_BYTES + RAMWR_BYTES;
 /// Bytes per RGB565 pixel.
 pub const PIXEL_BYTES: u64 = 2;
 /// What the panel memory holds before each frame: a pixel the frame does not write keeps it,
 /// and then differs from the host's pixel (unless the host's is this very colour).
 pub const UNWRITTEN: u16 = 0xF81F;
 
-/// The panel: its memory and the bytes sent to it this frame.
+/// The panel: its memory, the bytes sent to it this frame and the open window.
 pub struct Panel {
     memory: &'static mut [u16],
     width: u32,
@@ -39,6 +53,9 @@ pub struct Panel {
     bytes: u64,
     /// Separate writes: window set-ups and pixel runs.
     writes: u64,
+    /// The window of [`Panel::open_rows`]: its next pixel and its end, in `memory`.
+    next: usize,
+    end: usize,
 }
 
 impl Panel {
@@ -50,14 +67,17 @@ impl Panel {
             height,
             bytes: 0,
             writes: 0,
+            next: 0,
+            end: 0,
         }
     }
 
-    /// Forget the last frame: memory to [`UNWRITTEN`], byte count to 0.
+    /// Forget the last frame: memory to [`UNWRITTEN`], counts to 0, no window.
     pub fn start_frame(&mut self) {
         self.memory.fill(UNWRITTEN);
         self.bytes = 0;
         self.writes = 0;
+        (self.next, self.end) = (0, 0);
     }
 
     /// Bytes sent since [`Panel::start_frame`].
@@ -65,7 +85,7 @@ impl Panel {
         self.bytes
     }
 
-    /// Separate writes since [`Panel::start_frame`]: a window set-up and a pixel run per call.
+    /// Separate writes since [`Panel::start_frame`]: window set-ups and pixel runs.
     pub fn writes(&self) -> u64 {
         self.writes
     }
@@ -73,6 +93,73 @@ impl Panel {
     /// What the panel holds, row by row.
     pub fn pixels(&self) -> &[u16] {
         self.memory
+    }
+
+    /// Set the address window to the whole rows `rows` (those on the panel): CASET, RASET
+    /// and RAMWR, one write. [`Panel::send`] then fills it.
+    #[inline(never)]
+    pub fn open_rows(&mut self, rows: core::ops::Range<u32>) {
+        self.bytes += WINDOW_BYTES;
+        self.writes += 1;
+        let w = self.width as usize;
+        let row = |y: u32| (y.min(self.height) as usize) * w;
+        (self.next, self.end) = (row(rows.start), row(rows.end).max(row(rows.start)));
+    }
+
+    /// One run of pixels into the open window from its next pixel on: a DMA transfer of a
+    /// buffer, here one slice copy; 2 bytes a pixel, one write. Pixels past the window's end
+    /// are sent but not stored (a panel would wrap to the window's start; the benchmark never
+    /// sends them, and the runner's pixel check would see it). Never inlined, like
+    /// [`Panel::open_rows`]: every method's transfer is the same code.
+    #[inline(never)]
+    pub fn send(&mut self, pixels: &[u16]) {
+        self.bytes += PIXEL_BYTES * pixels.len() as u64;
+        self.writes += 1;
+        let n = pixels.len().min(self.end - self.next);
+        if let (Some(to), Some(from)) = (
+            self.memory.get_mut(self.next..self.next + n),
+            pixels.get(..n),
+        ) {
+            to.copy_from_slice(from);
+        }
+        self.next += n;
+    }
+
+    /// A buffer of whole rows, the first of them frame row `first_row`: one window and one
+    /// run, two writes.
+    // (Not used by the builds that send rows one at a time.)
+    #[cfg_attr(
+        any(feature = "scan-order", feature = "scanline-zbuffer"),
+        allow(dead_code)
+    )]
+    pub fn write_rows(&mut self, first_row: u32, pixels: &[u16]) {
+        let rows = pixels.len().div_ceil(self.width.max(1) as usize);
+        let rows = u32::try_from(rows).unwrap_or(u32::MAX);
+        self.open_rows(first_row..first_row.saturating_add(rows));
+        self.send(pixels);
+    }
+
+    /// A framebuffer or a band at its frame rows, as [`Panel::write_rows`] sends it (its rows
+    /// one run when packed, a run per row otherwise).
+    // (Not used by the builds that send rows one at a time.)
+    #[cfg_attr(
+        any(feature = "scan-order", feature = "scanline-zbuffer"),
+        allow(dead_code)
+    )]
+    pub fn write_framebuffer(&mut self, framebuffer: &Rgb565Framebuffer<'_>) {
+        let (w, rows) = (framebuffer.width() as usize, framebuffer.rows());
+        let stride = framebuffer.stride();
+        let n = rows.len() * w;
+        let all = framebuffer.as_slice();
+        if stride == w {
+            // `Framebuffer::new` checked that the buffer holds every row.
+            self.write_rows(rows.start, all.get(..n).unwrap_or(all));
+            return;
+        }
+        self.open_rows(rows.clone());
+        for row in all.chunks(stride.max(1)).take(rows.len()) {
+            self.send(row.get(..w).unwrap_or(row));
+        }
     }
 
     /// The rows of `area` inside the panel, as `(first index, row length, rows)`; `None`
@@ -87,14 +174,13 @@ impl Panel {
         Some((first, a.size.width as usize, a.size.height as usize))
     }
 
-    /// Count a write of `pixels` pixels: the window set-up (CASET, RASET, RAMWR) and the
-    /// pixels, two writes.
+    /// Count a `DrawTarget` write of `pixels` pixels: the window set-up and the pixels, two
+    /// writes.
     fn count(&mut self, pixels: u64) {
-        self.bytes += CASET_BYTES + RASET_BYTES + RAMWR_BYTES + PIXEL_BYTES * pixels;
+        self.bytes += WINDOW_BYTES + PIXEL_BYTES * pixels;
         self.writes += 2;
     }
 }
-
 impl OriginDimensions for Panel {
     fn size(&self) -> Size {
         Size::new(self.width, self.height)

@@ -36,7 +36,8 @@ pub struct Record {
     /// Median bytes a frame sends to the display.
     pub display_bytes: u64,
     /// Median separate writes a frame makes to the display driver: window set-ups and pixel
-    /// runs (a `fill_solid` or `fill_contiguous` is one of each, as mipidsi sends them).
+    /// runs (a buffer sent as one block, or a `fill_solid`, is one of each; rows sent one at a
+    /// time into one window are one set-up and a run per row).
     pub display_writes: u64,
     /// Pixels differing from the host's run of the same code, summed over the cameras; `None`
     /// for a method whose code does not run on the host (embedded-3dgfx).

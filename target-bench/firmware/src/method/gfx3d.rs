@@ -1,7 +1,7 @@
 //! embedded-3dgfx 0.7.2 as a firmware engineer would set it up for a lit mesh: its z-buffer
 //! path, `K3dengine::record` into a command buffer then `execute`, with per-face Lambert
 //! colours (`RenderMode::SolidLightDir`), a 16-bit depth buffer (`depth-u16`) and an RGB565
-//! framebuffer, sent to the panel with one `fill_contiguous`. One colour for the whole mesh,
+//! framebuffer, sent to the panel as one block (`Panel::write_framebuffer`). One colour for the whole mesh,
 //! lit from the compiler's default light direction `(0.4, 0.8, 0.45)` (towards the light, in
 //! scene axes: [`LIGHT`]). The mesh, its faces and their normals stay in code memory
 //! ([`peel_target_kit::gfx3d`]), as the library's README advises for MCUs. Not
@@ -246,7 +246,7 @@ impl Method {
         self.engine
             .execute(&mut target, &mut frame, self.commands, None)?;
         let fb = Rgb565Framebuffer::new(&mut self.colour[..], self.width, self.height)?;
-        let Ok(()) = fb.draw_to(panel);
+        panel.write_framebuffer(&fb);
         Ok(false)
     }
 }

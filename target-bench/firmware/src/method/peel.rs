@@ -33,7 +33,7 @@ pub struct Method {
     /// Made once, draws every frame (and band): the background set, span memory for one
     /// frame or band when front to back.
     renderer: Renderer<'static>,
-    /// The framebuffer, or the band buffer; empty when streaming.
+    /// The framebuffer, the band buffer or (scan order) the row buffer; empty when streaming.
     pixels: &'static mut [u16],
     width: u32,
     height: u32,
@@ -99,14 +99,11 @@ impl Method {
         // reference.
         let vertices = unsafe { &mut *core::ptr::addr_of_mut!(VERTEX_ENTRIES) };
         renderer = renderer.vertex_memory(VertexCache::new(vertices));
-        let streamed = matches!(
-            VARIANT,
-            Variant::FtbStream | Variant::StreamAa | Variant::ScanOrder
-        );
-        let pixel_count = if streamed {
-            0
-        } else {
-            width as usize * band as usize
+        let pixel_count = match VARIANT {
+            Variant::FtbStream | Variant::StreamAa => 0,
+            // The row buffer a DMA takes each row from.
+            Variant::ScanOrder => width as usize,
+            _ => width as usize * band as usize,
         };
         Ok(Method {
             scene,
@@ -136,8 +133,8 @@ impl Method {
         self.scene.header()
     }
 
-    /// Bytes of pixel memory: the framebuffer or band buffer (0 when streaming or in scan
-    /// order).
+    /// Bytes of pixel memory: the framebuffer, the band buffer or the row buffer (0 when
+    /// streaming).
     pub fn framebuffer_bytes(&self) -> usize {
         core::mem::size_of_val(self.pixels)
     }
@@ -148,9 +145,14 @@ impl Method {
     pub fn frame(&mut self, view: &LocalView, panel: &mut Panel) -> Result<bool, Failure> {
         #[cfg(feature = "scan-order")]
         {
-            // The frame into scan memory, then to the panel in one window, row by row.
+            // The frame into scan memory, then to the panel in one window, each row read out
+            // into the row buffer and sent as one transfer.
             let frame = self.renderer.draw_scan(&self.scene, view)?;
-            let Ok(()) = frame.draw_to(panel);
+            panel.open_rows(0..self.height);
+            for y in 0..self.height {
+                frame.row_into(y, self.pixels);
+                panel.send(self.pixels);
+            }
             Ok(false)
         }
         #[cfg(not(feature = "scan-order"))]
@@ -177,7 +179,7 @@ impl Method {
         if !VARIANT.banded() {
             let mut fb = Rgb565Framebuffer::new(&mut self.pixels[..], w, h)?;
             let stats = self.renderer.draw(scene, view, &mut fb)?;
-            let Ok(()) = fb.draw_to(panel);
+            panel.write_framebuffer(&fb);
             return Ok(stats.fallback);
         }
         // Band by band, each sent when drawn.
@@ -189,7 +191,7 @@ impl Method {
             let stats = self
                 .renderer
                 .draw_rows(scene, view, rows.clone(), &mut fb)?;
-            let Ok(()) = fb.draw_to(panel);
+            panel.write_framebuffer(&fb);
             fallback |= stats.fallback;
             first = rows.end;
         }

@@ -1,12 +1,7 @@
 //! The scanline z-buffer ([`peel_target_kit::scanline`]): one row of colour and depth, each
-//! row sent to the panel when done (one write per row), lists sized for the scene.
+//! row sent to the panel when done (one window for the frame, one transfer per row, as scan
+//! order sends its rows), lists sized for the scene.
 
-use core::convert::Infallible;
-
-use embedded_graphics_core::draw_target::DrawTarget;
-use embedded_graphics_core::geometry::{Point, Size};
-use embedded_graphics_core::pixelcolor::Rgb565;
-use embedded_graphics_core::primitives::Rectangle;
 use peel_runtime::camera::LocalView;
 use peel_runtime::fill::SubpixelPoint;
 use peel_runtime::read::Header;
@@ -67,6 +62,8 @@ impl Method {
 
     /// Draw the frame seen by `view`, each row sent to `panel` when done (never a fallback).
     pub fn frame(&mut self, view: &LocalView, panel: &mut Panel) -> Result<bool, Failure> {
+        // The rows come top to bottom: one window holds them all.
+        panel.open_rows(0..view.height);
         let mut rows = Rows(panel);
         scanline::draw(
             &self.mesh,
@@ -79,15 +76,11 @@ impl Method {
     }
 }
 
-/// Rows to the panel, one write each.
+/// Rows to the panel's open window, one transfer each.
 struct Rows<'p>(&'p mut Panel);
 
 impl RowSink for Rows<'_> {
-    fn row(&mut self, y: u32, pixels: &[u16]) {
-        let area = Rectangle::new(Point::new(0, y as i32), Size::new(pixels.len() as u32, 1));
-        let colours = pixels
-            .iter()
-            .map(|&p| Rgb565::from(embedded_graphics_core::pixelcolor::raw::RawU16::new(p)));
-        let Ok(()): Result<(), Infallible> = self.0.fill_contiguous(&area, colours);
+    fn row(&mut self, _y: u32, pixels: &[u16]) {
+        self.0.send(pixels);
     }
 }

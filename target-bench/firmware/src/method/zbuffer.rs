@@ -70,7 +70,7 @@ impl Method {
                 self.depth,
             )?;
             let fb = Rgb565Framebuffer::band(&mut self.colour[..], w, rows.clone())?;
-            let Ok(()) = fb.draw_to(panel);
+            panel.write_framebuffer(&fb);
             first = rows.end;
         }
         Ok(false)
