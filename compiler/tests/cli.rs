@@ -1154,3 +1154,66 @@ fn inspect_prints_the_memory_a_frame_needs_and_measures_it_at_a_size() {
     assert!(!o.status.success());
     assert!(String::from_utf8_lossy(&o.stderr).contains("--size"));
 }
+
+/// The long flags (`--name`) in `text`.
+fn long_flags(text: &str) -> std::collections::BTreeSet<String> {
+    let mut out = std::collections::BTreeSet::new();
+    let bytes = text.as_bytes();
+    let mut i = 0;
+    while let Some(at) = text[i..].find("--") {
+        let start = i + at;
+        let mut end = start + 2;
+        while end < bytes.len() && (bytes[end].is_ascii_alphanumeric() || bytes[end] == b'-') {
+            end += 1;
+        }
+        let before = start.checked_sub(1).map(|b| bytes[b]);
+        let word_start = !matches!(before, Some(b) if b.is_ascii_alphanumeric() || b == b'-');
+        if word_start && end > start + 2 && bytes[start + 2].is_ascii_lowercase() {
+            out.insert(text[start..end].to_string());
+        }
+        i = end;
+    }
+    out
+}
+
+/// `docs/command-line.md` cannot drift from the binary: for every subcommand, its synopsis
+/// names exactly the long flags `peel <sub> --help` prints (and the page mentions them all).
+#[test]
+fn the_command_line_page_has_every_flag_of_every_subcommand() {
+    let page_path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../docs/command-line.md");
+    let page = std::fs::read_to_string(&page_path).unwrap();
+    let synopsis = page
+        .split("## Synopsis")
+        .nth(1)
+        .and_then(|rest| rest.split("```text\n").nth(1))
+        .and_then(|rest| rest.split("```").next())
+        .expect("a ```text block under ## Synopsis");
+    // Each entry: a line starting with `peel `, with the indented lines that continue it.
+    let mut entries: Vec<String> = Vec::new();
+    for line in synopsis.lines() {
+        if line.starts_with("peel ") {
+            entries.push(line.to_string());
+        } else if let Some(last) = entries.last_mut() {
+            last.push('\n');
+            last.push_str(line);
+        }
+    }
+    for sub in ["compile", "inspect", "dump", "render", "demo", "bench"] {
+        let o = peel(&[sub, "--help"]);
+        assert!(o.status.success());
+        let mut help = long_flags(&String::from_utf8_lossy(&o.stdout));
+        help.remove("--help");
+        let documented: std::collections::BTreeSet<String> = entries
+            .iter()
+            .filter(|e| e.starts_with(&format!("peel {sub} ")) || *e == &format!("peel {sub}"))
+            .flat_map(|e| long_flags(e))
+            .collect();
+        assert_eq!(
+            documented, help,
+            "the synopsis of `peel {sub}` in docs/command-line.md against `peel {sub} --help`"
+        );
+        for flag in &help {
+            assert!(page.contains(flag.as_str()), "{flag} of peel {sub}");
+        }
+    }
+}
