@@ -6,8 +6,11 @@ use clap::Args;
 use glam::DVec3;
 
 use peel_compiler::compile::CompileOptions;
-use peel_compiler::tools::raster::{png, render_bytes, render_bytes_with, Frame, Settings};
+use peel_compiler::tools::raster::{
+    png, render_bytes, render_bytes_with, Frame, Settings, EMPTY_SCENE,
+};
 use peel_compiler::tools::shot::Shot;
+use peel_compiler::FrameMemory;
 use peel_runtime::camera::Orbit;
 use peel_runtime::read::{Header, Scene};
 use peel_runtime::traverse::Order;
@@ -30,6 +33,48 @@ pub fn parse_dvec3(s: &str) -> Result<DVec3, String> {
     }
     Ok(DVec3::from_array(v))
 }
+
+/// Parse a direction `x,y,z`: finite, and of some length (`--up`, `--light`).
+pub fn parse_direction(s: &str) -> Result<DVec3, String> {
+    let v = parse_dvec3(s)?;
+    if v.try_normalize().is_none() {
+        return Err(format!(
+            "the direction '{s}' has no length: give x,y,z not all zero"
+        ));
+    }
+    Ok(v)
+}
+
+/// Parse a vertical field of view in degrees: strictly between 0 and 180.
+pub fn parse_fov(s: &str) -> Result<f64, String> {
+    let fov = parse_finite(s)?;
+    if !(fov > 0.0 && fov < 180.0) {
+        return Err(format!(
+            "the field of view must be strictly between 0 and 180 degrees, got {fov}"
+        ));
+    }
+    Ok(fov)
+}
+
+/// Parse a positive finite number (`--near`, `--distance`).
+pub fn parse_positive(s: &str) -> Result<f64, String> {
+    let x = parse_finite(s)?;
+    if x <= 0.0 {
+        return Err(format!("must be a positive number, got {x}"));
+    }
+    Ok(x)
+}
+
+fn parse_finite(s: &str) -> Result<f64, String> {
+    s.trim()
+        .parse::<f64>()
+        .ok()
+        .filter(|x| x.is_finite())
+        .ok_or_else(|| format!("'{s}' is not a finite number"))
+}
+
+/// The image size `peel render` draws without `--size`.
+pub const DEFAULT_RENDER_SIZE: &str = "640x480";
 
 /// Parse `WxH`.
 pub fn parse_size(s: &str) -> Result<(u32, u32), String> {
@@ -73,36 +118,36 @@ pub struct RenderArgs {
     /// The .peel file.
     pub file: PathBuf,
     /// Eye position x,y,z (with --target; without both, the scene is framed by --orbit).
-    #[arg(long, value_parser = parse_dvec3, allow_hyphen_values = true, requires = "target")]
+    #[arg(long, value_parser = parse_dvec3, allow_hyphen_values = true, requires = "target", value_name = "X,Y,Z")]
     pub eye: Option<DVec3>,
     /// Point looked at x,y,z (with --eye).
-    #[arg(long, value_parser = parse_dvec3, allow_hyphen_values = true, requires = "eye")]
+    #[arg(long, value_parser = parse_dvec3, allow_hyphen_values = true, requires = "eye", value_name = "X,Y,Z")]
     pub target: Option<DVec3>,
     /// Without --eye/--target: look at the centre of the scene's bounding box from these
     /// angles in degrees, azimuth around the y axis (from +z towards +x) and elevation.
-    #[arg(long, value_parser = parse_orbit, allow_hyphen_values = true, conflicts_with = "eye")]
+    #[arg(long, value_parser = parse_orbit, allow_hyphen_values = true, conflicts_with = "eye", value_name = "AZ,EL")]
     pub orbit: Option<(f64, f64)>,
-    /// Without --eye/--target: the eye's distance from the box centre in bounding radii
-    /// (default: the nearest at which the whole scene is in view).
-    #[arg(long, conflicts_with = "eye")]
+    /// Without --eye/--target: the eye's distance from the box centre in bounding radii, a
+    /// positive number (default: the nearest at which the whole scene is in view).
+    #[arg(long, value_parser = parse_positive, allow_hyphen_values = true, conflicts_with = "eye", value_name = "K")]
     pub distance: Option<f64>,
-    /// Up direction x,y,z.
-    #[arg(long, value_parser = parse_dvec3, allow_hyphen_values = true, default_value = "0,1,0")]
+    /// Up direction x,y,z (not all zero).
+    #[arg(long, value_parser = parse_direction, allow_hyphen_values = true, default_value = "0,1,0", value_name = "X,Y,Z")]
     pub up: DVec3,
-    /// Vertical field of view in degrees.
-    #[arg(long, default_value_t = 60.0)]
+    /// Vertical field of view in degrees, strictly between 0 and 180.
+    #[arg(long, value_parser = parse_fov, allow_hyphen_values = true, default_value = "60", value_name = "DEG")]
     pub fov: f64,
-    /// Image size WxH.
-    #[arg(long, value_parser = parse_size)]
+    /// Image size WxH, from 1x1 to 16384x16384.
+    #[arg(long, value_parser = parse_size, default_value = DEFAULT_RENDER_SIZE, value_name = "WxH")]
     pub size: (u32, u32),
-    /// Near distance (default: 1e-3 x the scene's bounding-box diagonal).
-    #[arg(long)]
+    /// Near distance, a positive number (default: 1e-3 x the scene's bounding-box diagonal).
+    #[arg(long, value_parser = parse_positive, allow_hyphen_values = true, value_name = "D")]
     pub near: Option<f64>,
     /// Write the id image (source triangle id + 1 as 24-bit RGB; needs a file compiled with --ids).
     #[arg(long)]
     pub ids: bool,
-    /// Background colour r,g,b.
-    #[arg(long, value_parser = parse_rgb, default_value = "0,0,0")]
+    /// Background colour R,G,B (0-255 each).
+    #[arg(long, value_parser = parse_rgb, default_value = "0,0,0", value_name = "R,G,B")]
     pub background: [u8; 3],
     /// Drawing order: front-to-back writes each pixel once; back-to-front is the plain
     /// painter's algorithm.
@@ -123,7 +168,7 @@ pub struct RenderArgs {
     #[arg(long)]
     pub stats: bool,
     /// Output PNG (the name must end in .png).
-    #[arg(short, long)]
+    #[arg(short, long, value_name = "FILE")]
     pub output: PathBuf,
 }
 
@@ -162,9 +207,6 @@ fn render_shot(args: &RenderArgs, header: &Header) -> Result<Shot, String> {
             let distance = args
                 .distance
                 .unwrap_or_else(|| Orbit::fitting_distance(args.fov, args.size.0, args.size.1));
-            if !(distance.is_finite() && distance > 0.0) {
-                return Err(format!("--distance {distance} is not a positive number"));
-            }
             let pose = Orbit {
                 azimuth_deg,
                 elevation_deg,
@@ -185,17 +227,16 @@ fn render_shot(args: &RenderArgs, header: &Header) -> Result<Shot, String> {
     })
 }
 
-/// Why a camera is degenerate, when it is for a reason the user can fix with one flag.
+/// The flag that fixes a degenerate camera, when one does (the values are checked as they are
+/// parsed; these two come from their combination).
 fn camera_hint(shot: &Shot) -> Option<&'static str> {
     let forward = shot.target - shot.eye;
     if forward.length_squared() == 0.0 {
-        return Some("--eye and --target are the same point");
+        return Some("give --eye and --target different points");
     }
     let cross = forward.normalize().cross(shot.up.normalize_or_zero());
-    (cross.length() < 1e-9).then_some(
-        "the view direction is parallel to --up (looking straight up or down?): pass another \
-         --up, e.g. --up=0,0,-1",
-    )
+    (cross.length() < 1e-9)
+        .then_some("looking straight up or down? pass another --up, e.g. --up=0,0,-1")
 }
 
 /// `--order` values.
@@ -211,23 +252,22 @@ fn read(path: &Path) -> Result<Vec<u8>, String> {
     std::fs::read(path).map_err(|e| format!("{}: cannot read: {e}", path.display()))
 }
 
-/// `peel inspect`.
-pub fn inspect(path: &Path, json: bool) -> Result<(), String> {
+/// `peel inspect`: the counters, and the frame memory measured at `size` if given.
+pub fn inspect(path: &Path, json: bool, size: Option<(u32, u32)>) -> Result<(), String> {
     let bytes = read(path)?;
-    let info = peel_compiler::dump::inspect(&bytes)
+    let mut info = peel_compiler::dump::inspect(&bytes)
         .map_err(|e| format!("{}: invalid .peel file: {e}", path.display()))?;
+    if let Some((width, height)) = size {
+        info.frame_memory = FrameMemory::measured(&bytes, width, height)
+            .map_err(|e| format!("{}: {e}", path.display()))?;
+    }
     if json {
         println!(
             "{}",
             serde_json::to_string_pretty(&info).map_err(|e| e.to_string())?
         );
     } else {
-        let v = serde_json::to_value(info).map_err(|e| e.to_string())?;
-        if let Some(map) = v.as_object() {
-            for (k, v) in map {
-                println!("{k}: {v}");
-            }
-        }
+        print!("{}", peel_compiler::dump::inspect_text(&info));
     }
     Ok(())
 }
@@ -259,6 +299,9 @@ pub fn render(args: &RenderArgs) -> Result<(), String> {
     let bytes = read(&args.file)?;
     let scene = Scene::parse(&bytes)
         .map_err(|e| format!("{}: invalid .peel file: {e}", args.file.display()))?;
+    if scene.header().polygon_count == 0 {
+        return Err(format!("{}: {EMPTY_SCENE}", args.file.display()));
+    }
     let shot = render_shot(args, &scene.header())?;
     let settings = Settings {
         order: match args.order {
@@ -372,19 +415,19 @@ pub struct BenchArgs {
     pub what: BenchWhat,
     /// Folder of the shared models (teapot, cow, suzanne, stanford-bunny); absent models are
     /// skipped with a notice.
-    #[arg(long, default_value = "../shared/models")]
+    #[arg(long, default_value = "../shared/models", value_name = "DIR")]
     pub models: PathBuf,
     /// Write one JSON record per (scene, method).
-    #[arg(long)]
+    #[arg(long, value_name = "FILE")]
     pub json: Option<PathBuf>,
     /// Where the markdown table and the plot go.
-    #[arg(long, default_value = "peel-bench")]
+    #[arg(long, default_value = "peel-bench", value_name = "DIR")]
     pub out: PathBuf,
-    /// Image size.
-    #[arg(long, value_parser = parse_size, default_value = "640x480")]
+    /// Image size WxH.
+    #[arg(long, value_parser = parse_size, default_value = "640x480", value_name = "WxH")]
     pub size: (u32, u32),
     /// Cameras per scene.
-    #[arg(long, default_value_t = 16)]
+    #[arg(long, default_value_t = 16, value_name = "N")]
     pub cameras: usize,
     /// Only the small scenes (demo and generated), for a quick look.
     #[arg(long)]

@@ -48,12 +48,15 @@ pub struct Compiled {
     pub mtl_bytes: Vec<(PathBuf, Vec<u8>)>,
 }
 
-/// Build, shade and encode an already loaded mesh.
+/// Build, shade and encode an already loaded mesh (a mesh without faces, or whose faces are
+/// all degenerate, gives an empty tree). Refuses a light that cannot shade
+/// ([`Shading::check`]).
 pub fn compile_mesh(
     mesh: &Mesh,
     options: &CompileOptions,
     progress: &(dyn Fn(u64) + Sync),
 ) -> Result<(DisplayTree, Vec<u8>), CompileError> {
+    options.shading.check()?;
     let tree = build(mesh, &options.build, progress)?;
     let (colours, exterior) = bake(&tree, mesh, &options.shading);
     let input = crate::write::WriteInput {
@@ -103,6 +106,9 @@ pub fn compile_obj(
 
 /// [`compile_obj`] for OBJ bytes read already ([`read_obj`]); `path` names the file and
 /// locates its MTL files. `start` is when the compile began (for [`Compiled::seconds`]).
+///
+/// A file whose faces are all degenerate is an error ([`CompileError::AllDegenerate`]): its
+/// scene would be empty.
 pub fn compile_obj_bytes(
     path: &Path,
     bytes: Vec<u8>,
@@ -110,11 +116,19 @@ pub fn compile_obj_bytes(
     progress: &(dyn Fn(u64) + Sync),
     start: Instant,
 ) -> Result<Compiled, CompileError> {
+    // Before the load: a light that cannot shade is refused at once.
+    options.shading.check()?;
     let mesh = load_obj_bytes(path, bytes, &options.load)?;
     // On a pool thread, the encoding reuses the memory the build's threads have freed (each
     // thread allocates from its own arena): fewer fresh pages, so fewer page faults
     // (BENCHMARKS.md, "Tuning constants").
     let (tree, bytes) = rayon::scope(|_| compile_mesh(&mesh, options, progress))?;
+    if tree.polygons.is_empty() {
+        return Err(CompileError::AllDegenerate {
+            path: path.to_path_buf(),
+            faces: mesh.faces,
+        });
+    }
     Ok(Compiled {
         bytes,
         stats: tree.stats,
@@ -124,4 +138,64 @@ pub fn compile_obj_bytes(
         missing: mesh.missing,
         mtl_bytes: mesh.mtl_bytes,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn fixture(name: &str) -> PathBuf {
+        Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("../fixtures")
+            .join(name)
+    }
+
+    #[test]
+    fn a_file_whose_faces_are_all_degenerate_is_an_error_naming_it() {
+        let path = fixture("bad/all_degenerate.obj");
+        let e = compile_obj(&path, &CompileOptions::default(), &|_| {}).unwrap_err();
+        assert!(
+            matches!(e, CompileError::AllDegenerate { faces: 3, .. }),
+            "{e:?}"
+        );
+        let shown = e.to_string();
+        assert!(
+            shown.contains("all_degenerate.obj: all 3 faces are degenerate")
+                && shown.contains("nothing to draw"),
+            "{shown}"
+        );
+        // One face left with an area: it compiles, the others dropped.
+        let text = std::fs::read_to_string(&path).unwrap() + "f 1 2 4\n";
+        let compiled = compile_obj_bytes(
+            &path,
+            text.into_bytes(),
+            &CompileOptions::default(),
+            &|_| {},
+            Instant::now(),
+        )
+        .unwrap();
+        assert_eq!(compiled.stats.output_polygons, 1);
+        assert_eq!(compiled.stats.degenerate_dropped, 3);
+    }
+
+    #[test]
+    fn a_light_without_direction_is_refused_before_the_load() {
+        let options = CompileOptions {
+            shading: Shading::Lambert(DVec3::ZERO),
+            ..CompileOptions::default()
+        };
+        // No bytes would be `NoFaces`: the light is refused first.
+        let e = compile_obj_bytes(
+            &fixture("absent.obj"),
+            Vec::new(),
+            &options,
+            &|_| {},
+            Instant::now(),
+        )
+        .unwrap_err();
+        assert!(matches!(e, CompileError::Light(_)), "{e:?}");
+        let mesh = crate::tools::scenes::box_grid(1);
+        let e = compile_mesh(&mesh, &options, &|_| {}).unwrap_err();
+        assert!(e.to_string().contains("has no length"), "{e}");
+    }
 }

@@ -3,10 +3,15 @@
 
 use std::fmt::Write as _;
 
+use peel_runtime::pending::PendingPixel;
 use peel_runtime::read::layout::{header_flags, polygon_flags};
 use peel_runtime::read::{Node, Scene};
+use peel_runtime::scan::ScanNode;
+use peel_runtime::vertices::CachedVertex;
 use peel_runtime::ReadError;
 use serde::Serialize;
+
+use crate::builder::sizes::FrameMemory;
 
 /// Decimals of every float in the dump: fixed, so that snapshots are stable.
 const DECIMALS: usize = 6;
@@ -26,8 +31,9 @@ pub struct Inspect {
     pub max_depth: u64,
     /// Largest polygon vertex count.
     pub max_polygon_vertices: u64,
-    /// Distinct planes.
-    pub planes: u64,
+    /// Split planes stored (a split node's plane; polygons' planes are not stored). The
+    /// compile summary's "planes" are the distinct planes of the output, polygons' included.
+    pub split_planes: u64,
     /// Distinct vertices.
     pub vertices: u64,
     /// Whether source triangle ids are present.
@@ -47,6 +53,9 @@ pub struct Inspect {
     pub node_bounds: u64,
     /// File size.
     pub bytes: u64,
+    /// The memory a frame needs, as the sizes file gives it (the defaults; [`inspect_at`]
+    /// measures span and scan memory at an image size).
+    pub frame_memory: FrameMemory,
 }
 
 /// The counters of a `.peel` file (validated first).
@@ -65,7 +74,7 @@ pub fn inspect(bytes: &[u8]) -> Result<Inspect, ReadError> {
         split_nodes: u64::from(header.node_count) - convex_nodes,
         max_depth: header.max_depth.into(),
         max_polygon_vertices: header.max_polygon_vertices.into(),
-        planes: header.plane_count.into(),
+        split_planes: header.plane_count.into(),
         vertices: header.vertex_count.into(),
         ids: header.flags & header_flags::IDS != 0,
         centre: (origin + (lo + hi) * 0.5).to_array(),
@@ -75,7 +84,91 @@ pub fn inspect(bytes: &[u8]) -> Result<Inspect, ReadError> {
         palette_colours: header.palette_count.into(),
         node_bounds: header.bounds_count.into(),
         bytes: bytes.len() as u64,
+        frame_memory: FrameMemory::of(&header, None),
     })
+}
+
+/// [`inspect`] with the span and scan memory measured at `width x height`
+/// ([`FrameMemory::measured`], as `Builder::image_size` measures them).
+///
+/// # Errors
+/// The reader's error or the measurement's, as text.
+pub fn inspect_at(bytes: &[u8], width: u32, height: u32) -> Result<Inspect, String> {
+    let mut info = inspect(bytes).map_err(|e| e.to_string())?;
+    info.frame_memory = FrameMemory::measured(bytes, width, height)?;
+    Ok(info)
+}
+
+/// The counters as `peel inspect` prints them: one `name: value` line each (the names of
+/// `--json`), world coordinates with six decimals as in the dump, then the frame memory with
+/// its bytes.
+pub fn inspect_text(info: &Inspect) -> String {
+    let mut out = String::new();
+    let mut line = |name: &str, value: String| {
+        let _ = writeln!(out, "{name}: {value}");
+    };
+    line("format_version", info.format_version.to_string());
+    line("output_polygons", info.output_polygons.to_string());
+    line("convex_nodes", info.convex_nodes.to_string());
+    line("split_nodes", info.split_nodes.to_string());
+    line("max_depth", info.max_depth.to_string());
+    line(
+        "max_polygon_vertices",
+        info.max_polygon_vertices.to_string(),
+    );
+    line("split_planes", info.split_planes.to_string());
+    line("vertices", info.vertices.to_string());
+    line("ids", info.ids.to_string());
+    line("centre", triple(info.centre));
+    line("bounds_min", triple(info.bounds_min));
+    line("bounds_max", triple(info.bounds_max));
+    line("radius", fixed(info.radius));
+    line("palette_colours", info.palette_colours.to_string());
+    line("node_bounds", info.node_bounds.to_string());
+    line("bytes", info.bytes.to_string());
+    let m = &info.frame_memory;
+    let _ = match m.measured_at {
+        Some((w, h)) => writeln!(
+            out,
+            "frame_memory (the sizes file's, measured at {w}x{h} over an orbit of the scene):"
+        ),
+        None => writeln!(
+            out,
+            "frame_memory (the sizes file's; span and scan memory are the defaults, \
+             `--size WxH` measures them):"
+        ),
+    };
+    let mut line = |name: &str, value: String| {
+        let _ = writeln!(out, "  {name}: {value}");
+    };
+    let bytes = |count: usize, each: usize| format!("{count} ({} bytes)", count * each);
+    line("stack", m.stack.to_string());
+    line("verts", m.verts.to_string());
+    line(
+        "vertex_memory",
+        bytes(m.vertex_memory, size_of::<CachedVertex>()),
+    );
+    line(
+        "spans_per_row",
+        match m.measured_at {
+            Some((_, h)) => format!(
+                "{} ({} bytes at {h} rows)",
+                m.spans_per_row,
+                m.spans_per_row * h as usize * size_of::<(u16, u16)>()
+            ),
+            None => m.spans_per_row.to_string(),
+        },
+    );
+    line("scan_nodes", bytes(m.scan_nodes, size_of::<ScanNode>()));
+    line(
+        "scan_nodes_aa",
+        bytes(m.scan_nodes_aa, size_of::<ScanNode>()),
+    );
+    line(
+        "pending_pixels",
+        bytes(m.pending_pixels, size_of::<PendingPixel>()),
+    );
+    out
 }
 
 /// `v` with [`DECIMALS`] decimals, without the sign of a value that rounds to zero.
@@ -120,7 +213,9 @@ enum Item {
     Child(&'static str, Option<u32>, usize),
 }
 
-/// The whole file as a YAML document: the header, the planes, then the tree as nested nodes
+/// The whole file as a YAML document: the header (its `centre` is the world origin of every
+/// coordinate that follows, where `peel inspect`'s is the box's centre in world coordinates;
+/// both with six decimals), the split planes, then the tree as nested nodes
 /// with their polygons (flags, colour, the exterior side's colour where it differs, id if
 /// present, vertices); subtrees nested deeper
 /// than `MAX_INDENT` (256 spaces) follow in a `subtrees` list, in the order they are referred to.
@@ -141,9 +236,10 @@ pub fn dump_yaml(bytes: &[u8]) -> Result<String, ReadError> {
     // Writing into a String cannot fail.
     let _ = writeln!(
         out,
-        "header:\n  version: {}\n  flags: {ids}\n  vertices: {}\n  planes: {}\n  indices: {}\n  \
-         polygons: {}\n  nodes: {}\n  max_depth: {}\n  max_polygon_vertices: {}\n  centre: {}\n  \
-         bounds_min: {}\n  bounds_max: {}\n  palette: {}\n  node_bounds: {}",
+        "header:\n  version: {}\n  flags: {ids}\n  vertices: {}\n  split_planes: {}\n  indices: {}\n  \
+         polygons: {}\n  nodes: {}\n  max_depth: {}\n  max_polygon_vertices: {}\n  \
+         centre: {}  # world origin of the coordinates below\n  \
+         bounds_min: {}  # relative to centre\n  bounds_max: {}  # relative to centre\n  palette: {}\n  node_bounds: {}",
         h.version,
         h.vertex_count,
         h.plane_count,
@@ -159,9 +255,9 @@ pub fn dump_yaml(bytes: &[u8]) -> Result<String, ReadError> {
         h.bounds_count,
     );
     if h.plane_count == 0 {
-        out.push_str("planes: []\n");
+        out.push_str("split_planes: []\n");
     } else {
-        out.push_str("planes:\n");
+        out.push_str("split_planes:\n");
         for i in 0..h.plane_count {
             let p = scene.plane(i);
             let n = p.normal.as_dvec3();
@@ -278,7 +374,12 @@ fn write_polygon(out: &mut String, scene: &Scene<'_>, p: u32, indent: usize) {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::builder::sizes::{
+        RECOMMENDED_PENDING_PIXELS, RECOMMENDED_SCAN_NODES, RECOMMENDED_SCAN_NODES_AA,
+        RECOMMENDED_SPANS_PER_ROW,
+    };
     use crate::write::tests::{chain_tree, small_tree};
+    use peel_runtime::clip;
 
     #[test]
     fn dump_of_a_small_tree() {
@@ -359,7 +460,7 @@ mod tests {
             split_nodes: 1,
             max_depth: 3,
             max_polygon_vertices: 4,
-            planes: 1, // the split's; polygons' planes are not stored
+            split_planes: 1, // the split's; polygons' planes are not stored
             vertices: 7,
             ids: true,
             centre: (origin + (lo + hi) * 0.5).to_array(),
@@ -369,6 +470,16 @@ mod tests {
             palette_colours: 0,
             node_bounds: 1,
             bytes: bytes.len() as u64,
+            frame_memory: FrameMemory {
+                stack: 3,
+                verts: clip::buffer_len_for(4) as usize,
+                vertex_memory: 8,
+                spans_per_row: RECOMMENDED_SPANS_PER_ROW,
+                scan_nodes: RECOMMENDED_SCAN_NODES,
+                scan_nodes_aa: RECOMMENDED_SCAN_NODES_AA,
+                pending_pixels: RECOMMENDED_PENDING_PIXELS,
+                measured_at: None,
+            },
         };
         assert_eq!(info, expected);
     }

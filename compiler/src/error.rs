@@ -59,6 +59,15 @@ pub enum CompileError {
         /// The file.
         path: PathBuf,
     },
+    /// Every face of the scene has zero area (repeated or collinear corners, at the
+    /// compiler's precision): the compiled scene would hold nothing to draw.
+    #[error("{path}: {}: there is nothing to draw", all_degenerate(*faces))]
+    AllDegenerate {
+        /// The file.
+        path: PathBuf,
+        /// How many faces it has.
+        faces: usize,
+    },
     /// The input is larger than the compiler accepts.
     #[error("{path}: {message}")]
     TooLarge {
@@ -67,7 +76,8 @@ pub enum CompileError {
         /// Which limit was exceeded.
         message: String,
     },
-    /// A light the compiler cannot cast shadows from.
+    /// A light the compiler cannot shade with or cast shadows from (a direction of no length, a
+    /// position that is not finite, a point light too far for exact shadows).
     #[error("{0}")]
     Light(String),
     /// An internal invariant of the display tree was violated: a bug, reported instead of a hang.
@@ -92,4 +102,13 @@ pub enum CompileError {
         /// What the reader found wrong.
         message: String,
     },
+}
+
+/// "all 3 faces are degenerate (...)", "the only face is degenerate (...)".
+fn all_degenerate(faces: usize) -> String {
+    let what = "(zero area: repeated or collinear corners, at the compiler's precision)";
+    match faces {
+        1 => format!("the only face is degenerate {what}"),
+        n => format!("all {n} faces are degenerate {what}"),
+    }
 }

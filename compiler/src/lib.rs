@@ -35,6 +35,7 @@ pub mod tools;
 pub mod tree;
 pub mod write;
 
+pub use builder::sizes::{FrameMemory, MeasuredSpans};
 pub use builder::{spans, Builder, Output};
 pub use error::CompileError;
 

@@ -9,6 +9,7 @@ use glam::DVec3;
 use indicatif::{ProgressBar, ProgressStyle};
 
 use peel_compiler::compile::{compile_obj, CompileOptions};
+use peel_compiler::load::LoadOptions;
 use peel_compiler::shade::{Shading, DEFAULT_LIGHT};
 use peel_compiler::tree::BuildOptions;
 
@@ -29,13 +30,18 @@ struct Cli {
 enum Command {
     /// Compile an OBJ scene into a .peel display tree.
     Compile(CompileArgs),
-    /// Print what a .peel file holds.
+    /// Print what a .peel file holds, and the memory a frame of it needs (the sizes file's
+    /// figures).
     Inspect {
         /// The .peel file.
         file: PathBuf,
         /// Print JSON instead of text.
         #[arg(long)]
         json: bool,
+        /// Measure the span and scan memory at this image size WxH over an orbit of the
+        /// scene, as `Builder::image_size` does (without it: the defaults).
+        #[arg(long, value_parser = cli::parse_size, value_name = "WxH")]
+        size: Option<(u32, u32)>,
     },
     /// Print the whole tree as YAML.
     Dump {
@@ -50,7 +56,7 @@ enum Command {
     /// Compile and render the built-in demo scene.
     Demo {
         /// Where to write demo.obj, demo.peel and demo.png.
-        #[arg(long, default_value = "peel-demo")]
+        #[arg(long, default_value = "peel-demo", value_name = "DIR")]
         out: PathBuf,
     },
 }
@@ -59,8 +65,8 @@ enum Command {
 struct CompileArgs {
     /// The OBJ file (its MTL files are read too).
     scene: PathBuf,
-    /// Output .peel file.
-    #[arg(short, long)]
+    /// Output .peel file (the name must end in .peel).
+    #[arg(short, long, value_name = "FILE")]
     output: PathBuf,
     /// Keep each polygon's source triangle id (needed for `render --ids`).
     #[arg(long)]
@@ -71,20 +77,21 @@ struct CompileArgs {
     #[arg(long)]
     wide_vertices: bool,
     /// Candidate planes costed per split node (sampled when there are more).
-    #[arg(long, default_value_t = BuildOptions::default().candidates)]
+    #[arg(long, default_value_t = BuildOptions::default().candidates, value_name = "K")]
     candidates: usize,
     /// Seed of the candidate sampling.
-    #[arg(long, default_value_t = 0)]
+    #[arg(long, default_value_t = 0, value_name = "N")]
     seed: u64,
     /// Larger output polygons are split into convex pieces.
-    #[arg(long, default_value_t = BuildOptions::default().max_polygon_vertices)]
+    #[arg(long, default_value_t = BuildOptions::default().max_polygon_vertices, value_name = "N")]
     max_polygon_vertices: usize,
-    /// Direction towards the light (a sun) for the baked Lambert shading.
-    #[arg(long, value_parser = cli::parse_dvec3, allow_hyphen_values = true)]
+    /// Direction towards the light (a sun) for the baked Lambert shading, x,y,z not all zero
+    /// (default: 0.4,0.8,0.45).
+    #[arg(long, value_parser = cli::parse_direction, allow_hyphen_values = true, value_name = "X,Y,Z")]
     light: Option<DVec3>,
     /// A point light at this position instead of a sun (Lambert taken at each polygon's
     /// centroid).
-    #[arg(long, value_parser = cli::parse_dvec3, allow_hyphen_values = true, conflicts_with = "light")]
+    #[arg(long, value_parser = cli::parse_dvec3, allow_hyphen_values = true, conflicts_with = "light", value_name = "X,Y,Z")]
     point_light: Option<DVec3>,
     /// Keep the raw material colours (no shading).
     #[arg(long, conflicts_with_all = ["light", "point_light"])]
@@ -93,8 +100,13 @@ struct CompileArgs {
     /// the ambient colour.
     #[arg(long, conflicts_with = "flat")]
     shadows: bool,
+    /// The colour R,G,B (0-255 each) of faces without a material, instead of the grey
+    /// 200,200,200; the warning about such faces goes. (A file that names no material at all
+    /// gets no warning.)
+    #[arg(long, value_parser = cli::parse_rgb, value_name = "R,G,B", alias = "default-color")]
+    default_colour: Option<[u8; 3]>,
     /// Also write the statistics as JSON to this file.
-    #[arg(long)]
+    #[arg(long, value_name = "FILE")]
     stats_json: Option<PathBuf>,
 }
 
@@ -102,7 +114,7 @@ fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Compile(args) => compile(&args),
-        Command::Inspect { file, json } => cli::inspect(&file, json),
+        Command::Inspect { file, json, size } => cli::inspect(&file, json, size),
         Command::Dump { file } => cli::dump(&file),
         Command::Render(args) => cli::render(&args),
         Command::Demo { out } => cli::demo(&out),
@@ -118,6 +130,16 @@ fn main() -> ExitCode {
 }
 
 fn compile(args: &CompileArgs) -> Result<(), String> {
+    let peel_name = args
+        .output
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("peel"));
+    if !peel_name {
+        return Err(format!(
+            "-o/--output {}: peel compile writes .peel files: give the output a .peel name",
+            args.output.display()
+        ));
+    }
     let shading = match (args.flat, args.point_light) {
         (true, _) => Shading::Flat,
         (false, Some(at)) => Shading::Point(at),
@@ -131,10 +153,12 @@ fn compile(args: &CompileArgs) -> Result<(), String> {
             shadows: shading.light().filter(|_| args.shadows),
             ..BuildOptions::default()
         },
+        load: LoadOptions {
+            default_colour: args.default_colour,
+        },
         ids: args.ids,
         wide_vertices: args.wide_vertices,
         shading,
-        ..CompileOptions::default()
     };
     compile_to(
         &args.scene,

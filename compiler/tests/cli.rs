@@ -74,9 +74,10 @@ fn compile_writes_the_file_and_exact_stats_keys() {
         "convex_nodes",
         "split_nodes",
         "max_depth",
-        "planes",
+        "split_planes",
         "vertices",
         "bytes",
+        "frame_memory",
     ] {
         assert!(
             keys.contains(&k.to_string()),
@@ -97,6 +98,7 @@ fn bad_inputs_fail_with_file_and_line_and_write_nothing() {
         ("bad/inf_coordinate.obj", 3),
         ("bad/index_out_of_range.obj", 6),
         ("bad/bad_number.obj", 3),
+        ("bad/cut_off_face.obj", 8),
     ] {
         let out = dir.path().join("out.peel");
         let o = peel(&["compile", &fixture(name), "-o", s(&out)]);
@@ -805,4 +807,413 @@ fn bench_quick_runs_every_method_on_every_scene() {
     let table = std::fs::read_to_string(dir.path().join("frames.md")).unwrap();
     assert!(table.contains("| demo | weiler-atherton |"), "{table}");
     assert!(dir.path().join("frames.png").exists());
+}
+
+/// Runs `peel args` expecting a failure whose message contains every one of `says`, and no
+/// file in `dir` afterwards (nothing written, no temporary file left).
+fn refused(dir: &Path, args: &[&str], says: &[&str]) {
+    let o = peel(args);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(!o.status.success(), "{args:?} succeeded");
+    for s in says {
+        assert!(err.contains(s), "{args:?}: no `{s}` in: {err}");
+    }
+    let left: Vec<_> = std::fs::read_dir(dir).unwrap().collect();
+    assert!(left.is_empty(), "{args:?} left {left:?}");
+}
+
+#[test]
+fn render_names_the_flag_and_its_range_for_a_bad_camera_value() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = dir.path().join("cube.peel");
+    assert!(peel(&["compile", &fixture("cube.obj"), "-o", s(&scene)])
+        .status
+        .success());
+    let out_dir = tempfile::tempdir().unwrap();
+    let png = out_dir.path().join("x.png");
+    let fov = "strictly between 0 and 180 degrees";
+    for (flag, says) in [
+        (&["--fov=180"][..], ["--fov", fov]),
+        (&["--fov", "0"], ["--fov", fov]),
+        (&["--fov", "-30"], ["--fov", fov]),
+        (&["--fov=nan"], ["--fov", "not a finite number"]),
+        (&["--near=-1"], ["--near", "must be a positive number"]),
+        (&["--near", "-1"], ["--near", "must be a positive number"]),
+        (&["--near=0"], ["--near", "must be a positive number"]),
+        (
+            &["--distance=-2"],
+            ["--distance", "must be a positive number"],
+        ),
+        (&["--up=0,0,0"], ["--up", "has no length"]),
+    ] {
+        let mut args = vec!["render", s(&scene), "-o", s(&png)];
+        args.extend_from_slice(flag);
+        refused(out_dir.path(), &args, &says);
+    }
+}
+
+#[test]
+fn compile_refuses_a_light_without_direction() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("x.peel");
+    for light in ["--light=0,0,0", "--light=-0,0,0"] {
+        refused(
+            dir.path(),
+            &["compile", &fixture("cube.obj"), "-o", s(&out), light],
+            &["--light", "has no length"],
+        );
+    }
+    let o = peel(&[
+        "compile",
+        &fixture("cube.obj"),
+        "-o",
+        s(&out),
+        "--light=0,-1e-3,0",
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+}
+
+#[test]
+fn compile_output_must_be_a_peel_file() {
+    let dir = tempfile::tempdir().unwrap();
+    for name in ["out.txt", "out", "out.peel.png"] {
+        let out = dir.path().join(name);
+        refused(
+            dir.path(),
+            &["compile", &fixture("cube.obj"), "-o", s(&out)],
+            &["-o/--output", name, ".peel"],
+        );
+    }
+    let out = dir.path().join("OUT.PEEL");
+    let o = peel(&["compile", &fixture("cube.obj"), "-o", s(&out)]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+}
+
+#[test]
+fn a_file_of_degenerate_faces_is_an_error_and_an_empty_scene_does_not_blame_the_camera() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("x.peel");
+    refused(
+        dir.path(),
+        &["compile", &fixture("bad/all_degenerate.obj"), "-o", s(&out)],
+        &[
+            "all_degenerate.obj: all 3 faces are degenerate",
+            "nothing to draw",
+        ],
+    );
+    // An empty scene is a valid file (the library still makes one of an empty mesh): render
+    // says it is empty, whatever the camera.
+    let (_, bytes) = peel_compiler::compile::compile_mesh(
+        &peel_compiler::load::Mesh::default(),
+        &peel_compiler::compile::CompileOptions::default(),
+        &|_| {},
+    )
+    .unwrap();
+    let files = tempfile::tempdir().unwrap();
+    let empty = files.path().join("empty.peel");
+    std::fs::write(&empty, bytes).unwrap();
+    let png = dir.path().join("x.png");
+    for camera in [&[][..], &["--eye=0,0,5", "--target=0,0,0"]] {
+        let mut args = vec!["render", s(&empty), "-o", s(&png)];
+        args.extend_from_slice(camera);
+        refused(dir.path(), &args, &["empty.peel: the scene is empty"]);
+        let err = String::from_utf8_lossy(&peel(&args).stderr).into_owned();
+        assert!(!err.contains("camera"), "{err}");
+    }
+}
+
+#[test]
+fn a_file_cut_off_in_a_face_is_an_error_naming_its_last_line() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("x.peel");
+    refused(
+        dir.path(),
+        &["compile", &fixture("bad/cut_off_face.obj"), "-o", s(&out)],
+        &[
+            "cut_off_face.obj:8: the file ends in the middle of a face",
+            "`f 2 3` has 2 corners",
+            "cut off",
+        ],
+    );
+}
+
+/// The standard error of `peel compile` of `obj` with `extra`, which must succeed, into `out`.
+fn compile_warnings(obj: &Path, out: &Path, extra: &[&str]) -> String {
+    let mut args = vec!["compile", s(obj), "-o", s(out)];
+    args.extend_from_slice(extra);
+    let o = peel(&args);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+#[test]
+fn default_colour_colours_faces_without_material_and_a_plain_mesh_does_not_warn() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("x.peel");
+    // A plain mesh (no `mtllib`, no `usemtl`): the default grey, no warning.
+    let err = compile_warnings(&fixtures().join("cube.obj"), &out, &["--flat"]);
+    assert!(err.is_empty(), "{err}");
+    assert!(dumped_colours(&out)
+        .iter()
+        .all(|c| *c == [[200, 200, 200]; 2]));
+    // Materials, but faces before any `usemtl`: the warning says how to choose their colour.
+    let obj = dir.path().join("m.obj");
+    std::fs::write(dir.path().join("m.mtl"), "newmtl red\nKd 1 0 0\n").unwrap();
+    std::fs::write(
+        &obj,
+        "mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 2 3\nf 1 2 4\nusemtl red\nf 1 3 4\n",
+    )
+    .unwrap();
+    let err = compile_warnings(&obj, &out, &["--flat"]);
+    assert!(
+        err.contains("m.obj: 2 faces have no material")
+            && err.contains("first at line 6")
+            && err.contains("200,200,200")
+            && err.contains("--default-colour R,G,B"),
+        "{err}"
+    );
+    let mut colours = dumped_colours(&out);
+    colours.sort();
+    assert_eq!(
+        colours,
+        [[[200, 200, 200]; 2], [[200, 200, 200]; 2], [[255, 0, 0]; 2]]
+    );
+    // --default-colour: those faces get it, and the warning goes.
+    let err = compile_warnings(&obj, &out, &["--flat", "--default-colour", "10,20,30"]);
+    assert!(err.is_empty(), "{err}");
+    let mut colours = dumped_colours(&out);
+    colours.sort();
+    assert_eq!(
+        colours,
+        [[[10, 20, 30]; 2], [[10, 20, 30]; 2], [[255, 0, 0]; 2]]
+    );
+    let bad = tempfile::tempdir().unwrap();
+    refused(
+        bad.path(),
+        &[
+            "compile",
+            s(&obj),
+            "-o",
+            s(&bad.path().join("x.peel")),
+            "--default-colour=300,0,0",
+        ],
+        &["--default-colour", "0..=255"],
+    );
+}
+
+#[test]
+fn render_has_a_default_size() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = dir.path().join("cube.peel");
+    assert!(peel(&["compile", &fixture("cube.obj"), "-o", s(&scene)])
+        .status
+        .success());
+    let png = dir.path().join("x.png");
+    let o = peel(&["render", s(&scene), "-o", s(&png)]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert_eq!(
+        image::open(&png).unwrap().to_rgb8().dimensions(),
+        (640, 480)
+    );
+    let help = String::from_utf8_lossy(&peel(&["render", "--help"]).stdout).into_owned();
+    assert!(help.contains("[default: 640x480]"), "{help}");
+}
+
+/// The value of the line `name: value` of `text`.
+fn line_value<'a>(text: &'a str, name: &str) -> &'a str {
+    text.lines()
+        .find_map(|l| l.strip_prefix(name)?.strip_prefix(": "))
+        .unwrap_or_else(|| panic!("no '{name}' line in:\n{text}"))
+}
+
+#[test]
+fn planes_and_split_planes_and_the_centre_read_alike_in_every_output() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = dir.path().join("demo.peel");
+    let o = peel(&["compile", &fixture("demo.obj"), "-o", s(&scene)]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let summary = String::from_utf8_lossy(&o.stdout).into_owned();
+    assert!(summary.contains(" planes, "), "{summary}");
+    let inspect = String::from_utf8_lossy(&peel(&["inspect", s(&scene)]).stdout).into_owned();
+    let dump = String::from_utf8_lossy(&peel(&["dump", s(&scene)]).stdout).into_owned();
+    // "planes" is the summary's distinct planes; what the file stores are split planes.
+    let split_planes: usize = line_value(&inspect, "split_planes").parse().unwrap();
+    assert_eq!(
+        line_value(&dump, "  split_planes"),
+        split_planes.to_string()
+    );
+    assert!(split_planes > 0);
+    assert!(
+        !inspect
+            .lines()
+            .chain(dump.lines())
+            .any(|l| l.trim_start().starts_with("planes")),
+        "{inspect}\n{dump}"
+    );
+    let json: serde_json::Value =
+        serde_json::from_slice(&peel(&["inspect", s(&scene), "--json"]).stdout).unwrap();
+    assert_eq!(json["split_planes"], split_planes);
+    assert!(json.get("planes").is_none());
+    // The centres (inspect's in world coordinates, the dump's the file's origin) with one
+    // formatting: three numbers of six decimals.
+    let six = |v: &str| {
+        let v = v.split("  #").next().unwrap();
+        let parts: Vec<&str> = v.trim_matches(['[', ']']).split(", ").collect();
+        parts.len() == 3
+            && parts
+                .iter()
+                .all(|p| p.parse::<f64>().is_ok() && p.split_once('.').unwrap().1.len() == 6)
+    };
+    for (what, v) in [
+        ("inspect centre", line_value(&inspect, "centre")),
+        ("inspect bounds_min", line_value(&inspect, "bounds_min")),
+        ("dump centre", line_value(&dump, "  centre")),
+        ("dump bounds_min", line_value(&dump, "  bounds_min")),
+    ] {
+        assert!(six(v), "{what}: {v}");
+    }
+    let c = json["centre"].as_array().unwrap();
+    assert_eq!(
+        line_value(&inspect, "centre"),
+        format!(
+            "[{:.6}, {:.6}, {:.6}]",
+            c[0].as_f64().unwrap(),
+            c[1].as_f64().unwrap(),
+            c[2].as_f64().unwrap()
+        )
+    );
+}
+
+#[test]
+fn inspect_prints_the_memory_a_frame_needs_and_measures_it_at_a_size() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = dir.path().join("demo.peel");
+    assert!(peel(&["compile", &fixture("demo.obj"), "-o", s(&scene)])
+        .status
+        .success());
+    let json = |extra: &[&str]| -> serde_json::Value {
+        let mut args = vec!["inspect", s(&scene), "--json"];
+        args.extend_from_slice(extra);
+        let o = peel(&args);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        serde_json::from_slice(&o.stdout).unwrap()
+    };
+    let plain = json(&[]);
+    let m = &plain["frame_memory"];
+    assert_eq!(m["stack"], plain["max_depth"]);
+    assert_eq!(
+        m["verts"].as_u64().unwrap(),
+        plain["max_polygon_vertices"].as_u64().unwrap() + 5
+    );
+    let vertices = plain["vertices"].as_u64().unwrap();
+    assert_eq!(
+        m["vertex_memory"].as_u64(),
+        Some(vertices.next_power_of_two())
+    );
+    assert_eq!(
+        (m["spans_per_row"].as_u64(), m["scan_nodes"].as_u64()),
+        (Some(64), Some(4096))
+    );
+    assert!(m["measured_at"].is_null());
+    let measured = json(&["--size", "96x64"]);
+    let n = &measured["frame_memory"];
+    assert_eq!(n["measured_at"], serde_json::json!([96, 64]));
+    assert_eq!((&n["stack"], &n["verts"]), (&m["stack"], &m["verts"]));
+    let per_row = n["spans_per_row"].as_u64().unwrap();
+    assert!((1..=48).contains(&per_row), "{n}");
+    assert!(n["scan_nodes"].as_u64().unwrap() > 0);
+    // The text: every figure, with its bytes, and whether it was measured.
+    let o = peel(&["inspect", s(&scene), "--size=96x64"]);
+    let text = String::from_utf8_lossy(&o.stdout).into_owned();
+    assert!(
+        text.contains("frame_memory (the sizes file's, measured at 96x64"),
+        "{text}"
+    );
+    assert_eq!(
+        line_value(&text, "  spans_per_row"),
+        format!("{per_row} ({} bytes at 64 rows)", per_row * 64 * 4)
+    );
+    for name in [
+        "stack",
+        "verts",
+        "vertex_memory",
+        "scan_nodes",
+        "scan_nodes_aa",
+        "pending_pixels",
+    ] {
+        assert!(
+            line_value(&text, &format!("  {name}"))
+                .starts_with(&n[name].as_u64().unwrap().to_string()),
+            "{name}: {text}"
+        );
+    }
+    let text = String::from_utf8_lossy(&peel(&["inspect", s(&scene)]).stdout).into_owned();
+    assert!(text.contains("`--size WxH` measures them"), "{text}");
+    // A bad size names the flag.
+    let o = peel(&["inspect", s(&scene), "--size=0x5"]);
+    assert!(!o.status.success());
+    assert!(String::from_utf8_lossy(&o.stderr).contains("--size"));
+}
+
+/// The long flags (`--name`) in `text`.
+fn long_flags(text: &str) -> std::collections::BTreeSet<String> {
+    let mut out = std::collections::BTreeSet::new();
+    let bytes = text.as_bytes();
+    let mut i = 0;
+    while let Some(at) = text[i..].find("--") {
+        let start = i + at;
+        let mut end = start + 2;
+        while end < bytes.len() && (bytes[end].is_ascii_alphanumeric() || bytes[end] == b'-') {
+            end += 1;
+        }
+        let before = start.checked_sub(1).map(|b| bytes[b]);
+        let word_start = !matches!(before, Some(b) if b.is_ascii_alphanumeric() || b == b'-');
+        if word_start && end > start + 2 && bytes[start + 2].is_ascii_lowercase() {
+            out.insert(text[start..end].to_string());
+        }
+        i = end;
+    }
+    out
+}
+
+/// `docs/command-line.md` cannot drift from the binary: for every subcommand, its synopsis
+/// names exactly the long flags `peel <sub> --help` prints (and the page mentions them all).
+#[test]
+fn the_command_line_page_has_every_flag_of_every_subcommand() {
+    let page_path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../docs/command-line.md");
+    let page = std::fs::read_to_string(&page_path).unwrap();
+    let synopsis = page
+        .split("## Synopsis")
+        .nth(1)
+        .and_then(|rest| rest.split("```text\n").nth(1))
+        .and_then(|rest| rest.split("```").next())
+        .expect("a ```text block under ## Synopsis");
+    // Each entry: a line starting with `peel `, with the indented lines that continue it.
+    let mut entries: Vec<String> = Vec::new();
+    for line in synopsis.lines() {
+        if line.starts_with("peel ") {
+            entries.push(line.to_string());
+        } else if let Some(last) = entries.last_mut() {
+            last.push('\n');
+            last.push_str(line);
+        }
+    }
+    for sub in ["compile", "inspect", "dump", "render", "demo", "bench"] {
+        let o = peel(&[sub, "--help"]);
+        assert!(o.status.success());
+        let mut help = long_flags(&String::from_utf8_lossy(&o.stdout));
+        help.remove("--help");
+        let documented: std::collections::BTreeSet<String> = entries
+            .iter()
+            .filter(|e| e.starts_with(&format!("peel {sub} ")) || *e == &format!("peel {sub}"))
+            .flat_map(|e| long_flags(e))
+            .collect();
+        assert_eq!(
+            documented, help,
+            "the synopsis of `peel {sub}` in docs/command-line.md against `peel {sub} --help`"
+        );
+        for flag in &help {
+            assert!(page.contains(flag.as_str()), "{flag} of peel {sub}");
+        }
+    }
 }

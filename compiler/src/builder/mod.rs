@@ -251,36 +251,7 @@ impl Builder {
         })?;
         let spans = match self.image_size {
             Some((width, height)) => {
-                let per_row = spans::spans_per_row(&result.peel, width, height).map_err(|e| {
-                    CompileError::Invariant(format!(
-                        "measuring span memory at {width}x{height}: {e}"
-                    ))
-                })?;
-                let scan_nodes = spans::scan_nodes(&result.peel, width, height).map_err(|e| {
-                    CompileError::Invariant(format!(
-                        "measuring scan memory at {width}x{height}: {e}"
-                    ))
-                })?;
-                let scan_nodes_antialiased =
-                    spans::scan_nodes_antialiased(&result.peel, width, height).map_err(|e| {
-                        CompileError::Invariant(format!(
-                            "measuring anti-aliased scan memory at {width}x{height}: {e}"
-                        ))
-                    })?;
-                let pending_pixels =
-                    spans::pending_pixels(&result.peel, width, height).map_err(|e| {
-                        CompileError::Invariant(format!(
-                            "measuring pending pixels at {width}x{height}: {e}"
-                        ))
-                    })?;
-                Some(sizes::MeasuredSpans {
-                    width,
-                    height,
-                    per_row,
-                    scan_nodes,
-                    scan_nodes_antialiased,
-                    pending_pixels,
-                })
+                Some(spans::measure(&result.peel, width, height).map_err(CompileError::Invariant)?)
             }
             None => None,
         };

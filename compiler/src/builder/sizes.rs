@@ -46,6 +46,74 @@ pub const RECOMMENDED_SCAN_NODES_AA: usize = 6144;
 /// Pending-pixel records the sizes file gives without a measurement (24 KiB).
 pub const RECOMMENDED_PENDING_PIXELS: usize = 2048;
 
+/// The memory a frame of a scene needs, as its sizes file gives it: the figures firmware sizes
+/// its buffers from (`peel inspect` prints them). Each field is the sizes file's constant of
+/// the same name in capitals.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+pub struct FrameMemory {
+    /// Traversal stack entries (the tree's depth): the `STACK` of `Workspace<STACK, VERTS>`.
+    pub stack: usize,
+    /// Clip-buffer vertices (the largest polygon plus one per clip plane): the `VERTS` of
+    /// `Workspace<STACK, VERTS>`.
+    pub verts: usize,
+    /// Vertex memory entries that keep every vertex (the vertex count rounded up to a power of
+    /// two).
+    pub vertex_memory: usize,
+    /// Span-memory intervals per row for front-to-back frames.
+    pub spans_per_row: usize,
+    /// Scan memory nodes for frames in scan order.
+    pub scan_nodes: usize,
+    /// Scan memory nodes for anti-aliased frames in scan order.
+    pub scan_nodes_aa: usize,
+    /// Pending-pixel records for anti-aliased frames.
+    pub pending_pixels: usize,
+    /// The image size the last four were measured at (`SPANS_MEASURED_AT`); `None` where they
+    /// are the sizes file's defaults.
+    pub measured_at: Option<(u32, u32)>,
+}
+
+impl FrameMemory {
+    /// The figures of the scene with header `header`, the span and scan memory measured if
+    /// `spans`, else the defaults.
+    pub fn of(header: &Header, spans: Option<MeasuredSpans>) -> FrameMemory {
+        let defaults = FrameMemory {
+            stack: header.max_depth as usize,
+            verts: clip::buffer_len_for(header.max_polygon_vertices) as usize,
+            // The vertex memory is direct-mapped over a power of two of entries.
+            vertex_memory: (header.vertex_count as usize).next_power_of_two(),
+            spans_per_row: RECOMMENDED_SPANS_PER_ROW,
+            scan_nodes: RECOMMENDED_SCAN_NODES,
+            scan_nodes_aa: RECOMMENDED_SCAN_NODES_AA,
+            pending_pixels: RECOMMENDED_PENDING_PIXELS,
+            measured_at: None,
+        };
+        match spans {
+            None => defaults,
+            Some(m) => FrameMemory {
+                spans_per_row: m.per_row,
+                scan_nodes: m.scan_nodes,
+                scan_nodes_aa: m.scan_nodes_antialiased,
+                pending_pixels: m.pending_pixels,
+                measured_at: Some((m.width, m.height)),
+                ..defaults
+            },
+        }
+    }
+
+    /// The figures of the scene `bytes`, the span and scan memory measured at
+    /// `width x height` as [`crate::Builder::image_size`] measures them (an orbit of frames
+    /// each: far slower than reading the header).
+    ///
+    /// # Errors
+    /// A message for a scene that does not parse or a measurement that fails
+    /// ([`super::spans::measure`]).
+    pub fn measured(bytes: &[u8], width: u32, height: u32) -> Result<FrameMemory, String> {
+        let scene = peel_runtime::read::Scene::parse(bytes).map_err(|e| e.to_string())?;
+        let spans = super::spans::measure(bytes, width, height)?;
+        Ok(FrameMemory::of(&scene.header(), Some(spans)))
+    }
+}
+
 /// The text of the sizes file of `header` (a `.peel` file of `bytes` bytes named `peel_name`,
 /// compiled from `source`), with the span memory measured for an image size if `spans`.
 pub fn sizes_file(
@@ -58,11 +126,9 @@ pub fn sizes_file(
     // The names go into comments and string literals.
     let peel_name = &peel_name.escape_default().to_string();
     let source = &source.escape_default().to_string();
-    let stack = header.max_depth as usize;
-    let verts = clip::buffer_len_for(header.max_polygon_vertices) as usize;
+    let memory = FrameMemory::of(header, spans);
+    let (stack, verts, vertex_memory) = (memory.stack, memory.verts, memory.vertex_memory);
     let vertices = header.vertex_count as usize;
-    // The vertex memory is direct-mapped over a power of two of entries.
-    let vertex_memory = vertices.next_power_of_two();
     let entry = std::mem::size_of::<CachedVertex>();
     let mut s = String::new();
     let mut line = |text: &str| {
@@ -168,7 +234,7 @@ pub fn sizes_file(
              figure; `Builder::image_size` measures what the scene needs). Running out is not an\n\
              error: the rest of the frame is painted back to front, with overdraw and the same\n\
              pixels.",
-            format!("pub const SPANS_PER_ROW: usize = {RECOMMENDED_SPANS_PER_ROW};"),
+            format!("pub const SPANS_PER_ROW: usize = {};", memory.spans_per_row),
         ),
         Some(MeasuredSpans {
             width,
@@ -199,7 +265,7 @@ pub fn sizes_file(
             "Scan memory nodes (`scan::ScanNode`, 8 bytes each) for frames in scan order\n\
              (`Renderer::draw_scan`): a guess (`Builder::image_size` measures what the scene\n\
              needs). Running out is an error (`RenderError::ScanMemoryFull`): nothing is sent.",
-            format!("pub const SCAN_NODES: usize = {RECOMMENDED_SCAN_NODES};"),
+            format!("pub const SCAN_NODES: usize = {};", memory.scan_nodes),
         ),
         Some(MeasuredSpans {
             width,
@@ -223,7 +289,7 @@ pub fn sizes_file(
              `Renderer::antialias`): a guess (`Builder::image_size` measures what the scene\n\
              needs). A frame that runs out is drawn without anti-aliasing (with at least\n\
              `SCAN_NODES`; with fewer, `RenderError::ScanMemoryFull`).",
-            format!("pub const SCAN_NODES_AA: usize = {RECOMMENDED_SCAN_NODES_AA};"),
+            format!("pub const SCAN_NODES_AA: usize = {};", memory.scan_nodes_aa),
         ),
         Some(MeasuredSpans {
             width,
@@ -247,7 +313,10 @@ pub fn sizes_file(
             "Pending-pixel records (`pending::PendingPixel`, 12 bytes each) for anti-aliased\n\
              frames (`Renderer::antialias`): a guess (`Builder::image_size` measures what the\n\
              scene needs). Running out draws a row's remaining edge pixels without anti-aliasing.",
-            format!("pub const PENDING_PIXELS: usize = {RECOMMENDED_PENDING_PIXELS};"),
+            format!(
+                "pub const PENDING_PIXELS: usize = {};",
+                memory.pending_pixels
+            ),
         ),
         Some(MeasuredSpans {
             width,

@@ -12,6 +12,27 @@ use peel_runtime::read::Scene;
 use peel_runtime::render::{Renderer, Workspace};
 use peel_runtime::scan::{ScanMemory, ScanNode};
 
+use super::sizes::MeasuredSpans;
+
+/// Everything the sizes file measures at `width x height` ([`crate::Builder::image_size`],
+/// `peel inspect --size`): [`spans_per_row`], [`scan_nodes`], [`scan_nodes_antialiased`] and
+/// [`pending_pixels`].
+///
+/// # Errors
+/// Theirs, saying which measurement failed.
+pub fn measure(bytes: &[u8], width: u32, height: u32) -> Result<MeasuredSpans, String> {
+    let at = |what: &'static str| move |e| format!("measuring {what} at {width}x{height}: {e}");
+    Ok(MeasuredSpans {
+        width,
+        height,
+        per_row: spans_per_row(bytes, width, height).map_err(at("span memory"))?,
+        scan_nodes: scan_nodes(bytes, width, height).map_err(at("scan memory"))?,
+        scan_nodes_antialiased: scan_nodes_antialiased(bytes, width, height)
+            .map_err(at("anti-aliased scan memory"))?,
+        pending_pixels: pending_pixels(bytes, width, height).map_err(at("pending pixels"))?,
+    })
+}
+
 /// Cameras of the orbit measured: azimuths 0, 15, ..., 345 degrees.
 pub const ORBIT_CAMERAS: u32 = 24;
 /// Their elevations, in degrees: the CLI's default view and a view from higher up.

@@ -8,8 +8,22 @@ use crate::shadow::Light;
 use peel_runtime::read::Scene;
 use std::fs;
 
-/// A cube without materials (its faces get the default colour, with a warning).
+/// A cube without materials (its faces get the default colour, without a warning: the file
+/// names no material).
 const CUBE: &str = include_str!("../../../fixtures/cube.obj");
+
+/// The cube with a material library it uses for no face: its faces get the default colour,
+/// with a warning.
+const CUBE_WITH_LIBRARY: &str = concat!(
+    "mtllib cube.mtl\n",
+    include_str!("../../../fixtures/cube.obj")
+);
+
+/// Writes `CUBE_WITH_LIBRARY` and its library into `dir`; the OBJ's path.
+fn cube_with_library(dir: &Path) -> PathBuf {
+    write(dir, "cube.mtl", "newmtl unused\nKd 1 0 0\n");
+    write(dir, "cube.obj", CUBE_WITH_LIBRARY)
+}
 
 /// A triangle with a material from `m.mtl`.
 const RED_TRIANGLE: &str = "mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl red\nf 1 2 3\n";
@@ -126,10 +140,14 @@ fn the_key_is_the_compiler_the_options_and_the_obj() {
 #[test]
 fn the_second_compile_comes_from_the_cache_with_the_same_bytes_and_warnings() {
     let dir = tempfile::tempdir().unwrap();
-    let obj = write(dir.path(), "cube.obj", CUBE);
+    let obj = cube_with_library(dir.path());
     let b = builder(dir.path(), &obj);
-    let first = b.cached_compile(CUBE.into(), Instant::now()).unwrap();
-    let second = b.cached_compile(CUBE.into(), Instant::now()).unwrap();
+    let first = b
+        .cached_compile(CUBE_WITH_LIBRARY.into(), Instant::now())
+        .unwrap();
+    let second = b
+        .cached_compile(CUBE_WITH_LIBRARY.into(), Instant::now())
+        .unwrap();
     assert!(!first.from_cache && second.from_cache, "{}", second.note);
     assert_eq!(first.entry, second.entry);
     assert!(first.entry.warnings[0].contains("no material"));
@@ -355,19 +373,74 @@ fn an_image_size_measures_the_span_memory_of_an_orbit() {
     assert_eq!(fs::read_to_string(&again.sizes).unwrap(), text);
 }
 
+/// The value of `pub const NAME: usize = value;` in a sizes file.
+fn constant(text: &str, name: &str) -> usize {
+    let prefix = format!("pub const {name}: usize = ");
+    text.lines()
+        .find_map(|l| l.strip_prefix(&prefix)?.strip_suffix(';'))
+        .unwrap_or_else(|| panic!("no {name} in\n{text}"))
+        .parse()
+        .unwrap()
+}
+
+#[test]
+fn inspect_gives_the_frame_memory_of_the_sizes_file() {
+    let dir = tempfile::tempdir().unwrap();
+    let obj = write(
+        dir.path(),
+        "demo.obj",
+        include_str!("../../../fixtures/demo.obj"),
+    );
+    for size in [None, Some((96, 64))] {
+        let mut b = builder(dir.path(), &obj);
+        if let Some((w, h)) = size {
+            b = b.image_size(w, h);
+        }
+        let out = b.compile().unwrap();
+        let text = fs::read_to_string(&out.sizes).unwrap();
+        let bytes = fs::read(&out.peel).unwrap();
+        let info = match size {
+            None => crate::dump::inspect(&bytes).unwrap(),
+            Some((w, h)) => crate::dump::inspect_at(&bytes, w, h).unwrap(),
+        };
+        let m = info.frame_memory;
+        assert_eq!(m.measured_at, size);
+        for (name, value) in [
+            ("STACK", m.stack),
+            ("VERTS", m.verts),
+            ("VERTEX_MEMORY", m.vertex_memory),
+            ("SPANS_PER_ROW", m.spans_per_row),
+            ("SCAN_NODES", m.scan_nodes),
+            ("SCAN_NODES_AA", m.scan_nodes_aa),
+            ("PENDING_PIXELS", m.pending_pixels),
+        ] {
+            assert_eq!(constant(&text, name), value, "{name} at {size:?}");
+        }
+        let printed = crate::dump::inspect_text(&info);
+        assert!(
+            printed.contains(&format!("\n  stack: {}\n", m.stack))
+                && printed.contains(&format!("\n  scan_nodes: {} (", m.scan_nodes)),
+            "{printed}"
+        );
+    }
+}
+
 #[test]
 fn a_default_colour_silences_the_warning_about_faces_without_material() {
     let dir = tempfile::tempdir().unwrap();
-    let obj = write(dir.path(), "cube.obj", CUBE);
+    let obj = cube_with_library(dir.path());
     let grey = builder(dir.path(), &obj)
-        .cached_compile(CUBE.into(), Instant::now())
+        .cached_compile(CUBE_WITH_LIBRARY.into(), Instant::now())
         .unwrap();
     assert_eq!(grey.entry.warnings.len(), 1, "{:?}", grey.entry.warnings);
+    assert!(grey.entry.warnings[0].contains("--default-colour"));
     let b = builder(dir.path(), &obj)
         .default_colour([10, 20, 30])
         .shading(Shading::Flat);
     for from_cache in [false, true] {
-        let done = b.cached_compile(CUBE.into(), Instant::now()).unwrap();
+        let done = b
+            .cached_compile(CUBE_WITH_LIBRARY.into(), Instant::now())
+            .unwrap();
         assert_eq!(done.from_cache, from_cache);
         assert!(done.entry.warnings.is_empty(), "{:?}", done.entry.warnings);
         let scene = Scene::parse(&done.entry.peel).unwrap();

@@ -14,8 +14,9 @@
 //! - A face's colour is its material's diffuse `Kd`, clamped to [0, 1] and rounded to RGB888.
 //!   A face without material, with an undefined material, with a material without `Kd`, or
 //!   whose MTL file is missing gets [`DEFAULT_COLOUR`] (or [`LoadOptions::default_colour`])
-//!   and a warning; with [`LoadOptions::default_colour`] set, faces without any material are
-//!   taken as meant and give no warning.
+//!   and a warning. Faces without any material give none where that is meant: in a file
+//!   without `mtllib` and `usemtl` statements (a plain mesh), or with
+//!   [`LoadOptions::default_colour`] set.
 //! - A triangle face gives one triangle, its corners in file order. A face with more corners is
 //!   triangulated in its own plane (`triangulate`): every triangle is written starting at
 //!   its smallest corner index in the face, keeping the face's winding, and the triangles of
@@ -24,7 +25,9 @@
 //!   vertex, crossing edges) gets a warning and the fan `[0, i, i + 1]` from its first corner;
 //!   a collinear one gets the same fan silently (all zero-area, dropped later).
 //! - `f` lines with fewer than three corners are skipped with a warning; `l` (polyline)
-//!   statements are not surfaces and are skipped with a warning.
+//!   statements are not surfaces and are skipped with a warning. A file that ends without a
+//!   line end in the middle of a face (fewer than three corners, or a last corner cut short)
+//!   is cut off: an error at that line.
 //! - Degenerate triangles are kept: the compiler drops zero-area triangles after quantisation.
 //! - Limits: the OBJ (and each MTL) may not exceed [`MAX_INPUT_BYTES`], the file may not have
 //!   more than [`MAX_VERTEX_STATEMENTS`] `v`/`vt`/`vn` statements nor produce more than
@@ -69,7 +72,8 @@ pub struct LoadOptions {
     /// The colour of faces whose colour the files do not give (no material, an undefined
     /// material, a material without `Kd`, a missing MTL file); `None` is [`DEFAULT_COLOUR`].
     /// When set, faces without any material (no `usemtl` before them) are taken as meant:
-    /// they give no warning. The other cases still warn (they are mistakes in the files).
+    /// they give no warning (nor do they in a file that names no material at all). The other
+    /// cases still warn (they are mistakes in the files).
     pub default_colour: Option<[u8; 3]>,
 }
 
@@ -78,6 +82,9 @@ pub struct LoadOptions {
 pub struct Mesh {
     /// Triangles; the index is the source triangle id.
     pub triangles: Vec<SourceTriangle>,
+    /// The faces the triangles come from (`f` lines of three corners or more), for messages;
+    /// 0 for a mesh not read from a file.
+    pub faces: usize,
     /// Non-fatal problems (missing MTL, face without material, ...), already worded for people.
     pub warnings: Vec<String>,
     /// Every file read (the OBJ and its MTL files), for `cargo:rerun-if-changed`.
@@ -322,6 +329,7 @@ pub fn load_obj_text_with(
                     triangulate::fan(arity)
                 }
             };
+            mesh.faces += 1;
             mesh.triangles
                 .extend(triangles.iter().map(|t| SourceTriangle {
                     vertices: t.map(|i| corners[i]),
@@ -341,8 +349,10 @@ pub fn load_obj_text_with(
             path: path.to_path_buf(),
         });
     }
-    if options.default_colour.is_some() {
-        // Faces without a material were meant to get the caller's colour.
+    let plain = scanned.mtllib_lines.is_empty() && scanned.material_names.is_empty();
+    if options.default_colour.is_some() || plain {
+        // Faces without a material were meant to get the caller's colour, or the file names
+        // no material at all.
         notes.no_material = Tally::default();
     }
     notes.into_warnings(path, &scanned, &materials, &mut mesh.warnings);

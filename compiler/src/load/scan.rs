@@ -2,7 +2,8 @@
 //!
 //! tobj reports neither line numbers nor NaN/inf coordinates, so this scan validates every
 //! statement tobj would look at (same tokenisation, same index rules) and reports errors with
-//! their line. A file that passes the scan cannot make tobj fail on vertex or face data. The
+//! their line. A file that ends without a line end in the middle of a face (cut off) is an
+//! error at that line. A file that passes the scan cannot make tobj fail on vertex or face data. The
 //! scan also records every `f`/`l` statement in file order: tobj emits exactly one face per
 //! statement, which lets the loader pair each tobj face with its line and check that the two
 //! parsers agree.
@@ -69,8 +70,11 @@ pub(super) fn scan(path: &Path, text: &str, limits: Limits) -> Result<Scan, Comp
     let mut coloured: Option<bool> = None;
     let mut triangles = 0usize;
 
-    for (index, raw) in text.split('\n').enumerate() {
+    let mut lines = text.split('\n').enumerate().peekable();
+    while let Some((index, raw)) = lines.next() {
         let line = index + 1;
+        // The text after the last line end: a file that does not end with one.
+        let unterminated = lines.peek().is_none();
         let mut words = raw.split_whitespace();
         match words.next() {
             Some("v") => {
@@ -90,11 +94,20 @@ pub(super) fn scan(path: &Path, text: &str, limits: Limits) -> Result<Scan, Comp
             }
             Some(keyword @ ("f" | "l")) => {
                 let mut arity = 0;
+                let (mut first, mut last) = ("", "");
                 for corner in words {
                     check_corner(path, line, corner, &counts)?;
+                    if arity == 0 {
+                        first = corner;
+                    }
+                    last = corner;
                     arity += 1;
                 }
                 let is_face = keyword == "f";
+                if is_face && unterminated {
+                    check_complete_face(raw, arity, first, last)
+                        .map_err(|m| parse_error(line, m))?;
+                }
                 triangles += if is_face && arity >= 3 { arity - 2 } else { 1 };
                 if triangles > limits.triangles {
                     return Err(CompileError::TooLarge {
@@ -142,6 +155,37 @@ pub(super) fn scan(path: &Path, text: &str, limits: Limits) -> Result<Scan, Comp
         }
     }
     Ok(out)
+}
+
+/// Checks the face on the last line of a file that does not end with a line end, `raw`, of
+/// `arity` corners, the first `first` and the last `last`: a file cut off in the middle of a
+/// face leaves one with fewer than three corners or a last corner cut short (`3/`, or fewer
+/// indices than the first corner has). Elsewhere such a face is a mistake of its own, skipped
+/// with a warning; here the rest of the file is missing.
+fn check_complete_face(raw: &str, arity: usize, first: &str, last: &str) -> Result<(), String> {
+    let statement = excerpt(raw.trim());
+    let why = if arity < 3 {
+        format!(
+            "`{statement}` has {arity} corner{}",
+            if arity == 1 { "" } else { "s" }
+        )
+    } else if last.ends_with('/') || last.split('/').count() < first.split('/').count() {
+        format!("the last corner of `{statement}`, `{last}`, is incomplete")
+    } else {
+        return Ok(());
+    };
+    Err(format!(
+        "the file ends in the middle of a face: {why}, and no line end follows (is the file cut \
+         off?)"
+    ))
+}
+
+/// `text`, shortened to its first 40 characters and an ellipsis when longer.
+fn excerpt(text: &str) -> String {
+    match text.char_indices().nth(40) {
+        Some((at, _)) => format!("{}...", text[..at].trim_end()),
+        None => text.to_owned(),
+    }
 }
 
 /// Checks a `v` statement the way tobj reads it: x y z, then nothing, a weight w, or an RGB
@@ -359,6 +403,57 @@ mod tests {
     fn texture_index_out_of_range_is_reported() {
         let e = run("v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nf 1/1 2/2 3/1\n").unwrap_err();
         assert!(matches!(e, CompileError::Parse { line: 5, .. }), "{e}");
+    }
+
+    #[test]
+    fn a_file_cut_off_in_a_face_is_an_error_at_its_last_line() {
+        let head = "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nf 1 2 3\n";
+        for (tail, says) in [
+            ("f 1 2", "`f 1 2` has 2 corners"),
+            ("f", "`f` has 0 corners"),
+            ("f 1/", "`f 1/` has 1 corner,"),
+            (
+                "f 1 2 3/",
+                "the last corner of `f 1 2 3/`, `3/`, is incomplete",
+            ),
+            (
+                "f 1/1 2/1 3",
+                "the last corner of `f 1/1 2/1 3`, `3`, is incomplete",
+            ),
+            ("f 1//  ", "`f 1//` has 1 corner"),
+        ] {
+            let e = run(&format!("{head}{tail}")).unwrap_err();
+            let shown = e.to_string();
+            assert!(
+                matches!(e, CompileError::Parse { line: 6, .. }),
+                "{tail}: {shown}"
+            );
+            assert!(
+                shown.starts_with("t.obj:6: the file ends in the middle of a face: ")
+                    && shown.contains(says)
+                    && shown.contains("cut off"),
+                "{tail}: {shown}"
+            );
+        }
+        // A whole face without a line end is a face; a short face with one is skipped later
+        // (with a warning), as anywhere in a file.
+        for text in [
+            format!("{head}f 3 2 1"),
+            format!("{head}f 1/1 2/1 3/1"),
+            format!("{head}f 1 2\n"),
+            format!("{head}f 1 2\r\n"),
+            format!("{head}# f 1 2"),
+            format!("{head}l 1"),
+        ] {
+            assert!(run(&text).is_ok(), "{text:?}");
+        }
+        // A long line is quoted in part.
+        let long = format!("{head}f {}2/", "1 ".repeat(30));
+        let shown = run(&long).unwrap_err().to_string();
+        assert!(
+            shown.contains(&format!("`f {}1...`, `2/`", "1 ".repeat(18))),
+            "{shown}"
+        );
     }
 
     #[test]

@@ -44,6 +44,7 @@ fn bad_fixtures_give_their_documented_error_and_line() {
         ("no_faces.obj", "NoFaces", None),
         ("bad_number.obj", "Parse", Some(3)),
         ("bad_face.obj", "Parse", Some(5)),
+        ("cut_off_face.obj", "Parse", Some(8)),
     ];
     for &(name, kind, line) in cases {
         let path = fixture(name);
@@ -149,10 +150,37 @@ fn faces_without_material_or_kd_warn() {
     let text = mesh.warnings.join("\n");
     assert!(text.contains("2 faces have no material"), "{text}");
     assert!(text.contains("first at line 5"), "{text}");
+    // The warning says how to choose their colour.
+    assert!(
+        text.contains("default colour 200,200,200") && text.contains("--default-colour R,G,B"),
+        "{text}"
+    );
     assert!(
         text.contains("`plain` has no usable diffuse colour"),
         "{text}"
     );
+}
+
+#[test]
+fn a_file_that_names_no_material_gets_the_default_colour_without_a_warning() {
+    // A plain mesh: no `mtllib`, no `usemtl`.
+    let mesh = load_text("v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nf 1 2 3\nf 1 2 4 3\n");
+    assert_eq!((mesh.faces, mesh.triangles.len()), (2, 3));
+    assert!(mesh.triangles.iter().all(|t| t.colour == DEFAULT_COLOUR));
+    assert!(mesh.warnings.is_empty(), "{:?}", mesh.warnings);
+    // Naming a material anywhere makes faces without one a mistake again.
+    for named in ["usemtl red\n", "mtllib m.mtl\n"] {
+        let dir = write_files(&[
+            (
+                "m.obj",
+                &format!("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n{named}f 1 2 3\n"),
+            ),
+            ("m.mtl", "newmtl red\nKd 1 0 0\n"),
+        ]);
+        let mesh = load_obj(&dir.path().join("m.obj")).unwrap();
+        let text = mesh.warnings.join("\n");
+        assert!(text.contains("no material"), "{named}: {text}");
+    }
 }
 
 #[test]

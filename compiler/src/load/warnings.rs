@@ -41,7 +41,7 @@ impl Tally {
 /// Non-fatal findings, collected per kind so a bad file gives a few readable warnings.
 #[derive(Debug, Default)]
 pub(super) struct Notes {
-    /// Faces with no `usemtl` before them.
+    /// Faces with no `usemtl` before them (cleared where that is meant).
     pub(super) no_material: Tally,
     /// Faces whose material no library defines, by the scan's material name index.
     pub(super) undefined: BTreeMap<u32, Tally>,
@@ -67,10 +67,19 @@ impl Notes {
         let file = path.display();
         let t = &self.no_material;
         if t.count > 0 {
+            let [r, g, b] = super::DEFAULT_COLOUR;
+            let (them, get) = if t.count == 1 {
+                ("it", "it gets")
+            } else {
+                ("them", "they get")
+            };
             out.push(format!(
-                "{file}: {} no material (no `usemtl` before, {}); default colour used",
+                "{file}: {} no material (no `usemtl` before {them}, {}): {get} the default \
+                 colour {r},{g},{b}; `peel compile --default-colour R,G,B` \
+                 (`Builder::default_colour` in a build script) chooses another and silences \
+                 this warning",
                 t.count("face has", "faces have"),
-                t.at()
+                t.at(),
             ));
         }
         for (name, t) in &self.undefined {

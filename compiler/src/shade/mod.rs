@@ -46,6 +46,31 @@ pub struct Sides {
 }
 
 impl Shading {
+    /// Refuses a light that cannot shade: a sun's direction of no length or not finite (every
+    /// face would get only its ambient colour), a point light's position that is not finite.
+    pub fn check(&self) -> Result<(), crate::error::CompileError> {
+        let text = |v: DVec3| format!("{},{},{}", v.x, v.y, v.z);
+        let why = match *self {
+            Shading::Flat => None,
+            Shading::Lambert(towards) if !towards.is_finite() => Some(format!(
+                "the light direction {} is not finite",
+                text(towards)
+            )),
+            Shading::Lambert(towards) if towards.try_normalize().is_none() => Some(format!(
+                "the light direction {} has no length: it points from the scene towards the \
+                 light, e.g. {}",
+                text(towards),
+                text(DEFAULT_LIGHT)
+            )),
+            Shading::Point(at) if !at.is_finite() => Some(format!(
+                "the point light position {} is not finite",
+                text(at)
+            )),
+            Shading::Lambert(_) | Shading::Point(_) => None,
+        };
+        why.map_or(Ok(()), |m| Err(crate::error::CompileError::Light(m)))
+    }
+
     /// The light that casts shadows (`None` without lighting).
     pub fn light(&self) -> Option<crate::shadow::Light> {
         match *self {
@@ -98,6 +123,36 @@ impl Shading {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_light_without_direction_or_position_is_refused() {
+        for (shading, says) in [
+            (
+                Shading::Lambert(DVec3::ZERO),
+                "the light direction 0,0,0 has no length",
+            ),
+            (Shading::Lambert(DVec3::splat(1e-320)), "has no length"),
+            (
+                Shading::Lambert(DVec3::new(f64::NAN, 1.0, 0.0)),
+                "is not finite",
+            ),
+            (
+                Shading::Point(DVec3::new(0.0, f64::INFINITY, 0.0)),
+                "position 0,inf,0 is not finite",
+            ),
+        ] {
+            let e = shading.check().unwrap_err().to_string();
+            assert!(e.contains(says), "{shading:?}: {e}");
+        }
+        for fine in [
+            Shading::Flat,
+            Shading::default(),
+            Shading::Lambert(DVec3::new(0.0, -1e-3, 0.0)),
+            Shading::Point(DVec3::ZERO),
+        ] {
+            assert!(fine.check().is_ok(), "{fine:?}");
+        }
+    }
 
     #[test]
     fn flat_keeps_material_colour_on_both_sides() {

@@ -40,6 +40,9 @@ impl Frame {
     }
 }
 
+/// Why an empty scene is not rendered.
+pub const EMPTY_SCENE: &str = "the scene is empty (it has no polygons): there is nothing to draw";
+
 /// Span-buffer intervals per image row given to front-to-back rendering on the host.
 pub const HOST_SPANS_PER_ROW: usize = 64;
 
@@ -97,10 +100,14 @@ pub fn render_bytes(
     )
 }
 
-/// Render `bytes` as `shot` sees them, as `settings` say.
+/// Render `bytes` as `shot` sees them, as `settings` say. An empty scene (no polygons) is an
+/// error: there is nothing to draw, and no extent to frame or to take a near distance from.
 pub fn render_bytes_with(bytes: &[u8], shot: &Shot, settings: &Settings) -> Result<Frame, String> {
     let (ids, background) = (settings.ids, settings.background);
     let scene = Scene::parse(bytes).map_err(|e| format!("invalid .peel file: {e}"))?;
+    if scene.header().polygon_count == 0 {
+        return Err(EMPTY_SCENE.to_string());
+    }
     let camera = shot.camera(&scene.header())?;
     let mut pixels = vec![0u32; shot.width as usize * shot.height as usize];
     let mut fb = Framebuffer::<Xrgb8888>::new(&mut pixels, shot.width, shot.height)
