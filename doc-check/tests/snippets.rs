@@ -5,7 +5,12 @@ use std::path::Path;
 use std::process::{Command, Output};
 
 fn snippets(root: &Path, args: &[&str]) -> Output {
+    // The crates are made in the temporary folder: the scratch repository's, so that the
+    // failed ones kept for a look go with it.
+    let tmp = root.join("tmp");
+    std::fs::create_dir_all(&tmp).unwrap();
     Command::new(env!("CARGO_BIN_EXE_peel-doc-check"))
+        .env("TMPDIR", &tmp)
         .arg("snippets")
         .args(args)
         .arg("--root")
