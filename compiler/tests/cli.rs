@@ -793,15 +793,24 @@ fn bench_quick_runs_every_method_on_every_scene() {
         "warnock-enclosing",
         "weiler-atherton",
     ];
-    assert_eq!(records.len(), scenes.len() * methods.len());
+    // Each scene's methods, and front to back at 0 and 4 subpixel bits (the table's
+    // `SUBPIXEL_BITS` rows).
+    let subpixel = ["peel-front-to-back/sub0", "peel-front-to-back/sub4"];
+    assert_eq!(
+        records.len(),
+        scenes.len() * (methods.len() + subpixel.len())
+    );
     for scene in scenes {
-        for method in methods {
+        for method in methods.iter().chain(&subpixel) {
             let r = records
                 .iter()
-                .find(|r| r["scene"] == scene && r["method"] == method)
+                .find(|r| r["scene"] == scene && r["method"] == *method)
                 .unwrap_or_else(|| panic!("{scene} {method}"));
             assert!(r["memory_bytes"].as_u64().unwrap() > 0, "{r}");
             assert!(r["pixels_written"].as_u64().unwrap() > 0, "{r}");
+            if method.starts_with("peel") {
+                assert!(r["polygons_drawn"].as_u64().unwrap() > 0, "{r}");
+            }
         }
     }
     let table = std::fs::read_to_string(dir.path().join("frames.md")).unwrap();

@@ -16,9 +16,7 @@ mod elf;
 mod measure;
 mod pixels;
 mod plan;
-mod plot;
 mod report;
-mod results;
 mod scenes;
 mod tools;
 
@@ -31,6 +29,7 @@ use std::time::Instant;
 use peel_runtime::display::Colour;
 use peel_target_kit::config::{OrbitAngles, Variant};
 use peel_target_kit::mesh::Mesh;
+use peel_target_runner::{plot, results};
 
 use accuracy::Truth;
 use measure::{Expected, Measure, Robust};
@@ -270,10 +269,7 @@ fn run(args: &Args) -> Result<Vec<String>, String> {
         .or(records.first().map(|r| r.scene.as_str()));
     if let Some(png) = pick.map(|s| plot::plot(&records, s)).transpose()?.flatten() {
         write(&out.join("alternatives.png"), &png)?;
-        let scenes: Vec<&str> = ["teapot", "cow", "teapot (generated)", "cow (generated)"]
-            .into_iter()
-            .filter(|s| records.iter().any(|r| r.scene == *s))
-            .collect();
+        let scenes = results::alternatives_scenes(&records);
         write(
             &out.join("alternatives.md"),
             results::alternatives(&records, &scenes).as_bytes(),

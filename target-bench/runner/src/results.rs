@@ -1,10 +1,12 @@
-//! The result records and their two files: `results.json` and the same records as a markdown
-//! table, `results.md`.
+//! The result records and what is made of them: `results.json`, the same records as a
+//! markdown table (`results.md`), the anti-aliased frames' table and the README's table of the
+//! alternatives. The docs' figures render these tables from the committed copy of
+//! `results.json` (`results/target.json`) with the same functions.
 
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 /// One scene x method x core x size x display path. The JSON keys are exactly these fields.
-#[derive(Debug, Clone, PartialEq, Eq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
 pub struct Record {
     /// Scene name (`(generated)` when a generated mesh stood in for a missing model).
     pub scene: String,
@@ -64,7 +66,7 @@ pub fn json(records: &[Record]) -> Result<String, String> {
     serde_json::to_string_pretty(records).map_err(|e| e.to_string())
 }
 
-/// `n` with thin thousands separators (`1 234 567`), for the table.
+/// `n` with thin thousands separators (`1 234 567`), for the tables.
 fn grouped(n: u64) -> String {
     let digits = n.to_string();
     let mut out = String::new();
@@ -77,37 +79,139 @@ fn grouped(n: u64) -> String {
     out
 }
 
-/// The records as a markdown table, same columns and order as the JSON.
-pub fn markdown(records: &[Record]) -> String {
-    let mut s = String::from(
-        "| scene | method | path | core | width | height | triangles | instructions | ram_bytes | \
-         framebuffer_bytes | flash_bytes | display_bytes | display_writes | differing_pixels | robust_errors | \
-         deterministic |\n\
-         |---|---|---|---|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|---|\n",
-    );
+/// A column of the records' tables: the record's JSON key, whether it is right-aligned, and
+/// its cell.
+#[derive(Debug)]
+pub struct Column {
+    /// The JSON key, also the header of `results.md`.
+    pub key: &'static str,
+    /// Right-aligned (a figure).
+    pub figure: bool,
+    /// The cell of a record.
+    pub cell: fn(&Record) -> String,
+}
+
+/// `-` for a figure that does not apply.
+fn or_dash(v: Option<u64>) -> String {
+    v.map_or_else(|| "-".to_string(), grouped)
+}
+
+/// A column of words.
+const fn words(key: &'static str, cell: fn(&Record) -> String) -> Column {
+    Column {
+        key,
+        figure: false,
+        cell,
+    }
+}
+
+/// A column of figures.
+const fn figures(key: &'static str, cell: fn(&Record) -> String) -> Column {
+    Column {
+        key,
+        figure: true,
+        cell,
+    }
+}
+
+/// Every field of [`Record`] as a column, in the JSON's order.
+pub const COLUMNS: [Column; 20] = [
+    words("scene", |r| r.scene.clone()),
+    words("method", |r| r.method.clone()),
+    words("path", |r| r.path.clone()),
+    words("core", |r| r.core.clone()),
+    figures("width", |r| r.width.to_string()),
+    figures("height", |r| r.height.to_string()),
+    figures("triangles", |r| grouped(r.triangles)),
+    figures("instructions", |r| grouped(r.instructions)),
+    figures("ram_bytes", |r| grouped(r.ram_bytes)),
+    figures("framebuffer_bytes", |r| grouped(r.framebuffer_bytes)),
+    figures("flash_bytes", |r| grouped(r.flash_bytes)),
+    figures("text_bytes", |r| grouped(r.text_bytes)),
+    figures("display_bytes", |r| grouped(r.display_bytes)),
+    figures("display_writes", |r| grouped(r.display_writes)),
+    figures("differing_pixels", |r| or_dash(r.differing_pixels)),
+    figures("robust_errors", |r| or_dash(r.robust_errors)),
+    figures("pending_peak", |r| or_dash(r.pending_peak)),
+    figures("pending_records", |r| or_dash(r.pending_records)),
+    words("pending_fallback", |r| {
+        r.pending_fallback.map_or("-", yes_no).to_string()
+    }),
+    words("deterministic", |r| yes_no(r.deterministic).to_string()),
+];
+
+fn yes_no(b: bool) -> &'static str {
+    if b {
+        "yes"
+    } else {
+        "no"
+    }
+}
+
+/// The column of JSON key `key`.
+pub fn column(key: &str) -> Option<&'static Column> {
+    COLUMNS.iter().find(|c| c.key == key)
+}
+
+/// The columns of `results.md` (the anti-aliased frames' own figures are in their table).
+pub const RESULTS_MD: [&str; 16] = [
+    "scene",
+    "method",
+    "path",
+    "core",
+    "width",
+    "height",
+    "triangles",
+    "instructions",
+    "ram_bytes",
+    "framebuffer_bytes",
+    "flash_bytes",
+    "display_bytes",
+    "display_writes",
+    "differing_pixels",
+    "robust_errors",
+    "deterministic",
+];
+
+/// A markdown table of `records`, one row each in their order, with these headers and columns.
+pub fn table<'r>(
+    records: impl IntoIterator<Item = &'r Record>,
+    columns: &[(&str, &Column)],
+) -> String {
+    let mut s = peel_compiler::tools::markdown_row(columns.iter().map(|(header, _)| header));
+    s.push('|');
+    for (_, c) in columns {
+        s.push_str(if c.figure { "--:|" } else { "---|" });
+    }
+    s.push('\n');
     for r in records {
-        s.push_str(&peel_compiler::tools::markdown_row([
-            r.scene.clone(),
-            r.method.clone(),
-            r.path.clone(),
-            r.core.clone(),
-            r.width.to_string(),
-            r.height.to_string(),
-            grouped(r.triangles),
-            grouped(r.instructions),
-            grouped(r.ram_bytes),
-            grouped(r.framebuffer_bytes),
-            grouped(r.flash_bytes),
-            grouped(r.display_bytes),
-            grouped(r.display_writes),
-            r.differing_pixels
-                .map_or_else(|| "-".to_string(), |d| d.to_string()),
-            r.robust_errors
-                .map_or_else(|| "-".to_string(), |d| d.to_string()),
-            (if r.deterministic { "yes" } else { "no" }).to_string(),
-        ]));
+        s.push_str(&peel_compiler::tools::markdown_row(
+            columns.iter().map(|(_, c)| (c.cell)(r)),
+        ));
     }
     s
+}
+
+/// The columns of these JSON keys, each headed by its key; an unknown key is an error naming
+/// it and the keys there are.
+pub fn columns_of<'k>(keys: &[&'k str]) -> Result<Vec<(&'k str, &'static Column)>, String> {
+    keys.iter()
+        .map(|&k| {
+            column(k).map(|c| (k, c)).ok_or_else(|| {
+                let known: Vec<&str> = COLUMNS.iter().map(|c| c.key).collect();
+                format!("no column {k:?} (the records' keys: {})", known.join(", "))
+            })
+        })
+        .collect()
+}
+
+/// The records as a markdown table, the columns of [`RESULTS_MD`] in the JSON's order.
+pub fn markdown(records: &[Record]) -> String {
+    let columns: Vec<(&str, &Column)> = RESULTS_MD
+        .iter()
+        .filter_map(|&k| Some((k, column(k)?)))
+        .collect();
+    table(records, &columns)
 }
 
 /// Goals for the anti-aliased streamed frame of the teapot on the Cortex-M4F at 320x240: RAM
@@ -123,22 +227,38 @@ fn stream_of(r: &Record, aa: &Record) -> bool {
             == (aa.scene.as_str(), aa.core.as_str(), aa.width, aa.height)
 }
 
-/// The anti-aliased frames (`stream-aa`), each under Peel's streamed frame of the same scene,
-/// core and size: instructions and their ratio to the streamed frame's, RAM, display bytes and
-/// writes, `.text` against the streamed build's, pending records and differing pixels; then
-/// the goals for the teapot on the Cortex-M4F at 320x240 when it was measured. Empty without
-/// anti-aliased records.
+/// The anti-aliased frames' section of `results.md`: a heading, [`antialiased_table`] and
+/// [`antialiased_goals`]. Empty without anti-aliased records.
 pub fn antialiased(records: &[Record]) -> String {
-    let aa: Vec<&Record> = records
+    let table = antialiased_table(records);
+    if table.is_empty() {
+        return table;
+    }
+    format!(
+        "\n## Anti-aliased frames (stream-aa)\n\n{table}{}",
+        antialiased_goals(records)
+    )
+}
+
+/// The anti-aliased records (`stream-aa`).
+fn antialiased_records(records: &[Record]) -> Vec<&Record> {
+    records
         .iter()
         .filter(|r| r.method == "peel-front-to-back-aa")
-        .collect();
+        .collect()
+}
+
+/// The anti-aliased frames (`stream-aa`), each under Peel's streamed frame of the same scene,
+/// core and size: instructions and their ratio to the streamed frame's, RAM, display bytes and
+/// writes, `.text` against the streamed build's, pending records and differing pixels. Empty
+/// without anti-aliased records.
+pub fn antialiased_table(records: &[Record]) -> String {
+    let aa = antialiased_records(records);
     if aa.is_empty() {
         return String::new();
     }
     let mut s = String::from(
-        "\n## Anti-aliased frames (stream-aa)\n\n\
-         | scene | core | size | path | instructions | x stream | ram_bytes | display_bytes | \
+        "| scene | core | size | path | instructions | x stream | ram_bytes | display_bytes | \
          display_writes | .text delta | pending peak / records | fallback | differing_pixels |\n\
          |---|---|---|---|--:|--:|--:|--:|--:|--:|--:|---|--:|\n",
     );
@@ -187,7 +307,15 @@ pub fn antialiased(records: &[Record]) -> String {
         };
         s.push_str(&row(a, "stream-aa", text, pending, fallback));
     }
-    let goal = aa.iter().find(|r| {
+    s
+}
+
+/// The goals for the teapot's anti-aliased frame on the Cortex-M4F at 320x240 ([`AA_GOALS`])
+/// and whether each is met; empty when that frame was not measured.
+pub fn antialiased_goals(records: &[Record]) -> String {
+    let dash = || "-".to_string();
+    let mut s = String::new();
+    let goal = antialiased_records(records).into_iter().find(|r| {
         r.scene.starts_with("teapot") && r.core == "cortex-m4f" && (r.width, r.height) == (320, 240)
     });
     if let Some(a) = goal {
@@ -247,37 +375,45 @@ pub fn antialiased(records: &[Record]) -> String {
     s
 }
 
+/// The scenes of the README's table of Peel and the alternatives that `records` has: the
+/// teapot and the cow, or the generated meshes that stood in for them.
+pub fn alternatives_scenes(records: &[Record]) -> Vec<&'static str> {
+    ["teapot", "cow", "teapot (generated)", "cow (generated)"]
+        .into_iter()
+        .filter(|s| records.iter().any(|r| r.scene == *s))
+        .collect()
+}
+
 /// The README's table of Peel and the alternatives: for each of `scenes` at 320x240, each
 /// plotted method ([`crate::plot::METHODS`]) on each core, its instructions, RAM, flash and
 /// robust errors.
 pub fn alternatives(records: &[Record], scenes: &[&str]) -> String {
-    let mut s = String::from(
-        "| scene | core | method | path | instructions | RAM (bytes) | flash (bytes) | \
-         robust errors |\n|---|---|---|---|--:|--:|--:|--:|\n",
-    );
+    let mut rows = Vec::new();
     for scene in scenes {
         for core in ["cortex-m4f", "cortex-m0plus"] {
-            let mut rows: Vec<(usize, &Record)> = records
+            let mut mine: Vec<(usize, &Record)> = records
                 .iter()
                 .filter(|r| r.core == core)
                 .filter_map(|r| Some((crate::plot::plotted(r, scene)?, r)))
                 .collect();
-            rows.sort_by_key(|(k, _)| *k);
-            for (_, r) in rows {
-                s.push_str(&peel_compiler::tools::markdown_row([
-                    r.scene.clone(),
-                    r.core.clone(),
-                    r.method.clone(),
-                    r.path.clone(),
-                    grouped(r.instructions),
-                    grouped(r.ram_bytes),
-                    grouped(r.flash_bytes),
-                    r.robust_errors.map_or_else(|| "-".to_string(), grouped),
-                ]));
-            }
+            mine.sort_by_key(|(k, _)| *k);
+            rows.extend(mine.into_iter().map(|(_, r)| r));
         }
     }
-    s
+    let columns: Vec<(&str, &Column)> = [
+        ("scene", "scene"),
+        ("core", "core"),
+        ("method", "method"),
+        ("path", "path"),
+        ("instructions", "instructions"),
+        ("RAM (bytes)", "ram_bytes"),
+        ("flash (bytes)", "flash_bytes"),
+        ("robust errors", "robust_errors"),
+    ]
+    .into_iter()
+    .filter_map(|(header, key)| Some((header, column(key)?)))
+    .collect();
+    table(rows, &columns)
 }
 
 #[cfg(test)]
@@ -340,6 +476,18 @@ mod tests {
                 "pending_fallback",
                 "deterministic"
             ]
+        );
+        // A table's columns are named by the same keys.
+        assert_eq!(COLUMNS.map(|c| c.key), keys[..]);
+        let picked = table(&[record()], &columns_of(&["method", "ram_bytes"]).unwrap());
+        assert_eq!(
+            picked,
+            "| method | ram_bytes |\n|---|--:|\n| peel-front-to-back | 172 000 |\n"
+        );
+        let e = columns_of(&["ram"]).unwrap_err();
+        assert!(
+            e.starts_with("no column \"ram\" (the records' keys: scene, method,"),
+            "{e}"
         );
     }
 

@@ -11,7 +11,7 @@
 use std::path::Path;
 use std::time::Instant;
 
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 use crate::compile::{compile_mesh, CompileOptions};
 use crate::error::CompileError;
@@ -27,7 +27,7 @@ pub const MODELS: [&str; 4] = ["cow", "teapot", "suzanne", "stanford-bunny"];
 pub const BASELINE_MAX_TRIANGLES: usize = 100_000;
 
 /// One baseline's figures on one scene.
-#[derive(Debug, Clone, Copy, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct BaselineRow {
     /// Output polygons (greedy: triangles).
     pub polygons: u64,
@@ -41,8 +41,8 @@ pub struct BaselineRow {
     pub seconds: f64,
 }
 
-/// One scene's figures.
-#[derive(Debug, Clone, Serialize)]
+/// One scene's figures; the JSON keys of `peel bench compile --json` are exactly these fields.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct BenchRow {
     /// Scene name.
     pub scene: String,
@@ -182,6 +182,11 @@ pub fn markdown(rows: &[BenchRow]) -> String {
     out
 }
 
+/// The rows of a `peel bench compile --json` file.
+pub fn from_json(text: &str) -> Result<Vec<BenchRow>, String> {
+    serde_json::from_str(text).map_err(|e| e.to_string())
+}
+
 /// Run the bench on the shared models found in `models_dir` (a notice is printed for each
 /// one absent) and on the generated scenes; write the rows as JSON to `json` when given;
 /// return the markdown table.
@@ -230,7 +235,7 @@ mod tests {
         assert_eq!(row.greedy_triangles.unwrap().polygons, 96);
         assert!(row.naive_bsp.unwrap().polygons >= 96);
         assert!(row.compile_seconds >= 0.0 && row.compile_seconds.is_finite());
-        let table = markdown(&[row]);
+        let table = markdown(std::slice::from_ref(&row));
         assert_eq!(table.lines().count(), 3);
         // Header, rule and row have the same number of cells.
         let cells: Vec<usize> = table.lines().map(|l| l.matches('|').count()).collect();
@@ -240,6 +245,10 @@ mod tests {
             .nth(2)
             .unwrap()
             .starts_with("| box grid 2^3 | 96 | 96 | 1.000 |"));
+        // The JSON gives the same rows, so the table can be made again from it.
+        let json = serde_json::to_string_pretty(std::slice::from_ref(&row)).unwrap();
+        assert_eq!(from_json(&json).unwrap(), std::slice::from_ref(&row));
+        assert_eq!(markdown(&from_json(&json).unwrap()), table);
     }
 
     /// The full bench on the shared models (run with `--ignored --nocapture`, release).
