@@ -61,6 +61,9 @@ impl Workshop {
         let dir = self.make(s)?;
         let mut build = self.cargo(&dir);
         build.arg("build");
+        if super::has_other_targets(s) {
+            build.arg("--all-targets");
+        }
         if let Some(t) = &s.target {
             build.args(["--target", t]);
         }

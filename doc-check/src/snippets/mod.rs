@@ -8,6 +8,9 @@
 //!   edition) and built with `cargo build` (`--target TRIPLE` with `target=`). `copy=` copies
 //!   the repository's file `SRC` to `DEST` in the crate (an asset, say). NAME is a package
 //!   name (`a-z`, digits, `-`, `_`, a letter first), unique across the docs.
+//!   `extends=OTHER` starts from snippet OTHER's crate (its files, copies and target): a block
+//!   of this snippet replaces OTHER's file of the same path (all of OTHER's `Cargo.toml`
+//!   blocks when it has one), so a variant of an example shows only what differs.
 //! * The snippet holds every fenced block after it up to the next snippet marker,
 //!   `<!-- snippet-end -->` or the end of the file. A block names its file on its first line,
 //!   in a comment: `# Cargo.toml`, `// src/main.rs`, `// build.rs: what it does`,
@@ -24,6 +27,9 @@
 //!   `<!-- snippet: none [why] -->`, which leaves out the next block alone (for a fragment
 //!   shown to explain, kept rare; `--list` lists them). Any other block is an error naming its
 //!   file and line, so a new example cannot go unbuilt.
+//!
+//! A crate with tests, benches or examples (a file under `tests/`, `benches/` or `examples/`) is
+//! built with `--all-targets`, so those compile too.
 //!
 //! Every snippet builds in one target directory, `target/snippets`, so Peel's crates compile
 //! once per configuration; each crate resolves its own `Cargo.lock`.
@@ -48,6 +54,8 @@ pub struct Snippet {
     pub target: Option<String>,
     /// Files of the repository copied into the crate: (in the crate, in the repository).
     pub copies: Vec<(String, String)>,
+    /// The snippet it starts from (`extends=`), resolved by [`find`].
+    pub extends: Option<String>,
     /// Its blocks, in order.
     pub files: Vec<SnippetFile>,
 }
@@ -93,6 +101,7 @@ enum Marker {
         name: String,
         target: Option<String>,
         copies: Vec<(String, String)>,
+        extends: Option<String>,
     },
     /// `<!-- snippet: none ... -->`.
     None(String),
@@ -100,7 +109,8 @@ enum Marker {
     End,
 }
 
-const FORM: &str = "expected `<!-- snippet: NAME [target=TRIPLE] [copy=DEST:SRC] -->`, \
+const FORM: &str =
+    "expected `<!-- snippet: NAME [target=TRIPLE] [copy=DEST:SRC] [extends=OTHER] -->`, \
                     `<!-- snippet: none -->` or `<!-- snippet-end -->`";
 
 /// The marker on `line`, `None` when it holds none.
@@ -139,7 +149,7 @@ fn start<'a>(name: &str, options: impl Iterator<Item = &'a str>) -> Result<Marke
              a letter first"
         ));
     }
-    let (mut target, mut copies) = (None, Vec::new());
+    let (mut target, mut copies, mut extends) = (None, Vec::new(), None);
     for option in options {
         if let Some(t) = option.strip_prefix("target=") {
             if t.is_empty() || target.is_some() {
@@ -159,9 +169,17 @@ fn start<'a>(name: &str, options: impl Iterator<Item = &'a str>) -> Result<Marke
                     )
                 })?;
             copies.push((dest.to_string(), src.to_string()));
+        } else if let Some(other) = option.strip_prefix("extends=") {
+            if other.is_empty() || extends.is_some() {
+                return Err(format!(
+                    "snippet {name}: one `extends=OTHER`, not {option:?}"
+                ));
+            }
+            extends = Some(other.to_string());
         } else {
             return Err(format!(
-                "snippet {name}: unknown option {option:?} (options: target=TRIPLE, copy=DEST:SRC)"
+                "snippet {name}: unknown option {option:?} (options: target=TRIPLE, copy=DEST:SRC, \
+                 extends=OTHER)"
             ));
         }
     }
@@ -169,6 +187,7 @@ fn start<'a>(name: &str, options: impl Iterator<Item = &'a str>) -> Result<Marke
         name: name.to_string(),
         target,
         copies,
+        extends,
     })
 }
 
@@ -234,6 +253,7 @@ pub fn find(docs: &[Doc], root: &Path) -> Found {
         }
     }
     found.problems.extend(duplicates);
+    resolve_extends(&mut found);
     // A manifest that names Peel otherwise than as the clone beside the crate is not built.
     let mut bad = Vec::new();
     for s in &found.snippets {
@@ -250,6 +270,64 @@ pub fn find(docs: &[Doc], root: &Path) -> Found {
     }
     found.snippets.retain(|s| !bad.contains(&s.name));
     found
+}
+
+/// Each `extends=OTHER` snippet given OTHER's files (those it does not replace), copies and
+/// target; an unknown or extended OTHER is a problem.
+fn resolve_extends(found: &mut Found) {
+    let bases = found.snippets.clone();
+    for s in &mut found.snippets {
+        let Some(other) = s.extends.clone() else {
+            continue;
+        };
+        let Some(base) = bases.iter().find(|b| b.name == other) else {
+            found.problems.push(Problem::new(
+                &s.doc,
+                s.line,
+                format!("snippet {}: extends {other}, which no snippet is", s.name),
+            ));
+            continue;
+        };
+        if base.extends.is_some() {
+            found.problems.push(Problem::new(
+                &s.doc,
+                s.line,
+                format!(
+                    "snippet {}: extends {other}, which extends another (one level only)",
+                    s.name
+                ),
+            ));
+            continue;
+        }
+        let own: Vec<String> = s.files.iter().map(|f| f.path.clone()).collect();
+        let inherited = base
+            .files
+            .iter()
+            .filter(|f| !own.contains(&f.path))
+            .cloned();
+        s.files = inherited.chain(s.files.drain(..)).collect();
+        let own_copies = std::mem::take(&mut s.copies);
+        let mut copies: Vec<(String, String)> = base
+            .copies
+            .iter()
+            .filter(|(dest, _)| !own_copies.iter().any(|(d, _)| d == dest))
+            .cloned()
+            .collect();
+        copies.extend(own_copies);
+        s.copies = copies;
+        if s.target.is_none() {
+            s.target = base.target.clone();
+        }
+    }
+}
+
+/// Whether the snippet's crate has targets besides its binary (built with `--all-targets`).
+pub fn has_other_targets(s: &Snippet) -> bool {
+    s.files.iter().any(|f| {
+        ["tests/", "benches/", "examples/"]
+            .iter()
+            .any(|dir| f.path.starts_with(dir))
+    })
 }
 
 /// One document's snippets into `found`.
@@ -294,6 +372,7 @@ fn scan(doc: &Doc, root: &Path, found: &mut Found) {
                         name: snippet,
                         target,
                         copies,
+                        extends,
                     }) => {
                         for (_, src) in &copies {
                             if !root.join(src).is_file() {
@@ -312,6 +391,7 @@ fn scan(doc: &Doc, root: &Path, found: &mut Found) {
                             line: line.number,
                             target,
                             copies,
+                            extends,
                             files: Vec::new(),
                         });
                     }
@@ -402,6 +482,7 @@ mod tests {
                 name: "fw".into(),
                 target: Some("thumbv7em-none-eabihf".into()),
                 copies: vec![("assets/a.obj".into(), "fixtures/demo.obj".into())],
+                extends: None,
             }))
         );
         for (bad, says) in [
@@ -514,5 +595,43 @@ mod tests {
         for (p, e) in problems.iter().zip(expect) {
             assert!(p.starts_with(e), "{p}\n  expected: {e}");
         }
+    }
+    #[test]
+    fn a_snippet_that_extends_another_replaces_its_files_of_the_same_path() {
+        let f = found(
+            "<!-- snippet: base target=thumbv7em-none-eabihf copy=assets/a.obj:fixtures/demo.obj -->\n\
+             ```toml\n# Cargo.toml\n[dependencies]\na = \"1\"\n```\n```toml\n# Cargo.toml\n[profile.dev]\n```\n\
+             ```rust\n// build.rs\nfn main() {}\n```\n```rust\n// src/main.rs\nfn main() {}\n```\n\
+             <!-- snippet: variant extends=base -->\n```toml\n# Cargo.toml\n[dependencies]\nb = \"1\"\n```\n\
+             ```rust\n// src/main.rs\nfn main() { let _ = 1; }\n```\n\
+             <!-- snippet: lost extends=nothing -->\n```rust\n// src/main.rs\n```\n\
+             <!-- snippet: deep extends=variant -->\n```rust\n// src/main.rs\n```\n\
+             <!-- snippet: tested -->\n```rust\n// tests/a.rs\n```\n",
+        );
+        let problems: Vec<String> = f.problems.iter().map(|p| p.to_string()).collect();
+        assert_eq!(problems.len(), 2, "{problems:#?}");
+        assert!(problems[0].contains("snippet lost: extends nothing, which no snippet is"));
+        assert!(problems[1].contains("snippet deep: extends variant, which extends another"));
+        let variant = &f.snippets[1];
+        let files: Vec<(&str, &str)> = variant
+            .files
+            .iter()
+            .map(|f| (f.path.as_str(), f.text.as_str()))
+            .collect();
+        assert_eq!(
+            files,
+            [
+                ("build.rs", "// build.rs\nfn main() {}\n"),
+                ("Cargo.toml", "# Cargo.toml\n[dependencies]\nb = \"1\"\n"),
+                ("src/main.rs", "// src/main.rs\nfn main() { let _ = 1; }\n"),
+            ]
+        );
+        assert_eq!(variant.target.as_deref(), Some("thumbv7em-none-eabihf"));
+        assert_eq!(
+            variant.copies,
+            [("assets/a.obj".to_string(), "fixtures/demo.obj".to_string())]
+        );
+        assert!(!has_other_targets(variant));
+        assert!(has_other_targets(&f.snippets[4]));
     }
 }

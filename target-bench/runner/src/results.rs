@@ -386,9 +386,10 @@ pub fn alternatives_scenes(records: &[Record]) -> Vec<&'static str> {
 
 /// The README's table of Peel and the alternatives: for each of `scenes` at 320x240, each
 /// plotted method ([`crate::plot::METHODS`]) on each core, its instructions, RAM, flash and
-/// robust errors.
+/// robust errors, then its instructions and RAM as multiples of Peel's streamed frame of the
+/// same scene and core (the first plotted method), so that the text needs to quote no ratio.
 pub fn alternatives(records: &[Record], scenes: &[&str]) -> String {
-    let mut rows = Vec::new();
+    let mut rows: Vec<(&Record, Option<&Record>)> = Vec::new();
     for scene in scenes {
         for core in ["cortex-m4f", "cortex-m0plus"] {
             let mut mine: Vec<(usize, &Record)> = records
@@ -397,7 +398,8 @@ pub fn alternatives(records: &[Record], scenes: &[&str]) -> String {
                 .filter_map(|r| Some((crate::plot::plotted(r, scene)?, r)))
                 .collect();
             mine.sort_by_key(|(k, _)| *k);
-            rows.extend(mine.into_iter().map(|(_, r)| r));
+            let peel = mine.first().filter(|(k, _)| *k == 0).map(|(_, r)| *r);
+            rows.extend(mine.into_iter().map(|(_, r)| (r, peel)));
         }
     }
     let columns: Vec<(&str, &Column)> = [
@@ -413,7 +415,28 @@ pub fn alternatives(records: &[Record], scenes: &[&str]) -> String {
     .into_iter()
     .filter_map(|(header, key)| Some((header, column(key)?)))
     .collect();
-    table(rows, &columns)
+    let headers = columns
+        .iter()
+        .map(|(h, _)| *h)
+        .chain(["x Peel's instructions", "x Peel's RAM"]);
+    let mut s = peel_compiler::tools::markdown_row(headers);
+    s.push('|');
+    for (_, c) in &columns {
+        s.push_str(if c.figure { "--:|" } else { "---|" });
+    }
+    s.push_str("--:|--:|\n");
+    let times = |a: u64, b: Option<u64>| match b {
+        Some(b) if b > 0 => format!("{:.2}", a as f64 / b as f64),
+        _ => "-".to_string(),
+    };
+    for (r, peel) in rows {
+        let cells = columns.iter().map(|(_, c)| (c.cell)(r)).chain([
+            times(r.instructions, peel.map(|p| p.instructions)),
+            times(r.ram_bytes, peel.map(|p| p.ram_bytes)),
+        ]);
+        s.push_str(&peel_compiler::tools::markdown_row(cells));
+    }
+    s
 }
 
 #[cfg(test)]
@@ -496,6 +519,7 @@ mod tests {
         let mut gfx = record();
         (gfx.method, gfx.path, gfx.differing_pixels) =
             ("embedded-3dgfx".into(), "framebuffer".into(), None);
+        (gfx.instructions, gfx.ram_bytes) = (2 * gfx.instructions, gfx.ram_bytes / 4);
         let mut stream = record();
         stream.path = "stream".into();
         let mut small = record();
@@ -506,7 +530,10 @@ mod tests {
         // are not in it.
         assert_eq!(lines.len(), 4, "{md}");
         assert!(lines[2].contains("| peel-front-to-back | stream |"));
-        assert!(lines[3].contains("| embedded-3dgfx | framebuffer | 1 683 160 |"));
+        assert!(lines[3].contains("| embedded-3dgfx | framebuffer | 3 366 320 |"));
+        // Each row's instructions and RAM against Peel's streamed frame on its core.
+        assert!(lines[2].ends_with("| 1.00 | 1.00 |"), "{md}");
+        assert!(lines[3].ends_with("| 2.00 | 0.25 |"), "{md}");
         assert!(markdown(&[gfx]).contains("| - | 3 | yes |"));
     }
 
