@@ -363,28 +363,8 @@ impl SplitRule {
     };
 }
 
-/// Choose the splitting plane among `planes` (the distinct support planes of `frags`, sorted):
-/// the greedy rule (fewest cuts) weighed with balance, see [`cost`]. A plane that cuts nothing
-/// (a free split: it adds no polygon) costs only its imbalance, so it wins whenever that
-/// imbalance is below what the cheapest cutting plane costs; candidates are support planes
-/// only, so every split also takes its plane's fragments out of both children (the
-/// termination argument), and no plane is ever made up. At most `candidates`
-/// planes are costed (a deterministic sample seeded from `seed` and the node's content when
-/// there are more), each on at most [`COST_SAMPLE`] fragments. Ties go to the smaller id.
-///
-/// Candidates are costed in parallel for large nodes; a shared best-so-far only stops
-/// candidates proven worse, so the minimum by `(cost, plane)` is the same on any thread count.
-pub fn choose_split(
-    frags: &[Fragment],
-    planes: &[PlaneId],
-    table: &PlaneTable,
-    candidates: usize,
-    seed: u64,
-) -> PlaneId {
-    choose_split_with(SplitRule::default(), frags, planes, table, candidates, seed)
-}
-
-/// [`choose_split`] with the cost weights of `rule`.
+/// The support plane [`choose_split_costed`] chooses with the cost weights of `rule`.
+#[cfg(feature = "bench")]
 pub fn choose_split_with(
     rule: SplitRule,
     frags: &[Fragment],
@@ -393,6 +373,40 @@ pub fn choose_split_with(
     candidates: usize,
     seed: u64,
 ) -> PlaneId {
+    choose_split_costed(rule, frags, planes, table, candidates, seed).plane
+}
+
+/// The plane [`choose_split_costed`] chose, with its cost on the sample.
+#[derive(Debug, Clone, Copy)]
+pub struct Choice {
+    /// The plane.
+    pub plane: PlaneId,
+    /// Its cost on the sample (`u64::MAX` when no candidate was costed).
+    pub cost: u64,
+    /// Fragments in the sample.
+    pub sampled: usize,
+}
+
+/// Choose the splitting plane among `planes` (the distinct support planes of `frags`, sorted)
+/// by `rule`: the build's is the greedy rule (fewest cuts) weighed with balance, see [`cost`]. A plane that cuts nothing
+/// (a free split: it adds no polygon) costs only its imbalance, so it wins whenever that
+/// imbalance is below what the cheapest cutting plane costs; candidates are support planes
+/// only, so every split by one also takes its plane's fragments out of both children (the
+/// termination argument). The build weighs the result against a free split by a plane that
+/// is not a support plane ([`super::free`]), hence the cost. At most `candidates`
+/// planes are costed (a deterministic sample seeded from `seed` and the node's content when
+/// there are more), each on at most [`COST_SAMPLE`] fragments. Ties go to the smaller id.
+///
+/// Candidates are costed in parallel for large nodes; a shared best-so-far only stops
+/// candidates proven worse, so the minimum by `(cost, plane)` is the same on any thread count.
+pub fn choose_split_costed(
+    rule: SplitRule,
+    frags: &[Fragment],
+    planes: &[PlaneId],
+    table: &PlaneTable,
+    candidates: usize,
+    seed: u64,
+) -> Choice {
     let mut rng = SplitMix::new(seed ^ content_hash(frags));
     let mut cands: Vec<PlaneId> = planes.to_vec();
     let k = candidates.max(1);
@@ -420,5 +434,10 @@ pub fn choose_split_with(
     } else {
         cands.iter().map(costed).min()
     };
-    best.map(|(_, p)| p).unwrap_or(planes[0])
+    let (cost, plane) = best.unwrap_or((u64::MAX, planes[0]));
+    Choice {
+        plane,
+        cost,
+        sampled: sample.frags.len(),
+    }
 }
