@@ -2,11 +2,14 @@
 //! explicit work stack (deep trees cannot overflow the call stack) and rayon for large
 //! independent subtrees.
 //!
-//! Rule for the fragments lying in the split plane P: they go to the side with fewer
-//! fragments (ties: front), and that child is built directly as a convex node holding exactly
-//! them, its interior being that side of P. Then no child list has more distinct support
-//! planes than its parent, and every one but that convex node has fewer, so the build ends;
-//! the counts are checked on every node (`CompileError::Invariant`, never a hang).
+//! Rule for the fragments lying in a split's support plane P: they go to the side with fewer
+//! fragments (ties: the side whose source ids come first), and that child is built directly
+//! as a convex node holding exactly them, its interior being that side of P. Then no child
+//! list has more distinct support planes than its parent, and every one but that convex node
+//! has fewer. A free split's children have no more support planes and fewer fragments. So
+//! the pair (support planes, fragments) drops lexicographically and the build ends (the
+//! argument in full: [`super`]); `Limit` checks it on every node (`CompileError::Invariant`,
+//! never a hang).
 //!
 //! One file for one loop: the work stack, the split and convex steps it runs, and the subtrees
 //! it hands to rayon share the job and slot types and the pre-order bookkeeping.

@@ -375,7 +375,8 @@ fn a_nearly_convex_sphere_is_split_off_fold_by_fold_in_batches() {
 
 proptest! {
     #![proptest_config(ProptestConfig::with_cases(6))]
-    /// Spheres of other sizes, turned and moved (so other quads fold once quantised): the
+    /// Spheres of other sizes, turned and moved (so other quads fold once quantised; turned
+    /// off their axis first, so no ring stays a plane that splits them without a cut): the
     /// batched chains keep every invariant.
     #[test]
     fn nearly_convex_spheres_keep_every_invariant(
@@ -384,7 +385,7 @@ proptest! {
         turn in 0.0..std::f64::consts::PI,
         offset in -1e3..1e3f64,
     ) {
-        let mut mesh = crate::tools::scenes::sphere(rings, segments);
+        let mut mesh = turned(&crate::tools::scenes::sphere(rings, segments));
         let (sin, cos) = turn.sin_cos();
         for t in &mut mesh.triangles {
             for p in &mut t.vertices {
