@@ -184,7 +184,23 @@ impl<'a> Sample<'a> {
         table: &PlaneTable,
         stop: impl Fn(&Tally, u64) -> bool,
     ) -> Option<Tally> {
-        let e = table.get(plane);
+        self.tally_entry(plane, table.get(plane), stop)
+    }
+
+    /// The sample counted against a plane that is no support plane of it (a free split's
+    /// candidate, [`super::free`]); `None` as soon as it cuts a fragment.
+    pub(crate) fn tally_free(&self, e: &PlaneEntry) -> Option<Tally> {
+        // No fragment's support has the id `PlaneId::MAX` (the table holds fewer planes).
+        self.tally_entry(PlaneId::MAX, e, |t, _| t.cuts > 0)
+    }
+
+    /// [`Self::tally`] of the plane `e` (whose id is `plane`).
+    fn tally_entry(
+        &self,
+        plane: PlaneId,
+        e: &PlaneEntry,
+        stop: impl Fn(&Tally, u64) -> bool,
+    ) -> Option<Tally> {
         let bound = self.filter_bound(e);
         let m = self.bvh.margin(e);
         let nodes = &self.bvh.nodes;
@@ -377,14 +393,15 @@ pub fn choose_split_with(
 }
 
 /// The plane [`choose_split_costed`] chose, with its cost on the sample.
-#[derive(Debug, Clone, Copy)]
-pub struct Choice {
+pub struct Choice<'a> {
     /// The plane.
     pub plane: PlaneId,
     /// Its cost on the sample (`u64::MAX` when no candidate was costed).
     pub cost: u64,
     /// Fragments in the sample.
     pub sampled: usize,
+    /// The sample, when it is the whole list (at most [`COST_SAMPLE`] fragments).
+    pub(crate) whole: Option<Sample<'a>>,
 }
 
 /// Choose the splitting plane among `planes` (the distinct support planes of `frags`, sorted)
@@ -399,14 +416,14 @@ pub struct Choice {
 ///
 /// Candidates are costed in parallel for large nodes; a shared best-so-far only stops
 /// candidates proven worse, so the minimum by `(cost, plane)` is the same on any thread count.
-pub fn choose_split_costed(
+pub fn choose_split_costed<'a>(
     rule: SplitRule,
-    frags: &[Fragment],
+    frags: &'a [Fragment],
     planes: &[PlaneId],
     table: &PlaneTable,
     candidates: usize,
     seed: u64,
-) -> Choice {
+) -> Choice<'a> {
     let mut rng = SplitMix::new(seed ^ content_hash(frags));
     let mut cands: Vec<PlaneId> = planes.to_vec();
     let k = candidates.max(1);
@@ -439,5 +456,6 @@ pub fn choose_split_costed(
         plane,
         cost,
         sampled: sample.frags.len(),
+        whole: (frags.len() <= COST_SAMPLE).then_some(sample),
     }
 }

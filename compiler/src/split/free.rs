@@ -16,7 +16,9 @@
 //! Everything that orders or breaks ties is invariant under axis swaps and mirrors (exact
 //! integer distances, fragment positions in the list), as the rest of the build is.
 
+use super::choose::Sample;
 use super::{Fragment, Placement};
+use crate::hash::{FastMap, FastSet};
 use crate::planes::{Plane, PlaneEntry, PlaneId, PlaneTable, Vertex};
 
 /// Vertices whose planes are tried, nearest the list's centre first. All of them would find
@@ -44,47 +46,35 @@ fn place(f: &Fragment, e: &PlaneEntry) -> Placement {
 }
 
 /// The most even free split found for `frags` (distinct support planes `supports`), if any.
-/// Ties go to the split whose smaller side holds the earliest fragment of the list.
-pub fn best_free(frags: &[Fragment], supports: &[PlaneId], table: &PlaneTable) -> Option<Free> {
-    // Each grid vertex with the fragments it is a corner of, and with its neighbours along
-    // fragment edges; keyed for order by where it first appears in the list.
-    let mut inc: Vec<([i32; 3], u32)> = Vec::with_capacity(frags.len() * 3);
-    let mut nbr: Vec<([i32; 3], [i32; 3])> = Vec::with_capacity(frags.len() * 6);
+/// Ties go to the split whose smaller side holds the earliest fragment of the list. `whole`,
+/// the list's sample when it holds every fragment, tests the candidates a box at a time.
+pub fn best_free(
+    frags: &[Fragment],
+    supports: &[PlaneId],
+    table: &PlaneTable,
+    whole: Option<&Sample>,
+) -> Option<Free> {
+    if frags.len() > (u32::MAX / 16) as usize {
+        return None;
+    }
+    // Each grid vertex with its first appearance (fragment position * 16 + corner): invariant
+    // under axis swaps and mirrors, unlike its coordinates. Hashed, not sorted: only the
+    // vertices tried need more.
+    let mut first: FastMap<[i32; 3], u32> =
+        FastMap::with_capacity_and_hasher(frags.len() * 2, Default::default());
     for (i, f) in frags.iter().enumerate() {
-        let n = f.vertices.len();
-        for k in 0..n {
-            if let Vertex::Int(a) = f.vertices[k] {
-                inc.push((a, (i * 16 + k.min(15)) as u32));
-                if let Vertex::Int(b) = f.vertices[(k + 1) % n] {
-                    nbr.push((a, b));
-                    nbr.push((b, a));
-                }
+        for (k, v) in f.vertices.iter().enumerate() {
+            if let Vertex::Int(p) = v {
+                first.entry(*p).or_insert((i * 16 + k.min(15)) as u32);
             }
         }
     }
-    if inc.is_empty() || frags.len() > (u32::MAX / 16) as usize {
+    if first.is_empty() {
         return None;
     }
-    inc.sort_unstable();
-    nbr.sort_unstable();
-    nbr.dedup();
-    let range = |p: [i32; 3]| {
-        let lo = inc.partition_point(|e| e.0 < p);
-        lo..inc.partition_point(|e| e.0 <= p)
-    };
-    // The first appearance of a vertex (fragment position * 16 + corner): invariant under
-    // axis swaps and mirrors, unlike its coordinates.
-    let first = |p: [i32; 3]| inc[range(p).start..].first().map_or(u32::MAX, |e| e.1);
-    let mut verts: Vec<([i32; 3], u32)> = Vec::new();
-    for e in &inc {
-        match verts.last_mut() {
-            Some(v) if v.0 == e.0 => v.1 = v.1.min(e.1),
-            _ => verts.push(*e),
-        }
-    }
     // Squared distances to the centroid, scaled by the count squared: exact integers.
-    let n = verts.len() as i128;
-    let sum = verts.iter().fold([0i128; 3], |s, (v, _)| {
+    let n = first.len() as i128;
+    let sum = first.keys().fold([0i128; 3], |s, v| {
         [
             s[0] + v[0] as i128,
             s[1] + v[1] as i128,
@@ -97,20 +87,63 @@ pub fn best_free(frags: &[Fragment], supports: &[PlaneId], table: &PlaneTable) -
             .fold(0u128, u128::saturating_add)
     };
     let mut order: Vec<(u128, u32, [i32; 3])> =
-        verts.iter().map(|(v, f)| (d2(v), *f, *v)).collect();
+        first.iter().map(|(v, &f)| (d2(v), f, *v)).collect();
+    if order.len() > VERTICES {
+        order.select_nth_unstable(VERTICES);
+        order.truncate(VERTICES);
+    }
     order.sort_unstable();
-    order.truncate(VERTICES);
+    let tried: FastSet<[i32; 3]> = order.iter().map(|o| o.2).collect();
+    // The neighbours of the vertices tried along fragment edges, then the fragments around
+    // every vertex a candidate goes through.
+    let mut nbr: Vec<([i32; 3], [i32; 3])> = Vec::new();
+    for f in frags {
+        let m = f.vertices.len();
+        for k in 0..m {
+            if let (Vertex::Int(a), Vertex::Int(b)) = (&f.vertices[k], &f.vertices[(k + 1) % m]) {
+                if tried.contains(a) {
+                    nbr.push((*a, *b));
+                }
+                if tried.contains(b) {
+                    nbr.push((*b, *a));
+                }
+            }
+        }
+    }
+    nbr.sort_unstable();
+    nbr.dedup();
+    let needed: FastSet<[i32; 3]> = tried
+        .iter()
+        .copied()
+        .chain(nbr.iter().map(|e| e.1))
+        .collect();
+    let mut inc: Vec<([i32; 3], u32)> = Vec::new();
+    for (i, f) in frags.iter().enumerate() {
+        for v in &f.vertices {
+            if let Vertex::Int(p) = v {
+                if needed.contains(p) {
+                    inc.push((*p, i as u32));
+                }
+            }
+        }
+    }
+    inc.sort_unstable();
+    let range = |p: [i32; 3]| {
+        let lo = inc.partition_point(|e| e.0 < p);
+        lo..inc.partition_point(|e| e.0 <= p)
+    };
+    let first = |p: [i32; 3]| first.get(&p).copied().unwrap_or(u32::MAX);
     let mut supp: Vec<Plane> = supports.iter().map(|&p| table.get(p).plane).collect();
     supp.sort_unstable();
     let locally_free = |e: &PlaneEntry, pts: &[[i32; 3]]| {
         pts.iter().all(|&p| {
             inc[range(p)].iter().all(|&(_, i)| {
-                let f = &frags[(i / 16) as usize];
+                let f = &frags[i as usize];
                 matches!(place(f, e), Placement::Front | Placement::Back)
             })
         })
     };
-    let mut seen: crate::hash::FastSet<Plane> = Default::default();
+    let mut seen: FastSet<Plane> = Default::default();
     let mut survivors: Vec<PlaneEntry> = Vec::new();
     // Whole vertices at a time, so that which planes survive does not depend on the order of
     // the candidates of one vertex.
@@ -147,48 +180,39 @@ pub fn best_free(frags: &[Fragment], supports: &[PlaneId], table: &PlaneTable) -
             }
         }
     }
-    let mut best: Option<(usize, usize, Free)> = None;
+    // The survivors free on the whole list, with their smaller side.
+    let n = frags.len();
+    let mut free: Vec<(usize, Free)> = Vec::new();
     for e in survivors {
-        let (mut front, mut back) = (0, 0);
-        // The earliest fragment on each side.
-        let (mut first_front, mut first_back) = (usize::MAX, usize::MAX);
-        let mut cut = false;
-        for (i, f) in frags.iter().enumerate() {
-            match place(f, &e) {
-                Placement::Front => {
-                    front += 1;
-                    first_front = first_front.min(i);
+        let (front, back) = match whole {
+            Some(sample) => match sample.tally_free(&e) {
+                Some(t) if t.cuts == 0 && (t.front + t.back) as usize == n => {
+                    (t.front as usize, t.back as usize)
                 }
-                Placement::Back => {
-                    back += 1;
-                    first_back = first_back.min(i);
+                _ => continue,
+            },
+            None => {
+                let (mut front, mut back) = (0, 0);
+                let all = frags.iter().all(|f| match place(f, &e) {
+                    Placement::Front => {
+                        front += 1;
+                        true
+                    }
+                    Placement::Back => {
+                        back += 1;
+                        true
+                    }
+                    Placement::On | Placement::Straddle => false,
+                });
+                if !all {
+                    continue;
                 }
-                Placement::On | Placement::Straddle => {
-                    cut = true;
-                    break;
-                }
-            }
-        }
-        if cut || front == 0 || back == 0 {
-            continue;
-        }
-        let small = if front < back {
-            first_front
-        } else if back < front {
-            first_back
-        } else {
-            first_front.max(first_back)
-        };
-        let better = match &best {
-            None => true,
-            Some((m, s, _)) => {
-                (front.min(back), std::cmp::Reverse(small)) > (*m, std::cmp::Reverse(*s))
+                (front, back)
             }
         };
-        if better {
-            best = Some((
+        if front > 0 && back > 0 {
+            free.push((
                 front.min(back),
-                small,
                 Free {
                     entry: e,
                     front,
@@ -197,7 +221,29 @@ pub fn best_free(frags: &[Fragment], supports: &[PlaneId], table: &PlaneTable) -
             ));
         }
     }
-    best.map(|b| b.2)
+    let most = free.iter().map(|f| f.0).max()?;
+    free.retain(|f| f.0 == most);
+    // Ties: the smaller side holding the earliest fragment of the list (a position in the
+    // list, not a coordinate).
+    let small = |f: &Free| {
+        let side = match f.front.cmp(&f.back) {
+            std::cmp::Ordering::Less => Some(Placement::Front),
+            std::cmp::Ordering::Greater => Some(Placement::Back),
+            std::cmp::Ordering::Equal => None,
+        };
+        let first = |s: Placement| frags.iter().position(|g| place(g, &f.entry) == s);
+        match side {
+            Some(s) => first(s),
+            None => first(Placement::Front).max(first(Placement::Back)),
+        }
+    };
+    if free.len() == 1 {
+        return free.pop().map(|f| f.1);
+    }
+    free.into_iter()
+        .map(|(_, f)| (small(&f), f))
+        .min_by_key(|(s, _)| *s)
+        .map(|(_, f)| f)
 }
 
 #[cfg(test)]

@@ -524,42 +524,33 @@ fn split_node(
     slot: Slot,
     lopsided: u32,
 ) -> Result<(Job, Job), CompileError> {
-    let choice = choose_split_costed(
-        SplitRule::default(),
-        &frags,
-        planes,
-        ctx.table,
-        ctx.options.candidates,
-        ctx.options.seed,
-    );
-    if choice.cost >= CUT_WEIGHT {
-        if let Some(free) = best_free(&frags, planes, ctx.table) {
-            // Its imbalance on the list, scaled to the sample the support plane was costed on.
-            let imbalance = free.front.abs_diff(free.back) as u128 * choice.sampled as u128
-                / frags.len() as u128;
-            if imbalance < u128::from(choice.cost) {
-                return free_split(
-                    tree,
-                    frags,
-                    free.entry,
-                    planes.len() as u32,
-                    known,
-                    slot,
-                    lopsided,
-                );
-            }
-        }
+    // The free split's plane when it wins (the choice borrows the list).
+    let (plane, free) = {
+        let choice = choose_split_costed(
+            SplitRule::default(),
+            &frags,
+            planes,
+            ctx.table,
+            ctx.options.candidates,
+            ctx.options.seed,
+        );
+        let free = (choice.cost >= CUT_WEIGHT)
+            .then(|| best_free(&frags, planes, ctx.table, choice.whole.as_ref()))
+            .flatten()
+            .filter(|free| {
+                // Its imbalance on the list, scaled to the sample the support plane was
+                // costed on.
+                let imbalance = free.front.abs_diff(free.back) as u128 * choice.sampled as u128
+                    / frags.len() as u128;
+                imbalance < u128::from(choice.cost)
+            });
+        (choice.plane, free)
+    };
+    if let Some(free) = free {
+        let k = planes.len() as u32;
+        return free_split(tree, frags, free.entry, k, known, slot, lopsided);
     }
-    support_split(
-        ctx,
-        tree,
-        frags,
-        planes,
-        known,
-        slot,
-        lopsided,
-        choice.plane,
-    )
+    support_split(ctx, tree, frags, planes, known, slot, lopsided, plane)
 }
 
 /// Emit a split node of `frags` by their support plane `p` and return the jobs of its two

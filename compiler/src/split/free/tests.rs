@@ -22,7 +22,7 @@ fn a_torus_has_a_free_split_through_a_ring_of_edges() {
     let input = prepare(&torus(12, 8), None).unwrap();
     let frags = &input.fragments;
     let planes = supports(frags);
-    let free = best_free(frags, &planes, &input.table).expect("a free split");
+    let free = best_free(frags, &planes, &input.table, None).expect("a free split");
     let (mut front, mut back) = (0, 0);
     for f in frags {
         match place(f, &free.entry) {
@@ -63,7 +63,7 @@ fn piercing_triangles_have_no_free_split() {
     )
     .unwrap();
     let frags = &input.fragments;
-    assert!(best_free(frags, &supports(frags), &input.table).is_none());
+    assert!(best_free(frags, &supports(frags), &input.table, None).is_none());
 }
 
 /// Two far-apart triangles are separated by an axis plane through a corner.
@@ -78,6 +78,6 @@ fn apart_triangles_are_separated_without_a_cut() {
     };
     let input = prepare(&mesh(vec![t(0.0), t(5.0)]), None).unwrap();
     let frags = &input.fragments;
-    let free = best_free(frags, &supports(frags), &input.table).expect("a free split");
+    let free = best_free(frags, &supports(frags), &input.table, None).expect("a free split");
     assert_eq!((free.front, free.back), (1, 1));
 }
