@@ -181,7 +181,7 @@ impl ShardHash for Plane {
 }
 
 impl PlaneEntry {
-    fn new(plane: Plane) -> PlaneEntry {
+    pub(crate) fn new(plane: Plane) -> PlaneEntry {
         PlaneEntry {
             plane,
             nf: plane.n.map(|c| c as f64),

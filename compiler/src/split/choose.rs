@@ -184,7 +184,23 @@ impl<'a> Sample<'a> {
         table: &PlaneTable,
         stop: impl Fn(&Tally, u64) -> bool,
     ) -> Option<Tally> {
-        let e = table.get(plane);
+        self.tally_entry(plane, table.get(plane), stop)
+    }
+
+    /// The sample counted against a plane that is no support plane of it (a free split's
+    /// candidate, [`super::free`]); `None` as soon as it cuts a fragment.
+    pub(crate) fn tally_free(&self, e: &PlaneEntry) -> Option<Tally> {
+        // No fragment's support has the id `PlaneId::MAX` (the table holds fewer planes).
+        self.tally_entry(PlaneId::MAX, e, |t, _| t.cuts > 0)
+    }
+
+    /// [`Self::tally`] of the plane `e` (whose id is `plane`).
+    fn tally_entry(
+        &self,
+        plane: PlaneId,
+        e: &PlaneEntry,
+        stop: impl Fn(&Tally, u64) -> bool,
+    ) -> Option<Tally> {
         let bound = self.filter_bound(e);
         let m = self.bvh.margin(e);
         let nodes = &self.bvh.nodes;
@@ -363,28 +379,8 @@ impl SplitRule {
     };
 }
 
-/// Choose the splitting plane among `planes` (the distinct support planes of `frags`, sorted):
-/// the greedy rule (fewest cuts) weighed with balance, see [`cost`]. A plane that cuts nothing
-/// (a free split: it adds no polygon) costs only its imbalance, so it wins whenever that
-/// imbalance is below what the cheapest cutting plane costs; candidates are support planes
-/// only, so every split also takes its plane's fragments out of both children (the
-/// termination argument), and no plane is ever made up. At most `candidates`
-/// planes are costed (a deterministic sample seeded from `seed` and the node's content when
-/// there are more), each on at most [`COST_SAMPLE`] fragments. Ties go to the smaller id.
-///
-/// Candidates are costed in parallel for large nodes; a shared best-so-far only stops
-/// candidates proven worse, so the minimum by `(cost, plane)` is the same on any thread count.
-pub fn choose_split(
-    frags: &[Fragment],
-    planes: &[PlaneId],
-    table: &PlaneTable,
-    candidates: usize,
-    seed: u64,
-) -> PlaneId {
-    choose_split_with(SplitRule::default(), frags, planes, table, candidates, seed)
-}
-
-/// [`choose_split`] with the cost weights of `rule`.
+/// The support plane [`choose_split_costed`] chooses with the cost weights of `rule`.
+#[cfg(feature = "bench")]
 pub fn choose_split_with(
     rule: SplitRule,
     frags: &[Fragment],
@@ -393,6 +389,41 @@ pub fn choose_split_with(
     candidates: usize,
     seed: u64,
 ) -> PlaneId {
+    choose_split_costed(rule, frags, planes, table, candidates, seed).plane
+}
+
+/// The plane [`choose_split_costed`] chose, with its cost on the sample.
+pub struct Choice<'a> {
+    /// The plane.
+    pub plane: PlaneId,
+    /// Its cost on the sample (`u64::MAX` when no candidate was costed).
+    pub cost: u64,
+    /// Fragments in the sample.
+    pub sampled: usize,
+    /// The sample, when it is the whole list (at most [`COST_SAMPLE`] fragments).
+    pub(crate) whole: Option<Sample<'a>>,
+}
+
+/// Choose the splitting plane among `planes` (the distinct support planes of `frags`, sorted)
+/// by `rule`: the build's is the greedy rule (fewest cuts) weighed with balance, see [`cost`]. A plane that cuts nothing
+/// (a free split: it adds no polygon) costs only its imbalance, so it wins whenever that
+/// imbalance is below what the cheapest cutting plane costs; candidates are support planes
+/// only, so every split by one also takes its plane's fragments out of both children (the
+/// termination argument). The build weighs the result against a free split by a plane that
+/// is not a support plane ([`super::free`]), hence the cost. At most `candidates`
+/// planes are costed (a deterministic sample seeded from `seed` and the node's content when
+/// there are more), each on at most [`COST_SAMPLE`] fragments. Ties go to the smaller id.
+///
+/// Candidates are costed in parallel for large nodes; a shared best-so-far only stops
+/// candidates proven worse, so the minimum by `(cost, plane)` is the same on any thread count.
+pub fn choose_split_costed<'a>(
+    rule: SplitRule,
+    frags: &'a [Fragment],
+    planes: &[PlaneId],
+    table: &PlaneTable,
+    candidates: usize,
+    seed: u64,
+) -> Choice<'a> {
     let mut rng = SplitMix::new(seed ^ content_hash(frags));
     let mut cands: Vec<PlaneId> = planes.to_vec();
     let k = candidates.max(1);
@@ -420,5 +451,11 @@ pub fn choose_split_with(
     } else {
         cands.iter().map(costed).min()
     };
-    best.map(|(_, p)| p).unwrap_or(planes[0])
+    let (cost, plane) = best.unwrap_or((u64::MAX, planes[0]));
+    Choice {
+        plane,
+        cost,
+        sampled: sample.frags.len(),
+        whole: (frags.len() <= COST_SAMPLE).then_some(sample),
+    }
 }

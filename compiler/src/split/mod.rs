@@ -12,6 +12,7 @@ use std::sync::Arc;
 use crate::planes::{intersect, PlaneId, PlaneTable, Side, Vertex};
 
 pub mod choose;
+pub mod free;
 pub mod lopsided;
 
 /// A bounding edge of a fragment: the plane it lies on and the side the fragment is on.
@@ -68,7 +69,7 @@ pub enum Placement {
 
 impl Placement {
     /// The placement of vertices on `sides` (stops at the first proof of a straddle).
-    fn of_sides(sides: impl Iterator<Item = Side>) -> Placement {
+    pub(crate) fn of_sides(sides: impl Iterator<Item = Side>) -> Placement {
         let (mut front, mut back) = (false, false);
         for side in sides {
             match side {

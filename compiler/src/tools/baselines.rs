@@ -19,7 +19,7 @@ use crate::planes::PlaneId;
 use crate::shade::Shading;
 use crate::split::choose::{choose_split_with, SplitRule};
 use crate::split::{Fragment, SplitResult};
-use crate::tree::build::{attach, ExactNode, ExactPolygon, ExactTree, Slot};
+use crate::tree::build::{attach, ExactNode, ExactPolygon, ExactTree, Slot, SplitPlane};
 use crate::tree::input::{prepare, Input};
 use crate::tree::output::to_display;
 use crate::tree::{BuildOptions, DisplayTree};
@@ -235,7 +235,7 @@ fn naive_walk(
         } else {
             // Split(P, + = Convex(S, interior +, child F), − = B).
             let split = ExactNode::Split {
-                plane,
+                plane: SplitPlane::Support(plane),
                 front: None,
                 back: None,
                 support_planes: 0,

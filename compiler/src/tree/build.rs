@@ -2,11 +2,14 @@
 //! explicit work stack (deep trees cannot overflow the call stack) and rayon for large
 //! independent subtrees.
 //!
-//! Rule for the fragments lying in the split plane P: they go to the side with fewer
-//! fragments (ties: front), and that child is built directly as a convex node holding exactly
-//! them, its interior being that side of P. Then no child list has more distinct support
-//! planes than its parent, and every one but that convex node has fewer, so the build ends;
-//! the counts are checked on every node (`CompileError::Invariant`, never a hang).
+//! Rule for the fragments lying in a split's support plane P: they go to the side with fewer
+//! fragments (ties: the side whose source ids come first), and that child is built directly
+//! as a convex node holding exactly them, its interior being that side of P. Then no child
+//! list has more distinct support planes than its parent, and every one but that convex node
+//! has fewer. A free split's children have no more support planes and fewer fragments. So
+//! the pair (support planes, fragments) drops lexicographically and the build ends (the
+//! argument in full: [`super`]); `Limit` checks it on every node (`CompileError::Invariant`,
+//! never a hang).
 //!
 //! One file for one loop: the work stack, the split and convex steps it runs, and the subtrees
 //! it hands to rayon share the job and slot types and the pre-order bookkeeping.
@@ -19,8 +22,9 @@ use super::input::Input;
 use super::BuildOptions;
 use crate::error::CompileError;
 use crate::peel::{after_split, hull_planes, Known, Witness};
-use crate::planes::{PlaneId, PlaneTable, Side};
-use crate::split::choose::choose_split;
+use crate::planes::{Plane, PlaneEntry, PlaneId, PlaneTable, Side};
+use crate::split::choose::{choose_split_costed, SplitRule, CUT_WEIGHT};
+use crate::split::free::best_free;
 use crate::split::lopsided::{is_lopsided, lopsided_splits, Lopsided, CHAIN_AFTER};
 use crate::split::{Fragment, Placement, SplitResult};
 
@@ -46,13 +50,32 @@ pub(crate) enum ExactNode {
         child: Option<u32>,
         support_planes: u32,
     },
-    /// A split by a table plane.
+    /// A split.
     Split {
-        plane: PlaneId,
+        plane: SplitPlane,
         front: Option<u32>,
         back: Option<u32>,
         support_planes: u32,
     },
+}
+
+/// The plane of a split node.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum SplitPlane {
+    /// A support plane of the list (a table plane).
+    Support(PlaneId),
+    /// A plane through grid vertices of the list that cuts none of its fragments.
+    Free(Plane),
+}
+
+impl SplitPlane {
+    /// The plane with its f64 approximation.
+    pub(crate) fn entry(self, table: &PlaneTable) -> PlaneEntry {
+        match self {
+            SplitPlane::Support(p) => *table.get(p),
+            SplitPlane::Free(p) => PlaneEntry::new(p),
+        }
+    }
 }
 
 /// A polygon of a convex node.
@@ -80,30 +103,37 @@ pub(crate) enum Slot {
     Back(u32),
 }
 
-/// Bound on a child's support-plane count: `<= max`, or `< max` when strict.
+/// Bound on a child list, lexicographic: `(support planes, fragments) < (max, fragments)`.
 #[derive(Debug, Clone, Copy)]
 struct Limit {
     max: u32,
-    strict: bool,
+    fragments: usize,
 }
 
 impl Limit {
     /// Fewer than `max` support planes.
     fn below(max: u32) -> Limit {
-        Limit { max, strict: true }
+        Limit { max, fragments: 0 }
     }
 
     /// At most `max` support planes.
     fn at_most(max: u32) -> Limit {
-        Limit { max, strict: false }
+        Limit {
+            max,
+            fragments: usize::MAX,
+        }
     }
 
-    fn check(self, k: u32, what: &str) -> Result<(), CompileError> {
-        if k > self.max || (self.strict && k == self.max) {
+    /// At most `max` support planes, and fewer than `fragments` fragments with `max`.
+    fn fewer(max: u32, fragments: usize) -> Limit {
+        Limit { max, fragments }
+    }
+
+    fn check(self, k: u32, n: usize, what: &str) -> Result<(), CompileError> {
+        if (k, n) >= (self.max, self.fragments) {
             return Err(CompileError::Invariant(format!(
-                "{what}: {k} support planes, parent allows {} {}",
-                if self.strict { "<" } else { "<=" },
-                self.max
+                "{what}: {k} support planes and {n} fragments, parent allows fewer than ({}, {})",
+                self.max, self.fragments
             )));
         }
         Ok(())
@@ -283,7 +313,7 @@ fn append(tree: &mut ExactTree, sub: ExactTree, slot: Slot) {
 }
 
 /// Append a split node by `plane` (its children linked later) at `slot`; returns its index.
-fn push_split(tree: &mut ExactTree, plane: PlaneId, support_planes: u32, slot: Slot) -> u32 {
+fn push_split(tree: &mut ExactTree, plane: SplitPlane, support_planes: u32, slot: Slot) -> u32 {
     let idx = tree.nodes.len() as u32;
     tree.nodes.push(ExactNode::Split {
         plane,
@@ -333,7 +363,7 @@ fn run(ctx: &Ctx, job: Job) -> Result<ExactTree, CompileError> {
                 limit,
             } => {
                 let k = distinct_planes(on.iter().chain(&rest)).len() as u32;
-                limit.check(k, "in-plane child of a split")?;
+                limit.check(k, on.len() + rest.len(), "in-plane child of a split")?;
                 let polys = on
                     .into_iter()
                     .map(|frag| ExactPolygon {
@@ -363,10 +393,10 @@ fn run(ctx: &Ctx, job: Job) -> Result<ExactTree, CompileError> {
                     continue;
                 };
                 let k = step.support_planes;
-                limit.check(k, "lopsided split")?;
+                limit.check(k, 0, "lopsided split")?;
                 #[cfg(test)]
                 CHAINED.fetch_add(1, Ordering::Relaxed);
-                let idx = push_split(&mut tree, step.plane, k, slot);
+                let idx = push_split(&mut tree, SplitPlane::Support(step.plane), k, slot);
                 let (small_slot, big_slot) = if step.small_front {
                     (Slot::Front(idx), Slot::Back(idx))
                 } else {
@@ -401,7 +431,7 @@ fn run(ctx: &Ctx, job: Job) -> Result<ExactTree, CompileError> {
                 }
                 let planes = distinct_planes(frags.iter());
                 let k = planes.len() as u32;
-                limit.check(k, "node")?;
+                limit.check(k, frags.len(), "node")?;
                 let hull = hull_planes(&frags, &planes, ctx.table, &known);
                 drop(known);
                 if hull.sides.iter().any(Option::is_some) {
@@ -482,7 +512,9 @@ fn convex_child(idx: u32, k: u32, rest: Vec<Fragment>, known: Known) -> Option<J
 }
 
 /// Emit a split node for `frags` (no plane of which is on the hull) and return the jobs of
-/// its two children: the one holding the split plane's fragments first.
+/// its two children, the one laid out first first. The plane is the support plane of least
+/// cost ([`choose_split_costed`]), unless that one cuts and a free split ([`best_free`]) has
+/// less imbalance than its cost: a free split costs no polygon.
 fn split_node(
     ctx: &Ctx,
     tree: &mut ExactTree,
@@ -492,14 +524,49 @@ fn split_node(
     slot: Slot,
     lopsided: u32,
 ) -> Result<(Job, Job), CompileError> {
+    // The free split's plane when it wins (the choice borrows the list).
+    let (plane, free) = {
+        let choice = choose_split_costed(
+            SplitRule::default(),
+            &frags,
+            planes,
+            ctx.table,
+            ctx.options.candidates,
+            ctx.options.seed,
+        );
+        let free = (choice.cost >= CUT_WEIGHT)
+            .then(|| best_free(&frags, planes, ctx.table, choice.whole.as_ref()))
+            .flatten()
+            .filter(|free| {
+                // Its imbalance on the list, scaled to the sample the support plane was
+                // costed on.
+                let imbalance = free.front.abs_diff(free.back) as u128 * choice.sampled as u128
+                    / frags.len() as u128;
+                imbalance < u128::from(choice.cost)
+            });
+        (choice.plane, free)
+    };
+    if let Some(free) = free {
+        let k = planes.len() as u32;
+        return free_split(tree, frags, free.entry, k, known, slot, lopsided);
+    }
+    support_split(ctx, tree, frags, planes, known, slot, lopsided, plane)
+}
+
+/// Emit a split node of `frags` by their support plane `p` and return the jobs of its two
+/// children: the one holding the split plane's fragments first.
+#[allow(clippy::too_many_arguments)]
+fn support_split(
+    ctx: &Ctx,
+    tree: &mut ExactTree,
+    frags: Vec<Fragment>,
+    planes: &[PlaneId],
+    known: Vec<Witness>,
+    slot: Slot,
+    lopsided: u32,
+    p: PlaneId,
+) -> Result<(Job, Job), CompileError> {
     let k = planes.len() as u32;
-    let p = choose_split(
-        &frags,
-        planes,
-        ctx.table,
-        ctx.options.candidates,
-        ctx.options.seed,
-    );
     let results: Vec<Option<SplitResult>> = if frags.len() >= PAR_MIN {
         frags
             .into_par_iter()
@@ -542,7 +609,7 @@ fn split_node(
             on.len()
         )));
     }
-    let idx = push_split(tree, p, k, slot);
+    let idx = push_split(tree, SplitPlane::Support(p), k, slot);
     let (strict, loose) = (Limit::below(k), Limit::at_most(k));
     // The split plane's fragments join the smaller side; a tie goes to the side whose
     // source ids come first (not to "front", which depends on the plane's sign).
@@ -596,6 +663,69 @@ fn split_node(
                 lopsided,
             },
         )
+    })
+}
+
+/// Emit a split node of `frags` (`k` distinct support planes) by the free plane `e`, which
+/// cuts none of them, and return the jobs of its two children: the side holding the list's
+/// first fragment first (not the + side, which depends on the plane's sign). Each child has
+/// at most `k` support planes and fewer fragments than the list, so the pair drops
+/// lexicographically (the termination argument, [`super`]).
+fn free_split(
+    tree: &mut ExactTree,
+    frags: Vec<Fragment>,
+    e: PlaneEntry,
+    k: u32,
+    known: Vec<Witness>,
+    slot: Slot,
+    lopsided: u32,
+) -> Result<(Job, Job), CompileError> {
+    let n = frags.len();
+    let (mut front, mut back) = (Vec::with_capacity(n), Vec::with_capacity(n));
+    let mut first_front = None;
+    for f in frags {
+        let placement = Placement::of_sides(f.vertices.iter().map(|v| v.side(&e)));
+        first_front.get_or_insert(placement == Placement::Front);
+        match placement {
+            Placement::Front => front.push(f),
+            Placement::Back => back.push(f),
+            Placement::On | Placement::Straddle => {
+                return Err(CompileError::Invariant(format!(
+                    "free split plane {:?} cuts a fragment or holds one",
+                    e.plane
+                )))
+            }
+        }
+    }
+    if front.is_empty() || back.is_empty() {
+        return Err(CompileError::Invariant(format!(
+            "free split plane {:?} is not a proper split: {} front, {} back",
+            e.plane,
+            front.len(),
+            back.len()
+        )));
+    }
+    let idx = push_split(tree, SplitPlane::Free(e.plane), k, slot);
+    let (known_front, known_back) = after_split(known, &e);
+    let lopsided = if is_lopsided(n, front.len().min(back.len()), 0, 0) {
+        lopsided + 1
+    } else {
+        0
+    };
+    let limit = Limit::fewer(k, n);
+    let job = |frags, known, slot| Job::Compile {
+        frags,
+        known,
+        slot,
+        limit,
+        lopsided,
+    };
+    let front = job(front, known_front, Slot::Front(idx));
+    let back = job(back, known_back, Slot::Back(idx));
+    Ok(if first_front == Some(true) {
+        (front, back)
+    } else {
+        (back, front)
     })
 }
 

@@ -7,11 +7,11 @@ use std::collections::BTreeSet;
 
 use ethnum::I256;
 
-use super::build::{build_exact, ExactNode, ExactTree};
+use super::build::{build_exact, ExactNode, ExactTree, SplitPlane};
 use super::input::{prepare, Input};
 use super::output::to_display;
 use super::{BuildOptions, DisplayTree};
-use crate::planes::{side_of_hom_exact, HomPoint, PlaneId, Side};
+use crate::planes::{side_of_hom_exact, HomPoint, PlaneEntry, PlaneId, PlaneTable, Side};
 use crate::split::{Fragment, SplitResult};
 
 type Check = Result<(), String>;
@@ -29,7 +29,7 @@ pub fn verify(
     let input = prepare(mesh, options.shadows).map_err(|e| e.to_string())?;
     let exact = build_exact(&input, options, &|_| {}).map_err(|e| e.to_string())?;
     structure(&exact)?;
-    support_planes(&exact)?;
+    support_planes(&exact, &input.table)?;
     fragments(&exact, &input)?;
     ancestor_sides(&exact, &input)?;
     convex_sets(&exact, &input)?;
@@ -99,7 +99,7 @@ fn subtree_polys(t: &ExactTree) -> Vec<Vec<u32>> {
 }
 
 /// Recorded support-plane counts are right, and obey the termination argument.
-pub(crate) fn support_planes(t: &ExactTree) -> Check {
+pub(crate) fn support_planes(t: &ExactTree, table: &PlaneTable) -> Check {
     let sets = subtree_polys(t);
     let count = |i: usize| {
         sets[i]
@@ -134,7 +134,31 @@ pub(crate) fn support_planes(t: &ExactTree) -> Check {
                 ));
             }
             ExactNode::Split {
-                plane, front, back, ..
+                plane: SplitPlane::Free(plane),
+                front,
+                back,
+                ..
+            } => {
+                // A free plane is no support plane of the list and cuts nothing: the children
+                // have no more support planes (and fewer fragments, which the build checks).
+                let in_plane = sets[i]
+                    .iter()
+                    .any(|&q| table.get(t.polygons[q as usize].frag.support).plane == plane);
+                if in_plane {
+                    return Err(format!("free split {i}: a polygon lies in its plane"));
+                }
+                for c in [front, back].into_iter().flatten() {
+                    let kc = recorded(c);
+                    if kc > k {
+                        return Err(format!("free split {i} -> child {c} grows: {kc} > {k}"));
+                    }
+                }
+            }
+            ExactNode::Split {
+                plane: SplitPlane::Support(plane),
+                front,
+                back,
+                ..
             } => {
                 for c in [front, back].into_iter().flatten() {
                     let kc = recorded(c);
@@ -211,7 +235,7 @@ pub(crate) fn ancestor_sides(t: &ExactTree, input: &Input) -> Check {
     if t.nodes.is_empty() {
         return Ok(());
     }
-    let mut stack: Vec<(u32, Vec<(PlaneId, Side)>)> = vec![(0, Vec::new())];
+    let mut stack: Vec<(u32, Vec<(PlaneEntry, Side)>)> = vec![(0, Vec::new())];
     while let Some((i, anc)) = stack.pop() {
         match t.nodes[i as usize] {
             ExactNode::Convex {
@@ -221,11 +245,11 @@ pub(crate) fn ancestor_sides(t: &ExactTree, input: &Input) -> Check {
                 ..
             } => {
                 for p in &t.polygons[first as usize..(first + count) as usize] {
-                    for &(plane, side) in &anc {
-                        let e = input.table.get(plane);
+                    for (e, side) in &anc {
                         if p.frag.vertices.iter().any(|v| v.side(e) == side.opposite()) {
                             return Err(format!(
-                                "node {i}: a polygon on the wrong side of plane {plane}"
+                                "node {i}: a polygon on the wrong side of plane {:?}",
+                                e.plane
                             ));
                         }
                     }
@@ -240,7 +264,7 @@ pub(crate) fn ancestor_sides(t: &ExactTree, input: &Input) -> Check {
                 for (c, side) in [(front, Side::Front), (back, Side::Back)] {
                     if let Some(c) = c {
                         let mut a = anc.clone();
-                        a.push((plane, side));
+                        a.push((plane.entry(&input.table), side));
                         stack.push((c, a));
                     }
                 }
@@ -367,7 +391,7 @@ pub(crate) fn area_partition(
 #[cfg(test)]
 pub(crate) fn all(t: &ExactTree, input: &Input) -> Check {
     structure(t)?;
-    support_planes(t)?;
+    support_planes(t, &input.table)?;
     fragments(t, input)?;
     ancestor_sides(t, input)?;
     convex_sets(t, input)?;

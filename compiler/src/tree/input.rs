@@ -1,8 +1,9 @@
 //! The build's input: quantised triangles as fragments, and the (then frozen) plane table.
 //!
-//! Every plane the build will ever use is created here: split planes are support planes and
-//! cuts only intersect existing planes, so the table is read-only (and shared by all threads)
-//! during the build, and plane ids do not depend on scheduling.
+//! Every plane a fragment will ever be bounded by is created here: cuts are made only by
+//! support planes and only intersect existing planes, so the table is read-only (and shared by
+//! all threads) during the build, and plane ids do not depend on scheduling. Free split planes
+//! (`split::free`) cut nothing: their split nodes hold them by value.
 
 use rayon::prelude::*;
 

@@ -9,8 +9,8 @@ use rayon::prelude::*;
 use super::convex_split::Pieces;
 use super::vertices::Vertices;
 use super::watertight::Boundary;
-use crate::planes::PlaneId;
-use crate::tree::build::{ExactNode, ExactTree};
+use crate::planes::{Plane, PlaneId};
+use crate::tree::build::{ExactNode, ExactTree, SplitPlane};
 use crate::tree::input::Input;
 use crate::tree::{DisplayTree, TreeNode, TreePlane, TreePolygon, TreeStats};
 
@@ -22,6 +22,8 @@ struct Out<'a> {
     vertex_ids: Vec<Option<u32>>,
     /// Output index of each table plane, in order of first use.
     plane_ids: Vec<Option<u32>>,
+    /// Output index of each free split plane (not in the table), in order of first use.
+    free_ids: crate::hash::FastMap<Plane, u32>,
 }
 
 impl Out<'_> {
@@ -42,7 +44,26 @@ impl Out<'_> {
         if let Some(i) = self.plane_ids[id as usize] {
             return i;
         }
-        let p = self.input.table.get(id).plane;
+        let i = self.push_plane(self.input.table.get(id).plane);
+        self.plane_ids[id as usize] = Some(i);
+        i
+    }
+
+    fn split_plane(&mut self, plane: SplitPlane) -> u32 {
+        match plane {
+            SplitPlane::Support(id) => self.plane(id),
+            SplitPlane::Free(p) => {
+                if let Some(&i) = self.free_ids.get(&p) {
+                    return i;
+                }
+                let i = self.push_plane(p);
+                self.free_ids.insert(p, i);
+                i
+            }
+        }
+    }
+
+    fn push_plane(&mut self, p: Plane) -> u32 {
         let n = DVec3::new(p.n[0] as f64, p.n[1] as f64, p.n[2] as f64);
         let len = n.length();
         let i = self.tree.planes.len() as u32;
@@ -50,7 +71,6 @@ impl Out<'_> {
             normal: n / len,
             offset: p.d as f64 / len * self.input.quantiser.scale,
         });
-        self.plane_ids[id as usize] = Some(i);
         i
     }
 }
@@ -72,6 +92,7 @@ pub(super) fn number(
         },
         vertex_ids: vec![None; vertices.list.len()],
         plane_ids: vec![None; input.table.len()],
+        free_ids: Default::default(),
     };
     let mut stats = TreeStats {
         input_triangles: input.input_triangles,
@@ -131,7 +152,7 @@ pub(super) fn number(
             } => {
                 stats.split_nodes += 1;
                 TreeNode::Split {
-                    plane: out.plane(plane),
+                    plane: out.split_plane(plane),
                     front,
                     back,
                     support_planes,

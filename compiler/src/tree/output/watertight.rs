@@ -227,7 +227,7 @@ mod tests {
     #[test]
     fn cut_meshes_come_out_without_t_junctions() {
         for (name, mesh) in [
-            ("torus", scenes::torus(12, 8)),
+            ("torus", crate::tree::tests::turned(&scenes::torus(12, 8))),
             ("soup", scenes::soup(40, 0.5, 3)),
             (
                 "bumpy",
