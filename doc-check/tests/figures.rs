@@ -95,10 +95,11 @@ fn written_figures_pass_the_check_and_one_changed_digit_fails_it() {
     assert_eq!(
         written,
         "# Scratch\n\n<!-- figures: alternatives scene=teapot -->\n\
-         | scene | core | method | path | instructions | RAM (bytes) | flash (bytes) | robust errors |\n\
-         |---|---|---|---|--:|--:|--:|--:|\n\
-         | teapot | cortex-m4f | peel-front-to-back | stream | 15 136 880 | 24 920 | 436 064 | 0 |\n\
-         | teapot | cortex-m4f | embedded-3dgfx | framebuffer | 8 379 920 | 456 644 | 436 064 | 0 |\n\
+         | scene | core | method | path | instructions | RAM (bytes) | flash (bytes) | robust errors \
+         | x Peel's instructions | x Peel's RAM |\n\
+         |---|---|---|---|--:|--:|--:|--:|--:|--:|\n\
+         | teapot | cortex-m4f | peel-front-to-back | stream | 15 136 880 | 24 920 | 436 064 | 0 | 1.00 | 1.00 |\n\
+         | teapot | cortex-m4f | embedded-3dgfx | framebuffer | 8 379 920 | 456 644 | 436 064 | 0 | 0.55 | 18.32 |\n\
          \n<!-- figures-end -->\n\n\
          Peel takes <!-- figures: ratio scene=teapot core=cortex-m4f a=peel-front-to-back/stream \
          b=embedded-3dgfx/framebuffer -->1.81x<!-- figures-end --> embedded-3dgfx's instructions in \
