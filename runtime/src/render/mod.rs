@@ -48,16 +48,18 @@
 //! [`Frustum::excludes_box`]: crate::clip::Frustum::excludes_box
 //! [`Frustum::contains_box`]: crate::clip::Frustum::contains_box
 
+mod frame;
+mod paint;
 mod painter;
 mod renderer;
 mod source;
-mod stats;
 mod workspace;
 
+pub use crate::stats::FrameStats;
+pub use paint::{id_colour, Paint};
 pub use painter::snap;
-pub use renderer::{id_colour, Paint, Renderer};
+pub use renderer::Renderer;
 pub use source::Source;
-pub use stats::FrameStats;
 pub use workspace::Workspace;
 
 #[cfg(test)]
