@@ -136,7 +136,7 @@ pub fn antialiased(records: &[Record]) -> String {
         return String::new();
     }
     let mut s = String::from(
-        "\n## Anti-aliased frames (stream-aa)\n\n\
+        "\n## Anti-aliased frames (stream-aa, scan-aa)\n\n\
          | scene | core | size | path | instructions | x stream | ram_bytes | display_bytes | \
          display_writes | .text delta | pending peak / records | fallback | differing_pixels |\n\
          |---|---|---|---|--:|--:|--:|--:|--:|--:|--:|---|--:|\n",
@@ -184,7 +184,12 @@ pub fn antialiased(records: &[Record]) -> String {
             Some(false) => "no".to_string(),
             None => dash(),
         };
-        s.push_str(&row(a, "stream-aa", text, pending, fallback));
+        let path = if a.path == "scan-order" {
+            "scan-aa"
+        } else {
+            "stream-aa"
+        };
+        s.push_str(&row(a, path, text, pending, fallback));
     }
     let goal = aa.iter().find(|r| {
         r.scene.starts_with("teapot") && r.core == "cortex-m4f" && (r.width, r.height) == (320, 240)
