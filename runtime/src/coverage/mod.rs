@@ -21,10 +21,10 @@
 //!
 //! # Stores
 //!
-//! The intervals live in one of two stores ([`store`]): rows of slots as above, or (a
+//! The intervals live in one of two stores (`store.rs`): rows of slots as above, or (a
 //! scan-order frame, feature `scan-order`) the scan memory's coloured lists
 //! ([`crate::scan::ScanMemory`]), which answer the same queries and keep every span instead
-//! of forwarding it. The sinks that route a fill's spans through a coverage are in [`sink`].
+//! of forwarding it. The sinks that route a fill's spans through a coverage are in `sink.rs`.
 
 #[cfg(test)]
 mod tests;
@@ -241,9 +241,7 @@ impl<'m> Coverage<'m> {
 
     /// Paint `[x_start, x_end)` of row `y` into `sink` as the mode says; returns the pixels
     /// forwarded (in scan memory: covered, as it forwards nothing). Out-of-frame or empty
-    /// spans, and every span once exhausted (in the merging modes), forward nothing. Inlined:
-    /// it is the fill's sink for every span of a frame.
-    #[inline(always)]
+    /// spans, and every span once exhausted (in the merging modes), forward nothing.
     pub fn span<S: SpanSink + ?Sized>(
         &mut self,
         y: u32,

@@ -93,7 +93,6 @@ impl Rows<'_> {
 
     /// Replace intervals `first..last` of row `y` (all touching `[a, b]`) by their union with
     /// `[a, b]`; the caller checked there is room.
-    #[inline(always)]
     pub(super) fn merge(
         &mut self,
         y: usize,

@@ -1,8 +1,11 @@
 //! The painter: snapping, and [`Painter`], the per-polygon work of a frame (the traversal
-//! walk with node culling, then cull, clip, project, snap and fill each polygon, through the
-//! span memory when there is one). It exists apart from [`super::renderer`] because it is
-//! the hot loop: one copy of it serves both passes of a frame, and its rules (the module
-//! docs' "Culling", the snapping slack) are what keep culling pixel-neutral.
+//! walk with node culling, then cull, clip, project, snap and fill each polygon). It walks
+//! and fills: where a polygon's spans go is a sink's business, the plain route through the
+//! span memory ([`crate::coverage::Clipped`]) or the anti-aliased one through the pending
+//! pixels ([`crate::pending::Antialiased`]). It exists apart from the frame's passes
+//! ([`super::frame`]) because it is the hot loop: one copy of it serves both passes of a
+//! frame, and its rules (the module docs' "Culling", the snapping slack) are what keep culling
+//! pixel-neutral.
 
 use glam::{Vec2, Vec3};
 

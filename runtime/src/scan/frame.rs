@@ -4,7 +4,9 @@
 
 use super::{ScanMemory, NIL};
 use crate::display::Colour;
-use crate::pending::{Pending, PendingRow};
+use crate::pending::Pending;
+#[cfg(feature = "antialias")]
+use crate::pending::PendingRow;
 
 impl ScanMemory<'_> {
     /// The frame as pixels, row by row, gaps in `background` (RGB565) but for the pending
@@ -63,28 +65,37 @@ impl ScanMemory<'_> {
     }
 }
 
-/// The pending pixels of an anti-aliased frame, which the read-out puts into its gaps (none
-/// without the `antialias` feature: the optimiser then drops their code).
+/// The pending pixels of an anti-aliased frame, which the read-out puts into its gaps (with
+/// the `antialias` feature; none without it, and then no room in the read-out's iterator,
+/// whose state a pixel loop keeps in registers).
 #[derive(Debug, Clone, Copy, Default)]
 pub(crate) struct Gaps<'a> {
+    #[cfg(feature = "antialias")]
     pending: Option<(&'a Pending<'a>, Colour)>,
+    _frame: core::marker::PhantomData<&'a ()>,
 }
 
 impl<'a> Gaps<'a> {
-    /// The pending pixels of `pending`, their uncovered samples in `background`.
+    /// The pending pixels of `pending`, their uncovered samples in `background` (none
+    /// without the `antialias` feature).
+    #[cfg_attr(not(feature = "antialias"), allow(unused_variables))]
     pub(crate) fn pending(pending: Option<&'a Pending<'a>>, background: Colour) -> Self {
         Gaps {
+            #[cfg(feature = "antialias")]
             pending: pending.map(|p| (p, background)),
+            _frame: core::marker::PhantomData,
         }
     }
 
     /// Row `y`'s pending pixels.
+    #[cfg_attr(not(feature = "antialias"), allow(unused_variables))]
     fn row(&self, y: u32) -> GapRow<'a> {
         GapRow {
+            #[cfg(feature = "antialias")]
             pending: self
                 .pending
-                .filter(|_| cfg!(feature = "antialias"))
                 .map(|(p, background)| p.row_pixels(y, background)),
+            _frame: core::marker::PhantomData,
         }
     }
 }
@@ -92,17 +103,19 @@ impl<'a> Gaps<'a> {
 /// A row's pending pixels, column by column: column and RGB565 colour.
 #[derive(Debug, Clone)]
 struct GapRow<'a> {
+    #[cfg(feature = "antialias")]
     pending: Option<PendingRow<'a>>,
+    _frame: core::marker::PhantomData<&'a ()>,
 }
 
 impl GapRow<'_> {
     #[inline]
     fn next(&mut self) -> Option<(u16, u16)> {
-        if !cfg!(feature = "antialias") {
-            return None;
+        #[cfg(feature = "antialias")]
+        if let Some((x, c)) = self.pending.as_mut().and_then(Iterator::next) {
+            return Some((x as u16, c.to_rgb565()));
         }
-        let (x, c) = self.pending.as_mut().and_then(Iterator::next)?;
-        Some((x as u16, c.to_rgb565()))
+        None
     }
 }
 
