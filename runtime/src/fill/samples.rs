@@ -1,5 +1,5 @@
-//! Sample masks: which of a pixel's [`SAMPLES`] sample points a polygon covers, the coverage
-//! an anti-aliased frame averages.
+//! Sample masks: which of a pixel's [`SAMPLES`] sample points a polygon covers, the mask an
+//! anti-aliased frame averages (a pixel's share of a polygon; "coverage" is the span buffer).
 //!
 //! The samples form a grid of [`SAMPLE_COLUMNS`] x [`SAMPLE_ROWS`] per pixel, sample `(s, t)`
 //! of pixel `(i, j)` at `(i + (s + 1/2) / 5, j + (t + 1/2) / 5)`. Scaling the polygon's points
@@ -16,9 +16,9 @@ use crate::display::{Colour, SpanSink};
 
 /// Sample columns per pixel.
 pub const SAMPLE_COLUMNS: u32 = 5;
-/// Sample rows per pixel. Five rather than three: an edge's coverage then errs by at most a
-/// tenth of a pixel instead of a sixth (a largest error of about 26 instead of 43 in 8-bit
-/// units, measured against a 16 x 16 supersampled reference in BENCHMARKS.md).
+/// Sample rows per pixel. Five rather than three: an edge's share of a pixel then errs by at
+/// most a tenth of a pixel instead of a sixth (a largest error of about 26 instead of 43 in
+/// 8-bit units, measured against a 16 x 16 supersampled reference in BENCHMARKS.md).
 pub const SAMPLE_ROWS: u32 = 5;
 /// Samples per pixel: bit `t * SAMPLE_COLUMNS + s` of a [`Mask`] is sample `(s, t)`.
 pub const SAMPLES: u32 = SAMPLE_COLUMNS * SAMPLE_ROWS;
