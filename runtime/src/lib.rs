@@ -16,12 +16,12 @@ pub mod coverage;
 pub mod display;
 pub mod error;
 pub mod fill;
-#[cfg(feature = "antialias")]
 pub mod pending;
 pub mod read;
 pub mod render;
 #[cfg(feature = "scan-order")]
 pub mod scan;
+pub mod stats;
 pub mod traverse;
 pub mod vertices;
 

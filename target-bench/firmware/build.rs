@@ -12,6 +12,7 @@ fn main() {
         "STREAM_AA",
         "FTB_BANDS",
         "SCAN_ORDER",
+        "SCAN_AA",
         "B2F_FRAMEBUFFER",
         "B2F_BANDS",
     ];

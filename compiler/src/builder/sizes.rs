@@ -335,6 +335,16 @@ pub fn sizes_file(
         ),
     }
     item(
+        "Bytes of caller memory an anti-aliased frame in scan order takes at `height` rows\n\
+         (`Renderer::draw_scan` with `Renderer::antialias`): `SCAN_NODES_AA` scan memory nodes\n\
+         (8 bytes each) and `PENDING_PIXELS` pending-pixel records (12 bytes each), and a list\n\
+         head (2 bytes) per row for each.",
+        "pub const fn scan_antialiased_bytes(height: u32) -> usize {\n    \
+             SCAN_NODES_AA * 8 + PENDING_PIXELS * 12 + 4 * height as usize\n\
+         }"
+        .to_string(),
+    );
+    item(
         "Intervals per row that can never run out at `width`: each polygon covers one span of\n\
          a row, and a row holds at most `(width + 1) / 2` disjoint intervals.",
         "pub const fn spans_per_row_bound(width: u32) -> usize {\n    \

@@ -18,14 +18,26 @@
 //! list: nearer polygons are never overwritten and no polygon is dropped; only the rest of the
 //! frame has overdraw. Merging adjacent intervals keeps the lists short: a row needs one slot
 //! per visible "hole" boundary, not per polygon.
+//!
+//! # Stores
+//!
+//! The intervals live in one of two stores (`store.rs`): rows of slots as above, or (a
+//! scan-order frame, feature `scan-order`) the scan memory's coloured lists
+//! ([`crate::scan::ScanMemory`]), which answer the same queries and keep every span instead
+//! of forwarding it. The sinks that route a fill's spans through a coverage are in `sink.rs`.
 
 #[cfg(test)]
 mod tests;
 
+mod sink;
+mod store;
+
+pub(crate) use sink::Clipped;
+pub use sink::CoverageSink;
+
 use crate::display::{Colour, SpanSink};
 use crate::error::RenderError;
-#[cfg(feature = "scan-order")]
-use crate::scan::ScanMemory;
+use store::{Rows, ScanStore, Store};
 
 /// What [`Coverage::span`] does with the list.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -43,20 +55,12 @@ pub enum Mode {
 /// docs). Intervals are half-open `[start, end)`, sorted, disjoint and not touching.
 #[derive(Debug)]
 pub struct Coverage<'m> {
-    intervals: &'m mut [(u16, u16)],
-    counts: &'m mut [u16],
-    per_row: usize,
+    store: Store<'m>,
     width: u16,
     height: u32,
     /// Rows of the frame or band being drawn (`<= height`): full when all of them are.
     in_use: u32,
-    full_rows: u32,
-    covered: u64,
     mode: Mode,
-    exhausted: bool,
-    /// Scan order's coloured intervals, which then stand in for the rows above.
-    #[cfg(feature = "scan-order")]
-    scan: Option<ScanMemory<'m>>,
 }
 
 impl<'m> Coverage<'m> {
@@ -80,18 +84,18 @@ impl<'m> Coverage<'m> {
             .unwrap_or(0)
             .min(usize::from(u16::MAX));
         let mut c = Coverage {
-            intervals,
-            counts,
-            per_row,
+            store: Store::Rows(Rows {
+                intervals,
+                counts,
+                per_row,
+                full_rows: 0,
+                covered: 0,
+                exhausted: false,
+            }),
             width: w,
             height,
             in_use: height,
-            full_rows: 0,
-            covered: 0,
             mode: Mode::Exclusive,
-            exhausted: false,
-            #[cfg(feature = "scan-order")]
-            scan: None,
         };
         c.clear();
         Ok(c)
@@ -99,46 +103,37 @@ impl<'m> Coverage<'m> {
 
     /// A coverage kept in scan memory (scan order: each interval with its colour). Only
     /// [`Mode::Exclusive`] applies to it: spans are merged into the memory, none is forwarded.
-    #[cfg(feature = "scan-order")]
-    pub(crate) fn from_scan(scan: ScanMemory<'m>) -> Self {
+    #[cfg_attr(not(feature = "scan-order"), allow(dead_code))]
+    pub(crate) fn from_scan(scan: ScanStore<'m>) -> Self {
         let (width, height) = (scan.width() as u16, scan.height());
         let mut c = Coverage {
-            intervals: &mut [],
-            counts: &mut [],
-            per_row: 0,
+            store: Store::Scan(scan),
             width,
             height,
             in_use: height,
-            full_rows: 0,
-            covered: 0,
             mode: Mode::Exclusive,
-            exhausted: false,
-            scan: Some(scan),
         };
         c.clear();
         c
     }
 
     /// The scan memory of [`Coverage::from_scan`].
-    #[cfg(feature = "scan-order")]
-    pub(crate) fn into_scan(self) -> Option<ScanMemory<'m>> {
-        self.scan
+    #[cfg_attr(not(feature = "scan-order"), allow(dead_code))]
+    pub(crate) fn into_scan(self) -> Option<ScanStore<'m>> {
+        match self.store {
+            Store::Scan(s) => Some(s),
+            Store::Rows(_) => None,
+        }
     }
 
     /// Forget everything (a new frame), back to [`Mode::Exclusive`].
     pub fn clear(&mut self) {
-        #[cfg(feature = "scan-order")]
-        if let Some(s) = self.scan.as_mut() {
-            s.clear();
+        match &mut self.store {
+            Store::Rows(r) => r.clear(),
+            Store::Scan(s) => s.clear(),
         }
-        for c in self.counts.iter_mut() {
-            *c = 0;
-        }
-        self.full_rows = 0;
         self.in_use = self.height;
-        self.covered = 0;
         self.mode = Mode::Exclusive;
-        self.exhausted = false;
     }
 
     /// Frame width.
@@ -151,9 +146,12 @@ impl<'m> Coverage<'m> {
         self.height
     }
 
-    /// Interval slots per row.
+    /// Interval slots per row (0 in scan memory, whose rows share one pool).
     pub fn per_row(&self) -> usize {
-        self.per_row
+        match &self.store {
+            Store::Rows(r) => r.per_row,
+            Store::Scan(_) => 0,
+        }
     }
 
     /// The current mode.
@@ -174,30 +172,27 @@ impl<'m> Coverage<'m> {
     /// Whether a span could not be merged for lack of slots (it and every later span were
     /// dropped until [`Coverage::freeze`] or [`Coverage::clear`]).
     pub fn exhausted(&self) -> bool {
-        #[cfg(feature = "scan-order")]
-        if let Some(s) = self.scan.as_ref() {
-            return s.exhausted();
+        match &self.store {
+            Store::Rows(r) => r.exhausted,
+            Store::Scan(s) => s.exhausted(),
         }
-        self.exhausted
     }
 
     /// Distinct pixels covered (exact while not exhausted).
     pub fn covered(&self) -> u64 {
-        #[cfg(feature = "scan-order")]
-        if let Some(s) = self.scan.as_ref() {
-            return s.covered();
+        match &self.store {
+            Store::Rows(r) => r.covered,
+            Store::Scan(s) => s.covered(),
         }
-        self.covered
     }
 
     /// Whether every pixel of the frame is covered (of its first `rows` rows after
     /// [`Coverage::use_rows`]).
     pub fn is_full(&self) -> bool {
-        #[cfg(feature = "scan-order")]
-        if let Some(s) = self.scan.as_ref() {
-            return s.is_full(self.in_use);
+        match &self.store {
+            Store::Rows(r) => r.full_rows == self.in_use || self.width == 0,
+            Store::Scan(s) => s.is_full(self.in_use),
         }
-        self.full_rows == self.in_use || self.width == 0
     }
 
     /// Draw only the first `rows` rows until the next [`Coverage::clear`] (a band shorter than
@@ -209,31 +204,27 @@ impl<'m> Coverage<'m> {
     /// The covered intervals of row `y` (empty outside the frame, and for a coverage in scan
     /// memory).
     pub fn row(&self, y: u32) -> &[(u16, u16)] {
-        let Some(y) = usize::try_from(y).ok().filter(|_| y < self.height) else {
-            return &[];
-        };
-        let n = usize::from(self.counts.get(y).copied().unwrap_or(0));
-        let start = y * self.per_row;
-        self.intervals.get(start..start + n).unwrap_or(&[])
+        match &self.store {
+            Store::Rows(r) if y < self.height => r.row(y),
+            _ => &[],
+        }
     }
 
     /// Whether pixel `(x, y)` is covered: [`Coverage::covers`] of one pixel, inlined for the
     /// anti-aliased fill's test of each pixel at a polygon's edges.
     #[inline]
     pub fn covers_pixel(&self, x: u32, y: u32) -> bool {
-        #[cfg(feature = "scan-order")]
-        if let Some(s) = self.scan.as_ref() {
-            return s.covers(x, y, x + 1, y + 1);
-        }
-        let row = self.row(y);
+        let row = match &self.store {
+            Store::Rows(_) => self.row(y),
+            Store::Scan(s) => return s.covers(x, y, x + 1, y + 1),
+        };
         let i = row.partition_point(|&(_, b)| u32::from(b) <= x);
         row.get(i).is_some_and(|&(a, _)| u32::from(a) <= x)
     }
 
     /// Whether every pixel `x0 <= x < x1`, `y0 <= y < y1` is covered (an empty rectangle is).
     pub fn covers(&self, x0: u32, y0: u32, x1: u32, y1: u32) -> bool {
-        #[cfg(feature = "scan-order")]
-        if let Some(s) = self.scan.as_ref() {
+        if let Store::Scan(s) = &self.store {
             return s.covers(x0, y0, x1, y1);
         }
         (y0..y1.min(self.height)).all(|y| {
@@ -249,8 +240,13 @@ impl<'m> Coverage<'m> {
     }
 
     /// Paint `[x_start, x_end)` of row `y` into `sink` as the mode says; returns the pixels
-    /// forwarded. Out-of-frame or empty spans, and every span once exhausted (in the merging
-    /// modes), forward nothing.
+    /// forwarded (in scan memory: covered, as it forwards nothing). Out-of-frame or empty
+    /// spans, and every span once exhausted (in the merging modes), forward nothing.
+    ///
+    /// With scan memory built in, a call here is a dispatch between two stores, kept out of
+    /// the walk (inlined, it cost the scan-order frame 2-4% of its instructions on the
+    /// Cortex-M4F); with one store it is inlined where it has one caller, as before.
+    #[cfg_attr(feature = "scan-order", inline(never))]
     pub fn span<S: SpanSink + ?Sized>(
         &mut self,
         y: u32,
@@ -259,36 +255,35 @@ impl<'m> Coverage<'m> {
         colour: Colour,
         sink: &mut S,
     ) -> u64 {
-        #[cfg(feature = "scan-order")]
-        if let Some(s) = self.scan.as_mut() {
-            let _ = sink;
-            return s.span(y, x_start, x_end, colour);
-        }
-        let x_end = x_end.min(u32::from(self.width));
-        if x_start >= x_end || y >= self.height || (self.exhausted && self.mode == Mode::Exclusive)
-        {
+        let (mode, width, height) = (self.mode, self.width, self.height);
+        let rows = match &mut self.store {
+            Store::Rows(r) => r,
+            Store::Scan(s) => return s.span(y, x_start, x_end, colour),
+        };
+        let x_end = x_end.min(u32::from(width));
+        if x_start >= x_end || y >= height || (rows.exhausted && mode == Mode::Exclusive) {
             return 0;
         }
         // In range: both fit u16 since x_end <= width <= u16::MAX.
         let (a, b) = (x_start as u16, x_end as u16);
         // Intervals touching [a, b] (overlapping or adjacent) are merged with it.
         let (first, last, n) = {
-            let row = self.row(y);
+            let row = rows.row(y);
             let first = row.partition_point(|&(_, e)| e < a);
             (first, row.partition_point(|&(s, _)| s <= b), row.len())
         };
-        let mut merging = self.mode != Mode::Frozen && !self.exhausted;
-        if merging && n + 1 - (last - first) > self.per_row {
-            self.exhausted = true;
-            if self.mode == Mode::Exclusive {
+        let mut merging = mode != Mode::Frozen && !rows.exhausted;
+        if merging && n + 1 - (last - first) > rows.per_row {
+            rows.exhausted = true;
+            if mode == Mode::Exclusive {
                 return 0;
             }
             // Measuring: keep painting, stop counting.
             merging = false;
         }
-        let row = self.row(y);
+        let row = rows.row(y);
         let mut forwarded = 0u64;
-        if self.mode == Mode::Measure {
+        if mode == Mode::Measure {
             sink.span(y, x_start, x_end, colour);
             forwarded = u64::from(b - a);
         } else {
@@ -306,70 +301,8 @@ impl<'m> Coverage<'m> {
             }
         }
         if merging {
-            self.merge(y as usize, first, last, a, b);
+            rows.merge(y as usize, first, last, a, b, width);
         }
         forwarded
-    }
-
-    /// Replace intervals `first..last` of row `y` (all touching `[a, b]`) by their union with
-    /// `[a, b]`; the caller checked there is room.
-    fn merge(&mut self, y: usize, first: usize, last: usize, a: u16, b: u16) {
-        let base = y * self.per_row;
-        // Every index below is in range by construction; `get` keeps the path panic-free.
-        let n = usize::from(self.counts.get(y).copied().unwrap_or(0));
-        let Some(row) = self.intervals.get_mut(base..base + self.per_row) else {
-            return;
-        };
-        let (mut s, mut e) = (a, b);
-        let mut before = 0u64;
-        for &(rs, re) in row.get(first..last).unwrap_or(&[]) {
-            s = s.min(rs);
-            e = e.max(re);
-            before += u64::from(re - rs);
-        }
-        let was_full = n == 1 && row.first() == Some(&(0, self.width));
-        let new_n = n + 1 - (last - first);
-        // Shift the tail so that exactly one slot replaces `first..last`.
-        // (Element by element with `get`: `copy_within`'s checks are not provably dead.)
-        let (src, dst, moved) = (last, first + 1, n.saturating_sub(last));
-        let mut shift = |i: usize| {
-            if let (Some(&v), Some(_)) = (row.get(src + i), row.get(dst + i)) {
-                if let Some(d) = row.get_mut(dst + i) {
-                    *d = v;
-                }
-            }
-        };
-        if dst < src {
-            (0..moved).for_each(&mut shift);
-        } else if dst > src {
-            (0..moved).rev().for_each(&mut shift);
-        }
-        if let Some(slot) = row.get_mut(first) {
-            *slot = (s, e);
-        }
-        if let Some(count) = self.counts.get_mut(y) {
-            *count = new_n as u16;
-        }
-        self.covered += u64::from(e - s) - before;
-        if !was_full && new_n == 1 && s == 0 && e == self.width {
-            self.full_rows += 1;
-        }
-    }
-}
-
-/// A [`SpanSink`] that paints through a [`Coverage`] into another sink, counting pixels.
-#[derive(Debug)]
-pub struct CoverageSink<'c, 'm, S: SpanSink + ?Sized> {
-    /// The coverage spans are clipped against.
-    pub coverage: &'c mut Coverage<'m>,
-    /// The real sink.
-    pub sink: &'c mut S,
-    /// Pixels forwarded to `sink`.
-    pub pixels: u64,
-}
-
-impl<S: SpanSink + ?Sized> SpanSink for CoverageSink<'_, '_, S> {
-    fn span(&mut self, y: u32, x_start: u32, x_end: u32, colour: Colour) {
-        self.pixels += self.coverage.span(y, x_start, x_end, colour, self.sink);
     }
 }

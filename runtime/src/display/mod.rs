@@ -5,8 +5,14 @@
 //! [`Rgb565`], [`Xrgb8888`]); with the `embedded-graphics` feature, `DrawTargetSink` forwards
 //! spans to any `embedded_graphics_core` draw target. The crate's own tests draw into a mock
 //! that checks and prints what a fill drew (`testing::MockTarget`, built only for them).
+//!
+//! Adapters between sinks, one a file: [`Nowhere`] drops every span, `Shifted` moves a band's
+//! rows to frame rows. The adapters of the other concepts live with them: the span memory's
+//! clipping sink in [`crate::coverage`], the anti-aliasing sink in [`crate::pending`].
 
 mod framebuffer;
+mod nowhere;
+mod shifted;
 #[cfg(test)]
 pub(crate) mod testing;
 
@@ -19,6 +25,8 @@ pub use framebuffer::{
     Framebuffer, FramebufferError, Gray8, Gray8Framebuffer, PixelFormat, Rgb565, Rgb565Framebuffer,
     Xrgb8888, Xrgb8888Framebuffer,
 };
+pub use nowhere::Nowhere;
+pub(crate) use shifted::Shifted;
 
 /// An RGB888 colour. Id images use it too: `id + 1` as 24 bits, red the high byte.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]

@@ -18,7 +18,6 @@
 //! from both sides, two polygons sharing an edge never both draw a pixel nor both skip one.
 
 mod edge;
-#[cfg(feature = "antialias")]
 pub mod samples;
 mod small;
 

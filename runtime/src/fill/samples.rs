@@ -1,5 +1,5 @@
-//! Sample masks: which of a pixel's [`SAMPLES`] sample points a polygon covers, the coverage
-//! an anti-aliased frame averages.
+//! Sample masks: which of a pixel's [`SAMPLES`] sample points a polygon covers, the mask an
+//! anti-aliased frame averages (a pixel's share of a polygon; "coverage" is the span buffer).
 //!
 //! The samples form a grid of [`SAMPLE_COLUMNS`] x [`SAMPLE_ROWS`] per pixel, sample `(s, t)`
 //! of pixel `(i, j)` at `(i + (s + 1/2) / 5, j + (t + 1/2) / 5)`. Scaling the polygon's points
@@ -11,14 +11,14 @@
 
 use core::ops::Range;
 
-use super::{fill_polygon_rows, Coord, EdgeWalk, FillError, FixedPoint};
+use super::{Coord, EdgeWalk, FixedPoint};
 use crate::display::{Colour, SpanSink};
 
 /// Sample columns per pixel.
 pub const SAMPLE_COLUMNS: u32 = 5;
-/// Sample rows per pixel. Five rather than three: an edge's coverage then errs by at most a
-/// tenth of a pixel instead of a sixth (a largest error of about 26 instead of 43 in 8-bit
-/// units, measured against a 16 x 16 supersampled reference in BENCHMARKS.md).
+/// Sample rows per pixel. Five rather than three: an edge's share of a pixel then errs by at
+/// most a tenth of a pixel instead of a sixth (a largest error of about 26 instead of 43 in
+/// 8-bit units, measured against a 16 x 16 supersampled reference in BENCHMARKS.md).
 pub const SAMPLE_ROWS: u32 = 5;
 /// Samples per pixel: bit `t * SAMPLE_COLUMNS + s` of a [`Mask`] is sample `(s, t)`.
 pub const SAMPLES: u32 = SAMPLE_COLUMNS * SAMPLE_ROWS;
@@ -28,113 +28,6 @@ pub type Mask = u32;
 pub const FULL_MASK: Mask = (1 << SAMPLES) - 1;
 /// The bit of the sample at the pixel's centre.
 pub const CENTRE_SAMPLE: u32 = SAMPLE_COLUMNS * (SAMPLE_ROWS / 2) + SAMPLE_COLUMNS / 2;
-
-/// Receives a row's sample masks: pixels `x_start ..` of row `y`, one mask each, every one
-/// non-zero at the run's ends (a run may hold zero masks between two covered pixels).
-pub trait MaskSink {
-    /// The masks of pixels `x_start .. x_start + masks.len()` of row `y`.
-    fn masks(&mut self, y: u32, x_start: u32, masks: &[Mask], colour: Colour);
-}
-
-/// Fill `points` (as [`super::fill_polygon_rows`] takes them, in a `width`-pixel window)
-/// on the sample grid of the pixel rows `rows`, and emit each row's masks, top to bottom;
-/// returns the number of samples covered. `row_masks` is the caller's scratch row: at least
-/// `width` masks, all zero, and left zero.
-///
-/// # Errors
-/// The fill's, for the scaled points: [`FillError::TooManyVertices`], or
-/// [`FillError::OutOfRange`] (naming the scaled point) when a scaled point leaves the fill's
-/// range (only without the `wide-coordinates` feature, where five times the window's width
-/// must be in range).
-/// [`FillError::TooManyVertices`] with `max` the scratch row's length is also returned when
-/// `row_masks` is shorter than `width`; nothing is drawn.
-pub fn fill_polygon_masks<const SUB: u32, M: MaskSink + ?Sized>(
-    points: &[FixedPoint<SUB>],
-    width: u32,
-    rows: Range<u32>,
-    colour: Colour,
-    row_masks: &mut [Mask],
-    sink: &mut M,
-) -> Result<u64, FillError<SUB>> {
-    let mut scaled = [FixedPoint::<SUB>::default(); super::MAX_FILL_VERTICES];
-    if points.len() > scaled.len() {
-        return Err(FillError::TooManyVertices {
-            count: points.len(),
-            max: scaled.len(),
-        });
-    }
-    if row_masks.len() < width as usize {
-        return Err(FillError::TooManyVertices {
-            count: width as usize,
-            max: row_masks.len(),
-        });
-    }
-    for (s, p) in scaled.iter_mut().zip(points) {
-        // Saturated: a saturated point is out of the fill's range, or beyond any window.
-        *s = FixedPoint::new(
-            p.x.saturating_mul(SAMPLE_COLUMNS as i32),
-            p.y.saturating_mul(SAMPLE_ROWS as i32),
-        );
-    }
-    let mut rows_sink = MaskRows {
-        masks: row_masks,
-        y: u32::MAX,
-        lo: u32::MAX,
-        hi: 0,
-        colour,
-        sink,
-    };
-    let scaled_rows = rows.start.saturating_mul(SAMPLE_ROWS)..rows.end.saturating_mul(SAMPLE_ROWS);
-    let covered = fill_polygon_rows(
-        &scaled[..points.len()],
-        width.saturating_mul(SAMPLE_COLUMNS),
-        scaled_rows,
-        colour,
-        &mut rows_sink,
-    )?;
-    rows_sink.flush();
-    Ok(covered)
-}
-
-/// The fill's spans on the sample grid, gathered into one pixel row's masks at a time (the
-/// fill emits its rows top to bottom).
-struct MaskRows<'a, M: MaskSink + ?Sized> {
-    masks: &'a mut [Mask],
-    /// The pixel row being gathered (`u32::MAX`: none yet).
-    y: u32,
-    /// Pixels `lo .. hi` of it hold bits.
-    lo: u32,
-    hi: u32,
-    colour: Colour,
-    sink: &'a mut M,
-}
-
-impl<M: MaskSink + ?Sized> MaskRows<'_, M> {
-    /// Emit the gathered row and clear its masks.
-    fn flush(&mut self) {
-        if self.lo < self.hi {
-            if let Some(run) = self.masks.get_mut(self.lo as usize..self.hi as usize) {
-                self.sink.masks(self.y, self.lo, run, self.colour);
-                run.fill(0);
-            }
-        }
-        (self.lo, self.hi) = (u32::MAX, 0);
-    }
-}
-
-impl<M: MaskSink + ?Sized> SpanSink for MaskRows<'_, M> {
-    fn span(&mut self, y: u32, x_start: u32, x_end: u32, _: Colour) {
-        let row = y / SAMPLE_ROWS;
-        if row != self.y {
-            self.flush();
-            self.y = row;
-        }
-        if let Some((lo, hi)) = add_span_bits(self.masks, y, x_start, x_end) {
-            self.lo = self.lo.min(lo);
-            self.hi = self.hi.max(hi);
-        }
-    }
-}
 
 /// Set in `masks` (a pixel row's) the bits of the samples `[x_start, x_end)` (columns of the
 /// sample grid) of sample row `sample_row`; returns the pixels touched, `lo .. hi`.
@@ -187,12 +80,35 @@ pub fn row_extent(spans: &RowSpans) -> RowExtent {
 /// greatest end of a row's spans, and the samples of a pixel in them, need no test for it.
 pub const NO_SPAN: (u32, u32) = (u32::MAX, 0);
 
-/// Receives a polygon's spans on the sample grid a pixel row at a time
-/// ([`fill_sample_rows`]).
-pub(crate) trait SampleRowSink {
+/// Receives a polygon's samples: its spans on the sample grid one by one, top to bottom
+/// ([`SpanSink`], from the general fill), or a pixel row of them at a time
+/// ([`SampleSink::sample_rows`]), then [`SampleSink::end`].
+pub(crate) trait SampleSink: SpanSink {
     /// The spans of pixel row `y`'s sample rows, at least one of them not empty, and their
     /// extent.
     fn sample_rows(&mut self, y: u32, spans: &RowSpans, extent: &RowExtent);
+
+    /// The polygon's last span was given.
+    fn end(&mut self);
+}
+
+/// The fill of a polygon on the sample grid, the one entry for anti-aliased polygons:
+/// `points` (already scaled to the grid, within `rect`, its samples' rectangle, in a window
+/// `width` columns wide) over the sample rows `rows` (whole pixel rows) into `sink`, a pixel
+/// row at a time when [`fill_sample_rows`] can walk it, else span by span by the general fill.
+pub(crate) fn fill_samples<const SUB: u32, S: SampleSink + ?Sized>(
+    points: &[FixedPoint<SUB>],
+    rect: [u32; 4],
+    edges: &mut [EdgeWalk],
+    width: u32,
+    rows: Range<u32>,
+    sink: &mut S,
+) {
+    if fill_sample_rows(points, edges, width, rows.clone(), sink) {
+        return;
+    }
+    super::fill_in_rect(points, rect, edges, width, rows, Colour::default(), sink);
+    sink.end();
 }
 
 /// The spans [`super::fill_in`] gives `points` (on the sample grid, `width` columns) over the
@@ -203,7 +119,7 @@ pub(crate) trait SampleRowSink {
 /// sample row, nor a call per sample row. Returns `false`, having drawn nothing, for any other
 /// polygon, one with a point left or right of the window (whose spans the general fill clips)
 /// or more edges than `edges` holds: the caller fills it with the general fill.
-pub(crate) fn fill_sample_rows<const SUB: u32, S: SampleRowSink + ?Sized>(
+fn fill_sample_rows<const SUB: u32, S: SampleSink + ?Sized>(
     points: &[FixedPoint<SUB>],
     edges: &mut [EdgeWalk],
     width: u32,
@@ -342,7 +258,7 @@ pub(crate) fn fill_sample_rows<const SUB: u32, S: SampleRowSink + ?Sized>(
 
 /// Hand pixel row `y`'s spans to `sink` if it holds any, and empty them.
 #[inline]
-fn send_row<S: SampleRowSink + ?Sized>(sink: &mut S, y: u32, spans: &mut RowSpans) {
+fn send_row<S: SampleSink + ?Sized>(sink: &mut S, y: u32, spans: &mut RowSpans) {
     let extent = row_extent(spans);
     if extent[0] < extent[1] {
         sink.sample_rows(y, spans, &extent);
@@ -350,5 +266,7 @@ fn send_row<S: SampleRowSink + ?Sized>(sink: &mut S, y: u32, spans: &mut RowSpan
     }
 }
 
+#[cfg(test)]
+pub(crate) mod masks;
 #[cfg(test)]
 mod tests;

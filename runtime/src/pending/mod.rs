@@ -1,4 +1,5 @@
-//! Pending pixels: the partly covered pixels of an anti-aliased frame, in caller memory.
+//! Pending pixels: the partly covered pixels of an anti-aliased frame, in caller memory, and
+//! the sink that routes an anti-aliased polygon's samples through them (`sink.rs`).
 //!
 //! Front to back, each sample of a pixel ([`crate::fill::samples`]) belongs to the first
 //! polygon that covers it, so a pixel's anti-aliased colour is the average of its samples'
@@ -28,7 +29,17 @@
 #[cfg(test)]
 mod tests;
 
-use crate::display::{Colour, SpanSink};
+mod finish;
+mod pixel;
+mod sink;
+
+use finish::average;
+pub use finish::PendingRow;
+use pixel::SUM_BITS;
+pub use pixel::{PendingPixel, SampleColour};
+pub(crate) use sink::{drain, Antialiased};
+
+use crate::display::Colour;
 use crate::error::RenderError;
 use crate::fill::samples::{
     row_extent, Mask, RowExtent, RowSpans, CENTRE_SAMPLE, FULL_MASK, NO_SPAN, SAMPLES,
@@ -39,74 +50,6 @@ use crate::fill::samples::{
 const NONE: u16 = 0x7fff;
 /// A row's head flag: the row ran out of records.
 const FALLEN_BACK: u16 = 0x8000;
-
-/// One pending pixel: its column, its row list's next record, its covered samples and the sums
-/// of their colours. 12 bytes: the mask and the sums share one 64-bit accumulator
-/// ([`SAMPLES`] bits of mask, then 13 per channel, red lowest), kept as two words so
-/// that the record stays 4-byte aligned. Adding a polygon's new samples is then one addition.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct PendingPixel {
-    x: u16,
-    next: u16,
-    acc: [u32; 2],
-}
-
-/// Bits of a colour sum: at most [`SAMPLES`] x 255 per channel.
-const SUM_BITS: u32 = 13;
-const _: () = assert!(SAMPLES * 255 < 1 << SUM_BITS && SAMPLES + 3 * SUM_BITS <= 64);
-
-impl Default for PendingPixel {
-    fn default() -> Self {
-        PendingPixel {
-            x: 0,
-            next: NONE,
-            acc: [0; 2],
-        }
-    }
-}
-
-impl PendingPixel {
-    fn acc(&self) -> u64 {
-        u64::from(self.acc[0]) | u64::from(self.acc[1]) << 32
-    }
-
-    fn mask(&self) -> Mask {
-        self.acc[0] & FULL_MASK
-    }
-
-    /// Add the samples of `mask` the record lacks, each of colour `sample` ([`packed`]): their
-    /// bits and colours in one addition, no carry crossing a field.
-    fn add(&mut self, mask: Mask, sample: u64) {
-        let new = mask & !self.mask();
-        let acc = self.acc() + u64::from(new) + u64::from(new.count_ones()) * sample;
-        self.acc = [acc as u32, (acc >> 32) as u32];
-    }
-}
-
-/// A polygon's colour, and its channels placed as a [`PendingPixel`]'s sums (the accumulator's
-/// increment for one sample), placed once per polygon.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct SampleColour {
-    colour: Colour,
-    sample: u64,
-}
-
-impl SampleColour {
-    /// `colour`, placed.
-    pub fn new(colour: Colour) -> Self {
-        SampleColour {
-            colour,
-            sample: packed(colour),
-        }
-    }
-}
-
-/// `colour`'s channels placed as a [`PendingPixel`]'s sums: the accumulator's increment for one
-/// sample.
-fn packed(colour: Colour) -> u64 {
-    (u64::from(colour.r) | u64::from(colour.g) << SUM_BITS | u64::from(colour.b) << (2 * SUM_BITS))
-        << SAMPLES
-}
 
 /// The pending pixels of a frame of `height` rows, and the spans of the pixel row the fill is
 /// gathering, in caller memory (see the module docs).
@@ -512,72 +455,4 @@ impl<'m> Pending<'m> {
             self.in_use = self.in_use.saturating_sub(1);
         }
     }
-
-    /// End the frame (or band): every pending pixel takes `background` for its uncovered
-    /// samples and is painted into `sink`, row by row, in column order; then the pool is
-    /// empty again ([`Pending::peak`] stays until [`Pending::clear`]). Returns the pixels
-    /// painted.
-    pub fn drain<S: SpanSink + ?Sized>(&mut self, background: Colour, sink: &mut S) -> u64 {
-        let fill = [background.r, background.g, background.b].map(u32::from);
-        let mut painted = 0;
-        for y in 0..self.height {
-            let mut at = self.head(y) & !FALLEN_BACK;
-            while let Some(r) = self.record(at) {
-                let x = u32::from(r.x);
-                sink.span(y, x, x + 1, average(r, fill));
-                painted += 1;
-                at = r.next;
-            }
-        }
-        self.empty();
-        painted
-    }
-}
-
-impl Pending<'_> {
-    /// Row `y`'s pending pixels in column order, each with the colour [`Pending::drain`] would
-    /// paint it (`background` for its uncovered samples), leaving them pending: for a frame
-    /// read out after the walk ([`crate::scan::ScanFrame`], which merges them into its gaps).
-    pub fn row_pixels(&self, y: u32, background: Colour) -> PendingRow<'_> {
-        PendingRow {
-            records: &*self.records,
-            at: self.head(y) & !FALLEN_BACK,
-            fill: [background.r, background.g, background.b].map(u32::from),
-        }
-    }
-}
-
-/// The pending pixels of a row with their colours, column by column: [`Pending::row_pixels`].
-#[derive(Debug, Clone)]
-pub struct PendingRow<'a> {
-    records: &'a [PendingPixel],
-    at: u16,
-    fill: [u32; 3],
-}
-
-impl Iterator for PendingRow<'_> {
-    /// A pixel's column and colour.
-    type Item = (u32, Colour);
-
-    fn next(&mut self) -> Option<(u32, Colour)> {
-        let r = self
-            .records
-            .get(usize::from(self.at))
-            .filter(|_| self.at < NONE)?;
-        self.at = r.next;
-        Some((u32::from(r.x), average(r, self.fill)))
-    }
-}
-
-/// The average of [`SAMPLES`] samples: `r`'s, plus its missing samples in `fill`, rounded to
-/// nearest.
-fn average(r: &PendingPixel, fill: [u32; 3]) -> Colour {
-    let acc = r.acc();
-    let missing = SAMPLES - r.mask().count_ones();
-    let channel = |k: u32| {
-        let sum = (acc >> (SAMPLES + k * SUM_BITS)) as u32 & ((1 << SUM_BITS) - 1);
-        let total = sum + missing * fill[k as usize];
-        ((2 * total + SAMPLES) / (2 * SAMPLES)) as u8
-    };
-    Colour::new(channel(0), channel(1), channel(2))
 }

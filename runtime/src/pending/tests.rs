@@ -6,7 +6,9 @@ use std::vec::Vec;
 use proptest::prelude::*;
 
 use super::*;
-use crate::fill::samples::{fill_polygon_masks, Mask, MaskSink, CENTRE_SAMPLE, SAMPLE_COLUMNS};
+use crate::display::SpanSink;
+use crate::fill::samples::masks::{fill_polygon_masks, MaskSink};
+use crate::fill::samples::{Mask, CENTRE_SAMPLE, SAMPLE_COLUMNS};
 use crate::fill::{fill_polygon, FixedPoint};
 
 const W: usize = 12;

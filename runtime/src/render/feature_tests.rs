@@ -6,8 +6,8 @@ use glam::{DVec3, Vec3};
 use std::vec;
 use std::vec::Vec;
 
+use super::frame::window;
 use super::painter::Painter;
-use super::renderer::window;
 use super::testing::*;
 use super::*;
 use crate::camera::{Camera, Pose};
@@ -181,7 +181,6 @@ fn culled_cube(order: Order) -> (FrameStats, bool) {
         vertices: None,
         #[cfg(feature = "integer-vertices")]
         integer: None,
-        #[cfg(feature = "antialias")]
         antialias: None,
     };
     let entered = painter.enter(&t, 0, None, &mut FrameStats::default());

@@ -38,8 +38,10 @@
 //! its pixels, and the coverage tests above, which are exact, skip it.
 //!
 //! The parts: what a scene offers the renderer ([`Source`]), the memory a frame uses
-//! ([`Workspace`]), the renderer with its switches and per-frame checks ([`Renderer`]), the
-//! per-polygon painter with snapping ([`snap`]), and what a frame reports ([`FrameStats`]).
+//! ([`Workspace`]), the renderer with its memory and switches ([`Renderer`]), a frame's checks
+//! and passes as named steps (`frame.rs`), the per-polygon painter with snapping ([`snap`]),
+//! what a polygon is painted with ([`Paint`]), and what a frame reports ([`FrameStats`], in
+//! the leaf module [`crate::stats`]).
 //!
 //! [`RenderError`]: crate::error::RenderError
 //! [`FixedPoint<SUB>`]: crate::fill::FixedPoint
@@ -48,16 +50,18 @@
 //! [`Frustum::excludes_box`]: crate::clip::Frustum::excludes_box
 //! [`Frustum::contains_box`]: crate::clip::Frustum::contains_box
 
+mod frame;
+mod paint;
 mod painter;
 mod renderer;
 mod source;
-mod stats;
 mod workspace;
 
+pub use crate::stats::FrameStats;
+pub use paint::{id_colour, Paint};
 pub use painter::snap;
-pub use renderer::{id_colour, Paint, Renderer};
+pub use renderer::Renderer;
 pub use source::Source;
-pub use stats::FrameStats;
 pub use workspace::Workspace;
 
 #[cfg(test)]

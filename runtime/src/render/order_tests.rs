@@ -7,6 +7,7 @@ use proptest::prelude::*;
 use std::vec;
 use std::vec::Vec;
 
+#[cfg(feature = "front-to-back")]
 use super::painter::Painter;
 use super::testing::*;
 use super::*;
@@ -14,7 +15,10 @@ use crate::camera::{Camera, Pose};
 use crate::clip::Frustum;
 use crate::coverage::Coverage;
 use crate::display::testing::MockTarget;
-use crate::display::{Colour, SpanSink};
+use crate::display::Colour;
+#[cfg(feature = "front-to-back")]
+use crate::display::SpanSink;
+#[cfg(feature = "front-to-back")]
 use crate::fill::FixedPoint;
 use crate::read::Node;
 use crate::traverse::testing::{box_faces, TestTree};
@@ -288,7 +292,6 @@ fn a_full_screen_stops_the_walk_and_culls_covered_subtrees() {
             vertices: None,
             #[cfg(feature = "integer-vertices")]
             integer: None,
-            #[cfg(feature = "antialias")]
             antialias: None,
         };
         let mut stats = FrameStats::default();

@@ -1,35 +1,27 @@
 //! The painter: snapping, and [`Painter`], the per-polygon work of a frame (the traversal
-//! walk with node culling, then cull, clip, project, snap and fill each polygon, through the
-//! span memory when there is one). It exists apart from [`super::renderer`] because it is
-//! the hot loop: one copy of it serves both passes of a frame, and its rules (the module
-//! docs' "Culling", the snapping slack) are what keep culling pixel-neutral.
+//! walk with node culling, then cull, clip, project, snap and fill each polygon). It walks
+//! and fills: where a polygon's spans go is a sink's business, the plain route through the
+//! span memory ([`crate::coverage::Clipped`]) or the anti-aliased one through the pending
+//! pixels ([`crate::pending::Antialiased`]). It exists apart from the frame's passes
+//! ([`super::frame`]) because it is the hot loop: one copy of it serves both passes of a
+//! frame, and its rules (the module docs' "Culling", the snapping slack) are what keep culling
+//! pixel-neutral.
 
 use glam::{Vec2, Vec3};
 
-use super::renderer::id_colour;
-use super::{FrameStats, Paint, Source};
+use super::paint::{id_colour, Paint};
+use super::{FrameStats, Source};
 use crate::camera::LocalView;
 use crate::clip::{self, Frustum};
-use crate::coverage::{Coverage, Mode};
-use crate::display::{Colour, SpanSink};
+use crate::coverage::{Clipped, Coverage, Mode};
+use crate::display::SpanSink;
 use crate::error::RenderError;
+use crate::fill::samples::{SAMPLE_COLUMNS, SAMPLE_ROWS};
 use crate::fill::{self, FixedPoint};
-#[cfg(feature = "antialias")]
-use crate::pending::{Pending, SampleColour};
+use crate::pending::{Antialiased, Pending, SampleColour};
 use crate::read::Polygon;
 use crate::traverse::{Order, StackEntry, Traversal};
 use crate::vertices::{IntegerView, VertexCache};
-
-/// The sample grid's columns and rows per pixel (`fill::samples`), as the points' type; one
-/// without anti-aliasing.
-#[cfg(feature = "antialias")]
-const COLUMNS: i32 = fill::samples::SAMPLE_COLUMNS as i32;
-#[cfg(feature = "antialias")]
-const ROWS: i32 = fill::samples::SAMPLE_ROWS as i32;
-#[cfg(not(feature = "antialias"))]
-const COLUMNS: i32 = 1;
-#[cfg(not(feature = "antialias"))]
-const ROWS: i32 = 1;
 
 /// Snap a screen point to a [`FixedPoint<SUB>`] in the window (see the module docs);
 /// `max_x`, `max_y` are `W * 2^SUB`, `H * 2^SUB`. A NaN lands on 0.
@@ -103,7 +95,6 @@ pub(super) struct Painter<'w, 'v, const SUB: u32> {
     #[cfg(feature = "integer-vertices")]
     pub(super) integer: Option<IntegerView>,
     /// Pending pixels, in an anti-aliased frame ([`super::Renderer::antialias`]).
-    #[cfg(feature = "antialias")]
     pub(super) antialias: Option<&'w mut Pending<'v>>,
 }
 
@@ -225,13 +216,11 @@ impl<const SUB: u32> Painter<'_, '_, SUB> {
         true
     }
 
-    /// Whether the frame is anti-aliased.
+    /// Whether the frame is anti-aliased (never without the `antialias` feature: the
+    /// optimiser then drops every anti-aliased path).
     #[inline(always)]
     fn antialiased(&self) -> bool {
-        #[cfg(feature = "antialias")]
-        return self.antialias.is_some();
-        #[cfg(not(feature = "antialias"))]
-        false
+        cfg!(feature = "antialias") && self.antialias.is_some()
     }
 
     /// Cull, clip, project, snap and fill polygon `index`, in the colour of its side the eye
@@ -258,20 +247,16 @@ impl<const SUB: u32> Painter<'_, '_, SUB> {
         let (view, max_x, max_y) = (self.view, self.max_x, self.max_y);
         // Anti-aliased, the points are scaled to the sample grid (exact: the renderer checked
         // that the scaled window is in the fill's range), once per vertex with vertex memory.
-        #[cfg(feature = "antialias")]
         let antialiased = self.antialiased();
-        #[cfg(feature = "antialias")]
+        let (c, r) = (SAMPLE_COLUMNS, SAMPLE_ROWS);
         let grid = |p: FixedPoint<SUB>| {
             if antialiased {
-                FixedPoint::new(p.x.wrapping_mul(COLUMNS), p.y.wrapping_mul(ROWS))
+                FixedPoint::new(p.x.wrapping_mul(c as i32), p.y.wrapping_mul(r as i32))
             } else {
                 p
             }
         };
-        #[cfg(feature = "antialias")]
         let screen = |c: Vec3| grid(snap::<SUB>(view.project(c), max_x, max_y));
-        #[cfg(not(feature = "antialias"))]
-        let screen = |c: Vec3| snap::<SUB>(view.project(c), max_x, max_y);
         // Without the feature there is never a cache: the test keeps that path out of the
         // binary (the optimiser cannot see through the painter's field).
         let cache = self
@@ -291,10 +276,7 @@ impl<const SUB: u32> Painter<'_, '_, SUB> {
             let shared = |v: u32| {
                 let steps = integer.and_then(|g| scene.vertex_steps(v).map(|q| (g, q)));
                 match steps {
-                    #[cfg(feature = "antialias")]
                     Some((g, q)) => grid(g.point::<SUB>(q)),
-                    #[cfg(not(feature = "antialias"))]
-                    Some((g, q)) => g.point::<SUB>(q),
                     None => corner(scene.vertex(v)),
                 }
             };
@@ -329,14 +311,9 @@ impl<const SUB: u32> Painter<'_, '_, SUB> {
             return Ok(());
         }
         let (width, height) = (self.view.width, self.view.height);
-        // (Without the feature it is found here, after the projection: found before it, the
-        // optimiser laid out the plain frame's walk less well.)
-        #[cfg(not(feature = "antialias"))]
-        let antialiased = self.antialiased();
         let pts = self.points.get(..count).unwrap_or(&[]);
         // No pixel centre (sample) inside: the fill would draw nothing. All covered: nothing
         // shows. Anti-aliased, `grid` is the samples' rectangle and `x0 .. y1` their pixels'.
-        let (c, r) = (COLUMNS as u32, ROWS as u32);
         let (w, h) = if antialiased {
             // (In range: the renderer checked the scaled window.)
             (width.wrapping_mul(c), height.wrapping_mul(r))
@@ -370,195 +347,40 @@ impl<const SUB: u32> Painter<'_, '_, SUB> {
             Paint::Colours | Paint::Ids => scene.colour_seen(index, polygon, interior),
         };
         tally(&mut stats.polygons_drawn, 1);
-        // One fill for every case (with and without span memory, anti-aliased or not): one
-        // copy in the binary. Its checks hold: `count <= available <= min(VERTS,
-        // MAX_FILL_VERTICES)` edges, and `snap` keeps every point in the window, which `window`
-        // kept within `fill::coordinate_limit` (anti-aliased: the sample grid's window).
-        let (rect, fill_width, rows) = if antialiased {
-            // The sample rows of the pixel rows `y0 .. y1`, all in the band.
-            let rect = [grid[0], grid[1].max(y0 * r), grid[2], grid[3].min(y1 * r)];
-            (rect, width * c, y0 * r..y1 * r)
-        } else {
-            ([x0, y0, x1, y1], width, self.rows.clone())
-        };
-        let mut through = Through {
-            coverage,
-            sink,
-            first_row: r0,
-            pixels: 0,
-            #[cfg(feature = "antialias")]
-            samples: self.antialias.as_deref_mut().map(|pending| Samples {
-                pending,
-                colour: SampleColour::new(colour),
-            }),
-            #[cfg(not(feature = "antialias"))]
-            samples: core::marker::PhantomData,
-        };
-        // Anti-aliased, a polygon crossing two edges per sample row (any convex one) is handed
-        // over a pixel row at a time.
-        #[cfg(feature = "antialias")]
-        let filled = antialiased
-            && fill::samples::fill_sample_rows(
-                pts,
-                self.edges,
-                fill_width,
-                rows.clone(),
-                &mut through,
-            );
-        #[cfg(not(feature = "antialias"))]
-        let filled = false;
-        if !filled {
-            fill::fill_in_rect(
-                pts,
-                rect,
-                self.edges,
-                fill_width,
-                rows,
-                colour,
-                &mut through,
-            );
-            #[cfg(feature = "antialias")]
-            through.end_samples();
-        }
-        tally(&mut stats.pixels_written, through.pixels);
-        Ok(())
-    }
-}
-
-/// The sink the fill draws into: through the coverage when there is one (see
-/// [`crate::coverage::CoverageSink`]; its row 0 is frame row `first_row`), else straight to
-/// `sink`; counts the pixels forwarded. Anti-aliased, the fill's spans are samples, gathered
-/// into the pending pixels ([`Samples`]).
-struct Through<'c, 'm, 'p, S: SpanSink + ?Sized> {
-    coverage: Option<&'c mut Coverage<'m>>,
-    sink: &'c mut S,
-    first_row: u32,
-    pixels: u64,
-    #[cfg(feature = "antialias")]
-    samples: Option<Samples<'c, 'p>>,
-    #[cfg(not(feature = "antialias"))]
-    samples: core::marker::PhantomData<&'p ()>,
-}
-
-impl<S: SpanSink + ?Sized> SpanSink for Through<'_, '_, '_, S> {
-    fn span(&mut self, y: u32, x_start: u32, x_end: u32, colour: Colour) {
-        #[cfg(feature = "antialias")]
-        if self.samples.is_some() {
-            self.sample_span(y, x_start, x_end);
-            return;
-        }
-        match self.coverage.as_deref_mut() {
-            Some(c) => {
-                let mut sink = Shifted {
-                    sink: &mut *self.sink,
-                    by: self.first_row,
+        // Checks the fills rely on: `count <= available <= min(VERTS, MAX_FILL_VERTICES)`
+        // edges, and `snap` keeps every point in the window, which `window` kept within
+        // `fill::coordinate_limit` (anti-aliased: the sample grid's window).
+        let pending = self.antialias.as_deref_mut().filter(|_| antialiased);
+        let pixels = match (pending, coverage) {
+            (Some(pending), Some(coverage)) => {
+                // The sample rows of the pixel rows `y0 .. y1`, all in the band.
+                let rect = [grid[0], grid[1].max(y0 * r), grid[2], grid[3].min(y1 * r)];
+                let mut sink = Antialiased {
+                    pending,
+                    colour: SampleColour::new(colour),
+                    coverage,
+                    sink,
+                    first_row: r0,
+                    pixels: 0,
                 };
-                let local = y.wrapping_sub(self.first_row);
-                let n = c.span(local, x_start, x_end, colour, &mut sink);
-                tally(&mut self.pixels, n);
+                let rows = y0 * r..y1 * r;
+                fill::samples::fill_samples(pts, rect, self.edges, width * c, rows, &mut sink);
+                sink.pixels
             }
-            None => {
-                self.sink.span(y, x_start, x_end, colour);
-                tally(&mut self.pixels, u64::from(x_end.saturating_sub(x_start)));
+            (_, coverage) => {
+                let mut sink = Clipped {
+                    coverage,
+                    sink,
+                    first_row: r0,
+                    pixels: 0,
+                };
+                let rect = [x0, y0, x1, y1];
+                let rows = self.rows.clone();
+                fill::fill_in_rect(pts, rect, self.edges, width, rows, colour, &mut sink);
+                sink.pixels
             }
-        }
-    }
-}
-
-/// An anti-aliased polygon's pending pixels, and its colour.
-#[cfg(feature = "antialias")]
-struct Samples<'c, 'p> {
-    pending: &'c mut Pending<'p>,
-    colour: SampleColour,
-}
-
-#[cfg(feature = "antialias")]
-impl<S: SpanSink + ?Sized> Through<'_, '_, '_, S> {
-    /// Gather a span of sample row `y` (the band starts on a pixel row, so a sample row keeps
-    /// its place in it); a span of the next pixel row first adds the gathered one.
-    #[inline(never)]
-    fn sample_span(&mut self, y: u32, x_start: u32, x_end: u32) {
-        let local = y.wrapping_sub(self.first_row * ROWS as u32);
-        let Some(s) = self.samples.as_mut() else {
-            return;
         };
-        if s.pending.gather(local, x_start, x_end).is_err() {
-            self.add_gathered();
-            if let Some(s) = self.samples.as_mut() {
-                let _ = s.pending.gather(local, x_start, x_end);
-            }
-        }
-    }
-
-    /// Add the gathered row to the pending pixels, sending the runs of pixels it finishes.
-    fn add_gathered(&mut self) {
-        let (Some(s), Some(coverage)) = (self.samples.as_mut(), self.coverage.as_deref_mut())
-        else {
-            return;
-        };
-        let Some(y) = s.pending.gathered() else {
-            return;
-        };
-        let Some(mut add) = s.pending.begin_add(&s.colour) else {
-            return;
-        };
-        // (A test per pixel, as scan memory, whose rows are lists, answers it too.)
-        while let Some((x0, x1, c)) = s
-            .pending
-            .next_run(&mut add, |x| coverage.covers_pixel(x, y))
-        {
-            self.pixels += send(coverage, self.sink, self.first_row, (y, x0, x1, c));
-        }
-    }
-
-    /// The general fill is done: add its last row.
-    fn end_samples(&mut self) {
-        self.add_gathered();
-    }
-}
-
-#[cfg(feature = "antialias")]
-impl<S: SpanSink + ?Sized> fill::samples::SampleRowSink for Through<'_, '_, '_, S> {
-    fn sample_rows(
-        &mut self,
-        y: u32,
-        spans: &fill::samples::RowSpans,
-        extent: &fill::samples::RowExtent,
-    ) {
-        if let Some(s) = self.samples.as_mut() {
-            s.pending
-                .gather_row(y.wrapping_sub(self.first_row), spans, extent);
-        }
-        self.add_gathered();
-    }
-}
-
-/// Send a run of finished pixels (band row, columns, colour) through `coverage` to `sink`.
-#[cfg(feature = "antialias")]
-fn send<S: SpanSink + ?Sized>(
-    coverage: &mut Coverage<'_>,
-    sink: &mut S,
-    first_row: u32,
-    (y, x0, x1, colour): (u32, u32, u32, Colour),
-) -> u64 {
-    let mut sink = Shifted {
-        sink,
-        by: first_row,
-    };
-    coverage.span(y, x0, x1, colour, &mut sink)
-}
-
-/// A sink whose rows are `by` below the rows it is given: from a band's coverage rows back
-/// to frame rows.
-pub(super) struct Shifted<'s, S: SpanSink + ?Sized> {
-    pub(super) sink: &'s mut S,
-    pub(super) by: u32,
-}
-
-impl<S: SpanSink + ?Sized> SpanSink for Shifted<'_, S> {
-    #[inline]
-    fn span(&mut self, y: u32, x_start: u32, x_end: u32, colour: Colour) {
-        self.sink
-            .span(y.wrapping_add(self.by), x_start, x_end, colour);
+        tally(&mut stats.pixels_written, pixels);
+        Ok(())
     }
 }

@@ -1,61 +1,26 @@
-//! The renderer: [`Renderer`], made once from a [`Workspace`] and optional span and vertex
-//! memory, its switches ([`Paint`], back to front, background, culling), and a frame's
-//! checks and passes. It exists apart from the per-polygon work ([`super::painter`]) so
-//! that what a caller chooses and what is checked before the first pixel read in one
-//! place; the painter only draws.
+//! The renderer: [`Renderer`], made once from a [`Workspace`] and optional span, vertex,
+//! pending and scan memory, and its switches ([`Paint`], back to front, background, culling).
+//! It exists apart from a frame's steps ([`super::frame`]) and the per-polygon work
+//! ([`super::painter`]) so that what a caller chooses reads in one place; a frame borrows its
+//! memory and runs its passes.
 
 use glam::Vec3;
 
-use super::painter::Painter;
-#[cfg(feature = "antialias")]
-use super::painter::Shifted;
+use super::frame::{self, Memory, Output, Settings};
+use super::paint::Paint;
 use super::{FrameStats, Source, Workspace};
 use crate::camera::LocalView;
-use crate::clip::{self, Frustum};
-use crate::coverage::{Coverage, Mode};
+use crate::coverage::Coverage;
+#[cfg(feature = "scan-order")]
+use crate::display::Nowhere;
 use crate::display::{Colour, SpanSink};
 use crate::error::RenderError;
 use crate::fill::{self, FixedPoint};
-#[cfg(feature = "antialias")]
 use crate::pending::Pending;
 #[cfg(feature = "scan-order")]
 use crate::scan::{Gaps, ScanFrame, ScanMemory};
 use crate::traverse::{Order, StackEntry};
-#[cfg(feature = "integer-vertices")]
-use crate::vertices::IntegerView;
 use crate::vertices::VertexCache;
-
-/// What a polygon is painted with.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
-pub enum Paint {
-    /// Its baked colour.
-    #[default]
-    Colours,
-    /// Its source triangle id plus one, as 24 bits (red the high byte); needs a file with ids.
-    Ids,
-}
-
-/// The colour of an id image pixel for triangle `id`: `id + 1` in 24 bits, red high
-/// (ids past `2^24 - 2` wrap: the format's ids are far below that).
-pub fn id_colour(id: u32) -> Colour {
-    let v = id.wrapping_add(1);
-    Colour::new((v >> 16) as u8, (v >> 8) as u8, v as u8)
-}
-
-/// The window in fixed point, or [`RenderError::ImageTooLarge`] (beyond `i32`, or beyond
-/// [`fill::coordinate_limit`] without the `wide-coordinates` feature).
-pub(super) fn window<const SUB: u32>(width: u32, height: u32) -> Result<(i32, i32), RenderError> {
-    let scaled = |v: u32| {
-        i32::try_from(v)
-            .ok()
-            .and_then(|v| v.checked_mul(1i32.checked_shl(SUB)?))
-            .filter(|&v| SUB <= 30 && v <= fill::coordinate_limit::<SUB>())
-    };
-    match (scaled(width), scaled(height)) {
-        (Some(x), Some(y)) => Ok((x, y)),
-        _ => Err(RenderError::ImageTooLarge { width, height }),
-    }
-}
 
 /// Draws frames: made once from caller memory, reused for every frame, never allocating.
 ///
@@ -111,30 +76,13 @@ pub struct Renderer<'m, const SUB: u32 = { fill::SUBPIXEL_BITS }> {
     edges: &'m mut [fill::EdgeWalk],
     coverage: Option<Coverage<'m>>,
     vertices: Option<VertexCache<'m, SUB>>,
-    back_to_front: bool,
-    paint: Paint,
-    cull: bool,
-    cull_subtrees: bool,
-    integer_vertices: bool,
-    background: Option<Colour>,
+    settings: Settings,
+    /// Pending memory ([`Renderer::antialias`]).
     #[cfg(feature = "antialias")]
     pending: Option<Pending<'m>>,
     /// Scan memory ([`Renderer::scan_memory`]).
     #[cfg(feature = "scan-order")]
     scan: Option<ScanMemory<'m>>,
-    /// A scan-order frame is being drawn: its coverage is the scan memory, nothing is sent.
-    #[cfg(feature = "scan-order")]
-    scan_pass: bool,
-}
-
-/// A sink that draws nothing (scan order keeps its spans in the scan memory).
-#[cfg(feature = "scan-order")]
-struct Nowhere;
-
-#[cfg(feature = "scan-order")]
-impl SpanSink for Nowhere {
-    #[inline]
-    fn span(&mut self, _: u32, _: u32, _: u32, _: Colour) {}
 }
 
 impl<'m> Renderer<'m> {
@@ -170,18 +118,18 @@ impl<'m, const SUB: u32> Renderer<'m, SUB> {
             edges,
             coverage: None,
             vertices: None,
-            back_to_front: false,
-            paint: Paint::Colours,
-            cull: true,
-            cull_subtrees: true,
-            integer_vertices: false,
-            background: None,
+            settings: Settings {
+                back_to_front: false,
+                paint: Paint::Colours,
+                cull: true,
+                cull_subtrees: true,
+                integer_vertices: false,
+                background: None,
+            },
             #[cfg(feature = "antialias")]
             pending: None,
             #[cfg(feature = "scan-order")]
             scan: None,
-            #[cfg(feature = "scan-order")]
-            scan_pass: false,
         }
     }
 
@@ -221,35 +169,35 @@ impl<'m, const SUB: u32> Renderer<'m, SUB> {
         scene: &T,
         view: &LocalView,
     ) -> Result<ScanFrame<'_>, RenderError> {
-        if self.back_to_front {
+        if self.settings.back_to_front {
             return Err(RenderError::NotFrontToBack);
         }
         let memory = self.scan.take().ok_or(RenderError::NotFrontToBack)?;
         let nodes = u32::try_from(memory.capacity()).unwrap_or(u32::MAX);
-        let saved = self.coverage.replace(Coverage::from_scan(memory));
-        self.scan_pass = true;
-        let result = self.draw_rows(scene, view, 0..view.height, &mut Nowhere);
-        self.scan_pass = false;
-        let used = core::mem::replace(&mut self.coverage, saved);
-        self.scan = used.and_then(Coverage::into_scan);
+        // The scan memory is the frame's coverage while it is drawn.
+        let mut coverage = Coverage::from_scan(memory);
+        let rows = 0..view.height;
+        let result = self.frame(
+            scene,
+            view,
+            rows,
+            &mut Nowhere,
+            Some(&mut coverage),
+            Output::Scan,
+        );
+        self.scan = coverage.into_scan();
         let stats = match result {
             Err(RenderError::SpanMemoryFull) => return Err(RenderError::ScanMemoryFull { nodes }),
             r => r?,
         };
         let memory = self.scan.as_ref().ok_or(RenderError::NotFrontToBack)?;
-        let background = self.background.unwrap_or_default();
+        let background = self.settings.background.unwrap_or_default();
         // An anti-aliased frame's pending pixels stay in the pool until the read-out.
-        #[cfg(feature = "antialias")]
-        let gaps = Gaps::pending(
-            self.pending.as_ref().filter(|_| stats.antialiased),
-            background,
-        );
-        #[cfg(not(feature = "antialias"))]
-        let gaps = Gaps::default();
+        let pending = self.pending().filter(|_| stats.antialiased);
         Ok(ScanFrame {
             memory,
             background: background.to_rgb565(),
-            gaps,
+            gaps: Gaps::pending(pending, background),
             stats,
         })
     }
@@ -271,18 +219,18 @@ impl<'m, const SUB: u32> Renderer<'m, SUB> {
         self
     }
 
-    /// Paint source triangle ids (`id + 1` as 24-bit RGB, see [`id_colour`]) instead of
+    /// Paint source triangle ids (`id + 1` as 24-bit RGB, see [`id_colour`](super::id_colour)) instead of
     /// colours; a scene without ids then fails with [`RenderError::NoIds`].
     #[inline(always)]
     pub fn ids(mut self) -> Self {
-        self.paint = Paint::Ids;
+        self.settings.paint = Paint::Ids;
         self
     }
 
     /// Paint back to front even with span memory (which then only counts distinct pixels).
     #[inline(always)]
     pub fn back_to_front(mut self) -> Self {
-        self.back_to_front = true;
+        self.settings.back_to_front = true;
         self
     }
 
@@ -292,7 +240,7 @@ impl<'m, const SUB: u32> Renderer<'m, SUB> {
     /// no clear and no framebuffer: spans can go straight to it.
     #[inline(always)]
     pub fn background(mut self, colour: Colour) -> Self {
-        self.background = Some(colour);
+        self.settings.background = Some(colour);
         self
     }
 
@@ -300,7 +248,7 @@ impl<'m, const SUB: u32> Renderer<'m, SUB> {
     /// only to measure what culling saves.
     #[inline(always)]
     pub fn without_culling(mut self) -> Self {
-        self.cull = false;
+        self.settings.cull = false;
         self
     }
 
@@ -311,7 +259,7 @@ impl<'m, const SUB: u32> Renderer<'m, SUB> {
     /// skip clipping when the scene is inside the view.
     #[inline(always)]
     pub fn without_subtree_culling(mut self) -> Self {
-        self.cull_subtrees = false;
+        self.settings.cull_subtrees = false;
         self
     }
 
@@ -328,7 +276,7 @@ impl<'m, const SUB: u32> Renderer<'m, SUB> {
     /// ignored.
     #[inline(always)]
     pub fn integer_vertices(mut self) -> Self {
-        self.integer_vertices = true;
+        self.settings.integer_vertices = true;
         self
     }
 
@@ -351,16 +299,22 @@ impl<'m, const SUB: u32> Renderer<'m, SUB> {
         self
     }
 
-    /// The pending pixels' memory, if any (after a frame: its peak).
-    #[cfg(feature = "antialias")]
+    /// The pending pixels' memory, if any (after a frame: its peak); never without the
+    /// `antialias` feature.
     pub fn pending(&self) -> Option<&Pending<'m>> {
-        self.pending.as_ref()
+        #[cfg(feature = "antialias")]
+        return self.pending.as_ref();
+        #[cfg(not(feature = "antialias"))]
+        None
     }
 
     /// The order frames are drawn in: front to back exactly when span memory was given and
     /// back to front was not asked for.
     pub fn order(&self) -> Order {
-        if self.coverage.is_some() && !self.back_to_front && cfg!(feature = "front-to-back") {
+        if self.coverage.is_some()
+            && !self.settings.back_to_front
+            && cfg!(feature = "front-to-back")
+        {
             Order::FrontToBack
         } else {
             Order::BackToFront
@@ -410,258 +364,49 @@ impl<'m, const SUB: u32> Renderer<'m, SUB> {
         T: Source + ?Sized,
         S: SpanSink + ?Sized,
     {
-        view.check()?;
-        if rows.start > rows.end || rows.end > view.height {
-            return Err(RenderError::RowsOutsideImage {
-                start: rows.start,
-                end: rows.end,
-                height: view.height,
-            });
-        }
-        let order = self.order();
-        // A display streamed span by span, or a scan-order frame: front to back or nothing.
-        #[cfg(feature = "scan-order")]
-        let scan_pass = self.scan_pass;
-        #[cfg(not(feature = "scan-order"))]
-        let scan_pass = false;
-        let once = scan_pass || target.write_once();
-        let paint = self.paint;
-        let cull = self.cull;
-        // Without the features the memory is never used: the optimiser drops that code.
-        let asked_front_to_back = self.coverage.is_some() && !self.back_to_front;
-        let mut coverage = if cfg!(feature = "front-to-back") {
-            self.coverage.as_mut()
-        } else {
-            None
-        };
-        let vertices = if cfg!(feature = "vertex-cache") {
-            self.vertices.as_mut()
-        } else {
-            None
-        };
-        let (width, height) = (view.width, view.height);
-        let (max_x, max_y) = window::<SUB>(width, height)?;
-        if paint == Paint::Ids && !(cfg!(feature = "ids") && scene.has_ids()) {
-            return Err(RenderError::NoIds);
-        }
-        let needed = clip::buffer_len_for(scene.max_polygon_vertices());
-        let buffers = [
-            self.clip_a.len(),
-            self.clip_b.len(),
-            self.points.len(),
-            self.edges.len(),
-            fill::MAX_FILL_VERTICES,
-        ];
-        let shortest = buffers.into_iter().min().unwrap_or(0);
-        let available = u32::try_from(shortest).unwrap_or(u32::MAX);
-        if needed > available {
-            return Err(RenderError::PolygonTooLarge { needed, available });
-        }
-        if let Some(c) = coverage.as_deref_mut() {
-            if c.width() != width || c.height() < rows.end - rows.start {
-                return Err(RenderError::SpanMemory);
-            }
-            c.clear();
-            c.use_rows(rows.end - rows.start);
-        }
-        // Through `black_box`: knowing the order past this check, LLVM specialised the walk of
-        // a streamed frame for it and laid it out 2% slower (the teapot on both cores).
-        if once && core::hint::black_box(order) != Order::FrontToBack {
-            return Err(RenderError::NotFrontToBack);
-        }
-        let frustum = Frustum::new(view);
-        // The whole scene inside the frustum (the usual case for an object in view): no
-        // subtree needs the frustum test and no polygon needs clipping. Bounds are only trusted
-        // when culling is on, as for every other use of them.
-        let scene_box = || scene.root().and_then(|root| scene.node_bounds(root));
-        let all_inside = cull
-            && cfg!(feature = "bounds-culling")
-            && scene_box().is_some_and(|(lo, hi)| frustum.contains_box(view, lo, hi));
-        #[cfg(feature = "integer-vertices")]
-        let integer = if self.integer_vertices && all_inside {
-            scene_box()
-                .zip(scene.step_grid())
-                .and_then(|(bounds, grid)| {
-                    IntegerView::new::<SUB>(view, grid, bounds, max_x, max_y)
-                })
-        } else {
-            None
-        };
-        // Only frames without clipping use it (see `crate::vertices`).
-        let mut vertices = vertices.filter(|_| all_inside);
-        if let Some(v) = vertices.as_deref_mut() {
-            v.next_frame();
-        }
-        // Anti-aliased: front to back in colours, with the sample grid in the fill's range.
-        #[cfg(feature = "antialias")]
-        let mut pending = self.pending.as_mut().filter(|_| {
-            order == Order::FrontToBack
-                && paint == Paint::Colours
-                && coverage.is_some()
-                && window::<SUB>(
-                    width.saturating_mul(fill::samples::SAMPLE_COLUMNS),
-                    height.saturating_mul(fill::samples::SAMPLE_ROWS),
-                )
-                .is_ok()
-        });
-        #[cfg(feature = "antialias")]
-        if let Some(p) = pending.as_deref_mut() {
-            if p.height() < rows.end - rows.start {
-                return Err(RenderError::PendingMemory);
-            }
-            p.clear();
-        }
-        let (first_row, end_row) = (rows.start, rows.end);
-        let mut painter = Painter::<SUB> {
+        let mut coverage = self.coverage.take();
+        let once = target.write_once();
+        let result = self.frame(
+            scene,
             view,
             rows,
-            frustum,
-            max_x,
-            max_y,
-            available,
-            paint,
-            cull,
-            cull_subtrees: self.cull_subtrees,
-            all_inside,
+            target,
+            coverage.as_mut(),
+            Output::Sink { once },
+        );
+        self.coverage = coverage;
+        result
+    }
+
+    /// A frame of rows `rows` into `target` through `coverage` (the span memory, or the scan
+    /// memory), with the renderer's other memory: checked, then its passes.
+    fn frame<T, S>(
+        &mut self,
+        scene: &T,
+        view: &LocalView,
+        rows: core::ops::Range<u32>,
+        target: &mut S,
+        coverage: Option<&mut Coverage<'m>>,
+        output: Output,
+    ) -> Result<FrameStats, RenderError>
+    where
+        T: Source + ?Sized,
+        S: SpanSink + ?Sized,
+    {
+        #[cfg(feature = "antialias")]
+        let pending = self.pending.as_mut();
+        #[cfg(not(feature = "antialias"))]
+        let pending = None;
+        let memory = Memory {
+            stack: &mut self.stack[..],
             clip_a: &mut self.clip_a[..],
             clip_b: &mut self.clip_b[..],
             points: &mut self.points[..],
             edges: &mut self.edges[..],
-            vertices,
-            #[cfg(feature = "integer-vertices")]
-            integer,
-            #[cfg(feature = "antialias")]
-            antialias: pending,
+            coverage,
+            vertices: self.vertices.as_mut(),
+            pending,
         };
-        let mut stats = FrameStats {
-            // Front to back was asked for, but the feature is off: painted back to front.
-            fallback: asked_front_to_back && order == Order::BackToFront,
-            ..FrameStats::default()
-        };
-        if let Some(c) = coverage.as_deref_mut() {
-            c.set_mode(if order == Order::FrontToBack {
-                Mode::Exclusive
-            } else {
-                Mode::Measure
-            });
-        }
-        // Scan order paints its gaps when the frame is read out.
-        let background = if scan_pass { None } else { self.background };
-        // Back to front: the background first, then every polygon over it.
-        if let (Some(colour), Order::BackToFront) = (background, order) {
-            paint_uncovered(None, width, first_row..end_row, colour, target);
-        }
-
-        // Pixels left pending for a scan-order frame's read-out.
-        #[cfg(feature = "antialias")]
-        let mut kept = 0u64;
-        #[cfg(not(feature = "antialias"))]
-        let kept = 0u64;
-        // Pass 1: the frame's order; anti-aliased, again without if its span (or scan) memory
-        // runs out (a display, which must not be drawn over, gets the error below instead; a
-        // scan-order frame has sent nothing yet).
-        #[cfg_attr(not(feature = "antialias"), allow(clippy::never_loop))]
-        let overflow = loop {
-            let overflow = painter.walk(
-                scene,
-                order,
-                &mut self.stack[..],
-                coverage.as_deref_mut(),
-                target,
-                &mut stats,
-                None,
-            )?;
-            #[cfg(feature = "antialias")]
-            if let (Some(p), Some(c)) = (painter.antialias.take(), coverage.as_deref_mut()) {
-                if overflow.is_none() && scan_pass {
-                    // Kept: the read-out puts them into the scan memory's gaps (each drained
-                    // into it would cost a node).
-                    kept = p.in_use() as u64;
-                    stats.pixels_written += kept;
-                    stats.antialiased = true;
-                } else if overflow.is_none() {
-                    // The pending pixels take the background for their uncovered samples.
-                    let mut sink = Shifted {
-                        sink: &mut *target,
-                        by: first_row,
-                    };
-                    let mut through = crate::coverage::CoverageSink {
-                        coverage: c,
-                        sink: &mut sink,
-                        pixels: 0,
-                    };
-                    p.drain(background.unwrap_or_default(), &mut through);
-                    stats.pixels_written += through.pixels;
-                    stats.antialiased = true;
-                } else if !once || scan_pass {
-                    p.clear();
-                    c.clear();
-                    c.use_rows(end_row - first_row);
-                    c.set_mode(Mode::Exclusive);
-                    continue;
-                }
-            }
-            break overflow;
-        };
-
-        // Pass 2 (span memory exhausted at polygon `last`): the polygons from the farthest up
-        // to `last`, back to front, clipped against the frozen coverage.
-        if overflow.is_some() && once {
-            // No overdraw on a display: the frame stops here.
-            return Err(RenderError::SpanMemoryFull);
-        }
-        if let (Some(last), Some(c)) = (overflow, coverage.as_deref_mut()) {
-            stats.fallback = true;
-            c.freeze();
-            // What pass 2 draws, it draws over this (it paints back to front).
-            if let Some(colour) = background {
-                paint_uncovered(Some(c), width, first_row..end_row, colour, target);
-            }
-            painter.walk(
-                scene,
-                Order::BackToFront,
-                &mut self.stack[..],
-                coverage.as_deref_mut(),
-                target,
-                &mut stats,
-                Some(last),
-            )?;
-        }
-        if let (Some(colour), Order::FrontToBack, None) = (background, order, overflow) {
-            if let Some(c) = coverage.as_deref() {
-                paint_uncovered(Some(c), width, first_row..end_row, colour, target);
-            }
-        }
-        stats.distinct_pixels = match coverage.as_deref() {
-            Some(c) if !c.exhausted() && !stats.fallback => Some(c.covered() + kept),
-            _ => None,
-        };
-        Ok(stats)
-    }
-}
-
-/// Paint in `colour` the pixels of frame rows `rows`, `width` wide, that `coverage` does not
-/// cover (its row `y` being frame row `rows.start + y`): all of them without one. (One copy
-/// for its three callers.)
-#[inline(never)]
-fn paint_uncovered<S: SpanSink + ?Sized>(
-    coverage: Option<&Coverage<'_>>,
-    width: u32,
-    rows: core::ops::Range<u32>,
-    colour: Colour,
-    sink: &mut S,
-) {
-    let first_row = rows.start;
-    for y in 0..rows.end - rows.start {
-        let mut at = 0;
-        for &(a, b) in coverage.map_or(&[][..], |c| c.row(y)) {
-            if at < u32::from(a) {
-                sink.span(first_row + y, at, u32::from(a), colour);
-            }
-            at = u32::from(b);
-        }
-        if at < width {
-            sink.span(first_row + y, at, width, colour);
-        }
+        frame::check(scene, view, rows, output, self.settings, memory)?.draw(scene, target)
     }
 }

@@ -129,7 +129,7 @@ impl Panel {
     /// run, two writes.
     // (Not used by the builds that send rows one at a time.)
     #[cfg_attr(
-        any(feature = "scan-order", feature = "scanline-zbuffer"),
+        any(feature = "scan", feature = "scanline-zbuffer"),
         allow(dead_code)
     )]
     pub fn write_rows(&mut self, first_row: u32, pixels: &[u16]) {
@@ -143,7 +143,7 @@ impl Panel {
     /// one run when packed, a run per row otherwise).
     // (Not used by the builds that send rows one at a time.)
     #[cfg_attr(
-        any(feature = "scan-order", feature = "scanline-zbuffer"),
+        any(feature = "scan", feature = "scanline-zbuffer"),
         allow(dead_code)
     )]
     pub fn write_framebuffer(&mut self, framebuffer: &Rgb565Framebuffer<'_>) {

@@ -7,7 +7,7 @@
 //! ```text
 //! peel-target variant=<variant> target=<target triple>
 //! frame <k> ticks=<SysTick ticks> display_bytes=<bytes> display_writes=<writes> fallback=<0|1>
-//! aa <k> antialiased=<0|1> pending_peak=<records> pending_records=<records>  (stream-aa)
+//! aa <k> antialiased=<0|1> pending_peak=<records> pending_records=<records>  (stream-aa, scan-aa)
 //! memory pool_used=<bytes> pool_capacity=<bytes> framebuffer=<bytes> stack_peak=<bytes>
 //! gfx3d commands_peak=<commands> capacity=<commands>   (embedded-3dgfx only)
 //! done
@@ -54,6 +54,7 @@ variant!(
     "stream-aa" => StreamAa,
     "ftb-bands" => FtbBands,
     "scan-order" => ScanOrder,
+    "scan-aa" => ScanAa,
     "b2f-framebuffer" => B2fFramebuffer,
     "b2f-bands" => B2fBands,
     "zbuffer" => Zbuffer,
@@ -220,7 +221,7 @@ fn run(panel: &'static mut [u16], mut pool: Pool) -> Result<(), Failure> {
             u8::from(fallback)
         );
         // Anti-aliased: whether the frame was, and its pending pixels against the records.
-        #[cfg(feature = "stream-aa")]
+        #[cfg(feature = "aa")]
         {
             let (antialiased, peak, records) = method.antialiasing();
             hprintln!(

@@ -26,10 +26,10 @@ pub enum Use {
     /// A list of the scanline z-buffer (polygon table, vertices, heads, active edges).
     ScanlineList,
     /// Pending-pixel records (anti-aliased frames; in that build only, like their names).
-    #[cfg(feature = "stream-aa")]
+    #[cfg(feature = "aa")]
     PendingRecords,
     /// The pending pixels' row heads.
-    #[cfg(feature = "stream-aa")]
+    #[cfg(feature = "aa")]
     PendingHeads,
 }
 
@@ -44,9 +44,9 @@ impl core::fmt::Display for Use {
             Use::ScanHeads => "scan memory row heads",
             Use::PanelMemory => "panel memory",
             Use::ScanlineList => "scanline z-buffer list",
-            #[cfg(feature = "stream-aa")]
+            #[cfg(feature = "aa")]
             Use::PendingRecords => "pending-pixel records",
-            #[cfg(feature = "stream-aa")]
+            #[cfg(feature = "aa")]
             Use::PendingHeads => "pending-pixel row heads",
         })
     }
@@ -107,7 +107,7 @@ impl Pool {
     }
 
     /// `n` scan memory nodes.
-    #[cfg(feature = "scan-order")]
+    #[cfg(feature = "scan")]
     pub fn scan_nodes(
         &mut self,
         n: usize,
@@ -126,7 +126,7 @@ impl Pool {
 
     /// `n` copies of `value`, aligned for `T` (a word skipped when `T` needs 8 bytes and the
     /// next word is not), for lists of plain records.
-    #[cfg(any(feature = "scanline-zbuffer", feature = "stream-aa"))]
+    #[cfg(any(feature = "scanline-zbuffer", feature = "aa"))]
     pub fn filled<T: Copy>(
         &mut self,
         n: usize,

@@ -54,6 +54,9 @@ pub enum Variant {
     /// Peel front to back into scan memory (each covered interval with its colour), the frame
     /// then sent in scan order as one window: no framebuffer.
     ScanOrder,
+    /// As [`Variant::ScanOrder`], anti-aliased: the pending pixels stay in their pool and the
+    /// read-out merges them into the scan memory's gaps.
+    ScanAa,
     /// Peel back to front (painter's algorithm) into a full framebuffer.
     B2fFramebuffer,
     /// Peel back to front in bands of rows.
@@ -72,12 +75,13 @@ pub enum Variant {
 
 impl Variant {
     /// Every variant, in table order.
-    pub const ALL: [Variant; 11] = [
+    pub const ALL: [Variant; 12] = [
         Variant::FtbFramebuffer,
         Variant::FtbStream,
         Variant::StreamAa,
         Variant::FtbBands,
         Variant::ScanOrder,
+        Variant::ScanAa,
         Variant::B2fFramebuffer,
         Variant::B2fBands,
         Variant::Zbuffer,
@@ -94,6 +98,7 @@ impl Variant {
             Variant::StreamAa => "stream-aa",
             Variant::FtbBands => "ftb-bands",
             Variant::ScanOrder => "scan-order",
+            Variant::ScanAa => "scan-aa",
             Variant::B2fFramebuffer => "b2f-framebuffer",
             Variant::B2fBands => "b2f-bands",
             Variant::Zbuffer => "zbuffer",
@@ -110,7 +115,7 @@ impl Variant {
             | Variant::FtbStream
             | Variant::FtbBands
             | Variant::ScanOrder => "peel-front-to-back",
-            Variant::StreamAa => "peel-front-to-back-aa",
+            Variant::StreamAa | Variant::ScanAa => "peel-front-to-back-aa",
             Variant::B2fFramebuffer | Variant::B2fBands => "peel-back-to-front",
             Variant::Zbuffer => "zbuffer-int",
             Variant::Gfx3d => "embedded-3dgfx",
@@ -145,12 +150,12 @@ impl Variant {
 
     /// Whether it draws anti-aliased frames (and needs pending-pixel records).
     pub const fn antialiased(self) -> bool {
-        matches!(self, Variant::StreamAa)
+        matches!(self, Variant::StreamAa | Variant::ScanAa)
     }
 
     /// Whether it needs scan memory.
     pub const fn scan_order(self) -> bool {
-        matches!(self, Variant::ScanOrder)
+        matches!(self, Variant::ScanOrder | Variant::ScanAa)
     }
 
     /// The variant of a code, as the block stores it.
@@ -167,6 +172,7 @@ impl Variant {
             9 => Some(Variant::TiledZbuffer),
             10 => Some(Variant::ScanOrder),
             11 => Some(Variant::StreamAa),
+            12 => Some(Variant::ScanAa),
             _ => None,
         }
     }
@@ -185,6 +191,7 @@ impl Variant {
             Variant::TiledZbuffer => 9,
             Variant::ScanOrder => 10,
             Variant::StreamAa => 11,
+            Variant::ScanAa => 12,
         }
     }
 }

@@ -204,7 +204,12 @@ fn run(args: &Args) -> Result<Vec<String>, String> {
                         setup,
                         cameras: &cameras,
                         spans_per_row: refs.spans_per_row,
-                        scan_nodes: refs.scan_nodes,
+                        // The builder's `SCAN_NODES`, or `SCAN_NODES_AA` anti-aliased.
+                        scan_nodes: if setup.variant == Variant::ScanAa {
+                            refs.scan_nodes.1
+                        } else {
+                            refs.scan_nodes.0
+                        },
                         pending_pixels: refs.pending_pixels,
                         scanline_lists: refs.scanline_lists,
                         elf: elf.to_path_buf(),
@@ -352,7 +357,8 @@ struct References {
     zbuffer: Vec<Vec<u16>>,
     scanline: Vec<Vec<u16>>,
     spans_per_row: u32,
-    scan_nodes: u32,
+    /// Scan memory nodes, plain and anti-aliased.
+    scan_nodes: (u32, u32),
     scanline_lists: (u32, u32),
     truth: Rc<Truth>,
     /// Robust errors per method that draws ids, summed over the cameras.
@@ -475,12 +481,23 @@ impl References {
         let spans_per_row = peel_compiler::spans::spans_per_row(&scene.peel_bytes, width, height)
             .map_err(|e| format!("{}: {e}", scene.peel.display()))?
             as u32;
-        let scan_nodes = if needs(Variant::ScanOrder) {
-            peel_compiler::spans::scan_nodes(&scene.peel_bytes, width, height)
-                .map_err(|e| format!("{}: {e}", scene.peel.display()))? as u32
-        } else {
-            0
+        let scan_nodes = |nodes: fn(&[u8], u32, u32) -> Result<usize, String>| {
+            nodes(&scene.peel_bytes, width, height)
+                .map(|n| n as u32)
+                .map_err(|e| format!("{}: {e}", scene.peel.display()))
         };
+        let scan_nodes = (
+            if needs(Variant::ScanOrder) {
+                scan_nodes(peel_compiler::spans::scan_nodes)?
+            } else {
+                0
+            },
+            if needs(Variant::ScanAa) {
+                scan_nodes(peel_compiler::spans::scan_nodes_antialiased)?
+            } else {
+                0
+            },
+        );
         // Anti-aliased: the records the builder's sizes file gives (`PENDING_PIXELS`), and the
         // frames of the compiler's host renderer with as many.
         let (antialiased, pending_peaks, pending_pixels) =
@@ -525,7 +542,7 @@ impl References {
             // The tiled z-buffer's bands are the whole frame's rows.
             Variant::Zbuffer | Variant::TiledZbuffer => Some(&self.zbuffer[..]),
             Variant::ScanlineZbuffer => Some(&self.scanline[..]),
-            Variant::StreamAa => Some(&self.antialiased[..]),
+            Variant::StreamAa | Variant::ScanAa => Some(&self.antialiased[..]),
             Variant::Gfx3d => None,
         };
         let robust_errors = if variant.antialiased() {

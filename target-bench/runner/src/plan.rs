@@ -77,7 +77,7 @@ impl Setup {
         match self.variant {
             // Streamed, anti-aliased (the record's method says which).
             Variant::FtbStream | Variant::StreamAa => "stream".into(),
-            Variant::ScanOrder => "scan-order".into(),
+            Variant::ScanOrder | Variant::ScanAa => "scan-order".into(),
             // One row of colour and depth, sent when done.
             Variant::ScanlineZbuffer => "bands-1".into(),
             v if v.banded() => format!("bands-{}", self.band_rows),
@@ -95,7 +95,8 @@ impl Setup {
     }
 }
 
-/// Every display path: front to back into a framebuffer, streamed (also anti-aliased) and in
+/// Every display path: front to back into a framebuffer, streamed and in scan order (each also
+/// anti-aliased), and in
 /// bands of 8, 16 and 30 rows; back to front into a framebuffer and in bands of 16 rows; the peers: the z-buffer
 /// (whole frame, and tiled, its band height chosen per scene by [`tiled_band_rows`], 0 here),
 /// the scanline z-buffer and embedded-3dgfx.
@@ -110,6 +111,7 @@ pub fn setups(only: Option<&[Variant]>) -> Vec<Setup> {
         whole(Variant::FtbStream),
         whole(Variant::StreamAa),
         whole(Variant::ScanOrder),
+        whole(Variant::ScanAa),
         band(Variant::FtbBands, 8),
         band(Variant::FtbBands, 16),
         band(Variant::FtbBands, 30),
@@ -172,7 +174,7 @@ against the host and writes target/peel-target/results.json and results.md.
   --shadows       scenes compiled with the default sun's shadows (peel compile --shadows)
   --models DIR    the shared models (default: ../shared/models from the repository root)
   --only LIST     only these firmware variants: ftb-framebuffer, ftb-stream, stream-aa,
-                  scan-order, ftb-bands, b2f-framebuffer, b2f-bands, zbuffer, tiled-zbuffer,
+                  scan-order, scan-aa, ftb-bands, b2f-framebuffer, b2f-bands, zbuffer, tiled-zbuffer,
                   scanline-zbuffer, embedded-3dgfx";
 
 /// Parse the arguments after the program name; `Ok(None)` for `--help`.
@@ -245,7 +247,7 @@ mod tests {
         assert_eq!(c.len(), 8);
         assert_eq!(c[7].azimuth_deg, 315.0);
         assert!(c.iter().all(|c| c.elevation_deg == 20.0));
-        assert_eq!(setups(None).len(), 13);
+        assert_eq!(setups(None).len(), 14);
         let paths: Vec<String> = setups(None).iter().map(Setup::path).collect();
         assert_eq!(
             paths,
@@ -253,6 +255,7 @@ mod tests {
                 "framebuffer",
                 "stream",
                 "stream",
+                "scan-order",
                 "scan-order",
                 "bands-8",
                 "bands-16",

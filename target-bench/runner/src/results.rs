@@ -235,7 +235,7 @@ pub fn antialiased(records: &[Record]) -> String {
         return table;
     }
     format!(
-        "\n## Anti-aliased frames (stream-aa)\n\n{table}{}",
+        "\n## Anti-aliased frames (stream-aa, scan-aa)\n\n{table}{}",
         antialiased_goals(records)
     )
 }
@@ -305,7 +305,12 @@ pub fn antialiased_table(records: &[Record]) -> String {
             Some(false) => "no".to_string(),
             None => dash(),
         };
-        s.push_str(&row(a, "stream-aa", text, pending, fallback));
+        let path = if a.path == "scan-order" {
+            "scan-aa"
+        } else {
+            "stream-aa"
+        };
+        s.push_str(&row(a, path, text, pending, fallback));
     }
     s
 }

@@ -4,8 +4,9 @@ use std::vec::Vec;
 
 use proptest::prelude::*;
 
+use super::masks::{fill_polygon_masks, MaskSink};
 use super::*;
-use crate::fill::fill_polygon;
+use crate::fill::{fill_polygon, fill_polygon_rows, FillError};
 
 const A: Colour = Colour::new(200, 100, 50);
 
@@ -292,10 +293,18 @@ const PIXELS_H: u32 = 30;
 #[derive(Default)]
 struct SampleRows(Vec<(u32, RowSpans)>);
 
-impl SampleRowSink for SampleRows {
+impl SampleSink for SampleRows {
     fn sample_rows(&mut self, y: u32, spans: &RowSpans, extent: &RowExtent) {
         assert_eq!(*extent, row_extent(spans), "pixel row {y}");
         self.0.push((y, *spans));
+    }
+
+    fn end(&mut self) {}
+}
+
+impl SpanSink for SampleRows {
+    fn span(&mut self, y: u32, _: u32, _: u32, _: Colour) {
+        panic!("fill_sample_rows handed over sample row {y} alone");
     }
 }
 

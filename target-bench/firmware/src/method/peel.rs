@@ -3,13 +3,13 @@
 
 use peel_runtime::camera::LocalView;
 use peel_runtime::coverage::Coverage;
-#[cfg(not(feature = "scan-order"))]
+#[cfg(not(feature = "scan"))]
 use peel_runtime::display::{DrawTargetSink, Rgb565Framebuffer};
-#[cfg(feature = "stream-aa")]
+#[cfg(feature = "aa")]
 use peel_runtime::pending::Pending;
 use peel_runtime::read::{Header, Scene};
 use peel_runtime::render::{Renderer, Workspace};
-#[cfg(feature = "scan-order")]
+#[cfg(feature = "scan")]
 use peel_runtime::scan::ScanMemory;
 use peel_runtime::vertices::{CachedVertex, VertexCache};
 use peel_target_kit::config::{Config, Variant};
@@ -27,7 +27,7 @@ const VERTEX_MEMORY: usize = 512;
 static mut VERTEX_ENTRIES: [CachedVertex; VERTEX_MEMORY] = [CachedVertex::EMPTY; VERTEX_MEMORY];
 
 /// A Peel variant's scene, renderer and pixel memory.
-#[cfg_attr(feature = "scan-order", allow(dead_code))]
+#[cfg_attr(feature = "scan", allow(dead_code))]
 pub struct Method {
     scene: Scene<'static>,
     /// Made once, draws every frame (and band): the background set, span memory for one
@@ -40,9 +40,9 @@ pub struct Method {
     /// Rows per band (the height when not banded).
     band: u32,
     /// Anti-aliased: the pending-pixel records, and whether the last frame was anti-aliased.
-    #[cfg(feature = "stream-aa")]
+    #[cfg(feature = "aa")]
     pending_records: usize,
-    #[cfg(feature = "stream-aa")]
+    #[cfg(feature = "aa")]
     antialiased: bool,
 }
 
@@ -78,7 +78,7 @@ impl Method {
             renderer = renderer.span_memory(Coverage::new(intervals, counts, width, band)?);
         }
         // Scan order: the nodes the builder measures over an orbit, a head per row.
-        #[cfg(feature = "scan-order")]
+        #[cfg(feature = "scan")]
         {
             let nodes = pool.scan_nodes(config.scan_nodes as usize)?;
             let heads = pool.u16s(height as usize, Use::ScanHeads)?;
@@ -86,7 +86,7 @@ impl Method {
         }
         // Anti-aliased: the records the builder measures over an orbit (`PENDING_PIXELS`), a
         // list head per row. Element types as `Pending::new` takes them.
-        #[cfg(feature = "stream-aa")]
+        #[cfg(feature = "aa")]
         {
             let n = config.pending_pixels as usize;
             let records = pool.filled(n, Default::default(), Use::PendingRecords)?;
@@ -102,7 +102,7 @@ impl Method {
         let pixel_count = match VARIANT {
             Variant::FtbStream | Variant::StreamAa => 0,
             // The row buffer a DMA takes each row from.
-            Variant::ScanOrder => width as usize,
+            Variant::ScanOrder | Variant::ScanAa => width as usize,
             _ => width as usize * band as usize,
         };
         Ok(Method {
@@ -112,9 +112,9 @@ impl Method {
             width,
             height,
             band,
-            #[cfg(feature = "stream-aa")]
+            #[cfg(feature = "aa")]
             pending_records: config.pending_pixels as usize,
-            #[cfg(feature = "stream-aa")]
+            #[cfg(feature = "aa")]
             antialiased: false,
         })
     }
@@ -122,7 +122,7 @@ impl Method {
     /// Anti-aliased: whether the last frame was, the most records it held pending at once
     /// and the records there are. A row falls back to plain pixels only when a pixel finds
     /// every record in use, so a peak below the records means none did.
-    #[cfg(feature = "stream-aa")]
+    #[cfg(feature = "aa")]
     pub fn antialiasing(&self) -> (bool, usize, usize) {
         let peak = self.renderer.pending().map_or(0, |p| p.peak());
         (self.antialiased, peak, self.pending_records)
@@ -143,11 +143,15 @@ impl Method {
     /// back ran out of span memory (the frame is then finished back to front: the same
     /// pixels, with overdraw).
     pub fn frame(&mut self, view: &LocalView, panel: &mut Panel) -> Result<bool, Failure> {
-        #[cfg(feature = "scan-order")]
+        #[cfg(feature = "scan")]
         {
             // The frame into scan memory, then to the panel in one window, each row read out
             // into the row buffer and sent as one transfer.
             let frame = self.renderer.draw_scan(&self.scene, view)?;
+            #[cfg(feature = "aa")]
+            {
+                self.antialiased = frame.stats().antialiased;
+            }
             panel.open_rows(0..self.height);
             for y in 0..self.height {
                 frame.row_into(y, self.pixels);
@@ -155,12 +159,12 @@ impl Method {
             }
             Ok(false)
         }
-        #[cfg(not(feature = "scan-order"))]
+        #[cfg(not(feature = "scan"))]
         self.other_frame(view, panel)
     }
 
     /// [`Method::frame`] of the variants other than scan order.
-    #[cfg(not(feature = "scan-order"))]
+    #[cfg(not(feature = "scan"))]
     fn other_frame(&mut self, view: &LocalView, panel: &mut Panel) -> Result<bool, Failure> {
         let (w, h) = (self.width, self.height);
         let scene = &self.scene;
@@ -170,7 +174,7 @@ impl Method {
             let mut sink = DrawTargetSink::new(panel);
             let stats = self.renderer.draw(scene, view, &mut sink)?;
             let Ok(()) = sink.finish();
-            #[cfg(feature = "stream-aa")]
+            #[cfg(feature = "aa")]
             {
                 self.antialiased = stats.antialiased;
             }

@@ -20,19 +20,27 @@
 //!
 //! With the `wide-coordinates` feature (default) the walk is kept in `i64` and set up with a
 //! 128-bit numerator, so any `i32` coordinates work ([`EdgeWalk::for_edge`]). Without it,
-//! [`EdgeWalk::for_edge_narrow`] sets up the same walk, bit for bit, with 32-bit arithmetic
+//! `EdgeWalk::for_edge_narrow` sets up the same walk, bit for bit, with 32-bit arithmetic
 //! only (a core's hardware divide instead of software 64-bit division), for coordinates in
 //! `0..=`[`super::coordinate_limit`]: those of the renderer, which clamps every point to
-//! its window and refuses a window beyond that limit.
+//! its window and refuses a window beyond that limit. Each width is a file (`wide.rs`,
+//! `narrow.rs`) setting up the same [`EdgeWalk`]; the build picks one, and the tests build
+//! both to compare them.
 
 use super::FixedPoint;
 
-/// The integer type of a walk: `i64` with `wide-coordinates`, `i32` without.
+#[cfg(any(test, not(feature = "wide-coordinates")))]
+mod narrow;
 #[cfg(feature = "wide-coordinates")]
-pub type Coord = i64;
-/// The integer type of a walk: `i64` with `wide-coordinates`, `i32` without.
+mod wide;
+
 #[cfg(not(feature = "wide-coordinates"))]
-pub type Coord = i32;
+use narrow as width;
+#[cfg(feature = "wide-coordinates")]
+use wide as width;
+
+/// The integer type of a walk: `i64` with `wide-coordinates`, `i32` without.
+pub type Coord = width::Coord;
 
 /// One non-horizontal edge being walked down the scanlines: the fill's own walk, public so
 /// that other scanline methods (an active edge list over many polygons) cross each row exactly
@@ -55,45 +63,11 @@ pub struct EdgeWalk {
     pub(crate) row_end: Coord,
 }
 
-/// Pixel index `ceil((2v - S) / (2S))` of a fixed-point coordinate `v` with `S = 2^SUB`: the
-/// first pixel whose centre `(k + 1/2) * S` is `>= v`. Used for rows and columns alike.
-#[cfg(feature = "wide-coordinates")]
-#[inline]
-pub(crate) fn first_centre_at_or_after<const SUB: u32>(v: i32) -> i64 {
-    let s = 1i64 << SUB;
-    (2 * i64::from(v) + s - 1).div_euclid(2 * s)
-}
-
-/// [`first_centre_at_or_after`] in 32-bit arithmetic, for `0 <= v <=`
-/// [`super::coordinate_limit`] (beyond it the result is wrong, never a panic).
-#[cfg(any(test, not(feature = "wide-coordinates")))]
-#[inline]
-pub(crate) fn first_centre_narrow<const SUB: u32>(v: i32) -> i32 {
-    // ceil((2v - S) / 2S) = floor((2v + S - 1) / 2S): an arithmetic shift.
-    let s = 1i32 << SUB;
-    v.wrapping_mul(2).wrapping_add(s - 1) >> (SUB + 1)
-}
-
-/// [`first_centre_at_or_after`] as a [`Coord`]: `i64` arithmetic with `wide-coordinates`,
-/// else [`first_centre_narrow`] (the renderer's points are then within its range).
+/// The first pixel whose centre is at or right of fixed-point coordinate `v`, as a [`Coord`]
+/// in the build's width (the renderer's points are within the narrow walk's range).
 #[inline]
 pub(crate) fn first_centre<const SUB: u32>(v: i32) -> Coord {
-    #[cfg(feature = "wide-coordinates")]
-    {
-        first_centre_at_or_after::<SUB>(v)
-    }
-    #[cfg(not(feature = "wide-coordinates"))]
-    {
-        first_centre_narrow::<SUB>(v)
-    }
-}
-
-/// An `i32` as a [`Coord`] (the identity without `wide-coordinates`).
-#[cfg(any(test, not(feature = "wide-coordinates")))]
-#[allow(clippy::useless_conversion)]
-#[inline]
-fn coord(v: i32) -> Coord {
-    Coord::from(v)
+    width::first_centre::<SUB>(v)
 }
 
 /// The edge's ends, top first; `None` for a horizontal edge (it bounds no span).
@@ -120,124 +94,16 @@ impl EdgeWalk {
         row_end: 0,
     };
 
-    /// The walk of `x_k = ceil((num + k * step) / den)` from `k = 0` on row `row`, `den > 0`.
-    /// The caller guarantees every value of the walk fits an `i64` (see [`Self::for_edge`]).
-    #[cfg(feature = "wide-coordinates")]
-    pub(crate) fn from_ratio(num: i128, den: i64, step: i64, row: i64, row_end: i64) -> Self {
-        debug_assert!(den > 0);
-        // Guaranteed by the caller; clamping makes the divisions provably panic-free.
-        let den = den.max(1);
-        // ceil(num / den) = floor((num + den - 1) / den); the remainder is the walk's N.
-        let shifted = num + i128::from(den) - 1;
-        // Inside a window of up to 2^15 pixels at SUB = 8 the numerator is below 2^50, so the
-        // 128-bit division (slow, in software on small cores) is only a fallback.
-        let (x, rem) = match i64::try_from(shifted) {
-            Ok(a) => (a.div_euclid(den), a.rem_euclid(den)),
-            Err(_) => {
-                let d = i128::from(den);
-                (shifted.div_euclid(d) as i64, shifted.rem_euclid(d) as i64)
-            }
-        };
-        EdgeWalk {
-            x,
-            rem,
-            den,
-            step_q: step.div_euclid(den),
-            step_r: step.rem_euclid(den),
-            row,
-            row_end,
-        }
-    }
-
     /// The walk of the edge `a`-`b` (either direction) over the scanlines whose centre `y`
-    /// satisfies `y_top <= y < y_bottom`, restricted to rows `0..height`. `None` for a horizontal edge or one that crosses no such row.
-    ///
-    /// Arithmetic range: with `S = 2^SUB` (`SUB <= 24`), `dy = y_bottom - y_top < 2^32` and
-    /// `|dx| < 2^32` for any `i32` input, so `den = 2S*dy < 2^57` and `|step| = 2S*|dx| <
-    /// 2^57`; the walk keeps `rem + step_r < 2*den < 2^58`, and `x` stays within a pixel of the
-    /// edge's own x range, `|x| < 2^32`. Only the start numerator needs 128 bits (once per
-    /// edge). So any `i32` coordinates are safe, not only those inside the window.
-    #[cfg(feature = "wide-coordinates")]
-    pub(crate) fn for_edge<const SUB: u32>(
-        a: FixedPoint<SUB>,
-        b: FixedPoint<SUB>,
-        height: u32,
-    ) -> Option<Self> {
-        let (top, bottom) = top_bottom(a, b)?;
-        let first = first_centre_at_or_after::<SUB>(top.y).max(0);
-        let end = first_centre_at_or_after::<SUB>(bottom.y).min(i64::from(height));
-        if first >= end {
-            return None;
-        }
-        let s = 1i64 << SUB;
-        let dy = i64::from(bottom.y) - i64::from(top.y);
-        let dx = i64::from(bottom.x) - i64::from(top.x);
-        // Crossing at row j (centre y_c, 2*y_c = (2j+1)S): x = x_t + dx*(y_c - y_t)/dy, and the
-        // pixel is ceil((2x - S) / 2S) = ceil(num_j / den) with
-        //   num_j = (2 x_t - S) dy + dx ((2j+1)S - 2 y_t),   den = 2S dy,   num_{j+1} = num_j + 2S dx.
-        let centre2 = i128::from((2 * first + 1) * s);
-        let num = i128::from(2 * i64::from(top.x) - s) * i128::from(dy)
-            + i128::from(dx) * (centre2 - 2 * i128::from(top.y));
-        Some(Self::from_ratio(num, 2 * s * dy, 2 * s * dx, first, end))
-    }
-
-    /// [`Self::for_edge_narrow`]: the only walk without `wide-coordinates`.
-    #[cfg(not(feature = "wide-coordinates"))]
+    /// satisfies `y_top <= y < y_bottom`, restricted to rows `0..height`, in the build's
+    /// width. `None` for a horizontal edge or one that crosses no such row.
     #[inline]
     pub(crate) fn for_edge<const SUB: u32>(
         a: FixedPoint<SUB>,
         b: FixedPoint<SUB>,
         height: u32,
     ) -> Option<Self> {
-        Self::for_edge_narrow::<SUB>(a, b, height)
-    }
-
-    /// [`Self::for_edge`] in 32-bit arithmetic, for points whose coordinates all lie in
-    /// `0..=L` with `L = `[`super::coordinate_limit`]`::<SUB>() = 2^(29 - SUB) - 1` (the
-    /// caller guarantees it): the same walk, field for field.
-    ///
-    /// With `S = 2^SUB`, `e = (2 first + 1) S - 2 y_top` (`0 <= e < 2S`: `y_top >= 0`, so no
-    /// row is clamped away) and `dx e = q1 dy + r1` (`0 <= r1 < dy`), the start numerator is
-    /// `num = (2 x_top - S) dy + dx e = M dy + r1` with `M = 2 x_top - S + q1`. Splitting
-    /// `M = 2S k + m` (`0 <= m < 2S`: a shift and a mask) gives `num = den k + (dy m + r1)`
-    /// with `0 <= dy m + r1 < den = 2S dy`, so `ceil(num / den)` is `k` or `k + 1` and the
-    /// classic walk's `N` follows without dividing by `den`. Ranges: `den <= 2S L < 2^30`,
-    /// `|dx e| < 2S L`, `|M| <= (2S + 1) L + S < 2^31`, and the walk keeps
-    /// `rem + step_r < 2 den < 2^31`: nothing overflows an `i32`.
-    #[cfg(any(test, not(feature = "wide-coordinates")))]
-    pub(crate) fn for_edge_narrow<const SUB: u32>(
-        a: FixedPoint<SUB>,
-        b: FixedPoint<SUB>,
-        height: u32,
-    ) -> Option<Self> {
-        let (top, bottom) = top_bottom(a, b)?;
-        let s = 1i32 << SUB;
-        let first = first_centre_narrow::<SUB>(top.y).max(0);
-        let end =
-            first_centre_narrow::<SUB>(bottom.y).min(i32::try_from(height).unwrap_or(i32::MAX));
-        if first >= end {
-            return None;
-        }
-        // `max(1)`: `dy > 0` already; it only makes the divisions provably panic-free.
-        let dy = (bottom.y - top.y).max(1);
-        let dx = bottom.x - top.x;
-        let den = 2 * s * dy;
-        let e = (2 * first + 1) * s - 2 * top.y;
-        let p = dx * e;
-        let (q1, r1) = (p.div_euclid(dy), p.rem_euclid(dy));
-        let m_all = 2 * top.x - s + q1;
-        let (k, m) = (m_all >> (SUB + 1), m_all & (2 * s - 1));
-        let t = dy * m + r1 + den - 1;
-        let (x, rem) = if t >= den { (k + 1, t - den) } else { (k, t) };
-        Some(EdgeWalk {
-            x: coord(x),
-            rem: coord(rem),
-            den: coord(den),
-            step_q: coord(dx.div_euclid(dy)),
-            step_r: coord(2 * s * dx.rem_euclid(dy)),
-            row: coord(first),
-            row_end: coord(end),
-        })
+        width::walk::<SUB>(a, b, height)
     }
 
     /// The walk of the edge `a`-`b` (either direction, points in the fill's range, see
@@ -288,16 +154,15 @@ impl EdgeWalk {
             self.x += 1;
         }
     }
-
-    /// The classic walk's `N` after the division of the current row.
-    #[cfg(all(test, feature = "wide-coordinates"))]
-    pub(crate) fn rem(&self) -> Coord {
-        self.rem
-    }
 }
 
 #[cfg(test)]
 mod tests {
+    #[allow(unused_imports)]
+    use super::narrow::first_centre_narrow;
+    #[cfg(feature = "wide-coordinates")]
+    #[allow(unused_imports)]
+    use super::wide::first_centre_at_or_after;
     use super::*;
 
     use proptest::prelude::*;

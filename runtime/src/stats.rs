@@ -1,7 +1,8 @@
 //! What a frame reports: [`FrameStats`], the counters of one frame and how it ended (full,
-//! or fallen back to back-to-front). It exists apart because it is the renderer's output,
-//! read by the CLI (`peel render --stats`), the benches and the tests, and most of it
-//! compiles away without the `stats` feature.
+//! or fallen back to back-to-front). A leaf module: the renderer fills it in, the scan-order
+//! frame carries it, the CLI (`peel render --stats`), the benches and the tests read it, and
+//! none of them reaches into another's module for it. Most of it compiles away without the
+//! `stats` feature.
 
 /// Counters of one frame (what `peel render --stats` prints). The counters are kept with the
 /// `stats` feature (default); without it they read 0, and only `distinct_pixels`,
@@ -31,7 +32,7 @@ pub struct FrameStats {
     pub stopped_full: bool,
     /// Front to back ran out of span memory (or had none) and painted the rest back to front.
     pub fallback: bool,
-    /// The frame was anti-aliased ([`super::Renderer::antialias`]; not when the span or scan
+    /// The frame was anti-aliased ([`Renderer::antialias`](crate::render::Renderer::antialias); not when the span or scan
     /// memory ran out, which draws the frame without).
     pub antialiased: bool,
 }

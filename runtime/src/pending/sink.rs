@@ -1,0 +1,98 @@
+//! [`Antialiased`]: the sink an anti-aliased polygon's fill draws into, wrapping the frame's
+//! real sink as tiny-skia's `SuperBlitter` wraps its blitter. It gathers the polygon's spans
+//! on the sample grid into pixel rows, adds each row to the pending pixels and sends the runs
+//! of pixels that row finishes through the span memory (or scan memory) to the sink; at the
+//! end of a frame [`drain`] gives the pixels still pending their background. The painter
+//! only fills: every step of an anti-aliased span after the fill is here.
+
+use super::{Pending, SampleColour};
+use crate::coverage::{Coverage, CoverageSink};
+use crate::display::{Colour, Shifted, SpanSink};
+use crate::fill::samples::{RowExtent, RowSpans, SampleSink, SAMPLE_ROWS};
+
+/// An anti-aliased polygon's route from the fill to `sink`: its colour, the pending pixels,
+/// the band's coverage (its row 0 being frame row `first_row`) and the pixels sent.
+pub(crate) struct Antialiased<'c, 'p, 'm, S: SpanSink + ?Sized> {
+    pub(crate) pending: &'c mut Pending<'p>,
+    pub(crate) colour: SampleColour,
+    pub(crate) coverage: &'c mut Coverage<'m>,
+    pub(crate) sink: &'c mut S,
+    pub(crate) first_row: u32,
+    pub(crate) pixels: u64,
+}
+
+impl<S: SpanSink + ?Sized> Antialiased<'_, '_, '_, S> {
+    /// Gather a span of sample row `y` (the band starts on a pixel row, so a sample row keeps
+    /// its place in it); a span of the next pixel row first adds the gathered one.
+    #[inline(never)]
+    fn sample_span(&mut self, y: u32, x_start: u32, x_end: u32) {
+        let local = y.wrapping_sub(self.first_row * SAMPLE_ROWS);
+        if self.pending.gather(local, x_start, x_end).is_err() {
+            self.add_gathered();
+            let _ = self.pending.gather(local, x_start, x_end);
+        }
+    }
+
+    /// Add the gathered row to the pending pixels, sending the runs of pixels it finishes.
+    fn add_gathered(&mut self) {
+        let Some(y) = self.pending.gathered() else {
+            return;
+        };
+        let Some(mut add) = self.pending.begin_add(&self.colour) else {
+            return;
+        };
+        let coverage = &mut *self.coverage;
+        // (A test per pixel, as scan memory, whose rows are lists, answers it too.)
+        while let Some((x0, x1, c)) = self
+            .pending
+            .next_run(&mut add, |x| coverage.covers_pixel(x, y))
+        {
+            let mut sink = Shifted {
+                sink: &mut *self.sink,
+                by: self.first_row,
+            };
+            self.pixels += coverage.span(y, x0, x1, c, &mut sink);
+        }
+    }
+}
+
+impl<S: SpanSink + ?Sized> SpanSink for Antialiased<'_, '_, '_, S> {
+    fn span(&mut self, y: u32, x_start: u32, x_end: u32, _: Colour) {
+        self.sample_span(y, x_start, x_end);
+    }
+}
+
+impl<S: SpanSink + ?Sized> SampleSink for Antialiased<'_, '_, '_, S> {
+    fn sample_rows(&mut self, y: u32, spans: &RowSpans, extent: &RowExtent) {
+        self.pending
+            .gather_row(y.wrapping_sub(self.first_row), spans, extent);
+        self.add_gathered();
+    }
+
+    fn end(&mut self) {
+        self.add_gathered();
+    }
+}
+
+/// End an anti-aliased frame (or band) drawn into `sink` through `coverage` (its row 0 being
+/// frame row `first_row`): every pixel still pending takes `background` for its uncovered
+/// samples. Returns the pixels sent.
+pub(crate) fn drain<S: SpanSink + ?Sized>(
+    pending: &mut Pending<'_>,
+    coverage: &mut Coverage<'_>,
+    sink: &mut S,
+    first_row: u32,
+    background: Colour,
+) -> u64 {
+    let mut sink = Shifted {
+        sink,
+        by: first_row,
+    };
+    let mut through = CoverageSink {
+        coverage,
+        sink: &mut sink,
+        pixels: 0,
+    };
+    pending.drain(background, &mut through);
+    through.pixels
+}
