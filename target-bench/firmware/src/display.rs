@@ -128,10 +128,7 @@ impl Panel {
     /// A buffer of whole rows, the first of them frame row `first_row`: one window and one
     /// run, two writes.
     // (Not used by the builds that send rows one at a time.)
-    #[cfg_attr(
-        any(feature = "scan", feature = "scanline-zbuffer"),
-        allow(dead_code)
-    )]
+    #[cfg_attr(any(feature = "scan", feature = "scanline-zbuffer"), allow(dead_code))]
     pub fn write_rows(&mut self, first_row: u32, pixels: &[u16]) {
         let rows = pixels.len().div_ceil(self.width.max(1) as usize);
         let rows = u32::try_from(rows).unwrap_or(u32::MAX);
@@ -142,10 +139,7 @@ impl Panel {
     /// A framebuffer or a band at its frame rows, as [`Panel::write_rows`] sends it (its rows
     /// one run when packed, a run per row otherwise).
     // (Not used by the builds that send rows one at a time.)
-    #[cfg_attr(
-        any(feature = "scan", feature = "scanline-zbuffer"),
-        allow(dead_code)
-    )]
+    #[cfg_attr(any(feature = "scan", feature = "scanline-zbuffer"), allow(dead_code))]
     pub fn write_framebuffer(&mut self, framebuffer: &Rgb565Framebuffer<'_>) {
         let (w, rows) = (framebuffer.width() as usize, framebuffer.rows());
         let stride = framebuffer.stride();
