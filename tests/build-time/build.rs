@@ -1,4 +1,4 @@
-//! Compile the fixtures as the README's "Build-time use" says.
+//! Compile the fixtures as docs/build-time.md says.
 
 fn main() {
     // `$OUT_DIR/demo.peel` and its sizes, `$OUT_DIR/demo.rs`.

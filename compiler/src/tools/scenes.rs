@@ -26,6 +26,28 @@ fn quad(out: &mut Vec<[DVec3; 3]>, a: DVec3, b: DVec3, c: DVec3, d: DVec3) {
     out.push([a, c, d]);
 }
 
+/// Three triangles that pierce one another in a cycle: no order of them is right without a cut,
+/// and every plane through three of their corners cuts one of them or leaves a side empty.
+pub fn piercing_triangles() -> Vec<[DVec3; 3]> {
+    vec![
+        [
+            DVec3::new(-1.0, 0.0, -1.0),
+            DVec3::new(1.0, 0.0, -1.0),
+            DVec3::new(0.0, 0.0, 1.0),
+        ],
+        [
+            DVec3::new(0.0, -1.0, -0.9),
+            DVec3::new(0.0, 1.0, -0.9),
+            DVec3::new(0.1, 0.0, 0.9),
+        ],
+        [
+            DVec3::new(-0.7, -0.5, 0.0),
+            DVec3::new(0.6, 0.8, 0.1),
+            DVec3::new(0.2, -0.9, 0.3),
+        ],
+    ]
+}
+
 /// A closed UV sphere of radius 1 with `rings` latitude bands and `segments` longitude bands
 /// (`2 * segments * (rings - 1)` triangles), outward-facing.
 pub fn sphere(rings: usize, segments: usize) -> Mesh {

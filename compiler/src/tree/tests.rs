@@ -262,24 +262,7 @@ fn a_torus_is_split_along_its_rings_without_a_cut() {
 
 #[test]
 fn crossing_triangles_are_cut_exactly() {
-    let tris = vec![
-        [
-            DVec3::new(-1.0, 0.0, -1.0),
-            DVec3::new(1.0, 0.0, -1.0),
-            DVec3::new(0.0, 0.0, 1.0),
-        ],
-        [
-            DVec3::new(0.0, -1.0, -0.9),
-            DVec3::new(0.0, 1.0, -0.9),
-            DVec3::new(0.1, 0.0, 0.9),
-        ],
-        [
-            DVec3::new(-0.7, -0.5, 0.0),
-            DVec3::new(0.6, 0.8, 0.1),
-            DVec3::new(0.2, -0.9, 0.3),
-        ],
-    ];
-    let (input, tree) = checked(&mesh_of(tris));
+    let (input, tree) = checked(&mesh_of(crate::tools::scenes::piercing_triangles()));
     assert!(tree.cuts > 0);
     assert!(super::check::area_partition(&tree, &input, 400, 3).unwrap() > 1000);
 }

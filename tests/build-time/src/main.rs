@@ -1,6 +1,6 @@
 //! Draw a frame of each scene build.rs compiled, with the traversal stack, the clip buffers,
 //! the span memory and the vertex memory sized from the generated sizes files, as firmware
-//! would (see the README, "Build-time use").
+//! would (see docs/build-time.md).
 
 use glam::DVec3;
 use peel_runtime::camera::{Camera, Pose};

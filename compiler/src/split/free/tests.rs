@@ -4,7 +4,7 @@
 use glam::DVec3;
 
 use super::*;
-use crate::tools::scenes::{mesh, torus};
+use crate::tools::scenes::{mesh, piercing_triangles, torus};
 use crate::tree::input::prepare;
 
 /// The support planes of `frags`, sorted and distinct.
@@ -41,27 +41,7 @@ fn a_torus_has_a_free_split_through_a_ring_of_edges() {
 /// corners cuts one of them or leaves a side empty.
 #[test]
 fn piercing_triangles_have_no_free_split() {
-    let input = prepare(
-        &mesh(vec![
-            [
-                DVec3::new(-1.0, 0.0, -1.0),
-                DVec3::new(1.0, 0.0, -1.0),
-                DVec3::new(0.0, 0.0, 1.0),
-            ],
-            [
-                DVec3::new(0.0, -1.0, -0.9),
-                DVec3::new(0.0, 1.0, -0.9),
-                DVec3::new(0.1, 0.0, 0.9),
-            ],
-            [
-                DVec3::new(-0.7, -0.5, 0.0),
-                DVec3::new(0.6, 0.8, 0.1),
-                DVec3::new(0.2, -0.9, 0.3),
-            ],
-        ]),
-        None,
-    )
-    .unwrap();
+    let input = prepare(&mesh(piercing_triangles()), None).unwrap();
     let frags = &input.fragments;
     assert!(best_free(frags, &supports(frags), &input.table, None).is_none());
 }
