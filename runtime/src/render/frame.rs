@@ -263,21 +263,25 @@ impl<const SUB: u32> Frame<'_, '_, SUB> {
         T: Source + ?Sized,
         S: SpanSink + ?Sized,
     {
+        // Read once, before the walks: held in the frame, LLVM did not prove them unchanged
+        // by the walks and kept code (the background's) that builds without one never run.
+        let (background, order, once) = (self.background, self.order, self.once);
+        let (width, rows) = (self.width, self.rows.clone());
         // Back to front: the background first, then every polygon over it.
-        if self.order == Order::BackToFront {
-            self.paint_background(None, target);
+        if order == Order::BackToFront {
+            paint_background(background, None, width, &rows, target);
         }
         let (overflow, kept) = self.first_pass(scene, target)?;
-        if overflow.is_some() && self.once {
+        if overflow.is_some() && once {
             // No overdraw on a display (nor in scan memory): the frame stops here.
             return Err(RenderError::SpanMemoryFull);
         }
         if let Some(last) = overflow {
-            self.fallback(scene, target, last)?;
-        } else if self.order == Order::FrontToBack {
+            self.fallback(scene, target, last, background)?;
+        } else if order == Order::FrontToBack {
             let coverage = self.coverage.as_deref();
             if coverage.is_some() {
-                self.paint_background(coverage, target);
+                paint_background(background, coverage, width, &rows, target);
             }
         }
         let stats = &mut self.stats;
@@ -341,7 +345,13 @@ impl<const SUB: u32> Frame<'_, '_, SUB> {
 
     /// Pass 2 (span memory exhausted at polygon `last`): the polygons from the farthest up to
     /// `last`, back to front, clipped against the frozen coverage, over the background.
-    fn fallback<T, S>(&mut self, scene: &T, target: &mut S, last: u32) -> Result<(), RenderError>
+    fn fallback<T, S>(
+        &mut self,
+        scene: &T,
+        target: &mut S,
+        last: u32,
+        background: Option<Colour>,
+    ) -> Result<(), RenderError>
     where
         T: Source + ?Sized,
         S: SpanSink + ?Sized,
@@ -352,7 +362,8 @@ impl<const SUB: u32> Frame<'_, '_, SUB> {
         self.stats.fallback = true;
         c.freeze();
         // What pass 2 draws, it draws over this (it paints back to front).
-        self.paint_background(self.coverage.as_deref(), target);
+        let coverage = self.coverage.as_deref();
+        paint_background(background, coverage, self.width, &self.rows, target);
         self.order = Order::BackToFront;
         self.walk(scene, target, Some(last))?;
         Ok(())
@@ -379,16 +390,18 @@ impl<const SUB: u32> Frame<'_, '_, SUB> {
             last,
         )
     }
+}
 
-    /// The background, if the frame has one, where `coverage` does not cover.
-    fn paint_background<S: SpanSink + ?Sized>(
-        &self,
-        coverage: Option<&Coverage<'_>>,
-        target: &mut S,
-    ) {
-        if let Some(colour) = self.background {
-            paint_uncovered(coverage, self.width, self.rows.clone(), colour, target);
-        }
+/// The background, if the frame has one, where `coverage` does not cover.
+fn paint_background<S: SpanSink + ?Sized>(
+    background: Option<Colour>,
+    coverage: Option<&Coverage<'_>>,
+    width: u32,
+    rows: &Range<u32>,
+    target: &mut S,
+) {
+    if let Some(colour) = background {
+        paint_uncovered(coverage, width, rows.clone(), colour, target);
     }
 }
 
