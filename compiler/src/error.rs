@@ -45,7 +45,7 @@ pub enum CompileError {
         /// How many vertices were defined before the `f` line (OBJ indices refer backwards).
         count: usize,
     },
-    /// The OBJ parser (tobj) failed where the line scan found nothing wrong; no line is known.
+    /// The OBJ parser (tobj) failed where the line check found nothing wrong; no line is known.
     #[error("{path}: cannot parse: {message}")]
     Obj {
         /// The file.

@@ -5,11 +5,11 @@
 //! order).
 //!
 //! How a file is read:
-//! - The OBJ text is parsed by `tobj` with its triangulation off, after a light line scan
-//!   (`scan`) that validates what tobj does not (NaN/inf coordinates, index ranges, syntax)
+//! - The OBJ text is parsed by `tobj` with its triangulation off, after a light line check
+//!   (`lines`) that validates what tobj does not (NaN/inf coordinates, index ranges, syntax)
 //!   and reports the line. tobj groups faces into models (a new one at each `o`, `g` or
 //!   material change) but keeps them in file order; the loader pairs each tobj face with its
-//!   scanned `f`/`l` line and fails with [`CompileError::Invariant`] if the two disagree, so
+//!   checked `f`/`l` line and fails with [`CompileError::Invariant`] if the two disagree, so
 //!   source ids always follow the `f` lines.
 //! - A face's colour is its material's diffuse `Kd`, clamped to [0, 1] and rounded to RGB888.
 //!   A face without material, with an undefined material, with a material without `Kd`, or
@@ -33,7 +33,7 @@
 //!   more than [`MAX_VERTEX_STATEMENTS`] `v`/`vt`/`vn` statements nor produce more than
 //!   [`MAX_TRIANGLES`] triangles; otherwise [`CompileError::TooLarge`].
 
-mod scan;
+mod lines;
 mod triangulate;
 mod warnings;
 
@@ -174,14 +174,14 @@ pub fn load_obj_text_with(
     text: &str,
     options: &LoadOptions,
 ) -> Result<Mesh, CompileError> {
-    let limits = scan::Limits {
+    let limits = lines::Limits {
         vertices: MAX_VERTEX_STATEMENTS,
         triangles: MAX_TRIANGLES,
     };
-    // The line scan (our validation, with line numbers) and tobj's parse read the same text
-    // independently: they run side by side, and the scan's verdict is taken first.
-    let (scanned, parsed) = rayon::join(
-        || scan::scan(path, text, limits),
+    // The line check (our validation, with line numbers) and tobj's parse read the same text
+    // independently: they run side by side, and the check's verdict is taken first.
+    let (checked, parsed) = rayon::join(
+        || lines::check(path, text, limits),
         || {
             // tobj's loader callback is `Fn`: the record needs interior mutability.
             let libraries: RefCell<Vec<(PathBuf, MtlOutcome)>> = RefCell::new(Vec::new());
@@ -207,8 +207,8 @@ pub fn load_obj_text_with(
             (parsed, libraries.into_inner())
         },
     );
-    let scanned = scanned?;
-    if scanned.polygon_faces == 0 {
+    let checked = checked?;
+    if checked.polygon_faces == 0 {
         return Err(CompileError::NoFaces {
             path: path.to_path_buf(),
         });
@@ -226,7 +226,7 @@ pub fn load_obj_text_with(
         ..Mesh::default()
     };
     let mut notes = Notes::default();
-    for ((full, outcome), &line) in libraries.iter().zip(&scanned.mtllib_lines) {
+    for ((full, outcome), &line) in libraries.iter().zip(&checked.mtllib_lines) {
         let at = format!("{}:{line}", path.display());
         match outcome {
             MtlOutcome::Loaded(_) => {}
@@ -269,7 +269,7 @@ pub fn load_obj_text_with(
         .map(|m| m.diffuse.and_then(kd_to_rgb))
         .collect();
 
-    let mut statements = scanned.statements.iter();
+    let mut statements = checked.statements.iter();
     for model in &models {
         let m = &model.mesh;
         let arities: Box<dyn Iterator<Item = usize>> = if m.face_arities.is_empty() {
@@ -287,7 +287,7 @@ pub fn load_obj_text_with(
             })?;
             if statement.arity != arity || next + arity > m.indices.len() {
                 return Err(CompileError::Invariant(format!(
-                    "{}:{}: tobj read {arity} corners where the line scan read {}",
+                    "{}:{}: tobj read {arity} corners where the line check read {}",
                     path.display(),
                     statement.line,
                     statement.arity
@@ -349,13 +349,13 @@ pub fn load_obj_text_with(
             path: path.to_path_buf(),
         });
     }
-    let plain = scanned.mtllib_lines.is_empty() && scanned.material_names.is_empty();
+    let plain = checked.mtllib_lines.is_empty() && checked.material_names.is_empty();
     if options.default_colour.is_some() || plain {
         // Faces without a material were meant to get the caller's colour, or the file names
         // no material at all.
         notes.no_material = Tally::default();
     }
-    notes.into_warnings(path, &scanned, &materials, &mut mesh.warnings);
+    notes.into_warnings(path, &checked, &materials, &mut mesh.warnings);
     Ok(mesh)
 }
 
@@ -397,7 +397,7 @@ fn kd_to_rgb(kd: [f64; 3]) -> Option<[u8; 3]> {
 fn face_colour(
     material_id: Option<usize>,
     colours: &[Option<[u8; 3]>],
-    statement: &scan::Statement,
+    statement: &lines::Statement,
     default: [u8; 3],
     notes: &mut Notes,
 ) -> [u8; 3] {

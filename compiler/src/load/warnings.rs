@@ -4,7 +4,7 @@
 use std::collections::BTreeMap;
 use std::path::Path;
 
-use super::scan;
+use super::lines;
 
 /// How often something happened and where first.
 #[derive(Debug, Default, Clone, Copy)]
@@ -43,7 +43,7 @@ impl Tally {
 pub(super) struct Notes {
     /// Faces with no `usemtl` before them (cleared where that is meant).
     pub(super) no_material: Tally,
-    /// Faces whose material no library defines, by the scan's material name index.
+    /// Faces whose material no library defines, by the line check's material name index.
     pub(super) undefined: BTreeMap<u32, Tally>,
     /// Faces whose material has no usable `Kd`, by material id.
     pub(super) no_kd: BTreeMap<usize, Tally>,
@@ -60,7 +60,7 @@ impl Notes {
     pub(super) fn into_warnings(
         self,
         path: &Path,
-        scanned: &scan::Scan,
+        checked: &lines::Lines,
         materials: &[tobj::Material],
         out: &mut Vec<String>,
     ) {
@@ -85,7 +85,7 @@ impl Notes {
         for (name, t) in &self.undefined {
             out.push(format!(
                 "{file}: material `{}` is not defined in any material library; {} ({}) use the default colour",
-                scanned.material_names[*name as usize],
+                checked.material_names[*name as usize],
                 t.count("face", "faces"),
                 t.at()
             ));

@@ -1,10 +1,10 @@
-//! A light line scan of the OBJ text, run before tobj.
+//! A light line check of the OBJ text, run before tobj.
 //!
-//! tobj reports neither line numbers nor NaN/inf coordinates, so this scan validates every
+//! tobj reports neither line numbers nor NaN/inf coordinates, so this check validates every
 //! statement tobj would look at (same tokenisation, same index rules) and reports errors with
 //! their line. A file that ends without a line end in the middle of a face (cut off) is an
-//! error at that line. A file that passes the scan cannot make tobj fail on vertex or face data. The
-//! scan also records every `f`/`l` statement in file order: tobj emits exactly one face per
+//! error at that line. A file that passes the check cannot make tobj fail on vertex or face data. The
+//! check also records every `f`/`l` statement in file order: tobj emits exactly one face per
 //! statement, which lets the loader pair each tobj face with its line and check that the two
 //! parsers agree.
 
@@ -22,13 +22,13 @@ pub(super) struct Statement {
     pub arity: usize,
     /// `true` for `f`, `false` for `l` (a polyline, not a surface).
     pub is_face: bool,
-    /// Index into [`Scan::material_names`] of the last `usemtl` before it.
+    /// Index into [`Lines::material_names`] of the last `usemtl` before it.
     pub material: Option<u32>,
 }
 
-/// What the scan learnt about the file.
+/// What the line check learnt about the file.
 #[derive(Debug, Default)]
-pub(super) struct Scan {
+pub(super) struct Lines {
     /// Every `f` and `l` statement, in file order.
     pub statements: Vec<Statement>,
     /// Material names as tobj reads them from `usemtl` lines.
@@ -39,7 +39,7 @@ pub(super) struct Scan {
     pub polygon_faces: usize,
 }
 
-/// Limits checked while scanning.
+/// Limits checked line by line.
 #[derive(Debug, Clone, Copy)]
 pub(super) struct Limits {
     /// Maximum number of `v`, `vt` and `vn` statements together.
@@ -56,14 +56,14 @@ struct Counts {
     vn: usize,
 }
 
-/// Scans `text` (the content of `path`).
-pub(super) fn scan(path: &Path, text: &str, limits: Limits) -> Result<Scan, CompileError> {
+/// Checks `text` (the content of `path`).
+pub(super) fn check(path: &Path, text: &str, limits: Limits) -> Result<Lines, CompileError> {
     let parse_error = |line: usize, message: String| CompileError::Parse {
         path: path.to_path_buf(),
         line,
         message,
     };
-    let mut out = Scan::default();
+    let mut out = Lines::default();
     let mut names: FastMap<String, u32> = FastMap::default();
     let mut counts = Counts::default();
     let mut material: Option<u32> = None;
@@ -350,8 +350,8 @@ mod tests {
         triangles: 1000,
     };
 
-    fn run(text: &str) -> Result<Scan, CompileError> {
-        scan(Path::new("t.obj"), text, LIMITS)
+    fn run(text: &str) -> Result<Lines, CompileError> {
+        check(Path::new("t.obj"), text, LIMITS)
     }
 
     #[test]
