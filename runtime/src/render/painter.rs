@@ -249,9 +249,12 @@ impl<const SUB: u32> Painter<'_, '_, SUB> {
         // that the scaled window is in the fill's range), once per vertex with vertex memory.
         let antialiased = self.antialiased();
         let (c, r) = (SAMPLE_COLUMNS, SAMPLE_ROWS);
+        // (`cfg!` inside: the closures below are not inlined, and a captured flag would be
+        // tested per vertex in builds without anti-aliasing.)
         let grid = |p: FixedPoint<SUB>| {
-            if antialiased {
-                FixedPoint::new(p.x.wrapping_mul(c as i32), p.y.wrapping_mul(r as i32))
+            if cfg!(feature = "antialias") && antialiased {
+                let (c, r) = (SAMPLE_COLUMNS as i32, SAMPLE_ROWS as i32);
+                FixedPoint::new(p.x.wrapping_mul(c), p.y.wrapping_mul(r))
             } else {
                 p
             }

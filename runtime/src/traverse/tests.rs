@@ -457,3 +457,42 @@ proptest! {
         prop_assert_eq!(order_of(&t, eye, Order::FrontToBack), want);
     }
 }
+
+#[test]
+fn non_negative_bits_is_the_comparison_at_the_edges() {
+    let edges = [
+        0.0f32,
+        -0.0,
+        f32::MIN_POSITIVE,
+        -f32::MIN_POSITIVE,
+        f32::from_bits(1),
+        f32::from_bits(0x8000_0001),
+        1.0,
+        -1.0,
+        f32::MAX,
+        f32::MIN,
+        f32::INFINITY,
+        f32::NEG_INFINITY,
+        f32::NAN,
+        -f32::NAN,
+        f32::from_bits(0x7f80_0001),
+        f32::from_bits(0xff80_0001),
+    ];
+    for x in edges {
+        assert_eq!(
+            non_negative_bits(x),
+            x >= 0.0,
+            "{x:?} ({:#010x})",
+            x.to_bits()
+        );
+        assert_eq!(non_negative(x), x >= 0.0, "{x:?}");
+    }
+}
+
+proptest! {
+    #[test]
+    fn non_negative_bits_is_the_comparison(bits in any::<u32>()) {
+        let x = f32::from_bits(bits);
+        prop_assert_eq!(non_negative_bits(x), x >= 0.0);
+    }
+}
