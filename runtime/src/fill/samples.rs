@@ -96,6 +96,9 @@ pub(crate) trait SampleSink: SpanSink {
 /// `points` (already scaled to the grid, within `rect`, its samples' rectangle, in a window
 /// `width` columns wide) over the sample rows `rows` (whole pixel rows) into `sink`, a pixel
 /// row at a time when [`fill_sample_rows`] can walk it, else span by span by the general fill.
+/// Out of line: inlined into the painter's walk, its loop shared the walk's registers and
+/// kept its rows' extent on the stack (2% of the anti-aliased frame on the Cortex-M4F).
+#[inline(never)]
 pub(crate) fn fill_samples<const SUB: u32, S: SampleSink + ?Sized>(
     points: &[FixedPoint<SUB>],
     rect: [u32; 4],
@@ -107,6 +110,22 @@ pub(crate) fn fill_samples<const SUB: u32, S: SampleSink + ?Sized>(
     if fill_sample_rows(points, edges, width, rows.clone(), sink) {
         return;
     }
+    fill_span_by_span(points, rect, edges, width, rows, sink);
+}
+
+/// [`fill_samples`] by the general fill, span by span: the rare polygon (clipped at the
+/// window's sides, or not convex). Out of line: inlined beside the pixel-row walk, the
+/// general fill's second copy in the painter's walk cost the anti-aliased frame 2% on the
+/// Cortex-M4F.
+#[inline(never)]
+fn fill_span_by_span<const SUB: u32, S: SampleSink + ?Sized>(
+    points: &[FixedPoint<SUB>],
+    rect: [u32; 4],
+    edges: &mut [EdgeWalk],
+    width: u32,
+    rows: Range<u32>,
+    sink: &mut S,
+) {
     super::fill_in_rect(points, rect, edges, width, rows, Colour::default(), sink);
     sink.end();
 }
