@@ -9,7 +9,9 @@ use glam::Vec3;
 use proptest::prelude::*;
 
 use super::layout::*;
+use super::side::mul_wide_halves;
 use super::*;
+use crate::display::Colour;
 
 /// A file as plain fields, encoded by [`Spec::encode`] exactly as the spec says.
 #[derive(Clone)]

@@ -430,7 +430,7 @@ fn check_depth(scene: &Scene<'_>) -> Result<(), ReadError> {
         }
         // A leaf: climb until an ancestor has a second child not yet visited.
         loop {
-            let Some(parent) = super::link(node(current)?.parent) else {
+            let Some(parent) = super::node::link(node(current)?.parent) else {
                 break 'walk;
             };
             if let [Some(first), Some(second)] = node(parent)?.children() {

@@ -1,0 +1,31 @@
+//! The byte layout of a `.peel` file (specified in `formats/peel.md`): the constants the
+//! compiler's writer shares with this reader, and little-endian field access that never panics.
+//!
+//! One file per part of the format, its items all re-exported here: the header (`header.rs`),
+//! nodes (`node.rs`), polygons (`polygon.rs`), vertices and their grid (`vertex.rs`), and how
+//! any field is read (`fields.rs`).
+
+mod fields;
+mod header;
+mod node;
+mod polygon;
+mod vertex;
+
+pub(crate) use fields::{
+    element, f32_at, f64_at, field_at, u16_at, u32_at, u64_at, u8_at, Record, ARMV6M,
+};
+pub use fields::{none_of_width, LENGTH_SIZE, NONE, NONE16, NONE24};
+pub(crate) use header::header_offset;
+pub use header::{header_flags, FORMAT_VERSION, HEADER_SIZE, MAGIC};
+pub use node::{field_size, node_kind, node_size, BOUNDS_SIZE, NODE_SIZE, PLANE_SIZE};
+pub use polygon::{
+    colour_size, index_size, polygon_flags, polygon_size, ID_SIZE, INDEX_SIZE, PALETTE_SIZE,
+    POLYGON_SIZE,
+};
+pub use vertex::{dequantise, per_step, step, vertex_size, Grid};
+
+// The core-specific paths the reader's tests check against the plain arithmetic.
+#[cfg(test)]
+pub(crate) use fields::element_narrow;
+#[cfg(test)]
+pub(crate) use vertex::scaled_by_exponent;
