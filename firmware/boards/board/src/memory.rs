@@ -100,7 +100,6 @@ impl<
     > Memory<STACK, VERTS, NODES, VERTICES, RECORDS>
 {
     /// All zeros: a static of it lands in `.bss`.
-    #[allow(clippy::new_without_default)] // Made in `static` items, which need a `const fn`.
     pub const fn new() -> Self {
         Memory {
             workspace: Workspace::new(),
@@ -142,6 +141,19 @@ impl<
         #[cfg(not(feature = "antialias"))]
         let _ = records;
         Ok(core.configure(renderer))
+    }
+}
+
+impl<
+        const STACK: usize,
+        const VERTS: usize,
+        const NODES: usize,
+        const VERTICES: usize,
+        const RECORDS: usize,
+    > Default for Memory<STACK, VERTS, NODES, VERTICES, RECORDS>
+{
+    fn default() -> Self {
+        Memory::new()
     }
 }
 
