@@ -32,6 +32,14 @@ impl Default for PendingPixel {
 }
 
 impl PendingPixel {
+    /// A record for caller memory before [`super::Pending::new`]: all zeros, so that a static
+    /// array of them takes no flash (`.bss`); a record is written whole when it is taken.
+    pub const EMPTY: PendingPixel = PendingPixel {
+        x: 0,
+        next: 0,
+        acc: [0; 2],
+    };
+
     pub(super) fn acc(&self) -> u64 {
         u64::from(self.acc[0]) | u64::from(self.acc[1]) << 32
     }

@@ -135,7 +135,7 @@ impl<'a> Scene<'a> {
 
     /// [`Scene::parse`] without the record checks, for bytes that [`Scene::parse`] already
     /// accepted elsewhere: typically a file embedded in firmware with `include_bytes!` and
-    /// validated by the firmware's build script (what `runtime/embedded-example` does), where
+    /// validated by the firmware's build script (what `firmware/embedded-example` does), where
     /// the linear-time checks would only repeat the build's verdict at every boot and cost
     /// flash. Checks the header (magic, version, flags) and that every array lies inside
     /// `bytes` and the file ends with the last one, in constant time.

@@ -72,9 +72,7 @@ impl Core {
 
 /// A board's frame memory: a [`Workspace<STACK, VERTS>`], `NODES` scan memory nodes and a list
 /// head per row, `VERTICES` vertex memory entries and, anti-aliased, a pending list head per
-/// row. `RECORDS` is the number of pending-pixel records the frames take (0: not
-/// anti-aliased); [`crate::run`] keeps them in its stack frame, as the runtime has no constant
-/// record to fill a static with.
+/// row and `RECORDS` pending-pixel records (0: not anti-aliased).
 #[derive(Debug)]
 pub struct Memory<
     const STACK: usize,
@@ -89,6 +87,7 @@ pub struct Memory<
     vertices: [CachedVertex; VERTICES],
     #[cfg(feature = "antialias")]
     pending_heads: [u16; HEIGHT as usize],
+    records: [PendingPixel; RECORDS],
 }
 
 impl<
@@ -108,17 +107,14 @@ impl<
             vertices: [CachedVertex::EMPTY; VERTICES],
             #[cfg(feature = "antialias")]
             pending_heads: [0; HEIGHT as usize],
+            records: [PendingPixel::EMPTY; RECORDS],
         }
     }
 
     /// The renderer over this memory, made once: frames in scan order at [`WIDTH`] x
-    /// [`HEIGHT`] on [`BACKGROUND`], with `core`'s switches, and anti-aliased over `records`
-    /// when there are any (feature `antialias`; without it `records` is not used).
-    pub fn renderer<'m>(
-        &'m mut self,
-        core: Core,
-        records: &'m mut [PendingPixel],
-    ) -> Result<Renderer<'m>, RenderError> {
+    /// [`HEIGHT`] on [`BACKGROUND`], with `core`'s switches, and anti-aliased when there are
+    /// pending-pixel records (`RECORDS` > 0, feature `antialias`).
+    pub fn renderer(&mut self, core: Core) -> Result<Renderer<'_>, RenderError> {
         let Memory {
             workspace,
             nodes,
@@ -126,6 +122,7 @@ impl<
             vertices,
             #[cfg(feature = "antialias")]
             pending_heads,
+            records,
         } = self;
         let scan = ScanMemory::new(nodes, heads, WIDTH, HEIGHT)?;
         let renderer = Renderer::new(workspace)
@@ -177,11 +174,11 @@ mod tests {
     #[cfg(feature = "antialias")]
     #[test]
     fn the_renderer_is_antialiased_only_with_records() {
-        let mut memory = Box::new(Memory::<64, 32, 64, 16, 8>::new());
-        let renderer = memory.renderer(Core::WithFpu, &mut []).unwrap();
+        let mut memory = Box::new(Memory::<64, 32, 64, 16, 0>::new());
+        let renderer = memory.renderer(Core::WithFpu).unwrap();
         assert!(renderer.pending().is_none());
-        let mut records = [PendingPixel::default(); 8];
-        let renderer = memory.renderer(Core::WithFpu, &mut records).unwrap();
+        let mut memory = Box::new(Memory::<64, 32, 64, 16, 8>::new());
+        let renderer = memory.renderer(Core::WithFpu).unwrap();
         assert!(renderer.pending().is_some());
     }
 }

@@ -30,7 +30,6 @@ const VERTS: usize = 32;
 const NODES: usize = 16_384;
 const VERTICES: usize = 512;
 const RECORDS: usize = 8_192;
-type TestMemory = Memory<STACK, VERTS, NODES, VERTICES, RECORDS>;
 
 /// A frame of the boards' orbit, 11 steps in.
 const AZIMUTH_DEG: f32 = 33.0;
@@ -97,10 +96,23 @@ fn board_frame<D: DrawTarget<Color = Rgb565>>(
     antialiased: bool,
     panel: &mut D,
 ) -> FrameStats {
+    if antialiased {
+        let mut memory = Box::new(Memory::<STACK, VERTS, NODES, VERTICES, RECORDS>::new());
+        frame_in(&mut memory, core, panel)
+    } else {
+        let mut memory = Box::new(Memory::<STACK, VERTS, NODES, VERTICES, 0>::new());
+        frame_in(&mut memory, core, panel)
+    }
+}
+
+/// [`board_frame`] in `memory` (anti-aliased when it holds pending-pixel records).
+fn frame_in<D: DrawTarget<Color = Rgb565>, const R: usize>(
+    memory: &mut Memory<STACK, VERTS, NODES, VERTICES, R>,
+    core: Core,
+    panel: &mut D,
+) -> FrameStats {
     let scene = Scene::parse(demo()).expect("the demo parses");
-    let mut memory = Box::new(TestMemory::new());
-    let mut records = vec![PendingPixel::default(); if antialiased { RECORDS } else { 0 }];
-    let mut renderer = memory.renderer(core, &mut records).expect("a renderer");
+    let mut renderer = memory.renderer(core).expect("a renderer");
     let view = orbit_view(&scene.header(), AZIMUTH_DEG).expect("a view");
     match draw_frame(&mut renderer, &scene, &view, panel) {
         Ok(stats) => stats,

@@ -3,17 +3,12 @@
 
 use embedded_graphics_core::draw_target::DrawTarget;
 use embedded_graphics_core::pixelcolor::Rgb565;
-use peel_runtime::pending::PendingPixel;
 use peel_runtime::read::Scene;
 
 use crate::{draw_frame, fail, next_azimuth, orbit_view, Core, Failure, Memory};
 
 /// Validate `scene` (once, at boot), make the renderer over `memory` for `core`, and draw the
 /// orbit around the scene to `panel` forever; stops with [`fail`] on the first error.
-///
-/// Anti-aliased (`RECORDS` > 0), the pending-pixel records live in this function's stack
-/// frame, which lasts as long as the firmware: the runtime has no constant record to put them
-/// in a static with the rest of the memory.
 ///
 /// Always inlined into the board's `main`, its one caller: called out of line, LLVM no longer
 /// inlined the HAL's set-up into `main` either, and the Black Pill's clock set-up stayed
@@ -36,9 +31,8 @@ where
     D: DrawTarget<Color = Rgb565>,
 {
     let scene = Scene::parse(scene).unwrap_or_else(|e| fail(Failure::Read(e)));
-    let mut records = [PendingPixel::default(); RECORDS];
     let mut renderer = memory
-        .renderer(core, &mut records)
+        .renderer(core)
         .unwrap_or_else(|e| fail(Failure::Render(e)));
     let header = scene.header();
     let mut azimuth_deg = 0.0;
