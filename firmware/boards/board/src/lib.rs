@@ -1,21 +1,16 @@
 //! What Peel's board crates share: everything but the hardware. A board's `main.rs` sets up
-//! its clocks, pins and SPI, builds its panel with [`panel`], and hands the panel, its static
-//! [`Memory`] and the scene its build script compiled to [`run`], which draws an orbit around
-//! the scene frame after frame in scan order (no framebuffer: 150 KiB at 320x240).
+//! its clocks, pins and SPI, describes its panel with [`panel`], and hands the panel, its static
+//! [`Memory`] and the scene its build script compiled to [`Firmware::start`], which sets the panel up and
+//! [`run`]s an orbit around the scene frame after frame in scan order (no framebuffer: 150 KiB
+//! at 320x240).
 //!
 //! ```ignore
-//! peel_board::include_scene!(); // SCENE, its sizes (`mod scene`) and `type Memory`
+//! peel_board::main!(rp_pico::entry, hardware); // the scene, its sizes, `Memory` and `main`
 //!
-//! #[entry]
-//! fn main() -> ! {
-//!     static mut MEMORY: Memory = Memory::new();
-//!     static mut SPI_BUFFER: [u8; 512] = [0; 512];
+//! fn hardware(firmware: Firmware, buffer: &'static mut [u8; 512]) -> ! {
 //!     // ... clocks, pins, SPI ...
-//!     let mut panel = peel_board::panel::st7789(spi, dc, SPI_BUFFER)
-//!         .reset_pin(reset)
-//!         .init(&mut delay)
-//!         .unwrap_or_else(|_| fail(Failure::Hardware));
-//!     peel_board::run(&SCENE, MEMORY, Core::WithoutFpu, &mut panel)
+//!     let panel = peel_board::panel::st7789(spi, dc, buffer);
+//!     firmware.start(panel, reset, backlight, &mut delay, Core::WithoutFpu)
 //! }
 //! ```
 //!
@@ -44,7 +39,7 @@ pub use failure::{fail, Failure};
 pub use frame::draw_frame;
 pub use memory::{pending_records, scan_nodes, vertex_memory, Core, Memory};
 pub use orbit::{next_azimuth, orbit_view, ELEVATION_DEG, FOV_Y_DEG, STEP_DEG};
-pub use run::run;
+pub use run::{run, Firmware};
 
 use peel_runtime::display::Colour;
 

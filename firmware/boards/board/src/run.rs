@@ -3,6 +3,11 @@
 
 use embedded_graphics_core::draw_target::DrawTarget;
 use embedded_graphics_core::pixelcolor::Rgb565;
+use embedded_hal::delay::DelayNs;
+use embedded_hal::digital::OutputPin;
+use mipidsi::interface::{Interface, InterfacePixelFormat};
+use mipidsi::models::Model;
+use mipidsi::{Builder, NoResetPin};
 use peel_runtime::read::Scene;
 
 use crate::{draw_frame, fail, next_azimuth, orbit_view, Core, Failure, Memory};
@@ -42,5 +47,56 @@ where
             fail(e)
         }
         azimuth_deg = next_azimuth(azimuth_deg);
+    }
+}
+
+/// What a board's `main` hands its hardware set-up ([`crate::main!`]): the scene its build
+/// script compiled and its frame memory `M` (a [`Memory`]), for [`Firmware::start`] once the
+/// panel is wired.
+pub struct Firmware<'a, M> {
+    scene: &'a [u8],
+    memory: &'a mut M,
+}
+
+impl<'a, M> Firmware<'a, M> {
+    /// `scene` drawn in `memory`.
+    pub fn new(scene: &'a [u8], memory: &'a mut M) -> Self {
+        Firmware { scene, memory }
+    }
+}
+
+impl<
+        const STACK: usize,
+        const VERTS: usize,
+        const NODES: usize,
+        const VERTICES: usize,
+        const RECORDS: usize,
+    > Firmware<'_, Memory<STACK, VERTS, NODES, VERTICES, RECORDS>>
+{
+    /// Set up the panel `panel` describes (one of [`crate::panel`]'s settings over the board's
+    /// SPI) with its reset pin, turn its backlight on, and [`run`] the orbit on it with
+    /// `core`'s switches; stops with [`fail`] if the panel refuses its set-up or a pin fails.
+    #[inline(always)]
+    pub fn start<DI, M>(
+        self,
+        panel: Builder<DI, M, NoResetPin>,
+        reset: impl OutputPin,
+        mut backlight: impl OutputPin,
+        delay: &mut impl DelayNs,
+        core: Core,
+    ) -> !
+    where
+        DI: Interface,
+        M: Model<ColorFormat = Rgb565>,
+        Rgb565: InterfacePixelFormat<DI::Word>,
+    {
+        let mut panel = panel
+            .reset_pin(reset)
+            .init(delay)
+            .unwrap_or_else(|_| fail(Failure::Hardware));
+        if backlight.set_high().is_err() {
+            fail(Failure::Hardware)
+        }
+        run(self.scene, self.memory, core, &mut panel)
     }
 }

@@ -12,24 +12,19 @@
 #![no_std]
 #![no_main]
 
-use embedded_hal::digital::OutputPin;
 use embedded_hal_bus::spi::ExclusiveDevice;
 use panic_halt as _;
 use peel_board::{fail, Core, Failure};
-use rp_pico::entry;
 use rp_pico::hal::fugit::RateExtU32;
 use rp_pico::hal::{self, gpio, pac, spi, Clock};
 
-peel_board::include_scene!();
+peel_board::main!(rp_pico::entry, hardware);
 
-#[entry]
-fn main() -> ! {
-    // cortex-m-rt turns these `static mut` into `&'static mut` owned by `main`: zeros, in
-    // `.bss`, no code to set them up.
-    static mut MEMORY: Memory = Memory::new();
-    // mipidsi's transfer buffer: pixels of one fill go out in bursts of this many bytes.
-    static mut SPI_BUFFER: [u8; 512] = [0; 512];
-
+/// The Pico's clocks, pins and SPI, then its panel and the orbit.
+// Inlined into `main`, its one caller, with the HAL's set-up (out of line: about 2 KB
+// more flash).
+#[inline(always)]
+fn hardware(firmware: Firmware, buffer: &'static mut [u8; 512]) -> ! {
     let Some(mut pac) = pac::Peripherals::take() else {
         fail(Failure::Hardware)
     };
@@ -63,16 +58,9 @@ fn main() -> ! {
         62_500_000u32.Hz(),
         embedded_hal::spi::MODE_0,
     );
-    let cs = pins.gpio9.into_push_pull_output();
-    let dc = pins.gpio8.into_push_pull_output();
+    let Ok(device) = ExclusiveDevice::new_no_delay(bus, pins.gpio9.into_push_pull_output());
+    let panel = peel_board::panel::st7789(device, pins.gpio8.into_push_pull_output(), buffer);
     let reset = pins.gpio12.into_push_pull_output();
-    let mut backlight = pins.gpio13.into_push_pull_output();
-    let Ok(device) = ExclusiveDevice::new_no_delay(bus, cs);
-    let mut panel = peel_board::panel::st7789(device, dc, SPI_BUFFER)
-        .reset_pin(reset)
-        .init(&mut delay)
-        .unwrap_or_else(|_| fail(Failure::Hardware));
-    let Ok(()) = backlight.set_high();
-
-    peel_board::run(&SCENE, MEMORY, Core::WithoutFpu, &mut panel)
+    let backlight = pins.gpio13.into_push_pull_output();
+    firmware.start(panel, reset, backlight, &mut delay, Core::WithoutFpu)
 }
