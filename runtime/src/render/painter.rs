@@ -353,7 +353,12 @@ impl<const SUB: u32> Painter<'_, '_, SUB> {
         // Checks the fills rely on: `count <= available <= min(VERTS, MAX_FILL_VERTICES)`
         // edges, and `snap` keeps every point in the window, which `window` kept within
         // `fill::coordinate_limit` (anti-aliased: the sample grid's window).
-        let pending = self.antialias.as_deref_mut().filter(|_| antialiased);
+        // (`cfg!` here too: without it the optimiser kept the anti-aliased fill in builds
+        // without the feature at `opt-level = "s"`.)
+        let pending = match self.antialias.as_deref_mut() {
+            Some(p) if cfg!(feature = "antialias") && antialiased => Some(p),
+            _ => None,
+        };
         let pixels = match (pending, coverage) {
             (Some(pending), Some(coverage)) => {
                 // The sample rows of the pixel rows `y0 .. y1`, all in the band.
