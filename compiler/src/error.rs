@@ -80,6 +80,15 @@ pub enum CompileError {
     /// position that is not finite, a point light too far for exact shadows).
     #[error("{0}")]
     Light(String),
+    /// A crease angle of smooth shading that is not a number of degrees from 0 to 180.
+    #[error(
+        "invalid crease angle {degrees} (--crease): it is the angle in degrees, from 0 to 180, \
+         above which two faces meet at a sharp edge"
+    )]
+    Crease {
+        /// The angle given.
+        degrees: f64,
+    },
     /// An internal invariant of the display tree was violated: a bug, reported instead of a hang.
     #[error("internal invariant violated: {0}")]
     Invariant(String),

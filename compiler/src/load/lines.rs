@@ -24,6 +24,9 @@ pub(super) struct Statement {
     pub is_face: bool,
     /// Index into [`Lines::material_names`] of the last `usemtl` before it.
     pub material: Option<u32>,
+    /// Every corner names a normal (`v//vn` or `v/vt/vn`): the face's corners take the file's
+    /// normals. A face that names them for some corners only takes none.
+    pub normals: bool,
 }
 
 /// What the line check learnt about the file.
@@ -95,8 +98,10 @@ pub(super) fn check(path: &Path, text: &str, limits: Limits) -> Result<Lines, Co
             Some(keyword @ ("f" | "l")) => {
                 let mut arity = 0;
                 let (mut first, mut last) = ("", "");
+                let mut normals = true;
                 for corner in words {
                     check_corner(path, line, corner, &counts)?;
+                    normals &= corner.split('/').nth(2).is_some_and(|vn| !vn.is_empty());
                     if arity == 0 {
                         first = corner;
                     }
@@ -126,6 +131,7 @@ pub(super) fn check(path: &Path, text: &str, limits: Limits) -> Result<Lines, Co
                     arity,
                     is_face,
                     material,
+                    normals: normals && arity > 0,
                 });
             }
             Some("usemtl") => {
@@ -385,6 +391,16 @@ mod tests {
         );
         assert_eq!(s.material_names, ["a", "b"]);
         assert_eq!(s.polygon_faces, 3);
+    }
+
+    #[test]
+    fn a_face_has_normals_when_every_corner_names_one() {
+        let s = run("v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvn 0 0 1\n\
+                     f 1//1 2//1 3//1\nf 1/1/1 2/1/1 3/1/1\nf 1//1 2 3//1\nf 1/1/ 2//1 3//1\n\
+                     f 1 2 3\nl 1//1 2//1\n")
+        .unwrap();
+        let normals: Vec<bool> = s.statements.iter().map(|s| s.normals).collect();
+        assert_eq!(normals, [true, true, false, false, false, true]);
     }
 
     #[test]

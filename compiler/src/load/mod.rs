@@ -28,6 +28,10 @@
 //!   statements are not surfaces and are skipped with a warning. A file that ends without a
 //!   line end in the middle of a face (fewer than three corners, or a last corner cut short)
 //!   is cut off: an error at that line.
+//! - A face whose every corner names a normal (`v//vn`, `v/vt/vn`) keeps them, normalised, on
+//!   its triangles' corners ([`SourceTriangle::normals`]; a polygon's triangles take those of
+//!   their corners). A face that names them for some corners only, or whose normals are not
+//!   finite or of no length, keeps none: smooth shading computes them.
 //! - Degenerate triangles are kept: the compiler drops zero-area triangles after quantisation.
 //! - Limits: the OBJ (and each MTL) may not exceed [`MAX_INPUT_BYTES`], the file may not have
 //!   more than [`MAX_VERTEX_STATEMENTS`] `v`/`vt`/`vn` statements nor produce more than
@@ -64,6 +68,10 @@ pub struct SourceTriangle {
     pub vertices: [DVec3; 3],
     /// Material diffuse colour (`Kd`), RGB888.
     pub colour: [u8; 3],
+    /// The file's normals at the corners (`vn`, unit length), in the order of `vertices`;
+    /// `None` where the face gives none, and smooth shading computes them
+    /// ([`crate::shade::normals`]).
+    pub normals: Option<[DVec3; 3]>,
 }
 
 /// How a file is loaded.
@@ -187,7 +195,10 @@ pub fn load_obj_text_with(
             let libraries: RefCell<Vec<(PathBuf, MtlOutcome)>> = RefCell::new(Vec::new());
             let options = tobj::LoadOptions {
                 triangulate: false,
-                single_index: true,
+                // One index list per attribute: `normal_indices` has an entry per corner (with
+                // a single index, a corner without a normal puts the normals out of step with
+                // the positions).
+                single_index: false,
                 // Points and lines stay in, so tobj emits one face per `f`/`l` line (see above).
                 ..Default::default()
             };
@@ -294,6 +305,7 @@ pub fn load_obj_text_with(
                 )));
             }
             let indices = &m.indices[next..next + arity];
+            let normal_indices = m.normal_indices.get(next..next + arity);
             next += arity;
             if !statement.is_face {
                 notes.polylines.add(statement.line);
@@ -317,6 +329,18 @@ pub fn load_obj_text_with(
                     DVec3::new(m.positions[i], m.positions[i + 1], m.positions[i + 2])
                 })
                 .collect();
+            let normals = if statement.normals {
+                let indices = normal_indices.ok_or_else(|| {
+                    CompileError::Invariant(format!(
+                        "{}:{}: tobj returned no normals for a face that has them",
+                        path.display(),
+                        statement.line
+                    ))
+                })?;
+                face_normals(&m.normals, indices)
+            } else {
+                None
+            };
             let triangles = match triangulate::triangulate_polygon(&corners) {
                 Ok(t) => t,
                 Err(triangulate::NotSimple::ZeroArea) => triangulate::fan(arity),
@@ -334,6 +358,7 @@ pub fn load_obj_text_with(
                 .extend(triangles.iter().map(|t| SourceTriangle {
                     vertices: t.map(|i| corners[i]),
                     colour,
+                    normals: normals.as_ref().map(|n| t.map(|i| n[i])),
                 }));
         }
     }
@@ -382,6 +407,19 @@ fn read_mtl(full: &Path) -> (MtlOutcome, tobj::MTLLoadResult) {
         Ok(result) => (MtlOutcome::Loaded(bytes), Ok(result)),
         Err(e) => (MtlOutcome::Malformed(bytes, e.to_string()), Err(e)),
     }
+}
+
+/// A face's corner normals from tobj's `normals` at `indices`, each of unit length; `None`
+/// when one is not finite or has no length (smooth shading then computes them all).
+fn face_normals(normals: &[f64], indices: &[u32]) -> Option<Vec<DVec3>> {
+    indices
+        .iter()
+        .map(|&i| {
+            let i = 3 * i as usize;
+            let n = DVec3::new(*normals.get(i)?, *normals.get(i + 1)?, *normals.get(i + 2)?);
+            n.try_normalize()
+        })
+        .collect()
 }
 
 /// `Kd` -> RGB888: each channel clamped to [0, 1] and rounded; `None` if a channel is NaN.

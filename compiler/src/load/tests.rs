@@ -343,6 +343,53 @@ fn quad_splits_into_two_triangles_in_documented_order() {
     assert_eq!(v(0).count(), 2);
 }
 
+/// Faces that name a normal at every corner keep them (normalised) on their triangles'
+/// corners, a pentagon's triangles those of their own corners, whichever `v/vt/vn` form and
+/// whatever material or group comes between; the others keep none.
+#[test]
+fn normals_from_the_file_follow_their_corners() {
+    let mesh = load_text(
+        "v 0 0 0\nv 2 0 0\nv 3 1 0\nv 1 3 0\nv -1 1 0\nvt 0 0\n\
+         vn 0 0 2\nvn 1 0 1\nvn 0 1 1\nvn -1 0 1\nvn 0 -1 1\nvn 0 0 0\n\
+         f 1//1 2//2 3//3 4//4 5//5\n\
+         g other\nf 1/1/5 3/1/3 4/1/4\n\
+         f 1 2 3\n\
+         f 1//1 2 3//3\n\
+         f 1//6 2//2 3//3\n",
+    );
+    let normal = |i: usize| {
+        [
+            DVec3::new(0.0, 0.0, 1.0),
+            DVec3::new(1.0, 0.0, 1.0),
+            DVec3::new(0.0, 1.0, 1.0),
+            DVec3::new(-1.0, 0.0, 1.0),
+            DVec3::new(0.0, -1.0, 1.0),
+        ][i]
+            .normalize()
+    };
+    let corners = [
+        DVec3::new(0.0, 0.0, 0.0),
+        DVec3::new(2.0, 0.0, 0.0),
+        DVec3::new(3.0, 1.0, 0.0),
+        DVec3::new(1.0, 3.0, 0.0),
+        DVec3::new(-1.0, 1.0, 0.0),
+    ];
+    assert_eq!(mesh.triangles.len(), 3 + 1 + 3);
+    // The pentagon: every triangle corner has the normal of the face corner it is.
+    for t in &mesh.triangles[..3] {
+        let normals = t.normals.expect("the pentagon's normals");
+        for (v, n) in t.vertices.iter().zip(normals) {
+            let corner = corners.iter().position(|c| c == v).unwrap();
+            assert_eq!(n, normal(corner), "at {v}");
+        }
+    }
+    let tri = &mesh.triangles[3];
+    assert_eq!(tri.vertices, [corners[0], corners[2], corners[3]]);
+    assert_eq!(tri.normals, Some([normal(4), normal(2), normal(3)]));
+    // No normals, some corners only, one of no length: none.
+    assert!(mesh.triangles[4..].iter().all(|t| t.normals.is_none()));
+}
+
 #[test]
 fn self_intersecting_polygon_falls_back_to_a_fan_with_a_warning() {
     let mesh = load_text("v 0 0 0\nv 1 1 0\nv 1 0 0\nv 0 1 0\nf 1 2 3 4\n");
@@ -422,5 +469,17 @@ fn shared_models_load() {
             .triangles
             .iter()
             .all(|t| t.vertices.iter().all(|v| v.is_finite())));
+        // Suzanne gives a normal at every corner, the others none.
+        let with_normals = mesh
+            .triangles
+            .iter()
+            .filter(|t| t.normals.is_some())
+            .count();
+        let given = if name == "suzanne.obj" {
+            mesh.triangles.len()
+        } else {
+            0
+        };
+        assert_eq!(with_normals, given, "{name}");
     }
 }

@@ -10,6 +10,15 @@
 //! light's direction varies across a polygon: it is taken at the polygon's centroid, so every
 //! polygon keeps one colour per side (which side faces a point light is the same over a whole
 //! plane).
+//!
+//! That is *faceted* shading ([`Shading`]; *unlit* is [`Shading::Flat`]). *Smooth* shading
+//! ([`smooth::Smooth`]) lights each corner of a source triangle with a normal of the surface
+//! around it instead ([`normals`]), by the same rule, and interpolates the corners' colours
+//! over the triangle ([`corners`]), so a curved mesh does not show its facets.
+
+pub mod corners;
+pub mod normals;
+pub mod smooth;
 
 use glam::DVec3;
 
@@ -84,14 +93,26 @@ impl Shading {
     /// pointing to the eyes that see the side, is `normal`, at the point `at` (world
     /// coordinates; only a point light depends on it).
     pub fn shade_at(&self, kd: [u8; 3], normal: DVec3, at: DVec3) -> [u8; 3] {
+        let k = self.intensity_at(normal, at);
+        kd.map(|c| channel(f64::from(c) * k))
+    }
+
+    /// The factor [`Shading::shade_at`] multiplies the material colour by, unrounded:
+    /// `AMBIENT + (1 - AMBIENT) * max(n · l, 0)` for the side of unit normal `normal` at the
+    /// point `at`, 1 when [`Shading::Flat`]. Smooth shading takes it at each corner.
+    pub fn intensity_at(&self, normal: DVec3, at: DVec3) -> f64 {
         let towards = match *self {
-            Shading::Flat => return kd,
+            Shading::Flat => return 1.0,
             Shading::Lambert(towards) => towards,
             Shading::Point(light) => light - at,
         };
         let l = towards.normalize_or_zero();
-        let k = AMBIENT + (1.0 - AMBIENT) * normal.dot(l).clamp(0.0, 1.0);
-        kd.map(|c| (f64::from(c) * k).round().clamp(0.0, 255.0) as u8)
+        AMBIENT + (1.0 - AMBIENT) * normal.dot(l).clamp(0.0, 1.0)
+    }
+
+    /// The factor of a side in shadow: [`AMBIENT`] (1 when [`Shading::Flat`], which casts none).
+    pub fn intensity_in_shadow(&self) -> f64 {
+        self.intensity_at(DVec3::ZERO, DVec3::ZERO)
     }
 
     /// [`Shading::shade_at`] the origin: a sun lights every point alike.
@@ -118,6 +139,11 @@ impl Shading {
             exterior: self.shade_at(kd, -inward, at),
         }
     }
+}
+
+/// A colour channel in 8-bit units, rounded to the nearest and kept in `0..=255`.
+pub fn channel(value: f64) -> u8 {
+    value.round().clamp(0.0, 255.0) as u8
 }
 
 #[cfg(test)]

@@ -324,6 +324,7 @@ mod tests {
                 .map(|vertices| crate::load::SourceTriangle {
                     vertices,
                     colour: crate::load::DEFAULT_COLOUR,
+                    normals: None,
                 })
                 .collect(),
             ..Mesh::default()

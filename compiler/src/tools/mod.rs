@@ -9,6 +9,8 @@
 //!   measure pixel errors against.
 //! - [`scenes`]: generated meshes (sphere, torus, box grid, triangle soup) for benchmarks and
 //!   tests.
+//! - [`shading_gap`]: how far a mesh's faceted picture is from its smooth one, on the
+//!   reference's robust pixels.
 //! - `bench_frames` (`peel bench`, feature `bench`): frame time against pixel error, Peel
 //!   against the classic visibility methods.
 //! - `bench_compile` (`peel bench compile`, feature `bench`): Peel's build against two
@@ -26,6 +28,7 @@ pub mod bench_frames;
 pub mod raster;
 pub mod reference;
 pub mod scenes;
+pub mod shading_gap;
 pub mod shot;
 
 /// One row of a markdown table, `| a | b | ... |` and a newline: the benchmarks' tables (frames,

@@ -2,9 +2,12 @@
 //! ("Camera and pixels") to the letter, independent of the runtime's projection, clipping and
 //! fill. The end-to-end tests and `peel bench` measure pixel errors against it. Per pixel it
 //! also knows the side of the triangle seen, so the tests check the lighting
-//! ([`Reference::seen_normal`], [`Reference::exclude_grazing_light`]).
+//! ([`Reference::seen_normal`], [`Reference::exclude_grazing_light`]), and the colour the
+//! compiler's shading gives it there, faceted or smooth ([`Reference::colours`]).
 
-use crate::shade::Shading;
+use crate::shade::corners::Facing;
+use crate::shade::smooth::SmoothShades;
+use crate::shade::{channel, Shading};
 use crate::shadow::Light;
 
 use glam::{DVec2, DVec3};
@@ -96,7 +99,70 @@ pub const EDGE_MARGIN: f64 = 1.0 / 16.0;
 /// triangle, whose normal may differ from the source triangle's by about the grid's precision.
 pub const LIGHT_MARGIN: f64 = 1.0 / 64.0;
 
+/// How [`Reference::colours`] lights the side of a triangle a pixel sees.
+#[derive(Debug, Clone, Copy)]
+pub enum Lighting<'a> {
+    /// One colour a side: [`Shading::shade_at`] the side's normal at the point the pixel's ray
+    /// hits (faceted; unlit with [`Shading::Flat`]).
+    Faceted(Shading),
+    /// Smooth: the side's corner colours interpolated at the point the pixel's ray hits
+    /// ([`crate::shade::corners::CornerShades::colour_at`]), of these shades of the triangles.
+    Smooth(&'a SmoothShades),
+}
+
 impl Reference {
+    /// The colour of each pixel (row-major; `None` for the background) in 8-bit units,
+    /// unrounded: that of the side of its triangle seen, lit by `lighting`, for the material
+    /// colours `kd` (one a triangle), or `Kd * AMBIENT` where `shadowed` (per pixel, as
+    /// [`shadowed`] gives it) is set. `triangles`, `shot` and `near` are what the reference
+    /// was cast with.
+    pub fn colours_exact(
+        &self,
+        triangles: &[[DVec3; 3]],
+        kd: &[[u8; 3]],
+        shot: &Shot,
+        near: f64,
+        lighting: Lighting<'_>,
+        shadowed: Option<&[bool]>,
+    ) -> Vec<Option<[f64; 3]>> {
+        let cam = &Lens::new(shot, near);
+        (0..self.ids.len())
+            .map(|k| {
+                let id = self.ids[k].checked_sub(1)? as usize;
+                let p = self.hit(cam, triangles, k)?;
+                let kd = kd[id].map(f64::from);
+                let in_shadow = shadowed.is_some_and(|s| s[k]);
+                let intensity = match lighting {
+                    Lighting::Faceted(shading) if in_shadow => shading.intensity_in_shadow(),
+                    Lighting::Faceted(shading) => {
+                        shading.intensity_at(self.seen_normal(triangles, k)?, p)
+                    }
+                    Lighting::Smooth(shades) if in_shadow => shades.in_shadow,
+                    Lighting::Smooth(shades) => {
+                        shades.triangles[id].intensity_at(Facing::of(self.front[k]), p)
+                    }
+                };
+                Some(kd.map(|c| c * intensity))
+            })
+            .collect()
+    }
+
+    /// [`Reference::colours_exact`] rounded to 8 bits, as a picture shows them.
+    pub fn colours(
+        &self,
+        triangles: &[[DVec3; 3]],
+        kd: &[[u8; 3]],
+        shot: &Shot,
+        near: f64,
+        lighting: Lighting<'_>,
+        shadowed: Option<&[bool]>,
+    ) -> Vec<Option<[u8; 3]>> {
+        self.colours_exact(triangles, kd, shot, near, lighting, shadowed)
+            .into_iter()
+            .map(|c| c.map(|c| c.map(channel)))
+            .collect()
+    }
+
     /// The unit normal of the side of its triangle that pixel `k` sees (pointing to the eye),
     /// `triangles` being those the reference was cast against; `None` for the background.
     pub fn seen_normal(&self, triangles: &[[DVec3; 3]], k: usize) -> Option<DVec3> {
@@ -865,6 +931,58 @@ mod tests {
         grazing.exclude_grazing_light(&back, &s, 0.01, &sun);
         assert!(!grazing.robust[centre], "|n.l| = 0.01");
         assert!(grazing.robust[0], "the background keeps its verdict");
+    }
+
+    /// The colour of a pixel: faceted, as `Shading::shade_at` the side seen; smooth, its
+    /// corners' intensities interpolated at the point hit; in shadow, the ambient part.
+    #[test]
+    fn colours_follow_the_lighting() {
+        use crate::shade::corners::CornerShades;
+        use crate::shade::AMBIENT;
+        // The centre pixel's ray hits the origin, a quarter of the way from each of the first
+        // two corners to the third.
+        let t = [[
+            DVec3::new(-1.0, -1.0, 0.0),
+            DVec3::new(1.0, -1.0, 0.0),
+            DVec3::new(0.0, 1.0, 0.0),
+        ]];
+        let (s, centre, kd) = (shot(33, 33), 16 * 33 + 16, [[200, 100, 40]]);
+        let r = reference(&t, &[], &s, 0.01);
+        let sun = Shading::Lambert(DVec3::new(0.0, 0.6, 0.8));
+        let faceted = r.colours(&t, &kd, &s, 0.01, Lighting::Faceted(sun), None);
+        assert_eq!(faceted[centre], Some(sun.shade(kd[0], DVec3::Z)));
+        assert_eq!(faceted[0], None, "the background");
+        let unlit = r.colours(&t, &kd, &s, 0.01, Lighting::Faceted(Shading::Flat), None);
+        assert_eq!(unlit[centre], Some(kd[0]));
+        let shades = SmoothShades {
+            triangles: vec![CornerShades {
+                corners: t[0],
+                front: [1.0, AMBIENT, 0.65],
+                back: [AMBIENT; 3],
+            }],
+            in_shadow: AMBIENT,
+        };
+        let smooth = r.colours_exact(&t, &kd, &s, 0.01, Lighting::Smooth(&shades), None);
+        let k = 0.25 * 1.0 + 0.25 * AMBIENT + 0.5 * 0.65;
+        let want = kd[0].map(|c| f64::from(c) * k);
+        let got = smooth[centre].unwrap();
+        assert!(
+            (0..3).all(|c| (got[c] - want[c]).abs() < 1e-9),
+            "{got:?} {want:?}"
+        );
+        // From behind, the back's.
+        let behind = Shot::new(DVec3::new(0.0, 0.0, -5.0), DVec3::ZERO, 33, 33);
+        let r_behind = reference(&t, &[], &behind, 0.01);
+        let back = r_behind.colours(&t, &kd, &behind, 0.01, Lighting::Smooth(&shades), None);
+        assert_eq!(back[centre], Some([60, 30, 12]));
+        // In shadow, both ambient.
+        let mut shadowed = vec![false; r.ids.len()];
+        shadowed[centre] = true;
+        for lighting in [Lighting::Faceted(sun), Lighting::Smooth(&shades)] {
+            let c = r.colours(&t, &kd, &s, 0.01, lighting, Some(&shadowed));
+            assert_eq!(c[centre], Some([60, 30, 12]));
+            assert_ne!(c[centre + 1], Some([60, 30, 12]));
+        }
     }
 
     #[test]

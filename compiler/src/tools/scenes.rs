@@ -14,6 +14,7 @@ pub fn mesh(triangles: Vec<[DVec3; 3]>) -> Mesh {
             .map(|vertices| SourceTriangle {
                 vertices,
                 colour: DEFAULT_COLOUR,
+                normals: None,
             })
             .collect(),
         ..Mesh::default()

@@ -15,6 +15,7 @@ pub(crate) fn mesh_of(tris: Vec<[DVec3; 3]>) -> Mesh {
             .map(|vertices| SourceTriangle {
                 vertices,
                 colour: [1, 2, 3],
+                normals: None,
             })
             .collect(),
         ..Mesh::default()
