@@ -863,13 +863,19 @@ mod tests {
         Shot::new(DVec3::new(0.0, 0.0, 5.0), DVec3::ZERO, w, h)
     }
 
-    #[test]
-    fn centre_pixel_sees_the_facing_triangle_and_corners_see_nothing() {
-        let t = [[
+    /// A triangle in the plane z = 0, counter-clockwise seen from [`shot`]'s eye (its front),
+    /// around the origin, which the centre pixel's ray hits.
+    fn facing() -> [[DVec3; 3]; 1] {
+        [[
             DVec3::new(-1.0, -1.0, 0.0),
             DVec3::new(1.0, -1.0, 0.0),
             DVec3::new(0.0, 1.0, 0.0),
-        ]];
+        ]]
+    }
+
+    #[test]
+    fn centre_pixel_sees_the_facing_triangle_and_corners_see_nothing() {
+        let t = facing();
         let r = reference(&t, &[], &shot(33, 33), 0.01);
         assert_eq!(r.ids[16 * 33 + 16], 1);
         assert_eq!(r.ids[0], 0);
@@ -898,11 +904,7 @@ mod tests {
     #[test]
     fn each_pixel_knows_the_side_it_sees_and_grazing_light_is_not_robust() {
         // Counter-clockwise seen from +z (the eye): its front.
-        let t = [[
-            DVec3::new(-1.0, -1.0, 0.0),
-            DVec3::new(1.0, -1.0, 0.0),
-            DVec3::new(0.0, 1.0, 0.0),
-        ]];
+        let t = facing();
         let centre = 16 * 33 + 16;
         let r = reference(&t, &[], &shot(33, 33), 0.01);
         assert!(r.front[centre]);
@@ -941,11 +943,7 @@ mod tests {
         use crate::shade::AMBIENT;
         // The centre pixel's ray hits the origin, a quarter of the way from each of the first
         // two corners to the third.
-        let t = [[
-            DVec3::new(-1.0, -1.0, 0.0),
-            DVec3::new(1.0, -1.0, 0.0),
-            DVec3::new(0.0, 1.0, 0.0),
-        ]];
+        let t = facing();
         let (s, centre, kd) = (shot(33, 33), 16 * 33 + 16, [[200, 100, 40]]);
         let r = reference(&t, &[], &s, 0.01);
         let sun = Shading::Lambert(DVec3::new(0.0, 0.6, 0.8));
