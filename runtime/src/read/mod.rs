@@ -89,6 +89,8 @@ pub struct Scene<'a> {
     palette: usize,
     bounds: usize,
     nodes: usize,
+    /// The `shades` array (with [`layout::header_flags::SHADES`]; else it is empty).
+    shades: usize,
     /// The size of a step on each axis ([`layout::step`]).
     step: Vec3,
     /// Steps per unit of length on each axis ([`layout::per_step`]): brings the eye to steps.

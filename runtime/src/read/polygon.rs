@@ -83,6 +83,32 @@ impl Scene<'_> {
         self.colour_at(self.polygons + i as usize * self.polygon_size + field)
     }
 
+    /// Which of each vertex's two intensities ([`Scene::vertex_shade`]) shade the side of a
+    /// polygon with `flags` that an eye on its `interior` side sees: 0 (its source triangle's
+    /// front) or 1 (its back), or `None` for a polygon that is not
+    /// [`SMOOTH`](layout::polygon_flags::SMOOTH) (its colour field is then the side's colour).
+    #[inline]
+    pub fn shade_side(flags: u8, interior: bool) -> Option<usize> {
+        use layout::polygon_flags::{INTERIOR_BACK, SMOOTH};
+        if flags & SMOOTH == 0 {
+            return None;
+        }
+        Some(usize::from(interior == (flags & INTERIOR_BACK != 0)))
+    }
+
+    /// Intensity `side` (0 or 1, [`Scene::shade_side`]) of vertex `v`, 255 the material's full
+    /// colour: 0 out of range or in a file without
+    /// [`SHADES`](layout::header_flags::SHADES).
+    #[inline]
+    pub fn vertex_shade(&self, v: u32, side: usize) -> u8 {
+        if self.header.flags & header_flags::SHADES == 0 || v >= self.header.vertex_count {
+            return 0;
+        }
+        // Within the shades array (checked by the parse): no overflow.
+        let at = self.shades + v as usize * layout::SHADE_SIZE + (side & 1);
+        u8_at(self.bytes, at).unwrap_or(0)
+    }
+
     /// The colour field at `at`: RGB, or a palette index (see [`layout::polygon_size`]).
     #[inline(never)]
     fn colour_at(&self, at: usize) -> Colour {

@@ -14,7 +14,7 @@ use super::layout::{
     self, colour_size, f32_at, f64_at, field_at, field_size, header_flags as hf,
     header_offset as h, index_size, node_kind, node_size, polygon_flags, polygon_size, u16_at,
     u64_at, u8_at, vertex_size, BOUNDS_SIZE, FORMAT_VERSION, HEADER_SIZE, ID_SIZE, LENGTH_SIZE,
-    MAGIC, NONE, PALETTE_SIZE, PLANE_SIZE,
+    MAGIC, NONE, PALETTE_SIZE, PLANE_SIZE, SHADE_SIZE,
 };
 use super::{Header, Scene};
 use crate::error::ReadError;
@@ -113,6 +113,11 @@ fn locate_arrays(bytes: &[u8], header: Header) -> Result<Scene<'_>, ReadError> {
     } else {
         0
     };
+    let shade_count = if flags & hf::SHADES != 0 {
+        header.vertex_count
+    } else {
+        0
+    };
     // Optional parts: a count without its flag (or a palette flag without colours) is
     // inconsistent, as is a palette too large for its index width.
     let palette_max = match (flags & hf::PALETTE != 0, flags & hf::PALETTE16 != 0) {
@@ -170,6 +175,7 @@ fn locate_arrays(bytes: &[u8], header: Header) -> Result<Scene<'_>, ReadError> {
         palette: array(bytes, &mut at, header.palette_count, PALETTE_SIZE)?,
         bounds: array(bytes, &mut at, header.bounds_count, BOUNDS_SIZE)?,
         nodes: array(bytes, &mut at, header.node_count, node_size)?,
+        shades: array(bytes, &mut at, shade_count, SHADE_SIZE)?,
         step: Vec3::new(
             layout::step(header.bounds_min.x, header.bounds_max.x),
             layout::step(header.bounds_min.y, header.bounds_max.y),
@@ -308,7 +314,9 @@ fn check_indices(scene: &Scene<'_>) -> Result<(), ReadError> {
     Ok(())
 }
 
-/// Every polygon: palette indices in range (both colours with `TWO_COLOURS`), known flags, `3 <= vertex_count <= max_polygon_vertices`, and
+/// Every polygon: palette indices in range (both colours with `TWO_COLOURS`), known flags
+/// (`SMOOTH` only with `SHADES`, `INTERIOR_BACK` only with `SMOOTH`),
+/// `3 <= vertex_count <= max_polygon_vertices`, and
 /// its vertex list right after the previous polygon's, the last one ending the index array.
 fn check_polygons(scene: &Scene<'_>) -> Result<(), ReadError> {
     let header = &scene.header;
@@ -332,8 +340,12 @@ fn check_polygons(scene: &Scene<'_>) -> Result<(), ReadError> {
         let first_index = need(field_at(b, at, w, false), at)?;
         let vertex_count = need(u8_at(b, at + w), at)?;
         let flags = need(u8_at(b, at + w + 1), at)?;
+        // Smooth only with shades, and the side of the shades only for a smooth polygon.
+        let smooth = flags & polygon_flags::SMOOTH != 0;
         let ok = colours_ok
             && flags & !polygon_flags::KNOWN == 0
+            && (!smooth || header.flags & hf::SHADES != 0)
+            && (smooth || flags & polygon_flags::INTERIOR_BACK == 0)
             && vertex_count >= 3
             && u32::from(vertex_count) <= header.max_polygon_vertices
             && u64::from(first_index) == next_index;

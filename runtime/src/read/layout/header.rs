@@ -8,7 +8,7 @@ use crate::read::Header;
 /// First four bytes of every `.peel` file.
 pub const MAGIC: [u8; 4] = *b"PEEL";
 /// Bumped whenever the byte layout or the meaning of a field changes; readers refuse others.
-pub const FORMAT_VERSION: u16 = 3;
+pub const FORMAT_VERSION: u16 = 4;
 
 /// Bits of the header's `flags`.
 pub mod header_flags {
@@ -37,6 +37,11 @@ pub mod header_flags {
     /// Each polygon record ends with a second colour field: the colour of its exterior side
     /// (the first is its interior side's). Without it both sides have the one colour.
     pub const TWO_COLOURS: u16 = 1 << 9;
+    /// The file ends with the `shades` array: per vertex, two 8-bit intensities (of the
+    /// source triangle's front side, then of its back side; 255 is the material's full
+    /// colour), which the vertices of [`polygon_flags::SMOOTH`](super::super::polygon_flags::SMOOTH)
+    /// polygons are shaded with. Without it no polygon is smooth.
+    pub const SHADES: u16 = 1 << 10;
     /// Every bit this version defines; a reader refuses others.
     pub const KNOWN: u16 = IDS
         | INDEX16
@@ -47,7 +52,8 @@ pub mod header_flags {
         | MEDIUM
         | WIDE_VERTICES
         | INDEX24
-        | TWO_COLOURS;
+        | TWO_COLOURS
+        | SHADES;
 }
 
 /// Bytes of the header.

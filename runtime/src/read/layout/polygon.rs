@@ -45,8 +45,28 @@ pub mod polygon_flags {
     /// The rest of the polygon's convex set lies on the + side of its plane (the plane through
     /// its first three vertices, its normal `(v1 - v0) x (v2 - v0)`).
     pub const INTERIOR_FRONT: u8 = 1 << 1;
+    /// Smooth shading (only with [`header_flags::SHADES`]): the colour varies over the
+    /// polygon. Its colour fields hold the material's colour, and the colour at each vertex
+    /// is that colour times the vertex's intensity on the side seen (the `shades` array),
+    /// interpolated in between. Without it the colour field is the side's colour, as in a
+    /// faceted file: a polygon whose vertices' colours are all equal costs nothing more.
+    pub const SMOOTH: u8 = 1 << 2;
+    /// With [`SMOOTH`]: the polygon's interior side is its source triangle's back, so an eye
+    /// on the interior side takes the second of each vertex's two intensities (else the
+    /// first), an eye on the exterior side the other.
+    pub const INTERIOR_BACK: u8 = 1 << 3;
     /// Every bit this version defines; a reader refuses others.
-    pub const KNOWN: u8 = INTERIOR_FRONT;
+    pub const KNOWN: u8 = INTERIOR_FRONT | SMOOTH | INTERIOR_BACK;
+}
+
+/// Bytes of a vertex's shades (with [`header_flags::SHADES`]): two intensities.
+pub const SHADE_SIZE: usize = 2;
+
+/// The colour that intensity `shade` (255: full) gives the material channel `channel`:
+/// `channel * shade / 255`, rounded (never a tie: 255 is odd), as the compiler rounds it.
+#[inline]
+pub const fn shaded_channel(channel: u8, shade: u8) -> u8 {
+    ((channel as u32 * shade as u32 + 127) / 255) as u8
 }
 
 /// Bytes of an index (`u32`; `u16` with [`header_flags::INDEX16`], see [`index_size`]).
