@@ -4,7 +4,8 @@
 use core::fmt;
 use core::marker::PhantomData;
 
-use super::{Colour, SpanSink};
+use super::dither::{dithered, row_thresholds};
+use super::{Colour, RowShade, SpanSink};
 
 /// How a [`Colour`] is stored in one pixel of a [`Framebuffer`].
 pub trait PixelFormat {
@@ -12,6 +13,18 @@ pub trait PixelFormat {
     type Raw: Copy + fmt::Debug + PartialEq;
     /// The stored value of `colour` (computed once per span, not per pixel).
     fn encode(colour: Colour) -> Self::Raw;
+
+    /// Store a shaded span: `run[i]` is pixel `(x_start + i, y)` (`y` a frame row), of colour
+    /// `shade.at(x_start + i)`; `dither` is the framebuffer's switch, for a format with fewer
+    /// bits a channel than a [`Colour`]. By default each colour is [`Self::encode`]d, which is
+    /// all a format of 8 bits a channel needs.
+    #[inline]
+    fn encode_shaded(run: &mut [Self::Raw], x_start: u32, y: u32, shade: &RowShade, dither: bool) {
+        let _ = (y, dither);
+        for (pixel, colour) in run.iter_mut().zip(shade.colours(x_start)) {
+            *pixel = Self::encode(colour);
+        }
+    }
 }
 
 /// 256 grey levels, one byte per pixel: [`Colour::luma`].
@@ -26,7 +39,10 @@ impl PixelFormat for Gray8 {
     }
 }
 
-/// 16-bit RGB565: [`Colour::to_rgb565`].
+/// 16-bit RGB565: [`Colour::to_rgb565`], and shaded spans [`dither_rgb565`] unless the
+/// framebuffer's dithering is off ([`Framebuffer::set_dithering`]).
+///
+/// [`dither_rgb565`]: super::dither_rgb565
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub struct Rgb565;
 
@@ -35,6 +51,21 @@ impl PixelFormat for Rgb565 {
     #[inline]
     fn encode(colour: Colour) -> u16 {
         colour.to_rgb565()
+    }
+
+    #[inline]
+    fn encode_shaded(run: &mut [u16], x_start: u32, y: u32, shade: &RowShade, dither: bool) {
+        let colours = run.iter_mut().zip(shade.colours(x_start));
+        if dither {
+            let thresholds = row_thresholds(y);
+            for (x, (pixel, colour)) in (x_start..).zip(colours) {
+                *pixel = dithered(colour, thresholds[(x & 3) as usize]);
+            }
+        } else {
+            for (pixel, colour) in colours {
+                *pixel = colour.to_rgb565();
+            }
+        }
     }
 }
 
@@ -99,6 +130,9 @@ pub struct Framebuffer<'a, P: PixelFormat> {
     stride: usize,
     /// The frame row stored first: spans and [`Framebuffer::pixel`] use frame rows.
     first_row: u32,
+    /// Whether shaded spans are dithered where the format drops bits (only RGB565 does, and
+    /// only its framebuffer can turn it off: [`Framebuffer::set_dithering`]).
+    dither: bool,
     format: PhantomData<P>,
 }
 
@@ -150,6 +184,7 @@ impl<'a, P: PixelFormat> Framebuffer<'a, P> {
             height,
             stride,
             first_row: 0,
+            dither: true,
             format: PhantomData,
         })
     }
@@ -222,25 +257,60 @@ impl<'a, P: PixelFormat> Framebuffer<'a, P> {
     }
 }
 
+impl Framebuffer<'_, Rgb565> {
+    /// Whether shaded spans are stored dithered ([`dither_rgb565`]) or rounded
+    /// ([`Colour::to_rgb565`]). On by default: 5 and 6 bits a channel show a smooth gradient
+    /// as visible bands, which the dither turns into a fine pattern of the right mean. Flat
+    /// spans are one colour and always stored rounded, so turning it on changes nothing
+    /// drawn without shading.
+    ///
+    /// [`dither_rgb565`]: super::dither_rgb565
+    pub fn set_dithering(&mut self, on: bool) {
+        self.dither = on;
+    }
+
+    /// Whether shaded spans are dithered ([`Self::set_dithering`]).
+    pub fn dithering(&self) -> bool {
+        self.dither
+    }
+}
+
+impl<P: PixelFormat> Framebuffer<'_, P> {
+    /// The pixels `x_start .. x_end` of frame row `y` and the row within the buffer, clipped
+    /// to the image: a span that breaks the [`SpanSink`] contract is clipped rather than
+    /// allowed to panic or spill into the next row.
+    #[inline]
+    fn run(&mut self, y: u32, x_start: u32, x_end: u32) -> Option<&mut [P::Raw]> {
+        let x_end = x_end.min(self.width);
+        let y = y.checked_sub(self.first_row).filter(|&y| y < self.height)?;
+        if x_start >= x_end {
+            return None;
+        }
+        let row = y as usize * self.stride;
+        // `new` checked the buffer holds every row: `get_mut` never fails, and cannot panic.
+        self.buf
+            .get_mut(row + x_start as usize..row + x_end as usize)
+    }
+}
+
 impl<P: PixelFormat> SpanSink for Framebuffer<'_, P> {
     /// One slice fill per span. A span that breaks the [`SpanSink`] contract is clipped to
     /// the image rather than allowed to panic or spill into the next row.
     #[inline]
     fn span(&mut self, y: u32, x_start: u32, x_end: u32, colour: Colour) {
-        let x_end = x_end.min(self.width);
-        let Some(y) = y.checked_sub(self.first_row).filter(|&y| y < self.height) else {
-            return;
-        };
-        if x_start >= x_end {
-            return;
-        }
-        let row = y as usize * self.stride;
-        // `new` checked the buffer holds every row: `get_mut` never fails, and cannot panic.
-        if let Some(run) = self
-            .buf
-            .get_mut(row + x_start as usize..row + x_end as usize)
-        {
+        if let Some(run) = self.run(y, x_start, x_end) {
             run.fill(P::encode(colour));
+        }
+    }
+
+    /// One loop over the span's pixels, each encoded by the format
+    /// ([`PixelFormat::encode_shaded`]: RGB565 dithers unless switched off), clipped as
+    /// [`Self::span`] is.
+    #[inline]
+    fn shaded_span(&mut self, y: u32, x_start: u32, x_end: u32, shade: &RowShade) {
+        let dither = self.dither;
+        if let Some(run) = self.run(y, x_start, x_end) {
+            P::encode_shaded(run, x_start, y, shade, dither);
         }
     }
 }
@@ -248,6 +318,7 @@ impl<P: PixelFormat> SpanSink for Framebuffer<'_, P> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::display::{dither_rgb565, SHADE_FRACTION_BITS};
 
     #[test]
     fn new_checks_the_slice() {
@@ -340,5 +411,130 @@ mod tests {
         let mut fb = Xrgb8888Framebuffer::new(&mut x, 2, 2).unwrap();
         fb.clear(c);
         assert_eq!(x, [0x000a_c81e; 4]);
+    }
+
+    /// A sink of the default shaded span: only `span` is its own.
+    struct ByPixel<'f, 'a, P: PixelFormat>(&'f mut Framebuffer<'a, P>);
+
+    impl<P: PixelFormat> SpanSink for ByPixel<'_, '_, P> {
+        fn span(&mut self, y: u32, x_start: u32, x_end: u32, colour: Colour) {
+            self.0.span(y, x_start, x_end, colour);
+        }
+    }
+
+    /// Shades with every feature: steep and gentle channels, a base far outside the range
+    /// (wrapping), values past `0..=255` (clamping), and a flat one.
+    fn shades() -> [RowShade; 4] {
+        let f = SHADE_FRACTION_BITS;
+        [
+            RowShade {
+                base: [3 << f, 250 << f, -(40 << f)],
+                step: [(1 << f) / 3, -(7 << f) / 5, 23 << f],
+            },
+            RowShade {
+                base: [i32::MAX - 5, (128 << f) + 1, 17 << f],
+                step: [1 << (f - 4), -(1 << (f - 6)), 0],
+            },
+            RowShade {
+                base: [(1000i32 << f).wrapping_mul(9), -(300 << f), 0],
+                step: [-(3 << f), 11 << f, 1],
+            },
+            RowShade::flat(Colour::new(9, 99, 199)),
+        ]
+    }
+
+    /// Spans of each shade on rows 0..6, clipped at the right edge, into a `7 x 6` image.
+    fn draw<S: SpanSink>(sink: &mut S) {
+        for (y, shade) in (0..6).zip(shades().iter().cycle()) {
+            sink.shaded_span(y, y % 3, 5 + y % 3, shade);
+        }
+        // A span past the image and one off it: clipped, not panicking.
+        sink.shaded_span(5, 4, 99, &shades()[0]);
+        sink.shaded_span(7, 0, 3, &shades()[1]);
+        sink.shaded_span(2, 4, 4, &shades()[1]);
+    }
+
+    /// The framebuffer's loop against the default path, pixel for pixel.
+    fn same_as_by_pixel<P: PixelFormat>(blank: P::Raw)
+    where
+        P::Raw: Default,
+    {
+        let mut direct = [blank; 7 * 6];
+        let mut by_pixel = [blank; 7 * 6];
+        draw(&mut Framebuffer::<P>::new(&mut direct, 7, 6).unwrap());
+        draw(&mut ByPixel(
+            &mut Framebuffer::<P>::new(&mut by_pixel, 7, 6).unwrap(),
+        ));
+        assert_eq!(direct, by_pixel);
+        assert!(direct.iter().filter(|&&p| p != blank).count() > 20);
+    }
+
+    #[test]
+    fn a_shaded_span_is_its_pixels_colours() {
+        same_as_by_pixel::<Gray8>(0xaa);
+        same_as_by_pixel::<Xrgb8888>(0xaaaa_aaaa);
+        // RGB565 rounded, with the dither off.
+        let mut direct = [0xaaaa_u16; 7 * 6];
+        let mut by_pixel = [0xaaaa_u16; 7 * 6];
+        let mut fb = Rgb565Framebuffer::new(&mut direct, 7, 6).unwrap();
+        assert!(fb.dithering());
+        fb.set_dithering(false);
+        assert!(!fb.dithering());
+        draw(&mut fb);
+        draw(&mut ByPixel(
+            &mut Rgb565Framebuffer::new(&mut by_pixel, 7, 6).unwrap(),
+        ));
+        assert_eq!(direct, by_pixel);
+        // And each pixel is the shade's colour there.
+        let shade = shades()[0];
+        let fb = Rgb565Framebuffer::new(&mut direct, 7, 6).unwrap();
+        for x in 0..5 {
+            assert_eq!(fb.pixel(x, 0), Some(shade.at(x).to_rgb565()));
+        }
+        assert_eq!(fb.pixel(5, 0), Some(0xaaaa));
+    }
+
+    #[test]
+    fn rgb565_dithers_shaded_spans() {
+        let mut buf = [0xaaaa_u16; 7 * 6];
+        let mut fb = Rgb565Framebuffer::new(&mut buf, 7, 6).unwrap();
+        draw(&mut fb);
+        // Through `&mut`: the framebuffer's own loop, not the default (which stores rounded
+        // colours).
+        draw(&mut &mut fb);
+        let mut dithered = 0;
+        for (y, shade) in (0..6).zip(shades().iter().cycle()) {
+            let last = if y == 5 { 7 } else { 5 + y % 3 };
+            for x in y % 3..last {
+                // Row 5's second span, from x = 4, is the first shade's.
+                let shade = if y == 5 && x >= 4 {
+                    &shades()[0]
+                } else {
+                    shade
+                };
+                let colour = shade.at(x);
+                assert_eq!(
+                    fb.pixel(x, y),
+                    Some(dither_rgb565(x, y, colour)),
+                    "({x}, {y})"
+                );
+                dithered += usize::from(dither_rgb565(x, y, colour) != colour.to_rgb565());
+            }
+        }
+        assert!(dithered > 5);
+        // Flat spans are not dithered.
+        let grey = Colour::grey(100);
+        fb.span(0, 0, 4, grey);
+        assert!((0..4).all(|x| fb.pixel(x, 0) == Some(grey.to_rgb565())));
+        assert!((0..4).any(|x| dither_rgb565(x, 0, grey) != grey.to_rgb565()));
+    }
+
+    #[test]
+    fn a_band_dithers_on_frame_rows() {
+        let mut frame = [0u16; 7 * 6];
+        draw(&mut Rgb565Framebuffer::new(&mut frame, 7, 6).unwrap());
+        let mut band = [0u16; 7 * 3];
+        draw(&mut Rgb565Framebuffer::band(&mut band, 7, 2..5).unwrap());
+        assert_eq!(band[..], frame[2 * 7..5 * 7]);
     }
 }

@@ -6,12 +6,18 @@
 //! spans to any `embedded_graphics_core` draw target. The crate's own tests draw into a mock
 //! that checks and prints what a fill drew (`testing::MockTarget`, built only for them).
 //!
+//! A smoothly shaded span comes with its row's [`RowShade`] ([`SpanSink::shaded_span`]); the
+//! framebuffers store it pixel by pixel, RGB565 dithered ([`dither_rgb565`]) unless switched
+//! off.
+//!
 //! Adapters between sinks, one a file: [`Nowhere`] drops every span, `Shifted` moves a band's
 //! rows to frame rows. The adapters of the other concepts live with them: the span memory's
 //! clipping sink in [`crate::coverage`], the anti-aliasing sink in [`crate::pending`].
 
+mod dither;
 mod framebuffer;
 mod nowhere;
+mod row_shade;
 mod shifted;
 #[cfg(test)]
 pub(crate) mod testing;
@@ -19,6 +25,7 @@ pub(crate) mod testing;
 #[cfg(feature = "embedded-graphics")]
 mod embedded;
 
+pub use dither::{dither_rgb565, BAYER_4X4};
 #[cfg(feature = "embedded-graphics")]
 pub use embedded::{DisplayFormat, DrawTargetSink};
 pub use framebuffer::{
@@ -26,6 +33,7 @@ pub use framebuffer::{
     Xrgb8888, Xrgb8888Framebuffer,
 };
 pub use nowhere::Nowhere;
+pub use row_shade::{RowColours, RowShade, SHADE_FRACTION_BITS};
 pub(crate) use shifted::Shifted;
 
 /// An RGB888 colour. Id images use it too: `id + 1` as 24 bits, red the high byte.
@@ -88,6 +96,26 @@ pub trait SpanSink {
     fn write_once(&self) -> bool {
         false
     }
+
+    /// Paint one span of a smoothly shaded polygon: pixel `x` takes
+    /// [`shade.at(x)`](RowShade::at), `shade` being its row's whole (a piece of a span takes
+    /// the span's). By default each run of pixels of one colour goes to [`Self::span`], so
+    /// every sink draws shaded spans; a sink that stores pixels overrides it with a direct
+    /// loop (the framebuffers do).
+    fn shaded_span(&mut self, y: u32, x_start: u32, x_end: u32, shade: &RowShade) {
+        if x_start >= x_end {
+            return;
+        }
+        let mut colours = shade.colours(x_start);
+        let mut run = (x_start, colours.next().unwrap_or_default());
+        for (x, colour) in (x_start + 1..x_end).zip(colours) {
+            if colour != run.1 {
+                self.span(y, run.0, x, run.1);
+                run = (x, colour);
+            }
+        }
+        self.span(y, run.0, x_end, run.1);
+    }
 }
 
 impl<S: SpanSink + ?Sized> SpanSink for &mut S {
@@ -100,10 +128,16 @@ impl<S: SpanSink + ?Sized> SpanSink for &mut S {
     fn write_once(&self) -> bool {
         (**self).write_once()
     }
+
+    #[inline]
+    fn shaded_span(&mut self, y: u32, x_start: u32, x_end: u32, shade: &RowShade) {
+        (**self).shaded_span(y, x_start, x_end, shade);
+    }
 }
 
 #[cfg(test)]
 mod tests {
+    use super::testing::MockTarget;
     use super::*;
 
     #[test]
@@ -125,5 +159,49 @@ mod tests {
         assert_eq!(Colour::new(0, 0, 4).to_rgb565(), 0);
         assert_eq!(Colour::new(0, 0, 5).to_rgb565(), 1);
         assert_eq!(Colour::new(0x12, 0x34, 0x56).to_xrgb8888(), 0x0012_3456);
+    }
+
+    #[test]
+    fn the_default_shaded_span_sends_runs_of_one_colour() {
+        let f = SHADE_FRACTION_BITS;
+        // Red climbs a level every four pixels, green is flat, blue falls to 0 at x = 6 and
+        // clamps there.
+        let shade = RowShade {
+            base: [(10 << f) + (1 << (f - 3)), 7 << f, 30 << f],
+            step: [1 << (f - 2), 0, -(5 << f)],
+        };
+        let mut mock = MockTarget::<16, 2>::new();
+        mock.shaded_span(1, 3, 16, &shade);
+        mock.shaded_span(0, 5, 5, &shade);
+        for x in 0..16 {
+            assert_eq!(mock.get(x, 1), (x >= 3).then(|| shade.at(x as u32)), "{x}");
+            assert!(!mock.written(x, 0));
+        }
+        // Runs from 3, 4, 5 (blue), 6 (both), 10 and 14 (red).
+        assert_eq!(mock.spans(), 6);
+        assert_eq!(mock.get(9, 1), Some(Colour::new(12, 7, 0)));
+        // `at` and the colours iterator agree, far along a row too.
+        let mut colours = shade.colours(1000);
+        assert!((1000..1100).all(|x| colours.next() == Some(shade.at(x))));
+    }
+
+    #[test]
+    fn shifted_forwards_shaded_spans() {
+        let shade = RowShade {
+            base: [0, 100 << SHADE_FRACTION_BITS, 0],
+            step: [(1 << SHADE_FRACTION_BITS) / 7, 0, 9 << SHADE_FRACTION_BITS],
+        };
+        let mut buf = [0u16; 8 * 6];
+        let mut fb = Rgb565Framebuffer::new(&mut buf, 8, 6).unwrap();
+        Shifted {
+            sink: &mut fb,
+            by: 4,
+        }
+        .shaded_span(1, 0, 8, &shade);
+        // On frame row 5, dithered there: the framebuffer's own loop.
+        for x in 0..8 {
+            assert_eq!(fb.pixel(x, 5), Some(dither_rgb565(x, 5, shade.at(x))));
+        }
+        assert!((0..8).all(|x| fb.pixel(x, 1) == Some(0)));
     }
 }

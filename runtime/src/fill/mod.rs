@@ -18,6 +18,7 @@
 //! from both sides, two polygons sharing an edge never both draw a pixel nor both skip one.
 
 mod edge;
+pub mod gradient;
 pub mod samples;
 mod small;
 
