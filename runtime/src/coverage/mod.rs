@@ -35,7 +35,7 @@ mod store;
 pub(crate) use sink::Clipped;
 pub use sink::CoverageSink;
 
-use crate::display::{Colour, SpanSink};
+use crate::display::{SpanPaint, SpanSink};
 use crate::error::RenderError;
 use store::{Rows, ScanStore, Store};
 
@@ -247,18 +247,25 @@ impl<'m> Coverage<'m> {
     /// the walk (inlined, it cost the scan-order frame 2-4% of its instructions on the
     /// Cortex-M4F); with one store it is inlined where it has one caller, as before.
     #[cfg_attr(feature = "scan-order", inline(never))]
-    pub fn span<S: SpanSink + ?Sized>(
+    pub fn span<S: SpanSink + ?Sized, P: SpanPaint>(
         &mut self,
         y: u32,
         x_start: u32,
         x_end: u32,
-        colour: Colour,
+        paint: &P,
         sink: &mut S,
     ) -> u64 {
         let (mode, width, height) = (self.mode, self.width, self.height);
         let rows = match &mut self.store {
             Store::Rows(r) => r,
-            Store::Scan(s) => return s.span(y, x_start, x_end, colour),
+            Store::Scan(s) => {
+                // Scan memory keeps one colour an interval: a shade goes as its runs.
+                let mut covered = 0;
+                paint.runs(x_start, x_end, |a, b, colour| {
+                    covered += s.span(y, a, b, colour);
+                });
+                return covered;
+            }
         };
         let x_end = x_end.min(u32::from(width));
         if x_start >= x_end || y >= height || (rows.exhausted && mode == Mode::Exclusive) {
@@ -284,19 +291,19 @@ impl<'m> Coverage<'m> {
         let row = rows.row(y);
         let mut forwarded = 0u64;
         if mode == Mode::Measure {
-            sink.span(y, x_start, x_end, colour);
+            paint.paint(sink, y, x_start, x_end);
             forwarded = u64::from(b - a);
         } else {
             let mut at = a;
             for &(s, e) in row.get(first..last).unwrap_or(&[]) {
                 if s > at {
-                    sink.span(y, u32::from(at), u32::from(s), colour);
+                    paint.paint(sink, y, u32::from(at), u32::from(s));
                     forwarded += u64::from(s - at);
                 }
                 at = at.max(e);
             }
             if at < b {
-                sink.span(y, u32::from(at), u32::from(b), colour);
+                paint.paint(sink, y, u32::from(at), u32::from(b));
                 forwarded += u64::from(b - at);
             }
         }

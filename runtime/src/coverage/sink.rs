@@ -1,8 +1,9 @@
 //! The sinks that route a fill's spans through a [`Coverage`]: [`CoverageSink`], the public
-//! one, and [`Clipped`], the renderer's, which also moves a band's rows and counts.
+//! one, and [`Clipped`], the renderer's, which also moves a band's rows and counts. Both carry
+//! flat and shaded spans alike ([`SpanPaint`]).
 
 use super::Coverage;
-use crate::display::{Colour, Shifted, SpanSink};
+use crate::display::{Colour, RowShade, Shifted, SpanPaint, SpanSink};
 
 /// A [`SpanSink`] that paints through a [`Coverage`] into another sink, counting pixels.
 #[derive(Debug)]
@@ -17,7 +18,11 @@ pub struct CoverageSink<'c, 'm, S: SpanSink + ?Sized> {
 
 impl<S: SpanSink + ?Sized> SpanSink for CoverageSink<'_, '_, S> {
     fn span(&mut self, y: u32, x_start: u32, x_end: u32, colour: Colour) {
-        self.pixels += self.coverage.span(y, x_start, x_end, colour, self.sink);
+        self.pixels += self.coverage.span(y, x_start, x_end, &colour, self.sink);
+    }
+
+    fn shaded_span(&mut self, y: u32, x_start: u32, x_end: u32, shade: &RowShade) {
+        self.pixels += self.coverage.span(y, x_start, x_end, shade, self.sink);
     }
 }
 
@@ -31,8 +36,9 @@ pub(crate) struct Clipped<'c, 'm, S: SpanSink + ?Sized> {
     pub(crate) pixels: u64,
 }
 
-impl<S: SpanSink + ?Sized> SpanSink for Clipped<'_, '_, S> {
-    fn span(&mut self, y: u32, x_start: u32, x_end: u32, colour: Colour) {
+impl<S: SpanSink + ?Sized> Clipped<'_, '_, S> {
+    #[inline]
+    fn route<P: SpanPaint>(&mut self, y: u32, x_start: u32, x_end: u32, paint: &P) {
         let n = match self.coverage.as_deref_mut() {
             Some(c) => {
                 let mut sink = Shifted {
@@ -40,15 +46,25 @@ impl<S: SpanSink + ?Sized> SpanSink for Clipped<'_, '_, S> {
                     by: self.first_row,
                 };
                 let local = y.wrapping_sub(self.first_row);
-                c.span(local, x_start, x_end, colour, &mut sink)
+                c.span(local, x_start, x_end, paint, &mut sink)
             }
             None => {
-                self.sink.span(y, x_start, x_end, colour);
+                paint.paint(self.sink, y, x_start, x_end);
                 u64::from(x_end.saturating_sub(x_start))
             }
         };
         if cfg!(feature = "stats") {
             self.pixels = self.pixels.saturating_add(n);
         }
+    }
+}
+
+impl<S: SpanSink + ?Sized> SpanSink for Clipped<'_, '_, S> {
+    fn span(&mut self, y: u32, x_start: u32, x_end: u32, colour: Colour) {
+        self.route(y, x_start, x_end, &colour);
+    }
+
+    fn shaded_span(&mut self, y: u32, x_start: u32, x_end: u32, shade: &RowShade) {
+        self.route(y, x_start, x_end, shade);
     }
 }

@@ -19,6 +19,7 @@ mod framebuffer;
 mod nowhere;
 mod row_shade;
 mod shifted;
+mod span_paint;
 #[cfg(test)]
 pub(crate) mod testing;
 
@@ -35,6 +36,7 @@ pub use framebuffer::{
 pub use nowhere::Nowhere;
 pub use row_shade::{RowColours, RowShade, SHADE_FRACTION_BITS};
 pub(crate) use shifted::Shifted;
+pub use span_paint::SpanPaint;
 
 /// An RGB888 colour. Id images use it too: `id + 1` as 24 bits, red the high byte.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
@@ -103,18 +105,7 @@ pub trait SpanSink {
     /// every sink draws shaded spans; a sink that stores pixels overrides it with a direct
     /// loop (the framebuffers do).
     fn shaded_span(&mut self, y: u32, x_start: u32, x_end: u32, shade: &RowShade) {
-        if x_start >= x_end {
-            return;
-        }
-        let mut colours = shade.colours(x_start);
-        let mut run = (x_start, colours.next().unwrap_or_default());
-        for (x, colour) in (x_start + 1..x_end).zip(colours) {
-            if colour != run.1 {
-                self.span(y, run.0, x, run.1);
-                run = (x, colour);
-            }
-        }
-        self.span(y, run.0, x_end, run.1);
+        shade.runs(x_start, x_end, |a, b, colour| self.span(y, a, b, colour));
     }
 }
 

@@ -156,23 +156,32 @@ impl<const SUB: u32> Gradient<SUB> {
     /// equal, when the polygon has no area (it draws nothing), and for a point outside
     /// `0..=`[`GRADIENT_LIMIT`] pixels.
     pub fn new(points: &[FixedPoint<SUB>], colours: &[Colour]) -> Self {
+        let n = points.len().min(colours.len());
+        let points = points.get(..n).unwrap_or(&[]);
+        Self::of(points, |i| colours.get(i).copied().unwrap_or_default())
+    }
+
+    /// [`Self::new`] with vertex `i`'s colour `colour(i)`, asked only for the vertices the
+    /// planes go through (and each vertex once to see whether all are equal): the renderer
+    /// computes a clipped point's colour only when it is needed.
+    pub fn of(points: &[FixedPoint<SUB>], colour: impl Fn(usize) -> Colour) -> Self {
         const {
             assert!(
                 SUB <= MAX_SUBPIXEL_BITS,
                 "SUB must be at most MAX_SUBPIXEL_BITS"
             );
         }
-        let n = points.len().min(colours.len());
-        let first = colours.first().copied().unwrap_or_default();
-        let (Some(points), Some(colours)) = (points.get(..n), colours.get(..n)) else {
+        let n = points.len();
+        let first = colour(0);
+        if n < 3 {
             return Self::flat(first);
-        };
+        }
         let limit = i64::from(GRADIENT_LIMIT) << Self::BITS;
         let inside = |&p: &FixedPoint<SUB>| {
             let (x, y) = Self::point(p);
             (0..=limit).contains(&x) && (0..=limit).contains(&y)
         };
-        if colours.iter().all(|&c| c == first) || !points.iter().all(inside) {
+        if (1..n).all(|i| colour(i) == first) || !points.iter().all(inside) {
             return Self::flat(first);
         }
         let point = |i: usize| points.get(i).map_or((0, 0), |&p| Self::point(p));
@@ -184,10 +193,7 @@ impl<const SUB: u32> Gradient<SUB> {
         }
         let den = area.abs();
         let (p0, p1, p2) = (point(i), point(j), point(k));
-        let (Some(&c0), Some(&c1), Some(&c2)) = (colours.get(i), colours.get(j), colours.get(k))
-        else {
-            return Self::flat(first);
-        };
+        let (c0, c1, c2) = (colour(i), colour(j), colour(k));
         let d1 = (p1.0 - p0.0, p1.1 - p0.1);
         let d2 = (p2.0 - p0.0, p2.1 - p0.1);
         let scale = 1 << (Self::BITS + F);

@@ -28,6 +28,7 @@ mod tests;
 use core::fmt;
 
 use crate::display::{Colour, SpanSink};
+use gradient::Gradient;
 pub use edge::{Coord, EdgeWalk};
 
 /// Fractional bits of the renderer's fixed-point screen coordinates ([`SubpixelPoint`]).
@@ -317,10 +318,10 @@ pub fn fill_polygon_rows<const SUB: u32, S: SpanSink + ?Sized>(
     // full-size ones would cost more than filling a small polygon.
     Ok(if points.len() <= SMALL_POLYGON {
         let mut edges = [EdgeWalk::default(); SMALL_POLYGON];
-        fill_in::<SUB, S>(points, &mut edges, width, rows, colour, sink)
+        fill_in(points, &mut edges, width, rows, &mut { colour }, sink)
     } else {
         let mut edges = [EdgeWalk::default(); MAX_FILL_VERTICES];
-        fill_in::<SUB, S>(points, &mut edges, width, rows, colour, sink)
+        fill_in(points, &mut edges, width, rows, &mut { colour }, sink)
     })
 }
 
@@ -330,21 +331,44 @@ pub fn fill_polygon_rows<const SUB: u32, S: SpanSink + ?Sized>(
 /// mesh frame there; with a divide instruction the scanline set-up is the cheaper one (the
 /// Cortex-M4F's frame took 1-2% more), and elsewhere the scanline fill draws all.
 #[allow(clippy::too_many_arguments)]
-pub(crate) fn fill_in_rect<const SUB: u32, S: SpanSink + ?Sized>(
+pub(crate) fn fill_in_rect<const SUB: u32, S: SpanSink + ?Sized, P: Shader>(
     points: &[FixedPoint<SUB>],
     rect: [u32; 4],
     edges: &mut [EdgeWalk],
     width: u32,
     rows: core::ops::Range<u32>,
-    colour: Colour,
+    shader: &mut P,
     sink: &mut S,
 ) -> u64 {
     if SOFT_FLOAT && points.len() <= edges.len().min(MAX_FILL_VERTICES) {
-        if let Some(pixels) = small::fill_small(points, rect, colour, sink) {
+        if let Some(pixels) = small::fill_small(points, rect, shader, sink) {
             return pixels;
         }
     }
-    fill_in(points, edges, width, rows, colour, sink)
+    fill_in(points, edges, width, rows, shader, sink)
+}
+
+/// What a fill paints its spans with: one [`Colour`], or a polygon's [`Gradient`], which
+/// hands each row its [`RowShade`](crate::display::RowShade). The fill is generic over it, so a
+/// flat polygon's fill is the plain one, with no test per span.
+pub(crate) trait Shader {
+    /// Paint `x_start .. x_end` of row `y` into `sink`.
+    fn span<S: SpanSink + ?Sized>(&mut self, sink: &mut S, y: u32, x_start: u32, x_end: u32);
+}
+
+impl Shader for Colour {
+    #[inline]
+    fn span<S: SpanSink + ?Sized>(&mut self, sink: &mut S, y: u32, x_start: u32, x_end: u32) {
+        sink.span(y, x_start, x_end, *self);
+    }
+}
+
+impl<const SUB: u32> Shader for Gradient<SUB> {
+    #[inline]
+    fn span<S: SpanSink + ?Sized>(&mut self, sink: &mut S, y: u32, x_start: u32, x_end: u32) {
+        let shade = self.row(y);
+        sink.shaded_span(y, x_start, x_end, &shade);
+    }
 }
 
 /// Vertex count up to which [`fill_polygon`] uses its small arrays.
@@ -355,12 +379,12 @@ const SMALL_POLYGON: usize = 16;
 /// edge memory of its workspace, so nothing is initialised per polygon and the binary holds
 /// one fill. An edge starting above `rows` is walked down to it row by row: the same crossings
 /// as the whole polygon's fill, so a frame drawn in bands has the same pixels.
-pub(crate) fn fill_in<const SUB: u32, S: SpanSink + ?Sized>(
+pub(crate) fn fill_in<const SUB: u32, S: SpanSink + ?Sized, P: Shader>(
     points: &[FixedPoint<SUB>],
     edges: &mut [EdgeWalk],
     width: u32,
     rows: core::ops::Range<u32>,
-    colour: Colour,
+    shader: &mut P,
     sink: &mut S,
 ) -> u64 {
     #[allow(clippy::unnecessary_fallible_conversions)]
@@ -441,7 +465,7 @@ pub(crate) fn fill_in<const SUB: u32, S: SpanSink + ?Sized>(
             let end = x_of(active[p + 1]).clamp(0, width);
             if start < end {
                 // In range: 0 <= row < height and 0 <= start < end <= width, all u32.
-                sink.span(row as u32, start as u32, end as u32, colour);
+                shader.span(sink, row as u32, start as u32, end as u32);
                 pixels += (end - start) as u64;
             }
             p += 2;

@@ -12,8 +12,8 @@
 //! is negative; an edge counts on the rows whose centre `y` is in `[t_y, b_y)`, as its walk
 //! does. The rectangle's pixels are the bits of two words: their parity, and the `x_e`s.
 
-use super::{edge::Coord, FixedPoint};
-use crate::display::{Colour, SpanSink};
+use super::{edge::Coord, FixedPoint, Shader};
+use crate::display::SpanSink;
 
 /// Sample rectangles of at most this many pixels are filled by testing their centres (at
 /// most 32: a bit of a word each).
@@ -23,10 +23,10 @@ pub(crate) const SMALL_AREA: u32 = 32;
 /// [`super::sample_rect`]`(points, width, height)` cut to the rows drawn and holds at most
 /// [`SMALL_AREA`] pixels; `None`, with nothing drawn, for a larger rectangle, a point farther
 /// than a pixel outside it (a polygon clamped to the window) or more than 8 subpixel bits.
-pub(crate) fn fill_small<const SUB: u32, S: SpanSink + ?Sized>(
+pub(crate) fn fill_small<const SUB: u32, S: SpanSink + ?Sized, P: Shader>(
     points: &[FixedPoint<SUB>],
     rect: [u32; 4],
-    colour: Colour,
+    shader: &mut P,
     sink: &mut S,
 ) -> Option<u64> {
     const { assert!(SMALL_AREA <= 32) };
@@ -110,7 +110,7 @@ pub(crate) fn fill_small<const SUB: u32, S: SpanSink + ?Sized>(
                 i += 1;
             }
             let (y, xs, xe) = (y0 + r as u32, x0 + start as u32, x0 + i as u32);
-            sink.span(y, xs, xe, colour);
+            shader.span(sink, y, xs, xe);
             pixels += u64::from(xe - xs);
         }
     }

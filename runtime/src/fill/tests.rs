@@ -823,12 +823,12 @@ fn small_matches_scanline<const SUB: u32>(
         return Ok(false);
     }
     let mut small = Spans::default();
-    let Some(n) = small::fill_small(points, [x0, y0, x1, y1], A, &mut small) else {
+    let Some(n) = small::fill_small(points, [x0, y0, x1, y1], &mut { A }, &mut small) else {
         return Ok(false);
     };
     let mut scan = Spans::default();
     let mut edges = [EdgeWalk::default(); MAX_FILL_VERTICES];
-    let m = fill_in(points, &mut edges, w, rows, A, &mut scan);
+    let m = fill_in(points, &mut edges, w, rows, &mut { A }, &mut scan);
     prop_assert_eq!(&small.0, &scan.0, "{:?}", points);
     prop_assert_eq!(n, m);
     Ok(true)

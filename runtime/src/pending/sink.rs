@@ -51,7 +51,7 @@ impl<S: SpanSink + ?Sized> Antialiased<'_, '_, '_, S> {
                 sink: &mut *self.sink,
                 by: self.first_row,
             };
-            self.pixels += coverage.span(y, x0, x1, c, &mut sink);
+            self.pixels += coverage.span(y, x0, x1, &c, &mut sink);
         }
     }
 }

@@ -53,6 +53,7 @@
 mod frame;
 mod paint;
 mod painter;
+mod shade;
 mod renderer;
 mod source;
 mod workspace;

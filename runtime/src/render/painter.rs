@@ -10,6 +10,7 @@
 use glam::{Vec2, Vec3};
 
 use super::paint::{id_colour, Paint};
+use super::shade::{corner_colour, PlaneShade};
 use super::{FrameStats, Source};
 use crate::camera::LocalView;
 use crate::clip::{self, Frustum};
@@ -17,6 +18,7 @@ use crate::coverage::{Clipped, Coverage, Mode};
 use crate::display::SpanSink;
 use crate::error::RenderError;
 use crate::fill::samples::{SAMPLE_COLUMNS, SAMPLE_ROWS};
+use crate::fill::gradient::Gradient;
 use crate::fill::{self, FixedPoint};
 use crate::pending::{Antialiased, Pending, SampleColour};
 use crate::read::Polygon;
@@ -272,6 +274,15 @@ impl<const SUB: u32> Painter<'_, '_, SUB> {
         let integer = self.integer.as_ref();
         #[cfg(not(feature = "integer-vertices"))]
         let integer: Option<&IntegerView> = None;
+        // Smooth shading: which of the corners' intensities the side seen takes (`None`: the
+        // polygon has one colour a side, or the frame paints ids).
+        let side = match self.paint {
+            Paint::Colours if cfg!(feature = "smooth") => scene.shade_side(polygon, interior),
+            _ => None,
+        };
+        // The gradient of a smooth polygon that clipping gave new points, built while they are
+        // at hand (the others' is built just before the fill).
+        let mut clipped_gradient: Option<Gradient<SUB>> = None;
         let count = if cache.is_some() || integer.is_some() {
             // No clipping in this frame: each corner is its vertex's snapped projection,
             // computed once per frame when there is vertex memory.
@@ -298,6 +309,19 @@ impl<const SUB: u32> Painter<'_, '_, SUB> {
             for (i, slot) in (0..n).zip(self.clip_a.iter_mut()) {
                 *slot = view.to_camera(scene.polygon_vertex(polygon, i));
             }
+            // A smooth polygon about to be clipped: its plane's intensities, from its first
+            // three corners (the compiler starts a list with its best-shaped three).
+            let plane = match side {
+                Some(side) if !self.all_inside => {
+                    let at = |k: usize| self.clip_a.get(k).copied().unwrap_or_default();
+                    let shade = |k: u32| scene.corner_shade(polygon, k, side);
+                    Some(PlaneShade::new(
+                        [at(0), at(1), at(2)],
+                        [shade(0), shade(1), shade(2)],
+                    ))
+                }
+                _ => None,
+            };
             let clipped = if self.all_inside {
                 self.clip_a.get(..n as usize).unwrap_or(&[])
             } else {
@@ -307,6 +331,14 @@ impl<const SUB: u32> Painter<'_, '_, SUB> {
             for (slot, &c) in self.points.iter_mut().zip(clipped) {
                 *slot = screen(c);
                 count += 1;
+            }
+            if let Some(plane) = plane {
+                let kd = scene.colour_seen(index, polygon, interior);
+                let pts = self.points.get(..count).unwrap_or(&[]);
+                let at = |i: usize| clipped.get(i).copied().unwrap_or_default();
+                clipped_gradient = Some(Gradient::of(pts, |i| {
+                    PlaneShade::colour(kd, plane.at(at(i)))
+                }));
             }
             count
         };
@@ -345,11 +377,27 @@ impl<const SUB: u32> Painter<'_, '_, SUB> {
             // (Anti-aliased, a polygon is not also tested at the samples of the pending pixels in
             // its box: drawing those that add none costs less than testing every polygon.)
         }
-        let colour = match self.paint {
+        let mut colour = match self.paint {
             Paint::Ids if cfg!(feature = "ids") => id_colour(scene.id(index).unwrap_or(u32::MAX)),
             Paint::Colours | Paint::Ids => scene.colour_seen(index, polygon, interior),
         };
         tally(&mut stats.polygons_drawn, 1);
+        // A smooth polygon's gradient (`colour` is then its material's), or its one colour
+        // where the gradient is flat.
+        let gradient = side.and_then(|side| {
+            let g = clipped_gradient.unwrap_or_else(|| {
+                Gradient::of(pts, |i| {
+                    corner_colour(colour, scene.corner_shade(polygon, i as u32, side))
+                })
+            });
+            match g.flat_colour() {
+                Some(flat) => {
+                    colour = flat;
+                    None
+                }
+                None => Some(g),
+            }
+        });
         // Checks the fills rely on: `count <= available <= min(VERTS, MAX_FILL_VERTICES)`
         // edges, and `snap` keeps every point in the window, which `window` kept within
         // `fill::coordinate_limit` (anti-aliased: the sample grid's window).
@@ -384,7 +432,20 @@ impl<const SUB: u32> Painter<'_, '_, SUB> {
                 };
                 let rect = [x0, y0, x1, y1];
                 let rows = self.rows.clone();
-                fill::fill_in_rect(pts, rect, self.edges, width, rows, colour, &mut sink);
+                match gradient {
+                    Some(mut g) => {
+                        fill::fill_in_rect(pts, rect, self.edges, width, rows, &mut g, &mut sink)
+                    }
+                    None => fill::fill_in_rect(
+                        pts,
+                        rect,
+                        self.edges,
+                        width,
+                        rows,
+                        &mut { colour },
+                        &mut sink,
+                    ),
+                };
                 sink.pixels
             }
         };

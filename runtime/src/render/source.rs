@@ -63,6 +63,19 @@ pub trait Source: Tree {
         let _ = v;
         None
     }
+    /// For a smoothly shaded `polygon`, which of its corners' two intensities shade the side an
+    /// eye on its interior side (`interior`) or exterior side sees ([`Scene::shade_side`]);
+    /// `None` (the default) for a polygon of one colour a side.
+    fn shade_side(&self, polygon: &Polygon, interior: bool) -> Option<usize> {
+        let _ = (polygon, interior);
+        None
+    }
+    /// Intensity `side` of corner `i` of `polygon` (255: the full colour), for a side that
+    /// [`Source::shade_side`] named.
+    fn corner_shade(&self, polygon: &Polygon, i: u32, side: usize) -> u8 {
+        let _ = (polygon, i, side);
+        u8::MAX
+    }
 }
 
 impl Source for Scene<'_> {
@@ -99,5 +112,11 @@ impl Source for Scene<'_> {
     }
     fn vertex_steps(&self, v: u32) -> Option<[u16; 3]> {
         Scene::vertex_steps(self, v)
+    }
+    fn shade_side(&self, polygon: &Polygon, interior: bool) -> Option<usize> {
+        Scene::shade_side(polygon.flags, interior)
+    }
+    fn corner_shade(&self, polygon: &Polygon, i: u32, side: usize) -> u8 {
+        Scene::polygon_vertex_index(self, polygon, i).map_or(0, |v| self.vertex_shade(v, side))
     }
 }
