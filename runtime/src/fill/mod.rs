@@ -28,8 +28,8 @@ mod tests;
 use core::fmt;
 
 use crate::display::{Colour, SpanSink};
-use gradient::Gradient;
 pub use edge::{Coord, EdgeWalk};
+use gradient::Gradient;
 
 /// Fractional bits of the renderer's fixed-point screen coordinates ([`SubpixelPoint`]).
 pub const SUBPIXEL_BITS: u32 = 8;

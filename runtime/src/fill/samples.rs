@@ -126,7 +126,15 @@ fn fill_span_by_span<const SUB: u32, S: SampleSink + ?Sized>(
     rows: Range<u32>,
     sink: &mut S,
 ) {
-    super::fill_in_rect(points, rect, edges, width, rows, &mut Colour::default(), sink);
+    super::fill_in_rect(
+        points,
+        rect,
+        edges,
+        width,
+        rows,
+        &mut Colour::default(),
+        sink,
+    );
     sink.end();
 }
 

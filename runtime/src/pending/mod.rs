@@ -39,7 +39,7 @@ use pixel::SUM_BITS;
 pub use pixel::{PendingPixel, SampleColour};
 pub(crate) use sink::{drain, Antialiased};
 
-use crate::display::Colour;
+use crate::display::{Colour, RowShade};
 use crate::error::RenderError;
 use crate::fill::samples::{
     row_extent, Mask, RowExtent, RowSpans, CENTRE_SAMPLE, FULL_MASK, NO_SPAN, SAMPLES,
@@ -98,8 +98,26 @@ pub struct RowAdd {
     inner_hi: u32,
     colour: Colour,
     sample: u64,
+    /// A smooth polygon's shade on the pixel row's middle sample row, in sample columns: a
+    /// pixel takes its centre sample's colour.
+    shade: Option<RowShade>,
     cursor: Cursor,
     run: Option<(u32, u32, Colour)>,
+}
+
+impl RowAdd {
+    /// Pixel `x`'s colour and its packed samples: the polygon's one colour, or its shade at
+    /// the pixel's centre sample.
+    #[inline]
+    fn colour_at(&self, x: u32) -> (Colour, u64) {
+        match &self.shade {
+            None => (self.colour, self.sample),
+            Some(shade) => {
+                let c = shade.at(x * SAMPLE_COLUMNS + SAMPLE_COLUMNS / 2);
+                (c, pixel::packed(c))
+            }
+        }
+    }
 }
 
 impl<'m> Pending<'m> {
@@ -202,8 +220,10 @@ impl<'m> Pending<'m> {
     }
 
     /// Start adding the gathered row's samples in `colour` (and forget them), if it holds any:
-    /// then call [`Pending::next_run`] until it returns `None`.
-    pub fn begin_add(&mut self, colour: &SampleColour) -> Option<RowAdd> {
+    /// then call [`Pending::next_run`] until it returns `None`. With `shade` (a smooth
+    /// polygon's, on the sample row through the pixel centres, in sample columns) each pixel
+    /// takes the colour at its centre sample instead.
+    pub fn begin_add(&mut self, colour: &SampleColour, shade: Option<RowShade>) -> Option<RowAdd> {
         if !core::mem::take(&mut self.holding) {
             return None;
         }
@@ -222,6 +242,7 @@ impl<'m> Pending<'m> {
             inner_hi: inner_hi / SAMPLE_COLUMNS,
             colour: colour.colour,
             sample: colour.sample,
+            shade,
             cursor: Cursor {
                 row,
                 link: None,
@@ -248,14 +269,15 @@ impl<'m> Pending<'m> {
             let (x0, x1, c) = if add.inner_lo <= x && x < add.inner_hi {
                 // Covered whole: every pixel finishes, a pending one in its average.
                 self.walk_to(&mut add.cursor, x);
+                let (colour, sample) = add.colour_at(x);
+                // A shaded run is one pixel long (runs of one colour join below).
+                let end = |e: u32| if add.shade.is_some() { x + 1 } else { e };
                 match self.record(add.cursor.at).map(|r| u32::from(r.x)) {
-                    Some(rx) if rx == x => (
-                        x,
-                        x + 1,
-                        self.finish(&mut add.cursor, FULL_MASK, add.sample),
-                    ),
-                    Some(rx) if rx < add.inner_hi => (x, rx, add.colour),
-                    _ => (x, add.inner_hi, add.colour),
+                    Some(rx) if rx == x => {
+                        (x, x + 1, self.finish(&mut add.cursor, FULL_MASK, sample))
+                    }
+                    Some(rx) if rx < add.inner_hi => (x, end(rx), colour),
+                    _ => (x, end(add.inner_hi), colour),
                 }
             } else {
                 add.x += 1;
@@ -273,7 +295,8 @@ impl<'m> Pending<'m> {
                 if mask == 0 {
                     continue;
                 }
-                match self.add_pixel(&mut add.cursor, x, mask, add.sample, add.colour) {
+                let (colour, sample) = add.colour_at(x);
+                match self.add_pixel(&mut add.cursor, x, mask, sample, colour) {
                     Some(c) => (x, x + 1, c),
                     None => continue,
                 }

@@ -8,20 +8,25 @@
 use super::{Pending, SampleColour};
 use crate::coverage::{Coverage, CoverageSink};
 use crate::display::{Colour, Shifted, SpanSink};
+use crate::fill::gradient::Gradient;
 use crate::fill::samples::{RowExtent, RowSpans, SampleSink, SAMPLE_ROWS};
 
-/// An anti-aliased polygon's route from the fill to `sink`: its colour, the pending pixels,
-/// the band's coverage (its row 0 being frame row `first_row`) and the pixels sent.
-pub(crate) struct Antialiased<'c, 'p, 'm, S: SpanSink + ?Sized> {
+/// An anti-aliased polygon's route from the fill to `sink`: its colour (or a smooth polygon's
+/// gradient on the sample grid), the pending pixels, the band's coverage (its row 0 being
+/// frame row `first_row`) and the pixels sent.
+pub(crate) struct Antialiased<'c, 'p, 'm, S: SpanSink + ?Sized, const SUB: u32> {
     pub(crate) pending: &'c mut Pending<'p>,
     pub(crate) colour: SampleColour,
+    /// A smooth polygon's gradient over the sample grid: each pixel takes its centre
+    /// sample's colour.
+    pub(crate) gradient: Option<Gradient<SUB>>,
     pub(crate) coverage: &'c mut Coverage<'m>,
     pub(crate) sink: &'c mut S,
     pub(crate) first_row: u32,
     pub(crate) pixels: u64,
 }
 
-impl<S: SpanSink + ?Sized> Antialiased<'_, '_, '_, S> {
+impl<S: SpanSink + ?Sized, const SUB: u32> Antialiased<'_, '_, '_, S, SUB> {
     /// Gather a span of sample row `y` (the band starts on a pixel row, so a sample row keeps
     /// its place in it); a span of the next pixel row first adds the gathered one.
     #[inline(never)]
@@ -38,7 +43,10 @@ impl<S: SpanSink + ?Sized> Antialiased<'_, '_, '_, S> {
         let Some(y) = self.pending.gathered() else {
             return;
         };
-        let Some(mut add) = self.pending.begin_add(&self.colour) else {
+        // The sample row through the pixel centres, in frame rows.
+        let centre_row = (y + self.first_row) * SAMPLE_ROWS + SAMPLE_ROWS / 2;
+        let shade = self.gradient.as_mut().map(|g| g.row(centre_row));
+        let Some(mut add) = self.pending.begin_add(&self.colour, shade) else {
             return;
         };
         let coverage = &mut *self.coverage;
@@ -56,13 +64,13 @@ impl<S: SpanSink + ?Sized> Antialiased<'_, '_, '_, S> {
     }
 }
 
-impl<S: SpanSink + ?Sized> SpanSink for Antialiased<'_, '_, '_, S> {
+impl<S: SpanSink + ?Sized, const SUB: u32> SpanSink for Antialiased<'_, '_, '_, S, SUB> {
     fn span(&mut self, y: u32, x_start: u32, x_end: u32, _: Colour) {
         self.sample_span(y, x_start, x_end);
     }
 }
 
-impl<S: SpanSink + ?Sized> SampleSink for Antialiased<'_, '_, '_, S> {
+impl<S: SpanSink + ?Sized, const SUB: u32> SampleSink for Antialiased<'_, '_, '_, S, SUB> {
     fn sample_rows(&mut self, y: u32, spans: &RowSpans, extent: &RowExtent) {
         self.pending
             .gather_row(y.wrapping_sub(self.first_row), spans, extent);

@@ -53,7 +53,7 @@ impl Frame<'_, '_> {
             x += 1;
         }
         let mut done = Vec::new();
-        if let Some(mut add) = self.pending.begin_add(&SampleColour::new(colour)) {
+        if let Some(mut add) = self.pending.begin_add(&SampleColour::new(colour), None) {
             while let Some((a, b, c)) = self.pending.next_run(&mut add, |x| {
                 finished
                     .iter()
@@ -229,7 +229,7 @@ proptest! {
 fn add(p: &mut Pending<'_>, spans: &[(u32, u32, u32)], colour: Colour) -> Vec<(u32, u32, Colour)> {
     let mut runs = Vec::new();
     let mut add_gathered = |p: &mut Pending<'_>| {
-        if let Some(mut add) = p.begin_add(&SampleColour::new(colour)) {
+        if let Some(mut add) = p.begin_add(&SampleColour::new(colour), None) {
             while let Some(run) = p.next_run(&mut add, |_| false) {
                 runs.push(run);
             }

@@ -53,8 +53,8 @@
 mod frame;
 mod paint;
 mod painter;
-mod shade;
 mod renderer;
+mod shade;
 mod source;
 mod workspace;
 
@@ -76,3 +76,6 @@ mod order_tests;
 
 #[cfg(test)]
 mod feature_tests;
+
+#[cfg(all(test, feature = "smooth"))]
+mod smooth_tests;

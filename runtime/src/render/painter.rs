@@ -17,8 +17,8 @@ use crate::clip::{self, Frustum};
 use crate::coverage::{Clipped, Coverage, Mode};
 use crate::display::SpanSink;
 use crate::error::RenderError;
-use crate::fill::samples::{SAMPLE_COLUMNS, SAMPLE_ROWS};
 use crate::fill::gradient::Gradient;
+use crate::fill::samples::{SAMPLE_COLUMNS, SAMPLE_ROWS};
 use crate::fill::{self, FixedPoint};
 use crate::pending::{Antialiased, Pending, SampleColour};
 use crate::read::Polygon;
@@ -414,6 +414,7 @@ impl<const SUB: u32> Painter<'_, '_, SUB> {
                 let mut sink = Antialiased {
                     pending,
                     colour: SampleColour::new(colour),
+                    gradient,
                     coverage,
                     sink,
                     first_row: r0,

@@ -128,7 +128,7 @@ fn pending_pixels_fill_their_gaps_in_the_read_out() {
             pool.gather(y * rows + t, x * cols, x * cols + n).unwrap();
         }
         let mut add = pool
-            .begin_add(&crate::pending::SampleColour::new(c))
+            .begin_add(&crate::pending::SampleColour::new(c), None)
             .unwrap();
         assert_eq!(pool.next_run(&mut add, |_| false), None);
     };

@@ -24,6 +24,9 @@ pub(crate) struct TestTree {
     pub declared_depth: Option<u32>,
     /// Per node: its subtree's bounding box, if any (missing entries: none).
     pub bounds: Vec<Option<(Vec3, Vec3)>>,
+    /// Per vertex its two intensities (front, back) for polygons flagged `SMOOTH`; empty:
+    /// no polygon is smooth.
+    pub shades: Vec<[u8; 2]>,
 }
 
 impl TestTree {
@@ -137,6 +140,19 @@ impl Source for TestTree {
     }
     fn node_bounds(&self, i: u32) -> Option<(Vec3, Vec3)> {
         self.bounds.get(i as usize).copied().flatten()
+    }
+    fn shade_side(&self, polygon: &Polygon, interior: bool) -> Option<usize> {
+        if self.shades.is_empty() {
+            return None;
+        }
+        crate::read::Scene::shade_side(polygon.flags, interior)
+    }
+    fn corner_shade(&self, polygon: &Polygon, i: u32, side: usize) -> u8 {
+        let k = polygon.first_index as usize + i as usize;
+        self.indices
+            .get(k)
+            .and_then(|&v| self.shades.get(v as usize))
+            .map_or(0, |s| s[side & 1])
     }
 }
 
