@@ -8,7 +8,7 @@ use embedded_graphics_core::pixelcolor::Rgb888;
 use embedded_graphics_core::primitives::Rectangle;
 
 use super::framebuffer::{Framebuffer, Gray8, PixelFormat, Rgb565, Xrgb8888};
-use super::{Colour, SpanSink};
+use super::{Colour, RowShade, SpanSink};
 
 /// Forwards spans to a [`DrawTarget`] whose colour converts from `Rgb888` (all of
 /// embedded-graphics' RGB and grey types do). `SpanSink::span` cannot fail, so the first draw
@@ -92,6 +92,25 @@ where
             self.error = Some(e);
         }
     }
+
+    /// One `fill_contiguous` call per span, its pixels' colours computed as the driver takes
+    /// them: one window and one burst, as a flat span's `fill_solid`.
+    fn shaded_span(&mut self, y: u32, x_start: u32, x_end: u32, shade: &RowShade) {
+        if self.error.is_some() || x_start >= x_end {
+            return;
+        }
+        let (Ok(x), Ok(y)) = (i32::try_from(x_start), i32::try_from(y)) else {
+            return;
+        };
+        let area = Rectangle::new(Point::new(x, y), Size::new(x_end - x_start, 1));
+        let colours = shade
+            .colours(x_start)
+            .take((x_end - x_start) as usize)
+            .map(|c| D::Color::from(Rgb888::new(c.r, c.g, c.b)));
+        if let Err(e) = self.target.fill_contiguous(&area, colours) {
+            self.error = Some(e);
+        }
+    }
 }
 
 /// A [`PixelFormat`] whose stored pixels are an embedded-graphics colour as they are: a
@@ -161,6 +180,7 @@ mod tests {
     /// Counts calls; keeps what was filled in a small grid.
     struct Counting<C> {
         fills: usize,
+        contiguous: usize,
         pixel_calls: usize,
         grid: [[Option<C>; 8]; 8],
         fail_after: usize,
@@ -195,11 +215,52 @@ mod tests {
             }
             Ok(())
         }
+
+        fn fill_contiguous<I: IntoIterator<Item = C>>(
+            &mut self,
+            area: &Rectangle,
+            colors: I,
+        ) -> Result<(), u8> {
+            self.contiguous += 1;
+            assert_eq!(area.size.height, 1);
+            let (x0, y) = (area.top_left.x as usize, area.top_left.y as usize);
+            let cells = &mut self.grid[y][x0..x0 + area.size.width as usize];
+            let mut colors = colors.into_iter();
+            for cell in cells {
+                assert!(cell.is_none());
+                *cell = colors.next();
+            }
+            assert!(colors.next().is_none(), "as many colours as pixels");
+            Ok(())
+        }
+    }
+
+    /// A shaded span is one `fill_contiguous` call with each pixel's colour.
+    #[test]
+    fn one_fill_contiguous_per_shaded_span() {
+        let mut t = counting::<Rgb888>(usize::MAX);
+        let mut sink = DrawTargetSink::new(&mut t);
+        let shade = RowShade {
+            base: [10 << 21, 200 << 21, 0],
+            step: [20 << 21, -(15 << 21), 1 << 20],
+        };
+        sink.shaded_span(2, 1, 7, &shade);
+        assert_eq!(sink.finish(), Ok(()));
+        assert_eq!((t.fills, t.contiguous, t.pixel_calls), (0, 1, 0));
+        for x in 0..8u32 {
+            let expected = (1..7).contains(&x).then(|| {
+                let c = shade.at(x);
+                Rgb888::new(c.r, c.g, c.b)
+            });
+            assert_eq!(t.grid[2][x as usize], expected, "pixel {x}");
+        }
+        assert_ne!(t.grid[2][1], t.grid[2][6]);
     }
 
     fn counting<C: PixelColor>(fail_after: usize) -> Counting<C> {
         Counting {
             fills: 0,
+            contiguous: 0,
             pixel_calls: 0,
             grid: [[None; 8]; 8],
             fail_after,
