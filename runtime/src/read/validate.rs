@@ -113,11 +113,6 @@ fn locate_arrays(bytes: &[u8], header: Header) -> Result<Scene<'_>, ReadError> {
     } else {
         0
     };
-    let shade_count = if flags & hf::SHADES != 0 {
-        header.vertex_count
-    } else {
-        0
-    };
     // Optional parts: a count without its flag (or a palette flag without colours) is
     // inconsistent, as is a palette too large for its index width.
     let palette_max = match (flags & hf::PALETTE != 0, flags & hf::PALETTE16 != 0) {
@@ -175,7 +170,12 @@ fn locate_arrays(bytes: &[u8], header: Header) -> Result<Scene<'_>, ReadError> {
         palette: array(bytes, &mut at, header.palette_count, PALETTE_SIZE)?,
         bounds: array(bytes, &mut at, header.bounds_count, BOUNDS_SIZE)?,
         nodes: array(bytes, &mut at, header.node_count, node_size)?,
-        shades: array(bytes, &mut at, shade_count, SHADE_SIZE)?,
+        // Present only with its flag (no length either without it).
+        shades: if flags & hf::SHADES != 0 {
+            array(bytes, &mut at, header.vertex_count, SHADE_SIZE)?
+        } else {
+            at
+        },
         step: Vec3::new(
             layout::step(header.bounds_min.x, header.bounds_max.x),
             layout::step(header.bounds_min.y, header.bounds_max.y),
