@@ -73,6 +73,16 @@ fn parse_finite(s: &str) -> Result<f64, String> {
         .ok_or_else(|| format!("'{s}' is not a finite number"))
 }
 
+/// Parse a crease angle in degrees, from 0 to 180 (`--crease`).
+pub fn parse_crease(s: &str) -> Result<peel_compiler::shade::normals::Crease, String> {
+    let degrees = s
+        .trim()
+        .parse::<f64>()
+        .map_err(|_| format!("'{s}' is not a number of degrees"))?;
+    peel_compiler::shade::normals::Crease::new(degrees)
+        .map_err(|_| format!("the crease angle must be from 0 to 180 degrees, got {s}"))
+}
+
 /// The image size `peel render` draws without `--size`.
 pub const DEFAULT_RENDER_SIZE: &str = "640x480";
 

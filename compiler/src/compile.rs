@@ -9,7 +9,8 @@ use rayon::prelude::*;
 
 use crate::error::CompileError;
 use crate::load::{load_obj_bytes, read_obj, LoadOptions, Mesh};
-use crate::shade::Shading;
+use crate::shade::smooth::Smooth;
+use crate::shade::{Shading, Surface};
 use crate::tree::{build, BuildOptions, DisplayTree, TreeStats};
 
 /// Everything a compile can be asked.
@@ -25,8 +26,10 @@ pub struct CompileOptions {
     /// bytes, within 1/131070 of the scene's extent per axis): for views so close that such a
     /// step spans more than 1/16 pixel.
     pub wide_vertices: bool,
-    /// How colours are baked.
+    /// The light colours are baked with ([`Shading::Flat`]: none).
     pub shading: Shading,
+    /// One colour per polygon side, or smooth shading ([`crate::shade::DEFAULT_SURFACE`]).
+    pub surface: Surface,
 }
 
 /// The result of a compile.
@@ -58,15 +61,71 @@ pub fn compile_mesh(
 ) -> Result<(DisplayTree, Vec<u8>), CompileError> {
     options.shading.check()?;
     let tree = build(mesh, &options.build, progress)?;
-    let (colours, exterior) = bake(&tree, mesh, &options.shading);
     let input = crate::write::WriteInput {
-        colours: &colours,
-        exterior: &exterior,
         ids: options.ids,
         wide_vertices: options.wide_vertices,
+        ..crate::write::WriteInput::default()
     };
-    let bytes = crate::write::encode_with(&tree, &input)?;
+    let bytes = match options.surface {
+        Surface::Faceted => {
+            let (colours, exterior) = bake(&tree, mesh, &options.shading);
+            let input = crate::write::WriteInput {
+                colours: &colours,
+                exterior: &exterior,
+                ..input
+            };
+            crate::write::encode_with(&tree, &input)?
+        }
+        Surface::Smooth(crease) => {
+            let smooth = Smooth {
+                shading: options.shading,
+                crease,
+            };
+            let shades = polygon_shades(&tree, mesh, &smooth);
+            let shaded = crate::write::shades::shade_vertices(&tree, &shades)?;
+            let input = crate::write::WriteInput {
+                colours: &shaded.colours,
+                exterior: &shaded.exterior,
+                polygon_flags: &shaded.flags,
+                shades: &shaded.shades,
+                ..input
+            };
+            crate::write::encode_with(&shaded.tree, &input)?
+        }
+    };
     Ok((tree, bytes))
+}
+
+/// Each polygon of `tree` (from `mesh`'s triangles) smooth-shaded: its material colour and its
+/// vertices' 8-bit intensities, `[front, back]` of its source triangle.
+pub(crate) fn polygon_shades(
+    tree: &DisplayTree,
+    mesh: &Mesh,
+    smooth: &Smooth,
+) -> Vec<crate::write::shades::PolygonShades> {
+    let shades = smooth.shade(mesh);
+    tree.polygons
+        .par_iter()
+        .map(|p| {
+            // The interior side is the triangle's front when `interior_front != flipped`.
+            let front_inside = p.interior_front != p.flipped;
+            crate::write::shades::PolygonShades {
+                kd: mesh.triangles[p.source as usize].colour,
+                vertices: shades
+                    .polygon(tree, p)
+                    .into_iter()
+                    .map(|v| {
+                        let [inside, outside] = v.quantised();
+                        if front_inside {
+                            [inside, outside]
+                        } else {
+                            [outside, inside]
+                        }
+                    })
+                    .collect(),
+            }
+        })
+        .collect()
 }
 
 /// The colours of each polygon of `tree` (from `mesh`'s triangles): of its interior side and

@@ -38,6 +38,8 @@ pub struct Inspect {
     pub vertices: u64,
     /// Whether source triangle ids are present.
     pub ids: bool,
+    /// Polygons smooth-shaded (their vertices' shades interpolated; 0 without shades).
+    pub smooth_polygons: u64,
     /// World position of the centre of the scene's bounding box (what a framing camera looks
     /// at).
     pub centre: [f64; 3],
@@ -77,6 +79,9 @@ pub fn inspect(bytes: &[u8]) -> Result<Inspect, ReadError> {
         split_planes: header.plane_count.into(),
         vertices: header.vertex_count.into(),
         ids: header.flags & header_flags::IDS != 0,
+        smooth_polygons: (0..header.polygon_count)
+            .filter(|&p| scene.polygon(p).flags & polygon_flags::SMOOTH != 0)
+            .count() as u64,
         centre: (origin + (lo + hi) * 0.5).to_array(),
         bounds_min: (origin + lo).to_array(),
         bounds_max: (origin + hi).to_array(),
@@ -119,6 +124,7 @@ pub fn inspect_text(info: &Inspect) -> String {
     line("split_planes", info.split_planes.to_string());
     line("vertices", info.vertices.to_string());
     line("ids", info.ids.to_string());
+    line("smooth_polygons", info.smooth_polygons.to_string());
     line("centre", triple(info.centre));
     line("bounds_min", triple(info.bounds_min));
     line("bounds_max", triple(info.bounds_max));
@@ -217,7 +223,7 @@ enum Item {
 /// coordinate that follows, where `peel inspect`'s is the box's centre in world coordinates;
 /// both with six decimals), the split planes, then the tree as nested nodes
 /// with their polygons (flags, colour, the exterior side's colour where it differs, id if
-/// present, vertices); subtrees nested deeper
+/// present, vertices, and a smooth polygon's vertices' shades `[front, back]`); subtrees nested deeper
 /// than `MAX_INDENT` (256 spaces) follow in a `subtrees` list, in the order they are referred to.
 pub fn dump_yaml(bytes: &[u8]) -> Result<String, ReadError> {
     let scene = Scene::parse(bytes)?;
@@ -232,6 +238,7 @@ pub fn dump_yaml(bytes: &[u8]) -> Result<String, ReadError> {
         (h.flags & header_flags::NARROW != 0, "narrow"),
         (h.flags & header_flags::MEDIUM != 0, "medium"),
         (h.flags & header_flags::TWO_COLOURS != 0, "two_colours"),
+        (h.flags & header_flags::SHADES != 0, "shades"),
     ]);
     // Writing into a String cannot fail.
     let _ = writeln!(
@@ -337,10 +344,17 @@ pub fn dump_yaml(bytes: &[u8]) -> Result<String, ReadError> {
 /// One polygon as a sequence entry at `indent`.
 fn write_polygon(out: &mut String, scene: &Scene<'_>, p: u32, indent: usize) {
     let polygon = scene.polygon(p);
-    let flags = flag_names(&[(
-        polygon.flags & polygon_flags::INTERIOR_FRONT != 0,
-        "interior_front",
-    )]);
+    let flags = flag_names(&[
+        (
+            polygon.flags & polygon_flags::INTERIOR_FRONT != 0,
+            "interior_front",
+        ),
+        (polygon.flags & polygon_flags::SMOOTH != 0, "smooth"),
+        (
+            polygon.flags & polygon_flags::INTERIOR_BACK != 0,
+            "interior_back",
+        ),
+    ]);
     let c = polygon.colour;
     let _ = writeln!(out, "{:indent$}- index: {p}", "");
     let inner = indent + 2;
@@ -368,6 +382,20 @@ fn write_polygon(out: &mut String, scene: &Scene<'_>, p: u32, indent: usize) {
             "",
             f32_triple(scene.polygon_vertex(&polygon, k))
         );
+    }
+    if polygon.flags & polygon_flags::SMOOTH != 0 {
+        // Each vertex's intensities, [front, back] of the source triangle.
+        let shades: Vec<String> = (0..u32::from(polygon.vertex_count))
+            .map(|k| {
+                let v = scene.polygon_vertex_index(&polygon, k).unwrap_or(u32::MAX);
+                format!(
+                    "[{}, {}]",
+                    scene.vertex_shade(v, 0),
+                    scene.vertex_shade(v, 1)
+                )
+            })
+            .collect();
+        let _ = writeln!(out, "{:inner$}shades: [{}]", "", shades.join(", "));
     }
 }
 
@@ -454,7 +482,7 @@ mod tests {
         );
         let origin = glam::DVec3::new(100.0, 200.0, 300.0);
         let expected = Inspect {
-            format_version: 3,
+            format_version: 4,
             output_polygons: 3,
             convex_nodes: 3,
             split_nodes: 1,
@@ -463,6 +491,7 @@ mod tests {
             split_planes: 1, // the split's; polygons' planes are not stored
             vertices: 7,
             ids: true,
+            smooth_polygons: 0,
             centre: (origin + (lo + hi) * 0.5).to_array(),
             bounds_min: (origin + lo).to_array(),
             bounds_max: (origin + hi).to_array(),

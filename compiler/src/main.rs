@@ -10,7 +10,8 @@ use indicatif::{ProgressBar, ProgressStyle};
 
 use peel_compiler::compile::{compile_obj, CompileOptions};
 use peel_compiler::load::LoadOptions;
-use peel_compiler::shade::{Shading, DEFAULT_LIGHT};
+use peel_compiler::shade::normals::Crease;
+use peel_compiler::shade::{Shading, Surface, DEFAULT_LIGHT, DEFAULT_SURFACE};
 use peel_compiler::tree::BuildOptions;
 
 mod cli;
@@ -93,8 +94,16 @@ struct CompileArgs {
     /// centroid).
     #[arg(long, value_parser = cli::parse_dvec3, allow_hyphen_values = true, conflicts_with = "light", value_name = "X,Y,Z")]
     point_light: Option<DVec3>,
-    /// Keep the raw material colours (no shading).
-    #[arg(long, conflicts_with_all = ["light", "point_light"])]
+    /// How the light colours the faces: smooth (interpolated over curved surfaces), faceted
+    /// (one colour per face side) or unlit (the raw material colours). Default: faceted.
+    #[arg(long, value_enum, value_name = "SHADING")]
+    shading: Option<ShadingArg>,
+    /// With --shading smooth: faces whose normals are further apart than this angle, in
+    /// degrees from 0 to 180, meet at a sharp edge (default: 60).
+    #[arg(long, value_parser = cli::parse_crease, allow_hyphen_values = true, value_name = "DEG")]
+    crease: Option<Crease>,
+    /// Keep the raw material colours (no shading): --shading unlit.
+    #[arg(long, conflicts_with_all = ["light", "point_light", "shading"])]
     flat: bool,
     /// Cast shadows from the light: polygons are cut along them, their parts in shadow get
     /// the ambient colour.
@@ -108,6 +117,17 @@ struct CompileArgs {
     /// Also write the statistics as JSON to this file.
     #[arg(long, value_name = "FILE")]
     stats_json: Option<PathBuf>,
+}
+
+/// `--shading` values.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+enum ShadingArg {
+    /// Each vertex lit with the surface's normal there, colours interpolated in between.
+    Smooth,
+    /// One colour per side of each face.
+    Faceted,
+    /// The material colours as they are (as --flat).
+    Unlit,
 }
 
 fn main() -> ExitCode {
@@ -140,7 +160,39 @@ fn compile(args: &CompileArgs) -> Result<(), String> {
             args.output.display()
         ));
     }
-    let shading = match (args.flat, args.point_light) {
+    let asked = match (args.flat, args.shading) {
+        (true, _) => Some(ShadingArg::Unlit),
+        (false, asked) => asked,
+    };
+    let surface = match asked {
+        Some(ShadingArg::Smooth) => Surface::Smooth(args.crease.unwrap_or_default()),
+        Some(ShadingArg::Faceted | ShadingArg::Unlit) => Surface::Faceted,
+        None => match DEFAULT_SURFACE {
+            Surface::Smooth(default) => Surface::Smooth(args.crease.unwrap_or(default)),
+            Surface::Faceted => Surface::Faceted,
+        },
+    };
+    if args.crease.is_some() && surface == Surface::Faceted {
+        return Err(
+            "--crease applies to smooth shading only: add --shading smooth, or drop --crease"
+                .into(),
+        );
+    }
+    let unlit = asked == Some(ShadingArg::Unlit);
+    if unlit && !args.flat {
+        let lit = [
+            (args.light.is_some(), "--light"),
+            (args.point_light.is_some(), "--point-light"),
+            (args.shadows, "--shadows"),
+        ];
+        if let Some((_, flag)) = lit.iter().find(|(on, _)| *on) {
+            return Err(format!(
+                "{flag} needs a light: --shading unlit has none (use --shading faceted or \
+                 smooth)"
+            ));
+        }
+    }
+    let shading = match (unlit, args.point_light) {
         (true, _) => Shading::Flat,
         (false, Some(at)) => Shading::Point(at),
         (false, None) => Shading::Lambert(args.light.unwrap_or(DEFAULT_LIGHT)),
@@ -159,6 +211,7 @@ fn compile(args: &CompileArgs) -> Result<(), String> {
         ids: args.ids,
         wide_vertices: args.wide_vertices,
         shading,
+        surface,
     };
     compile_to(
         &args.scene,
@@ -167,6 +220,11 @@ fn compile(args: &CompileArgs) -> Result<(), String> {
         args.stats_json.as_deref(),
     )
     .map(|_| ())
+}
+
+/// How many polygons of a compiled file are smooth-shaded.
+fn smooth_polygons(bytes: &[u8]) -> u64 {
+    peel_compiler::dump::inspect(bytes).map_or(0, |i| i.smooth_polygons)
 }
 
 /// Compile `scene` into `output` with a progress bar on a terminal, print the summary, and
@@ -206,6 +264,7 @@ pub(crate) fn compile_to(
         "cuts": s.cuts,
         "max_depth": s.max_depth,
         "planes": s.planes,
+        "smooth_polygons": smooth_polygons(&compiled.bytes),
         "bytes": compiled.bytes.len(),
         "compile_seconds": compiled.seconds,
     });

@@ -37,7 +37,7 @@ use peel_runtime::read::Scene;
 use crate::compile::CompileOptions;
 use crate::error::CompileError;
 use crate::load::LoadOptions;
-use crate::shade::Shading;
+use crate::shade::{Shading, Surface};
 use crate::shadow::Light;
 use crate::tree::BuildOptions;
 
@@ -185,6 +185,7 @@ pub fn encode_options(options: &CompileOptions, out: &mut Vec<u8>) {
         ids,
         wide_vertices,
         shading,
+        surface,
     } = options;
     match default_colour {
         None => out.push(0),
@@ -213,6 +214,13 @@ pub fn encode_options(options: &CompileOptions, out: &mut Vec<u8>) {
         Shading::Point(at) => {
             out.push(2);
             direction(out, at);
+        }
+    }
+    match surface {
+        Surface::Faceted => out.push(0),
+        Surface::Smooth(crease) => {
+            out.push(1);
+            out.extend_from_slice(&crease.degrees().to_bits().to_le_bytes());
         }
     }
     match shadows {

@@ -12,7 +12,7 @@ use std::time::Instant;
 
 use crate::compile::{compile_obj_bytes, CompileOptions};
 use crate::error::CompileError;
-use crate::shade::Shading;
+use crate::shade::{Shading, Surface};
 
 /// Compiles an OBJ (and its MTL) into `OUT_DIR` from a `build.rs`, writes a sizes file beside
 /// it, and tells cargo to rerun the build script when any of the files read changes, or an MTL
@@ -129,11 +129,19 @@ impl Builder {
         self
     }
 
-    /// How colours are baked.
+    /// The light colours are baked with ([`Shading::Flat`]: unlit).
     pub fn shading(mut self, shading: Shading) -> Self {
         self.options.shading = shading;
         let on = self.shadows;
         self.shadows(on)
+    }
+
+    /// Faceted or smooth shading, with its crease angle (`peel compile --shading smooth
+    /// --crease DEG`; default [`crate::shade::DEFAULT_SURFACE`]), e.g.
+    /// `.surface(Surface::smooth(45.0)?)`.
+    pub fn surface(mut self, surface: Surface) -> Self {
+        self.options.surface = surface;
+        self
     }
 
     /// Cast shadows from the shading's light, a sun or a point light (`peel compile

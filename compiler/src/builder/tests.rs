@@ -127,6 +127,20 @@ fn the_key_is_the_compiler_the_options_and_the_obj() {
     let mut o = options.clone();
     o.load.default_colour = Some([1, 2, 3]);
     variants.push(o);
+    // The surface other than the default, and another crease.
+    let smooth = Surface::smooth(60.0).unwrap();
+    for surface in [
+        if options.surface == Surface::Faceted {
+            smooth
+        } else {
+            Surface::Faceted
+        },
+        Surface::smooth(30.0).unwrap(),
+    ] {
+        let mut o = options.clone();
+        o.surface = surface;
+        variants.push(o);
+    }
     let mut keys = vec![base.clone(), key(&other, bytes, &options)];
     keys.extend(variants.iter().map(|o| key(&obj, bytes, o)));
     for (i, a) in keys.iter().enumerate() {

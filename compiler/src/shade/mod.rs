@@ -45,6 +45,36 @@ impl Default for Shading {
     }
 }
 
+/// How a polygon's colour varies over it; [`Shading`] is the light.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Surface {
+    /// One colour per side of each polygon (`peel compile --shading faceted`, or `unlit`
+    /// with [`Shading::Flat`]).
+    Faceted,
+    /// Corner colours interpolated over each triangle ([`smooth::Smooth`]), faces further
+    /// apart than the crease meeting at a sharp edge (`--shading smooth --crease DEG`).
+    Smooth(normals::Crease),
+}
+
+/// The surface unless one is asked: faceted while the runtime cannot draw smooth files.
+pub const DEFAULT_SURFACE: Surface = Surface::Faceted;
+
+impl Default for Surface {
+    fn default() -> Self {
+        DEFAULT_SURFACE
+    }
+}
+
+impl Surface {
+    /// Smooth, with a crease of `degrees`.
+    ///
+    /// # Errors
+    /// [`crate::error::CompileError::Crease`] for an angle not from 0 to 180 degrees.
+    pub fn smooth(degrees: f64) -> Result<Surface, crate::error::CompileError> {
+        Ok(Surface::Smooth(normals::Crease::new(degrees)?))
+    }
+}
+
 /// The colours of a polygon's two sides.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Sides {

@@ -31,13 +31,16 @@ pub struct Crease {
 
 impl Default for Crease {
     fn default() -> Self {
-        Crease {
-            degrees: DEFAULT_CREASE_DEG,
-        }
+        Crease::DEFAULT
     }
 }
 
 impl Crease {
+    /// [`DEFAULT_CREASE_DEG`].
+    pub const DEFAULT: Crease = Crease {
+        degrees: DEFAULT_CREASE_DEG,
+    };
+
     /// A crease of `degrees`, from 0 (only faces of the same normal are smooth across) to 180
     /// (every face around a point is).
     ///

@@ -126,15 +126,22 @@ pub struct PeelFile {
     /// Nodes in pre-order (front before back): the root is node 0 and children come after
     /// their parents. Convex nodes own the polygons in node order.
     pub nodes: Vec<Node>,
+    /// Per vertex, the intensities `[front, back]` of its source triangle's sides (255: the
+    /// material's colour) when `header_flags::SHADES` is set, else empty and not written.
+    pub shades: Vec<[u8; 2]>,
 }
 
-/// Fields of [`PeelFile`] in file order.
+/// Fields of [`PeelFile`] in file order (the last, `shades`, only with its flag).
 const FILE_FIELDS: usize = 10;
 
 impl Serialize for PeelFile {
     fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
         let flags = self.header.flags;
-        let mut t = s.serialize_tuple(FILE_FIELDS)?;
+        let shades = flags & header_flags::SHADES != 0;
+        if !shades && !self.shades.is_empty() {
+            return Err(ser::Error::custom("shades without the SHADES flag"));
+        }
+        let mut t = s.serialize_tuple(FILE_FIELDS - usize::from(!shades))?;
         t.serialize_element(&header_words(&self.header))?;
         t.serialize_element(&Records(&self.vertices, flags))?;
         t.serialize_element(&self.planes)?;
@@ -144,6 +151,9 @@ impl Serialize for PeelFile {
         t.serialize_element(&self.palette)?;
         t.serialize_element(&self.bounds)?;
         t.serialize_element(&Records(&self.nodes, flags))?;
+        if shades {
+            t.serialize_element(&self.shades)?;
+        }
         t.end()
     }
 }
@@ -565,7 +575,7 @@ impl<'de> Deserialize<'de> for PeelFile {
             fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> Result<PeelFile, A::Error> {
                 let header = header_of(required(seq.next_element()?)?)?;
                 let flags = header.flags;
-                Ok(PeelFile {
+                let mut file = PeelFile {
                     header,
                     vertices: required(
                         seq.next_element_seed(RecordsSeed(flags, std::marker::PhantomData))?,
@@ -583,7 +593,12 @@ impl<'de> Deserialize<'de> for PeelFile {
                     nodes: required(
                         seq.next_element_seed(RecordsSeed(flags, std::marker::PhantomData))?,
                     )?,
-                })
+                    shades: Vec::new(),
+                };
+                if flags & header_flags::SHADES != 0 {
+                    file.shades = required(seq.next_element()?)?;
+                }
+                Ok(file)
             }
         }
         d.deserialize_tuple(FILE_FIELDS, V)

@@ -13,6 +13,7 @@ mod bounds;
 pub(crate) mod encoding;
 pub(crate) mod format;
 pub(crate) mod grid;
+pub(crate) mod shades;
 
 use glam::{DVec3, Vec3};
 use peel_runtime::read::Plane;
@@ -60,6 +61,11 @@ pub(crate) struct WriteInput<'a> {
     pub ids: bool,
     /// Store vertices as `f32` instead of 16-bit steps on the scene's bounds.
     pub wide_vertices: bool,
+    /// Flags added to each tree polygon's ([`format::polygon_flags::SMOOTH`],
+    /// [`format::polygon_flags::INTERIOR_BACK`]), or empty: none.
+    pub polygon_flags: &'a [u8],
+    /// Per tree vertex, its `[front, back]` intensities (a smooth file, [`shades`]), or empty.
+    pub shades: &'a [[u8; 2]],
 }
 
 /// The file for `tree`, `colours[i]` being the colour of `tree.polygons[i]`; source triangle
@@ -101,6 +107,8 @@ pub(crate) fn peel_file_encoded(
         exterior,
         ids,
         wide_vertices,
+        polygon_flags: extra_flags,
+        shades,
     } = *input;
     let exterior = if exterior.is_empty() {
         colours
@@ -113,6 +121,25 @@ pub(crate) fn peel_file_encoded(
             colours.len(),
             exterior.len(),
             tree.polygons.len()
+        )));
+    }
+    let smooth_polygons = extra_flags
+        .iter()
+        .filter(|&&f| f & polygon_flags::SMOOTH != 0)
+        .count();
+    let shades_ok = if shades.is_empty() {
+        smooth_polygons == 0
+    } else {
+        shades.len() == tree.vertices.len()
+    };
+    if !(extra_flags.is_empty() || extra_flags.len() == tree.polygons.len()) || !shades_ok {
+        return Err(invariant(format!(
+            "{} polygon flags ({smooth_polygons} smooth) and {} shades for {} polygons and {} \
+             vertices",
+            extra_flags.len(),
+            shades.len(),
+            tree.polygons.len(),
+            tree.vertices.len()
         )));
     }
     let wide = tree
@@ -148,6 +175,7 @@ pub(crate) fn peel_file_encoded(
         vertices: &vertices,
         per_step,
         ids,
+        extra_flags,
         planes: Vec::new(),
         plane_slots: FastMap::default(),
         file_nodes: Vec::new(),
@@ -206,6 +234,9 @@ pub(crate) fn peel_file_encoded(
     if wide_vertices {
         flags |= header_flags::WIDE_VERTICES;
     }
+    if !shades.is_empty() {
+        flags |= header_flags::SHADES;
+    }
     let boxes = boxes.unwrap_or_default();
     // The narrowest node and polygon fields that every count they index fits (the width's
     // largest value is NONE).
@@ -262,6 +293,7 @@ pub(crate) fn peel_file_encoded(
         palette,
         bounds: boxes,
         nodes: file_nodes,
+        shades: shades.to_vec(),
     })
 }
 
@@ -289,6 +321,8 @@ struct Emitter<'t> {
     /// Steps per unit of length on each axis, as the runtime brings the eye to steps.
     per_step: DVec3,
     ids: bool,
+    /// Flags added per tree polygon (or empty).
+    extra_flags: &'t [u8],
     /// The split nodes' planes, in order of first use.
     planes: Vec<[f32; 4]>,
     /// Tree plane -> index in `planes`.
@@ -466,7 +500,7 @@ impl Emitter<'_> {
             polygon_flags::INTERIOR_FRONT
         } else {
             0
-        };
+        } | self.extra_flags.get(p as usize).copied().unwrap_or(0);
         self.polygons.push(Polygon {
             first_index: count(self.indices.len(), "polygon vertices")?,
             vertex_count,

@@ -235,6 +235,7 @@ fn record_sizes_match_the_spec() {
             exterior: if two { &exterior } else { &[] },
             ids: true,
             wide_vertices,
+            ..WriteInput::default()
         });
     for (input, encoding) in inputs.iter().flat_map(|i| Encoding::ALL.map(|e| (i, e))) {
         let file = peel_file_encoded(&tree, input, Some(encoding)).unwrap();
@@ -343,7 +344,7 @@ fn the_file_is_the_tree_in_pre_order() {
     assert_eq!(
         (h.version, h.flags),
         (
-            3,
+            4,
             header_flags::IDS | header_flags::INDEX16 | header_flags::BOUNDS | header_flags::NARROW
         )
     );

@@ -44,6 +44,8 @@ struct Spec {
     node_boxes: Vec<u32>,
     /// Header palette and bounds counts, when not the lengths.
     extra_counts: Option<[u32; 2]>,
+    /// With `SHADES`: per vertex, `[front, back]` (written after the nodes, with its length).
+    shades: Vec<[u8; 2]>,
 }
 
 /// Flags every [`Spec`] carries: none, or in a build without `large-scenes` (which reads only
@@ -97,6 +99,7 @@ impl Spec {
             boxes: Vec::new(),
             node_boxes: Vec::new(),
             extra_counts: None,
+            shades: Vec::new(),
         }
     }
 
@@ -243,6 +246,12 @@ impl Spec {
             }
             if self.flags & header_flags::BOUNDS != 0 {
                 field(&mut out, self.node_boxes.get(i).copied().unwrap_or(NONE));
+            }
+        }
+        if self.flags & header_flags::SHADES != 0 {
+            length(&mut out, self.shades.len());
+            for s in &self.shades {
+                out.extend(s);
             }
         }
         out
@@ -422,10 +431,10 @@ fn header_identity_is_checked_first() {
         );
     }
     let mut spec = Spec::small();
-    spec.flags = 1 << 10;
+    spec.flags = 1 << 11;
     assert_eq!(
         spec.parse(),
-        Err(ReadError::UnknownFlags { flags: 1 << 10 })
+        Err(ReadError::UnknownFlags { flags: 1 << 11 })
     );
     for both in [
         header_flags::NARROW | header_flags::MEDIUM,
@@ -1238,5 +1247,135 @@ fn an_exterior_palette_index_out_of_range_is_refused() {
         ReadError::BadRecord {
             offset: polygons + polygon_size(spec.flags)
         }
+    );
+}
+
+/// [`Spec::small`] with shades: polygon 1 smooth (its interior the source triangle's front),
+/// polygon 2 smooth with `INTERIOR_BACK`, polygon 0 flat.
+fn smooth_spec() -> Spec {
+    let mut spec = Spec::small();
+    spec.flags |= header_flags::SHADES;
+    spec.shades = (0..spec.vertices.len() as u8)
+        .map(|v| [200 + v, 70 + v])
+        .collect();
+    spec.polygons[1].2 |= polygon_flags::SMOOTH;
+    spec.polygons[2].2 |= polygon_flags::SMOOTH | polygon_flags::INTERIOR_BACK;
+    spec
+}
+
+#[test]
+fn shades_read_back_on_the_side_seen() {
+    let spec = smooth_spec();
+    let bytes = spec.encode();
+    assert_eq!(
+        bytes.len(),
+        Spec::small().encode().len() + 8 + SHADE_SIZE * spec.vertices.len(),
+        "a length, then two bytes per vertex"
+    );
+    let scene = Scene::parse(&bytes).unwrap();
+    for v in 0..spec.vertices.len() as u32 {
+        for side in 0..2 {
+            assert_eq!(scene.vertex_shade(v, side), spec.shades[v as usize][side]);
+        }
+    }
+    assert_eq!(scene.vertex_shade(99, 0), 0, "out of range");
+    // Polygon 0 is flat: no shade side. Polygon 1 shades its interior with the fronts,
+    // polygon 2 with the backs.
+    let side = |p: u32, interior| Scene::shade_side(scene.polygon(p).flags, interior);
+    assert_eq!((side(0, true), side(0, false)), (None, None));
+    assert_eq!((side(1, true), side(1, false)), (Some(0), Some(1)));
+    assert_eq!((side(2, true), side(2, false)), (Some(1), Some(0)));
+    // Without the flag there are no shades, and no bytes for them.
+    let plain = Spec::small().encode();
+    let plain = Scene::parse(&plain).unwrap();
+    assert_eq!(plain.vertex_shade(0, 0), 0);
+}
+
+#[test]
+fn smooth_polygons_need_shades_and_interior_back_needs_smooth() {
+    let polygon_at = |spec: &Spec, k: usize| {
+        let bytes = spec.encode();
+        let shades = if spec.flags & header_flags::SHADES != 0 {
+            8 + SHADE_SIZE * spec.shades.len()
+        } else {
+            0
+        };
+        bytes.len()
+            - shades
+            - spec.nodes.len() * node_size(spec.flags)
+            - 8
+            - spec.boxes.len() * BOUNDS_SIZE
+            - 8
+            - spec.palette.len() * PALETTE_SIZE
+            - 8
+            - spec.ids.len() * ID_SIZE
+            - 8
+            - (spec.polygons.len() - k) * polygon_size(spec.flags)
+    };
+    assert_eq!(smooth_spec().parse(), Ok(()));
+    // SMOOTH without SHADES.
+    let mut spec = Spec::small();
+    spec.polygons[1].2 |= polygon_flags::SMOOTH;
+    assert_eq!(
+        spec.parse(),
+        Err(ReadError::BadRecord {
+            offset: polygon_at(&spec, 1)
+        })
+    );
+    // INTERIOR_BACK without SMOOTH, with or without SHADES.
+    for shades in [false, true] {
+        let mut spec = if shades { smooth_spec() } else { Spec::small() };
+        spec.polygons[0].2 |= polygon_flags::INTERIOR_BACK;
+        assert_eq!(
+            spec.parse(),
+            Err(ReadError::BadRecord {
+                offset: polygon_at(&spec, 0)
+            }),
+            "shades: {shades}"
+        );
+    }
+}
+
+#[test]
+fn a_short_or_miscounted_shades_array_is_refused() {
+    let spec = smooth_spec();
+    let bytes = spec.encode();
+    let length_at = bytes.len() - 8 - SHADE_SIZE * spec.shades.len();
+    // Every strict prefix, inside the shades array too, is truncated.
+    for cut in [bytes.len() - 1, length_at + 8, length_at + 3] {
+        assert!(
+            matches!(
+                Scene::parse(&bytes[..cut]),
+                Err(ReadError::Truncated { .. })
+            ),
+            "{cut}"
+        );
+    }
+    assert_eq!(
+        Scene::parse(&bytes[..bytes.len() - 1]).unwrap_err(),
+        ReadError::Truncated {
+            offset: length_at + 8
+        }
+    );
+    // A length other than vertex_count.
+    let mut short = spec.clone();
+    short.shades.pop();
+    assert_eq!(
+        short.parse(),
+        Err(ReadError::CountMismatch { offset: length_at })
+    );
+    // The flag set without the array.
+    let mut absent = spec.encode();
+    absent.truncate(length_at);
+    assert_eq!(
+        Scene::parse(&absent).unwrap_err(),
+        ReadError::Truncated { offset: length_at }
+    );
+    // Bytes after it.
+    let mut longer = bytes.clone();
+    longer.push(0);
+    assert_eq!(
+        Scene::parse(&longer).unwrap_err(),
+        ReadError::TrailingBytes { offset: bytes.len() }
     );
 }
