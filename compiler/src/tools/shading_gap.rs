@@ -8,6 +8,7 @@ use glam::DVec3;
 use peel_runtime::camera::{Orbit, DEFAULT_FOV_Y_DEG};
 use peel_runtime::read::Header;
 
+use super::raster::render_bytes;
 use super::reference::{reference, Lighting};
 use super::shot::Shot;
 use crate::load::Mesh;
@@ -131,6 +132,47 @@ pub fn faceted_against_smooth(mesh: &Mesh, smooth: &Smooth, shots: &[Shot]) -> (
     (gaps, Gap::of(per_view.concat()))
 }
 
+/// Per view of `shots`, the differences between the runtime's picture of `bytes` (the file
+/// compiled from `mesh` with `smooth`'s light and crease, drawn on the host as firmware draws
+/// it, undithered) and the reference's exact smooth colours, then all of them together:
+/// `(per view, overall)`.
+///
+/// # Errors
+/// A file the runtime cannot draw.
+pub fn runtime_against_smooth(
+    mesh: &Mesh,
+    bytes: &[u8],
+    smooth: &Smooth,
+    shots: &[Shot],
+) -> Result<(Vec<Gap>, Gap), String> {
+    let header = bounds(mesh);
+    let triangles: Vec<[DVec3; 3]> = mesh.triangles.iter().map(|t| t.vertices).collect();
+    let kd: Vec<[u8; 3]> = mesh.triangles.iter().map(|t| t.colour).collect();
+    let shades = smooth.shade(mesh);
+    let mut per_view = Vec::new();
+    for shot in shots {
+        let near = shot.near_over(&header);
+        let seen = reference(&triangles, &[], shot, near);
+        let exact =
+            seen.colours_exact(&triangles, &kd, shot, near, Lighting::Smooth(&shades), None);
+        let frame = render_bytes(bytes, shot, false, [0; 3])?;
+        let differences: Vec<f64> = (exact.iter().zip(&frame.pixels).zip(&seen.robust))
+            .filter_map(|((e, &p), &robust)| {
+                let e = e.filter(|_| robust)?;
+                let drawn = [(p >> 16) as u8, (p >> 8) as u8, p as u8];
+                Some(
+                    (0..3)
+                        .map(|c| (f64::from(drawn[c]) - e[c]).abs())
+                        .fold(0.0, f64::max),
+                )
+            })
+            .collect();
+        per_view.push(differences);
+    }
+    let gaps = per_view.iter().map(|d| Gap::of(d.clone())).collect();
+    Ok((gaps, Gap::of(per_view.concat())))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -248,5 +290,81 @@ mod tests {
             "{views:?}"
         );
         assert!(all.mean > 1.0, "{all:?}");
+    }
+}
+
+/// The runtime's smooth pictures against the reference's: the accuracy goal of smooth shading.
+#[cfg(test)]
+mod accuracy {
+    use super::*;
+    use crate::compile::{compile_mesh, CompileOptions};
+    use crate::load::load_obj;
+    use crate::shade::normals::{Crease, DEFAULT_CREASE_DEG};
+    use crate::shade::{Shading, Surface};
+    use crate::tools::scenes;
+    use std::path::Path;
+
+    /// Mean, 99th percentile and largest difference allowed, in 8-bit units.
+    const GOAL: (f64, f64, f64) = (1.0, 3.0, 12.0);
+
+    fn white(mut mesh: Mesh) -> Mesh {
+        for t in &mut mesh.triangles {
+            t.colour = [255; 3];
+        }
+        mesh
+    }
+
+    /// The gap of `mesh` compiled smooth (default light, no shadows) from the eight views and
+    /// three more at other elevations, 320x240; printed, and checked against [`GOAL`].
+    fn check(name: &str, mesh: &Mesh) -> Gap {
+        let smooth = Smooth::new(Shading::default(), DEFAULT_CREASE_DEG).unwrap();
+        let options = CompileOptions {
+            surface: Surface::Smooth(Crease::new(DEFAULT_CREASE_DEG).unwrap()),
+            ..CompileOptions::default()
+        };
+        let (_, bytes) = compile_mesh(mesh, &options, &|_| {}).unwrap();
+        let mut shots = views(mesh, 320, 240);
+        shots.extend(
+            [(30.0, -25.0), (200.0, 60.0), (290.0, 5.0)].map(|(a, e)| view(mesh, a, e, 320, 240)),
+        );
+        let (per_view, all) = runtime_against_smooth(mesh, &bytes, &smooth, &shots).unwrap();
+        println!(
+            "{name}: {} robust pixels, mean {:.3}, p99 {}, max {:.2}, worst view max {:.2}",
+            all.pixels,
+            all.mean,
+            all.p99,
+            all.max,
+            per_view.iter().map(|g| g.max).fold(0.0, f64::max)
+        );
+        assert!(
+            per_view.iter().all(|g| g.pixels > 500),
+            "{name}: {per_view:?}"
+        );
+        let (mean, p99, max) = GOAL;
+        assert!(
+            all.mean <= mean && all.p99 <= p99 && all.max <= max,
+            "{name}: {all:?} against mean {mean}, p99 {p99}, max {max}"
+        );
+        all
+    }
+
+    #[test]
+    fn generated_scenes_shade_as_the_reference() {
+        check("sphere 24 x 48", &white(scenes::sphere(24, 48)));
+        check("torus 24 x 48", &white(scenes::torus(24, 48)));
+        check("sphere 8 x 12", &white(scenes::sphere(8, 12)));
+    }
+
+    #[test]
+    fn the_models_shade_as_the_reference() {
+        let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../shared/models");
+        for name in ["teapot", "cow", "suzanne"] {
+            let path = dir.join(format!("{name}.obj"));
+            if !path.is_file() {
+                println!("skipping {name}: shared models not found at ../shared/models");
+                continue;
+            }
+            check(name, &white(load_obj(&path).unwrap()));
+        }
     }
 }
