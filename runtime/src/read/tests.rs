@@ -1376,6 +1376,8 @@ fn a_short_or_miscounted_shades_array_is_refused() {
     longer.push(0);
     assert_eq!(
         Scene::parse(&longer).unwrap_err(),
-        ReadError::TrailingBytes { offset: bytes.len() }
+        ReadError::TrailingBytes {
+            offset: bytes.len()
+        }
     );
 }
