@@ -53,6 +53,7 @@ fn compile_writes_the_file_and_exact_stats_keys() {
         "cuts",
         "max_depth",
         "planes",
+        "smooth_polygons",
         "bytes",
         "compile_seconds",
     ]

@@ -107,13 +107,15 @@ pub(crate) fn shade_vertices<'t>(
             shades: Vec::new(),
         });
     }
-    // A flat polygon takes its vertex's copy of the first smooth use (in tree order), or one
-    // of its own when no smooth polygon uses the vertex.
-    let mut first_smooth: Vec<Option<[u8; 2]>> = vec![None; tree.vertices.len()];
-    for ((p, s), &flag) in tree.polygons.iter().zip(shades).zip(&flags) {
-        if flag != 0 {
-            for (&v, &shade) in p.vertices.iter().zip(&s.vertices) {
-                first_smooth[v as usize].get_or_insert(shade);
+    // A flat polygon takes its vertex's copy of the first smooth use (in tree order), or of
+    // its first use when no smooth polygon uses the vertex.
+    let mut first: Vec<Option<[u8; 2]>> = vec![None; tree.vertices.len()];
+    for smooth in [true, false] {
+        for ((p, s), &flag) in tree.polygons.iter().zip(shades).zip(&flags) {
+            if (flag != 0) == smooth {
+                for (&v, &shade) in p.vertices.iter().zip(&s.vertices) {
+                    first[v as usize].get_or_insert(shade);
+                }
             }
         }
     }
@@ -126,11 +128,12 @@ pub(crate) fn shade_vertices<'t>(
             let key = if flag != 0 {
                 shade
             } else {
-                first_smooth[*v as usize].unwrap_or(shade)
+                first[*v as usize].unwrap_or(shade)
             };
             *v = *copies.entry((*v, key)).or_insert_with(|| {
                 vertices.push(tree.vertices[*v as usize]);
                 vertex_shades.push(key);
+                // No more copies than polygon vertices, which the writer counts in `u32`.
                 (vertices.len() - 1) as u32
             });
         }

@@ -106,7 +106,7 @@ fn link(v: u32) -> Option<u32> {
 }
 
 /// Everything the reader sees equals what bincode wrote.
-fn assert_reads_back(file: &PeelFile) {
+pub(crate) fn assert_reads_back(file: &PeelFile) {
     let bytes = to_bytes(file).unwrap();
     let (decoded, used): (PeelFile, usize) =
         bincode::serde::decode_from_slice(&bytes, format::config()).unwrap();
@@ -172,6 +172,9 @@ fn assert_reads_back(file: &PeelFile) {
         assert_eq!(scene.parent(i as u32), link(n.parent));
         let stored = link(n.bounds).map(|k| decoded_box(file, file.bounds[k as usize]));
         assert_eq!(scene.node_bounds(i as u32), stored);
+    }
+    for (v, pair) in file.shades.iter().enumerate() {
+        assert_eq!([0, 1].map(|k| scene.vertex_shade(v as u32, k)), *pair);
     }
     assert_eq!(file.header.palette_count as usize, file.palette.len());
     assert_eq!(file.header.bounds_count as usize, file.bounds.len());
