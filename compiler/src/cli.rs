@@ -6,8 +6,10 @@ use clap::Args;
 use glam::DVec3;
 
 use peel_compiler::compile::CompileOptions;
+use peel_compiler::shade::normals::Crease;
+use peel_compiler::shade::Surface;
 use peel_compiler::tools::raster::{
-    png, render_bytes, render_bytes_with, Frame, Settings, EMPTY_SCENE,
+    png, render_bytes_with, Frame, Settings, EMPTY_SCENE, HOST_PENDING,
 };
 use peel_compiler::tools::shot::Shot;
 use peel_compiler::FrameMemory;
@@ -387,19 +389,28 @@ pub const DEMO_SHOT: Shot = Shot {
     )
 };
 
-/// `peel demo`: write the built-in scene, compile it, render it.
+/// `peel demo`: write the built-in scene, compile it, render it: smooth shading, the default
+/// sun's shadows, anti-aliased.
 pub fn demo(out: &Path) -> Result<(), String> {
     std::fs::create_dir_all(out).map_err(|e| format!("{}: cannot create: {e}", out.display()))?;
     let obj = out.join("demo.obj");
-    std::fs::write(&obj, DEMO_OBJ).map_err(|e| format!("{}: {e}", obj.display()))?;
+    std::fs::write(&obj, format!("{DEMO_OBJ}\n{DEMO_TORUS_OBJ}"))
+        .map_err(|e| format!("{}: {e}", obj.display()))?;
     let mtl = out.join("demo.mtl");
     std::fs::write(&mtl, DEMO_MTL).map_err(|e| format!("{}: {e}", mtl.display()))?;
     let peel = out.join("demo.peel");
-    // Lit by the default sun, with its shadows (`peel compile --shadows`).
-    let mut options = CompileOptions::default();
+    let mut options = CompileOptions {
+        surface: Surface::Smooth(Crease::default()),
+        ..CompileOptions::default()
+    };
     options.build.shadows = options.shading.light();
     let bytes = crate::compile_to(&obj, &peel, &options, None)?;
-    let frame = render_bytes(&bytes, &DEMO_SHOT, false, [24, 26, 32])?;
+    let settings = Settings {
+        background: [24, 26, 32],
+        antialias: Some(HOST_PENDING),
+        ..Settings::default()
+    };
+    let frame = render_bytes_with(&bytes, &DEMO_SHOT, &settings)?;
     let png_path = out.join("demo.png");
     write_png(&png_path, &frame)?;
     println!(
@@ -416,6 +427,9 @@ pub fn demo(out: &Path) -> Result<(), String> {
 /// The demo scene (also `fixtures/demo.obj`).
 const DEMO_OBJ: &str = include_str!("../../fixtures/demo.obj");
 const DEMO_MTL: &str = include_str!("../../fixtures/demo.mtl");
+/// The curved model `peel demo` adds beside the boxes (`fixtures/demo-torus.obj`, relative
+/// indices: it follows demo.obj in one file). The benchmarks keep demo.obj alone.
+const DEMO_TORUS_OBJ: &str = include_str!("../../fixtures/demo-torus.obj");
 
 /// Arguments of `peel bench`.
 #[derive(Args)]
