@@ -13,7 +13,7 @@ use std::path::{Path, PathBuf};
 use glam::DVec3;
 use peel_compiler::compile::{compile_mesh, CompileOptions};
 use peel_compiler::load::{load_obj, Mesh};
-use peel_compiler::shade::{Shading, AMBIENT};
+use peel_compiler::shade::{Shading, Surface, AMBIENT};
 use peel_compiler::tools::raster::{render_bytes_with, Settings};
 use peel_compiler::tools::shot::Shot;
 use peel_e2e::polygons;
@@ -34,9 +34,12 @@ fn compile(mesh: &Mesh) -> Vec<u8> {
 
 /// Compile `mesh` with ids, its vertices as `f32` when `wide`.
 fn compile_vertices(mesh: &Mesh, wide_vertices: bool) -> Vec<u8> {
+    // Faceted: the colours are compared with the reference's faceted ones (smooth shading's
+    // accuracy has its own test, `shading_gap::accuracy`).
     let options = CompileOptions {
         ids: true,
         wide_vertices,
+        surface: Surface::Faceted,
         ..CompileOptions::default()
     };
     compile_mesh(mesh, &options, &|_| {}).expect("compile").1
@@ -336,6 +339,7 @@ fn check_shadows(name: &str, mesh: &Mesh, shading: Shading, shots: &[Shot]) -> u
     let options = CompileOptions {
         ids: true,
         shading,
+        surface: Surface::Faceted,
         build: peel_compiler::tree::BuildOptions {
             shadows: shading.light(),
             ..Default::default()
@@ -514,6 +518,7 @@ fn a_face_is_lit_on_the_side_facing_the_light_only() {
         let shading = Shading::Lambert(light);
         let options = CompileOptions {
             shading,
+            surface: Surface::Faceted,
             ..CompileOptions::default()
         };
         let bytes = compile_mesh(&mesh, &options, &|_| {}).unwrap().1;

@@ -396,8 +396,10 @@ pub fn demo(out: &Path) -> Result<(), String> {
     let obj = out.join("demo.obj");
     std::fs::write(&obj, format!("{DEMO_OBJ}\n{DEMO_TORUS_OBJ}"))
         .map_err(|e| format!("{}: {e}", obj.display()))?;
-    let mtl = out.join("demo.mtl");
-    std::fs::write(&mtl, DEMO_MTL).map_err(|e| format!("{}: {e}", mtl.display()))?;
+    for (name, text) in [("demo.mtl", DEMO_MTL), ("demo-torus.mtl", DEMO_TORUS_MTL)] {
+        let mtl = out.join(name);
+        std::fs::write(&mtl, text).map_err(|e| format!("{}: {e}", mtl.display()))?;
+    }
     let peel = out.join("demo.peel");
     let mut options = CompileOptions {
         surface: Surface::Smooth(Crease::default()),
@@ -430,6 +432,7 @@ const DEMO_MTL: &str = include_str!("../../fixtures/demo.mtl");
 /// The curved model `peel demo` adds beside the boxes (`fixtures/demo-torus.obj`, relative
 /// indices: it follows demo.obj in one file). The benchmarks keep demo.obj alone.
 const DEMO_TORUS_OBJ: &str = include_str!("../../fixtures/demo-torus.obj");
+const DEMO_TORUS_MTL: &str = include_str!("../../fixtures/demo-torus.mtl");
 
 /// Arguments of `peel bench`.
 #[derive(Args)]

@@ -334,6 +334,13 @@ fn compile_demo(dir: &Path, name: &str, extra: &[&str]) -> Vec<[[u8; 3]; 2]> {
         .map(String::from)
         .collect::<Vec<_>>();
     args.extend(extra.iter().map(|a| a.to_string()));
+    // Faceted unless asked otherwise: the callers check each polygon's baked colours.
+    if !extra
+        .iter()
+        .any(|a| a.starts_with("--flat") || a.starts_with("--shading"))
+    {
+        args.extend(["--shading".to_string(), "faceted".to_string()]);
+    }
     let args: Vec<&str> = args.iter().map(String::as_str).collect();
     let o = peel(&args);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
@@ -478,10 +485,15 @@ fn the_demo_scene_needs_split_nodes() {
     let o = peel(&["demo", "--out", s(dir.path())]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let demo_obj = dir.path().join("demo.obj");
+    let fixture_text = |name: &str| std::fs::read_to_string(fixtures().join(name)).unwrap();
     assert_eq!(
-        std::fs::read(&demo_obj).unwrap(),
-        std::fs::read(fixtures().join("demo.obj")).unwrap(),
-        "peel demo uses fixtures/demo.obj"
+        std::fs::read_to_string(&demo_obj).unwrap(),
+        format!(
+            "{}\n{}",
+            fixture_text("demo.obj"),
+            fixture_text("demo-torus.obj")
+        ),
+        "peel demo uses fixtures/demo.obj and the torus of fixtures/demo-torus.obj"
     );
     let out = dir.path().join("again.peel");
     let stats = dir.path().join("stats.json");
@@ -514,7 +526,13 @@ fn the_demo_scene_needs_split_nodes() {
     assert_eq!(
         std::fs::read(dir.path().join("demo.peel")).unwrap(),
         std::fs::read(&out).unwrap(),
-        "peel demo is peel compile --shadows"
+        "peel demo is peel compile --shadows (smooth, the default)"
+    );
+    let o = peel(&["inspect", s(&out), "--json"]);
+    let inspect: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert!(
+        inspect["smooth_polygons"].as_u64().unwrap() > 200,
+        "the torus is smooth: {inspect}"
     );
 }
 

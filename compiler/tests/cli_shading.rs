@@ -85,9 +85,10 @@ fn shading_chooses_smooth_faceted_or_unlit() {
     std::fs::write(&demo, sphere_obj(8, 12)).unwrap();
     let demo = s(&demo).to_string();
     let (default, stats) = compile(dir.path(), &demo, "default.peel", &[]);
+    assert!(stats["smooth_polygons"].as_u64().unwrap() > 0);
+    let (faceted, stats) = compile(dir.path(), &demo, "faceted.peel", &["--shading", "faceted"]);
     assert_eq!(stats["smooth_polygons"], 0);
-    let (faceted, _) = compile(dir.path(), &demo, "faceted.peel", &["--shading", "faceted"]);
-    assert!(faceted == default, "faceted is the default");
+    assert!(faceted != default, "smooth is the default");
     let (unlit, _) = compile(dir.path(), &demo, "unlit.peel", &["--shading=unlit"]);
     let (flat, _) = compile(dir.path(), &demo, "flat.peel", &["--flat"]);
     assert!(unlit == flat, "--flat is --shading unlit");
@@ -98,6 +99,12 @@ fn shading_chooses_smooth_faceted_or_unlit() {
     let polygons = stats["output_polygons"].as_u64().unwrap();
     assert!(count > 0 && count < polygons, "{count} of {polygons}");
     assert!(smooth != faceted);
+    assert!(smooth == default, "smooth is the default");
+    let (creased, _) = compile(dir.path(), &demo, "creased.peel", &["--crease", "60"]);
+    assert!(
+        creased == default,
+        "--crease alone: the default smooth shading"
+    );
     let o = peel(&["inspect", s(&dir.path().join("smooth.peel"))]);
     let text = String::from_utf8_lossy(&o.stdout);
     assert!(
@@ -157,10 +164,9 @@ fn shading_flags_that_do_not_fit_are_refused() {
     let base = ["compile", cube.as_str(), "-o", s(&out)];
     for (extra, says) in [
         (
-            &["--crease", "30"][..],
+            &["--shading", "faceted", "--crease=30"][..],
             &["--crease", "--shading smooth"][..],
         ),
-        (&["--shading", "faceted", "--crease=30"], &["--crease"]),
         (&["--flat", "--crease=30"], &["--crease"]),
         (
             &["--shading", "smooth", "--crease=181"],

@@ -56,8 +56,10 @@ pub enum Surface {
     Smooth(normals::Crease),
 }
 
-/// The surface unless one is asked: faceted while the runtime cannot draw smooth files.
-pub const DEFAULT_SURFACE: Surface = Surface::Faceted;
+/// The surface unless one is asked: smooth, with the default crease, so that a curved mesh
+/// shows no facets; a polygon whose corners agree (a box's faces, any face without light) is
+/// stored and drawn as a faceted one.
+pub const DEFAULT_SURFACE: Surface = Surface::Smooth(normals::Crease::DEFAULT);
 
 impl Default for Surface {
     fn default() -> Self {
