@@ -33,7 +33,7 @@ use embedded_graphics_core::pixelcolor::{IntoStorage, Rgb565};
 use embedded_graphics_core::primitives::{PointsIter, Rectangle};
 use embedded_graphics_core::Pixel;
 use peel_runtime::display::Rgb565Framebuffer;
-#[cfg(feature = "smooth")]
+#[cfg(all(feature = "smooth", not(feature = "scan")))]
 use peel_runtime::display::{dither_rgb565, Colour, RowShade, SpanSink};
 
 /// Bytes of CASET (the window's columns): command and two 16-bit columns.
@@ -177,7 +177,7 @@ impl Panel {
     /// and one burst of its pixels, two writes, as a flat span's `fill_solid`. Pixel `x` is
     /// `shade.at(x)` dithered ([`dither_rgb565`]), computed as it is sent (a driver feeding
     /// the SPI FIFO from the gradient, or filling a line buffer for a DMA).
-    #[cfg(feature = "smooth")]
+    #[cfg(all(feature = "smooth", not(feature = "scan")))]
     #[inline(never)]
     pub fn shaded_span(&mut self, y: u32, x_start: u32, x_end: u32, shade: &RowShade) {
         let x_end = x_end.min(self.width);
@@ -277,14 +277,14 @@ impl DrawTarget for Panel {
 /// The streamed builds' sink when they draw smooth files: a flat span as
 /// `DrawTargetSink` sends it (one `fill_solid`, its colour converted once per polygon), a
 /// shaded span as one window and one burst of dithered pixels ([`Panel::shaded_span`]).
-#[cfg(feature = "smooth")]
+#[cfg(all(feature = "smooth", not(feature = "scan")))]
 pub struct PanelSink<'a> {
     panel: &'a mut Panel,
     /// The last colour converted, and its RGB565.
     last: Option<(Colour, Rgb565)>,
 }
 
-#[cfg(feature = "smooth")]
+#[cfg(all(feature = "smooth", not(feature = "scan")))]
 impl<'a> PanelSink<'a> {
     /// A sink streaming into `panel`.
     pub fn new(panel: &'a mut Panel) -> Self {
@@ -292,7 +292,7 @@ impl<'a> PanelSink<'a> {
     }
 }
 
-#[cfg(feature = "smooth")]
+#[cfg(all(feature = "smooth", not(feature = "scan")))]
 impl SpanSink for PanelSink<'_> {
     fn write_once(&self) -> bool {
         true

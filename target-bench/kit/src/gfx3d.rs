@@ -380,11 +380,13 @@ fn encode_with(
                 corner_ids.map(|i| {
                     let normal = corners[t as usize][k];
                     k += 1;
-                    *index.entry((i, normal.map(f32::to_bits))).or_insert_with(|| {
-                        vertices.push(positions[usize::from(i)]);
-                        vertex_normals.push(normal);
-                        (vertices.len() - 1) as u32
-                    })
+                    *index
+                        .entry((i, normal.map(f32::to_bits)))
+                        .or_insert_with(|| {
+                            vertices.push(positions[usize::from(i)]);
+                            vertex_normals.push(normal);
+                            (vertices.len() - 1) as u32
+                        })
                 })
             }
         };

@@ -413,12 +413,15 @@ impl Smooth<'_> {
             let streamed = frames(true, needs(Variant::FtbStream))?;
             let scanned = frames(false, needs(Variant::ScanOrder))?;
             for setup in self.setups {
-                let dir = self.runs_dir.join(format!("{}-smooth", stem(&scene))).join(format!(
-                    "{}-{}-{}",
-                    core.name(),
-                    size_name((width, height)),
-                    setup.label()
-                ));
+                let dir = self
+                    .runs_dir
+                    .join(format!("{}-smooth", stem(&scene)))
+                    .join(format!(
+                        "{}-{}-{}",
+                        core.name(),
+                        size_name((width, height)),
+                        setup.label()
+                    ));
                 let mut measure = Measure {
                     scene: &scene,
                     core,

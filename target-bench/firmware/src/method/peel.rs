@@ -3,10 +3,10 @@
 
 use peel_runtime::camera::LocalView;
 use peel_runtime::coverage::Coverage;
-#[cfg(not(feature = "scan"))]
-use peel_runtime::display::Rgb565Framebuffer;
 #[cfg(not(any(feature = "scan", feature = "smooth")))]
 use peel_runtime::display::DrawTargetSink;
+#[cfg(not(feature = "scan"))]
+use peel_runtime::display::Rgb565Framebuffer;
 #[cfg(feature = "aa")]
 use peel_runtime::pending::Pending;
 use peel_runtime::read::{Header, Scene};
@@ -175,9 +175,9 @@ impl Method {
             // pending pixels before them).
             // Builds that draw smooth files: the panel's own sink, a shaded span one write.
             #[cfg(feature = "smooth")]
-            let stats = self
-                .renderer
-                .draw(scene, view, &mut crate::display::PanelSink::new(panel))?;
+            let stats =
+                self.renderer
+                    .draw(scene, view, &mut crate::display::PanelSink::new(panel))?;
             #[cfg(not(feature = "smooth"))]
             let stats = {
                 let mut sink = DrawTargetSink::new(panel);
