@@ -5,7 +5,8 @@
 
 use serde::{Deserialize, Serialize};
 
-/// One scene x method x core x size x display path. The JSON keys are exactly these fields.
+/// One scene x method x display path x shading x core x size ([`Record::identity`]). The JSON
+/// keys are exactly these fields.
 #[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
 pub struct Record {
     /// Scene name (`(generated)` when a generated mesh stood in for a missing model).
