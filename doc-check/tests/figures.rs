@@ -12,6 +12,7 @@ fn record(scene: &str, method: &str, path: &str, instructions: u64, ram_bytes: u
         scene: scene.into(),
         method: method.into(),
         path: path.into(),
+        shading: "flat".into(),
         core: "cortex-m4f".into(),
         width: 320,
         height: 240,
@@ -136,7 +137,7 @@ fn a_bad_marker_writes_nothing() {
     let o = figures(dir.path(), &[]);
     assert!(!o.status.success());
     assert!(
-        stderr(&o).contains("README.md:8: ratio: no scene/core/width/height of results/target.json has both a=zbuffer-int"),
+        stderr(&o).contains("README.md:8: ratio: no scene/shading/core/width/height of results/target.json has both a=zbuffer-int"),
         "{}",
         stderr(&o)
     );

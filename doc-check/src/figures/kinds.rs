@@ -215,7 +215,7 @@ fn value(mut params: Params, sources: &mut Sources) -> Result<String, String> {
 /// The fields that tell apart the records a ratio compares, besides the method (and path).
 fn identity(source: &str) -> Result<&'static [&'static str], String> {
     match source {
-        "target" => Ok(&["scene", "core", "width", "height"]),
+        "target" => Ok(&["scene", "shading", "core", "width", "height"]),
         "frames" => Ok(&["scene"]),
         _ => Err(format!(
             "ratio compares methods: results/{source}.json has none"
@@ -250,10 +250,15 @@ fn ratio(mut params: Params, sources: &mut Sources) -> Result<String, String> {
         field(r, "method").map(text).as_deref() == Some(method)
             && path.is_none_or(|p| field(r, "path").map(text).as_deref() == Some(p))
     };
+    // A target record written before smooth ones existed is flat.
     let group = |r: &Value| -> Vec<String> {
         identity
             .iter()
-            .map(|k| field(r, k).map(text).unwrap_or_default())
+            .map(|&k| match field(r, k) {
+                Some(v) => text(v),
+                None if k == "shading" => "flat".into(),
+                None => String::new(),
+            })
             .collect()
     };
     let mut ratios = Vec::new();
@@ -345,6 +350,28 @@ mod tests {
         render(kind, Params::new(params), sources)
     }
 
+    /// A smooth record is not its flat twin's: a ratio pairs records of one shading, the
+    /// records without one being flat.
+    #[test]
+    fn ratios_pair_records_of_one_shading() {
+        let dir = tempfile::tempdir().unwrap();
+        std::fs::create_dir(dir.path().join("results")).unwrap();
+        let records = json!([
+            {"scene": "cow", "method": "peel-front-to-back", "path": "stream", "core": "cortex-m4f",
+             "width": 320, "height": 240, "instructions": 390},
+            {"scene": "cow", "method": "peel-front-to-back", "path": "stream", "shading": "smooth",
+             "core": "cortex-m4f", "width": 320, "height": 240, "instructions": 500},
+            {"scene": "cow", "method": "zbuffer-int", "path": "framebuffer", "shading": "flat",
+             "core": "cortex-m4f", "width": 320, "height": 240, "instructions": 300},
+        ]);
+        std::fs::write(dir.path().join("results/target.json"), records.to_string()).unwrap();
+        let mut s = Sources::new(dir.path());
+        assert_eq!(
+            render_marker("ratio a=peel-front-to-back/stream b=zbuffer-int", &mut s).unwrap(),
+            "1.30x"
+        );
+    }
+
     #[test]
     fn ratios_pair_the_records_of_each_scene_and_core() {
         let (_dir, mut s) = sources();
@@ -363,7 +390,7 @@ mod tests {
         );
         let e = r("ratio scene=teapot a=peel-front-to-back b=zbuffer-int").unwrap_err();
         assert!(
-            e.contains("peel-front-to-back is 2 records for teapot cortex-m4f 320 240"),
+            e.contains("peel-front-to-back is 2 records for teapot flat cortex-m4f 320 240"),
             "{e}"
         );
         let e = r("ratio a=zbuffer-int b=peel-front-to-back/scan-order").unwrap_err();
@@ -372,6 +399,7 @@ mod tests {
             "{e}"
         );
         assert!(r("ratio a=x").unwrap_err().contains("b=METHOD"));
+
         assert!(r("ratio source=frames a=x b=y")
             .unwrap_err()
             .contains("needs field=KEY"));

@@ -14,7 +14,10 @@
 //!   row (a window per row would add 11 bytes and a chip-select cycle a row for nothing);
 //! * spans streamed as drawn: `fill_solid` and `fill_contiguous` of the
 //!   [`DrawTarget`] (as mipidsi 0.10 implements it: a window each, and a window per pixel of
-//!   `draw_iter`).
+//!   `draw_iter`). The builds that draw smooth files stream through [`PanelSink`]: a flat span
+//!   is the same `fill_solid`, a shaded span one window and one burst of its pixels, each
+//!   computed as it is sent and dithered to RGB565 as [`dither_rgb565`] does (what the
+//!   runtime's RGB565 framebuffer stores), not a window per run of one colour.
 //!
 //! Every window set-up is charged in full (11 bytes: mipidsi 0.10 does not remember the
 //! panel's window). `display_writes` counts the driver's separate writes, each its own
@@ -30,6 +33,8 @@ use embedded_graphics_core::pixelcolor::{IntoStorage, Rgb565};
 use embedded_graphics_core::primitives::{PointsIter, Rectangle};
 use embedded_graphics_core::Pixel;
 use peel_runtime::display::Rgb565Framebuffer;
+#[cfg(all(feature = "smooth", not(feature = "scan")))]
+use peel_runtime::display::{dither_rgb565, Colour, RowShade, SpanSink};
 
 /// Bytes of CASET (the window's columns): command and two 16-bit columns.
 const CASET_BYTES: u64 = 5;
@@ -168,6 +173,28 @@ impl Panel {
         Some((first, a.size.width as usize, a.size.height as usize))
     }
 
+    /// One shaded span of row `y`, columns `x_start..x_end` (clipped to the panel): one window
+    /// and one burst of its pixels, two writes, as a flat span's `fill_solid`. Pixel `x` is
+    /// `shade.at(x)` dithered ([`dither_rgb565`]), computed as it is sent (a driver feeding
+    /// the SPI FIFO from the gradient, or filling a line buffer for a DMA).
+    #[cfg(all(feature = "smooth", not(feature = "scan")))]
+    #[inline(never)]
+    pub fn shaded_span(&mut self, y: u32, x_start: u32, x_end: u32, shade: &RowShade) {
+        let x_end = x_end.min(self.width);
+        if y >= self.height || x_start >= x_end {
+            return;
+        }
+        let n = (x_end - x_start) as usize;
+        self.count(n as u64);
+        let at = (y * self.width + x_start) as usize;
+        let Some(run) = self.memory.get_mut(at..at + n) else {
+            return;
+        };
+        for ((slot, colour), x) in run.iter_mut().zip(shade.colours(x_start)).zip(x_start..) {
+            *slot = dither_rgb565(x, y, colour);
+        }
+    }
+
     /// Count a `DrawTarget` write of `pixels` pixels: the window set-up and the pixels, two
     /// writes.
     fn count(&mut self, pixels: u64) {
@@ -244,5 +271,58 @@ impl DrawTarget for Panel {
             self.memory[at..at + w].fill(raw);
         }
         Ok(())
+    }
+}
+
+/// The streamed builds' sink when they draw smooth files: a flat span as
+/// `DrawTargetSink` sends it (one `fill_solid`, its colour converted once per polygon), a
+/// shaded span as one window and one burst of dithered pixels ([`Panel::shaded_span`]).
+#[cfg(all(feature = "smooth", not(feature = "scan")))]
+pub struct PanelSink<'a> {
+    panel: &'a mut Panel,
+    /// The last colour converted, and its RGB565.
+    last: Option<(Colour, Rgb565)>,
+}
+
+#[cfg(all(feature = "smooth", not(feature = "scan")))]
+impl<'a> PanelSink<'a> {
+    /// A sink streaming into `panel`.
+    pub fn new(panel: &'a mut Panel) -> Self {
+        PanelSink { panel, last: None }
+    }
+}
+
+#[cfg(all(feature = "smooth", not(feature = "scan")))]
+impl SpanSink for PanelSink<'_> {
+    fn write_once(&self) -> bool {
+        true
+    }
+
+    fn span(&mut self, y: u32, x_start: u32, x_end: u32, colour: Colour) {
+        if x_start >= x_end {
+            return;
+        }
+        let (Ok(x), Ok(y)) = (i32::try_from(x_start), i32::try_from(y)) else {
+            return;
+        };
+        let c = match self.last {
+            Some((k, c)) if k == colour => c,
+            _ => {
+                let c = Rgb565::from(embedded_graphics_core::pixelcolor::Rgb888::new(
+                    colour.r, colour.g, colour.b,
+                ));
+                self.last = Some((colour, c));
+                c
+            }
+        };
+        let area = Rectangle::new(
+            embedded_graphics_core::geometry::Point::new(x, y),
+            Size::new(x_end - x_start, 1),
+        );
+        let Ok(()) = self.panel.fill_solid(&area, c);
+    }
+
+    fn shaded_span(&mut self, y: u32, x_start: u32, x_end: u32, shade: &RowShade) {
+        self.panel.shaded_span(y, x_start, x_end, shade);
     }
 }

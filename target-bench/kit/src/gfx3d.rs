@@ -18,10 +18,15 @@
 //! | 16 | centre (3 x f64) |
 //! | 40, 52 | bounds min, max relative to the centre, unscaled (3 x f32 each) |
 //! | 64 | scale: library units per scene unit (f32, a power of two) |
-//! | 68 | the mesh's one RGB565 colour (u16), then 0 (u16) |
+//! | 68 | the mesh's one RGB565 colour (u16), then [`VERTEX_NORMALS`] or 0 (u16) |
 //! | 72 | vertices relative to the centre, scaled (3 x f32 each) |
 //! | then | faces: three vertex indices (3 x u32 each: the target's `usize`) |
 //! | then | unit face normals (3 x f32 each), one per face |
+//! | then | with [`VERTEX_NORMALS`]: unit vertex normals (3 x f32 each), one per vertex |
+//!
+//! A smooth scene ([`encode_smooth`]) has vertex normals, for the library's Gouraud mode
+//! (`GouraudLightDir`, one normal per vertex): a vertex is then a point with one of its
+//! corners' normals, a point with several (a crease) being several vertices.
 //!
 //! Every section starts at a multiple of 4 bytes, so a 4-aligned file is a set of aligned
 //! `[f32; 3]` and `[u32; 3]` arrays.
@@ -33,7 +38,9 @@ use peel_runtime::read::Header;
 use crate::bytes::{f32_at, f64_at, u16_at, u32_at};
 
 /// Format version.
-pub const VERSION: u32 = 1;
+pub const VERSION: u32 = 2;
+/// The flag of the header's second `u16`: vertex normals follow the face normals.
+pub const VERTEX_NORMALS: u16 = 1;
 /// The file's first bytes.
 pub const MAGIC: [u8; 4] = *b"PTBG";
 /// Header size.
@@ -106,6 +113,8 @@ pub struct Scene<'a> {
     vertices: &'a [u8],
     faces: &'a [u8],
     normals: &'a [u8],
+    /// One per vertex, or none.
+    vertex_normals: &'a [u8],
     centre: [f64; 3],
     bounds_min: Vec3,
     bounds_max: Vec3,
@@ -137,7 +146,12 @@ impl<'a> Scene<'a> {
         };
         let (vertices, v_end) = section(HEADER, nv)?;
         let (faces, f_end) = section(v_end, nf)?;
-        let (normals, _) = section(f_end, nf)?;
+        let (normals, n_end) = section(f_end, nf)?;
+        let (vertex_normals, _) = if u16_at(bytes, 70) == Some(VERTEX_NORMALS) {
+            section(n_end, nv)?
+        } else {
+            (&bytes[..0], n_end)
+        };
         if nv == 0 {
             return Err(Gfx3dError::Empty);
         }
@@ -154,6 +168,7 @@ impl<'a> Scene<'a> {
             vertices,
             faces,
             normals,
+            vertex_normals,
             centre: [f(16), f(24), f(32)],
             bounds_min: v(40),
             bounds_max: v(52),
@@ -191,6 +206,22 @@ impl<'a> Scene<'a> {
     /// The normals' bytes: `[f32; 3]` each, little-endian, one per face.
     pub fn normal_bytes(&self) -> &'a [u8] {
         self.normals
+    }
+
+    /// The vertex normals' bytes: `[f32; 3]` each, little-endian, one per vertex; empty
+    /// without them (a flat scene).
+    pub fn vertex_normal_bytes(&self) -> &'a [u8] {
+        self.vertex_normals
+    }
+
+    /// Whether the scene has vertex normals (a smooth scene, [`encode_smooth`]).
+    pub fn smooth(&self) -> bool {
+        !self.vertex_normals.is_empty()
+    }
+
+    /// Vertex `i`'s unit normal (zeros past the end, or without vertex normals).
+    pub fn vertex_normal(&self, i: u32) -> [f32; 3] {
+        triple(self.vertex_normals, i).map(f32::from_bits)
     }
 
     /// Vertex `i`, scaled, relative to the centre (zeros past the end).
@@ -280,6 +311,30 @@ fn triple(section: &[u8], i: u32) -> [u32; 3] {
 /// one-colour mesh. `None` when the mesh's bounds are not finite.
 #[cfg(any(feature = "std", test))]
 pub fn encode(mesh: &crate::mesh::Mesh<'_>) -> Option<std::vec::Vec<u8>> {
+    encode_with(mesh, None)
+}
+
+/// As [`encode`], with vertex normals for the library's Gouraud mode: `corners[t]` the unit
+/// normals of triangle `t`'s corners (e.g. the compiler's `corner_normals`, as its smooth files
+/// are shaded). Each distinct point and corner normal is one vertex (a point whose corners
+/// have several normals, on a crease, is several). `None` when the bounds are not finite, or
+/// when `corners` is not one per triangle.
+#[cfg(any(feature = "std", test))]
+pub fn encode_smooth(
+    mesh: &crate::mesh::Mesh<'_>,
+    corners: &[[[f32; 3]; 3]],
+) -> Option<std::vec::Vec<u8>> {
+    if corners.len() != mesh.triangle_count() as usize {
+        return None;
+    }
+    encode_with(mesh, Some(corners))
+}
+
+#[cfg(any(feature = "std", test))]
+fn encode_with(
+    mesh: &crate::mesh::Mesh<'_>,
+    corners: Option<&[[[f32; 3]; 3]]>,
+) -> Option<std::vec::Vec<u8>> {
     use glam::DVec3;
     let header = mesh.header();
     let (lo, hi) = mesh.bounds();
@@ -293,16 +348,24 @@ pub fn encode(mesh: &crate::mesh::Mesh<'_>) -> Option<std::vec::Vec<u8>> {
     } else {
         1.0
     };
-    let vertices: std::vec::Vec<Vec3> = (0..header.vertex_count)
+    let positions: std::vec::Vec<Vec3> = (0..header.vertex_count)
         .map(|i| mesh.vertex(i as u16) * scale)
         .collect();
+    // Smooth: one vertex per distinct point and normal, in order of first use.
+    let mut vertices: std::vec::Vec<Vec3> = std::vec::Vec::new();
+    let mut vertex_normals: std::vec::Vec<[f32; 3]> = std::vec::Vec::new();
+    let mut index: std::collections::HashMap<(u16, [u32; 3]), u32> =
+        std::collections::HashMap::new();
+    if corners.is_none() {
+        vertices.clone_from(&positions);
+    }
     let mut faces = std::vec::Vec::new();
     let mut normals = std::vec::Vec::new();
     let brightness = |c: u16| ((c >> 11) << 3) + (((c >> 5) & 0x3f) << 2) + ((c & 0x1f) << 3);
     let mut colour: Option<u16> = None;
     for t in 0..mesh.triangle_count() {
-        let (corners, rgb) = mesh.triangle(t);
-        let [p, q, s] = corners.map(|i| vertices[usize::from(i)].as_dvec3());
+        let (corner_ids, rgb) = mesh.triangle(t);
+        let [p, q, s] = corner_ids.map(|i| positions[usize::from(i)].as_dvec3());
         let n = (q - p).cross(s - p);
         if n == DVec3::ZERO {
             continue;
@@ -310,11 +373,28 @@ pub fn encode(mesh: &crate::mesh::Mesh<'_>) -> Option<std::vec::Vec<u8>> {
         if colour.is_none_or(|c| brightness(rgb) > brightness(c)) {
             colour = Some(rgb);
         }
-        faces.push(corners.map(u32::from));
+        let face = match corners {
+            None => corner_ids.map(u32::from),
+            Some(corners) => {
+                let mut k = 0;
+                corner_ids.map(|i| {
+                    let normal = corners[t as usize][k];
+                    k += 1;
+                    *index
+                        .entry((i, normal.map(f32::to_bits)))
+                        .or_insert_with(|| {
+                            vertices.push(positions[usize::from(i)]);
+                            vertex_normals.push(normal);
+                            (vertices.len() - 1) as u32
+                        })
+                })
+            }
+        };
+        faces.push(face);
         normals.push(n.normalize().as_vec3());
     }
     let mut out = std::vec::Vec::with_capacity(
-        HEADER + ELEMENT * (vertices.len() + faces.len() + normals.len()),
+        HEADER + ELEMENT * (vertices.len() + faces.len() + normals.len() + vertex_normals.len()),
     );
     out.extend_from_slice(&MAGIC);
     out.extend_from_slice(&VERSION.to_le_bytes());
@@ -333,7 +413,8 @@ pub fn encode(mesh: &crate::mesh::Mesh<'_>) -> Option<std::vec::Vec<u8>> {
     }
     out.extend_from_slice(&scale.to_le_bytes());
     out.extend_from_slice(&colour.unwrap_or(0).to_le_bytes());
-    out.extend_from_slice(&0u16.to_le_bytes());
+    let flag = if corners.is_some() { VERTEX_NORMALS } else { 0 };
+    out.extend_from_slice(&flag.to_le_bytes());
     for v in &vertices {
         words(&mut out, v.to_array().map(f32::to_bits));
     }
@@ -342,6 +423,9 @@ pub fn encode(mesh: &crate::mesh::Mesh<'_>) -> Option<std::vec::Vec<u8>> {
     }
     for n in &normals {
         words(&mut out, n.to_array().map(f32::to_bits));
+    }
+    for n in &vertex_normals {
+        words(&mut out, n.map(f32::to_bits));
     }
     Some(out)
 }
@@ -419,6 +503,43 @@ mod tests {
     }
 
     #[test]
+    fn smooth_scenes_have_a_vertex_per_point_and_normal() {
+        let source = mesh_bytes();
+        let mesh = Mesh::parse(&source).unwrap();
+        assert!(!Scene::parse(&encode(&mesh).unwrap()).unwrap().smooth());
+        // Every corner of point 0 one normal (+y) but in face 1 (+x): point 0 is two
+        // vertices; the others one each (point 4 only in the degenerate triangle: none).
+        let mut corners = std::vec![[[0.0, 1.0, 0.0]; 3]; 5];
+        corners[1][0] = [1.0, 0.0, 0.0];
+        assert!(encode_smooth(&mesh, &corners[..4]).is_none());
+        let bytes = encode_smooth(&mesh, &corners).unwrap();
+        let scene = Scene::parse(&bytes).unwrap();
+        assert!(scene.smooth());
+        assert_eq!((scene.vertex_count(), scene.face_count()), (5, 4));
+        assert_eq!(scene.vertex_normal_bytes().len(), 5 * ELEMENT);
+        assert_eq!(bytes.len(), HEADER + 18 * ELEMENT);
+        // Faces in their order, vertices in order of first use: 0 1 2, then 0' 3 1.
+        assert_eq!(scene.face(0), [0, 1, 2]);
+        assert_eq!(scene.face(1), [3, 4, 1]);
+        assert_eq!(scene.vertex(3), scene.vertex(0));
+        assert_eq!(scene.vertex_normal(3), [1.0, 0.0, 0.0]);
+        assert_eq!(scene.vertex_normal(4), [0.0, 1.0, 0.0]);
+        let flat_bytes = scene_bytes();
+        let flat = Scene::parse(&flat_bytes).unwrap();
+        for t in 0..4 {
+            // The same corners' points and face normals as the flat scene.
+            let points = |s: &Scene, t| s.face(t).map(|i| s.vertex(i));
+            assert_eq!(points(&scene, t), points(&flat, t));
+            assert_eq!(scene.normal(t), flat.normal(t));
+        }
+        // Vertex normals cut short.
+        assert_eq!(
+            Scene::parse(&bytes[..bytes.len() - 1]).err(),
+            Some(Gfx3dError::Truncated)
+        );
+    }
+
+    #[test]
     fn light_is_the_compilers_default_normalised() {
         let l = DVec3::new(0.4, 0.8, 0.45).normalize().as_vec3();
         assert!((Vec3::from_array(LIGHT) - l).length() < 1e-6);
@@ -443,7 +564,7 @@ mod tests {
             Scene::parse(&b).err()
         };
         assert_eq!(corrupt(0, b"PTBM"), Some(Gfx3dError::Magic));
-        assert_eq!(corrupt(4, &2u32.to_le_bytes()), Some(Gfx3dError::Magic));
+        assert_eq!(corrupt(4, &1u32.to_le_bytes()), Some(Gfx3dError::Magic));
         assert_eq!(corrupt(8, &6u32.to_le_bytes()), Some(Gfx3dError::Truncated));
         assert_eq!(
             corrupt(12, &u32::MAX.to_le_bytes()),

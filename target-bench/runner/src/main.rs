@@ -109,8 +109,15 @@ fn run(args: &Args) -> Result<Vec<String>, String> {
     println!("== build: peel");
     tools.build_peel()?;
     let setups = plan::setups(args.only.as_deref());
+    let smooth_setups = plan::smooth_setups(args.only.as_deref(), args.quick);
     let mut variants: Vec<Variant> = setups.iter().map(|s| s.variant).collect();
-    variants.dedup();
+    variants.extend(smooth_setups.iter().map(|s| s.variant));
+    let mut seen = Vec::new();
+    variants.retain(|v| {
+        let new = !seen.contains(v);
+        seen.push(*v);
+        new
+    });
     let cores = [Core::M4f, Core::M0Plus];
     let mut firmware = HashMap::new();
     for core in cores {
@@ -136,7 +143,7 @@ fn run(args: &Args) -> Result<Vec<String>, String> {
     let mut gfx3d_builds: HashMap<(Core, u64), std::path::PathBuf> = HashMap::new();
     for spec in &scenes {
         println!("== scene {}", spec.name);
-        let scene = scenes::compile(&tools, spec, args.shadows, &scene_dir)?;
+        let scene = scenes::compile(&tools, spec, args.shadows, None, &scene_dir)?;
         let depth = peel_runtime::read::Scene::parse(&scene.peel_bytes)
             .map_err(|e| format!("{}: {e}", scene.peel.display()))?
             .header()
@@ -176,7 +183,7 @@ fn run(args: &Args) -> Result<Vec<String>, String> {
                             Entry::Occupied(t) => Rc::clone(t.get()),
                             Entry::Vacant(t) => Rc::clone(t.insert(Rc::new(Truth::new(
                                 &scene.spec.obj,
-                                &scenes::options(scene.shadows),
+                                &scenes::options(scene.shadows, None)?,
                                 &cameras,
                                 size,
                             )?))),
@@ -216,24 +223,13 @@ fn run(args: &Args) -> Result<Vec<String>, String> {
                         timeout_s: if args.quick { 120 } else { 900 },
                     };
                     if setup.variant == Variant::Gfx3d {
-                        // The smallest command buffer that fits the scene over the cameras.
-                        let probe = measure(*setup, &elf).probe(&dir(setup))?;
-                        let commands = probe
-                            .gfx3d_commands
-                            .ok_or("embedded-3dgfx: no command count")?;
-                        elf = match gfx3d_builds.entry((core, commands)) {
-                            Entry::Occupied(e) => e.get().clone(),
-                            Entry::Vacant(e) => {
-                                println!("== build: firmware embedded-3dgfx for {} with {commands} commands", core.name());
-                                e.insert(tools.build_firmware(
-                                    core,
-                                    Variant::Gfx3d,
-                                    Some(commands),
-                                    &firmware_dir,
-                                )?)
-                                .clone()
-                            }
-                        };
+                        elf = gfx3d_elf(
+                            &tools,
+                            &measure(*setup, &elf),
+                            &dir(setup),
+                            &mut gfx3d_builds,
+                            &firmware_dir,
+                        )?;
                     }
                     let run = |setup: plan::Setup| {
                         measure(setup, &elf).measure(&dir(&setup), &refs.expected(setup.variant))
@@ -253,6 +249,33 @@ fn run(args: &Args) -> Result<Vec<String>, String> {
                 }
             }
         }
+        if plan::smooth_scene(&spec.name, args.quick) && !smooth_setups.is_empty() {
+            let size = plan::SMOOTH_SIZE;
+            let truth = match truths.get(&size) {
+                Some(t) => Rc::clone(t),
+                None => Rc::new(Truth::new(
+                    &spec.obj,
+                    &scenes::options(args.shadows, None)?,
+                    &cameras,
+                    size,
+                )?),
+            };
+            let smooth = Smooth {
+                tools: &tools,
+                firmware: &firmware,
+                setups: &smooth_setups,
+                cameras: &cameras,
+                truth: &truth,
+                runs_dir: &runs_dir,
+                firmware_dir: &firmware_dir,
+                timeout_s: if args.quick { 120 } else { 900 },
+                crease: plan::smooth_crease_deg(args.quick),
+            };
+            let (found_records, found) =
+                smooth.run(spec, args.shadows, &scene_dir, &mut gfx3d_builds)?;
+            records.extend(found_records);
+            problems.extend(found);
+        }
     }
     let json = results::json(&records)?;
     write(&out.join("results.json"), json.as_bytes())?;
@@ -260,6 +283,7 @@ fn run(args: &Args) -> Result<Vec<String>, String> {
         &out.join("results.md"),
         (results::markdown(&records)
             + &results::antialiased(&records)
+            + &results::smooth(&records)
             + &skipped
                 .iter()
                 .map(|n| format!("\n{n}\n"))
@@ -284,15 +308,196 @@ fn run(args: &Args) -> Result<Vec<String>, String> {
         }
     }
     println!(
-        "\n{}{}",
+        "\n{}{}{}",
         results::markdown(&records),
-        results::antialiased(&records)
+        results::antialiased(&records),
+        results::smooth(&records)
     );
     println!(
         "written: {} and results.md",
         out.join("results.json").display()
     );
     Ok(problems)
+}
+
+/// embedded-3dgfx's build for `measure`'s scene on its core: a run of the probe build
+/// (`measure.elf`, in `dir`) finds the smallest command buffer that fits the scene over the
+/// cameras, and the build with it is made once per core and size of buffer.
+fn gfx3d_elf(
+    tools: &Tools,
+    measure: &Measure<'_>,
+    dir: &Path,
+    builds: &mut HashMap<(Core, u64), std::path::PathBuf>,
+    firmware_dir: &Path,
+) -> Result<std::path::PathBuf, String> {
+    let probe = measure.probe(dir)?;
+    let commands = probe
+        .gfx3d_commands
+        .ok_or("embedded-3dgfx: no command count")?;
+    let core = measure.core;
+    Ok(match builds.entry((core, commands)) {
+        Entry::Occupied(e) => e.get().clone(),
+        Entry::Vacant(e) => {
+            println!(
+                "== build: firmware embedded-3dgfx for {} with {commands} commands",
+                core.name()
+            );
+            e.insert(tools.build_firmware(core, Variant::Gfx3d, Some(commands), firmware_dir)?)
+                .clone()
+        }
+    })
+}
+
+/// The smooth runs of a scene ([`plan::smooth_setups`]): its smooth file (`peel compile
+/// --shading smooth --crease DEG`, otherwise the flat file's options) on both cores at
+/// [`plan::SMOOTH_SIZE`], each checked against the host's frames of the same file drawn as
+/// the firmware draws it ([`smooth_frame`]), the robust errors counted from the frames.
+struct Smooth<'a> {
+    tools: &'a Tools,
+    firmware: &'a HashMap<(Core, Variant), std::path::PathBuf>,
+    setups: &'a [Setup],
+    cameras: &'a [OrbitAngles],
+    /// The reference at [`plan::SMOOTH_SIZE`] (the OBJ's, as the flat file's).
+    truth: &'a Truth,
+    runs_dir: &'a Path,
+    firmware_dir: &'a Path,
+    timeout_s: u32,
+    /// The smooth files' crease in degrees ([`plan::smooth_crease_deg`]).
+    crease: f64,
+}
+
+impl Smooth<'_> {
+    fn run(
+        &self,
+        spec: &scenes::SceneSpec,
+        shadows: bool,
+        scene_dir: &Path,
+        gfx3d_builds: &mut HashMap<(Core, u64), std::path::PathBuf>,
+    ) -> Result<(Vec<results::Record>, Vec<String>), String> {
+        println!("== scene {} smooth", spec.name);
+        let scene = scenes::compile(self.tools, spec, shadows, Some(self.crease), scene_dir)?;
+        let depth = peel_runtime::read::Scene::parse(&scene.peel_bytes)
+            .map_err(|e| format!("{}: {e}", scene.peel.display()))?
+            .header()
+            .max_depth;
+        if depth as usize > peel_target_kit::STACK {
+            return Err(format!(
+                "{}: its smooth tree is {depth} deep and the firmware's stack holds {}",
+                spec.name,
+                peel_target_kit::STACK
+            ));
+        }
+        let (width, height) = plan::SMOOTH_SIZE;
+        let fail = |e: String| format!("{}: {e}", scene.peel.display());
+        let spans_per_row =
+            peel_compiler::spans::spans_per_row(&scene.peel_bytes, width, height).map_err(fail)?;
+        let needs = |v: Variant| self.setups.iter().any(|s| s.variant == v);
+        let scan_nodes = if needs(Variant::ScanOrder) {
+            peel_compiler::spans::scan_nodes(&scene.peel_bytes, width, height).map_err(fail)?
+        } else {
+            0
+        };
+        let (mut records, mut problems) = (Vec::new(), Vec::new());
+        for core in [Core::M4f, Core::M0Plus] {
+            let integer = core.integer_vertices();
+            // Streamed: dithered as the panel's sink sends shaded spans; scan order: each
+            // pixel's colour rounded, as scan memory keeps it.
+            let frames = |dither: bool, wanted: bool| -> Result<Vec<Vec<u16>>, String> {
+                if !wanted {
+                    return Ok(Vec::new());
+                }
+                (self.cameras.iter())
+                    .map(|&c| smooth_frame(&scene, c, (width, height), integer, dither))
+                    .collect()
+            };
+            let streamed = frames(true, needs(Variant::FtbStream))?;
+            let scanned = frames(false, needs(Variant::ScanOrder))?;
+            for setup in self.setups {
+                let dir = self
+                    .runs_dir
+                    .join(format!("{}-smooth", stem(&scene)))
+                    .join(format!(
+                        "{}-{}-{}",
+                        core.name(),
+                        size_name((width, height)),
+                        setup.label()
+                    ));
+                let mut measure = Measure {
+                    scene: &scene,
+                    core,
+                    size: (width, height),
+                    setup: *setup,
+                    cameras: self.cameras,
+                    spans_per_row: spans_per_row as u32,
+                    scan_nodes: scan_nodes as u32,
+                    pending_pixels: 0,
+                    scanline_lists: (0, 0),
+                    elf: self.firmware[&(core, setup.variant)].clone(),
+                    timeout_s: self.timeout_s,
+                };
+                if setup.variant == Variant::Gfx3d {
+                    measure.elf =
+                        gfx3d_elf(self.tools, &measure, &dir, gfx3d_builds, self.firmware_dir)?;
+                }
+                let expected = Expected {
+                    frames: match setup.variant {
+                        Variant::FtbStream => Some(&streamed[..]),
+                        Variant::ScanOrder => Some(&scanned[..]),
+                        _ => None,
+                    },
+                    robust_errors: Robust::FromFrames,
+                    truth: self.truth,
+                    pending_peaks: None,
+                };
+                let (record, found) = measure.measure(&dir, &expected)?;
+                records.push(record);
+                problems.extend(found);
+            }
+        }
+        Ok((records, problems))
+    }
+}
+
+/// The frame of the smooth `scene` from the orbit camera `angles` at `size` as the streamed
+/// and scan-order firmware draws it: Peel's renderer front to back with span memory (integer
+/// vertices or not), the firmware's view and background, into an RGB565 framebuffer whose
+/// shaded spans are dithered ([`peel_runtime::display::dither_rgb565`], as the panel's sink
+/// sends them) or rounded (as scan memory keeps them), flat spans rounded.
+fn smooth_frame(
+    scene: &Compiled,
+    angles: OrbitAngles,
+    (w, h): (u32, u32),
+    integer: bool,
+    dither: bool,
+) -> Result<Vec<u16>, String> {
+    use peel_runtime::coverage::Coverage;
+    use peel_runtime::display::Rgb565Framebuffer;
+    use peel_runtime::render::{Renderer, Workspace};
+    let fail = |e: String| format!("{}: host smooth frame: {e}", scene.peel.display());
+    let parsed =
+        peel_runtime::read::Scene::parse(&scene.peel_bytes).map_err(|e| fail(e.to_string()))?;
+    let view = peel_target_kit::orbit_view(&parsed.header(), angles, FOV_Y_DEG, w, h)
+        .map_err(|e| fail(e.to_string()))?;
+    let rows = h as usize;
+    let mut workspace: Box<Workspace<{ 1 << 14 }, 64>> = Box::default();
+    let mut intervals = vec![(0u16, 0u16); (w as usize).div_ceil(2) * rows];
+    let mut counts = vec![0u16; rows];
+    let coverage =
+        Coverage::new(&mut intervals, &mut counts, w, h).map_err(|e| fail(e.to_string()))?;
+    let [r, g, b] = BACKGROUND;
+    let mut renderer = Renderer::new(&mut workspace)
+        .span_memory(coverage)
+        .background(Colour::new(r, g, b));
+    if integer {
+        renderer = renderer.integer_vertices();
+    }
+    let mut pixels = vec![0u16; w as usize * rows];
+    let mut fb = Rgb565Framebuffer::new(&mut pixels, w, h).map_err(|e| fail(e.to_string()))?;
+    fb.set_dithering(dither);
+    renderer
+        .draw(&parsed, &view, &mut fb)
+        .map_err(|e| fail(e.to_string()))?;
+    Ok(pixels)
 }
 
 /// A scene's name for paths.

@@ -135,8 +135,9 @@ impl Measure<'_> {
         let (first, second) = (&runs[0], &runs[1]);
 
         let name = format!(
-            "{} {} {} {}",
+            "{}{} {} {} {}",
             self.scene.spec.name,
+            if self.scene.smooth { " smooth" } else { "" },
             self.core.name(),
             size_name(self.size),
             self.setup.label()
@@ -267,6 +268,7 @@ impl Measure<'_> {
             scene: self.scene.spec.name.clone(),
             method: self.setup.variant.method().into(),
             path: self.setup.path(),
+            shading: self.scene.shading().into(),
             core: self.core.name().into(),
             width,
             height,

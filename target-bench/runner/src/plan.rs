@@ -2,6 +2,7 @@
 
 use std::path::PathBuf;
 
+use peel_compiler::shade::normals::DEFAULT_CREASE_DEG;
 use peel_target_kit::config::{OrbitAngles, Variant};
 
 /// A core class and how QEMU emulates it.
@@ -127,6 +128,49 @@ pub fn setups(only: Option<&[Variant]>) -> Vec<Setup> {
         .collect()
 }
 
+/// The smooth runs (each scene's smooth file beside its flat one, [`smooth_scene`]), on both
+/// cores at 320x240: Peel streamed and in scan order, and embedded-3dgfx's Gouraud mode; in
+/// the quick run only Peel streamed. Those of `only`, if given.
+pub fn smooth_setups(only: Option<&[Variant]>, quick: bool) -> Vec<Setup> {
+    let all: &[Variant] = if quick {
+        &[Variant::FtbStream]
+    } else {
+        &[Variant::FtbStream, Variant::ScanOrder, Variant::Gfx3d]
+    };
+    all.iter()
+        .filter(|v| only.is_none_or(|o| o.contains(v)))
+        .map(|&variant| Setup {
+            variant,
+            band_rows: 0,
+        })
+        .collect()
+}
+
+/// Whether the scene named `name` is measured smooth too: the teapot and the cow (or their
+/// generated stand-ins), the demo in the quick run.
+pub fn smooth_scene(name: &str, quick: bool) -> bool {
+    let name = name.trim_end_matches(" (generated)");
+    if quick {
+        name == "demo"
+    } else {
+        name == "teapot" || name == "cow"
+    }
+}
+
+/// The crease of the smooth files, in degrees: `peel compile --shading smooth`'s default
+/// ([`DEFAULT_CREASE_DEG`]), except in the quick run, whose demo scene of boxes and a pyramid
+/// has no faces that close (it would have no smooth polygon): 180, every edge smooth.
+pub fn smooth_crease_deg(quick: bool) -> f64 {
+    if quick {
+        180.0
+    } else {
+        DEFAULT_CREASE_DEG
+    }
+}
+
+/// The image size of the smooth runs.
+pub const SMOOTH_SIZE: (u32, u32) = (320, 240);
+
 /// The tiled z-buffer's band height at `width` pixels a row: the most rows whose colour and
 /// 16-bit depth (4 bytes a pixel) fit in `budget` bytes of RAM beside `other` bytes (its code's
 /// statics and stack); at least one row, at most `height`.
@@ -168,9 +212,12 @@ pub const USAGE: &str = "\
 usage: bash .ci/target [--quick] [--shadows] [--models DIR] [--only VARIANT,...]
 
 Runs Peel's renderer in qemu-system-arm (Cortex-M4F and Cortex-M0+ builds), checks its pixels
-against the host and writes target/peel-target/results.json and results.md.
+against the host and writes target/peel-target/results.json and results.md. The teapot and the
+cow are measured smooth too (peel compile --shading smooth: streamed, in scan order, and
+embedded-3dgfx's Gouraud mode, 320x240, both cores).
 
-  --quick         the demo scene, two cameras, 320x240, both cores, every method (CI)
+  --quick         the demo scene, two cameras, 320x240, both cores, every method, and the
+                  demo's smooth file streamed (CI)
   --shadows       scenes compiled with the default sun's shadows (peel compile --shadows)
   --models DIR    the shared models (default: ../shared/models from the repository root)
   --only LIST     only these firmware variants: ftb-framebuffer, ftb-stream, stream-aa,
@@ -239,6 +286,37 @@ mod tests {
         assert!(parse(&["--only", "zbuf"]).unwrap_err().contains("zbuf"));
         assert!(parse(&["--fast"]).unwrap_err().contains("--fast"));
         assert!(parse(&["--quick=1"]).is_err());
+    }
+
+    #[test]
+    fn smooth_runs() {
+        let names = |setups: Vec<Setup>| setups.iter().map(Setup::label).collect::<Vec<_>>();
+        assert_eq!(
+            names(smooth_setups(None, false)),
+            ["ftb-stream", "scan-order", "embedded-3dgfx"]
+        );
+        let paths: Vec<String> = smooth_setups(None, false).iter().map(Setup::path).collect();
+        assert_eq!(paths, ["stream", "scan-order", "framebuffer"]);
+        assert_eq!(names(smooth_setups(None, true)), ["ftb-stream"]);
+        let only = [Variant::ScanOrder, Variant::Zbuffer];
+        assert_eq!(names(smooth_setups(Some(&only), false)), ["scan-order"]);
+        assert!(smooth_setups(Some(&only), true).is_empty());
+        for (name, quick, smooth) in [
+            ("teapot", false, true),
+            ("cow (generated)", false, true),
+            ("suzanne", false, false),
+            ("demo", false, false),
+            ("demo", true, true),
+            ("teapot", true, false),
+        ] {
+            assert_eq!(smooth_scene(name, quick), smooth, "{name} {quick}");
+        }
+        assert_eq!(smooth_crease_deg(false), 60.0);
+        assert_eq!(smooth_crease_deg(true), 180.0);
+        // Both cores draw at the smooth runs' size.
+        assert!([Core::M4f, Core::M0Plus]
+            .iter()
+            .all(|c| c.sizes().contains(&SMOOTH_SIZE)));
     }
 
     #[test]

@@ -14,9 +14,10 @@ pub const METHODS: [(&str, &str, [u8; 3]); 5] = [
     ("scanline-zbuffer", "bands-1", [220, 130, 0]),
 ];
 
-/// Whether `r` is a plotted record of `scene` at 320x240, and its method's index.
+/// Whether `r` is a plotted record of `scene` at 320x240 (flat shading), and its method's
+/// index.
 pub fn plotted(r: &Record, scene: &str) -> Option<usize> {
-    if r.scene != scene || (r.width, r.height) != (320, 240) {
+    if r.scene != scene || (r.width, r.height) != (320, 240) || !r.is_flat() {
         return None;
     }
     METHODS
@@ -147,6 +148,7 @@ mod tests {
             scene: "teapot".into(),
             method: method.into(),
             path: path.into(),
+            shading: "flat".into(),
             core: core.into(),
             width: 320,
             height: 240,
@@ -210,6 +212,10 @@ mod tests {
         assert_eq!(plotted(&records[3], "teapot"), Some(3));
         assert_eq!(plotted(&records[4], "teapot"), None);
         assert_eq!(plotted(&records[0], "cow"), None);
+        // A smooth record is not the flat one's point.
+        let mut smooth = records[0].clone();
+        smooth.shading = "smooth".into();
+        assert_eq!(plotted(&smooth, "teapot"), None);
         let png = plot(&records, "teapot").unwrap().unwrap();
         let image = image::load_from_memory(&png).unwrap();
         assert_eq!((image.width(), image.height()), (900, 600));

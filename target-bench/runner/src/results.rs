@@ -5,7 +5,8 @@
 
 use serde::{Deserialize, Serialize};
 
-/// One scene x method x core x size x display path. The JSON keys are exactly these fields.
+/// One scene x method x display path x shading x core x size ([`Record::identity`]). The JSON
+/// keys are exactly these fields.
 #[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
 pub struct Record {
     /// Scene name (`(generated)` when a generated mesh stood in for a missing model).
@@ -17,6 +18,13 @@ pub struct Record {
     /// `stream` (each span sent as drawn, no pixel memory) or `bands-N` (a buffer of N rows,
     /// sent when drawn; the scanline z-buffer's is one row).
     pub path: String,
+    /// `flat` (each polygon one colour: Peel's faceted or unlit files, the peers' per-face
+    /// lighting) or `smooth` (colours interpolated across polygons: Peel's smooth files,
+    /// embedded-3dgfx's Gouraud mode). Part of a record's identity: flat and smooth records of
+    /// one scene, method, path, core and size stand side by side. Records written before it
+    /// existed read as `flat`.
+    #[serde(default = "flat")]
+    pub shading: String,
     /// `cortex-m4f` or `cortex-m0plus`.
     pub core: String,
     /// Image width.
@@ -59,6 +67,37 @@ pub struct Record {
     pub pending_fallback: Option<bool>,
     /// Two runs gave the same instruction count for every frame (and the same pixels).
     pub deterministic: bool,
+}
+
+/// The shading of a record without one (written before smooth records existed).
+fn flat() -> String {
+    FLAT.into()
+}
+
+/// [`Record::shading`] of flat records.
+pub const FLAT: &str = "flat";
+/// [`Record::shading`] of smooth records.
+pub const SMOOTH: &str = "smooth";
+
+impl Record {
+    /// What tells a record apart from every other of a run: scene, method, path, shading,
+    /// core and size (the key results are compared and looked up by).
+    pub fn identity(&self) -> (&str, &str, &str, &str, &str, u32, u32) {
+        (
+            &self.scene,
+            &self.method,
+            &self.path,
+            &self.shading,
+            &self.core,
+            self.width,
+            self.height,
+        )
+    }
+
+    /// Whether the record is of flat shading.
+    pub fn is_flat(&self) -> bool {
+        self.shading == FLAT
+    }
 }
 
 /// The records as pretty JSON.
@@ -115,10 +154,11 @@ const fn figures(key: &'static str, cell: fn(&Record) -> String) -> Column {
 }
 
 /// Every field of [`Record`] as a column, in the JSON's order.
-pub const COLUMNS: [Column; 20] = [
+pub const COLUMNS: [Column; 21] = [
     words("scene", |r| r.scene.clone()),
     words("method", |r| r.method.clone()),
     words("path", |r| r.path.clone()),
+    words("shading", |r| r.shading.clone()),
     words("core", |r| r.core.clone()),
     figures("width", |r| r.width.to_string()),
     figures("height", |r| r.height.to_string()),
@@ -205,11 +245,14 @@ pub fn columns_of<'k>(keys: &[&'k str]) -> Result<Vec<(&'k str, &'static Column)
         .collect()
 }
 
-/// The records as a markdown table, the columns of [`RESULTS_MD`] in the JSON's order.
+/// The records as a markdown table (`results.md`): the columns of [`RESULTS_MD`] and the
+/// shading after the path, in the JSON's order. (The docs' default table keeps
+/// [`RESULTS_MD`]: their committed records predate the shading.)
 pub fn markdown(records: &[Record]) -> String {
-    let columns: Vec<(&str, &Column)> = RESULTS_MD
+    let columns: Vec<(&str, &Column)> = COLUMNS
         .iter()
-        .filter_map(|&k| Some((k, column(k)?)))
+        .filter(|c| c.key == "shading" || RESULTS_MD.contains(&c.key))
+        .map(|c| (c.key, c))
         .collect();
     table(records, &columns)
 }
@@ -219,10 +262,11 @@ pub fn markdown(records: &[Record]) -> String {
 /// pixels (153,600), `.text` growth against the streamed build's (bytes).
 pub const AA_GOALS: (u64, f64, f64, i64) = (49_152, 1.8, 1.4, 3_000);
 
-/// Whether `r` is Peel's streamed frame of the scene, core and size of `aa`.
+/// Whether `r` is Peel's streamed frame of the scene, shading, core and size of `aa`.
 fn stream_of(r: &Record, aa: &Record) -> bool {
     r.method == "peel-front-to-back"
         && r.path == "stream"
+        && r.shading == aa.shading
         && (r.scene.as_str(), r.core.as_str(), r.width, r.height)
             == (aa.scene.as_str(), aa.core.as_str(), aa.width, aa.height)
 }
@@ -380,6 +424,90 @@ pub fn antialiased_goals(records: &[Record]) -> String {
     s
 }
 
+/// Goals for smooth frames against their flat twins: instructions of the streamed frame (at
+/// most this multiple of the flat one's), RAM of the streamed frame and RAM of the scan-order
+/// frame on the Cortex-M4F (bytes).
+pub const SMOOTH_GOALS: (f64, u64, u64) = (1.3, 32_768, 49_152);
+
+/// The flat record of `smooth`'s scene, method, path, core and size.
+fn flat_twin<'r>(records: &'r [Record], smooth: &Record) -> Option<&'r Record> {
+    records.iter().find(|r| {
+        r.is_flat() && {
+            let (a, b) = (r.identity(), smooth.identity());
+            (a.0, a.1, a.2, a.4, a.5, a.6) == (b.0, b.1, b.2, b.4, b.5, b.6)
+        }
+    })
+}
+
+/// The smooth frames' section of `results.md`: each smooth record beside its flat twin (the
+/// same scene, method, path, core and size), their instructions and RAM and the ratios, and
+/// whether each meets [`SMOOTH_GOALS`] where one applies. Empty without smooth records.
+pub fn smooth(records: &[Record]) -> String {
+    let smooth: Vec<&Record> = records.iter().filter(|r| !r.is_flat()).collect();
+    if smooth.is_empty() {
+        return String::new();
+    }
+    let (ratio_goal, stream_ram, scan_ram) = SMOOTH_GOALS;
+    let mut s = String::from(
+        "\n## Smooth frames against flat\n\n\
+         | scene | method | path | core | size | instructions | flat | x flat | ram_bytes | flat | \
+         display_bytes | display_writes | differing_pixels | goals |\n\
+         |---|---|---|---|---|--:|--:|--:|--:|--:|--:|--:|--:|---|\n",
+    );
+    let dash = || "-".to_string();
+    for r in smooth {
+        let flat = flat_twin(records, r);
+        let x = flat.map(|f| r.instructions as f64 / f.instructions.max(1) as f64);
+        let peel = r.method == "peel-front-to-back";
+        let mut goals = Vec::new();
+        if peel && r.path == "stream" {
+            if let Some(x) = x {
+                goals.push(format!(
+                    "x flat <= {ratio_goal}: {}",
+                    if x <= ratio_goal { "yes" } else { "NO" }
+                ));
+            }
+            goals.push(format!(
+                "RAM <= {}: {}",
+                grouped(stream_ram),
+                if r.ram_bytes <= stream_ram {
+                    "yes"
+                } else {
+                    "NO"
+                }
+            ));
+        }
+        if peel && r.path == "scan-order" && r.core == "cortex-m4f" {
+            goals.push(format!(
+                "RAM <= {}: {}",
+                grouped(scan_ram),
+                if r.ram_bytes <= scan_ram { "yes" } else { "NO" }
+            ));
+        }
+        s.push_str(&peel_compiler::tools::markdown_row([
+            r.scene.clone(),
+            r.method.clone(),
+            r.path.clone(),
+            r.core.clone(),
+            format!("{}x{}", r.width, r.height),
+            grouped(r.instructions),
+            flat.map_or_else(dash, |f| grouped(f.instructions)),
+            x.map_or_else(dash, |x| format!("{x:.2}x")),
+            grouped(r.ram_bytes),
+            flat.map_or_else(dash, |f| grouped(f.ram_bytes)),
+            grouped(r.display_bytes),
+            grouped(r.display_writes),
+            or_dash(r.differing_pixels),
+            if goals.is_empty() {
+                dash()
+            } else {
+                goals.join("; ")
+            },
+        ]));
+    }
+    s
+}
+
 /// The scenes of the README's table of Peel and the alternatives that `records` has: the
 /// teapot and the cow, or the generated meshes that stood in for them.
 pub fn alternatives_scenes(records: &[Record]) -> Vec<&'static str> {
@@ -453,6 +581,7 @@ mod tests {
             scene: "demo".into(),
             method: "peel-front-to-back".into(),
             path: "framebuffer".into(),
+            shading: "flat".into(),
             core: "cortex-m4f".into(),
             width: 320,
             height: 240,
@@ -486,6 +615,7 @@ mod tests {
                 "scene",
                 "method",
                 "path",
+                "shading",
                 "core",
                 "width",
                 "height",
@@ -582,15 +712,67 @@ mod tests {
     }
 
     #[test]
+    fn records_without_a_shading_read_as_flat() {
+        let j = json(&[record()])
+            .unwrap()
+            .replace("\"shading\": \"flat\",", "");
+        assert!(!j.contains("shading"));
+        let back: Vec<Record> = serde_json::from_str(&j).unwrap();
+        assert_eq!(back, [record()]);
+        assert!(back[0].is_flat());
+    }
+
+    #[test]
+    fn flat_and_smooth_records_are_told_apart() {
+        let mut smooth_stream = record();
+        (smooth_stream.path, smooth_stream.shading) = ("stream".into(), SMOOTH.into());
+        (smooth_stream.instructions, smooth_stream.ram_bytes) = (2_000_000, 30_000);
+        let mut flat_stream = smooth_stream.clone();
+        (flat_stream.shading, flat_stream.instructions) = (FLAT.into(), 1_600_000);
+        assert_ne!(smooth_stream.identity(), flat_stream.identity());
+        let mut scan = smooth_stream.clone();
+        (scan.path, scan.ram_bytes) = ("scan-order".into(), 50_000);
+        let records = [record(), flat_stream.clone(), smooth_stream.clone(), scan];
+        assert_eq!(flat_twin(&records, &smooth_stream), Some(&flat_stream));
+        let md = smooth(&records);
+        let lines: Vec<&str> = md.lines().filter(|l| l.starts_with("| demo")).collect();
+        assert_eq!(lines.len(), 2, "{md}");
+        assert!(
+            lines[0].contains(
+                "| stream | cortex-m4f | 320x240 | 2 000 000 | 1 600 000 | 1.25x | 30 000 | 30 000 |"
+            ),
+            "{md}"
+        );
+        assert!(
+            lines[0].ends_with("| x flat <= 1.3: yes; RAM <= 32 768: yes |"),
+            "{md}"
+        );
+        // No flat scan-order twin: no ratio; over the scan-order RAM goal.
+        assert!(
+            lines[1].contains("| 2 000 000 | - | - | 50 000 | - |"),
+            "{md}"
+        );
+        assert!(lines[1].ends_with("| RAM <= 49 152: NO |"), "{md}");
+        assert_eq!(smooth(&[record()]), "");
+        // The anti-aliased table and the alternatives compare flat records only.
+        let mut aa = smooth_stream.clone();
+        aa.method = "peel-front-to-back-aa".into();
+        aa.shading = FLAT.into();
+        assert!(stream_of(&flat_stream, &aa) && !stream_of(&smooth_stream, &aa));
+    }
+
+    #[test]
     fn table_rows() {
         let md = markdown(&[record()]);
         let lines: Vec<&str> = md.lines().collect();
         assert_eq!(lines.len(), 3);
         assert_eq!(
             lines[2],
-            "| demo | peel-front-to-back | framebuffer | cortex-m4f | 320 | 240 | 38 | 1 683 160 | \
-             172 000 | 153 600 | 63 302 | 153 611 | 2 | 0 | 3 | yes |"
+            "| demo | peel-front-to-back | framebuffer | flat | cortex-m4f | 320 | 240 | 38 | \
+             1 683 160 | 172 000 | 153 600 | 63 302 | 153 611 | 2 | 0 | 3 | yes |"
         );
+        // The docs' default columns are without the shading.
+        assert!(!RESULTS_MD.contains(&"shading"));
         assert_eq!(grouped(0), "0");
         assert_eq!(grouped(999), "999");
         assert_eq!(grouped(1000), "1 000");

@@ -9,6 +9,8 @@ use std::path::{Path, PathBuf};
 use glam::{DVec3, Vec3};
 use peel_compiler::compile::{compile_mesh, CompileOptions};
 use peel_compiler::load::{load_obj, Mesh};
+use peel_compiler::shade::normals::{corner_normals, Crease};
+use peel_compiler::shade::Surface;
 use peel_compiler::tools::scenes;
 use peel_runtime::display::Colour;
 use peel_runtime::read::Scene;
@@ -105,7 +107,8 @@ pub struct Compiled {
     /// The mesh with ids for colours ([`peel_target_kit::mesh::with_ids`]), for id images.
     pub ids_mesh_bytes: Vec<u8>,
     /// embedded-3dgfx's asset ([`peel_target_kit::gfx3d`]): the same mesh, scaled, with face
-    /// normals.
+    /// normals, and for a smooth scene vertex normals (its corners' as the compiler shades
+    /// them).
     pub gfx3d: PathBuf,
     /// Its bytes.
     pub gfx3d_bytes: Vec<u8>,
@@ -113,16 +116,35 @@ pub struct Compiled {
     pub triangles: u64,
     /// Compiled with the default sun's shadows (`--shadows`).
     pub shadows: bool,
+    /// Compiled smooth (`--shading smooth`, the default crease).
+    pub smooth: bool,
 }
 
-/// Compile `spec` into `dir` with `peel compile` and export its mesh.
+impl Compiled {
+    /// The records' `shading`.
+    pub fn shading(&self) -> &'static str {
+        if self.smooth {
+            peel_target_runner::results::SMOOTH
+        } else {
+            peel_target_runner::results::FLAT
+        }
+    }
+}
+
+/// Compile `spec` into `dir` with `peel compile` (smooth, with a crease in degrees: plus
+/// `--shading smooth --crease DEG`) and export its mesh.
 pub fn compile(
     tools: &Tools,
     spec: &SceneSpec,
     shadows: bool,
+    crease: Option<f64>,
     dir: &Path,
 ) -> Result<Compiled, String> {
-    let stem = spec.name.replace(" (generated)", "-generated");
+    let smooth = crease.is_some();
+    let mut stem = spec.name.replace(" (generated)", "-generated");
+    if smooth {
+        stem.push_str("-smooth");
+    }
     let peel = dir.join(format!("{stem}.peel"));
     let stats = dir.join(format!("{stem}.json"));
     let mut args: Vec<&std::ffi::OsStr> = vec![
@@ -136,6 +158,15 @@ pub fn compile(
     if shadows {
         args.push("--shadows".as_ref());
     }
+    let crease_arg = crease.map(|c| c.to_string());
+    if let Some(c) = &crease_arg {
+        args.extend::<[&std::ffi::OsStr; 4]>([
+            "--shading".as_ref(),
+            "smooth".as_ref(),
+            "--crease".as_ref(),
+            c.as_ref(),
+        ]);
+    }
     tools.peel(&args)?;
     let read =
         |p: &Path| std::fs::read(p).map_err(|e| format!("{}: cannot read: {e}", p.display()));
@@ -145,7 +176,7 @@ pub fn compile(
     let triangles = json["input_triangles"]
         .as_u64()
         .ok_or_else(|| format!("{}: no input_triangles", stats.display()))?;
-    let mesh_bytes = export_mesh(&spec.obj, &peel_bytes, &options(shadows))?;
+    let mesh_bytes = export_mesh(&spec.obj, &peel_bytes, &options(shadows, crease)?)?;
     let ids_mesh_bytes = peel_target_kit::mesh::with_ids(&mesh_bytes).ok_or_else(|| {
         format!(
             "{}: an id image holds fewer than 65,535 triangles",
@@ -155,7 +186,13 @@ pub fn compile(
     let gfx3d_bytes = {
         let parsed = peel_target_kit::mesh::Mesh::parse(&mesh_bytes)
             .map_err(|e| format!("{}: {e}", spec.obj.display()))?;
-        peel_target_kit::gfx3d::encode(&parsed).ok_or_else(|| {
+        let encoded = if let Some(crease) = crease {
+            let corners = gfx3d_corner_normals(&spec.obj, crease)?;
+            peel_target_kit::gfx3d::encode_smooth(&parsed, &corners)
+        } else {
+            peel_target_kit::gfx3d::encode(&parsed)
+        };
+        encoded.ok_or_else(|| {
             format!(
                 "{}: too large for embedded-3dgfx's asset",
                 spec.obj.display()
@@ -179,16 +216,35 @@ pub fn compile(
         gfx3d_bytes,
         triangles,
         shadows,
+        smooth,
     })
 }
 
-/// `peel compile`'s options, with `--shadows` or not: the default sun's shadows baked.
-pub fn options(shadows: bool) -> CompileOptions {
+/// `peel compile`'s options, with `--shadows` or not (the default sun's shadows baked), with
+/// `--shading smooth --crease DEG` or not.
+pub fn options(shadows: bool, crease: Option<f64>) -> Result<CompileOptions, String> {
     let mut options = CompileOptions::default();
     if shadows {
         options.build.shadows = options.shading.light();
     }
-    options
+    if let Some(deg) = crease {
+        options.surface = Surface::Smooth(crease_of(deg)?);
+    }
+    Ok(options)
+}
+
+fn crease_of(deg: f64) -> Result<Crease, String> {
+    Crease::new(deg).map_err(|e| format!("crease {deg}: {e}"))
+}
+
+/// The unit normal of each corner of each triangle of `obj`, as the compiler shades a smooth
+/// file with the crease `crease` in degrees ([`corner_normals`]), for embedded-3dgfx's Gouraud mode.
+fn gfx3d_corner_normals(obj: &Path, crease: f64) -> Result<Vec<[[f32; 3]; 3]>, String> {
+    let mesh = load_obj(obj).map_err(|e| format!("{}: {e}", obj.display()))?;
+    Ok(corner_normals(&mesh.triangles, crease_of(crease)?)
+        .into_iter()
+        .map(|c| c.map(|n| n.as_vec3().to_array()))
+        .collect())
 }
 
 /// The source triangles of `obj` as the z-buffer's mesh, framed by the header of its `.peel`

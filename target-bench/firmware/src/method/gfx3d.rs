@@ -1,6 +1,7 @@
 //! embedded-3dgfx 0.7.2 as a firmware engineer would set it up for a lit mesh: its z-buffer
 //! path, `K3dengine::record` into a command buffer then `execute`, with per-face Lambert
-//! colours (`RenderMode::SolidLightDir`), a 16-bit depth buffer (`depth-u16`) and an RGB565
+//! colours (`RenderMode::SolidLightDir`), or for a smooth scene (vertex normals) its
+//! per-vertex Lambert colours interpolated (`RenderMode::GouraudLightDir`), a 16-bit depth buffer (`depth-u16`) and an RGB565
 //! framebuffer, sent to the panel as one block (`Panel::write_framebuffer`). One colour for the whole mesh,
 //! lit from the compiler's default light direction `(0.4, 0.8, 0.45)` (towards the light, in
 //! scene axes: [`LIGHT`]). The mesh, its faces and their normals stay in code memory
@@ -179,12 +180,19 @@ impl Method {
             in_place(scene.vertex_bytes())?,
             in_place(scene.face_bytes())?,
         )
-        .with_normals(in_place(scene.normal_bytes())?);
+        .with_normals(in_place(scene.normal_bytes())?)
+        .with_vertex_normals(in_place(scene.vertex_normal_bytes())?);
         let mut mesh = K3dMesh::new(geometry);
         mesh.color = Rgb565::from(RawU16::new(scene.colour()));
         // The library negates the light's z before its dot product with the normal: this is
         // the direction towards the light `LIGHT` (the compiler's default) in scene axes.
-        mesh.render_mode = RenderMode::SolidLightDir(Vector3::new(LIGHT[0], LIGHT[1], -LIGHT[2]));
+        let light = Vector3::new(LIGHT[0], LIGHT[1], -LIGHT[2]);
+        // A smooth scene (vertex normals): each corner lit, the colours interpolated.
+        mesh.render_mode = if scene.smooth() {
+            RenderMode::GouraudLightDir(light)
+        } else {
+            RenderMode::SolidLightDir(light)
+        };
         cortex_m::singleton!(: () = ()).ok_or(Failure::Host("command buffer taken twice"))?;
         // SAFETY: the singleton above makes this run once, so this is the only reference.
         let commands = unsafe { &mut *core::ptr::addr_of_mut!(COMMAND_BUFFER) };

@@ -3,8 +3,10 @@
 
 use peel_runtime::camera::LocalView;
 use peel_runtime::coverage::Coverage;
+#[cfg(not(any(feature = "scan", feature = "smooth")))]
+use peel_runtime::display::DrawTargetSink;
 #[cfg(not(feature = "scan"))]
-use peel_runtime::display::{DrawTargetSink, Rgb565Framebuffer};
+use peel_runtime::display::Rgb565Framebuffer;
 #[cfg(feature = "aa")]
 use peel_runtime::pending::Pending;
 use peel_runtime::read::{Header, Scene};
@@ -171,9 +173,18 @@ impl Method {
         if matches!(VARIANT, Variant::FtbStream | Variant::StreamAa) {
             // Every span straight to the panel, the uncovered ones last (anti-aliased: the
             // pending pixels before them).
-            let mut sink = DrawTargetSink::new(panel);
-            let stats = self.renderer.draw(scene, view, &mut sink)?;
-            let Ok(()) = sink.finish();
+            // Builds that draw smooth files: the panel's own sink, a shaded span one write.
+            #[cfg(feature = "smooth")]
+            let stats =
+                self.renderer
+                    .draw(scene, view, &mut crate::display::PanelSink::new(panel))?;
+            #[cfg(not(feature = "smooth"))]
+            let stats = {
+                let mut sink = DrawTargetSink::new(panel);
+                let stats = self.renderer.draw(scene, view, &mut sink)?;
+                let Ok(()) = sink.finish();
+                stats
+            };
             #[cfg(feature = "aa")]
             {
                 self.antialiased = stats.antialiased;
