@@ -241,8 +241,9 @@ mod tests {
         let mut t = counting::<Rgb888>(usize::MAX);
         let mut sink = DrawTargetSink::new(&mut t);
         let shade = RowShade {
-            base: [10 << 21, 200 << 21, 0],
-            step: [20 << 21, -(15 << 21), 1 << 20],
+            base: 10 << 21,
+            step: 20 << 21,
+            colour: Colour::new(255, 200, 100),
         };
         sink.shaded_span(2, 1, 7, &shade);
         assert_eq!(sink.finish(), Ok(()));

@@ -428,16 +428,19 @@ mod tests {
         let f = SHADE_FRACTION_BITS;
         [
             RowShade {
-                base: [3 << f, 250 << f, -(40 << f)],
-                step: [(1 << f) / 3, -(7 << f) / 5, 23 << f],
+                base: 3 << f,
+                step: (7 << f) / 5,
+                colour: Colour::new(255, 120, 9),
             },
             RowShade {
-                base: [i32::MAX - 5, (128 << f) + 1, 17 << f],
-                step: [1 << (f - 4), -(1 << (f - 6)), 0],
+                base: i32::MAX - 5,
+                step: 1 << (f - 4),
+                colour: Colour::new(40, 255, 200),
             },
             RowShade {
-                base: [(1000i32 << f).wrapping_mul(9), -(300 << f), 0],
-                step: [-(3 << f), 11 << f, 1],
+                base: (1000i32 << f).wrapping_mul(9),
+                step: -(3 << f),
+                colour: Colour::grey(255),
             },
             RowShade::flat(Colour::new(9, 99, 199)),
         ]

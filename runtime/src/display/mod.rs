@@ -34,7 +34,7 @@ pub use framebuffer::{
     Xrgb8888, Xrgb8888Framebuffer,
 };
 pub use nowhere::Nowhere;
-pub use row_shade::{RowColours, RowShade, SHADE_FRACTION_BITS};
+pub use row_shade::{shaded, RowColours, RowShade, SHADE_FRACTION_BITS};
 pub(crate) use shifted::Shifted;
 pub use span_paint::SpanPaint;
 
@@ -155,11 +155,11 @@ mod tests {
     #[test]
     fn the_default_shaded_span_sends_runs_of_one_colour() {
         let f = SHADE_FRACTION_BITS;
-        // Red climbs a level every four pixels, green is flat, blue falls to 0 at x = 6 and
-        // clamps there.
+        // The intensity climbs a level every four pixels.
         let shade = RowShade {
-            base: [(10 << f) + (1 << (f - 3)), 7 << f, 30 << f],
-            step: [1 << (f - 2), 0, -(5 << f)],
+            base: (10 << f) + (1 << (f - 3)),
+            step: 1 << (f - 2),
+            colour: Colour::new(255, 30, 128),
         };
         let mut mock = MockTarget::<16, 2>::new();
         mock.shaded_span(1, 3, 16, &shade);
@@ -168,9 +168,9 @@ mod tests {
             assert_eq!(mock.get(x, 1), (x >= 3).then(|| shade.at(x as u32)), "{x}");
             assert!(!mock.written(x, 0));
         }
-        // Runs from 3, 4, 5 (blue), 6 (both), 10 and 14 (red).
-        assert_eq!(mock.spans(), 6);
-        assert_eq!(mock.get(9, 1), Some(Colour::new(12, 7, 0)));
+        // One span a run of one colour: intensity 11 from 3, 12 from 6, 13 from 10, 14 from 14.
+        assert_eq!(mock.spans(), 4);
+        assert_eq!(mock.get(9, 1), Some(shaded(Colour::new(255, 30, 128), 12)));
         // `at` and the colours iterator agree, far along a row too.
         let mut colours = shade.colours(1000);
         assert!((1000..1100).all(|x| colours.next() == Some(shade.at(x))));
@@ -179,8 +179,9 @@ mod tests {
     #[test]
     fn shifted_forwards_shaded_spans() {
         let shade = RowShade {
-            base: [0, 100 << SHADE_FRACTION_BITS, 0],
-            step: [(1 << SHADE_FRACTION_BITS) / 7, 0, 9 << SHADE_FRACTION_BITS],
+            base: 0,
+            step: 9 << SHADE_FRACTION_BITS,
+            colour: Colour::new(255, 100, 30),
         };
         let mut buf = [0u16; 8 * 6];
         let mut fb = Rgb565Framebuffer::new(&mut buf, 8, 6).unwrap();

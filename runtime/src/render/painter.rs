@@ -10,7 +10,7 @@
 use glam::{Vec2, Vec3};
 
 use super::paint::{id_colour, Paint};
-use super::shade::{corner_colour, PlaneShade};
+use super::shade::PlaneShade;
 use super::{FrameStats, Source};
 use crate::camera::LocalView;
 use crate::clip::{self, Frustum};
@@ -336,8 +336,8 @@ impl<const SUB: u32> Painter<'_, '_, SUB> {
                 let kd = scene.colour_seen(index, polygon, interior);
                 let pts = self.points.get(..count).unwrap_or(&[]);
                 let at = |i: usize| clipped.get(i).copied().unwrap_or_default();
-                clipped_gradient = Some(Gradient::of(pts, |i| {
-                    PlaneShade::colour(kd, plane.at(at(i)))
+                clipped_gradient = Some(Gradient::of(pts, kd, |i| {
+                    PlaneShade::level(plane.at(at(i)))
                 }));
             }
             count
@@ -386,9 +386,7 @@ impl<const SUB: u32> Painter<'_, '_, SUB> {
         // where the gradient is flat.
         let gradient = side.and_then(|side| {
             let g = clipped_gradient.unwrap_or_else(|| {
-                Gradient::of(pts, |i| {
-                    corner_colour(colour, scene.corner_shade(polygon, i as u32, side))
-                })
+                Gradient::of(pts, colour, |i| scene.corner_shade(polygon, i as u32, side))
             });
             match g.flat_colour() {
                 Some(flat) => {

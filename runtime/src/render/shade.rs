@@ -1,23 +1,9 @@
-//! Smooth shading in a frame: a smooth polygon's colour at each of its fill's points, which
-//! its [`Gradient`](crate::fill::gradient::Gradient) interpolates between. A corner takes the
-//! material colour times its stored intensity, as the compiler rounds it; a point that
-//! clipping makes takes the intensity of the polygon's plane at it ([`PlaneShade`]), so that
-//! a polygon cut by the window shades as the whole does.
+//! Smooth shading in a frame: the intensity at a point that clipping makes on a smooth
+//! polygon, which its [`Gradient`](crate::fill::gradient::Gradient) interpolates with the
+//! corners' stored ones: the polygon's plane's at it ([`PlaneShade`]), so that a polygon cut
+//! by the window shades as the whole does.
 
 use glam::Vec3;
-
-use crate::display::Colour;
-use crate::read::layout::shaded_channel;
-
-/// The colour intensity `shade` (255: full) gives the material colour `kd`.
-#[inline]
-pub(super) fn corner_colour(kd: Colour, shade: u8) -> Colour {
-    Colour::new(
-        shaded_channel(kd.r, shade),
-        shaded_channel(kd.g, shade),
-        shaded_channel(kd.b, shade),
-    )
-}
 
 /// A polygon's intensity as an affine function of camera-space position on its plane,
 /// through three of its corners: what a point clipping makes takes. Clamped to the three
@@ -67,27 +53,15 @@ impl PlaneShade {
         }
     }
 
-    /// The colour intensity `s` (0 to 255) gives `kd`, rounded.
-    pub(super) fn colour(kd: Colour, s: f32) -> Colour {
-        let channel = |c: u8| (f32::from(c) * s / 255.0 + 0.5) as u8;
-        Colour::new(channel(kd.r), channel(kd.g), channel(kd.b))
+    /// Intensity `s` (0 to 255) rounded to 8 bits.
+    pub(super) fn level(s: f32) -> u8 {
+        (s + 0.5) as u8
     }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn corner_colours_round_as_the_compiler_does() {
-        for kd in [0u8, 1, 77, 128, 254, 255] {
-            for s in [0u8, 1, 76, 127, 128, 200, 255] {
-                let exact = f64::from(kd) * f64::from(s) / 255.0;
-                let c = corner_colour(Colour::grey(kd), s);
-                assert_eq!(f64::from(c.r), exact.round(), "kd {kd} s {s}");
-            }
-        }
-    }
 
     #[test]
     fn the_plane_gives_the_corners_and_interpolates_between() {
@@ -104,10 +78,8 @@ mod tests {
         assert!((plane.at(mid) - 170.0).abs() < 1e-3);
         // Outside the triangle: clamped to the corners' range.
         assert_eq!(plane.at(corners[1] * 3.0 - corners[0] * 2.0), 240.0);
-        assert_eq!(
-            PlaneShade::colour(Colour::grey(255), 170.0),
-            Colour::grey(170)
-        );
+        assert_eq!(PlaneShade::level(170.4), 170);
+        assert_eq!(PlaneShade::level(170.5), 171);
         // Degenerate: the first corner's intensity.
         let flat = PlaneShade::new([corners[0]; 3], [9, 200, 30]);
         assert_eq!(flat.at(corners[1]), 9.0);

@@ -131,8 +131,8 @@ impl Compiled {
     }
 }
 
-/// Compile `spec` into `dir` with `peel compile` (smooth, with a crease in degrees: plus
-/// `--shading smooth --crease DEG`) and export its mesh.
+/// Compile `spec` into `dir` with `peel compile --shading faceted`, or smooth with a crease
+/// in degrees (`--shading smooth --crease DEG`), and export its mesh.
 pub fn compile(
     tools: &Tools,
     spec: &SceneSpec,
@@ -166,6 +166,8 @@ pub fn compile(
             "--crease".as_ref(),
             c.as_ref(),
         ]);
+    } else {
+        args.extend::<[&std::ffi::OsStr; 2]>(["--shading".as_ref(), "faceted".as_ref()]);
     }
     tools.peel(&args)?;
     let read =
@@ -220,10 +222,13 @@ pub fn compile(
     })
 }
 
-/// `peel compile`'s options, with `--shadows` or not (the default sun's shadows baked), with
-/// `--shading smooth --crease DEG` or not.
+/// `peel compile`'s options, with `--shadows` or not (the default sun's shadows baked),
+/// `--shading smooth --crease DEG` or `--shading faceted`.
 pub fn options(shadows: bool, crease: Option<f64>) -> Result<CompileOptions, String> {
-    let mut options = CompileOptions::default();
+    let mut options = CompileOptions {
+        surface: Surface::Faceted,
+        ..CompileOptions::default()
+    };
     if shadows {
         options.build.shadows = options.shading.light();
     }

@@ -19,8 +19,8 @@ pub(crate) use header::header_offset;
 pub use header::{header_flags, FORMAT_VERSION, HEADER_SIZE, MAGIC};
 pub use node::{field_size, node_kind, node_size, BOUNDS_SIZE, NODE_SIZE, PLANE_SIZE};
 pub use polygon::{
-    colour_size, index_size, polygon_flags, polygon_size, shaded_channel, ID_SIZE, INDEX_SIZE,
-    PALETTE_SIZE, POLYGON_SIZE, SHADE_SIZE,
+    colour_size, index_size, polygon_flags, polygon_size, ID_SIZE, INDEX_SIZE, PALETTE_SIZE,
+    POLYGON_SIZE, SHADE_SIZE,
 };
 pub use vertex::{dequantise, per_step, step, vertex_size, Grid};
 

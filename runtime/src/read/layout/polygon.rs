@@ -47,7 +47,8 @@ pub mod polygon_flags {
     pub const INTERIOR_FRONT: u8 = 1 << 1;
     /// Smooth shading (only with [`header_flags::SHADES`]): the colour varies over the
     /// polygon. Its colour fields hold the material's colour, and the colour at each vertex
-    /// is that colour times the vertex's intensity on the side seen (the `shades` array),
+    /// is that colour times the vertex's intensity on the side seen (the `shades` array,
+    /// `round(c * intensity / 255)` a channel: `display::shaded`),
     /// interpolated in between. Without it the colour field is the side's colour, as in a
     /// faceted file: a polygon whose vertices' colours are all equal costs nothing more.
     pub const SMOOTH: u8 = 1 << 2;
@@ -61,13 +62,6 @@ pub mod polygon_flags {
 
 /// Bytes of a vertex's shades (with [`header_flags::SHADES`]): two intensities.
 pub const SHADE_SIZE: usize = 2;
-
-/// The colour that intensity `shade` (255: full) gives the material channel `channel`:
-/// `channel * shade / 255`, rounded (never a tie: 255 is odd), as the compiler rounds it.
-#[inline]
-pub const fn shaded_channel(channel: u8, shade: u8) -> u8 {
-    ((channel as u32 * shade as u32 + 127) / 255) as u8
-}
 
 /// Bytes of an index (`u32`; `u16` with [`header_flags::INDEX16`], see [`index_size`]).
 pub const INDEX_SIZE: usize = 4;
