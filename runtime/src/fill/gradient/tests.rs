@@ -233,7 +233,7 @@ fn a_triangle_cut_in_two() {
     let s = [8u8, 248, 100];
     let whole = levels(&[a, b, c], &Gradient::of(&[a, b, c], WHITE, |i| s[i]));
     let m = FixedPoint::<S>::new((b.x + c.x) / 2, (b.y + c.y) / 2);
-    let sm = ((u16::from(s[1]) + u16::from(s[2]) + 1) / 2) as u8;
+    let sm = (u16::from(s[1]) + u16::from(s[2])).div_ceil(2) as u8;
     let mut pieces = levels(
         &[a, b, m],
         &Gradient::of(&[a, b, m], WHITE, |i| [s[0], s[1], sm][i]),
