@@ -123,12 +123,34 @@ pub(crate) fn shade_vertices<'t>(
     let mut vertices = Vec::with_capacity(tree.vertices.len());
     let mut vertex_shades = Vec::with_capacity(tree.vertices.len());
     let mut polygons = tree.polygons.clone();
-    for ((p, s), &flag) in polygons.iter_mut().zip(shades).zip(&flags) {
+    for ((p, s), flag) in polygons.iter_mut().zip(shades).zip(&mut flags) {
+        // A smooth polygon wound against its neighbours has their intensities the other way
+        // round at its corners: stored swapped, with its interior side's index swapped too,
+        // it shares their copies.
+        let swap = |[f, b]: [u8; 2]| [b, f];
+        let swapped = *flag != 0 && {
+            let found = |turn: bool| {
+                let pairs = p.vertices.iter().zip(&s.vertices);
+                pairs
+                    .filter(|&(&v, &shade)| {
+                        let key = if turn { swap(shade) } else { shade };
+                        copies.contains_key(&(v, key))
+                    })
+                    .count()
+            };
+            found(true) > found(false)
+        };
+        if swapped {
+            *flag ^= polygon_flags::INTERIOR_BACK;
+        }
+        let flag = *flag;
         for (v, &shade) in p.vertices.iter_mut().zip(&s.vertices) {
-            let key = if flag != 0 {
-                shade
-            } else {
+            let key = if flag == 0 {
                 first[*v as usize].unwrap_or(shade)
+            } else if swapped {
+                swap(shade)
+            } else {
+                shade
             };
             *v = *copies.entry((*v, key)).or_insert_with(|| {
                 vertices.push(tree.vertices[*v as usize]);
