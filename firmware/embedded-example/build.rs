@@ -6,10 +6,18 @@ use std::path::PathBuf;
 fn main() {
     let out = PathBuf::from(std::env::var_os("OUT_DIR").expect("OUT_DIR"));
     // The `full` configuration can paint ids: its scene keeps them.
-    let ids = std::env::var_os("CARGO_FEATURE_FULL").is_some();
+    let full = std::env::var_os("CARGO_FEATURE_FULL").is_some();
+    // The smallest configuration leaves the runtime's `smooth` feature out, which would draw
+    // a smooth polygon in its full material colour: its scene is faceted.
+    let surface = if full {
+        peel_compiler::shade::DEFAULT_SURFACE
+    } else {
+        peel_compiler::shade::Surface::Faceted
+    };
     let scene = peel_compiler::Builder::new("../../fixtures/demo.obj")
         .out_name("scene.peel")
-        .ids(ids)
+        .ids(full)
+        .surface(surface)
         .compile()
         .expect("compile the demo scene");
     // The firmware embeds exactly these bytes and, in its smallest configuration, reads them
