@@ -45,7 +45,7 @@ pub mod polygon_flags {
     /// The rest of the polygon's convex set lies on the + side of its plane (the plane through
     /// its first three vertices, its normal `(v1 - v0) x (v2 - v0)`).
     pub const INTERIOR_FRONT: u8 = 1 << 1;
-    /// Smooth shading (only with [`header_flags::SHADES`]): the colour varies over the
+    /// Smooth shading (only with [`SHADES`](super::header_flags::SHADES)): the colour varies over the
     /// polygon. Its colour fields hold the material's colour, and the colour at each vertex
     /// is that colour times the vertex's intensity on the side seen (the `shades` array,
     /// `round(c * intensity / 255)` a channel: `display::shaded`),
