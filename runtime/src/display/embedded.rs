@@ -19,6 +19,8 @@ pub struct DrawTargetSink<'a, D: DrawTarget> {
     error: Option<D::Error>,
     /// The last colour converted, to convert once per polygon rather than once per span.
     last: Option<(Colour, D::Color)>,
+    /// Shaded spans dithered to RGB565 ([`super::dither_rgb565`]).
+    dither: bool,
 }
 
 impl<'a, D> DrawTargetSink<'a, D>
@@ -36,7 +38,20 @@ where
             target,
             error: None,
             last: None,
+            dither: is_rgb565::<D::Color>(),
         }
+    }
+
+    /// Whether shaded spans are dithered: on by default for a target whose colour has 5, 6
+    /// and 5 bits (as its conversion from `Rgb888` shows), so that a gradient does not band;
+    /// off for any other. Flat spans are never dithered.
+    pub fn set_dithering(&mut self, on: bool) {
+        self.dither = on;
+    }
+
+    /// Whether shaded spans are dithered ([`Self::set_dithering`]).
+    pub fn dithering(&self) -> bool {
+        self.dither
     }
 
     /// The first error the target returned, if any.
@@ -49,6 +64,32 @@ where
             None => Ok(()),
         }
     }
+}
+
+/// Whether `C` keeps 5 bits of red and blue and 6 of green: the 8-bit levels that round to
+/// 0 and to the first step at those depths, and at no other, tell them apart from its
+/// conversion alone.
+fn is_rgb565<C: From<Rgb888> + PartialEq>() -> bool {
+    let c = |r, g, b| C::from(Rgb888::new(r, g, b));
+    let black = c(0, 0, 0);
+    // embedded-graphics rounds: 8-bit 4 and 5 are 5-bit 0 and 1, 8-bit 2 and 3 6-bit 0 and 1.
+    c(4, 0, 0) == black
+        && c(5, 0, 0) != black
+        && c(0, 2, 0) == black
+        && c(0, 3, 0) != black
+        && c(0, 0, 4) == black
+        && c(0, 0, 5) != black
+}
+
+/// An RGB565 value as the `Rgb888` whose conversion back gives it: each channel's bits
+/// repeated into the low ones (the nearest 8-bit level to the 5- or 6-bit one).
+fn expanded(raw: u16) -> Rgb888 {
+    let (r, g, b) = (
+        (raw >> 11) as u8,
+        ((raw >> 5) & 0x3f) as u8,
+        (raw & 0x1f) as u8,
+    );
+    Rgb888::new(r << 3 | r >> 2, g << 2 | g >> 4, b << 3 | b >> 2)
 }
 
 /// The compile error of [`DrawTargetSink::new`] without the `front-to-back` feature.
@@ -103,11 +144,19 @@ where
             return;
         };
         let area = Rectangle::new(Point::new(x, y), Size::new(x_end - x_start, 1));
-        let colours = shade
-            .colours(x_start)
-            .take((x_end - x_start) as usize)
-            .map(|c| D::Color::from(Rgb888::new(c.r, c.g, c.b)));
-        if let Err(e) = self.target.fill_contiguous(&area, colours) {
+        let colours = shade.colours(x_start).take((x_end - x_start) as usize);
+        let result = if self.dither {
+            let thresholds = super::dither::row_thresholds(y as u32);
+            let dithered = (x_start..).zip(colours).map(|(x, c)| {
+                let raw = super::dither::dithered(c, thresholds[(x & 3) as usize]);
+                D::Color::from(expanded(raw))
+            });
+            self.target.fill_contiguous(&area, dithered)
+        } else {
+            let plain = colours.map(|c| D::Color::from(Rgb888::new(c.r, c.g, c.b)));
+            self.target.fill_contiguous(&area, plain)
+        };
+        if let Err(e) = result {
             self.error = Some(e);
         }
     }
@@ -233,6 +282,45 @@ mod tests {
             assert!(colors.next().is_none(), "as many colours as pixels");
             Ok(())
         }
+    }
+
+    /// RGB565 targets are told apart by their conversion, and dither shaded spans by default:
+    /// each pixel `dither_rgb565` of its colour, as the RGB565 framebuffer stores it; the
+    /// switch turns it off; other targets get the plain colours.
+    #[test]
+    fn rgb565_targets_dither_shaded_spans() {
+        use embedded_graphics_core::pixelcolor::raw::{RawData, RawU16};
+        use embedded_graphics_core::pixelcolor::{Bgr565, Rgb555};
+        assert!(is_rgb565::<Rgb565>() && is_rgb565::<Bgr565>());
+        assert!(!is_rgb565::<Rgb888>() && !is_rgb565::<Rgb555>() && !is_rgb565::<Gray8>());
+        for raw in 0..=u16::MAX {
+            let back = RawU16::from(Rgb565::from(expanded(raw))).into_inner();
+            assert_eq!(back, raw);
+        }
+        let shade = RowShade {
+            base: 90 << 21,
+            step: (3 << 21) / 5,
+            colour: Colour::new(250, 170, 60),
+        };
+        for dither in [true, false] {
+            let mut t = counting::<Rgb565>(usize::MAX);
+            let mut sink = DrawTargetSink::new(&mut t);
+            assert!(sink.dithering());
+            sink.set_dithering(dither);
+            sink.shaded_span(3, 0, 8, &shade);
+            assert_eq!(sink.finish(), Ok(()));
+            for x in 0..8u32 {
+                let c = shade.at(x);
+                let raw = if dither {
+                    crate::display::dither_rgb565(x, 3, c)
+                } else {
+                    RawU16::from(Rgb565::from(Rgb888::new(c.r, c.g, c.b))).into_inner()
+                };
+                assert_eq!(t.grid[3][x as usize], Some(Rgb565::from(RawU16::new(raw))));
+            }
+        }
+        let mut t = counting::<Rgb888>(usize::MAX);
+        assert!(!DrawTargetSink::new(&mut t).dithering());
     }
 
     /// A shaded span is one `fill_contiguous` call with each pixel's colour.
