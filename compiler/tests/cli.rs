@@ -1,26 +1,9 @@
 //! The `peel` binary as a user runs it: exit codes, messages, files written (or not).
 
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use std::path::Path;
 
-fn peel(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_peel"))
-        .args(args)
-        .output()
-        .expect("run peel")
-}
-
-fn fixtures() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../fixtures")
-}
-
-fn fixture(name: &str) -> String {
-    fixtures().join(name).to_string_lossy().into_owned()
-}
-
-fn s(p: &Path) -> &str {
-    p.to_str().unwrap()
-}
+mod common;
+use common::{fixture, fixtures, peel, refused, s};
 
 fn json_keys(text: &str) -> Vec<String> {
     let v: serde_json::Value = serde_json::from_str(text).expect("valid JSON");
@@ -835,19 +818,6 @@ fn bench_quick_runs_every_method_on_every_scene() {
     let table = std::fs::read_to_string(dir.path().join("frames.md")).unwrap();
     assert!(table.contains("| demo | weiler-atherton |"), "{table}");
     assert!(dir.path().join("frames.png").exists());
-}
-
-/// Runs `peel args` expecting a failure whose message contains every one of `says`, and no
-/// file in `dir` afterwards (nothing written, no temporary file left).
-fn refused(dir: &Path, args: &[&str], says: &[&str]) {
-    let o = peel(args);
-    let err = String::from_utf8_lossy(&o.stderr);
-    assert!(!o.status.success(), "{args:?} succeeded");
-    for s in says {
-        assert!(err.contains(s), "{args:?}: no `{s}` in: {err}");
-    }
-    let left: Vec<_> = std::fs::read_dir(dir).unwrap().collect();
-    assert!(left.is_empty(), "{args:?} left {left:?}");
 }
 
 #[test]

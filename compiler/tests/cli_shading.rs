@@ -2,26 +2,9 @@
 //! combinations they refuse.
 
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
 
-fn peel(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_peel"))
-        .args(args)
-        .output()
-        .expect("run peel")
-}
-
-fn fixture(name: &str) -> String {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../fixtures")
-        .join(name)
-        .to_string_lossy()
-        .into_owned()
-}
-
-fn s(p: &Path) -> &str {
-    p.to_str().unwrap()
-}
+mod common;
+use common::{fixture, peel, refused, s};
 
 /// Compiles `scene` with `extra` into `dir/name`; returns its bytes and `--stats-json`.
 fn compile(dir: &Path, scene: &str, name: &str, extra: &[&str]) -> (Vec<u8>, serde_json::Value) {
@@ -142,18 +125,6 @@ fn shading_chooses_smooth_faceted_or_unlit() {
         "point.peel",
         &["--shading", "smooth", "--point-light=0,4,2"],
     );
-}
-
-/// Runs `peel args` expecting a failure naming every one of `says`, and no file in `dir`.
-fn refused(dir: &Path, args: &[&str], says: &[&str]) {
-    let o = peel(args);
-    let err = String::from_utf8_lossy(&o.stderr);
-    assert!(!o.status.success(), "{args:?} succeeded");
-    for s in says {
-        assert!(err.contains(s), "{args:?}: no `{s}` in: {err}");
-    }
-    let left: Vec<_> = std::fs::read_dir(dir).unwrap().collect();
-    assert!(left.is_empty(), "{args:?} left {left:?}");
 }
 
 #[test]

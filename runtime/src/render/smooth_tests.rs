@@ -82,6 +82,18 @@ fn framebuffer(t: &TestTree, cam: &Camera, band: u32) -> Vec<u32> {
     pixels
 }
 
+/// One whole frame front to back into `sink`.
+fn front_to_back<S: SpanSink>(t: &TestTree, cam: &Camera, sink: &mut S) {
+    let (mut intervals, mut counts) = (vec![(0u16, 0u16); 16 * H], vec![0u16; H]);
+    let coverage = Coverage::new(&mut intervals, &mut counts, W as u32, H as u32).unwrap();
+    let mut ws = Workspace::<16, 12>::new();
+    Renderer::new(&mut ws)
+        .span_memory(coverage)
+        .background(BACKGROUND)
+        .draw(t, &cam.view(t.centre()), sink)
+        .unwrap();
+}
+
 /// Back to front, no span memory: every polygon painted over the last.
 fn back_to_front(t: &TestTree, cam: &Camera) -> Vec<u32> {
     let mut pixels = vec![0u32; W * H];
@@ -159,14 +171,7 @@ fn every_path_draws_the_same_smooth_pixels() {
 
         // Streamed: a pixel written twice panics.
         let mut target = Once(vec![None; W * H]);
-        let (mut intervals, mut counts) = (vec![(0u16, 0u16); 16 * H], vec![0u16; H]);
-        let coverage = Coverage::new(&mut intervals, &mut counts, W as u32, H as u32).unwrap();
-        let mut ws = Workspace::<16, 12>::new();
-        Renderer::new(&mut ws)
-            .span_memory(coverage)
-            .background(BACKGROUND)
-            .draw(&t, &cam.view(t.centre()), &mut target)
-            .unwrap();
+        front_to_back(&t, &cam, &mut target);
         let streamed: Vec<Colour> = target.0.iter().map(|c| c.unwrap()).collect();
         assert_eq!(streamed, colours(&whole), "streamed from {eye}");
 
@@ -176,14 +181,7 @@ fn every_path_draws_the_same_smooth_pixels() {
             let mut expected = vec![0u16; W * H];
             let mut fb = Rgb565Framebuffer::new(&mut expected, W as u32, H as u32).unwrap();
             fb.set_dithering(false);
-            let (mut intervals, mut counts) = (vec![(0u16, 0u16); 16 * H], vec![0u16; H]);
-            let coverage = Coverage::new(&mut intervals, &mut counts, W as u32, H as u32).unwrap();
-            let mut ws = Workspace::<16, 12>::new();
-            Renderer::new(&mut ws)
-                .span_memory(coverage)
-                .background(BACKGROUND)
-                .draw(&t, &cam.view(t.centre()), &mut fb)
-                .unwrap();
+            front_to_back(&t, &cam, &mut fb);
             let mut nodes = vec![ScanNode::EMPTY; 4096];
             let mut heads = vec![0u16; H];
             let memory = ScanMemory::new(&mut nodes, &mut heads, W as u32, H as u32).unwrap();
