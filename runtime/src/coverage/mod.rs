@@ -35,7 +35,7 @@ mod store;
 pub(crate) use sink::Clipped;
 pub use sink::CoverageSink;
 
-use crate::display::{Colour, SpanPaint, SpanSink};
+use crate::display::{SpanPaint, SpanSink};
 use crate::error::RenderError;
 use store::{Rows, ScanStore, Store};
 
@@ -258,25 +258,7 @@ impl<'m> Coverage<'m> {
         let (mode, width, height) = (self.mode, self.width, self.height);
         let rows = match &mut self.store {
             Store::Rows(r) => r,
-            Store::Scan(s) => {
-                // Scan memory keeps one RGB565 colour an interval: a shade goes as its runs of
-                // one RGB565 colour (several 8-bit levels each), so as few intervals as the
-                // pixels it will send allow.
-                let mut covered = 0;
-                let mut run: Option<(u32, u32, Colour)> = None;
-                paint.runs(x_start, x_end, |a, b, colour| match &mut run {
-                    Some((_, end, c)) if c.to_rgb565() == colour.to_rgb565() => *end = b,
-                    _ => {
-                        if let Some((a0, b0, c0)) = run.replace((a, b, colour)) {
-                            covered += s.span(y, a0, b0, c0);
-                        }
-                    }
-                });
-                if let Some((a0, b0, c0)) = run {
-                    covered += s.span(y, a0, b0, c0);
-                }
-                return covered;
-            }
+            Store::Scan(s) => return s.paint(y, x_start, x_end, paint.kind()),
         };
         let x_end = x_end.min(u32::from(width));
         if x_start >= x_end || y >= height || (rows.exhausted && mode == Mode::Exclusive) {

@@ -6,7 +6,7 @@
 use core::convert::Infallible;
 use core::marker::PhantomData;
 
-use crate::display::Colour;
+use crate::display::Paint;
 
 /// The intervals of a coverage.
 #[derive(Debug)]
@@ -55,7 +55,7 @@ impl NoScan<'_> {
     pub(crate) fn covers(&self, _: u32, _: u32, _: u32, _: u32) -> bool {
         match self.never {}
     }
-    pub(crate) fn span(&mut self, _: u32, _: u32, _: u32, _: Colour) -> u64 {
+    pub(crate) fn paint(&mut self, _: u32, _: u32, _: u32, _: Paint<'_>) -> u64 {
         match self.never {}
     }
 }

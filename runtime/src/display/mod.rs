@@ -36,7 +36,7 @@ pub use framebuffer::{
 pub use nowhere::Nowhere;
 pub use row_shade::{shaded, RowColours, RowShade, SHADE_FRACTION_BITS};
 pub(crate) use shifted::Shifted;
-pub use span_paint::SpanPaint;
+pub use span_paint::{Paint, SpanPaint};
 
 /// An RGB888 colour. Id images use it too: `id + 1` as 24 bits, red the high byte.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]

@@ -4,9 +4,21 @@
 
 use super::{Colour, RowShade, SpanSink};
 
+/// A [`SpanPaint`] by kind, for a store that keeps the kinds apart (scan memory).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Paint<'a> {
+    /// One colour.
+    Colour(Colour),
+    /// A smooth shade's row.
+    Shade(&'a RowShade),
+}
+
 /// What a span is painted with: a [`Colour`], or a [`RowShade`] (a piece of a span takes the
 /// whole row's shade, so pieces cut by the span memory keep their pixels' colours).
 pub trait SpanPaint {
+    /// The paint by kind.
+    fn kind(&self) -> Paint<'_>;
+
     /// Paint `x_start .. x_end` of row `y` into `sink`: [`SpanSink::span`] or
     /// [`SpanSink::shaded_span`].
     fn paint<S: SpanSink + ?Sized>(&self, sink: &mut S, y: u32, x_start: u32, x_end: u32);
@@ -17,6 +29,11 @@ pub trait SpanPaint {
 }
 
 impl SpanPaint for Colour {
+    #[inline]
+    fn kind(&self) -> Paint<'_> {
+        Paint::Colour(*self)
+    }
+
     #[inline]
     fn paint<S: SpanSink + ?Sized>(&self, sink: &mut S, y: u32, x_start: u32, x_end: u32) {
         sink.span(y, x_start, x_end, *self);
@@ -31,6 +48,11 @@ impl SpanPaint for Colour {
 }
 
 impl SpanPaint for RowShade {
+    #[inline]
+    fn kind(&self) -> Paint<'_> {
+        Paint::Shade(self)
+    }
+
     #[inline]
     fn paint<S: SpanSink + ?Sized>(&self, sink: &mut S, y: u32, x_start: u32, x_end: u32) {
         sink.shaded_span(y, x_start, x_end, self);

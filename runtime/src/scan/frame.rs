@@ -3,7 +3,7 @@
 //! for an anti-aliased frame's pending pixels ([`Gaps`]).
 
 use super::{ScanMemory, NIL};
-use crate::display::Colour;
+use crate::display::{Colour, RowColours};
 use crate::pending::Pending;
 #[cfg(feature = "antialias")]
 use crate::pending::PendingRow;
@@ -21,6 +21,7 @@ impl ScanMemory<'_> {
             node: self.head(0),
             run: 0,
             colour: background,
+            shade: None,
             gaps,
             next_gap: row.next(),
             row,
@@ -53,10 +54,17 @@ impl ScanMemory<'_> {
         let mut i = self.head(y);
         while i != NIL {
             let n = self.node(i);
-            let (s, e) = (usize::from(n.start).min(w), usize::from(n.end).min(w));
+            let (s, e) = (usize::from(n.first()).min(w), usize::from(n.end).min(w));
             gap(at, s, out);
             if let Some(run) = out.get_mut(s..e) {
-                run.fill(n.colour);
+                if cfg!(feature = "smooth") && n.is_shaded() {
+                    let colours = self.row_shade(i, &n).colours(s as u32);
+                    for (p, c) in run.iter_mut().zip(colours) {
+                        *p = c.to_rgb565();
+                    }
+                } else {
+                    run.fill(n.colour);
+                }
             }
             at = e;
             i = n.next;
@@ -128,9 +136,10 @@ pub struct ScanPixels<'a> {
     y: u32,
     x: u16,
     node: u16,
-    /// Pixels left of the current run, all `colour`.
+    /// Pixels left of the current run, all `colour` or, in a shaded interval, `shade`'s.
     run: u16,
     colour: u16,
+    shade: Option<RowColours>,
     gaps: Gaps<'a>,
     /// Row `y`'s pending pixels, and the next of them (column, colour).
     row: GapRow<'a>,
@@ -155,14 +164,19 @@ impl ScanPixels<'_> {
                 continue;
             }
             let n = (self.node != NIL).then(|| m.node(self.node));
+            self.shade = None;
             let gap_end = match n {
-                Some(n) if n.start <= self.x && self.x < n.end => {
+                Some(n) if n.first() <= self.x && self.x < n.end => {
                     self.colour = n.colour;
+                    if cfg!(feature = "smooth") && n.is_shaded() {
+                        let shade = m.row_shade(self.node, &n);
+                        self.shade = Some(shade.colours(u32::from(self.x)));
+                    }
                     self.run = n.end.min(m.width) - self.x;
                     self.node = n.next;
                     None
                 }
-                Some(n) if n.start > self.x => Some(n.start.min(m.width)),
+                Some(n) if n.first() > self.x => Some(n.first().min(m.width)),
                 Some(n) => {
                     // Only a corrupt list gets here: skip the node.
                     self.node = n.next;
@@ -208,6 +222,9 @@ impl Iterator for ScanPixels<'_> {
             return None;
         }
         self.run -= 1;
+        if let Some(shade) = &mut self.shade {
+            return shade.next().map(Colour::to_rgb565);
+        }
         Some(self.colour)
     }
 }

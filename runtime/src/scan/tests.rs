@@ -11,7 +11,7 @@ use std::vec::Vec;
 use super::*;
 use crate::camera::{Camera, Pose};
 use crate::coverage::Coverage;
-use crate::display::{Rgb565Framebuffer, SpanSink};
+use crate::display::{Paint, Rgb565Framebuffer, RowShade, SpanSink, SHADE_FRACTION_BITS};
 use crate::read::Node;
 use crate::render::{Renderer, Source, Workspace};
 use crate::traverse::testing::{box_faces, TestTree};
@@ -46,6 +46,18 @@ impl Model {
         n
     }
 
+    fn shaded_span(&mut self, y: u32, a: u32, b: u32, shade: &RowShade) -> u64 {
+        let mut n = 0;
+        for x in a..b.min(self.width as u32) {
+            let p = &mut self.pixels[y as usize * self.width + x as usize];
+            if p.is_none() {
+                *p = Some(shade.at(x).to_rgb565());
+                n += 1;
+            }
+        }
+        n
+    }
+
     fn image(&self, background: u16) -> Vec<u16> {
         self.pixels
             .iter()
@@ -61,11 +73,12 @@ fn well_formed(m: &ScanMemory<'_>) -> bool {
         let mut last: Option<ScanNode> = None;
         while i != NIL {
             let n = m.node(i);
-            if n.start >= n.end || u32::from(n.end) > m.width() {
+            if n.first() >= n.end || u32::from(n.end) > m.width() {
                 return false;
             }
             if let Some(l) = last {
-                if l.end > n.start || (l.end == n.start && l.colour == n.colour) {
+                let flat = !l.is_shaded() && !n.is_shaded();
+                if l.end > n.first() || (l.end == n.first() && flat && l.colour == n.colour) {
                     return false;
                 }
             }
@@ -105,6 +118,131 @@ fn intervals_merge_by_colour_and_answer_coverage() {
     assert_eq!(m.span(0, 5, 6, red), 0);
     assert!(m.exhausted());
     assert!(ScanMemory::new(&mut [], &mut [0; 1], 10, 2).is_err());
+}
+
+/// A gradient along a row, `from` at column 0 (8-bit levels) and `per_pixel` more a column.
+fn gradient(colour: Colour, from: f64, per_pixel: f64) -> RowShade {
+    let unit = f64::from(1u32 << SHADE_FRACTION_BITS);
+    RowShade {
+        base: (from * unit) as i32,
+        step: (per_pixel * unit) as i32,
+        colour,
+    }
+}
+
+/// Every pixel of row `y` of `m` read out, by the iterator and into a row.
+fn row_of(m: &ScanMemory<'_>, y: u32) -> Vec<u16> {
+    let w = m.width() as usize;
+    let mut row = vec![0u16; w];
+    m.row_into(y, 0, Gaps::default(), &mut row);
+    let all: Vec<u16> = m.pixels(0, Gaps::default()).collect();
+    assert_eq!(row[..], all[y as usize * w..][..w]);
+    row
+}
+
+/// A shaded span of many colours takes two nodes, its pixels next to a flat neighbour of their
+/// colour join it, pieces that continue a shade extend it (forward and back), and the pixels
+/// are the shade's.
+#[cfg(feature = "smooth")]
+#[test]
+fn a_shade_takes_two_nodes_whatever_its_colours() {
+    let (mut nodes, mut heads) = ([ScanNode::EMPTY; 16], [0u16; 3]);
+    let mut m = ScanMemory::new(&mut nodes, &mut heads, 200, 3).unwrap();
+    let white = Colour::grey(255);
+    let ramp = gradient(white, 10.0, 1.2);
+    assert_eq!(m.paint(0, 0, 200, Paint::Shade(&ramp)), 200);
+    assert_eq!(
+        m.nodes_used(),
+        2,
+        "{} colours in two nodes",
+        200 * 6 / 5 / 4
+    );
+    let want: Vec<u16> = (0..200).map(|x| ramp.at(x).to_rgb565()).collect();
+    assert_eq!(row_of(&m, 0), want);
+    // The same shade in pieces, right half first: one shaded interval, extended back.
+    assert_eq!(m.paint(1, 100, 200, Paint::Shade(&ramp)), 100);
+    assert_eq!(m.paint(1, 0, 100, Paint::Shade(&ramp)), 100);
+    assert_eq!(m.nodes_used(), 4);
+    assert_eq!(row_of(&m, 1), want);
+    assert!(well_formed(&m));
+    // A flat interval, then a shade of two colours beside it, the first the interval's: as runs,
+    // the first joining the interval (one node more); then a shade of many colours each side
+    // of those: shaded (two nodes each).
+    let gentle = gradient(white, 100.0, 0.5);
+    let runs = |a: u32, b: u32| {
+        1 + (a + 1..b)
+            .filter(|&x| gentle.at(x).to_rgb565() != gentle.at(x - 1).to_rgb565())
+            .count()
+    };
+    let split = 50;
+    // Up to the third run's first pixel.
+    let end = (split + 1..200).find(|&x| runs(split, x + 1) == 3).unwrap();
+    assert_eq!(runs(split, end), 2);
+    let level = gentle.at(split);
+    assert_eq!(m.span(2, 40, split, level), 10);
+    assert_eq!(m.nodes_used(), 5);
+    assert_eq!(
+        m.paint(2, split, end, Paint::Shade(&gentle)),
+        u64::from(end - split)
+    );
+    assert_eq!(m.nodes_used(), 6, "the second run's node");
+    assert!(runs(0, 40) > 4 && runs(end, 190) > 4);
+    assert_eq!(
+        m.paint(2, 0, 190, Paint::Shade(&gentle)),
+        u64::from(190 - end + 40)
+    );
+    assert_eq!(m.nodes_used(), 10, "a pair each side");
+    let row = row_of(&m, 2);
+    assert!(row[40..split as usize]
+        .iter()
+        .all(|&p| p == level.to_rgb565()));
+    let gentle_row: Vec<u16> = (0..190).map(|x| gentle.at(x).to_rgb565()).collect();
+    assert_eq!(row[..40], gentle_row[..40]);
+    assert_eq!(row[split as usize..190], gentle_row[split as usize..]);
+    assert!(end - split > 4, "two runs of {}", end - split);
+    assert!(well_formed(&m) && m.covers(0, 2, 190, 3) && !m.covers(0, 2, 191, 3));
+}
+
+/// More materials in a frame than scan memory names: the further ones are kept as runs of
+/// one colour, with the same pixels.
+#[cfg(feature = "smooth")]
+#[test]
+fn materials_beyond_the_palette_are_kept_as_runs() {
+    let n = MATERIALS as u32 + 2;
+    let mut nodes = vec![ScanNode::EMPTY; 400];
+    let mut heads = vec![0u16; n as usize];
+    let mut m = ScanMemory::new(&mut nodes, &mut heads, 64, n).unwrap();
+    let shades: Vec<RowShade> = (0..n)
+        .map(|k| gradient(Colour::new(255, 8 * k as u8, 100), 0.0, 4.0))
+        .collect();
+    for (y, shade) in shades.iter().enumerate() {
+        assert_eq!(m.paint(y as u32, 0, 64, Paint::Shade(shade)), 64);
+    }
+    for (y, shade) in shades.iter().enumerate() {
+        let want: Vec<u16> = (0..64).map(|x| shade.at(x).to_rgb565()).collect();
+        assert_eq!(row_of(&m, y as u32), want, "row {y}");
+        let nodes = (0..).scan(m.head(y as u32), |i, _| {
+            (*i != NIL).then(|| {
+                let n = m.node(*i);
+                *i = n.next;
+                n
+            })
+        });
+        let (shaded, flat) = nodes.fold((0, 0), |(s, f), n| {
+            if n.is_shaded() {
+                (s + 1, f)
+            } else {
+                (s, f + 1)
+            }
+        });
+        if y < MATERIALS {
+            assert_eq!((shaded, flat), (1, 0), "row {y}");
+        } else {
+            assert_eq!(shaded, 0, "row {y}");
+            assert!(flat > 8, "row {y}: {flat} runs");
+        }
+    }
+    assert!(ScanMemory::new(&mut [], &mut [0; 1], MAX_WIDTH + 1, 1).is_err());
 }
 
 /// An anti-aliased frame's read-out: each row merges the scan memory's intervals (`a`, `b`)
@@ -233,6 +371,57 @@ proptest! {
             let colour = Colour::grey(c * 100);
             let want = if a < b { model.span(y, a, b, colour) } else { 0 };
             prop_assert_eq!(m.span(y, a, b, colour), want);
+        }
+        prop_assert!(well_formed(&m));
+        prop_assert!(!m.exhausted());
+        prop_assert_eq!(m.pixels(3, Gaps::default()).collect::<Vec<_>>(), model.image(3));
+        let mut row = vec![0u16; w as usize];
+        for y in 0..h {
+            m.row_into(y, 3, Gaps::default(), &mut row);
+            prop_assert_eq!(&row[..], &model.image(3)[(y * w) as usize..((y + 1) * w) as usize]);
+        }
+        let (x0, y0, x1, y1) = query;
+        let covered = (y0..y1.min(h)).all(|y| {
+            (x0..x1.min(w)).all(|x| model.pixels[(y * w + x) as usize].is_some()) && x1 <= w
+        }) || x0 >= x1;
+        prop_assert_eq!(m.covers(x0, y0, x1, y1), covered);
+    }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(300))]
+
+    /// Random flat and shaded spans (a few shades, shared by several spans, so that pieces
+    /// continue each other): the frame read out is the first colour each pixel was painted,
+    /// rows are well formed, coverage answers as the pixels do.
+    #[test]
+    fn shades_match_a_pixel_model(
+        shades in proptest::collection::vec((0u8..4, 0.0f64..255.0, -6.0f64..6.0), 1..4),
+        spans in proptest::collection::vec((0u32..4, 0u32..64, 0u32..66, 0usize..6), 0..60),
+        query in (0u32..64, 0u32..4, 0u32..66, 0u32..5),
+    ) {
+        let (w, h) = (64, 4);
+        let shades: Vec<RowShade> = shades
+            .iter()
+            .map(|&(c, from, step)| gradient(Colour::new(255, 60 * c, 200), from, step))
+            .collect();
+        let mut nodes = vec![ScanNode::EMPTY; 600];
+        let mut heads = vec![0u16; h as usize];
+        let mut m = ScanMemory::new(&mut nodes, &mut heads, w, h).unwrap();
+        let mut model = Model::new(w, h);
+        for &(y, a, b, k) in &spans {
+            let (got, want) = match shades.get(k) {
+                Some(shade) => (
+                    m.paint(y, a, b, Paint::Shade(shade)),
+                    if a < b { model.shaded_span(y, a, b, shade) } else { 0 },
+                ),
+                None => {
+                    // A flat colour, some of them those of a shade's pixels.
+                    let colour = shades[k % shades.len()].at(a % w);
+                    (m.span(y, a, b, colour), if a < b { model.span(y, a, b, colour) } else { 0 })
+                }
+            };
+            prop_assert_eq!(got, want);
         }
         prop_assert!(well_formed(&m));
         prop_assert!(!m.exhausted());

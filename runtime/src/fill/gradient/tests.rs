@@ -191,7 +191,15 @@ proptest! {
         let corners = [points[i], points[j], points[k]];
         let levels_at = [s[i], s[j], s[k]];
         if gradient.flat_colour().is_some() {
-            prop_assert!(s.iter().all(|&v| v == s[0]) || levels_at.iter().all(|&v| v == s[0]));
+            // Flat: one intensity, or a sliver steeper than 2^12 levels a pixel.
+            let at = |x, y| plane(corners, levels_at, x, y);
+            let steepest = (at(1, 0) - at(0, 0)).abs().max((at(0, 1) - at(0, 0)).abs());
+            prop_assert!(
+                s.iter().all(|&v| v == s[0])
+                    || levels_at.iter().all(|&v| v == s[0])
+                    || steepest > 4095.0,
+                "flat at {steepest} levels a pixel"
+            );
             return Ok(());
         }
         for ((x, y), got) in levels(&points, &gradient) {

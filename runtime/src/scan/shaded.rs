@@ -1,0 +1,280 @@
+//! Shaded intervals in scan memory: a smooth span's pieces as two nodes each (its shade from
+//! the piece's first pixel on, its material by index) or as runs of one colour, whichever costs
+//! fewer nodes; neighbours that continue each other's shade to RGB565 precision grow instead.
+//! A row's colours are monotonic in x (its intensity is affine, and a colour's channels grow
+//! with the intensity), so a piece's runs are found by bisection, and a piece whose first and
+//! last pixels agree is one colour.
+
+use super::{Piece, Pieces, ScanMemory, ScanNode, NIL, SHADED};
+use crate::display::{Colour, RowShade};
+
+impl ScanMemory<'_> {
+    /// A node pair for a shaded interval (two fresh nodes in a row); `None` when the pool is
+    /// spent. Shaded intervals are never freed, so the free list holds single nodes only.
+    pub(super) fn alloc_pair(&mut self, first: ScanNode, shade: ScanNode) -> Option<u16> {
+        let i = self.fresh;
+        if usize::from(i) + 2 > self.capacity() {
+            return None;
+        }
+        *self.node_mut(i)? = first;
+        *self.node_mut(i + 1)? = shade;
+        self.fresh += 2;
+        Some(i)
+    }
+
+    /// The index of material `colour` among the frame's, added if new; `None` when the frame
+    /// has [`MATERIALS`] others already.
+    pub(super) fn material(&mut self, colour: Colour) -> Option<u8> {
+        let n = usize::from(self.materials);
+        let known = self.palette.get(..n).unwrap_or(&[]);
+        if let Some(i) = known.iter().position(|&c| c == colour) {
+            return Some(i as u8);
+        }
+        let slot = self.palette.get_mut(n)?;
+        *slot = colour;
+        self.materials += 1;
+        Some(n as u8)
+    }
+
+    /// Shaded interval `i`'s shade (its colour is the material's).
+    pub(super) fn row_shade(&self, i: u16, n: &ScanNode) -> RowShade {
+        let (value, step) = self.node(i.wrapping_add(1)).value_step();
+        let colour = self
+            .palette
+            .get(usize::from(n.colour))
+            .copied()
+            .unwrap_or_default();
+        RowShade {
+            base: value.wrapping_sub(step.wrapping_mul(i32::from(n.first()))),
+            step,
+            colour,
+        }
+    }
+
+    /// Extend shaded interval `prev`, which ends at `at`, over the pixels of `at..gap_end`
+    /// painted as its shade continues (a neighbour on a smooth surface often is, to RGB565
+    /// precision): their end, if there is one such pixel.
+    fn extend(&mut self, prev: u16, at: u16, gap_end: u16, shade: &RowShade) -> Option<u16> {
+        let p = (prev != NIL).then(|| self.node(prev))?;
+        if !cfg!(feature = "smooth") || !p.is_shaded() || p.end != at {
+            return None;
+        }
+        let n = self
+            .row_shade(prev, &p)
+            .colours(u32::from(at))
+            .zip(shade.colours(u32::from(at)))
+            .take(usize::from(gap_end - at))
+            .take_while(|(l, c)| l.to_rgb565() == c.to_rgb565())
+            .count();
+        let end = at + n as u16;
+        (end > at).then(|| {
+            if let Some(p) = self.node_mut(prev) {
+                p.end = end;
+            }
+            end
+        })
+    }
+
+    /// Extend shaded interval `next`, which starts at `gap_end`, back over the pixels of
+    /// `at..gap_end` painted as its shade continues: their start, if there is one such pixel.
+    fn extend_back(&mut self, next: u16, at: u16, gap_end: u16, shade: &RowShade) -> Option<u16> {
+        let n = (next != NIL).then(|| self.node(next))?;
+        if !cfg!(feature = "smooth") || !n.is_shaded() || n.first() != gap_end {
+            return None;
+        }
+        let right = self.row_shade(next, &n);
+        let mut start = gap_end;
+        while start > at {
+            let x = u32::from(start - 1);
+            if right.at(x).to_rgb565() != shade.at(x).to_rgb565() {
+                break;
+            }
+            start -= 1;
+        }
+        (start < gap_end).then(|| {
+            let value = right
+                .base
+                .wrapping_add(right.step.wrapping_mul(i32::from(start)));
+            if let Some(first) = self.node_mut(next) {
+                first.start = start | SHADED;
+            }
+            if let Some(second) = self.node_mut(next.wrapping_add(1)) {
+                *second = ScanNode::shade(value, right.step);
+            }
+            start
+        })
+    }
+
+    /// Whether `shade` gives every pixel of shaded interval `i` (node `n`) the colour it has,
+    /// tried from its left end first (`from_left`) or its right end: the end far from the gap,
+    /// where a mismatch shows first.
+    fn reproduces(&self, i: u16, n: &ScanNode, shade: &RowShade, from_left: bool) -> bool {
+        let own = self.row_shade(i, n);
+        let same = |x: u16| own.at(u32::from(x)).to_rgb565() == shade.at(u32::from(x)).to_rgb565();
+        if from_left {
+            (n.first()..n.end).all(same)
+        } else {
+            (n.first()..n.end).rev().all(same)
+        }
+    }
+
+    /// Give shaded interval `i` `shade` and `material` over `start..end`.
+    fn reshade(&mut self, i: u16, (start, end): (u16, u16), shade: &RowShade, material: u8) {
+        let value = shade
+            .base
+            .wrapping_add(shade.step.wrapping_mul(i32::from(start)));
+        if let Some(first) = self.node_mut(i) {
+            first.start = start | SHADED;
+            first.end = end;
+            first.colour = u16::from(material);
+        }
+        if let Some(second) = self.node_mut(i.wrapping_add(1)) {
+            *second = ScanNode::shade(value, shade.step);
+        }
+    }
+
+    /// Grow a shaded neighbour of gap `at..gap_end` over the whole gap where `shade` (the
+    /// gap's) gives the neighbour's pixels their colours: the neighbour takes `shade`. Whether
+    /// one did.
+    fn adopt(
+        &mut self,
+        (at, gap_end): (u16, u16),
+        prev: u16,
+        next: u16,
+        shade: &RowShade,
+        material: u8,
+    ) -> bool {
+        if !cfg!(feature = "smooth") {
+            return false;
+        }
+        if prev != NIL {
+            let p = self.node(prev);
+            if p.is_shaded() && p.end == at && self.reproduces(prev, &p, shade, true) {
+                self.reshade(prev, (p.first(), gap_end), shade, material);
+                return true;
+            }
+        }
+        if next != NIL {
+            let n = self.node(next);
+            if n.is_shaded() && n.first() == gap_end && self.reproduces(next, &n, shade, false) {
+                self.reshade(next, (at, n.end), shade, material);
+                return true;
+            }
+        }
+        false
+    }
+
+    /// The end of the run of RGB565 colour `colour`, which pixel `from` has, in `from..to` of
+    /// `shade`'s row. A row's colours are monotonic in x (so is its intensity, and so are a
+    /// colour's channels in it): each colour is one run, and the first pixel of another is
+    /// found by bisection.
+    fn run_end(&mut self, shade: &RowShade, from: u16, to: u16, colour: u16) -> u16 {
+        let (mut lo, mut hi) = (from + 1, to);
+        while lo < hi {
+            let mid = lo + (hi - lo) / 2;
+            if self.rgb565(shade.at(u32::from(mid))) == colour {
+                lo = mid + 1;
+            } else {
+                hi = mid;
+            }
+        }
+        lo
+    }
+
+    /// Whether gap `at..gap_end` of `shade`, whose first run (of colour `c0`) ends at `end`
+    /// before it, costs fewer nodes shaded (two) than as its runs, the first joining the
+    /// interval before it (`prev`) and the last the next one (`next`) where their colours match.
+    fn shade_pays(
+        &mut self,
+        shade: &RowShade,
+        (at, end, gap_end): (u16, u16, u16),
+        c0: u16,
+        prev: u16,
+        next: Option<ScanNode>,
+    ) -> bool {
+        // Runs, counted up to 5: five cost more than two nodes whatever joins.
+        let (mut runs, mut x, mut last) = (1, end, c0);
+        while x < gap_end {
+            if runs == 5 {
+                return true;
+            }
+            last = self.rgb565(shade.at(u32::from(x)));
+            x = self.run_end(shade, x, gap_end, last);
+            runs += 1;
+        }
+        let joins = |n: &ScanNode, c: u16| !n.is_shaded() && n.colour == c;
+        let left = prev != NIL && {
+            let p = self.node(prev);
+            p.end == at && joins(&p, c0)
+        };
+        let right = next.is_some_and(|n| n.first() == gap_end && joins(&n, last));
+        runs - i32::from(left) - i32::from(right) > 2
+    }
+
+    /// A shade kept as runs of one RGB565 colour (a material beyond the frame's
+    /// [`MATERIALS`]).
+    pub(super) fn runs(&mut self, y: u32, x_start: u32, x_end: u32, shade: &RowShade) -> u64 {
+        let mut covered = 0;
+        let mut run: Option<(u32, u32, Colour)> = None;
+        crate::display::SpanPaint::runs(shade, x_start, x_end, |a, b, colour| match &mut run {
+            Some((_, end, c)) if c.to_rgb565() == colour.to_rgb565() => *end = b,
+            _ => {
+                if let Some((a0, b0, c0)) = run.replace((a, b, colour)) {
+                    covered += self.span(y, a0, b0, c0);
+                }
+            }
+        });
+        if let Some((a0, b0, c0)) = run {
+            covered += self.span(y, a0, b0, c0);
+        }
+        covered
+    }
+}
+
+/// A shaded span: its row's shade and the index of its material.
+pub(super) struct Shading<'a> {
+    pub(super) shade: &'a RowShade,
+    pub(super) material: u8,
+    /// The gap up to here goes as runs of one colour (decided at its first run).
+    pub(super) runs_until: u16,
+}
+
+impl Pieces for Shading<'_> {
+    fn piece(&mut self, m: &mut ScanMemory<'_>, gap: (u16, u16), prev: u16, next: u16) -> Piece {
+        let ((at, gap_end), shade) = (gap, self.shade);
+        if let Some(end) = m.extend(prev, at, gap_end, shade) {
+            return Piece::Joined(at, end);
+        }
+        if let Some(start) = m.extend_back(next, at, gap_end, shade) {
+            return Piece::Joined(start, gap_end);
+        }
+        if m.adopt((at, gap_end), prev, next, shade, self.material) {
+            return Piece::Joined(at, gap_end);
+        }
+        let c0 = m.rgb565(shade.at(u32::from(at)));
+        let end = m.run_end(shade, at, gap_end, c0);
+        let next = (next != NIL).then(|| m.node(next));
+        if at >= self.runs_until
+            && end < gap_end
+            && m.shade_pays(shade, (at, end, gap_end), c0, prev, next)
+        {
+            return Piece::Shaded(gap_end);
+        }
+        self.runs_until = gap_end;
+        Piece::Flat(end, c0)
+    }
+
+    fn shaded(&self, at: u16, end: u16, next: u16) -> (ScanNode, ScanNode) {
+        let value = self
+            .shade
+            .base
+            .wrapping_add(self.shade.step.wrapping_mul(i32::from(at)));
+        let first = ScanNode {
+            start: at | SHADED,
+            end,
+            colour: u16::from(self.material),
+            next,
+        };
+        (first, ScanNode::shade(value, self.shade.step))
+    }
+}
