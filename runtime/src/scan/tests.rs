@@ -131,6 +131,7 @@ fn gradient(colour: Colour, from: f64, per_pixel: f64) -> RowShade {
 }
 
 /// Every pixel of row `y` of `m` read out, by the iterator and into a row.
+#[cfg(feature = "smooth")]
 fn row_of(m: &ScanMemory<'_>, y: u32) -> Vec<u16> {
     let w = m.width() as usize;
     let mut row = vec![0u16; w];
