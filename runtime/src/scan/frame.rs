@@ -31,6 +31,24 @@ impl ScanMemory<'_> {
     /// Row `y` into `out` (its first `width` pixels), gaps in `background` but for the
     /// pending pixels of `gaps`.
     pub(super) fn row_into(&self, y: u32, background: u16, gaps: Gaps<'_>, out: &mut [u16]) {
+        // A frame without shaded intervals (no material named) is read out without a test for
+        // them: one instance each.
+        if cfg!(feature = "smooth") && self.materials > 0 {
+            self.row_into_with::<true>(y, background, gaps, out);
+        } else {
+            self.row_into_with::<false>(y, background, gaps, out);
+        }
+    }
+
+    /// [`Self::row_into`], shaded intervals possible or not (`SHADES`).
+    #[inline(always)]
+    fn row_into_with<const SHADES: bool>(
+        &self,
+        y: u32,
+        background: u16,
+        gaps: Gaps<'_>,
+        out: &mut [u16],
+    ) {
         let w = usize::from(self.width).min(out.len());
         let Some(out) = out.get_mut(..w) else { return };
         let mut pending = gaps.row(y);
@@ -54,10 +72,11 @@ impl ScanMemory<'_> {
         let mut i = self.head(y);
         while i != NIL {
             let n = self.node(i);
-            let (s, e) = (usize::from(n.first()).min(w), usize::from(n.end).min(w));
+            let first = if SHADES { n.first() } else { n.start };
+            let (s, e) = (usize::from(first).min(w), usize::from(n.end).min(w));
             gap(at, s, out);
             if let Some(run) = out.get_mut(s..e) {
-                if cfg!(feature = "smooth") && n.is_shaded() {
+                if SHADES && n.is_shaded() {
                     let colours = self.row_shade(i, &n).colours(s as u32);
                     for (p, c) in run.iter_mut().zip(colours) {
                         *p = c.to_rgb565();

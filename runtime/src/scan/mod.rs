@@ -59,7 +59,7 @@ mod shaded;
 pub(crate) use frame::Gaps;
 pub use frame::{ScanFrame, ScanPixels};
 
-use crate::display::{Colour, Paint};
+use crate::display::{Colour, Paint, RowShade};
 use crate::error::RenderError;
 use shaded::Shading;
 
@@ -70,8 +70,8 @@ const NIL: u16 = u16::MAX;
 /// is at most [`MAX_WIDTH`] wide).
 const SHADED: u16 = 1 << 15;
 
-/// The widest frame scan memory keeps (a column leaves the top bit of a node's `start` free
-/// for [`SHADED`]).
+/// The widest frame scan memory keeps: a column leaves the top bit of a node's first column
+/// free, to mark a shaded interval.
 pub const MAX_WIDTH: u32 = (SHADED - 1) as u32;
 
 /// Material colours of shaded intervals a frame keeps (a shaded node names one by its index);
@@ -82,7 +82,7 @@ const MATERIALS: usize = 16;
 /// the next interval of its row (a pool index, or none). A shaded interval (the top bit of
 /// `start` set) takes two nodes in a row of the pool: the first holds its material's index for
 /// a colour, the second its intensity at `start` and its step (a
-/// [`RowShade`](crate::display::RowShade) from the
+/// [`RowShade`] from the
 /// interval's first pixel on), so that a smooth span costs two nodes however many colours it
 /// shows.
 /// Four `u16`s in this order (`repr(C)`): any bit pattern is a node, so firmware may place
@@ -348,36 +348,41 @@ impl<'m> ScanMemory<'m> {
     /// pixels newly covered. Out-of-frame or empty spans cover nothing; so does every span
     /// once the pool ran out ([`ScanMemory::exhausted`]).
     pub fn span(&mut self, y: u32, x_start: u32, x_end: u32, colour: Colour) -> u64 {
-        self.paint(y, x_start, x_end, Paint::Colour(colour))
+        let c = self.rgb565(colour);
+        self.cover(y, x_start, x_end, OneColour(c))
     }
 
     /// Cover the uncovered pixels of `[x_start, x_end)` in row `y` with `paint`, as
-    /// [`ScanMemory::span`]. A shaded piece is kept as its runs of one RGB565 colour where they
-    /// cost fewer nodes (their first and last join flat neighbours of their colour), and
-    /// otherwise as a shaded interval, two nodes; where a shaded neighbour's shade continues
-    /// over its pixels to RGB565 precision, that neighbour grows instead. A frame's further
-    /// materials beyond [`MATERIALS`] keep their shades as runs.
-    #[inline(always)]
+    /// [`ScanMemory::span`] does with a colour.
+    #[inline]
     pub(crate) fn paint(&mut self, y: u32, x_start: u32, x_end: u32, paint: Paint<'_>) -> u64 {
         match paint {
-            Paint::Colour(colour) => {
-                let c = self.rgb565(colour);
-                self.cover(y, x_start, x_end, OneColour(c))
+            Paint::Colour(colour) => self.span(y, x_start, x_end, colour),
+            Paint::Shade(shade) => self.shaded_span(y, x_start, x_end, shade),
+        }
+    }
+
+    /// [`ScanMemory::span`] with a shade. A piece of it is kept as its runs of one RGB565
+    /// colour where they cost fewer nodes (their first and last join flat neighbours of their
+    /// colour), and otherwise as a shaded interval, two nodes; where a shaded neighbour's shade
+    /// continues over its pixels to RGB565 precision, that neighbour grows instead. A frame's
+    /// further materials beyond [`MATERIALS`] keep their shades as runs. Out of line: one
+    /// instance for the flat and the shaded paths' callers.
+    #[inline(never)]
+    fn shaded_span(&mut self, y: u32, x_start: u32, x_end: u32, shade: &RowShade) -> u64 {
+        match self
+            .material(shade.colour)
+            .filter(|_| cfg!(feature = "smooth"))
+        {
+            Some(material) => {
+                let shading = Shading {
+                    shade,
+                    material,
+                    runs_until: 0,
+                };
+                self.cover(y, x_start, x_end, shading)
             }
-            Paint::Shade(shade) => match self
-                .material(shade.colour)
-                .filter(|_| cfg!(feature = "smooth"))
-            {
-                Some(material) => {
-                    let shading = Shading {
-                        shade,
-                        material,
-                        runs_until: 0,
-                    };
-                    self.cover(y, x_start, x_end, shading)
-                }
-                None => self.runs(y, x_start, x_end, shade),
-            },
+            None => self.runs(y, x_start, x_end, shade),
         }
     }
 

@@ -212,20 +212,21 @@ impl ScanMemory<'_> {
     }
 
     /// A shade kept as runs of one RGB565 colour (a material beyond the frame's
-    /// [`MATERIALS`]).
+    /// [`MATERIALS`](super::MATERIALS)), each found by bisection.
     pub(super) fn runs(&mut self, y: u32, x_start: u32, x_end: u32, shade: &RowShade) -> u64 {
+        let x_end = x_end.min(u32::from(self.width));
+        if x_start >= x_end {
+            return 0;
+        }
+        // In range: x_start < x_end <= width <= MAX_WIDTH.
+        let (mut at, end) = (x_start as u16, x_end as u16);
         let mut covered = 0;
-        let mut run: Option<(u32, u32, Colour)> = None;
-        crate::display::SpanPaint::runs(shade, x_start, x_end, |a, b, colour| match &mut run {
-            Some((_, end, c)) if c.to_rgb565() == colour.to_rgb565() => *end = b,
-            _ => {
-                if let Some((a0, b0, c0)) = run.replace((a, b, colour)) {
-                    covered += self.span(y, a0, b0, c0);
-                }
-            }
-        });
-        if let Some((a0, b0, c0)) = run {
-            covered += self.span(y, a0, b0, c0);
+        while at < end {
+            let colour = shade.at(u32::from(at));
+            let c = self.rgb565(colour);
+            let run_end = self.run_end(shade, at, end, c);
+            covered += self.span(y, u32::from(at), u32::from(run_end), colour);
+            at = run_end;
         }
         covered
     }
