@@ -35,23 +35,20 @@ impl Model {
     }
 
     fn span(&mut self, y: u32, a: u32, b: u32, c: Colour) -> u64 {
-        let mut n = 0;
-        for x in a..b.min(self.width as u32) {
-            let p = &mut self.pixels[y as usize * self.width + x as usize];
-            if p.is_none() {
-                *p = Some(c.to_rgb565());
-                n += 1;
-            }
-        }
-        n
+        self.paint(y, a, b, |_| c)
     }
 
     fn shaded_span(&mut self, y: u32, a: u32, b: u32, shade: &RowShade) -> u64 {
+        self.paint(y, a, b, |x| shade.at(x))
+    }
+
+    /// Paint the unpainted pixels of `a..b` in row `y`, pixel `x` in `colour(x)`.
+    fn paint(&mut self, y: u32, a: u32, b: u32, colour: impl Fn(u32) -> Colour) -> u64 {
         let mut n = 0;
         for x in a..b.min(self.width as u32) {
             let p = &mut self.pixels[y as usize * self.width + x as usize];
             if p.is_none() {
-                *p = Some(shade.at(x).to_rgb565());
+                *p = Some(colour(x).to_rgb565());
                 n += 1;
             }
         }
@@ -353,6 +350,37 @@ fn pending_pixels_fill_their_gaps_in_the_read_out() {
     }
 }
 
+/// The proptests' checks: `m`'s rows well formed and not exhausted, its frame read out (as
+/// pixels and row by row) `model`'s image, and the coverage of rectangle `query` (`x0, y0, x1,
+/// y1`) the model's.
+fn agrees_with(
+    m: &ScanMemory<'_>,
+    model: &Model,
+    query: (u32, u32, u32, u32),
+) -> Result<(), TestCaseError> {
+    let (w, h) = (m.width(), m.height());
+    prop_assert!(well_formed(m));
+    prop_assert!(!m.exhausted());
+    prop_assert_eq!(
+        m.pixels(3, Gaps::default()).collect::<Vec<_>>(),
+        model.image(3)
+    );
+    let mut row = vec![0u16; w as usize];
+    for y in 0..h {
+        m.row_into(y, 3, Gaps::default(), &mut row);
+        prop_assert_eq!(
+            &row[..],
+            &model.image(3)[(y * w) as usize..((y + 1) * w) as usize]
+        );
+    }
+    let (x0, y0, x1, y1) = query;
+    let covered = (y0..y1.min(h))
+        .all(|y| (x0..x1.min(w)).all(|x| model.pixels[(y * w + x) as usize].is_some()) && x1 <= w)
+        || x0 >= x1;
+    prop_assert_eq!(m.covers(x0, y0, x1, y1), covered);
+    Ok(())
+}
+
 proptest! {
     #![proptest_config(ProptestConfig::with_cases(200))]
 
@@ -373,19 +401,7 @@ proptest! {
             let want = if a < b { model.span(y, a, b, colour) } else { 0 };
             prop_assert_eq!(m.span(y, a, b, colour), want);
         }
-        prop_assert!(well_formed(&m));
-        prop_assert!(!m.exhausted());
-        prop_assert_eq!(m.pixels(3, Gaps::default()).collect::<Vec<_>>(), model.image(3));
-        let mut row = vec![0u16; w as usize];
-        for y in 0..h {
-            m.row_into(y, 3, Gaps::default(), &mut row);
-            prop_assert_eq!(&row[..], &model.image(3)[(y * w) as usize..((y + 1) * w) as usize]);
-        }
-        let (x0, y0, x1, y1) = query;
-        let covered = (y0..y1.min(h)).all(|y| {
-            (x0..x1.min(w)).all(|x| model.pixels[(y * w + x) as usize].is_some()) && x1 <= w
-        }) || x0 >= x1;
-        prop_assert_eq!(m.covers(x0, y0, x1, y1), covered);
+        agrees_with(&m, &model, query)?;
     }
 }
 
@@ -424,19 +440,7 @@ proptest! {
             };
             prop_assert_eq!(got, want);
         }
-        prop_assert!(well_formed(&m));
-        prop_assert!(!m.exhausted());
-        prop_assert_eq!(m.pixels(3, Gaps::default()).collect::<Vec<_>>(), model.image(3));
-        let mut row = vec![0u16; w as usize];
-        for y in 0..h {
-            m.row_into(y, 3, Gaps::default(), &mut row);
-            prop_assert_eq!(&row[..], &model.image(3)[(y * w) as usize..((y + 1) * w) as usize]);
-        }
-        let (x0, y0, x1, y1) = query;
-        let covered = (y0..y1.min(h)).all(|y| {
-            (x0..x1.min(w)).all(|x| model.pixels[(y * w + x) as usize].is_some()) && x1 <= w
-        }) || x0 >= x1;
-        prop_assert_eq!(m.covers(x0, y0, x1, y1), covered);
+        agrees_with(&m, &model, query)?;
     }
 }
 
