@@ -321,6 +321,23 @@ fn the_cow_has_no_cracks_from_100_cameras() {
     report("cow", &[out]);
 }
 
+/// A turned torus where the writer's rounding brings the ends of short cut edges together: a
+/// polygon whose vertices then coincide in pairs had no three that defined its plane, was
+/// drawn on the wrong side of its node's child, and showed hundreds of wrong robust pixels
+/// from some of these cameras.
+#[test]
+fn a_turned_torus_whose_short_cut_edges_round_to_points() {
+    let turn = DMat3::from_euler(
+        glam::EulerRot::ZYX,
+        4.8679949541599505,
+        2.917536956792414,
+        6.07573107951825,
+    );
+    let mesh = map(&scenes::torus(18, 10), |p| turn * p);
+    let out = run("turned torus", &mesh, Pixels::Closed, 100, (160, 120));
+    report("turned torus", &[out]);
+}
+
 // ---------------------------------------------------------------------------------------------
 // Transforms.
 

@@ -473,16 +473,12 @@ impl Emitter<'_> {
                 polygon.plane
             )));
         }
-        let n = polygon.vertices.len();
-        if n < 3 {
-            return Err(invariant(format!("polygon {p} has {n} vertices")));
+        if polygon.vertices.len() < 3 {
+            return Err(invariant(format!(
+                "polygon {p} has {} vertices",
+                polygon.vertices.len()
+            )));
         }
-        let vertex_count = u8::try_from(n).map_err(|_| {
-            CompileError::Encode(format!(
-                "a polygon of {n} vertices: the format holds at most 255 per polygon \
-                 (a smaller --max-polygon-vertices)"
-            ))
-        })?;
         if let Some(v) = polygon
             .vertices
             .iter()
@@ -490,10 +486,18 @@ impl Emitter<'_> {
         {
             return Err(invariant(format!("polygon {p}: vertex {v} out of range")));
         }
+        let list = distinct_corners(self.vertices, &polygon.vertices);
+        let n = list.len();
+        let vertex_count = u8::try_from(n).map_err(|_| {
+            CompileError::Encode(format!(
+                "a polygon of {n} vertices: the format holds at most 255 per polygon \
+                 (a smaller --max-polygon-vertices)"
+            ))
+        })?;
         // The runtime takes the plane through the first three vertices: start the list (in
         // its winding order) where they are farthest from collinear, and name the interior's
         // side for that plane's normal.
-        let (start, normal) = plane_start(self.vertices, self.per_step, &polygon.vertices);
+        let (start, normal) = plane_start(self.vertices, self.per_step, &list);
         let exact = self.tree.planes[polygon.plane as usize].normal;
         let agrees = normal.dot(exact) >= 0.0;
         let flags = if polygon.interior_front == agrees {
@@ -510,7 +514,7 @@ impl Emitter<'_> {
         });
         self.rgb.push(colours[0][p as usize]);
         self.rgb_exterior.push(colours[1][p as usize]);
-        let (head, tail) = polygon.vertices.split_at(start);
+        let (head, tail) = list.split_at(start);
         self.indices.extend_from_slice(tail);
         self.indices.extend_from_slice(head);
         if self.ids {
@@ -523,6 +527,28 @@ impl Emitter<'_> {
     fn unowned_polygon(&self) -> Option<usize> {
         self.emitted.iter().position(|e| !e)
     }
+}
+
+/// `list` without the vertices that the runtime reads at the same place as the one before
+/// (cyclically): a polygon the same shape, whose every three consecutive vertices can define its
+/// plane. Rounding brings the ends of a short cut edge together, and a list whose vertices
+/// coincide in pairs had no three that did, so its plane was nil and its side wrong. A polygon
+/// with fewer than three distinct vertices, which covers nothing, keeps its list.
+fn distinct_corners(vertices: &[Vertex], list: &[u32]) -> Vec<u32> {
+    let at = |v: u32| vertices[v as usize];
+    let mut out: Vec<u32> = Vec::with_capacity(list.len());
+    for &v in list {
+        if out.last().is_none_or(|&u| at(u) != at(v)) {
+            out.push(v);
+        }
+    }
+    while out.len() > 1 && at(out[0]) == at(out[out.len() - 1]) {
+        out.pop();
+    }
+    if out.len() < 3 {
+        return list.to_vec();
+    }
+    out
 }
 
 /// Where a polygon's vertex list should start so that the runtime's plane through its first

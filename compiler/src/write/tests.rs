@@ -716,3 +716,25 @@ fn the_chosen_encoding_is_the_smallest() {
     };
     assert!(peel_file_encoded(tree, &input(colours, false), Some(u16_indices)).is_err());
 }
+
+#[test]
+fn corners_that_round_together_are_written_once() {
+    let grid = |v: [u16; 3]| Vertex::Grid(v);
+    let (a, b, c) = (grid([0, 0, 0]), grid([900, 0, 0]), grid([0, 700, 0]));
+    // Each corner twice, as a triangle cut near its corners rounds: every three consecutive
+    // corners hold a pair, and their plane is nil.
+    let vertices = [a, a, b, b, c, c];
+    let list = [1, 2, 3, 4, 5, 0];
+    assert_eq!(plane_start(&vertices, DVec3::ONE, &list).1, DVec3::ZERO);
+    let kept = distinct_corners(&vertices, &list);
+    assert_eq!(kept, [1, 2, 4]);
+    assert_eq!(
+        plane_start(&vertices, DVec3::ONE, &kept).1,
+        DVec3::new(0.0, 0.0, 900.0 * 700.0)
+    );
+    // A polygon that rounds to a segment covers nothing and keeps its list.
+    let segment = [a, a, b];
+    assert_eq!(distinct_corners(&segment, &[0, 1, 2]), [0, 1, 2]);
+    // Distinct corners are kept in order.
+    assert_eq!(distinct_corners(&[a, b, c], &[2, 0, 1]), [2, 0, 1]);
+}
