@@ -420,7 +420,10 @@ fn scan(
     let mut workspace: Box<Workspace<4096, 64>> = Box::default();
     let mut pool = vec![ScanNode::EMPTY; nodes];
     let mut heads = vec![0u16; h as usize];
-    let memory = ScanMemory::new(&mut pool, &mut heads, w, h).unwrap();
+    let mut memory = ScanMemory::new(&mut pool, &mut heads, w, h).unwrap();
+    // Against a frame rounded to RGB565: undithered (the dithered read-out is the RGB565
+    // framebuffer's, `runtime/src/render/smooth_tests.rs`).
+    memory.set_dithering(false);
     let [r, g, b] = SCAN_BACKGROUND;
     let mut renderer = Renderer::new(&mut workspace)
         .scan_memory(memory)

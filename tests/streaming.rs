@@ -158,7 +158,10 @@ fn check_scan<const SUB: u32>(
     let draw = |nodes: usize| -> Result<(Vec<u16>, Vec<u16>, usize), RenderError> {
         let mut pool = vec![ScanNode::EMPTY; nodes];
         let mut heads = vec![0u16; h as usize];
-        let memory = ScanMemory::new(&mut pool, &mut heads, w, h).unwrap();
+        let mut memory = ScanMemory::new(&mut pool, &mut heads, w, h).unwrap();
+        // Against a frame rounded to RGB565: undithered (the dithered read-out is the RGB565
+        // framebuffer's, `runtime/src/render/smooth_tests.rs`).
+        memory.set_dithering(false);
         let mut workspace: Box<Workspace<HOST_STACK, HOST_VERTS, SUB>> = Box::default();
         let mut renderer = Renderer::<SUB>::with_precision(&mut workspace)
             .ids()

@@ -175,23 +175,31 @@ fn every_path_draws_the_same_smooth_pixels() {
         let streamed: Vec<Colour> = target.0.iter().map(|c| c.unwrap()).collect();
         assert_eq!(streamed, colours(&whole), "streamed from {eye}");
 
+        // Scan order, dithered (the default) or not, as the RGB565 framebuffer.
         #[cfg(feature = "scan-order")]
-        {
+        for dither in [true, false] {
             use crate::scan::{ScanMemory, ScanNode};
             let mut expected = vec![0u16; W * H];
             let mut fb = Rgb565Framebuffer::new(&mut expected, W as u32, H as u32).unwrap();
-            fb.set_dithering(false);
+            fb.set_dithering(dither);
             front_to_back(&t, &cam, &mut fb);
             let mut nodes = vec![ScanNode::EMPTY; 4096];
             let mut heads = vec![0u16; H];
-            let memory = ScanMemory::new(&mut nodes, &mut heads, W as u32, H as u32).unwrap();
+            let mut memory = ScanMemory::new(&mut nodes, &mut heads, W as u32, H as u32).unwrap();
+            assert!(memory.dithering());
+            memory.set_dithering(dither);
             let mut ws = Workspace::<16, 12>::new();
             let mut renderer = Renderer::new(&mut ws)
                 .scan_memory(memory)
                 .background(BACKGROUND);
             let frame = renderer.draw_scan(&t, &cam.view(t.centre())).unwrap();
             let scan: Vec<u16> = frame.pixels().collect();
-            assert_eq!(scan, expected, "scan order from {eye}");
+            assert_eq!(scan, expected, "scan order (dither {dither}) from {eye}");
+            let mut row = vec![0u16; W];
+            for y in 0..H {
+                frame.row_into(y as u32, &mut row);
+                assert_eq!(row, expected[y * W..(y + 1) * W], "row {y} from {eye}");
+            }
         }
     }
 }

@@ -3,7 +3,8 @@
 //! for an anti-aliased frame's pending pixels ([`Gaps`]).
 
 use super::{ScanMemory, NIL};
-use crate::display::{Colour, RowColours};
+use crate::display::dither::{dithered, row_thresholds};
+use crate::display::{dither_rgb565, Colour, RowColours};
 use crate::pending::Pending;
 #[cfg(feature = "antialias")]
 use crate::pending::PendingRow;
@@ -78,8 +79,15 @@ impl ScanMemory<'_> {
             if let Some(run) = out.get_mut(s..e) {
                 if SHADES && n.is_shaded() {
                     let colours = self.row_shade(i, &n).colours(s as u32);
-                    for (p, c) in run.iter_mut().zip(colours) {
-                        *p = c.to_rgb565();
+                    if self.dither {
+                        let t = row_thresholds(y);
+                        for ((p, c), x) in run.iter_mut().zip(colours).zip(s..) {
+                            *p = dithered(c, t[x & 3]);
+                        }
+                    } else {
+                        for (p, c) in run.iter_mut().zip(colours) {
+                            *p = c.to_rgb565();
+                        }
                     }
                 } else {
                     run.fill(n.colour);
@@ -242,7 +250,12 @@ impl Iterator for ScanPixels<'_> {
         }
         self.run -= 1;
         if let Some(shade) = &mut self.shade {
-            return shade.next().map(Colour::to_rgb565);
+            let colour = shade.next()?;
+            if self.memory.dither {
+                let x = u32::from(self.x - self.run - 1);
+                return Some(dither_rgb565(x, self.y, colour));
+            }
+            return Some(colour.to_rgb565());
         }
         Some(self.colour)
     }

@@ -1,12 +1,56 @@
 //! Shaded intervals in scan memory: a smooth span's pieces as two nodes each (its shade from
-//! the piece's first pixel on, its material by index) or as runs of one colour, whichever costs
-//! fewer nodes; neighbours that continue each other's shade to RGB565 precision grow instead.
+//! the piece's first pixel on, its material by index) or as runs of pixels alike, whichever
+//! costs fewer nodes; neighbours that continue each other's shade grow instead. Pixels are
+//! alike ([`Key`]) when their RGB565 colours are, in an undithered frame, and when their 8-bit
+//! colours are, in a dithered one, whose runs are then level runs ([`LEVEL`]).
 //! A row's colours are monotonic in x (its intensity is affine, and a colour's channels grow
 //! with the intensity), so a piece's runs are found by bisection, and a piece whose first and
 //! last pixels agree is one colour.
 
-use super::{Piece, Pieces, ScanMemory, ScanNode, NIL, SHADED};
-use crate::display::{Colour, RowShade};
+use core::marker::PhantomData;
+
+use super::{Piece, Pieces, ScanMemory, ScanNode, LEVEL, NIL, SHADED};
+use crate::display::{Colour, RowShade, SHADE_FRACTION_BITS};
+
+/// What two pixels of a shade must share to be kept alike: [`Rgb565`] or [`Exact`].
+pub(super) trait Key {
+    /// The key of `colour`.
+    fn key(m: &mut ScanMemory<'_>, colour: Colour) -> u32;
+
+    /// The piece of a run of pixels alike from `x` to `end` of `shade` (material `material`).
+    fn run(m: &mut ScanMemory<'_>, shade: &RowShade, x: u16, end: u16, material: u8) -> Piece;
+}
+
+/// An undithered frame's: the RGB565 colour, runs as flat intervals.
+pub(super) struct Rgb565;
+
+impl Key for Rgb565 {
+    #[inline]
+    fn key(m: &mut ScanMemory<'_>, colour: Colour) -> u32 {
+        u32::from(m.rgb565(colour))
+    }
+
+    #[inline]
+    fn run(m: &mut ScanMemory<'_>, shade: &RowShade, x: u16, end: u16, _: u8) -> Piece {
+        Piece::Flat(end, m.rgb565(shade.at(u32::from(x))))
+    }
+}
+
+/// A dithered frame's: the 8-bit colour (the dither takes every bit), runs as level runs.
+pub(super) struct Exact;
+
+impl Key for Exact {
+    #[inline]
+    fn key(_: &mut ScanMemory<'_>, colour: Colour) -> u32 {
+        u32::from_le_bytes([colour.r, colour.g, colour.b, 0])
+    }
+
+    #[inline]
+    fn run(_: &mut ScanMemory<'_>, shade: &RowShade, x: u16, end: u16, material: u8) -> Piece {
+        let level = shade.colours(u32::from(x)).level();
+        Piece::Level(end, LEVEL | u16::from(level) << 4 | u16::from(material))
+    }
+}
 
 impl ScanMemory<'_> {
     /// A node pair for a shaded interval (two fresh nodes in a row); `None` when the pool is
@@ -36,14 +80,22 @@ impl ScanMemory<'_> {
         Some(n as u8)
     }
 
-    /// Shaded interval `i`'s shade (its colour is the material's).
+    /// Shaded interval `i`'s shade (its colour is the material's); a level run's is constant.
     pub(super) fn row_shade(&self, i: u16, n: &ScanNode) -> RowShade {
-        let (value, step) = self.node(i.wrapping_add(1)).value_step();
         let colour = self
             .palette
-            .get(usize::from(n.colour))
+            .get(usize::from(n.colour & 0x0f))
             .copied()
             .unwrap_or_default();
+        if n.is_level() {
+            let level = i32::from((n.colour >> 4) & 0xff);
+            return RowShade {
+                base: level << SHADE_FRACTION_BITS,
+                step: 0,
+                colour,
+            };
+        }
+        let (value, step) = self.node(i.wrapping_add(1)).value_step();
         RowShade {
             base: value.wrapping_sub(step.wrapping_mul(i32::from(n.first()))),
             step,
@@ -52,9 +104,15 @@ impl ScanMemory<'_> {
     }
 
     /// Extend shaded interval `prev`, which ends at `at`, over the pixels of `at..gap_end`
-    /// painted as its shade continues (a neighbour on a smooth surface often is, to RGB565
-    /// precision): their end, if there is one such pixel.
-    fn extend(&mut self, prev: u16, at: u16, gap_end: u16, shade: &RowShade) -> Option<u16> {
+    /// painted alike ([`Key`]) as its shade continues (a neighbour on a smooth surface often
+    /// is): their end, if there is one such pixel.
+    fn extend<K: Key>(
+        &mut self,
+        prev: u16,
+        at: u16,
+        gap_end: u16,
+        shade: &RowShade,
+    ) -> Option<u16> {
         let p = (prev != NIL).then(|| self.node(prev))?;
         if !cfg!(feature = "smooth") || !p.is_shaded() || p.end != at {
             return None;
@@ -64,7 +122,7 @@ impl ScanMemory<'_> {
             .colours(u32::from(at))
             .zip(shade.colours(u32::from(at)))
             .take(usize::from(gap_end - at))
-            .take_while(|(l, c)| l.to_rgb565() == c.to_rgb565())
+            .take_while(|&(l, c)| K::key(self, l) == K::key(self, c))
             .count();
         let end = at + n as u16;
         (end > at).then(|| {
@@ -77,7 +135,13 @@ impl ScanMemory<'_> {
 
     /// Extend shaded interval `next`, which starts at `gap_end`, back over the pixels of
     /// `at..gap_end` painted as its shade continues: their start, if there is one such pixel.
-    fn extend_back(&mut self, next: u16, at: u16, gap_end: u16, shade: &RowShade) -> Option<u16> {
+    fn extend_back<K: Key>(
+        &mut self,
+        next: u16,
+        at: u16,
+        gap_end: u16,
+        shade: &RowShade,
+    ) -> Option<u16> {
         let n = (next != NIL).then(|| self.node(next))?;
         if !cfg!(feature = "smooth") || !n.is_shaded() || n.first() != gap_end {
             return None;
@@ -86,7 +150,7 @@ impl ScanMemory<'_> {
         let mut start = gap_end;
         while start > at {
             let x = u32::from(start - 1);
-            if right.at(x).to_rgb565() != shade.at(x).to_rgb565() {
+            if K::key(self, right.at(x)) != K::key(self, shade.at(x)) {
                 break;
             }
             start -= 1;
@@ -98,8 +162,11 @@ impl ScanMemory<'_> {
             if let Some(first) = self.node_mut(next) {
                 first.start = start | SHADED;
             }
-            if let Some(second) = self.node_mut(next.wrapping_add(1)) {
-                *second = ScanNode::shade(value, right.step);
+            // A level run's shade is its colour field, the same from any pixel.
+            if !n.is_level() {
+                if let Some(second) = self.node_mut(next.wrapping_add(1)) {
+                    *second = ScanNode::shade(value, right.step);
+                }
             }
             start
         })
@@ -108,9 +175,16 @@ impl ScanMemory<'_> {
     /// Whether `shade` gives every pixel of shaded interval `i` (node `n`) the colour it has,
     /// tried from its left end first (`from_left`) or its right end: the end far from the gap,
     /// where a mismatch shows first.
-    fn reproduces(&self, i: u16, n: &ScanNode, shade: &RowShade, from_left: bool) -> bool {
+    fn reproduces<K: Key>(
+        &mut self,
+        i: u16,
+        n: &ScanNode,
+        shade: &RowShade,
+        from_left: bool,
+    ) -> bool {
         let own = self.row_shade(i, n);
-        let same = |x: u16| own.at(u32::from(x)).to_rgb565() == shade.at(u32::from(x)).to_rgb565();
+        let same =
+            |x: u16| K::key(self, own.at(u32::from(x))) == K::key(self, shade.at(u32::from(x)));
         if from_left {
             (n.first()..n.end).all(same)
         } else {
@@ -135,8 +209,8 @@ impl ScanMemory<'_> {
 
     /// Grow a shaded neighbour of gap `at..gap_end` over the whole gap where `shade` (the
     /// gap's) gives the neighbour's pixels their colours: the neighbour takes `shade`. Whether
-    /// one did.
-    fn adopt(
+    /// one did. (A level run has no second node for a shade.)
+    fn adopt<K: Key>(
         &mut self,
         (at, gap_end): (u16, u16),
         prev: u16,
@@ -149,14 +223,22 @@ impl ScanMemory<'_> {
         }
         if prev != NIL {
             let p = self.node(prev);
-            if p.is_shaded() && p.end == at && self.reproduces(prev, &p, shade, true) {
+            if p.is_shaded()
+                && !p.is_level()
+                && p.end == at
+                && self.reproduces::<K>(prev, &p, shade, true)
+            {
                 self.reshade(prev, (p.first(), gap_end), shade, material);
                 return true;
             }
         }
         if next != NIL {
             let n = self.node(next);
-            if n.is_shaded() && n.first() == gap_end && self.reproduces(next, &n, shade, false) {
+            if n.is_shaded()
+                && !n.is_level()
+                && n.first() == gap_end
+                && self.reproduces::<K>(next, &n, shade, false)
+            {
                 self.reshade(next, (at, n.end), shade, material);
                 return true;
             }
@@ -164,15 +246,15 @@ impl ScanMemory<'_> {
         false
     }
 
-    /// The end of the run of RGB565 colour `colour`, which pixel `from` has, in `from..to` of
-    /// `shade`'s row. A row's colours are monotonic in x (so is its intensity, and so are a
-    /// colour's channels in it): each colour is one run, and the first pixel of another is
-    /// found by bisection.
-    fn run_end(&mut self, shade: &RowShade, from: u16, to: u16, colour: u16) -> u16 {
+    /// The end of the run of pixels of key `key` ([`Key`]), which pixel `from` has, in
+    /// `from..to` of `shade`'s row. A row's colours are monotonic in x (so is its intensity,
+    /// and so are a colour's channels in it): each key is one run, and the first pixel of
+    /// another is found by bisection.
+    fn run_end<K: Key>(&mut self, shade: &RowShade, from: u16, to: u16, key: u32) -> u16 {
         let (mut lo, mut hi) = (from + 1, to);
         while lo < hi {
             let mid = lo + (hi - lo) / 2;
-            if self.rgb565(shade.at(u32::from(mid))) == colour {
+            if K::key(self, shade.at(u32::from(mid))) == key {
                 lo = mid + 1;
             } else {
                 hi = mid;
@@ -181,34 +263,43 @@ impl ScanMemory<'_> {
         lo
     }
 
-    /// Whether gap `at..gap_end` of `shade`, whose first run (of colour `c0`) ends at `end`
-    /// before it, costs fewer nodes shaded (two) than as its runs, the first joining the
-    /// interval before it (`prev`) and the last the next one (`next`) where their colours match.
-    fn shade_pays(
+    /// Whether gap `at..gap_end` of `shade` (material `material`), whose first run ends at
+    /// `end` before it, costs fewer nodes shaded (two) than as its runs, the first joining the
+    /// interval before it (`prev`) and the last the next one (`next`) where they match.
+    fn shade_pays<K: Key>(
         &mut self,
         shade: &RowShade,
         (at, end, gap_end): (u16, u16, u16),
-        c0: u16,
+        material: u8,
         prev: u16,
         next: Option<ScanNode>,
     ) -> bool {
         // Runs, counted up to 5: five cost more than two nodes whatever joins.
-        let (mut runs, mut x, mut last) = (1, end, c0);
+        let (mut runs, mut x, mut last) = (1, end, at);
         while x < gap_end {
             if runs == 5 {
                 return true;
             }
-            last = self.rgb565(shade.at(u32::from(x)));
-            x = self.run_end(shade, x, gap_end, last);
+            last = x;
+            let key = K::key(self, shade.at(u32::from(x)));
+            x = self.run_end::<K>(shade, x, gap_end, key);
             runs += 1;
         }
-        let joins = |n: &ScanNode, c: u16| !n.is_shaded() && n.colour == c;
-        let left = prev != NIL && {
-            let p = self.node(prev);
-            p.end == at && joins(&p, c0)
-        };
-        let right = next.is_some_and(|n| n.first() == gap_end && joins(&n, last));
+        let before = (prev != NIL).then(|| self.node(prev));
+        let left = before.is_some_and(|p| p.end == at && self.joins::<K>(&p, shade, at, material));
+        let right = next
+            .is_some_and(|n| n.first() == gap_end && self.joins::<K>(&n, shade, last, material));
         runs - i32::from(left) - i32::from(right) > 2
+    }
+
+    /// Whether node `n` is the run of `shade`'s pixels alike with pixel `x`'s (the same colour
+    /// field and kind), which a run of them would join.
+    fn joins<K: Key>(&mut self, n: &ScanNode, shade: &RowShade, x: u16, material: u8) -> bool {
+        match K::run(self, shade, x, x, material) {
+            Piece::Flat(_, c) => !n.is_shaded() && n.colour == c,
+            Piece::Level(_, c) => n.is_shaded() && n.colour == c,
+            _ => false,
+        }
     }
 
     /// A shade kept as runs of one RGB565 colour (a material beyond the frame's
@@ -223,8 +314,8 @@ impl ScanMemory<'_> {
         let mut covered = 0;
         while at < end {
             let colour = shade.at(u32::from(at));
-            let c = self.rgb565(colour);
-            let run_end = self.run_end(shade, at, end, c);
+            let key = Rgb565::key(self, colour);
+            let run_end = self.run_end::<Rgb565>(shade, at, end, key);
             covered += self.span(y, u32::from(at), u32::from(run_end), colour);
             at = run_end;
         }
@@ -232,37 +323,50 @@ impl ScanMemory<'_> {
     }
 }
 
-/// A shaded span: its row's shade and the index of its material.
-pub(super) struct Shading<'a> {
-    pub(super) shade: &'a RowShade,
-    pub(super) material: u8,
-    /// The gap up to here goes as runs of one colour (decided at its first run).
-    pub(super) runs_until: u16,
+/// A shaded span: its row's shade and the index of its material, its pixels told apart by
+/// `K`.
+pub(super) struct Shading<'a, K> {
+    shade: &'a RowShade,
+    material: u8,
+    /// The gap up to here goes as runs (decided at its first run).
+    runs_until: u16,
+    key: PhantomData<K>,
 }
 
-impl Pieces for Shading<'_> {
+impl<'a, K: Key> Shading<'a, K> {
+    pub(super) fn new(shade: &'a RowShade, material: u8) -> Self {
+        Shading {
+            shade,
+            material,
+            runs_until: 0,
+            key: PhantomData,
+        }
+    }
+}
+
+impl<K: Key> Pieces for Shading<'_, K> {
     fn piece(&mut self, m: &mut ScanMemory<'_>, gap: (u16, u16), prev: u16, next: u16) -> Piece {
         let ((at, gap_end), shade) = (gap, self.shade);
-        if let Some(end) = m.extend(prev, at, gap_end, shade) {
+        if let Some(end) = m.extend::<K>(prev, at, gap_end, shade) {
             return Piece::Joined(at, end);
         }
-        if let Some(start) = m.extend_back(next, at, gap_end, shade) {
+        if let Some(start) = m.extend_back::<K>(next, at, gap_end, shade) {
             return Piece::Joined(start, gap_end);
         }
-        if m.adopt((at, gap_end), prev, next, shade, self.material) {
+        if m.adopt::<K>((at, gap_end), prev, next, shade, self.material) {
             return Piece::Joined(at, gap_end);
         }
-        let c0 = m.rgb565(shade.at(u32::from(at)));
-        let end = m.run_end(shade, at, gap_end, c0);
+        let key = K::key(m, shade.at(u32::from(at)));
+        let end = m.run_end::<K>(shade, at, gap_end, key);
         let next = (next != NIL).then(|| m.node(next));
         if at >= self.runs_until
             && end < gap_end
-            && m.shade_pays(shade, (at, end, gap_end), c0, prev, next)
+            && m.shade_pays::<K>(shade, (at, end, gap_end), self.material, prev, next)
         {
             return Piece::Shaded(gap_end);
         }
         self.runs_until = gap_end;
-        Piece::Flat(end, c0)
+        K::run(m, shade, at, end, self.material)
     }
 
     fn shaded(&self, at: u16, end: u16, next: u16) -> (ScanNode, ScanNode) {

@@ -11,7 +11,9 @@ use std::vec::Vec;
 use super::*;
 use crate::camera::{Camera, Pose};
 use crate::coverage::Coverage;
-use crate::display::{Paint, Rgb565Framebuffer, RowShade, SpanSink, SHADE_FRACTION_BITS};
+use crate::display::{
+    dither_rgb565, Paint, Rgb565Framebuffer, RowShade, SpanSink, SHADE_FRACTION_BITS,
+};
 use crate::read::Node;
 use crate::render::{Renderer, Source, Workspace};
 use crate::traverse::testing::{box_faces, TestTree};
@@ -20,10 +22,12 @@ const W: u32 = 48;
 const H: u32 = 36;
 const BACKGROUND: Colour = Colour::new(0xab, 0xcd, 0xef);
 
-/// The first colour written to each pixel (front to back: the one that shows).
+/// The first colour written to each pixel (front to back: the one that shows), shaded pixels
+/// dithered or not.
 struct Model {
     width: usize,
     pixels: Vec<Option<u16>>,
+    dither: bool,
 }
 
 impl Model {
@@ -31,24 +35,29 @@ impl Model {
         Model {
             width: w as usize,
             pixels: vec![None; (w * h) as usize],
+            dither: false,
         }
     }
 
     fn span(&mut self, y: u32, a: u32, b: u32, c: Colour) -> u64 {
-        self.paint(y, a, b, |_| c)
+        self.paint(y, a, b, |_| c.to_rgb565())
     }
 
     fn shaded_span(&mut self, y: u32, a: u32, b: u32, shade: &RowShade) -> u64 {
-        self.paint(y, a, b, |x| shade.at(x))
+        if self.dither {
+            self.paint(y, a, b, |x| dither_rgb565(x, y, shade.at(x)))
+        } else {
+            self.paint(y, a, b, |x| shade.at(x).to_rgb565())
+        }
     }
 
     /// Paint the unpainted pixels of `a..b` in row `y`, pixel `x` in `colour(x)`.
-    fn paint(&mut self, y: u32, a: u32, b: u32, colour: impl Fn(u32) -> Colour) -> u64 {
+    fn paint(&mut self, y: u32, a: u32, b: u32, colour: impl Fn(u32) -> u16) -> u64 {
         let mut n = 0;
         for x in a..b.min(self.width as u32) {
             let p = &mut self.pixels[y as usize * self.width + x as usize];
             if p.is_none() {
-                *p = Some(colour(x).to_rgb565());
+                *p = Some(colour(x));
                 n += 1;
             }
         }
@@ -146,6 +155,7 @@ fn row_of(m: &ScanMemory<'_>, y: u32) -> Vec<u16> {
 fn a_shade_takes_two_nodes_whatever_its_colours() {
     let (mut nodes, mut heads) = ([ScanNode::EMPTY; 16], [0u16; 3]);
     let mut m = ScanMemory::new(&mut nodes, &mut heads, 200, 3).unwrap();
+    m.set_dithering(false);
     let white = Colour::grey(255);
     let ramp = gradient(white, 10.0, 1.2);
     assert_eq!(m.paint(0, 0, 200, Paint::Shade(&ramp)), 200);
@@ -201,6 +211,66 @@ fn a_shade_takes_two_nodes_whatever_its_colours() {
     assert!(well_formed(&m) && m.covers(0, 2, 190, 3) && !m.covers(0, 2, 191, 3));
 }
 
+/// Dithered (the default), a shade is kept to its 8-bit colours: a piece of few levels as
+/// level runs, one node each, that join their neighbours of the same level and material (not a
+/// flat interval of that colour, which is not dithered); one of many as a shaded interval; the
+/// pixels read out dithered on the frame's rows.
+#[cfg(feature = "smooth")]
+#[test]
+fn a_dithered_shade_keeps_its_levels() {
+    let (mut nodes, mut heads) = ([ScanNode::EMPTY; 16], [0u16; 2]);
+    let mut m = ScanMemory::new(&mut nodes, &mut heads, 64, 2).unwrap();
+    assert!(m.dithering());
+    let colour = Colour::new(250, 180, 90);
+    // Two levels, 0..10 and 10..20: two level runs.
+    let two = gradient(colour, 99.55, 0.1);
+    let level = |x: u32| two.colours(x).level();
+    assert_eq!(
+        (level(0), level(9), level(10), level(19)),
+        (100, 100, 101, 101)
+    );
+    assert_eq!(m.paint(0, 0, 20, Paint::Shade(&two)), 20);
+    assert_eq!(m.nodes_used(), 2, "two level runs");
+    // The same shade on both sides: each piece joins the run of its level.
+    assert_eq!(
+        m.paint(0, 20, 24, Paint::Shade(&gradient(colour, 101.0, 0.0))),
+        4
+    );
+    assert_eq!(m.nodes_used(), 2, "joined the second run");
+    // A flat interval of the level's colour is not a level run: no join.
+    let flat = two.at(0);
+    assert_eq!(m.span(1, 0, 5, flat), 5);
+    assert_eq!(m.paint(1, 5, 10, Paint::Shade(&two)), 5);
+    assert_eq!(m.nodes_used(), 4);
+    // Many levels: one shaded interval.
+    let ramp = gradient(colour, 20.0, 3.0);
+    assert_eq!(m.paint(1, 10, 64, Paint::Shade(&ramp)), 54);
+    assert_eq!(m.nodes_used(), 6);
+    let want = |y: u32, x: u32| match (y, x) {
+        (0, 0..20) => dither_rgb565(x, 0, two.at(x)),
+        (0, _) => dither_rgb565(x, 0, two.at(19)),
+        (1, 0..5) => flat.to_rgb565(),
+        (1, 5..10) => dither_rgb565(x, 1, two.at(x)),
+        (1, _) => dither_rgb565(x, 1, ramp.at(x)),
+        _ => unreachable!(),
+    };
+    assert_eq!(
+        row_of(&m, 0)[..24],
+        (0..24).map(|x| want(0, x)).collect::<Vec<_>>()
+    );
+    assert_eq!(
+        row_of(&m, 1),
+        (0..64).map(|x| want(1, x)).collect::<Vec<_>>()
+    );
+    // The dither shows: a level between two RGB565 colours takes both.
+    assert!(row_of(&m, 1)[5..10]
+        .iter()
+        .any(|&p| p != two.at(5).to_rgb565()));
+    let pixels: Vec<u16> = m.pixels(3, Gaps::default()).collect();
+    assert_eq!(pixels[64..], row_of(&m, 1)[..]);
+    assert!(well_formed(&m));
+}
+
 /// More materials in a frame than scan memory names: the further ones are kept as runs of
 /// one colour, with the same pixels.
 #[cfg(feature = "smooth")]
@@ -210,6 +280,7 @@ fn materials_beyond_the_palette_are_kept_as_runs() {
     let mut nodes = vec![ScanNode::EMPTY; 400];
     let mut heads = vec![0u16; n as usize];
     let mut m = ScanMemory::new(&mut nodes, &mut heads, 64, n).unwrap();
+    m.set_dithering(false);
     let shades: Vec<RowShade> = (0..n)
         .map(|k| gradient(Colour::new(255, 8 * k as u8, 100), 0.0, 4.0))
         .collect();
@@ -416,6 +487,7 @@ proptest! {
         shades in proptest::collection::vec((0u8..4, 0.0f64..255.0, -6.0f64..6.0), 1..4),
         spans in proptest::collection::vec((0u32..4, 0u32..64, 0u32..66, 0usize..6), 0..60),
         query in (0u32..64, 0u32..4, 0u32..66, 0u32..5),
+        dither in any::<bool>(),
     ) {
         let (w, h) = (64, 4);
         let shades: Vec<RowShade> = shades
@@ -425,7 +497,9 @@ proptest! {
         let mut nodes = vec![ScanNode::EMPTY; 600];
         let mut heads = vec![0u16; h as usize];
         let mut m = ScanMemory::new(&mut nodes, &mut heads, w, h).unwrap();
-        let mut model = Model::new(w, h);
+        m.set_dithering(dither);
+        // (Without the `smooth` feature, shades are kept as RGB565 runs.)
+        let mut model = Model { dither: dither && cfg!(feature = "smooth"), ..Model::new(w, h) };
         for &(y, a, b, k) in &spans {
             let (got, want) = match shades.get(k) {
                 Some(shade) => (

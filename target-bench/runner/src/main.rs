@@ -400,18 +400,15 @@ impl Smooth<'_> {
         let (mut records, mut problems) = (Vec::new(), Vec::new());
         for core in [Core::M4f, Core::M0Plus] {
             let integer = core.integer_vertices();
-            // Streamed: dithered as the panel's sink sends shaded spans; scan order: each
-            // pixel's colour rounded, as scan memory keeps it.
-            let frames = |dither: bool, wanted: bool| -> Result<Vec<Vec<u16>>, String> {
-                if !wanted {
-                    return Ok(Vec::new());
-                }
+            // Dithered, as the panel's sink sends shaded spans and scan memory reads them out
+            // by default.
+            let frames = if needs(Variant::FtbStream) || needs(Variant::ScanOrder) {
                 (self.cameras.iter())
-                    .map(|&c| smooth_frame(&scene, c, (width, height), integer, dither))
-                    .collect()
+                    .map(|&c| smooth_frame(&scene, c, (width, height), integer))
+                    .collect::<Result<Vec<_>, _>>()?
+            } else {
+                Vec::new()
             };
-            let streamed = frames(true, needs(Variant::FtbStream))?;
-            let scanned = frames(false, needs(Variant::ScanOrder))?;
             for setup in self.setups {
                 let dir = self
                     .runs_dir
@@ -441,8 +438,7 @@ impl Smooth<'_> {
                 }
                 let expected = Expected {
                     frames: match setup.variant {
-                        Variant::FtbStream => Some(&streamed[..]),
-                        Variant::ScanOrder => Some(&scanned[..]),
+                        Variant::FtbStream | Variant::ScanOrder => Some(&frames[..]),
                         _ => None,
                     },
                     robust_errors: Robust::FromFrames,
@@ -462,13 +458,12 @@ impl Smooth<'_> {
 /// and scan-order firmware draws it: Peel's renderer front to back with span memory (integer
 /// vertices or not), the firmware's view and background, into an RGB565 framebuffer whose
 /// shaded spans are dithered ([`peel_runtime::display::dither_rgb565`], as the panel's sink
-/// sends them) or rounded (as scan memory keeps them), flat spans rounded.
+/// sends them and scan memory reads them out), flat spans rounded.
 fn smooth_frame(
     scene: &Compiled,
     angles: OrbitAngles,
     (w, h): (u32, u32),
     integer: bool,
-    dither: bool,
 ) -> Result<Vec<u16>, String> {
     use peel_runtime::coverage::Coverage;
     use peel_runtime::display::Rgb565Framebuffer;
@@ -493,7 +488,6 @@ fn smooth_frame(
     }
     let mut pixels = vec![0u16; w as usize * rows];
     let mut fb = Rgb565Framebuffer::new(&mut pixels, w, h).map_err(|e| fail(e.to_string()))?;
-    fb.set_dithering(dither);
     renderer
         .draw(&parsed, &view, &mut fb)
         .map_err(|e| fail(e.to_string()))?;
