@@ -30,6 +30,13 @@ const LEAF: usize = 16;
 /// Fragments costed per candidate at most; bigger nodes are sampled.
 pub const COST_SAMPLE: usize = 2000;
 
+/// Lists of at most this many fragments cost every candidate plane rather than a sample of
+/// [`crate::tree::BuildOptions::candidates`]: most cuts are made in small lists (two thirds
+/// of the cow's in lists of at most 256 fragments), and there a sample misses the best plane
+/// often (cow 1.534 polygons per triangle against 1.566; BENCHMARKS.md, "Edge splits"). The
+/// bound keeps a node's costing bounded, so large meshes pay it per node as small ones do.
+pub const COST_ALL: usize = 2048;
+
 /// Weight of one cut against one fragment of imbalance.
 pub const CUT_WEIGHT: u64 = 8;
 

@@ -6,7 +6,7 @@
 //! fragments (ties: the side whose source ids come first), and that child is built directly
 //! as a convex node holding exactly them, its interior being that side of P. Then no child
 //! list has more distinct support planes than its parent, and every one but that convex node
-//! has fewer. A free split's children have no more support planes and fewer fragments. So
+//! has fewer. A free or edge split's children have no more support planes and fewer fragments. So
 //! the pair (support planes, fragments) drops lexicographically and the build ends (the
 //! argument in full: [`super`]); `Limit` checks it on every node (`CompileError::Invariant`,
 //! never a hang).
@@ -23,7 +23,8 @@ use super::BuildOptions;
 use crate::error::CompileError;
 use crate::peel::{after_split, hull_planes, Known, Witness};
 use crate::planes::{Plane, PlaneEntry, PlaneId, PlaneTable, Side};
-use crate::split::choose::{choose_split_costed, SplitRule, CUT_WEIGHT};
+use crate::split::choose::{choose_split_costed, SplitRule, COST_ALL, CUT_WEIGHT};
+use crate::split::edge::{divides, edge_planes};
 use crate::split::free::best_free;
 use crate::split::lopsided::{is_lopsided, lopsided_splits, Lopsided, CHAIN_AFTER};
 use crate::split::{Fragment, Placement, SplitResult};
@@ -66,13 +67,16 @@ pub(crate) enum SplitPlane {
     Support(PlaneId),
     /// A plane through grid vertices of the list that cuts none of its fragments.
     Free(Plane),
+    /// A table plane that is none of the list's support planes (the plane of one of its
+    /// fragments' edges, [`crate::split::edge`]), with some fragment wholly on each side.
+    Edge(PlaneId),
 }
 
 impl SplitPlane {
     /// The plane with its f64 approximation.
     pub(crate) fn entry(self, table: &PlaneTable) -> PlaneEntry {
         match self {
-            SplitPlane::Support(p) => *table.get(p),
+            SplitPlane::Support(p) | SplitPlane::Edge(p) => *table.get(p),
             SplitPlane::Free(p) => PlaneEntry::new(p),
         }
     }
@@ -514,7 +518,8 @@ fn convex_child(idx: u32, k: u32, rest: Vec<Fragment>, known: Known) -> Option<J
 /// Emit a split node for `frags` (no plane of which is on the hull) and return the jobs of
 /// its two children, the one laid out first first. The plane is the support plane of least
 /// cost ([`choose_split_costed`]), unless that one cuts and a free split ([`best_free`]) has
-/// less imbalance than its cost: a free split costs no polygon.
+/// less imbalance than its cost (a free split costs no polygon), or else the edge plane of
+/// least cost costs less than it by more than [`EDGE_PENALTY`] and divides the list.
 fn split_node(
     ctx: &Ctx,
     tree: &mut ExactTree,
@@ -524,17 +529,24 @@ fn split_node(
     slot: Slot,
     lopsided: u32,
 ) -> Result<(Job, Job), CompileError> {
-    // The free split's plane when it wins (the choice borrows the list).
-    let (plane, free) = {
+    let candidates = if frags.len() <= COST_ALL {
+        usize::MAX
+    } else {
+        ctx.options.candidates
+    };
+    let k = planes.len() as u32;
+    // The free or edge split's plane when one wins (the choice borrows the list).
+    let (plane, free, edge) = {
         let choice = choose_split_costed(
             SplitRule::default(),
             &frags,
             planes,
             ctx.table,
-            ctx.options.candidates,
+            candidates,
             ctx.options.seed,
         );
-        let free = (choice.cost >= CUT_WEIGHT)
+        let cuts = choice.cost >= CUT_WEIGHT;
+        let free = cuts
             .then(|| best_free(&frags, planes, ctx.table, choice.whole.as_ref()))
             .flatten()
             .filter(|free| {
@@ -544,14 +556,44 @@ fn split_node(
                     / frags.len() as u128;
                 imbalance < u128::from(choice.cost)
             });
-        (choice.plane, free)
+        let edge = (cuts && free.is_none())
+            .then(|| {
+                let edges = edge_planes(&frags, planes);
+                if edges.is_empty() {
+                    return None;
+                }
+                // Its own sample (the seed told apart), costed as the support planes are.
+                let e = choose_split_costed(
+                    SplitRule::default(),
+                    &frags,
+                    &edges,
+                    ctx.table,
+                    candidates,
+                    ctx.options.seed ^ EDGE_SEED,
+                );
+                (e.cost.saturating_add(EDGE_PENALTY) < choice.cost
+                    && divides(&frags, ctx.table.get(e.plane)))
+                .then_some(e.plane)
+            })
+            .flatten();
+        (choice.plane, free, edge)
     };
     if let Some(free) = free {
-        let k = planes.len() as u32;
         return free_split(tree, frags, free.entry, k, known, slot, lopsided);
+    }
+    if let Some(e) = edge {
+        return edge_split(ctx, tree, frags, e, k, known, slot);
     }
     support_split(ctx, tree, frags, planes, known, slot, lopsided, plane)
 }
+
+/// What an edge split must save over the best support split: one cut. A support split also
+/// takes its plane's fragments out of the list; with no penalty, or a bonus instead, the cow
+/// and suzanne get about as many polygons or more (BENCHMARKS.md, "Edge splits").
+const EDGE_PENALTY: u64 = CUT_WEIGHT;
+
+/// Mixed into the seed of the edge planes' sample, so that it is not the support planes'.
+const EDGE_SEED: u64 = 0x5eed_ed6e;
 
 /// Emit a split node of `frags` by their support plane `p` and return the jobs of its two
 /// children: the one holding the split plane's fragments first.
@@ -663,6 +705,77 @@ fn support_split(
                 lopsided,
             },
         )
+    })
+}
+
+/// Emit a split node of `frags` (`k` distinct support planes) by the table plane `p`, none of
+/// their support planes, with some fragment wholly on each side ([`divides`]), and return the
+/// jobs of its two children: the side holding the list's first fragment wholly first. Cuts add
+/// fragments but no support plane, and each side lacks the fragments wholly on the other, so
+/// each child has at most `k` support planes and fewer fragments than the list (the
+/// termination argument, [`super`]).
+fn edge_split(
+    ctx: &Ctx,
+    tree: &mut ExactTree,
+    frags: Vec<Fragment>,
+    p: PlaneId,
+    k: u32,
+    known: Vec<Witness>,
+    slot: Slot,
+) -> Result<(Job, Job), CompileError> {
+    let n = frags.len();
+    let (mut front, mut back) = (Vec::with_capacity(n), Vec::with_capacity(n));
+    let mut first_front = None;
+    for f in frags {
+        match f.split(p, ctx.table) {
+            Some(SplitResult::Front(f)) => {
+                first_front.get_or_insert(true);
+                front.push(f);
+            }
+            Some(SplitResult::Back(f)) => {
+                first_front.get_or_insert(false);
+                back.push(f);
+            }
+            Some(SplitResult::Cut(f, b)) => {
+                tree.cuts += 1;
+                front.push(f);
+                back.push(b);
+            }
+            Some(SplitResult::On(_)) => {
+                return Err(CompileError::Invariant(format!(
+                    "a fragment lies in edge split plane {p}, not its support"
+                )))
+            }
+            None => {
+                return Err(CompileError::Invariant(
+                    "a cut found no intersection point".into(),
+                ))
+            }
+        }
+    }
+    if front.len() >= n || back.len() >= n {
+        return Err(CompileError::Invariant(format!(
+            "edge split plane {p} does not divide: {} front, {} back of {n}",
+            front.len(),
+            back.len()
+        )));
+    }
+    let idx = push_split(tree, SplitPlane::Edge(p), k, slot);
+    let (known_front, known_back) = after_split(known, ctx.table.get(p));
+    let limit = Limit::fewer(k, n);
+    let job = |frags, known, slot| Job::Compile {
+        frags,
+        known,
+        slot,
+        limit,
+        lopsided: 0,
+    };
+    let front = job(front, known_front, Slot::Front(idx));
+    let back = job(back, known_back, Slot::Back(idx));
+    Ok(if first_front == Some(true) {
+        (front, back)
+    } else {
+        (back, front)
     })
 }
 
