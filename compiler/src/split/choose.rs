@@ -405,6 +405,8 @@ pub struct Choice<'a> {
     pub plane: PlaneId,
     /// Its cost on the sample (`u64::MAX` when no candidate was costed).
     pub cost: u64,
+    /// The sample's fragments it cuts.
+    pub cuts: u64,
     /// Fragments in the sample.
     pub sampled: usize,
     /// The sample, when it is the whole list (at most [`COST_SAMPLE`] fragments).
@@ -459,9 +461,13 @@ pub fn choose_split_costed<'a>(
         cands.iter().map(costed).min()
     };
     let (cost, plane) = best.unwrap_or((u64::MAX, planes[0]));
+    let cuts = sample
+        .tally(plane, table, |_, _| false)
+        .map_or(0, |t| t.cuts);
     Choice {
         plane,
         cost,
+        cuts,
         sampled: sample.frags.len(),
         whole: (frags.len() <= COST_SAMPLE).then_some(sample),
     }

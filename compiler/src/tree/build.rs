@@ -518,8 +518,9 @@ fn convex_child(idx: u32, k: u32, rest: Vec<Fragment>, known: Known) -> Option<J
 /// Emit a split node for `frags` (no plane of which is on the hull) and return the jobs of
 /// its two children, the one laid out first first. The plane is the support plane of least
 /// cost ([`choose_split_costed`]), unless that one cuts and a free split ([`best_free`]) has
-/// less imbalance than its cost (a free split costs no polygon), or else the edge plane of
-/// least cost costs less than it by more than [`EDGE_PENALTY`] and divides the list.
+/// less imbalance than its cost (a free split costs no polygon), or else that one cuts and
+/// the edge plane of least cost costs less than it by more than [`EDGE_PENALTY`] and divides
+/// the list.
 fn split_node(
     ctx: &Ctx,
     tree: &mut ExactTree,
@@ -556,7 +557,9 @@ fn split_node(
                     / frags.len() as u128;
                 imbalance < u128::from(choice.cost)
             });
-        let edge = (cuts && free.is_none())
+        // Only against a support plane that cuts: one that cuts nothing (splitting off a fold
+        // of a nearly convex mesh, however lopsided) adds no polygon, an edge plane would.
+        let edge = (choice.cuts > 0 && free.is_none())
             .then(|| {
                 let edges = edge_planes(&frags, planes);
                 if edges.is_empty() {
