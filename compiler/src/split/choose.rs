@@ -32,9 +32,10 @@ pub const COST_SAMPLE: usize = 2000;
 
 /// Lists of at most this many fragments cost every candidate plane rather than a sample of
 /// [`crate::tree::BuildOptions::candidates`]: most cuts are made in small lists (two thirds
-/// of the cow's in lists of at most 256 fragments), and there a sample misses the best plane
-/// often (cow 1.534 polygons per triangle against 1.566; BENCHMARKS.md, "Edge splits"). The
-/// bound keeps a node's costing bounded, so large meshes pay it per node as small ones do.
+/// of the cow's in lists of at most 256 fragments), and there a sample often misses the best
+/// support or edge plane (cow 1.540 and suzanne 1.536 polygons per triangle against 1.581 and
+/// 1.653; BENCHMARKS.md, "Edge splits"). The bound keeps a node's costing bounded, so a large
+/// mesh pays it per node as a small one does.
 pub const COST_ALL: usize = 2048;
 
 /// Weight of one cut against one fragment of imbalance.
@@ -414,14 +415,16 @@ pub struct Choice<'a> {
 }
 
 /// Choose the splitting plane among `planes` (the distinct support planes of `frags`, sorted)
-/// by `rule`: the build's is the greedy rule (fewest cuts) weighed with balance, see [`cost`]. A plane that cuts nothing
-/// (a free split: it adds no polygon) costs only its imbalance, so it wins whenever that
-/// imbalance is below what the cheapest cutting plane costs; candidates are support planes
-/// only, so every split by one also takes its plane's fragments out of both children (the
-/// termination argument). The build weighs the result against a free split by a plane that
-/// is not a support plane ([`super::free`]), hence the cost. At most `candidates`
-/// planes are costed (a deterministic sample seeded from `seed` and the node's content when
-/// there are more), each on at most [`COST_SAMPLE`] fragments. Ties go to the smaller id.
+/// by `rule`: the build's is the greedy rule (fewest cuts) weighed with balance, see [`cost`].
+/// A plane that cuts nothing (a free split: it adds no polygon) costs only its imbalance, so
+/// it wins whenever that imbalance is below what the cheapest cutting plane costs; candidates
+/// are support planes, so every split by one also takes its plane's fragments out of both
+/// children (the termination argument). The build weighs the result against a free split by a
+/// plane that is not a support plane ([`super::free`]) and against the edge plane this same
+/// choice finds among `planes` = the list's edge planes ([`super::edge`]), hence the cost and
+/// the cuts. At most `candidates` planes are costed (a deterministic sample seeded from `seed`
+/// and the node's content when there are more), each on at most [`COST_SAMPLE`] fragments.
+/// Ties go to the smaller id.
 ///
 /// Candidates are costed in parallel for large nodes; a shared best-so-far only stops
 /// candidates proven worse, so the minimum by `(cost, plane)` is the same on any thread count.

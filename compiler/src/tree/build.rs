@@ -234,7 +234,51 @@ struct Ctx<'a> {
     options: &'a BuildOptions,
     progress: &'a (dyn Fn(u64) + Sync),
     placed: AtomicU64,
+    /// How this build weighs its split planes.
+    rule: Rule,
+    /// Small lists are built once per rule of [`RULES`], the best kept ([`best_of`]); off
+    /// in those builds themselves.
+    best_of: bool,
 }
+
+/// How a build weighs its split planes: the cost of a support or edge plane, and what an edge
+/// split must save over the best support split.
+#[derive(Debug, Clone, Copy)]
+struct Rule {
+    split: SplitRule,
+    edge_penalty: u64,
+}
+
+/// The rules a small list is built with, the build's own first: the cut weight and the edge
+/// penalty each move the cow's and suzanne's polygons by a percent or two either way, list by
+/// list, so the best of a few builds of a list beats any one rule (BENCHMARKS.md, "Edge
+/// splits").
+const RULES: [Rule; 4] = [
+    Rule::new(CUT_WEIGHT, EDGE_PENALTY),
+    Rule::new(CUT_WEIGHT, 0),
+    Rule::new(10, EDGE_PENALTY),
+    Rule::new(6, EDGE_PENALTY),
+];
+
+impl Rule {
+    const fn new(cut_weight: u64, edge_penalty: u64) -> Rule {
+        Rule {
+            split: SplitRule {
+                cut_weight,
+                balance_weight: 1,
+            },
+            edge_penalty,
+        }
+    }
+}
+
+/// Lists of at most this many fragments, and at least [`BEST_OF_MIN`], are built with each
+/// rule of [`RULES`]. 64: cow 1.517 and suzanne 1.518 polygons per triangle at 1.6 times the
+/// compile; 256: 1.515 and 1.519 at 3.5 times; 32: 1.524 and 1.519.
+const BEST_OF_MAX: usize = 64;
+
+/// Smaller lists are built once: they rarely cut.
+const BEST_OF_MIN: usize = 8;
 
 pub(crate) fn build_exact(
     input: &Input,
@@ -246,6 +290,8 @@ pub(crate) fn build_exact(
         options,
         progress,
         placed: AtomicU64::new(0),
+        rule: RULES[0],
+        best_of: true,
     };
     let root = Job::Compile {
         frags: input.build_fragments().to_vec(),
@@ -344,13 +390,62 @@ fn push_convex(
         support_planes,
     });
     attach(tree, slot, idx);
-    let n = polys.len() as u64;
+    placed(ctx, polys.len() as u64);
     tree.polygons.extend(polys);
+    idx
+}
+
+/// Count `n` more polygons placed, reporting progress every 4,096.
+fn placed(ctx: &Ctx, n: u64) {
     let before = ctx.placed.fetch_add(n, Ordering::Relaxed);
     if before >> 12 != (before + n) >> 12 {
         (ctx.progress)(before + n);
     }
-    idx
+}
+
+/// The subtree of `job` (a small list's) built with each rule of [`RULES`]: the one with the
+/// fewest polygons, then nodes (ties: the earlier rule). Each build is the ordinary one, so
+/// the kept subtree holds every invariant; the choice depends on the list alone, so the
+/// output is the same on any thread count.
+fn best_of(ctx: &Ctx, job: &Job) -> Result<ExactTree, CompileError> {
+    let Job::Compile {
+        frags,
+        known,
+        limit,
+        lopsided,
+        ..
+    } = job
+    else {
+        unreachable!("only a list is built with each rule")
+    };
+    let mut best: Option<ExactTree> = None;
+    for rule in RULES {
+        let sub = Ctx {
+            table: ctx.table,
+            options: ctx.options,
+            progress: &|_| {},
+            placed: AtomicU64::new(0),
+            rule,
+            best_of: false,
+        };
+        let tree = run(
+            &sub,
+            Job::Compile {
+                frags: frags.clone(),
+                known: known.clone(),
+                slot: Slot::Root,
+                limit: *limit,
+                lopsided: *lopsided,
+            },
+        )?;
+        let key = |t: &ExactTree| (t.polygons.len(), t.nodes.len());
+        if best.as_ref().is_none_or(|b| key(&tree) < key(b)) {
+            best = Some(tree);
+        }
+    }
+    let best = best.expect("a rule");
+    placed(ctx, best.polygons.len() as u64);
+    Ok(best)
 }
 
 fn run(ctx: &Ctx, job: Job) -> Result<ExactTree, CompileError> {
@@ -422,6 +517,12 @@ fn run(ctx: &Ctx, job: Job) -> Result<ExactTree, CompileError> {
                     slot: small_slot,
                     limit: Limit::at_most(k),
                 });
+            }
+            Job::Compile {
+                ref frags, slot, ..
+            } if ctx.best_of && (BEST_OF_MIN..=BEST_OF_MAX).contains(&frags.len()) => {
+                let sub = best_of(ctx, &job)?;
+                append(&mut tree, sub, slot);
             }
             Job::Compile {
                 frags,
@@ -539,14 +640,14 @@ fn split_node(
     // The free or edge split's plane when one wins (the choice borrows the list).
     let (plane, free, edge) = {
         let choice = choose_split_costed(
-            SplitRule::default(),
+            ctx.rule.split,
             &frags,
             planes,
             ctx.table,
             candidates,
             ctx.options.seed,
         );
-        let cuts = choice.cost >= CUT_WEIGHT;
+        let cuts = choice.cost >= ctx.rule.split.cut_weight;
         let free = cuts
             .then(|| best_free(&frags, planes, ctx.table, choice.whole.as_ref()))
             .flatten()
@@ -567,14 +668,14 @@ fn split_node(
                 }
                 // Its own sample (the seed told apart), costed as the support planes are.
                 let e = choose_split_costed(
-                    SplitRule::default(),
+                    ctx.rule.split,
                     &frags,
                     &edges,
                     ctx.table,
                     candidates,
                     ctx.options.seed ^ EDGE_SEED,
                 );
-                (e.cost.saturating_add(EDGE_PENALTY) < choice.cost
+                (e.cost.saturating_add(ctx.rule.edge_penalty) < choice.cost
                     && divides(&frags, ctx.table.get(e.plane)))
                 .then_some(e.plane)
             })

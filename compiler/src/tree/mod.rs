@@ -40,8 +40,9 @@ mod tests;
 /// Knobs of the build.
 #[derive(Debug, Clone)]
 pub struct BuildOptions {
-    /// At most this many candidate planes are costed per split node (sampled deterministically
-    /// from `seed` when there are more).
+    /// At most this many candidate planes are costed per split node of more than 2,048
+    /// fragments (sampled deterministically from `seed` when there are more); smaller nodes
+    /// cost every plane.
     pub candidates: usize,
     /// Seed of the candidate sampling.
     pub seed: u64,
