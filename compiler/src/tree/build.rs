@@ -15,6 +15,7 @@
 //! it hands to rayon share the job and slot types and the pre-order bookkeeping.
 
 use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::Mutex;
 
 use rayon::prelude::*;
 
@@ -23,9 +24,10 @@ use super::BuildOptions;
 use crate::error::CompileError;
 use crate::peel::{after_split, hull_planes, Known, Witness};
 use crate::planes::{Plane, PlaneEntry, PlaneId, PlaneTable, Side};
+use crate::split::choose::content_hash;
 use crate::split::choose::{choose_split_costed, SplitRule, COST_ALL, CUT_WEIGHT};
 use crate::split::edge::{divides, edge_planes};
-use crate::split::free::best_free;
+use crate::split::free::{best_free, Free};
 use crate::split::lopsided::{is_lopsided, lopsided_splits, Lopsided, CHAIN_AFTER};
 use crate::split::{Fragment, Placement, SplitResult};
 
@@ -239,6 +241,35 @@ struct Ctx<'a> {
     /// Small lists are built once per rule of [`RULES`], the best kept ([`best_of`]); off
     /// in those builds themselves.
     best_of: bool,
+    /// In those builds: the free splits found so far (see [`free_of`]).
+    frees: Option<&'a Mutex<FreeMemo>>,
+}
+
+/// Free splits found for lists, by [`content_hash`]: a list's free split does not depend on
+/// the rule, and the builds of one list by each rule meet the same lists again (the list
+/// itself first, and every list below the splits the rules agree on).
+type FreeMemo = Vec<(u64, Vec<Fragment>, Option<Free>)>;
+
+/// `find()`, the free split of `frags`, or the one found before for the same list (compared
+/// whole, not only by hash) in another rule's build of the same small list.
+fn free_of(ctx: &Ctx, frags: &[Fragment], find: impl FnOnce() -> Option<Free>) -> Option<Free> {
+    let Some(memo) = ctx.frees else {
+        return find();
+    };
+    let h = content_hash(frags);
+    let known = |memo: &FreeMemo| {
+        (memo.iter())
+            .find(|(k, list, _)| *k == h && list.as_slice() == frags)
+            .map(|e| e.2)
+    };
+    if let Some(free) = known(&memo.lock().expect("free memo")) {
+        return free;
+    }
+    let free = find();
+    memo.lock()
+        .expect("free memo")
+        .push((h, frags.to_vec(), free));
+    free
 }
 
 /// How a build weighs its split planes: the cost of a support or edge plane, and what an edge
@@ -292,6 +323,7 @@ pub(crate) fn build_exact(
         placed: AtomicU64::new(0),
         rule: RULES[0],
         best_of: true,
+        frees: None,
     };
     let root = Job::Compile {
         frags: input.build_fragments().to_vec(),
@@ -419,6 +451,7 @@ fn best_of(ctx: &Ctx, job: &Job) -> Result<ExactTree, CompileError> {
         unreachable!("only a list is built with each rule")
     };
     let mut best: Option<ExactTree> = None;
+    let frees = Mutex::new(FreeMemo::new());
     for rule in RULES {
         let sub = Ctx {
             table: ctx.table,
@@ -427,6 +460,7 @@ fn best_of(ctx: &Ctx, job: &Job) -> Result<ExactTree, CompileError> {
             placed: AtomicU64::new(0),
             rule,
             best_of: false,
+            frees: Some(&frees),
         };
         let tree = run(
             &sub,
@@ -649,7 +683,16 @@ fn split_node(
         );
         let cuts = choice.cost >= ctx.rule.split.cut_weight;
         let free = cuts
-            .then(|| best_free(&frags, planes, ctx.table, choice.whole.as_ref()))
+            .then(|| {
+                free_of(ctx, &frags, || {
+                    best_free(
+                        &frags,
+                        planes,
+                        ctx.table,
+                        choice.whole.then_some(&choice.sample),
+                    )
+                })
+            })
             .flatten()
             .filter(|free| {
                 // Its imbalance on the list, scaled to the sample the support plane was
@@ -666,18 +709,18 @@ fn split_node(
                 if edges.is_empty() {
                     return None;
                 }
-                // Its own sample (the seed told apart), costed as the support planes are.
-                let e = choose_split_costed(
+                // Costed on the support planes' sample, with its own candidates (the seed told
+                // apart); only a cost below the support plane's less the penalty matters.
+                let limit = choice.cost.checked_sub(ctx.rule.edge_penalty + 1)?;
+                let (e, _) = choice.cheapest_below(
                     ctx.rule.split,
-                    &frags,
                     &edges,
                     ctx.table,
                     candidates,
                     ctx.options.seed ^ EDGE_SEED,
-                );
-                (e.cost.saturating_add(ctx.rule.edge_penalty) < choice.cost
-                    && divides(&frags, ctx.table.get(e.plane)))
-                .then_some(e.plane)
+                    limit,
+                )?;
+                divides(&frags, ctx.table.get(e)).then_some(e)
             })
             .flatten();
         (choice.plane, free, edge)
