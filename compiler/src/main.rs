@@ -77,7 +77,8 @@ struct CompileArgs {
     /// detail.
     #[arg(long)]
     wide_vertices: bool,
-    /// Candidate planes costed per split node (sampled when there are more).
+    /// Candidate planes costed per split node of more than 2048 fragments (sampled when there
+    /// are more; smaller nodes cost every plane).
     #[arg(long, default_value_t = BuildOptions::default().candidates, value_name = "K")]
     candidates: usize,
     /// Seed of the candidate sampling.

@@ -117,7 +117,8 @@ impl Builder {
         self
     }
 
-    /// Candidate planes costed per split node.
+    /// Candidate planes costed per split node of more than 2048 fragments (smaller nodes cost
+    /// every plane).
     pub fn candidates(mut self, k: usize) -> Self {
         self.options.build.candidates = k;
         self

@@ -30,6 +30,14 @@ const LEAF: usize = 16;
 /// Fragments costed per candidate at most; bigger nodes are sampled.
 pub const COST_SAMPLE: usize = 2000;
 
+/// Lists of at most this many fragments cost every candidate plane rather than a sample of
+/// [`crate::tree::BuildOptions::candidates`]: most cuts are made in small lists (two thirds
+/// of the cow's in lists of at most 256 fragments), and there a sample often misses the best
+/// support or edge plane (cow 1.540 and suzanne 1.536 polygons per triangle against 1.581 and
+/// 1.653; BENCHMARKS.md, "Edge splits"). The bound keeps a node's costing bounded, so a large
+/// mesh pays it per node as a small one does.
+pub const COST_ALL: usize = 2048;
+
 /// Weight of one cut against one fragment of imbalance.
 pub const CUT_WEIGHT: u64 = 8;
 
@@ -398,24 +406,32 @@ pub struct Choice<'a> {
     pub plane: PlaneId,
     /// Its cost on the sample (`u64::MAX` when no candidate was costed).
     pub cost: u64,
+    /// The sample's fragments it cuts.
+    pub cuts: u64,
     /// Fragments in the sample.
     pub sampled: usize,
-    /// The sample, when it is the whole list (at most [`COST_SAMPLE`] fragments).
-    pub(crate) whole: Option<Sample<'a>>,
+    /// The sample it was costed on.
+    pub(crate) sample: Sample<'a>,
+    /// The sample is the whole list (at most [`COST_SAMPLE`] fragments).
+    pub(crate) whole: bool,
+    /// The list's [`content_hash`].
+    hash: u64,
 }
 
 /// Choose the splitting plane among `planes` (the distinct support planes of `frags`, sorted)
-/// by `rule`: the build's is the greedy rule (fewest cuts) weighed with balance, see [`cost`]. A plane that cuts nothing
-/// (a free split: it adds no polygon) costs only its imbalance, so it wins whenever that
-/// imbalance is below what the cheapest cutting plane costs; candidates are support planes
-/// only, so every split by one also takes its plane's fragments out of both children (the
-/// termination argument). The build weighs the result against a free split by a plane that
-/// is not a support plane ([`super::free`]), hence the cost. At most `candidates`
-/// planes are costed (a deterministic sample seeded from `seed` and the node's content when
-/// there are more), each on at most [`COST_SAMPLE`] fragments. Ties go to the smaller id.
+/// by `rule`: the build's is the greedy rule (fewest cuts) weighed with balance, see [`cost`].
+/// A plane that cuts nothing (a free split: it adds no polygon) costs only its imbalance, so
+/// it wins whenever that imbalance is below what the cheapest cutting plane costs; candidates
+/// are support planes, so every split by one also takes its plane's fragments out of both
+/// children (the termination argument). The build weighs the result against a free split by a
+/// plane that is not a support plane ([`super::free`]) and against the edge plane this same
+/// choice finds among `planes` = the list's edge planes ([`super::edge`]), hence the cost and
+/// the cuts. At most `candidates` planes are costed (a deterministic sample seeded from `seed`
+/// and the node's content when there are more), each on at most [`COST_SAMPLE`] fragments.
+/// Ties go to the smaller id.
 ///
-/// Candidates are costed in parallel for large nodes; a shared best-so-far only stops
-/// candidates proven worse, so the minimum by `(cost, plane)` is the same on any thread count.
+/// Candidates are costed in parallel for large nodes, with the same answer on any thread count
+/// (see [`cheapest`]).
 pub fn choose_split_costed<'a>(
     rule: SplitRule,
     frags: &'a [Fragment],
@@ -424,7 +440,54 @@ pub fn choose_split_costed<'a>(
     candidates: usize,
     seed: u64,
 ) -> Choice<'a> {
-    let mut rng = SplitMix::new(seed ^ content_hash(frags));
+    let hash = content_hash(frags);
+    let mut rng = SplitMix::new(seed ^ hash);
+    let cands = pick(planes, candidates, &mut rng);
+    let sample = if frags.len() > COST_SAMPLE {
+        Sample::new((0..COST_SAMPLE).map(|_| &frags[rng.below(frags.len())]))
+    } else {
+        Sample::new(frags.iter())
+    };
+    let (cost, plane) =
+        cheapest(&sample, rule, &cands, table, u64::MAX).unwrap_or((u64::MAX, planes[0]));
+    let cuts = sample
+        .tally(plane, table, |_, _| false)
+        .map_or(0, |t| t.cuts);
+    Choice {
+        plane,
+        cost,
+        cuts,
+        sampled: sample.frags.len(),
+        whole: frags.len() <= COST_SAMPLE,
+        sample,
+        hash,
+    }
+}
+
+impl Choice<'_> {
+    /// The plane of least cost among `planes` (none of them need be a support plane), costed
+    /// by `rule` on this choice's sample, if that cost is at most `limit`: as
+    /// [`choose_split_costed`] (at most `candidates` of them, sampled from `seed` and the
+    /// list's content), but every candidate is dropped as soon as it is proven above `limit`,
+    /// which changes no answer below it.
+    pub fn cheapest_below(
+        &self,
+        rule: SplitRule,
+        planes: &[PlaneId],
+        table: &PlaneTable,
+        candidates: usize,
+        seed: u64,
+        limit: u64,
+    ) -> Option<(PlaneId, u64)> {
+        let mut rng = SplitMix::new(seed ^ self.hash);
+        let cands = pick(planes, candidates, &mut rng);
+        cheapest(&self.sample, rule, &cands, table, limit).map(|(c, p)| (p, c))
+    }
+}
+
+/// At most `candidates` of `planes` (all when there are no more), a deterministic sample drawn
+/// from `rng`, sorted.
+fn pick(planes: &[PlaneId], candidates: usize, rng: &mut SplitMix) -> Vec<PlaneId> {
     let mut cands: Vec<PlaneId> = planes.to_vec();
     let k = candidates.max(1);
     if cands.len() > k {
@@ -435,12 +498,20 @@ pub fn choose_split_costed<'a>(
         cands.truncate(k);
         cands.sort_unstable();
     }
-    let sample = if frags.len() > COST_SAMPLE {
-        Sample::new((0..COST_SAMPLE).map(|_| &frags[rng.below(frags.len())]))
-    } else {
-        Sample::new(frags.iter())
-    };
-    let best_so_far = AtomicU64::new(u64::MAX);
+    cands
+}
+
+/// The least `(cost, plane)` of `cands` on `sample` by `rule`, if one costs at most `limit`.
+/// Candidates are costed in parallel for large samples; a shared best-so-far only stops
+/// candidates proven worse, so the answer is the same on any thread count.
+fn cheapest(
+    sample: &Sample,
+    rule: SplitRule,
+    cands: &[PlaneId],
+    table: &PlaneTable,
+    limit: u64,
+) -> Option<(u64, PlaneId)> {
+    let best_so_far = AtomicU64::new(limit);
     let costed = |&p: &PlaneId| {
         let c = sample.cost_with(rule, p, table, best_so_far.load(Ordering::Relaxed));
         best_so_far.fetch_min(c, Ordering::Relaxed);
@@ -451,11 +522,5 @@ pub fn choose_split_costed<'a>(
     } else {
         cands.iter().map(costed).min()
     };
-    let (cost, plane) = best.unwrap_or((u64::MAX, planes[0]));
-    Choice {
-        plane,
-        cost,
-        sampled: sample.frags.len(),
-        whole: (frags.len() <= COST_SAMPLE).then_some(sample),
-    }
+    best.filter(|&(c, _)| c != u64::MAX)
 }

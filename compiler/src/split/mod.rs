@@ -1,5 +1,5 @@
 //! Split: convex fragments, their exact cut by a plane, and the choice of the splitting plane
-//! (`choose.rs`).
+//! (`choose.rs`; besides support planes, free planes `free.rs` and edge planes `edge.rs`).
 //!
 //! A fragment is a convex polygon stored as its support plane plus a cyclic list of bounding
 //! planes; its vertices are kept alongside (grid points, or intersections of three table
@@ -12,6 +12,7 @@ use std::sync::Arc;
 use crate::planes::{intersect, PlaneId, PlaneTable, Side, Vertex};
 
 pub mod choose;
+pub mod edge;
 pub mod free;
 pub mod lopsided;
 

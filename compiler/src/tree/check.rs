@@ -155,6 +155,24 @@ pub(crate) fn support_planes(t: &ExactTree, table: &PlaneTable) -> Check {
                 }
             }
             ExactNode::Split {
+                plane: SplitPlane::Edge(plane),
+                front,
+                back,
+                ..
+            } => {
+                // An edge plane is no support plane of the list: the children have no more
+                // support planes (and fewer fragments, which the build checks).
+                if has_plane(i as u32, plane) {
+                    return Err(format!("edge split {i}: its plane is a support plane"));
+                }
+                for c in [front, back].into_iter().flatten() {
+                    let kc = recorded(c);
+                    if kc > k {
+                        return Err(format!("edge split {i} -> child {c} grows: {kc} > {k}"));
+                    }
+                }
+            }
+            ExactNode::Split {
                 plane: SplitPlane::Support(plane),
                 front,
                 back,

@@ -1,7 +1,8 @@
 //! The build's input: quantised triangles as fragments, and the (then frozen) plane table.
 //!
 //! Every plane a fragment will ever be bounded by is created here: cuts are made only by
-//! support planes and only intersect existing planes, so the table is read-only (and shared by
+//! table planes (support planes, and edge planes in edge splits, `split::edge`) and only
+//! intersect existing planes, so the table is read-only (and shared by
 //! all threads) during the build, and plane ids do not depend on scheduling. Free split planes
 //! (`split::free`) cut nothing: their split nodes hold them by value.
 

@@ -3,19 +3,22 @@
 //! A fragment list becomes a convex node when some of its support planes lie on its convex
 //! hull: the fragments on them enclose the rest, and are drawn before or after it depending on
 //! which side of each the eye is. Otherwise the list is split by one of its support planes, as
-//! in Fuchs, Kedem and Naylor's BSP trees, or by a *free* plane: a plane through grid vertices
+//! in Fuchs, Kedem and Naylor's BSP trees, by a *free* plane: a plane through grid vertices
 //! of the list that is none of its support planes and cuts none of its fragments
-//! (`split::free`). What remains is built the same way.
+//! (`split::free`), or by an *edge* plane: the table plane of one of its fragments' edges, none
+//! of its support planes, which may cut but has some fragment wholly on each side
+//! (`split::edge`). What remains is built the same way.
 //!
 //! Why the build ends: take the pair (distinct support planes, fragments) of a list, ordered
 //! lexicographically. A convex node's child has fewer support planes (the node took every
 //! fragment of at least one). A split by a support plane P gives P's fragments to a convex
 //! node of them alone, and no other child holds one, so the other lists have fewer support
 //! planes (cuts add fragments, never planes); the convex node's own child has fewer too. A free
-//! split adds no support plane and cuts nothing, and both sides hold some fragments, so each
-//! child has no more support planes and fewer fragments. Every step drops the pair, which
-//! cannot drop forever. The build checks the drop on every node (`CompileError::Invariant`,
-//! never a hang).
+//! or an edge split is by a plane that holds no fragment, so it adds no support plane (cuts add
+//! fragments, never planes); each side lacks the fragments lying wholly on the other, of which
+//! there is at least one, so each child has no more support planes and fewer fragments. Every
+//! step drops the pair, which cannot drop forever. The build checks the drop on every node
+//! (`CompileError::Invariant`, never a hang).
 //!
 //! `build` turns a [`Mesh`] into a [`DisplayTree`]. Everything in the `DisplayTree` is
 //! relative to `centre` (the quantisation offset), in world units, f64.
@@ -37,8 +40,9 @@ mod tests;
 /// Knobs of the build.
 #[derive(Debug, Clone)]
 pub struct BuildOptions {
-    /// At most this many candidate planes are costed per split node (sampled deterministically
-    /// from `seed` when there are more).
+    /// At most this many candidate planes are costed per split node of more than 2,048
+    /// fragments (sampled deterministically from `seed` when there are more); smaller nodes
+    /// cost every plane.
     pub candidates: usize,
     /// Seed of the candidate sampling.
     pub seed: u64,

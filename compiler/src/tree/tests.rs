@@ -261,6 +261,26 @@ fn a_torus_is_split_along_its_rings_without_a_cut() {
     assert_eq!(tree.cuts, 0);
 }
 
+/// A torus turned off its axis has no ring left in one plane, and its support planes cut it
+/// wherever its surface comes back: the build splits it by its edges' planes instead (which
+/// may cut, and are no support planes), keeping every invariant.
+#[test]
+fn a_turned_torus_is_split_by_edge_planes() {
+    let (_, tree) = checked(&turned(&crate::tools::scenes::torus(24, 12)));
+    let edge = (tree.nodes.iter())
+        .filter(|n| {
+            matches!(
+                n,
+                super::build::ExactNode::Split {
+                    plane: super::build::SplitPlane::Edge(_),
+                    ..
+                }
+            )
+        })
+        .count();
+    assert!(edge > 0, "no edge split");
+}
+
 #[test]
 fn crossing_triangles_are_cut_exactly() {
     let (input, tree) = checked(&mesh_of(crate::tools::scenes::piercing_triangles()));

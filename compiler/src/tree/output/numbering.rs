@@ -51,7 +51,7 @@ impl Out<'_> {
 
     fn split_plane(&mut self, plane: SplitPlane) -> u32 {
         match plane {
-            SplitPlane::Support(id) => self.plane(id),
+            SplitPlane::Support(id) | SplitPlane::Edge(id) => self.plane(id),
             SplitPlane::Free(p) => {
                 if let Some(&i) = self.free_ids.get(&p) {
                     return i;
