@@ -68,7 +68,7 @@ pub use frame::{ScanFrame, ScanPixels};
 
 use crate::display::{Colour, Paint, RowShade};
 use crate::error::RenderError;
-use shaded::{Exact, Rgb565, Shading};
+use shaded::Shading;
 
 /// The end of a list.
 const NIL: u16 = u16::MAX;
@@ -416,14 +416,7 @@ impl<'m> ScanMemory<'m> {
             .material(shade.colour)
             .filter(|_| cfg!(feature = "smooth"))
         {
-            Some(material) if self.dither => {
-                let shading = Shading::<Exact>::new(shade, material);
-                self.cover(y, x_start, x_end, shading)
-            }
-            Some(material) => {
-                let shading = Shading::<Rgb565>::new(shade, material);
-                self.cover(y, x_start, x_end, shading)
-            }
+            Some(material) => self.cover(y, x_start, x_end, Shading::new(shade, material)),
             None => self.runs(y, x_start, x_end, shade),
         }
     }

@@ -1,58 +1,39 @@
 //! Shaded intervals in scan memory: a smooth span's pieces as two nodes each (its shade from
 //! the piece's first pixel on, its material by index) or as runs of pixels alike, whichever
 //! costs fewer nodes; neighbours that continue each other's shade grow instead. Pixels are
-//! alike ([`Key`]) when their RGB565 colours are, in an undithered frame, and when their 8-bit
-//! colours are, in a dithered one, whose runs are then level runs ([`LEVEL`]).
+//! alike (`ScanMemory::key`) when their RGB565 colours are, in an undithered frame, and when
+//! their 8-bit colours are, in a dithered one, whose runs are then level runs ([`LEVEL`]).
 //! A row's colours are monotonic in x (its intensity is affine, and a colour's channels grow
 //! with the intensity), so a piece's runs are found by bisection, and a piece whose first and
 //! last pixels agree is one colour.
 
-use core::marker::PhantomData;
-
 use super::{Piece, Pieces, ScanMemory, ScanNode, LEVEL, NIL, SHADED};
 use crate::display::{Colour, RowShade, SHADE_FRACTION_BITS};
 
-/// What two pixels of a shade must share to be kept alike: [`Rgb565`] or [`Exact`].
-pub(super) trait Key {
-    /// The key of `colour`.
-    fn key(m: &mut ScanMemory<'_>, colour: Colour) -> u32;
-
-    /// The piece of a run of pixels alike from `x` to `end` of `shade` (material `material`).
-    fn run(m: &mut ScanMemory<'_>, shade: &RowShade, x: u16, end: u16, material: u8) -> Piece;
-}
-
-/// An undithered frame's: the RGB565 colour, runs as flat intervals.
-pub(super) struct Rgb565;
-
-impl Key for Rgb565 {
-    #[inline]
-    fn key(m: &mut ScanMemory<'_>, colour: Colour) -> u32 {
-        u32::from(m.rgb565(colour))
-    }
-
-    #[inline]
-    fn run(m: &mut ScanMemory<'_>, shade: &RowShade, x: u16, end: u16, _: u8) -> Piece {
-        Piece::Flat(end, m.rgb565(shade.at(u32::from(x))))
-    }
-}
-
-/// A dithered frame's: the 8-bit colour (the dither takes every bit), runs as level runs.
-pub(super) struct Exact;
-
-impl Key for Exact {
-    #[inline]
-    fn key(_: &mut ScanMemory<'_>, colour: Colour) -> u32 {
-        u32::from_le_bytes([colour.r, colour.g, colour.b, 0])
-    }
-
-    #[inline]
-    fn run(_: &mut ScanMemory<'_>, shade: &RowShade, x: u16, end: u16, material: u8) -> Piece {
-        let level = shade.colours(u32::from(x)).level();
-        Piece::Level(end, LEVEL | u16::from(level) << 4 | u16::from(material))
-    }
-}
-
 impl ScanMemory<'_> {
+    /// What pixels of a shade must share to be kept alike: their 8-bit colour in a dithered
+    /// frame (the dither takes every bit), their RGB565 colour in an undithered one.
+    #[inline]
+    fn key(&mut self, colour: Colour) -> u32 {
+        if self.dither {
+            u32::from_le_bytes([colour.r, colour.g, colour.b, 0])
+        } else {
+            u32::from(self.rgb565(colour))
+        }
+    }
+
+    /// The piece of a run of pixels alike ([`Self::key`]) from `x` to `end` of `shade`
+    /// (material `material`): a level run in a dithered frame, one RGB565 colour otherwise.
+    #[inline]
+    fn run(&mut self, shade: &RowShade, x: u16, end: u16, material: u8) -> Piece {
+        if self.dither {
+            let level = shade.colours(u32::from(x)).level();
+            Piece::Level(end, LEVEL | u16::from(level) << 4 | u16::from(material))
+        } else {
+            Piece::Flat(end, self.rgb565(shade.at(u32::from(x))))
+        }
+    }
+
     /// A node pair for a shaded interval (two fresh nodes in a row); `None` when the pool is
     /// spent. Shaded intervals are never freed, so the free list holds single nodes only.
     pub(super) fn alloc_pair(&mut self, first: ScanNode, shade: ScanNode) -> Option<u16> {
@@ -104,15 +85,9 @@ impl ScanMemory<'_> {
     }
 
     /// Extend shaded interval `prev`, which ends at `at`, over the pixels of `at..gap_end`
-    /// painted alike ([`Key`]) as its shade continues (a neighbour on a smooth surface often
-    /// is): their end, if there is one such pixel.
-    fn extend<K: Key>(
-        &mut self,
-        prev: u16,
-        at: u16,
-        gap_end: u16,
-        shade: &RowShade,
-    ) -> Option<u16> {
+    /// painted alike ([`Self::key`]) as its shade continues (a neighbour on a smooth surface
+    /// often is): their end, if there is one such pixel.
+    fn extend(&mut self, prev: u16, at: u16, gap_end: u16, shade: &RowShade) -> Option<u16> {
         let p = (prev != NIL).then(|| self.node(prev))?;
         if !cfg!(feature = "smooth") || !p.is_shaded() || p.end != at {
             return None;
@@ -122,7 +97,7 @@ impl ScanMemory<'_> {
             .colours(u32::from(at))
             .zip(shade.colours(u32::from(at)))
             .take(usize::from(gap_end - at))
-            .take_while(|&(l, c)| K::key(self, l) == K::key(self, c))
+            .take_while(|&(l, c)| self.key(l) == self.key(c))
             .count();
         let end = at + n as u16;
         (end > at).then(|| {
@@ -135,13 +110,7 @@ impl ScanMemory<'_> {
 
     /// Extend shaded interval `next`, which starts at `gap_end`, back over the pixels of
     /// `at..gap_end` painted as its shade continues: their start, if there is one such pixel.
-    fn extend_back<K: Key>(
-        &mut self,
-        next: u16,
-        at: u16,
-        gap_end: u16,
-        shade: &RowShade,
-    ) -> Option<u16> {
+    fn extend_back(&mut self, next: u16, at: u16, gap_end: u16, shade: &RowShade) -> Option<u16> {
         let n = (next != NIL).then(|| self.node(next))?;
         if !cfg!(feature = "smooth") || !n.is_shaded() || n.first() != gap_end {
             return None;
@@ -150,7 +119,7 @@ impl ScanMemory<'_> {
         let mut start = gap_end;
         while start > at {
             let x = u32::from(start - 1);
-            if K::key(self, right.at(x)) != K::key(self, shade.at(x)) {
+            if self.key(right.at(x)) != self.key(shade.at(x)) {
                 break;
             }
             start -= 1;
@@ -175,16 +144,9 @@ impl ScanMemory<'_> {
     /// Whether `shade` gives every pixel of shaded interval `i` (node `n`) the colour it has,
     /// tried from its left end first (`from_left`) or its right end: the end far from the gap,
     /// where a mismatch shows first.
-    fn reproduces<K: Key>(
-        &mut self,
-        i: u16,
-        n: &ScanNode,
-        shade: &RowShade,
-        from_left: bool,
-    ) -> bool {
+    fn reproduces(&mut self, i: u16, n: &ScanNode, shade: &RowShade, from_left: bool) -> bool {
         let own = self.row_shade(i, n);
-        let same =
-            |x: u16| K::key(self, own.at(u32::from(x))) == K::key(self, shade.at(u32::from(x)));
+        let same = |x: u16| self.key(own.at(u32::from(x))) == self.key(shade.at(u32::from(x)));
         if from_left {
             (n.first()..n.end).all(same)
         } else {
@@ -210,7 +172,7 @@ impl ScanMemory<'_> {
     /// Grow a shaded neighbour of gap `at..gap_end` over the whole gap where `shade` (the
     /// gap's) gives the neighbour's pixels their colours: the neighbour takes `shade`. Whether
     /// one did. (A level run has no second node for a shade.)
-    fn adopt<K: Key>(
+    fn adopt(
         &mut self,
         (at, gap_end): (u16, u16),
         prev: u16,
@@ -226,7 +188,7 @@ impl ScanMemory<'_> {
             if p.is_shaded()
                 && !p.is_level()
                 && p.end == at
-                && self.reproduces::<K>(prev, &p, shade, true)
+                && self.reproduces(prev, &p, shade, true)
             {
                 self.reshade(prev, (p.first(), gap_end), shade, material);
                 return true;
@@ -237,7 +199,7 @@ impl ScanMemory<'_> {
             if n.is_shaded()
                 && !n.is_level()
                 && n.first() == gap_end
-                && self.reproduces::<K>(next, &n, shade, false)
+                && self.reproduces(next, &n, shade, false)
             {
                 self.reshade(next, (at, n.end), shade, material);
                 return true;
@@ -246,15 +208,15 @@ impl ScanMemory<'_> {
         false
     }
 
-    /// The end of the run of pixels of key `key` ([`Key`]), which pixel `from` has, in
+    /// The end of the run of pixels of key `key` ([`Self::key`]), which pixel `from` has, in
     /// `from..to` of `shade`'s row. A row's colours are monotonic in x (so is its intensity,
     /// and so are a colour's channels in it): each key is one run, and the first pixel of
     /// another is found by bisection.
-    fn run_end<K: Key>(&mut self, shade: &RowShade, from: u16, to: u16, key: u32) -> u16 {
+    fn run_end(&mut self, shade: &RowShade, from: u16, to: u16, key: u32) -> u16 {
         let (mut lo, mut hi) = (from + 1, to);
         while lo < hi {
             let mid = lo + (hi - lo) / 2;
-            if K::key(self, shade.at(u32::from(mid))) == key {
+            if self.key(shade.at(u32::from(mid))) == key {
                 lo = mid + 1;
             } else {
                 hi = mid;
@@ -266,7 +228,7 @@ impl ScanMemory<'_> {
     /// Whether gap `at..gap_end` of `shade` (material `material`), whose first run ends at
     /// `end` before it, costs fewer nodes shaded (two) than as its runs, the first joining the
     /// interval before it (`prev`) and the last the next one (`next`) where they match.
-    fn shade_pays<K: Key>(
+    fn shade_pays(
         &mut self,
         shade: &RowShade,
         (at, end, gap_end): (u16, u16, u16),
@@ -281,29 +243,29 @@ impl ScanMemory<'_> {
                 return true;
             }
             last = x;
-            let key = K::key(self, shade.at(u32::from(x)));
-            x = self.run_end::<K>(shade, x, gap_end, key);
+            let key = self.key(shade.at(u32::from(x)));
+            x = self.run_end(shade, x, gap_end, key);
             runs += 1;
         }
         let before = (prev != NIL).then(|| self.node(prev));
-        let left = before.is_some_and(|p| p.end == at && self.joins::<K>(&p, shade, at, material));
-        let right = next
-            .is_some_and(|n| n.first() == gap_end && self.joins::<K>(&n, shade, last, material));
+        let left = before.is_some_and(|p| p.end == at && self.joins(&p, shade, at, material));
+        let right =
+            next.is_some_and(|n| n.first() == gap_end && self.joins(&n, shade, last, material));
         runs - i32::from(left) - i32::from(right) > 2
     }
 
     /// Whether node `n` is the run of `shade`'s pixels alike with pixel `x`'s (the same colour
     /// field and kind), which a run of them would join.
-    fn joins<K: Key>(&mut self, n: &ScanNode, shade: &RowShade, x: u16, material: u8) -> bool {
-        match K::run(self, shade, x, x, material) {
+    fn joins(&mut self, n: &ScanNode, shade: &RowShade, x: u16, material: u8) -> bool {
+        match self.run(shade, x, x, material) {
             Piece::Flat(_, c) => !n.is_shaded() && n.colour == c,
             Piece::Level(_, c) => n.is_shaded() && n.colour == c,
             _ => false,
         }
     }
 
-    /// A shade kept as runs of one RGB565 colour (a material beyond the frame's
-    /// [`MATERIALS`](super::MATERIALS)), each found by bisection.
+    /// A shade kept as flat runs, undithered (a material beyond the frame's
+    /// [`MATERIALS`](super::MATERIALS)), each run of pixels alike found by bisection.
     pub(super) fn runs(&mut self, y: u32, x_start: u32, x_end: u32, shade: &RowShade) -> u64 {
         let x_end = x_end.min(u32::from(self.width));
         if x_start >= x_end {
@@ -314,8 +276,8 @@ impl ScanMemory<'_> {
         let mut covered = 0;
         while at < end {
             let colour = shade.at(u32::from(at));
-            let key = Rgb565::key(self, colour);
-            let run_end = self.run_end::<Rgb565>(shade, at, end, key);
+            let key = self.key(colour);
+            let run_end = self.run_end(shade, at, end, key);
             covered += self.span(y, u32::from(at), u32::from(run_end), colour);
             at = run_end;
         }
@@ -323,50 +285,47 @@ impl ScanMemory<'_> {
     }
 }
 
-/// A shaded span: its row's shade and the index of its material, its pixels told apart by
-/// `K`.
-pub(super) struct Shading<'a, K> {
+/// A shaded span: its row's shade and the index of its material.
+pub(super) struct Shading<'a> {
     shade: &'a RowShade,
     material: u8,
     /// The gap up to here goes as runs (decided at its first run).
     runs_until: u16,
-    key: PhantomData<K>,
 }
 
-impl<'a, K: Key> Shading<'a, K> {
+impl<'a> Shading<'a> {
     pub(super) fn new(shade: &'a RowShade, material: u8) -> Self {
         Shading {
             shade,
             material,
             runs_until: 0,
-            key: PhantomData,
         }
     }
 }
 
-impl<K: Key> Pieces for Shading<'_, K> {
+impl Pieces for Shading<'_> {
     fn piece(&mut self, m: &mut ScanMemory<'_>, gap: (u16, u16), prev: u16, next: u16) -> Piece {
         let ((at, gap_end), shade) = (gap, self.shade);
-        if let Some(end) = m.extend::<K>(prev, at, gap_end, shade) {
+        if let Some(end) = m.extend(prev, at, gap_end, shade) {
             return Piece::Joined(at, end);
         }
-        if let Some(start) = m.extend_back::<K>(next, at, gap_end, shade) {
+        if let Some(start) = m.extend_back(next, at, gap_end, shade) {
             return Piece::Joined(start, gap_end);
         }
-        if m.adopt::<K>((at, gap_end), prev, next, shade, self.material) {
+        if m.adopt((at, gap_end), prev, next, shade, self.material) {
             return Piece::Joined(at, gap_end);
         }
-        let key = K::key(m, shade.at(u32::from(at)));
-        let end = m.run_end::<K>(shade, at, gap_end, key);
+        let key = m.key(shade.at(u32::from(at)));
+        let end = m.run_end(shade, at, gap_end, key);
         let next = (next != NIL).then(|| m.node(next));
         if at >= self.runs_until
             && end < gap_end
-            && m.shade_pays::<K>(shade, (at, end, gap_end), self.material, prev, next)
+            && m.shade_pays(shade, (at, end, gap_end), self.material, prev, next)
         {
             return Piece::Shaded(gap_end);
         }
         self.runs_until = gap_end;
-        K::run(m, shade, at, end, self.material)
+        m.run(shade, at, end, self.material)
     }
 
     fn shaded(&self, at: u16, end: u16, next: u16) -> (ScanNode, ScanNode) {
