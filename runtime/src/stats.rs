@@ -53,3 +53,79 @@ impl FrameStats {
         })
     }
 }
+
+/// A counter of [`Tally`], named after its [`FrameStats`] field.
+#[derive(Debug, Clone, Copy)]
+pub(crate) enum Counter {
+    PolygonsVisited,
+    PolygonsDrawn,
+    PixelsWritten,
+    NodesCulledFrustum,
+    NodesCulledCovered,
+    PolygonsCulledCovered,
+}
+
+/// What a frame's walks count as they go: [`FrameStats`]'s counters with the `stats`
+/// feature, and whether the walk stopped full. Without the feature it holds no counters, so
+/// that a frame sets none up (their clear was most of a small build's frame set-up).
+#[derive(Debug, Clone, Copy, Default)]
+pub(crate) struct Tally {
+    #[cfg(feature = "stats")]
+    counts: [u64; 6],
+    /// Front to back stopped early because every pixel was covered.
+    pub(crate) stopped_full: bool,
+    /// The frame fell back to back to front ([`FrameStats::fallback`]).
+    pub(crate) fallback: bool,
+    /// The frame was anti-aliased ([`FrameStats::antialiased`]).
+    pub(crate) antialiased: bool,
+}
+
+impl Tally {
+    /// No counts yet, for a frame that `fallback`s from its start or not.
+    pub(crate) fn new(fallback: bool) -> Self {
+        Tally {
+            fallback,
+            ..Tally::default()
+        }
+    }
+
+    /// `counter += n` (saturating) with the `stats` feature; nothing without it.
+    #[inline(always)]
+    pub(crate) fn add(&mut self, counter: Counter, n: u64) {
+        #[cfg(feature = "stats")]
+        {
+            let c = &mut self.counts[counter as usize];
+            *c = c.saturating_add(n);
+        }
+        #[cfg(not(feature = "stats"))]
+        let _ = (counter, n);
+    }
+
+    /// The counter's value (0 without the `stats` feature).
+    #[inline(always)]
+    fn get(&self, counter: Counter) -> u64 {
+        #[cfg(feature = "stats")]
+        return self.counts[counter as usize];
+        #[cfg(not(feature = "stats"))]
+        {
+            let _ = counter;
+            0
+        }
+    }
+
+    /// The frame's report: these counts and how the frame ended.
+    pub(crate) fn report(&self, distinct_pixels: Option<u64>) -> FrameStats {
+        FrameStats {
+            polygons_visited: self.get(Counter::PolygonsVisited),
+            polygons_drawn: self.get(Counter::PolygonsDrawn),
+            pixels_written: self.get(Counter::PixelsWritten),
+            nodes_culled_frustum: self.get(Counter::NodesCulledFrustum),
+            nodes_culled_covered: self.get(Counter::NodesCulledCovered),
+            polygons_culled_covered: self.get(Counter::PolygonsCulledCovered),
+            distinct_pixels,
+            stopped_full: self.stopped_full,
+            fallback: self.fallback,
+            antialiased: self.antialiased,
+        }
+    }
+}

@@ -17,6 +17,7 @@ use crate::display::{Colour, SpanSink};
 use crate::error::RenderError;
 use crate::fill::{self, FixedPoint};
 use crate::read::Node;
+use crate::stats::Tally;
 use crate::traverse::testing::{box_faces, TestTree};
 use crate::traverse::Order;
 
@@ -183,7 +184,7 @@ fn culled_cube(order: Order) -> (FrameStats, bool) {
         integer: None,
         antialias: None,
     };
-    let entered = painter.enter(&t, 0, None, &mut FrameStats::default());
+    let entered = painter.enter(&t, 0, None, &mut Tally::default());
     assert!(sink.1.iter().all(|&c| c == Colour::default()));
     (stats, entered)
 }

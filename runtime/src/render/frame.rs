@@ -20,6 +20,7 @@ use crate::display::{Colour, SpanSink};
 use crate::error::RenderError;
 use crate::fill::{self, FixedPoint};
 use crate::pending::{self, Pending};
+use crate::stats::{Counter, Tally};
 use crate::traverse::{Order, StackEntry};
 #[cfg(feature = "integer-vertices")]
 use crate::vertices::IntegerView;
@@ -222,23 +223,17 @@ where
         integer,
         antialias: pending,
     };
-    let stats = FrameStats {
-        // Front to back was asked for, but the feature is off: painted back to front.
-        fallback: asked_front_to_back && order == Order::BackToFront,
-        ..FrameStats::default()
-    };
     Ok(Frame {
         painter,
         stack,
         coverage,
         order,
         once,
-        // Scan order paints its gaps when the frame is read out.
-        background: settings.background.filter(|_| output != Output::Scan),
         output,
         width,
         rows,
-        stats,
+        // Front to back was asked for, but the feature is off: painted back to front.
+        tally: Tally::new(asked_front_to_back && order == Order::BackToFront),
     })
 }
 
@@ -249,29 +244,34 @@ pub(super) struct Frame<'a, 'm, const SUB: u32> {
     coverage: Option<&'a mut Coverage<'m>>,
     order: Order,
     once: bool,
-    background: Option<Colour>,
     output: Output,
     width: u32,
     rows: Range<u32>,
-    stats: FrameStats,
+    tally: Tally,
 }
 
 impl<const SUB: u32> Frame<'_, '_, SUB> {
-    /// Every pass in turn, into `target`.
-    pub(super) fn draw<T, S>(mut self, scene: &T, target: &mut S) -> Result<FrameStats, RenderError>
+    /// Every pass in turn, into `target`, over `background` where it has one (the caller's
+    /// setting: held in the frame, LLVM did not prove it unchanged by the walks and kept the
+    /// background's code in builds that never set one).
+    pub(super) fn draw<T, S>(
+        mut self,
+        scene: &T,
+        target: &mut S,
+        background: Option<Colour>,
+    ) -> Result<FrameStats, RenderError>
     where
         T: Source + ?Sized,
         S: SpanSink + ?Sized,
     {
-        // Read once, before the walks: held in the frame, LLVM did not prove them unchanged
-        // by the walks and kept code (the background's) that builds without one never run.
-        let (background, order, once) = (self.background, self.order, self.once);
+        // Read once, before the walks, for the same reason.
+        let (order, once) = (self.order, self.once);
         let (width, rows) = (self.width, self.rows.clone());
         // Back to front: the background first, then every polygon over it.
         if order == Order::BackToFront {
             paint_background(background, None, width, &rows, target);
         }
-        let (overflow, kept) = self.first_pass(scene, target)?;
+        let (overflow, kept) = self.first_pass(scene, target, background)?;
         if overflow.is_some() && once {
             // No overdraw on a display (nor in scan memory): the frame stops here.
             return Err(RenderError::SpanMemoryFull);
@@ -284,12 +284,11 @@ impl<const SUB: u32> Frame<'_, '_, SUB> {
                 paint_background(background, coverage, width, &rows, target);
             }
         }
-        let stats = &mut self.stats;
-        stats.distinct_pixels = match self.coverage.as_deref() {
-            Some(c) if !c.exhausted() && !stats.fallback => Some(c.covered() + kept),
+        let distinct = match self.coverage.as_deref() {
+            Some(c) if !c.exhausted() && !self.tally.fallback => Some(c.covered() + kept),
             _ => None,
         };
-        Ok(self.stats)
+        Ok(self.tally.report(distinct))
     }
 
     /// Pass 1, in the frame's order. Anti-aliased, its pending pixels end the pass: drained
@@ -302,6 +301,7 @@ impl<const SUB: u32> Frame<'_, '_, SUB> {
         &mut self,
         scene: &T,
         target: &mut S,
+        background: Option<Colour>,
     ) -> Result<(Option<u32>, u64), RenderError>
     where
         T: Source + ?Sized,
@@ -320,16 +320,16 @@ impl<const SUB: u32> Frame<'_, '_, SUB> {
                     // Kept: the read-out puts them into the scan memory's gaps (each drained
                     // into it would cost a node).
                     let kept = p.in_use() as u64;
-                    self.stats.pixels_written += kept;
-                    self.stats.antialiased = true;
+                    self.tally.add(Counter::PixelsWritten, kept);
+                    self.tally.antialiased = true;
                     return Ok((None, kept));
                 }
                 (None, Output::Sink { .. }) => {
                     let first_row = self.rows.start;
-                    let background = self.background.unwrap_or_default();
+                    let background = background.unwrap_or_default();
                     let sent = pending::drain(p, c, target, first_row, background);
-                    self.stats.pixels_written += sent;
-                    self.stats.antialiased = true;
+                    self.tally.add(Counter::PixelsWritten, sent);
+                    self.tally.antialiased = true;
                     return Ok((None, 0));
                 }
                 (Some(_), Output::Sink { once: true }) => return Ok((overflow, 0)),
@@ -359,7 +359,7 @@ impl<const SUB: u32> Frame<'_, '_, SUB> {
         let Some(c) = self.coverage.as_deref_mut() else {
             return Ok(());
         };
-        self.stats.fallback = true;
+        self.tally.fallback = true;
         c.freeze();
         // What pass 2 draws, it draws over this (it paints back to front).
         let coverage = self.coverage.as_deref();
@@ -386,7 +386,7 @@ impl<const SUB: u32> Frame<'_, '_, SUB> {
             &mut self.stack[..],
             self.coverage.as_deref_mut(),
             target,
-            &mut self.stats,
+            &mut self.tally,
             last,
         )
     }

@@ -21,6 +21,7 @@ use crate::display::SpanSink;
 #[cfg(feature = "front-to-back")]
 use crate::fill::FixedPoint;
 use crate::read::Node;
+use crate::stats::Tally;
 use crate::traverse::testing::{box_faces, TestTree};
 use crate::traverse::Order;
 
@@ -294,11 +295,11 @@ fn a_full_screen_stops_the_walk_and_culls_covered_subtrees() {
             integer: None,
             antialias: None,
         };
-        let mut stats = FrameStats::default();
+        let mut tally = Tally::default();
         // Without `bounds-culling` every subtree is entered.
-        let culled = !painter.enter(&t, base_node, Some(&cov), &mut stats);
+        let culled = !painter.enter(&t, base_node, Some(&cov), &mut tally);
         assert_eq!(culled, cfg!(feature = "bounds-culling"));
-        stats
+        tally.report(None)
     };
     let counted = cfg!(all(feature = "stats", feature = "bounds-culling"));
     assert_eq!(stats.nodes_culled_covered, u64::from(counted));

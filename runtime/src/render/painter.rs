@@ -11,7 +11,7 @@ use glam::{Vec2, Vec3};
 
 use super::paint::{id_colour, Paint};
 use super::shade::PlaneShade;
-use super::{FrameStats, Source};
+use super::Source;
 use crate::camera::LocalView;
 use crate::clip::{self, Frustum};
 use crate::coverage::{Clipped, Coverage, Mode};
@@ -22,6 +22,7 @@ use crate::fill::samples::{SAMPLE_COLUMNS, SAMPLE_ROWS};
 use crate::fill::{self, FixedPoint};
 use crate::pending::{Antialiased, Pending, SampleColour};
 use crate::read::Polygon;
+use crate::stats::{Counter, Tally};
 use crate::traverse::{Order, StackEntry, Traversal};
 use crate::vertices::{IntegerView, VertexCache};
 
@@ -61,14 +62,6 @@ pub(super) fn ceil_pixel(v: f32) -> u32 {
 pub(super) fn floor_pixel(v: f32) -> u32 {
     // `as` maps NaN and negatives to 0 and truncates the rest.
     v as u32
-}
-
-/// `*counter += n` (saturating) with the `stats` feature; nothing without it.
-#[inline(always)]
-fn tally(counter: &mut u64, n: u64) {
-    if cfg!(feature = "stats") {
-        *counter = counter.saturating_add(n);
-    }
 }
 
 /// The per-polygon work of a frame, with its buffers.
@@ -115,7 +108,7 @@ impl<const SUB: u32> Painter<'_, '_, SUB> {
         stack: &mut [StackEntry],
         mut coverage: Option<&mut Coverage<'_>>,
         sink: &mut S,
-        stats: &mut FrameStats,
+        stats: &mut Tally,
         last: Option<u32>,
     ) -> Result<Option<u32>, RenderError> {
         let exclusive = coverage
@@ -133,7 +126,7 @@ impl<const SUB: u32> Painter<'_, '_, SUB> {
             let Some((index, polygon)) = next else { break };
             let interior = traversal.seen_interior();
             if last != Some(index) {
-                tally(&mut stats.polygons_visited, 1);
+                stats.add(Counter::PolygonsVisited, 1);
             }
             let cov = coverage.as_deref_mut();
             self.draw(scene, index, &polygon, interior, cov, sink, stats)?;
@@ -158,7 +151,7 @@ impl<const SUB: u32> Painter<'_, '_, SUB> {
         scene: &T,
         node: u32,
         coverage: Option<&Coverage<'_>>,
-        stats: &mut FrameStats,
+        stats: &mut Tally,
     ) -> bool {
         if !(self.cull && self.cull_subtrees && cfg!(feature = "bounds-culling")) {
             return true;
@@ -177,7 +170,7 @@ impl<const SUB: u32> Painter<'_, '_, SUB> {
         scene: &T,
         node: u32,
         coverage: Option<&Coverage<'_>>,
-        stats: &mut FrameStats,
+        stats: &mut Tally,
     ) -> bool {
         let coverage = coverage.filter(|c| c.mode() != Mode::Measure);
         let (w, h) = (self.view.width, self.view.height);
@@ -191,7 +184,7 @@ impl<const SUB: u32> Painter<'_, '_, SUB> {
         };
         let b = self.view.box_to_camera(lo, hi);
         if !self.all_inside && self.frustum.excludes_box(&b) {
-            tally(&mut stats.nodes_culled_frustum, 1);
+            stats.add(Counter::NodesCulledFrustum, 1);
             return false;
         }
         if coverage.is_none() && !banded {
@@ -212,7 +205,7 @@ impl<const SUB: u32> Painter<'_, '_, SUB> {
         let (x1, y1) = (past(max.x, w), past(max.y, h).min(r1));
         let covered = |c: &Coverage<'_>| c.covers(x0, y0 - r0, x1, y1 - r0);
         if x0 >= x1 || y0 >= y1 || coverage.is_some_and(covered) {
-            tally(&mut stats.nodes_culled_covered, 1);
+            stats.add(Counter::NodesCulledCovered, 1);
             return false;
         }
         true
@@ -236,7 +229,7 @@ impl<const SUB: u32> Painter<'_, '_, SUB> {
         interior: bool,
         coverage: Option<&mut Coverage<'_>>,
         sink: &mut S,
-        stats: &mut FrameStats,
+        stats: &mut Tally,
     ) -> Result<(), RenderError> {
         let n = u32::from(polygon.vertex_count);
         if clip::buffer_len_for(n) > self.available {
@@ -371,7 +364,7 @@ impl<const SUB: u32> Painter<'_, '_, SUB> {
         }
         if let Some(c) = coverage.as_deref() {
             if c.mode() != Mode::Measure && c.covers(x0, y0 - r0, x1, y1 - r0) {
-                tally(&mut stats.polygons_culled_covered, 1);
+                stats.add(Counter::PolygonsCulledCovered, 1);
                 return Ok(());
             }
             // (Anti-aliased, a polygon is not also tested at the samples of the pending pixels in
@@ -381,7 +374,7 @@ impl<const SUB: u32> Painter<'_, '_, SUB> {
             Paint::Ids if cfg!(feature = "ids") => id_colour(scene.id(index).unwrap_or(u32::MAX)),
             Paint::Colours | Paint::Ids => scene.colour_seen(index, polygon, interior),
         };
-        tally(&mut stats.polygons_drawn, 1);
+        stats.add(Counter::PolygonsDrawn, 1);
         // A smooth polygon's gradient (`colour` is then its material's), or its one colour
         // where the gradient is flat.
         let gradient = side.and_then(|side| {
@@ -448,7 +441,7 @@ impl<const SUB: u32> Painter<'_, '_, SUB> {
                 sink.pixels
             }
         };
-        tally(&mut stats.pixels_written, pixels);
+        stats.add(Counter::PixelsWritten, pixels);
         Ok(())
     }
 }

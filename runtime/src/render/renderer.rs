@@ -407,6 +407,9 @@ impl<'m, const SUB: u32> Renderer<'m, SUB> {
             vertices: self.vertices.as_mut(),
             pending,
         };
-        frame::check(scene, view, rows, output, self.settings, memory)?.draw(scene, target)
+        // Scan order paints its gaps when the frame is read out.
+        let background = self.settings.background.filter(|_| output != Output::Scan);
+        frame::check(scene, view, rows, output, self.settings, memory)?
+            .draw(scene, target, background)
     }
 }
