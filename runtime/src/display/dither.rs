@@ -37,14 +37,14 @@ const G_ADD: u32 = 2079;
 /// The thresholds of row `y`'s columns `x % 4`, each already shifted into place for
 /// [`dithered`]: a shaded span's loop takes one per pixel instead of indexing the matrix.
 #[inline]
-pub(crate) fn row_thresholds(y: u32) -> [u32; 4] {
+pub(super) fn row_thresholds(y: u32) -> [u32; 4] {
     BAYER_4X4[(y & 3) as usize].map(|t| u32::from(t) << 12)
 }
 
 /// [`dither_rgb565`] of `colour` with the threshold `t` (a [`BAYER_4X4`] entry times `2^12`):
 /// each channel's sixteenths `(c mul + add) >> 12` plus the threshold, over 16, in one shift.
 #[inline]
-pub(crate) const fn dithered(colour: Colour, t: u32) -> u16 {
+pub(super) const fn dithered(colour: Colour, t: u32) -> u16 {
     let r = (colour.r as u32 * R_MUL + R_ADD + t) >> 16;
     let g = (colour.g as u32 * G_MUL + G_ADD + t) >> 16;
     let b = (colour.b as u32 * R_MUL + R_ADD + t) >> 16;

@@ -14,7 +14,7 @@
 //! rows to frame rows. The adapters of the other concepts live with them: the span memory's
 //! clipping sink in [`crate::coverage`], the anti-aliasing sink in [`crate::pending`].
 
-pub(crate) mod dither;
+mod dither;
 mod framebuffer;
 mod nowhere;
 mod row_shade;

@@ -3,8 +3,7 @@
 //! for an anti-aliased frame's pending pixels ([`Gaps`]).
 
 use super::{ScanMemory, NIL};
-use crate::display::dither::{dithered, row_thresholds};
-use crate::display::{dither_rgb565, Colour, RowColours};
+use crate::display::{dither_rgb565, Colour, PixelFormat, Rgb565, RowColours};
 use crate::pending::Pending;
 #[cfg(feature = "antialias")]
 use crate::pending::PendingRow;
@@ -78,17 +77,9 @@ impl ScanMemory<'_> {
             gap(at, s, out);
             if let Some(run) = out.get_mut(s..e) {
                 if SHADES && n.is_shaded() {
-                    let colours = self.row_shade(i, &n).colours(s as u32);
-                    if self.dither {
-                        let t = row_thresholds(y);
-                        for ((p, c), x) in run.iter_mut().zip(colours).zip(s..) {
-                            *p = dithered(c, t[x & 3]);
-                        }
-                    } else {
-                        for (p, c) in run.iter_mut().zip(colours) {
-                            *p = c.to_rgb565();
-                        }
-                    }
+                    // As an RGB565 framebuffer stores a shaded span.
+                    let shade = self.row_shade(i, &n);
+                    Rgb565::encode_shaded(run, s as u32, y, &shade, self.dither);
                 } else {
                     run.fill(n.colour);
                 }

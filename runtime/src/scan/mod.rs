@@ -140,6 +140,18 @@ impl ScanNode {
         self.is_shaded() && self.colour & LEVEL != 0
     }
 
+    /// A level run's colour field: `level` of material `material` (below [`MATERIALS`]).
+    #[inline]
+    fn level_field(level: u8, material: u8) -> u16 {
+        LEVEL | u16::from(level) << 4 | u16::from(material)
+    }
+
+    /// A shaded node's material index, and a level run's level (else 0).
+    #[inline]
+    fn material_level(&self) -> (usize, u8) {
+        (usize::from(self.colour & 0x0f), (self.colour >> 4) as u8)
+    }
+
     /// A shaded interval's second node: `value` and `step` of a [`RowShade`], as four `u16`s.
     fn shade(value: i32, step: i32) -> Self {
         let (v, s) = (value as u32, step as u32);

@@ -2,12 +2,13 @@
 //! the piece's first pixel on, its material by index) or as runs of pixels alike, whichever
 //! costs fewer nodes; neighbours that continue each other's shade grow instead. Pixels are
 //! alike (`ScanMemory::key`) when their RGB565 colours are, in an undithered frame, and when
-//! their 8-bit colours are, in a dithered one, whose runs are then level runs ([`LEVEL`]).
+//! their 8-bit colours are, in a dithered one, whose runs are then level runs
+//! ([`LEVEL`](super::LEVEL)).
 //! A row's colours are monotonic in x (its intensity is affine, and a colour's channels grow
 //! with the intensity), so a piece's runs are found by bisection, and a piece whose first and
 //! last pixels agree is one colour.
 
-use super::{Piece, Pieces, ScanMemory, ScanNode, LEVEL, NIL, SHADED};
+use super::{Piece, Pieces, ScanMemory, ScanNode, NIL, SHADED};
 use crate::display::{Colour, RowShade, SHADE_FRACTION_BITS};
 
 impl ScanMemory<'_> {
@@ -28,7 +29,7 @@ impl ScanMemory<'_> {
     fn run(&mut self, shade: &RowShade, x: u16, end: u16, material: u8) -> Piece {
         if self.dither {
             let level = shade.colours(u32::from(x)).level();
-            Piece::Level(end, LEVEL | u16::from(level) << 4 | u16::from(material))
+            Piece::Level(end, ScanNode::level_field(level, material))
         } else {
             Piece::Flat(end, self.rgb565(shade.at(u32::from(x))))
         }
@@ -63,15 +64,11 @@ impl ScanMemory<'_> {
 
     /// Shaded interval `i`'s shade (its colour is the material's); a level run's is constant.
     pub(super) fn row_shade(&self, i: u16, n: &ScanNode) -> RowShade {
-        let colour = self
-            .palette
-            .get(usize::from(n.colour & 0x0f))
-            .copied()
-            .unwrap_or_default();
+        let (material, level) = n.material_level();
+        let colour = self.palette.get(material).copied().unwrap_or_default();
         if n.is_level() {
-            let level = i32::from((n.colour >> 4) & 0xff);
             return RowShade {
-                base: level << SHADE_FRACTION_BITS,
+                base: i32::from(level) << SHADE_FRACTION_BITS,
                 step: 0,
                 colour,
             };
