@@ -8,6 +8,7 @@ use std::fmt::Write as _;
 use peel_runtime::clip;
 use peel_runtime::fill::MAX_FILL_VERTICES;
 use peel_runtime::read::Header;
+use peel_runtime::scan::SCAN_NODE_BYTES;
 use peel_runtime::vertices::CachedVertex;
 
 /// Span-memory intervals per image row the sizes file recommends for front-to-back rendering:
@@ -262,9 +263,12 @@ pub fn sizes_file(
     }
     match spans {
         None => item(
-            "Scan memory nodes (`scan::ScanNode`, 8 bytes each) for frames in scan order\n\
-             (`Renderer::draw_scan`): a guess (`Builder::image_size` measures what the scene\n\
-             needs). Running out is an error (`RenderError::ScanMemoryFull`): nothing is sent.",
+            &format!(
+                "Scan memory nodes (`scan::ScanNode`, {SCAN_NODE_BYTES} bytes each) for frames in scan\n\
+                 order (`Renderer::draw_scan`): a guess (`Builder::image_size` measures what the\n\
+                 scene needs). Running out is an error (`RenderError::ScanMemoryFull`): nothing is\n\
+                 sent."
+            ),
             format!("pub const SCAN_NODES: usize = {};", memory.scan_nodes),
         ),
         Some(MeasuredSpans {
@@ -274,11 +278,11 @@ pub fn sizes_file(
             ..
         }) => item(
             &format!(
-                "Scan memory nodes (`scan::ScanNode`, 8 bytes each: {} bytes) this scene needs\n\
+                "Scan memory nodes (`scan::ScanNode`, {SCAN_NODE_BYTES} bytes each: {} bytes) this scene needs\n\
                  at {width}x{height} for frames in scan order (`Renderer::draw_scan`): the most\n\
                  any frame of the orbit of `SPANS_PER_ROW` holds. Running out is an error\n\
                  (`RenderError::ScanMemoryFull`): nothing is sent.",
-                scan_nodes * 8
+                scan_nodes * SCAN_NODE_BYTES
             ),
             format!("pub const SCAN_NODES: usize = {scan_nodes};"),
         ),
@@ -298,12 +302,12 @@ pub fn sizes_file(
             ..
         }) => item(
             &format!(
-                "Scan memory nodes (8 bytes each: {} bytes) this scene needs at {width}x{height}\n\
+                "Scan memory nodes ({SCAN_NODE_BYTES} bytes each: {} bytes) this scene needs at {width}x{height}\n\
                  for anti-aliased frames in scan order (`Renderer::draw_scan` with\n\
                  `Renderer::antialias`): the most any frame of the orbit of `SPANS_PER_ROW`\n\
                  holds. A frame that runs out is drawn without anti-aliasing (with at least\n\
                  `SCAN_NODES`; with fewer, `RenderError::ScanMemoryFull`).",
-                scan_nodes_antialiased * 8
+                scan_nodes_antialiased * SCAN_NODE_BYTES
             ),
             format!("pub const SCAN_NODES_AA: usize = {scan_nodes_antialiased};"),
         ),
@@ -335,14 +339,17 @@ pub fn sizes_file(
         ),
     }
     item(
-        "Bytes of caller memory an anti-aliased frame in scan order takes at `height` rows\n\
-         (`Renderer::draw_scan` with `Renderer::antialias`): `SCAN_NODES_AA` scan memory nodes\n\
-         (8 bytes each) and `PENDING_PIXELS` pending-pixel records (12 bytes each), and a list\n\
-         head (2 bytes) per row for each.",
-        "pub const fn scan_antialiased_bytes(height: u32) -> usize {\n    \
-             SCAN_NODES_AA * 8 + PENDING_PIXELS * 12 + 4 * height as usize\n\
-         }"
-        .to_string(),
+        &format!(
+            "Bytes of caller memory an anti-aliased frame in scan order takes at `height` rows\n\
+             (`Renderer::draw_scan` with `Renderer::antialias`): `SCAN_NODES_AA` scan memory\n\
+             nodes ({SCAN_NODE_BYTES} bytes each) and `PENDING_PIXELS` pending-pixel records (12\n\
+             bytes each), and a list head (2 bytes) per row for each."
+        ),
+        format!(
+            "pub const fn scan_antialiased_bytes(height: u32) -> usize {{\n    \
+             SCAN_NODES_AA * {SCAN_NODE_BYTES} + PENDING_PIXELS * 12 + 4 * height as usize\n\
+             }}"
+        ),
     );
     item(
         "Intervals per row that can never run out at `width`: each polygon covers one span of\n\

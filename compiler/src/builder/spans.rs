@@ -63,7 +63,7 @@ fn orbit_views(
         .collect()
 }
 
-/// The scan memory nodes (`peel_runtime::scan::ScanNode`, 8 bytes each) with which no
+/// The scan memory nodes (`peel_runtime::scan::ScanNode`, 6 bytes each) with which no
 /// scan-order frame of the orbit of [`spans_per_row`] runs out: the most any of its frames
 /// holds at once.
 ///

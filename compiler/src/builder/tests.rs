@@ -378,7 +378,7 @@ fn an_image_size_measures_the_span_memory_of_an_orbit() {
     assert!(text.contains("no frame of an orbit"));
     let aa = spans::scan_nodes_antialiased(&bytes, 160, 120).unwrap();
     assert!(text.contains(&format!("pub const SCAN_NODES_AA: usize = {aa};")));
-    assert!(text.contains("SCAN_NODES_AA * 8 + PENDING_PIXELS * 12 + 4 * height as usize"));
+    assert!(text.contains("SCAN_NODES_AA * 6 + PENDING_PIXELS * 12 + 4 * height as usize"));
     // From the cache, the same measurement.
     let again = builder(dir.path(), &obj)
         .image_size(160, 120)

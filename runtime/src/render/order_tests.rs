@@ -21,6 +21,7 @@ use crate::display::SpanSink;
 #[cfg(feature = "front-to-back")]
 use crate::fill::FixedPoint;
 use crate::read::Node;
+#[cfg(feature = "front-to-back")]
 use crate::stats::Tally;
 use crate::traverse::testing::{box_faces, TestTree};
 use crate::traverse::Order;

@@ -69,13 +69,12 @@ impl ScanMemory<'_> {
             }
         };
         let mut at = 0usize;
-        let mut i = self.head(y);
-        while i != NIL {
-            let n = self.node(i);
-            let first = if SHADES { n.first() } else { n.start };
-            let (s, e) = (usize::from(first).min(w), usize::from(n.end).min(w));
+        for (i, n, end) in self.row_nodes(y) {
+            let (s, e) = (usize::from(n.first()).min(w), usize::from(end).min(w));
             gap(at, s, out);
-            if let Some(run) = out.get_mut(s..e) {
+            if n.is_gap() {
+                gap(s, e, out);
+            } else if let Some(run) = out.get_mut(s..e) {
                 if SHADES && n.is_shaded() {
                     // As an RGB565 framebuffer stores a shaded span.
                     let shade = self.row_shade(i, &n);
@@ -84,8 +83,7 @@ impl ScanMemory<'_> {
                     run.fill(n.colour);
                 }
             }
-            at = e;
-            i = n.next;
+            at = at.max(e);
         }
         gap(at, w, out);
     }
@@ -184,21 +182,22 @@ impl ScanPixels<'_> {
             let n = (self.node != NIL).then(|| m.node(self.node));
             self.shade = None;
             let gap_end = match n {
-                Some(n) if n.first() <= self.x && self.x < n.end => {
+                Some(n) if m.end(&n) <= self.x => {
+                    self.node = n.next;
+                    continue;
+                }
+                Some(n) if n.first() > self.x => Some(n.first().min(m.width)),
+                // A gap node: left in place, since pending pixels may cut its gap.
+                Some(n) if n.is_gap() => Some(m.end(&n).min(m.width)),
+                Some(n) => {
                     self.colour = n.colour;
                     if cfg!(feature = "smooth") && n.is_shaded() {
                         let shade = m.row_shade(self.node, &n);
                         self.shade = Some(shade.colours(u32::from(self.x)));
                     }
-                    self.run = n.end.min(m.width) - self.x;
+                    self.run = m.end(&n).min(m.width) - self.x;
                     self.node = n.next;
                     None
-                }
-                Some(n) if n.first() > self.x => Some(n.first().min(m.width)),
-                Some(n) => {
-                    // Only a corrupt list gets here: skip the node.
-                    self.node = n.next;
-                    continue;
                 }
                 None => Some(m.width),
             };

@@ -8,30 +8,32 @@
 //!
 //! # Memory
 //!
-//! [`ScanMemory`] is a pool of [`ScanNode`]s shared by every row (8 bytes each: the interval,
-//! its colour in RGB565, the next interval of its row) and one list head per row. A row's
-//! list is sorted and holds its covered intervals; touching intervals of the same RGB565
-//! colour are one node (the pieces of a split polygon, neighbours of one shade), so a frame
-//! needs far fewer nodes than it draws spans: the teapot at 320x240 draws 3,200-5,100 pieces
-//! a frame and keeps at most 2,751 nodes over an orbit. The builder's sizes file gives
-//! the nodes a scene needs over an orbit at an image size (`SCAN_NODES`,
-//! `scan_memory(width, height)`).
+//! [`ScanMemory`] is a pool of [`ScanNode`]s shared by every row (6 bytes each: where the
+//! node starts, its colour in RGB565, the next node of its row) and one list head per row. A
+//! row's list is sorted and partitions the row from its first node on: each node runs to the
+//! next one's start, and a stretch of uncovered pixels between covered ones, or after them, is
+//! a gap node, so that no node keeps its end. Touching intervals of the same RGB565 colour are
+//! one node (the pieces of a split polygon, neighbours of one shade), so a frame needs far
+//! fewer nodes than it draws spans: the teapot at 320x240 draws 3,200-5,100 pieces a frame and
+//! keeps at most 2,878 nodes over an orbit, gap nodes included (17,268 bytes; 2,752 nodes of
+//! 8 bytes when each kept its end). The builder's sizes file gives the nodes a scene needs
+//! over an orbit at an image size (`SCAN_NODES`, `scan_memory(width, height)`).
 //!
 //! A smoothly shaded piece (feature `smooth`) of more than a few RGB565 colours is one shaded
-//! interval of two nodes, its shade kept with it and its colours computed as the frame is read
-//! out; one of fewer colours is kept as its runs, which join flat neighbours of their colour,
-//! and a piece that continues a shaded neighbour's shade grows it (`shaded.rs`). The smooth
-//! cow at 320x240 needs 4,220 nodes over an orbit instead of 4,858 as runs of one colour. A
-//! frame keeps the shades of up to 16 materials so; further ones go as runs. Columns leave a
-//! node's top bit free to mark shaded intervals: scan memory serves frames up to
-//! [`MAX_WIDTH`] (32,767) pixels wide.
+//! interval of two nodes, its shade kept with it (58 bits: a shade steeper than 16 levels a
+//! pixel goes as runs) and its colours computed as the frame is read out; one of fewer colours
+//! is kept as its runs, which join flat neighbours of their colour, and a piece that continues
+//! a shaded neighbour's shade grows it (`shaded.rs`). A frame keeps the shades of up to 16
+//! materials so; further ones go as runs. Columns leave a node's top bit free to tag the nodes
+//! whose colour field is no RGB565 colour (gaps, level runs, shaded intervals): scan memory
+//! serves frames up to [`MAX_WIDTH`] (32,767) pixels wide.
 //!
 //! Shades are read out dithered to RGB565 by default, as a framebuffer stores them
 //! ([`ScanMemory::set_dithering`]): the dither takes a pixel's 8-bit colour, so a dithered
 //! frame keeps pieces of few colours as level runs (one node: a material and an 8-bit
 //! level) rather than as runs of one RGB565 colour, and needs more nodes. The smooth cow at
-//! 320x240 needs 5,163 over an orbit dithered, 4,220 undithered. Beyond the 16 materials,
-//! shades go as RGB565 runs, undithered.
+//! 320x240 needs 5,314 over an orbit dithered (31,884 bytes). Beyond the 16 materials, shades
+//! go as RGB565 runs, undithered.
 //!
 //! The lists answer the walk's coverage queries (which subtrees and polygons are hidden) as
 //! span memory does, so a scan-order frame culls and draws exactly what a streamed frame does.
@@ -42,9 +44,10 @@
 //! into the lists with their colours and the partly covered ones stay in the pending pool
 //! ([`crate::pending`]), which the frame borrows: the read-out merges each row's intervals
 //! with its pending pixels, which lie in its gaps, each the average of its samples with the
-//! background for those uncovered. Those pixels cost no node, but each splits the interval it
-//! would have joined, so an anti-aliased frame mostly needs more nodes than the plain one
-//! (the teapot at 320x240: 3,458 over the orbit against 2,751; the builder's
+//! background for those uncovered. Those pixels are gaps in the lists (a gap node each stretch
+//! of them), and each splits the interval it would have joined, so an anti-aliased frame
+//! mostly needs more nodes than the plain one (the teapot at 320x240: 3,601 over the orbit
+//! against 2,878; the builder's
 //! `spans::scan_nodes_antialiased`). A frame that runs out is drawn again without
 //! anti-aliasing; only when the plain frame runs out too is it an error.
 //!
@@ -73,38 +76,53 @@ use shaded::Shading;
 /// The end of a list.
 const NIL: u16 = u16::MAX;
 
-/// The bit of a node's `start` that marks a shaded interval (columns stay below it: a frame
-/// is at most [`MAX_WIDTH`] wide).
-const SHADED: u16 = 1 << 15;
+/// The bit of a node's `start` that marks a node whose colour field is no RGB565 colour: a
+/// gap, a level run or a shaded interval, as the field's top two bits say ([`KIND`]). Columns
+/// stay below it: a frame is at most [`MAX_WIDTH`] wide.
+const TAGGED: u16 = 1 << 15;
 
 /// The widest frame scan memory keeps: a column leaves the top bit of a node's first column
-/// free, to mark a shaded interval.
-pub const MAX_WIDTH: u32 = (SHADED - 1) as u32;
+/// free, to mark a tagged node.
+pub const MAX_WIDTH: u32 = (TAGGED - 1) as u32;
 
-/// The bit of a shaded node's colour field that makes it a level run: one node, pixels of one
-/// intensity level (bits 4..12) of a material (bits 0..4), which a dithered frame
-/// ([`ScanMemory::set_dithering`]) keeps where an undithered one keeps a run of one RGB565
-/// colour.
-const LEVEL: u16 = 1 << 15;
+/// The top two bits of a tagged node's colour field: what the node is. Any other value (`00`,
+/// `11`) is a gap.
+const KIND: u16 = 0b11 << 14;
+
+/// [`KIND`] of a level run: one node, pixels of one intensity level (bits 4..12) of a material
+/// (bits 0..4), which a dithered frame ([`ScanMemory::set_dithering`]) keeps where an
+/// undithered one keeps a run of one RGB565 colour.
+const LEVEL: u16 = 0b01 << 14;
+
+/// [`KIND`] of a shaded interval's first node: its material in bits 0..4, the top 10 bits of
+/// its shade in bits 4..14, the other 48 in the next node of the pool ([`ScanNode::pair`]).
+const PAIR: u16 = 0b10 << 14;
+
+/// The colour field of a gap node.
+const GAP: u16 = 0;
+
+/// Bits of a shaded interval's step ([`ScanNode::pair`]): a shade steeper than 16 levels a
+/// pixel is kept as runs.
+const STEP_BITS: u32 = 26;
 
 /// Material colours of shaded intervals a frame keeps (a shaded node names one by its index);
 /// a frame with more keeps the further materials' shades as runs of one colour.
 const MATERIALS: usize = 16;
 
-/// One covered interval of a row in [`ScanMemory`]: columns `start..end`, its RGB565 colour,
-/// the next interval of its row (a pool index, or none). A shaded interval (the top bit of
-/// `start` set) takes two nodes in a row of the pool: the first holds its material's index for
-/// a colour, the second its intensity at `start` and its step (a
-/// [`RowShade`] from the
-/// interval's first pixel on), so that a smooth span costs two nodes however many colours it
-/// shows.
-/// Four `u16`s in this order (`repr(C)`): any bit pattern is a node, so firmware may place
-/// the pool in memory it hands out by size.
+/// One node of a row in [`ScanMemory`]: the column where it starts, its colour, the next node of
+/// its row (a pool index, or none). A node runs to the start of the next (the last to the end
+/// of the row), so that a node costs three `u16`s: a stretch of uncovered pixels after a
+/// covered one is a gap node, and the pixels before a row's first node are uncovered. A
+/// covered node's colour is an RGB565 colour, or (tagged, the top bit of `start`) a level run
+/// or the first node of a shaded interval, which takes two nodes in a row of the pool: its
+/// material's index for a colour, and its intensity at `start` and its step (a [`RowShade`]
+/// from the interval's first pixel on), so that a smooth span costs two nodes however many
+/// colours it shows. Three `u16`s in this order (`repr(C)`): any bit pattern is a node, so
+/// firmware may place the pool in memory it hands out by size.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 #[repr(C)]
 pub struct ScanNode {
     start: u16,
-    end: u16,
     colour: u16,
     next: u16,
 }
@@ -114,60 +132,102 @@ impl ScanNode {
     /// and costs no flash (a node's content matters only once the memory hands it out).
     pub const EMPTY: ScanNode = ScanNode {
         start: 0,
-        end: 0,
         colour: 0,
         next: 0,
     };
-}
 
-impl ScanNode {
-    /// The first column (without the shaded bit).
+    /// The first column (without the tag bit).
     #[inline]
     fn first(&self) -> u16 {
-        self.start & !SHADED
+        self.start & !TAGGED
     }
 
-    /// Whether the interval is shaded: its shade in the next node of the pool, or a level
-    /// run's in its colour field ([`ScanNode::is_level`]).
+    /// Whether the colour field is no RGB565 colour (a gap, a level run, a shaded interval).
+    #[inline]
+    fn tagged(&self) -> bool {
+        self.start & TAGGED != 0
+    }
+
+    /// Whether the node is a gap: uncovered pixels.
+    #[inline]
+    fn is_gap(&self) -> bool {
+        self.tagged() && !matches!(self.colour & KIND, LEVEL | PAIR)
+    }
+
+    /// Whether the node is shaded: a level run or a shaded interval (whose shade is in the
+    /// next node of the pool, [`ScanNode::is_pair`]).
     #[inline]
     fn is_shaded(&self) -> bool {
-        self.start & SHADED != 0
+        self.tagged() && matches!(self.colour & KIND, LEVEL | PAIR)
     }
 
     /// Whether the interval is a level run (one node, see [`LEVEL`]).
     #[inline]
     fn is_level(&self) -> bool {
-        self.is_shaded() && self.colour & LEVEL != 0
+        self.tagged() && self.colour & KIND == LEVEL
     }
 
-    /// A level run's colour field: `level` of material `material` (below [`MATERIALS`]).
+    /// Whether the node is a shaded interval's first (see [`PAIR`]).
+    #[inline]
+    fn is_pair(&self) -> bool {
+        self.tagged() && self.colour & KIND == PAIR
+    }
+
+    /// A level run's colour field: `level` of material index `material`.
     #[inline]
     fn level_field(level: u8, material: u8) -> u16 {
-        LEVEL | u16::from(level) << 4 | u16::from(material)
+        LEVEL | u16::from(level) << 4 | u16::from(material & 0x0f)
     }
 
     /// A shaded node's material index, and a level run's level (else 0).
     #[inline]
     fn material_level(&self) -> (usize, u8) {
-        (usize::from(self.colour & 0x0f), (self.colour >> 4) as u8)
+        let level = if self.is_level() {
+            (self.colour >> 4) as u8
+        } else {
+            0
+        };
+        (usize::from(self.colour & 0x0f), level)
     }
 
-    /// A shaded interval's second node: `value` and `step` of a [`RowShade`], as four `u16`s.
-    fn shade(value: i32, step: i32) -> Self {
-        let (v, s) = (value as u32, step as u32);
-        ScanNode {
-            start: v as u16,
-            end: (v >> 16) as u16,
-            colour: s as u16,
-            next: (s >> 16) as u16,
-        }
+    /// Whether a shade of `step` fits a shaded interval ([`STEP_BITS`]).
+    #[inline]
+    fn step_fits(step: i32) -> bool {
+        let limit = 1i32 << (STEP_BITS - 1);
+        (-limit..limit).contains(&step)
     }
 
-    /// The `value` and `step` of [`ScanNode::shade`].
-    fn value_step(&self) -> (i32, i32) {
-        let v = u32::from(self.start) | u32::from(self.end) << 16;
-        let s = u32::from(self.colour) | u32::from(self.next) << 16;
-        (v as i32, s as i32)
+    /// A shaded interval's two nodes from `start` on, followed by `next`: material index
+    /// `material`, `value` and `step` of a [`RowShade`] (`step` as [`ScanNode::step_fits`]
+    /// allows: its top bits are dropped), packed into 58 bits: 10 in the first node's colour
+    /// field, 48 in the second node.
+    fn pair(start: u16, next: u16, material: u8, value: i32, step: i32) -> (Self, Self) {
+        let mask = (1u64 << STEP_BITS) - 1;
+        let bits = u64::from(value as u32) | ((step as u64) & mask) << 32;
+        let first = ScanNode {
+            start: start | TAGGED,
+            colour: PAIR | ((bits >> 48) as u16 & 0x3ff) << 4 | u16::from(material & 0x0f),
+            next,
+        };
+        let second = ScanNode {
+            start: bits as u16,
+            colour: (bits >> 16) as u16,
+            next: (bits >> 32) as u16,
+        };
+        (first, second)
+    }
+
+    /// The `value` and `step` of the shaded interval whose nodes are `self` and `second`
+    /// ([`ScanNode::pair`]).
+    fn value_step(&self, second: &ScanNode) -> (i32, i32) {
+        let bits = u64::from(second.start)
+            | u64::from(second.colour) << 16
+            | u64::from(second.next) << 32
+            | u64::from((self.colour >> 4) & 0x3ff) << 48;
+        let value = bits as u32 as i32;
+        // Sign-extend the step's STEP_BITS.
+        let step = ((bits >> 32) as i32) << (32 - STEP_BITS) >> (32 - STEP_BITS);
+        (value, step)
     }
 }
 
@@ -177,7 +237,7 @@ impl Default for ScanNode {
     }
 }
 
-/// Bytes of one [`ScanNode`] (8).
+/// Bytes of one [`ScanNode`] (6).
 pub const SCAN_NODE_BYTES: usize = core::mem::size_of::<ScanNode>();
 
 /// The covered intervals of a `width x height` frame with their colours, in caller memory: a
@@ -323,30 +383,69 @@ impl<'m> ScanMemory<'m> {
         self.nodes.get_mut(usize::from(i))
     }
 
+    /// The column where node `n` ends: the next node's start, or the row's end.
+    #[inline]
+    fn end(&self, n: &ScanNode) -> u16 {
+        if n.next == NIL {
+            self.width
+        } else {
+            self.node(n.next).first()
+        }
+    }
+
+    /// Row `y`'s nodes in order, each with its index and its end (each node read once).
+    #[inline]
+    fn row_nodes(&self, y: u32) -> RowNodes<'_, 'm> {
+        let i = self.head(y);
+        RowNodes {
+            memory: self,
+            i,
+            n: self.node(i),
+        }
+    }
+
     /// Whether every pixel `x0 <= x < x1`, `y0 <= y < y1` is covered (an empty rectangle is).
     pub fn covers(&self, x0: u32, y0: u32, x1: u32, y1: u32) -> bool {
         if x0 >= x1 {
             return true;
         }
         (y0..y1.min(self.height)).all(|y| {
-            let mut at = x0;
-            let mut i = self.head(y);
+            // The node holding `x0` (`held`), found by the starts alone, and the one after it
+            // (`i`, starting at `after`): a node ends where the next starts.
+            let (mut held, mut i, mut after) = (NIL, self.head(y), self.width);
             while i != NIL {
-                let n = self.node(i);
-                if u32::from(n.end) <= at {
-                    i = n.next;
-                    continue;
+                let Some(n) = self.nodes.get(usize::from(i)) else {
+                    return false;
+                };
+                let start = n.first();
+                if u32::from(start) > x0 {
+                    after = start;
+                    break;
                 }
-                if u32::from(n.first()) > at {
+                (held, i) = (i, n.next);
+            }
+            if held == NIL {
+                return false;
+            }
+            // Then node by node up to `x1`, each covered.
+            loop {
+                if self.node(held).is_gap() {
                     return false;
                 }
-                at = u32::from(n.end);
-                if at >= x1 {
+                if u32::from(after) >= x1 {
                     return true;
                 }
-                i = n.next;
+                if i == NIL {
+                    return false;
+                }
+                held = i;
+                i = self.node(held).next;
+                after = if i == NIL {
+                    self.width
+                } else {
+                    self.node(i).first()
+                };
             }
-            false
         })
     }
 
@@ -444,33 +543,56 @@ impl<'m> ScanMemory<'m> {
         let row = y as usize;
         // In range: both fit u16 since x_end <= width <= MAX_WIDTH.
         let (mut at, b) = (x_start as u16, x_end as u16);
-        let mut prev = NIL;
-        let mut cur = self.head(y);
-        // Skip the intervals that end before `at` (not touching it).
-        while cur != NIL {
-            let n = self.node(cur);
-            if n.end >= at {
-                break;
-            }
-            prev = cur;
-            cur = n.next;
-        }
+        // A covered node that starts at or before `at`, where the search resumes (none: the
+        // row's first node).
+        let mut from = NIL;
         let mut covered = 0u64;
         while at < b {
-            let n = (cur != NIL).then(|| self.node(cur));
-            if let Some(n) = n.filter(|n| n.first() <= at) {
-                // Covered up to its end (or touching at `at`).
-                at = at.max(n.end);
-                prev = cur;
-                cur = n.next;
+            // The node holding `at` (none before the row's first), the one before it, and the
+            // one after it (`i`, starting at `after`), found by the starts alone.
+            let (mut before, mut cur, mut after) = (NIL, NIL, self.width);
+            let mut i = if from == NIL { self.head(y) } else { from };
+            while i != NIL {
+                let Some(n) = self.nodes.get(usize::from(i)) else {
+                    i = NIL;
+                    break;
+                };
+                let start = n.first();
+                if start > at {
+                    after = start;
+                    break;
+                }
+                (before, cur) = (cur, i);
+                i = n.next;
+            }
+            let found = (cur != NIL).then(|| self.node(cur));
+            if found.is_some_and(|n| !n.is_gap()) {
+                // (Past `at` in a well-formed list; never stalls in any other.)
+                at = after.max(at + 1);
+                from = cur;
                 continue;
             }
-            let gap_end = n.map_or(b, |n| n.first().min(b));
-            let (end, c) = match pieces.piece(self, (at, gap_end), prev, cur) {
-                Piece::Joined(from, to) => {
-                    covered += u64::from(to - from);
-                    if from == at {
-                        at = to;
+            // `at` is uncovered: in gap node `gap`, or before the row's first node (no gap
+            // node), between covered nodes `left` and `right` (or none), which starts at
+            // `right_start`.
+            let (left, gap, right, right_start) = (before, cur, i, after);
+            let gap_start = found.map_or(0, |g| g.first());
+            let gap_end = right_start.min(b);
+            // The neighbours the piece touches.
+            let prev = if at == gap_start { left } else { NIL };
+            let next = if gap_end == right_start { right } else { NIL };
+            let (end, c) = match pieces.piece(self, (at, gap_end), prev, next) {
+                Piece::Left(end) => {
+                    covered += u64::from(end - at);
+                    self.left_grows(left, gap, end, right_start);
+                    (at, from) = (end, left);
+                    continue;
+                }
+                Piece::Right(start) => {
+                    covered += u64::from(gap_end - start);
+                    self.right_grows(row, (left, gap, right), start, gap_start);
+                    if start == at {
+                        (at, from) = (gap_end, right);
                     }
                     continue;
                 }
@@ -478,72 +600,180 @@ impl<'m> ScanMemory<'m> {
                 Piece::Level(end, c) => (end, Some((c, true))),
                 Piece::Shaded(end) => (end, None),
             };
-            let same = |m: &ScanNode| Some((m.colour, m.is_shaded())) == c;
-            let left = prev != NIL && {
-                let p = self.node(prev);
-                p.end == at && same(&p)
-            };
-            let right = end == gap_end && n.is_some_and(|n| n.first() == gap_end && same(&n));
+            let same = |m: &ScanNode| Some((m.colour, m.tagged())) == c;
+            let left_same = prev != NIL && same(&self.node(prev));
+            let right_same = end == gap_end && next != NIL && same(&self.node(next));
             covered += u64::from(end - at);
-            let linked = match (left, right, n) {
-                (true, true, Some(n)) => {
+            match (left_same, right_same) {
+                (true, true) => {
                     // The gap joins two intervals of its colour: one node.
-                    if let Some(p) = self.node_mut(prev) {
-                        p.end = n.end;
-                        p.next = n.next;
+                    let beyond = self.node(right).next;
+                    if let Some(l) = self.node_mut(left) {
+                        l.next = beyond;
                     }
-                    self.release(cur);
-                    at = n.end;
-                    cur = n.next;
+                    self.release(gap);
+                    self.release(right);
+                    at = if beyond == NIL {
+                        self.width
+                    } else {
+                        self.node(beyond).first()
+                    };
+                    from = left;
                     continue;
                 }
-                (true, _, _) => {
-                    if let Some(p) = self.node_mut(prev) {
-                        p.end = end;
-                    }
-                    at = end;
+                (true, false) => {
+                    self.left_grows(left, gap, end, right_start);
+                    (at, from) = (end, left);
                     continue;
                 }
-                (false, true, Some(_)) => {
-                    if let Some(r) = self.node_mut(cur) {
-                        r.start = at | (r.start & SHADED);
-                    }
-                    at = end;
+                (false, true) => {
+                    self.right_grows(row, (left, gap, right), at, gap_start);
+                    (at, from) = (end, right);
                     continue;
                 }
-                _ => match c {
-                    Some((colour, level)) => self.alloc(ScanNode {
-                        start: if level { at | SHADED } else { at },
-                        end,
-                        colour,
-                        next: cur,
-                    }),
-                    None => {
-                        let (first, shade) = pieces.shaded(at, end, cur);
-                        self.alloc_pair(first, shade)
+                (false, false) => {}
+            }
+            // A new node, and a gap node after it when uncovered pixels follow: the gap node
+            // the new node starts, moved after it when the new node is a pair, which cannot
+            // take its place.
+            let in_place = gap != NIL && at == gap_start;
+            let tail = if end >= right_start {
+                right
+            } else if in_place && c.is_none() {
+                gap
+            } else {
+                let g = ScanNode {
+                    start: end | TAGGED,
+                    colour: GAP,
+                    next: right,
+                };
+                match self.alloc(g) {
+                    Some(g) => g,
+                    None => return self.run_out(covered - u64::from(end - at)),
+                }
+            };
+            let node = |(colour, level): (u16, bool)| ScanNode {
+                start: if level { at | TAGGED } else { at },
+                colour,
+                next: tail,
+            };
+            let linked = match c {
+                Some(c) if in_place => {
+                    if let Some(g) = self.node_mut(gap) {
+                        *g = node(c);
                     }
-                },
+                    Some(gap)
+                }
+                Some(c) => self.alloc(node(c)),
+                None => {
+                    let (first, shade) = pieces.shaded(at, end, tail);
+                    self.alloc_pair(first, shade)
+                }
             };
             let Some(i) = linked else {
-                self.exhausted = true;
-                let covered = covered - u64::from(end - at);
-                self.covered += covered;
-                return covered;
+                if tail != right && tail != gap {
+                    self.release(tail);
+                }
+                return self.run_out(covered - u64::from(end - at));
             };
-            self.link(row, prev, i);
-            prev = i;
-            at = end;
+            if i != gap {
+                if in_place {
+                    // A pair where the gap started: the gap node after it, or gone.
+                    self.link(row, left, i);
+                    if tail == gap {
+                        if let Some(g) = self.node_mut(gap) {
+                            g.start = end | TAGGED;
+                        }
+                    } else {
+                        self.release(gap);
+                    }
+                } else {
+                    self.link(row, gap, i);
+                }
+            }
+            (at, from) = (end, i);
         }
         self.covered += covered;
         covered
+    }
+
+    /// The pool is spent: the frame stops covering, with `covered` pixels of this span.
+    #[cold]
+    fn run_out(&mut self, covered: u64) -> u64 {
+        self.exhausted = true;
+        self.covered += covered;
+        covered
+    }
+
+    /// Covered node `left`, which gap node `gap` follows, now runs to `end` (at most
+    /// `right_start`, where the gap ends): the gap starts there, or is gone.
+    fn left_grows(&mut self, left: u16, gap: u16, end: u16, right_start: u16) {
+        if end >= right_start {
+            let after = self.node(gap).next;
+            if let Some(l) = self.node_mut(left) {
+                l.next = after;
+            }
+            self.release(gap);
+        } else if let Some(g) = self.node_mut(gap) {
+            g.start = end | TAGGED;
+        }
+    }
+
+    /// Covered node `right` now starts at `start` (the gap before it, `gap` after `left`,
+    /// or the row's first pixels when `gap` is none, starting at `gap_start`, ends there, or
+    /// is gone).
+    fn right_grows(
+        &mut self,
+        row: usize,
+        (left, gap, right): (u16, u16, u16),
+        start: u16,
+        gap_start: u16,
+    ) {
+        if let Some(r) = self.node_mut(right) {
+            r.start = start | (r.start & TAGGED);
+        }
+        if gap != NIL && start <= gap_start {
+            self.link(row, left, right);
+            self.release(gap);
+        }
+    }
+}
+
+/// The nodes of a row with their ends ([`ScanMemory::row_nodes`]): each node read once, as
+/// the one before it ends where it starts.
+struct RowNodes<'a, 'm> {
+    memory: &'a ScanMemory<'m>,
+    /// The next node's index (NIL at the end) and the node.
+    i: u16,
+    n: ScanNode,
+}
+
+impl Iterator for RowNodes<'_, '_> {
+    type Item = (u16, ScanNode, u16);
+
+    #[inline]
+    fn next(&mut self) -> Option<(u16, ScanNode, u16)> {
+        if self.i == NIL {
+            return None;
+        }
+        let (i, n) = (self.i, self.n);
+        let end = if n.next == NIL {
+            self.memory.width
+        } else {
+            self.n = self.memory.node(n.next);
+            self.n.first()
+        };
+        self.i = n.next;
+        Some((i, n, end))
     }
 }
 
 /// What the next piece of a gap becomes.
 enum Piece {
-    /// Pixels `from..to` joined a shaded neighbour (`from` is the gap's start, or `to` its
-    /// end).
-    Joined(u16, u16),
+    /// Pixels up to `.0` joined the covered node before the gap (which touches it).
+    Left(u16),
+    /// Pixels from `.0` to the gap's end joined the covered node after it (which touches it).
+    Right(u16),
     /// Pixels up to `.0` in one RGB565 colour.
     Flat(u16, u16),
     /// Pixels up to `.0`, a level run of colour field `.1` ([`LEVEL`]).

@@ -8,7 +8,7 @@
 //! with the intensity), so a piece's runs are found by bisection, and a piece whose first and
 //! last pixels agree is one colour.
 
-use super::{Piece, Pieces, ScanMemory, ScanNode, NIL, SHADED};
+use super::{Piece, Pieces, ScanMemory, ScanNode, NIL};
 use crate::display::{Colour, RowShade, SHADE_FRACTION_BITS};
 
 impl ScanMemory<'_> {
@@ -73,7 +73,7 @@ impl ScanMemory<'_> {
                 colour,
             };
         }
-        let (value, step) = self.node(i.wrapping_add(1)).value_step();
+        let (value, step) = n.value_step(&self.node(i.wrapping_add(1)));
         RowShade {
             base: value.wrapping_sub(step.wrapping_mul(i32::from(n.first()))),
             step,
@@ -81,12 +81,12 @@ impl ScanMemory<'_> {
         }
     }
 
-    /// Extend shaded interval `prev`, which ends at `at`, over the pixels of `at..gap_end`
-    /// painted alike ([`Self::key`]) as its shade continues (a neighbour on a smooth surface
-    /// often is): their end, if there is one such pixel.
+    /// How far shaded interval `prev`, which ends at `at`, continues over the pixels of
+    /// `at..gap_end` painted alike ([`Self::key`]) as its shade goes on (a neighbour on a
+    /// smooth surface often does): their end, if there is one such pixel.
     fn extend(&mut self, prev: u16, at: u16, gap_end: u16, shade: &RowShade) -> Option<u16> {
         let p = (prev != NIL).then(|| self.node(prev))?;
-        if !cfg!(feature = "smooth") || !p.is_shaded() || p.end != at {
+        if !cfg!(feature = "smooth") || !p.is_shaded() {
             return None;
         }
         let n = self
@@ -97,19 +97,15 @@ impl ScanMemory<'_> {
             .take_while(|&(l, c)| self.key(l) == self.key(c))
             .count();
         let end = at + n as u16;
-        (end > at).then(|| {
-            if let Some(p) = self.node_mut(prev) {
-                p.end = end;
-            }
-            end
-        })
+        (end > at).then_some(end)
     }
 
     /// Extend shaded interval `next`, which starts at `gap_end`, back over the pixels of
-    /// `at..gap_end` painted as its shade continues: their start, if there is one such pixel.
+    /// `at..gap_end` painted as its shade continues: their start, if there is one such pixel
+    /// (its shade is then kept from there; the caller moves its start).
     fn extend_back(&mut self, next: u16, at: u16, gap_end: u16, shade: &RowShade) -> Option<u16> {
         let n = (next != NIL).then(|| self.node(next))?;
-        if !cfg!(feature = "smooth") || !n.is_shaded() || n.first() != gap_end {
+        if !cfg!(feature = "smooth") || !n.is_shaded() {
             return None;
         }
         let right = self.row_shade(next, &n);
@@ -122,17 +118,9 @@ impl ScanMemory<'_> {
             start -= 1;
         }
         (start < gap_end).then(|| {
-            let value = right
-                .base
-                .wrapping_add(right.step.wrapping_mul(i32::from(start)));
-            if let Some(first) = self.node_mut(next) {
-                first.start = start | SHADED;
-            }
             // A level run's shade is its colour field, the same from any pixel.
-            if !n.is_level() {
-                if let Some(second) = self.node_mut(next.wrapping_add(1)) {
-                    *second = ScanNode::shade(value, right.step);
-                }
+            if n.is_pair() {
+                self.reshade(next, start, &right, n.material_level().0 as u8);
             }
             start
         })
@@ -143,31 +131,34 @@ impl ScanMemory<'_> {
     /// where a mismatch shows first.
     fn reproduces(&mut self, i: u16, n: &ScanNode, shade: &RowShade, from_left: bool) -> bool {
         let own = self.row_shade(i, n);
+        let end = self.end(n);
         let same = |x: u16| self.key(own.at(u32::from(x))) == self.key(shade.at(u32::from(x)));
         if from_left {
-            (n.first()..n.end).all(same)
+            (n.first()..end).all(same)
         } else {
-            (n.first()..n.end).rev().all(same)
+            (n.first()..end).rev().all(same)
         }
     }
 
-    /// Give shaded interval `i` `shade` and `material` over `start..end`.
-    fn reshade(&mut self, i: u16, (start, end): (u16, u16), shade: &RowShade, material: u8) {
+    /// Give shaded interval `i` `shade` and `material` from `start` on (its shade's step fits,
+    /// [`ScanNode::step_fits`]).
+    fn reshade(&mut self, i: u16, start: u16, shade: &RowShade, material: u8) {
         let value = shade
             .base
             .wrapping_add(shade.step.wrapping_mul(i32::from(start)));
-        if let Some(first) = self.node_mut(i) {
-            first.start = start | SHADED;
-            first.end = end;
-            first.colour = u16::from(material);
+        let next = self.node(i).next;
+        let (first, second) = ScanNode::pair(start, next, material, value, shade.step);
+        if let Some(n) = self.node_mut(i) {
+            *n = first;
         }
-        if let Some(second) = self.node_mut(i.wrapping_add(1)) {
-            *second = ScanNode::shade(value, shade.step);
+        if let Some(n) = self.node_mut(i.wrapping_add(1)) {
+            *n = second;
         }
     }
 
-    /// Grow a shaded neighbour of gap `at..gap_end` over the whole gap where `shade` (the
-    /// gap's) gives the neighbour's pixels their colours: the neighbour takes `shade`. Whether
+    /// Grow a shaded neighbour of gap `at..gap_end` (`prev` ends at `at`, `next` starts at
+    /// `gap_end`, either none) over the whole gap where `shade` (the gap's) gives the
+    /// neighbour's pixels their colours: the neighbour takes `shade`. The piece it makes, if
     /// one did. (A level run has no second node for a shade.)
     fn adopt(
         &mut self,
@@ -176,33 +167,25 @@ impl ScanMemory<'_> {
         next: u16,
         shade: &RowShade,
         material: u8,
-    ) -> bool {
-        if !cfg!(feature = "smooth") {
-            return false;
+    ) -> Option<Piece> {
+        if !cfg!(feature = "smooth") || !ScanNode::step_fits(shade.step) {
+            return None;
         }
         if prev != NIL {
             let p = self.node(prev);
-            if p.is_shaded()
-                && !p.is_level()
-                && p.end == at
-                && self.reproduces(prev, &p, shade, true)
-            {
-                self.reshade(prev, (p.first(), gap_end), shade, material);
-                return true;
+            if p.is_pair() && self.reproduces(prev, &p, shade, true) {
+                self.reshade(prev, p.first(), shade, material);
+                return Some(Piece::Left(gap_end));
             }
         }
         if next != NIL {
             let n = self.node(next);
-            if n.is_shaded()
-                && !n.is_level()
-                && n.first() == gap_end
-                && self.reproduces(next, &n, shade, false)
-            {
-                self.reshade(next, (at, n.end), shade, material);
-                return true;
+            if n.is_pair() && self.reproduces(next, &n, shade, false) {
+                self.reshade(next, at, shade, material);
+                return Some(Piece::Right(at));
             }
         }
-        false
+        None
     }
 
     /// The end of the run of pixels of key `key` ([`Self::key`]), which pixel `from` has, in
@@ -245,9 +228,8 @@ impl ScanMemory<'_> {
             runs += 1;
         }
         let before = (prev != NIL).then(|| self.node(prev));
-        let left = before.is_some_and(|p| p.end == at && self.joins(&p, shade, at, material));
-        let right =
-            next.is_some_and(|n| n.first() == gap_end && self.joins(&n, shade, last, material));
+        let left = before.is_some_and(|p| self.joins(&p, shade, at, material));
+        let right = next.is_some_and(|n| self.joins(&n, shade, last, material));
         runs - i32::from(left) - i32::from(right) > 2
     }
 
@@ -255,7 +237,7 @@ impl ScanMemory<'_> {
     /// field and kind), which a run of them would join.
     fn joins(&mut self, n: &ScanNode, shade: &RowShade, x: u16, material: u8) -> bool {
         match self.run(shade, x, x, material) {
-            Piece::Flat(_, c) => !n.is_shaded() && n.colour == c,
+            Piece::Flat(_, c) => !n.tagged() && n.colour == c,
             Piece::Level(_, c) => n.is_shaded() && n.colour == c,
             _ => false,
         }
@@ -304,19 +286,20 @@ impl Pieces for Shading<'_> {
     fn piece(&mut self, m: &mut ScanMemory<'_>, gap: (u16, u16), prev: u16, next: u16) -> Piece {
         let ((at, gap_end), shade) = (gap, self.shade);
         if let Some(end) = m.extend(prev, at, gap_end, shade) {
-            return Piece::Joined(at, end);
+            return Piece::Left(end);
         }
         if let Some(start) = m.extend_back(next, at, gap_end, shade) {
-            return Piece::Joined(start, gap_end);
+            return Piece::Right(start);
         }
-        if m.adopt((at, gap_end), prev, next, shade, self.material) {
-            return Piece::Joined(at, gap_end);
+        if let Some(piece) = m.adopt((at, gap_end), prev, next, shade, self.material) {
+            return piece;
         }
         let key = m.key(shade.at(u32::from(at)));
         let end = m.run_end(shade, at, gap_end, key);
         let next = (next != NIL).then(|| m.node(next));
         if at >= self.runs_until
             && end < gap_end
+            && ScanNode::step_fits(shade.step)
             && m.shade_pays(shade, (at, end, gap_end), self.material, prev, next)
         {
             return Piece::Shaded(gap_end);
@@ -325,17 +308,11 @@ impl Pieces for Shading<'_> {
         m.run(shade, at, end, self.material)
     }
 
-    fn shaded(&self, at: u16, end: u16, next: u16) -> (ScanNode, ScanNode) {
+    fn shaded(&self, at: u16, _end: u16, next: u16) -> (ScanNode, ScanNode) {
         let value = self
             .shade
             .base
             .wrapping_add(self.shade.step.wrapping_mul(i32::from(at)));
-        let first = ScanNode {
-            start: at | SHADED,
-            end,
-            colour: u16::from(self.material),
-            next,
-        };
-        (first, ScanNode::shade(value, self.shade.step))
+        ScanNode::pair(at, next, self.material, value, self.shade.step)
     }
 }

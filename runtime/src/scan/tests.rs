@@ -77,14 +77,22 @@ fn well_formed(m: &ScanMemory<'_>) -> bool {
     (0..m.height()).all(|y| {
         let mut i = m.head(y);
         let mut last: Option<ScanNode> = None;
+        let mut seen = 0;
         while i != NIL {
             let n = m.node(i);
-            if n.first() >= n.end || u32::from(n.end) > m.width() {
+            // Each node is some pixels wide, within the row; no list runs in a loop.
+            seen += 1;
+            if n.first() >= m.end(&n) || m.end(&n) > m.width || seen > m.capacity() {
                 return false;
             }
+            // A row never starts with a gap node (its first pixels are uncovered without
+            // one), and never has two in a row.
+            if n.is_gap() && last.is_none_or(|l| l.is_gap()) {
+                return false;
+            }
+            // Neighbours of one RGB565 colour are one node.
             if let Some(l) = last {
-                let flat = !l.is_shaded() && !n.is_shaded();
-                if l.end > n.first() || (l.end == n.first() && flat && l.colour == n.colour) {
+                if !l.tagged() && !n.tagged() && l.colour == n.colour {
                     return false;
                 }
             }
@@ -95,20 +103,34 @@ fn well_formed(m: &ScanMemory<'_>) -> bool {
     })
 }
 
+/// The nodes of row `y`'s list.
+fn list_len(m: &ScanMemory<'_>, y: u32) -> usize {
+    let mut i = m.head(y);
+    let mut n = 0;
+    while i != NIL && n <= m.capacity() {
+        i = m.node(i).next;
+        n += 1;
+    }
+    n
+}
+
 #[test]
 fn intervals_merge_by_colour_and_answer_coverage() {
     let (mut nodes, mut heads) = ([ScanNode::EMPTY; 8], [0u16; 2]);
     let mut m = ScanMemory::new(&mut nodes, &mut heads, 10, 2).unwrap();
     let (red, blue) = (Colour::new(255, 0, 0), Colour::new(0, 0, 255));
+    // Each interval with the gap node after it.
     assert_eq!(m.span(0, 2, 4, red), 2);
     assert_eq!(m.span(0, 6, 8, red), 2);
-    assert_eq!(m.nodes_used(), 2);
-    // Bridges the two red intervals: one node, the other freed.
+    assert_eq!((m.nodes_used(), list_len(&m, 0)), (4, 4));
+    // Bridges the two red intervals: one node and its gap node, the others freed.
     assert_eq!(m.span(0, 3, 7, red), 2);
+    assert_eq!(list_len(&m, 0), 2);
     assert!(well_formed(&m));
     assert!(m.covers(2, 0, 8, 1) && !m.covers(1, 0, 8, 1) && !m.covers(2, 0, 9, 1));
     // Another colour beside it: its own node, still one covered run.
     assert_eq!(m.span(0, 0, 10, blue), 4);
+    assert_eq!(list_len(&m, 0), 3, "the gap node turned blue");
     assert!(m.covers(0, 0, 10, 1) && !m.covers(0, 0, 10, 2));
     assert!(m.is_full(1) && !m.is_full(2));
     let frame: Vec<u16> = m.pixels(7, Gaps::default()).collect();
@@ -117,7 +139,7 @@ fn intervals_merge_by_colour_and_answer_coverage() {
     assert!(frame[10..].iter().all(|&p| p == 7));
     assert_eq!(frame.len(), 20);
     // Spent: a span that needs a node is refused and the memory says so.
-    let (mut nodes, mut heads) = ([ScanNode::EMPTY; 1], [0u16; 1]);
+    let (mut nodes, mut heads) = ([ScanNode::EMPTY; 2], [0u16; 1]);
     let mut m = ScanMemory::new(&mut nodes, &mut heads, 10, 1).unwrap();
     assert_eq!(m.span(0, 0, 2, red), 2);
     assert_eq!(m.span(0, 2, 3, red), 1, "merged: no node needed");
@@ -188,18 +210,23 @@ fn a_shade_takes_two_nodes_whatever_its_colours() {
     assert_eq!(runs(split, end), 2);
     let level = gentle.at(split);
     assert_eq!(m.span(2, 40, split, level), 10);
-    assert_eq!(m.nodes_used(), 5);
+    assert_eq!(m.nodes_used(), 6, "the interval and the gap node after it");
     assert_eq!(
         m.paint(2, split, end, Paint::Shade(&gentle)),
         u64::from(end - split)
     );
-    assert_eq!(m.nodes_used(), 6, "the second run's node");
+    assert_eq!(m.nodes_used(), 7, "the second run's node");
     assert!(runs(0, 40) > 4 && runs(end, 190) > 4);
     assert_eq!(
         m.paint(2, 0, 190, Paint::Shade(&gentle)),
         u64::from(190 - end + 40)
     );
-    assert_eq!(m.nodes_used(), 10, "a pair each side");
+    assert_eq!(
+        m.nodes_used(),
+        11,
+        "a pair each side, the gap node after the second"
+    );
+    assert_eq!(list_len(&m, 2), 5, "pair, interval, run, pair, gap");
     let row = row_of(&m, 2);
     assert!(row[40..split as usize]
         .iter()
@@ -209,6 +236,56 @@ fn a_shade_takes_two_nodes_whatever_its_colours() {
     assert_eq!(row[split as usize..190], gentle_row[split as usize..]);
     assert!(end - split > 4, "two runs of {}", end - split);
     assert!(well_formed(&m) && m.covers(0, 2, 190, 3) && !m.covers(0, 2, 191, 3));
+}
+
+/// A shaded interval's shade survives its packing into 58 bits: every value, and every step
+/// within [`STEP_BITS`], of either sign, beside any material and first column.
+#[test]
+fn a_pair_keeps_its_shade() {
+    let limit = 1i32 << (STEP_BITS - 1);
+    for (value, step) in [
+        (0, 0),
+        (i32::MAX, limit - 1),
+        (i32::MIN, -limit),
+        (-1, -1),
+        (
+            200 << SHADE_FRACTION_BITS,
+            -(3 << SHADE_FRACTION_BITS) + 12_345,
+        ),
+    ] {
+        assert!(ScanNode::step_fits(step));
+        let (first, second) = ScanNode::pair(MAX_WIDTH as u16, 7, 15, value, step);
+        assert!(first.is_pair() && first.is_shaded() && !first.is_level() && !first.is_gap());
+        assert_eq!(
+            (first.first(), first.next, first.material_level()),
+            (MAX_WIDTH as u16, 7, (15, 0))
+        );
+        assert_eq!(first.value_step(&second), (value, step));
+    }
+    assert!(!ScanNode::step_fits(limit) && !ScanNode::step_fits(-limit - 1));
+}
+
+/// A shade steeper than a pair keeps goes as runs, with the same pixels.
+#[cfg(feature = "smooth")]
+#[test]
+fn a_steep_shade_goes_as_runs() {
+    let (mut nodes, mut heads) = ([ScanNode::EMPTY; 64], [0u16; 1]);
+    let mut m = ScanMemory::new(&mut nodes, &mut heads, 40, 1).unwrap();
+    m.set_dithering(false);
+    let steep = gradient(Colour::grey(255), 0.0, 17.0);
+    assert!(!ScanNode::step_fits(steep.step));
+    assert_eq!(m.paint(0, 5, 20, Paint::Shade(&steep)), 15);
+    let want: Vec<u16> = (0..40)
+        .map(|x| {
+            if (5..20).contains(&x) {
+                steep.at(x).to_rgb565()
+            } else {
+                0
+            }
+        })
+        .collect();
+    assert_eq!(row_of(&m, 0), want);
+    assert!(m.nodes_used() > 4 && well_formed(&m));
 }
 
 /// Dithered (the default), a shade is kept to its 8-bit colours: a piece of few levels as
@@ -230,22 +307,34 @@ fn a_dithered_shade_keeps_its_levels() {
         (100, 100, 101, 101)
     );
     assert_eq!(m.paint(0, 0, 20, Paint::Shade(&two)), 20);
-    assert_eq!(m.nodes_used(), 2, "two level runs");
+    assert_eq!(
+        m.nodes_used(),
+        3,
+        "two level runs and the gap node after them"
+    );
     // The same shade on both sides: each piece joins the run of its level.
     assert_eq!(
         m.paint(0, 20, 24, Paint::Shade(&gradient(colour, 101.0, 0.0))),
         4
     );
-    assert_eq!(m.nodes_used(), 2, "joined the second run");
+    assert_eq!(m.nodes_used(), 3, "joined the second run");
     // A flat interval of the level's colour is not a level run: no join.
     let flat = two.at(0);
     assert_eq!(m.span(1, 0, 5, flat), 5);
     assert_eq!(m.paint(1, 5, 10, Paint::Shade(&two)), 5);
-    assert_eq!(m.nodes_used(), 4);
-    // Many levels: one shaded interval.
+    assert_eq!(
+        m.nodes_used(),
+        6,
+        "each with a gap node after it, the first turned level run"
+    );
+    // Many levels: one shaded interval, in the gap node's place.
     let ramp = gradient(colour, 20.0, 3.0);
     assert_eq!(m.paint(1, 10, 64, Paint::Shade(&ramp)), 54);
-    assert_eq!(m.nodes_used(), 6);
+    assert_eq!(
+        (m.nodes_used(), list_len(&m, 1)),
+        (8, 3),
+        "the gap node freed"
+    );
     let want = |y: u32, x: u32| match (y, x) {
         (0, 0..20) => dither_rgb565(x, 0, two.at(x)),
         (0, _) => dither_rgb565(x, 0, two.at(19)),
@@ -360,7 +449,11 @@ fn pending_pixels_fill_their_gaps_in_the_read_out() {
             }
         }
     }
-    assert_eq!(m.nodes_used(), 3, "a, b and a's run of the last row");
+    assert_eq!(
+        m.nodes_used(),
+        6,
+        "a, b and a's run of the last row, each with the gap node after it"
+    );
     assert_eq!(pool.in_use(), 6);
     // `k` of the samples in `c`, the rest `BACKGROUND`, rounded to nearest.
     let blend = |c: Colour, k: u32| {

@@ -113,11 +113,11 @@ impl Pool {
         n: usize,
     ) -> Result<&'static mut [peel_runtime::scan::ScanNode], Failure> {
         use peel_runtime::scan::{ScanNode, SCAN_NODE_BYTES};
-        const { assert!(SCAN_NODE_BYTES == 8 && core::mem::align_of::<ScanNode>() <= 4) };
-        let words = self.words(2 * n, Use::ScanNodes)?;
+        const { assert!(core::mem::align_of::<ScanNode>() <= 4) };
+        let words = self.words((n * SCAN_NODE_BYTES).div_ceil(4), Use::ScanNodes)?;
         let first = words.as_mut_ptr().cast::<ScanNode>();
         for k in 0..n {
-            // SAFETY: the words are ours for good, 4-aligned, and hold `n` nodes of 8 bytes.
+            // SAFETY: the words are ours for good, 4-aligned, and hold `n` nodes.
             unsafe { first.add(k).write(ScanNode::EMPTY) };
         }
         // SAFETY: as above, and every node was just written.
