@@ -909,23 +909,42 @@ fn edge_split(
             back.len()
         )));
     }
-    let idx = push_split(tree, SplitPlane::Edge(p), k, slot);
-    let (known_front, known_back) = after_split(known, ctx.table.get(p));
+    let split = (SplitPlane::Edge(p), ctx.table.get(p));
+    let sides = (front, back, first_front == Some(true));
+    Ok(split_children(tree, split, k, n, sides, known, slot, 0))
+}
+
+/// Emit the split node of a list of `n` fragments (`k` distinct support planes) by `plane`
+/// (`entry`), sorted into `front` and `back`, and return its children's jobs, the side
+/// holding the list's first fragment first (`first_front`), each `lopsided` as given.
+#[allow(clippy::too_many_arguments)]
+fn split_children(
+    tree: &mut ExactTree,
+    (plane, entry): (SplitPlane, &PlaneEntry),
+    k: u32,
+    n: usize,
+    (front, back, first_front): (Vec<Fragment>, Vec<Fragment>, bool),
+    known: Vec<Witness>,
+    slot: Slot,
+    lopsided: u32,
+) -> (Job, Job) {
+    let idx = push_split(tree, plane, k, slot);
+    let (known_front, known_back) = after_split(known, entry);
     let limit = Limit::fewer(k, n);
     let job = |frags, known, slot| Job::Compile {
         frags,
         known,
         slot,
         limit,
-        lopsided: 0,
+        lopsided,
     };
     let front = job(front, known_front, Slot::Front(idx));
     let back = job(back, known_back, Slot::Back(idx));
-    Ok(if first_front == Some(true) {
+    if first_front {
         (front, back)
     } else {
         (back, front)
-    })
+    }
 }
 
 /// Emit a split node of `frags` (`k` distinct support planes) by the free plane `e`, which
@@ -967,28 +986,16 @@ fn free_split(
             back.len()
         )));
     }
-    let idx = push_split(tree, SplitPlane::Free(e.plane), k, slot);
-    let (known_front, known_back) = after_split(known, &e);
     let lopsided = if is_lopsided(n, front.len().min(back.len()), 0, 0) {
         lopsided + 1
     } else {
         0
     };
-    let limit = Limit::fewer(k, n);
-    let job = |frags, known, slot| Job::Compile {
-        frags,
-        known,
-        slot,
-        limit,
-        lopsided,
-    };
-    let front = job(front, known_front, Slot::Front(idx));
-    let back = job(back, known_back, Slot::Back(idx));
-    Ok(if first_front == Some(true) {
-        (front, back)
-    } else {
-        (back, front)
-    })
+    let split = (SplitPlane::Free(e.plane), &e);
+    let sides = (front, back, first_front == Some(true));
+    Ok(split_children(
+        tree, split, k, n, sides, known, slot, lopsided,
+    ))
 }
 
 /// The chain of `splits` ([`lopsided_splits`] of `frags`, whose distinct support planes are

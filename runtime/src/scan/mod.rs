@@ -410,20 +410,14 @@ impl<'m> ScanMemory<'m> {
             return true;
         }
         (y0..y1.min(self.height)).all(|y| {
-            // The node holding `x0` (`held`), found by the starts alone, and the one after it
-            // (`i`, starting at `after`): a node ends where the next starts.
-            let (mut held, mut i, mut after) = (NIL, self.head(y), self.width);
-            while i != NIL {
-                let Some(n) = self.nodes.get(usize::from(i)) else {
-                    return false;
-                };
-                let start = n.first();
-                if u32::from(start) > x0 {
-                    after = start;
-                    break;
-                }
-                (held, i) = (i, n.next);
-            }
+            // A column past the row's end is held by no node.
+            let x = u16::try_from(x0).unwrap_or(u16::MAX);
+            let Spot {
+                mut held,
+                after: mut i,
+                after_start: mut after,
+                ..
+            } = self.spot(self.head(y), x);
             if held == NIL {
                 return false;
             }
@@ -447,6 +441,31 @@ impl<'m> ScanMemory<'m> {
                 };
             }
         })
+    }
+
+    /// Where column `x` is in a row, searched from node `from` (a row's first, or a node that
+    /// starts at or before `x`) by the starts alone: a node ends where the next starts.
+    #[inline]
+    fn spot(&self, from: u16, x: u16) -> Spot {
+        let mut spot = Spot {
+            before: NIL,
+            held: NIL,
+            after: from,
+            after_start: self.width,
+        };
+        while spot.after != NIL {
+            let Some(n) = self.nodes.get(usize::from(spot.after)) else {
+                spot.after = NIL;
+                break;
+            };
+            let start = n.first();
+            if start > x {
+                spot.after_start = start;
+                break;
+            }
+            (spot.before, spot.held, spot.after) = (spot.held, spot.after, n.next);
+        }
+        spot
     }
 
     /// A node for `n`, from the free list or the fresh ones; `None` when the pool is spent.
@@ -548,23 +567,12 @@ impl<'m> ScanMemory<'m> {
         let mut from = NIL;
         let mut covered = 0u64;
         while at < b {
-            // The node holding `at` (none before the row's first), the one before it, and the
-            // one after it (`i`, starting at `after`), found by the starts alone.
-            let (mut before, mut cur, mut after) = (NIL, NIL, self.width);
-            let mut i = if from == NIL { self.head(y) } else { from };
-            while i != NIL {
-                let Some(n) = self.nodes.get(usize::from(i)) else {
-                    i = NIL;
-                    break;
-                };
-                let start = n.first();
-                if start > at {
-                    after = start;
-                    break;
-                }
-                (before, cur) = (cur, i);
-                i = n.next;
-            }
+            let Spot {
+                before,
+                held: cur,
+                after: i,
+                after_start: after,
+            } = self.spot(if from == NIL { self.head(y) } else { from }, at);
             let found = (cur != NIL).then(|| self.node(cur));
             if found.is_some_and(|n| !n.is_gap()) {
                 // (Past `at` in a well-formed list; never stalls in any other.)
@@ -766,6 +774,17 @@ impl Iterator for RowNodes<'_, '_> {
         self.i = n.next;
         Some((i, n, end))
     }
+}
+
+/// Where a column is in a row ([`ScanMemory::spot`]).
+struct Spot {
+    /// The node before `held` (none when `held` is the first searched).
+    before: u16,
+    /// The node holding the column (none before the row's first node).
+    held: u16,
+    /// The node after it (none at the row's end), and where it starts (the row's width).
+    after: u16,
+    after_start: u16,
 }
 
 /// What the next piece of a gap becomes.
