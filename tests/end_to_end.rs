@@ -12,12 +12,13 @@ use std::path::{Path, PathBuf};
 
 use glam::DVec3;
 use peel_compiler::compile::{compile_mesh, CompileOptions};
-use peel_compiler::load::{load_obj, Mesh};
+use peel_compiler::load::{load_obj, Mesh, SourceTriangle};
 use peel_compiler::shade::{Shading, Surface, AMBIENT};
 use peel_compiler::tools::raster::{render_bytes_with, Settings};
 use peel_compiler::tools::shot::Shot;
 use peel_e2e::polygons;
 use peel_e2e::{bounds, closed_sphere, mesh_closed_outward, reference, shadowed};
+use peel_runtime::read::layout::header_flags;
 use peel_runtime::read::{Node, Scene};
 use peel_runtime::traverse::Order;
 
@@ -34,12 +35,19 @@ fn compile(mesh: &Mesh) -> Vec<u8> {
 
 /// Compile `mesh` with ids, its vertices as `f32` when `wide`.
 fn compile_vertices(mesh: &Mesh, wide_vertices: bool) -> Vec<u8> {
+    compile_with(mesh, wide_vertices, false)
+}
+
+/// Compile `mesh` with ids, its vertices as `f32` when `wide`, its closed parts marked as
+/// solids when `solid`.
+fn compile_with(mesh: &Mesh, wide_vertices: bool, solid: bool) -> Vec<u8> {
     // Faceted: the colours are compared with the reference's faceted ones (smooth shading's
     // accuracy has its own test, `shading_gap::accuracy`).
     let options = CompileOptions {
         ids: true,
         wide_vertices,
         surface: Surface::Faceted,
+        solid,
         ..CompileOptions::default()
     };
     compile_mesh(mesh, &options, &|_| {}).expect("compile").1
@@ -243,7 +251,18 @@ enum Splits {
 /// Checks `mesh` from [`cameras`], `extra` and a camera on its first split plane in every
 /// setting; returns the robust pixels whose colour was compared, lit and unlit.
 fn check_scene(name: &str, mesh: &Mesh, extra: &[Shot], splits: Splits) -> (usize, usize) {
-    let bytes = compile(mesh);
+    check_compiled(name, mesh, &compile(mesh), extra, splits)
+}
+
+/// [`check_scene`] of `bytes`, compiled from `mesh`.
+fn check_compiled(
+    name: &str,
+    mesh: &Mesh,
+    bytes: &[u8],
+    extra: &[Shot],
+    splits: Splits,
+) -> (usize, usize) {
+    let bytes = bytes.to_vec();
     let polys = polygons(&bytes);
     let (lo, hi) = bounds(mesh);
     let mut shots = cameras(lo, hi);
@@ -595,6 +614,48 @@ fn generated_closed_meshes_match() {
     let soup = peel_compiler::tools::scenes::soup(60, 0.4, 3);
     for (name, mesh) in [("sphere", sphere), ("torus", torus), ("soup", soup)] {
         let (lit, unlit) = check_scene(name, &mesh, &[], Splits::Expected);
+        assert!(lit > 100 && unlit > 100, "{name}: {lit} lit, {unlit} unlit");
+    }
+}
+
+/// The same meshes, two tori crossing each other and the cow (when present), compiled with
+/// their closed parts as solids: the walk skips the faces seen from behind when the whole
+/// scene is in front of the near plane (the orbit cameras), and no robust pixel differs from
+/// the reference from any camera.
+#[test]
+fn generated_solids_match() {
+    let sphere = closed_sphere(10, 16);
+    let torus = peel_compiler::tools::scenes::torus(16, 8);
+    let mut crossed = torus.clone();
+    let turned: Vec<_> = (torus.triangles.iter())
+        .map(|t| SourceTriangle {
+            // A mirror (y and z swapped) keeps the faces outward once the corners swap too.
+            vertices: [t.vertices[0], t.vertices[2], t.vertices[1]]
+                .map(|v| DVec3::new(v.x + 0.7, v.z, v.y)),
+            ..*t
+        })
+        .collect();
+    crossed.triangles.extend(turned);
+    assert!(mesh_closed_outward(&crossed));
+    let mut meshes = vec![
+        ("sphere", sphere),
+        ("torus", torus),
+        ("crossed tori", crossed),
+    ];
+    let cow = Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/models/cow.obj");
+    if cow.is_file() {
+        meshes.push(("cow", load_obj(&cow).expect("the cow loads")));
+    } else {
+        println!("skipping the cow: the shared models are absent");
+    }
+    for (name, mesh) in meshes {
+        let bytes = compile_with(&mesh, false, true);
+        let scene = Scene::parse(&bytes).unwrap();
+        assert!(
+            scene.header().flags & header_flags::SOLID != 0,
+            "{name}: no solid"
+        );
+        let (lit, unlit) = check_compiled(name, &mesh, &bytes, &[], Splits::Expected);
         assert!(lit > 100 && unlit > 100, "{name}: {lit} lit, {unlit} unlit");
     }
 }

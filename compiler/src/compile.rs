@@ -9,9 +9,11 @@ use rayon::prelude::*;
 
 use crate::error::CompileError;
 use crate::load::{load_obj_bytes, read_obj, LoadOptions, Mesh};
+use crate::quantise::Quantiser;
 use crate::shade::smooth::Smooth;
 use crate::shade::{Shading, Surface};
 use crate::tree::{build, BuildOptions, DisplayTree, TreeStats};
+use crate::write::format::polygon_flags;
 
 /// Everything a compile can be asked.
 #[derive(Debug, Clone, Default)]
@@ -30,6 +32,11 @@ pub struct CompileOptions {
     pub shading: Shading,
     /// One colour per polygon side, or smooth shading ([`crate::shade::DEFAULT_SURFACE`]).
     pub surface: Surface,
+    /// Mark the faces of closed parts that face out (see `quantise::solid`), so that the
+    /// runtime skips those seen from behind while a frame needs no clipping (the whole scene
+    /// in front of the near plane). The user's word that no part passes through itself, which
+    /// the compiler does not check.
+    pub solid: bool,
 }
 
 /// The result of a compile.
@@ -66,12 +73,14 @@ pub fn compile_mesh(
         wide_vertices: options.wide_vertices,
         ..crate::write::WriteInput::default()
     };
+    let solid = solid_flags(&tree, mesh, options.solid);
     let bytes = match options.surface {
         Surface::Faceted => {
             let (colours, exterior) = bake(&tree, mesh, &options.shading);
             let input = crate::write::WriteInput {
                 colours: &colours,
                 exterior: &exterior,
+                polygon_flags: &solid,
                 ..input
             };
             crate::write::encode_with(&tree, &input)?
@@ -83,10 +92,20 @@ pub fn compile_mesh(
             };
             let shades = polygon_shades(&tree, mesh, &smooth);
             let shaded = crate::write::shades::shade_vertices(&tree, &shades)?;
+            let flags: Vec<u8> = if solid.is_empty() {
+                shaded.flags.clone()
+            } else {
+                shaded
+                    .flags
+                    .iter()
+                    .zip(&solid)
+                    .map(|(a, b)| a | b)
+                    .collect()
+            };
             let input = crate::write::WriteInput {
                 colours: &shaded.colours,
                 exterior: &shaded.exterior,
-                polygon_flags: &shaded.flags,
+                polygon_flags: &flags,
                 shades: &shaded.shades,
                 ..input
             };
@@ -94,6 +113,28 @@ pub fn compile_mesh(
         }
     };
     Ok((tree, bytes))
+}
+
+/// Per polygon of `tree` (from `mesh`'s triangles), the side its solid's inside lies on
+/// ([`polygon_flags::INSIDE_INTERIOR`] or [`polygon_flags::INSIDE_EXTERIOR`]: its source
+/// triangle's back), or 0 when its source triangle bounds no solid; empty unless `solid`.
+fn solid_flags(tree: &DisplayTree, mesh: &Mesh, solid: bool) -> Vec<u8> {
+    if !solid {
+        return Vec::new();
+    }
+    let solids = crate::quantise::solid::solid_triangles(mesh, &Quantiser::fit(mesh));
+    tree.polygons
+        .iter()
+        .map(|p| {
+            if !solids.get(p.source as usize).copied().unwrap_or(false) {
+                0
+            } else if p.interior_is_back() {
+                polygon_flags::INSIDE_INTERIOR
+            } else {
+                polygon_flags::INSIDE_EXTERIOR
+            }
+        })
+        .collect()
 }
 
 /// Each polygon of `tree` (from `mesh`'s triangles) smooth-shaded: its material colour and its
@@ -235,6 +276,69 @@ mod tests {
         .unwrap();
         assert_eq!(compiled.stats.output_polygons, 1);
         assert_eq!(compiled.stats.degenerate_dropped, 3);
+    }
+
+    /// A torus and a box beside a loose soup: with `solid` the torus's and the box's polygons
+    /// carry the side their solid's inside is on (its source triangle's back), the soup's
+    /// none; without it, or with no closed part, the file is what it was.
+    #[test]
+    fn solid_marks_the_faces_of_closed_parts_only() {
+        use crate::tools::scenes;
+        use peel_runtime::read::layout::header_flags::SOLID;
+        use peel_runtime::read::Scene;
+        let mut triangles: Vec<[DVec3; 3]> = (scenes::torus(12, 6).triangles.iter())
+            .map(|t| t.vertices)
+            .collect();
+        let closed = triangles.len() + 12;
+        scenes::boxed(&mut triangles, DVec3::splat(1.5), DVec3::splat(2.0));
+        triangles.extend(
+            scenes::soup(20, 0.3, 7)
+                .triangles
+                .iter()
+                .map(|t| t.vertices),
+        );
+        let mesh = scenes::mesh(triangles);
+        let compile = |solid: bool, mesh: &Mesh| {
+            let options = CompileOptions {
+                ids: true,
+                solid,
+                ..CompileOptions::default()
+            };
+            compile_mesh(mesh, &options, &|_| {}).unwrap().1
+        };
+        let bytes = compile(true, &mesh);
+        let scene = Scene::parse(&bytes).unwrap();
+        assert_ne!(scene.header().flags & SOLID, 0);
+        let inside = polygon_flags::INSIDE_INTERIOR | polygon_flags::INSIDE_EXTERIOR;
+        for i in 0..scene.header().polygon_count {
+            let p = scene.polygon(i);
+            let source = scene.id(i).unwrap() as usize;
+            let mark = p.flags & inside;
+            assert_eq!(
+                mark != 0,
+                source < closed,
+                "polygon {i} of triangle {source}"
+            );
+            if mark != 0 {
+                // The source triangle's front faces out: seen from the side of its normal, the
+                // eye sees the side the mark does not name.
+                let t = mesh.triangles[source].vertices;
+                let normal = (t[1] - t[0]).cross(t[2] - t[0]);
+                let centre = DVec3::from_array(scene.header().centre);
+                let outside = (t[0] + t[1] + t[2]) / 3.0 + normal - centre;
+                let side = scene.eye_side(&p, &scene.side_eye(outside.as_vec3()));
+                let seen_interior = peel_runtime::traverse::sees_interior(&p, side);
+                let hidden = if seen_interior {
+                    polygon_flags::INSIDE_INTERIOR
+                } else {
+                    polygon_flags::INSIDE_EXTERIOR
+                };
+                assert_eq!(mark & hidden, 0, "polygon {i} of triangle {source}");
+            }
+        }
+        assert_ne!(bytes, compile(false, &mesh));
+        let soup = scenes::soup(40, 0.3, 3);
+        assert_eq!(compile(true, &soup), compile(false, &soup));
     }
 
     #[test]

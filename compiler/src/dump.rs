@@ -40,6 +40,8 @@ pub struct Inspect {
     pub ids: bool,
     /// Polygons smooth-shaded (their vertices' shades interpolated; 0 without shades).
     pub smooth_polygons: u64,
+    /// Polygons that bound solids (`peel compile --solid`): skipped when seen from behind.
+    pub solid_polygons: u64,
     /// World position of the centre of the scene's bounding box (what a framing camera looks
     /// at).
     pub centre: [f64; 3],
@@ -81,6 +83,12 @@ pub fn inspect(bytes: &[u8]) -> Result<Inspect, ReadError> {
         ids: header.flags & header_flags::IDS != 0,
         smooth_polygons: (0..header.polygon_count)
             .filter(|&p| scene.polygon(p).flags & polygon_flags::SMOOTH != 0)
+            .count() as u64,
+        solid_polygons: (0..header.polygon_count)
+            .filter(|&p| {
+                let inside = polygon_flags::INSIDE_INTERIOR | polygon_flags::INSIDE_EXTERIOR;
+                scene.polygon(p).flags & inside != 0
+            })
             .count() as u64,
         centre: (origin + (lo + hi) * 0.5).to_array(),
         bounds_min: (origin + lo).to_array(),
@@ -125,6 +133,7 @@ pub fn inspect_text(info: &Inspect) -> String {
     line("vertices", info.vertices.to_string());
     line("ids", info.ids.to_string());
     line("smooth_polygons", info.smooth_polygons.to_string());
+    line("solid_polygons", info.solid_polygons.to_string());
     line("centre", triple(info.centre));
     line("bounds_min", triple(info.bounds_min));
     line("bounds_max", triple(info.bounds_max));
@@ -492,6 +501,7 @@ mod tests {
             vertices: 7,
             ids: true,
             smooth_polygons: 0,
+            solid_polygons: 0,
             centre: (origin + (lo + hi) * 0.5).to_array(),
             bounds_min: (origin + lo).to_array(),
             bounds_max: (origin + hi).to_array(),

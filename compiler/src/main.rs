@@ -77,6 +77,11 @@ struct CompileArgs {
     /// detail.
     #[arg(long)]
     wide_vertices: bool,
+    /// Mark the faces of closed parts that face out: while the eye is outside the scene's
+    /// bounds the runtime skips those it sees from behind, before reading their vertices.
+    /// Exact when no part passes through itself (not checked); open parts stay two-sided.
+    #[arg(long)]
+    solid: bool,
     /// Candidate planes costed per split node of more than 2048 fragments (sampled when there
     /// are more; smaller nodes cost every plane).
     #[arg(long, default_value_t = BuildOptions::default().candidates, value_name = "K")]
@@ -213,6 +218,7 @@ fn compile(args: &CompileArgs) -> Result<(), String> {
         wide_vertices: args.wide_vertices,
         shading,
         surface,
+        solid: args.solid,
     };
     compile_to(
         &args.scene,
@@ -223,9 +229,9 @@ fn compile(args: &CompileArgs) -> Result<(), String> {
     .map(|_| ())
 }
 
-/// How many polygons of a compiled file are smooth-shaded.
-fn smooth_polygons(bytes: &[u8]) -> u64 {
-    peel_compiler::dump::inspect(bytes).map_or(0, |i| i.smooth_polygons)
+/// How many polygons of a compiled file are smooth-shaded, and how many bound solids.
+fn marked_polygons(bytes: &[u8]) -> (u64, u64) {
+    peel_compiler::dump::inspect(bytes).map_or((0, 0), |i| (i.smooth_polygons, i.solid_polygons))
 }
 
 /// Compile `scene` into `output` with a progress bar on a terminal, print the summary, and
@@ -256,6 +262,7 @@ pub(crate) fn compile_to(
     }
     peel_compiler::write::write_atomic(output, &compiled.bytes).map_err(|e| e.to_string())?;
     let s = compiled.stats;
+    let (smooth, solid) = marked_polygons(&compiled.bytes);
     let stats = serde_json::json!({
         "input_triangles": s.input_triangles,
         "degenerate_dropped": s.degenerate_dropped,
@@ -265,7 +272,8 @@ pub(crate) fn compile_to(
         "cuts": s.cuts,
         "max_depth": s.max_depth,
         "planes": s.planes,
-        "smooth_polygons": smooth_polygons(&compiled.bytes),
+        "smooth_polygons": smooth,
+        "solid_polygons": solid,
         "bytes": compiled.bytes.len(),
         "compile_seconds": compiled.seconds,
     });

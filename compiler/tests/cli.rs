@@ -37,6 +37,7 @@ fn compile_writes_the_file_and_exact_stats_keys() {
         "max_depth",
         "planes",
         "smooth_polygons",
+        "solid_polygons",
         "bytes",
         "compile_seconds",
     ]
@@ -72,6 +73,33 @@ fn compile_writes_the_file_and_exact_stats_keys() {
     let o = peel(&["dump", s(&out)]);
     assert!(o.status.success());
     assert!(String::from_utf8_lossy(&o.stdout).contains("convex"));
+}
+
+#[test]
+fn solid_marks_a_closed_cube_and_says_so() {
+    let dir = tempfile::tempdir().unwrap();
+    let solid_polygons = |solid: bool| {
+        let out = dir.path().join("cube.peel");
+        let stats = dir.path().join("stats.json");
+        let cube = fixture("cube.obj");
+        let mut args = vec!["compile", &cube, "-o", s(&out)];
+        args.extend(["--stats-json", s(&stats)]);
+        if solid {
+            args.push("--solid");
+        }
+        let o = peel(&args);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        let v: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(&stats).unwrap()).unwrap();
+        let o = peel(&["inspect", s(&out), "--json"]);
+        let shown: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+        assert_eq!(shown["solid_polygons"], v["solid_polygons"]);
+        (v["solid_polygons"].clone(), v["output_polygons"].clone())
+    };
+    let (solid, all) = solid_polygons(true);
+    assert_eq!(solid, all);
+    assert_ne!(solid, 0);
+    assert_eq!(solid_polygons(false).0, 0);
 }
 
 #[test]

@@ -186,6 +186,7 @@ pub fn encode_options(options: &CompileOptions, out: &mut Vec<u8>) {
         wide_vertices,
         shading,
         surface,
+        solid,
     } = options;
     match default_colour {
         None => out.push(0),
@@ -200,6 +201,7 @@ pub fn encode_options(options: &CompileOptions, out: &mut Vec<u8>) {
     out.push(u8::from(*watertight));
     out.push(u8::from(*ids));
     out.push(u8::from(*wide_vertices));
+    out.push(u8::from(*solid));
     let direction = |out: &mut Vec<u8>, d: &glam::DVec3| {
         for c in d.to_array() {
             out.extend_from_slice(&c.to_bits().to_le_bytes());

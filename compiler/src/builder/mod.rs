@@ -117,6 +117,13 @@ impl Builder {
         self
     }
 
+    /// Mark the faces of closed parts that face out, hidden from behind (see
+    /// [`crate::compile::CompileOptions::solid`]).
+    pub fn solid(mut self, solid: bool) -> Self {
+        self.options.solid = solid;
+        self
+    }
+
     /// Candidate planes costed per split node of more than 2048 fragments (smaller nodes cost
     /// every plane).
     pub fn candidates(mut self, k: usize) -> Self {

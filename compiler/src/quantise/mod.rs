@@ -74,6 +74,8 @@ impl Quantiser {
     }
 }
 
+pub mod solid;
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -98,6 +98,14 @@ pub struct TreePolygon {
     pub shadowed: bool,
 }
 
+impl TreePolygon {
+    /// Whether its interior side (the side of the rest of its convex set) is its source
+    /// triangle's back.
+    pub fn interior_is_back(&self) -> bool {
+        self.interior_front == self.flipped
+    }
+}
+
 /// A node of the display tree. Children always have larger indices than their parent.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum TreeNode {

@@ -62,7 +62,8 @@ pub(crate) struct WriteInput<'a> {
     /// Store vertices as `f32` instead of 16-bit steps on the scene's bounds.
     pub wide_vertices: bool,
     /// Flags added to each tree polygon's ([`format::polygon_flags::SMOOTH`],
-    /// [`format::polygon_flags::INTERIOR_BACK`]), or empty: none.
+    /// [`format::polygon_flags::INTERIOR_BACK`], [`format::polygon_flags::INSIDE_INTERIOR`],
+    /// [`format::polygon_flags::INSIDE_EXTERIOR`]), or empty: none.
     pub polygon_flags: &'a [u8],
     /// Per tree vertex, its `[front, back]` intensities (a smooth file, [`shades`]), or empty.
     pub shades: &'a [[u8; 2]],
@@ -236,6 +237,10 @@ pub(crate) fn peel_file_encoded(
     }
     if !shades.is_empty() {
         flags |= header_flags::SHADES;
+    }
+    let inside = polygon_flags::INSIDE_INTERIOR | polygon_flags::INSIDE_EXTERIOR;
+    if extra_flags.iter().any(|&f| f & inside != 0) {
+        flags |= header_flags::SOLID;
     }
     let boxes = boxes.unwrap_or_default();
     // The narrowest node and polygon fields that every count they index fits (the width's

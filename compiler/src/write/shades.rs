@@ -47,7 +47,7 @@ pub(crate) struct Shaded<'t> {
 
 /// Which of `[front, back]` is `polygon`'s interior side: 0 when its source triangle's front.
 fn interior_side(polygon: &TreePolygon) -> usize {
-    usize::from(polygon.interior_front == polygon.flipped)
+    usize::from(polygon.interior_is_back())
 }
 
 /// The colours of a polygon's `[interior, exterior]` sides when each is one colour over the

@@ -431,10 +431,10 @@ fn header_identity_is_checked_first() {
         );
     }
     let mut spec = Spec::small();
-    spec.flags = 1 << 11;
+    spec.flags = 1 << 12;
     assert_eq!(
         spec.parse(),
-        Err(ReadError::UnknownFlags { flags: 1 << 11 })
+        Err(ReadError::UnknownFlags { flags: 1 << 12 })
     );
     for both in [
         header_flags::NARROW | header_flags::MEDIUM,
@@ -1291,27 +1291,29 @@ fn shades_read_back_on_the_side_seen() {
     assert_eq!(plain.vertex_shade(0, 0), 0);
 }
 
+/// Offset of polygon `k`'s record in `spec`'s file.
+fn polygon_at(spec: &Spec, k: usize) -> usize {
+    let bytes = spec.encode();
+    let shades = if spec.flags & header_flags::SHADES != 0 {
+        8 + SHADE_SIZE * spec.shades.len()
+    } else {
+        0
+    };
+    bytes.len()
+        - shades
+        - spec.nodes.len() * node_size(spec.flags)
+        - 8
+        - spec.boxes.len() * BOUNDS_SIZE
+        - 8
+        - spec.palette.len() * PALETTE_SIZE
+        - 8
+        - spec.ids.len() * ID_SIZE
+        - 8
+        - (spec.polygons.len() - k) * polygon_size(spec.flags)
+}
+
 #[test]
 fn smooth_polygons_need_shades_and_interior_back_needs_smooth() {
-    let polygon_at = |spec: &Spec, k: usize| {
-        let bytes = spec.encode();
-        let shades = if spec.flags & header_flags::SHADES != 0 {
-            8 + SHADE_SIZE * spec.shades.len()
-        } else {
-            0
-        };
-        bytes.len()
-            - shades
-            - spec.nodes.len() * node_size(spec.flags)
-            - 8
-            - spec.boxes.len() * BOUNDS_SIZE
-            - 8
-            - spec.palette.len() * PALETTE_SIZE
-            - 8
-            - spec.ids.len() * ID_SIZE
-            - 8
-            - (spec.polygons.len() - k) * polygon_size(spec.flags)
-    };
     assert_eq!(smooth_spec().parse(), Ok(()));
     // SMOOTH without SHADES.
     let mut spec = Spec::small();
@@ -1332,6 +1334,32 @@ fn smooth_polygons_need_shades_and_interior_back_needs_smooth() {
                 offset: polygon_at(&spec, 0)
             }),
             "shades: {shades}"
+        );
+    }
+}
+
+#[test]
+fn solid_marks_need_the_header_flag_and_one_side() {
+    use polygon_flags::{INSIDE_EXTERIOR, INSIDE_INTERIOR};
+    let mut spec = Spec::small();
+    spec.flags |= header_flags::SOLID;
+    spec.polygons[0].2 |= INSIDE_INTERIOR;
+    spec.polygons[1].2 |= INSIDE_EXTERIOR;
+    let bytes = spec.encode();
+    let scene = Scene::parse(&bytes).unwrap();
+    assert_eq!(scene.polygon(0).flags & INSIDE_INTERIOR, INSIDE_INTERIOR);
+    assert_eq!(scene.polygon(1).flags & INSIDE_EXTERIOR, INSIDE_EXTERIOR);
+    // A mark without the header flag, and both marks at once.
+    let mut unflagged = spec.clone();
+    unflagged.flags &= !header_flags::SOLID;
+    let mut both = spec.clone();
+    both.polygons[2].2 |= INSIDE_INTERIOR | INSIDE_EXTERIOR;
+    for (bad, polygon) in [(unflagged, 0), (both, 2)] {
+        assert_eq!(
+            bad.parse(),
+            Err(ReadError::BadRecord {
+                offset: polygon_at(&bad, polygon)
+            })
         );
     }
 }

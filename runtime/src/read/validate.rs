@@ -315,7 +315,8 @@ fn check_indices(scene: &Scene<'_>) -> Result<(), ReadError> {
 }
 
 /// Every polygon: palette indices in range (both colours with `TWO_COLOURS`), known flags
-/// (`SMOOTH` only with `SHADES`, `INTERIOR_BACK` only with `SMOOTH`),
+/// (`SMOOTH` only with `SHADES`, `INTERIOR_BACK` only with `SMOOTH`, one of `INSIDE_INTERIOR`
+/// and `INSIDE_EXTERIOR` at most, only with `SOLID`),
 /// `3 <= vertex_count <= max_polygon_vertices`, and
 /// its vertex list right after the previous polygon's, the last one ending the index array.
 fn check_polygons(scene: &Scene<'_>) -> Result<(), ReadError> {
@@ -342,10 +343,13 @@ fn check_polygons(scene: &Scene<'_>) -> Result<(), ReadError> {
         let flags = need(u8_at(b, at + w + 1), at)?;
         // Smooth only with shades, and the side of the shades only for a smooth polygon.
         let smooth = flags & polygon_flags::SMOOTH != 0;
+        let inside = flags & (polygon_flags::INSIDE_INTERIOR | polygon_flags::INSIDE_EXTERIOR);
         let ok = colours_ok
             && flags & !polygon_flags::KNOWN == 0
             && (!smooth || header.flags & hf::SHADES != 0)
             && (smooth || flags & polygon_flags::INTERIOR_BACK == 0)
+            && (inside == 0 || header.flags & hf::SOLID != 0)
+            && inside.count_ones() <= 1
             && vertex_count >= 3
             && u32::from(vertex_count) <= header.max_polygon_vertices
             && u64::from(first_index) == next_index;

@@ -116,6 +116,9 @@ impl<const SUB: u32> Painter<'_, '_, SUB> {
             .is_some_and(|c| c.mode() == Mode::Exclusive);
         let mut overflow = None;
         let mut traversal = Traversal::new(scene, self.view.eye, order, stack)?;
+        if self.all_inside {
+            traversal.skip_solids_from_behind();
+        }
         loop {
             if exclusive && coverage.as_deref().is_some_and(|c| c.is_full()) {
                 stats.stopped_full = true;

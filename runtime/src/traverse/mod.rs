@@ -12,6 +12,11 @@
 //! either order is right. The tie is broken the same way everywhere (`distance == 0` counts
 //! as the + side), which makes the order deterministic.
 //!
+//! A polygon that bounds a solid and that the eye sees from behind, with the whole scene in
+//! front of the near plane, is hidden by the solid's own surface: asked to
+//! ([`Traversal::skip_solids_from_behind`]), the walk skips it in both orders, right after its
+//! side test, before anything reads its vertices.
+//!
 //! The walk is iterative with an explicit, caller-provided stack: one pending entry per node
 //! on the current root-to-node path, so the header's `max_depth` entries always suffice.
 //! [`Order::FrontToBack`] walks the exact reverse sequence (for front-to-back renderers).
@@ -24,6 +29,7 @@ use crate::read::{Node, Plane, Polygon, Scene, Side, SideEye};
 /// Bit of [`Polygon::flags`]: the rest of the polygon's convex set lies on the + side of its
 /// plane.
 pub const INTERIOR_FRONT: u8 = 1 << 1;
+pub use crate::read::layout::polygon_flags::{INSIDE_EXTERIOR, INSIDE_INTERIOR};
 
 /// The tree as the traversal sees it. [`Scene`] implements it; tests implement it on small
 /// hand-made trees. Accessors must be total (any default for an out-of-range index).
@@ -44,6 +50,12 @@ pub trait Tree {
     /// Which side of `polygon`'s support plane the eye (as [`Tree::side_eye`] gave it) is on;
     /// [`Side::Front`] is the + side, which [`INTERIOR_FRONT`] refers to.
     fn eye_side(&self, polygon: &Polygon, side_eye: &SideEye) -> Side;
+    /// The polygon flags ([`INSIDE_INTERIOR`], [`INSIDE_EXTERIOR`]) the tree's faces of
+    /// solids carry, 0 when it has none ([`Traversal::skip_solids_from_behind`]). The
+    /// default: none.
+    fn solid_sides(&self) -> u8 {
+        0
+    }
     /// Number of nodes (bounds the walk even if the tree were malformed).
     fn node_count(&self) -> u32;
     /// Nodes on the longest root-to-leaf path (the stack the walk needs).
@@ -75,6 +87,13 @@ impl Tree for Scene<'_> {
     }
     fn eye_side(&self, polygon: &Polygon, side_eye: &SideEye) -> Side {
         Scene::eye_side(self, polygon, side_eye)
+    }
+    fn solid_sides(&self) -> u8 {
+        if self.header().flags & crate::read::layout::header_flags::SOLID != 0 {
+            INSIDE_INTERIOR | INSIDE_EXTERIOR
+        } else {
+            0
+        }
     }
     fn node_count(&self) -> u32 {
         self.header().node_count
@@ -130,6 +149,20 @@ pub fn sees_interior(polygon: &Polygon, side: Side) -> bool {
     side == interior || side == Side::On
 }
 
+/// Whether the eye, seeing `polygon`'s interior side or not, sees it from behind (the inside
+/// of the solid it bounds) while `hidden` ([`Traversal::skip_solids_from_behind`]) says such
+/// faces are hidden. An eye on the plane counts as seeing the interior side
+/// ([`sees_interior`]): the polygon is edge-on and covers nothing, either way.
+#[inline]
+fn seen_from_behind(polygon: &Polygon, seen_interior: bool, hidden: u8) -> bool {
+    let inside = if seen_interior {
+        INSIDE_INTERIOR
+    } else {
+        INSIDE_EXTERIOR
+    };
+    polygon.flags & hidden & inside != 0
+}
+
 /// One entry of the traversal stack (opaque; `Copy` so stacks are plain arrays).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub struct StackEntry(Task);
@@ -150,8 +183,9 @@ enum Task {
     Node(u32) = 1,
     /// Scan polygons `first .. first + count`, `done` of them already looked at, yielding
     /// those with `sees_interior == interior`, then visit `then`. A node's first scan sets
-    /// bit `k` of `yielded` for each polygon `k < 32` it yields and hands the mask to the
-    /// second scan (`known`), which then yields the others without testing their planes again.
+    /// bit `k` of `yielded` for each polygon `k < 32` it yields or skips as seen from behind,
+    /// and hands the mask to the second scan (`known`), which then yields the others without
+    /// testing their planes again.
     Scan {
         first: u32,
         count: u32,
@@ -174,6 +208,9 @@ pub struct Traversal<'t, 's, T: Tree + ?Sized> {
     eye: Vec3,
     /// `eye` as the tree's polygon side test takes it ([`Tree::side_eye`]).
     side_eye: SideEye,
+    /// Flags of the polygons skipped when seen from behind
+    /// ([`Traversal::skip_solids_from_behind`]).
+    hidden: u8,
     order: Order,
     stack: &'s mut [StackEntry],
     len: usize,
@@ -203,6 +240,7 @@ impl<'t, 's, T: Tree + ?Sized> Traversal<'t, 's, T> {
             tree,
             eye,
             side_eye: tree.side_eye(eye),
+            hidden: 0,
             order,
             stack,
             len: 0,
@@ -210,6 +248,16 @@ impl<'t, 's, T: Tree + ?Sized> Traversal<'t, 's, T> {
             visits: 0,
             error: None,
         })
+    }
+
+    /// From now on, skip the faces of solids ([`Tree::solid_sides`]) the eye sees from
+    /// behind, before anything reads their vertices. For a caller whose view has the whole
+    /// scene in front of its near plane: then the eye is outside every solid, and the segment
+    /// from such a face to the eye leaves the solid through its surface, which is drawn
+    /// unclipped and hides the face. (Were the near plane to cut the scene, it could cut that
+    /// surface away and show the inside.)
+    pub fn skip_solids_from_behind(&mut self) {
+        self.hidden = self.tree.solid_sides();
     }
 
     /// Why the walk stopped early, if it did (see the type docs).
@@ -379,7 +427,7 @@ impl<T: Tree + ?Sized> Traversal<'_, '_, T> {
                     mut done,
                     interior,
                     then,
-                    yielded,
+                    mut yielded,
                     known,
                 } => {
                     while done < count {
@@ -396,11 +444,20 @@ impl<T: Tree + ?Sized> Traversal<'_, '_, T> {
                             continue; // the first scan yielded it
                         }
                         let polygon = self.tree.polygon(index);
-                        let wanted = (known && bit != 0)
-                            || sees_interior(
+                        let wanted = (known && bit != 0) || {
+                            let seen = sees_interior(
                                 &polygon,
                                 self.tree.eye_side(&polygon, &self.side_eye),
-                            ) == interior;
+                            );
+                            if polygon.flags & self.hidden != 0
+                                && seen_from_behind(&polygon, seen, self.hidden)
+                            {
+                                // Neither scan yields it; the second skips it by its bit.
+                                yielded |= bit;
+                                continue;
+                            }
+                            seen == interior
+                        };
                         if wanted {
                             self.active = Task::Scan {
                                 first,

@@ -27,6 +27,8 @@ pub(crate) struct TestTree {
     /// Per vertex its two intensities (front, back) for polygons flagged `SMOOTH`; empty:
     /// no polygon is smooth.
     pub shades: Vec<[u8; 2]>,
+    /// What [`Tree::solid_sides`] answers.
+    pub hidden: u8,
 }
 
 impl TestTree {
@@ -100,6 +102,9 @@ impl Tree for TestTree {
     fn eye_side(&self, polygon: &Polygon, eye: &SideEye) -> Side {
         let v = |i| Source::polygon_vertex(self, polygon, i);
         Side::of(Plane::through(v(0), v(1), v(2)).distance(eye.at))
+    }
+    fn solid_sides(&self) -> u8 {
+        self.hidden
     }
     fn node_count(&self) -> u32 {
         self.nodes.len() as u32

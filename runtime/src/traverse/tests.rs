@@ -11,6 +11,7 @@ use crate::display::Colour;
 fn order_of(tree: &TestTree, eye: Vec3, order: Order) -> Vec<u32> {
     let mut stack = [StackEntry::default(); 16];
     let mut t = Traversal::new(tree, eye, order, &mut stack).unwrap();
+    t.skip_solids_from_behind();
     let out: Vec<u32> = t.by_ref().collect();
     assert_eq!(t.error(), None);
     out
@@ -397,9 +398,10 @@ fn recursive_btf(t: &TestTree, node: Option<u32>, eye: Vec3, out: &mut Vec<u32>)
         } => {
             let seen =
                 |p: u32| sees_interior(&t.polygon(p), t.eye_side(&t.polygon(p), &t.side_eye(eye)));
-            out.extend((first..first + count).filter(|&p| seen(p)));
+            let shown = |p: u32| !seen_from_behind(&t.polygon(p), seen(p), t.hidden);
+            out.extend((first..first + count).filter(|&p| seen(p) && shown(p)));
             recursive_btf(t, child, eye, out);
-            out.extend((first..first + count).filter(|&p| !seen(p)));
+            out.extend((first..first + count).filter(|&p| !seen(p) && shown(p)));
         }
     }
 }
@@ -452,6 +454,41 @@ proptest! {
         let mut want = Vec::new();
         recursive_btf(&t, t.root(), eye, &mut want);
         prop_assert_eq!(want.len(), t.polygons.len());
+        prop_assert_eq!(btf(&t, eye), want.clone());
+        want.reverse();
+        prop_assert_eq!(order_of(&t, eye, Order::FrontToBack), want);
+    }
+}
+
+proptest! {
+    /// Polygons marked as bounding a solid (inside on their interior or exterior side, or
+    /// neither), with those seen from behind hidden: both orders skip exactly them, keep the
+    /// others in the recursive order, and stay each other's reverse, below, at and above the 32
+    /// polygons the first scan remembers. Without `hidden` every polygon comes.
+    #[test]
+    fn polygons_seen_from_behind_are_skipped_in_both_orders(
+        x in eye_coord(), y in eye_coord(), z in eye_coord(),
+        outer in 1u32..140, inner in 1u32..80, marks in any::<u64>(),
+    ) {
+        let mut t = nested_spheres(&[(outer, 2.0), (inner, 1.0)]);
+        for (k, p) in t.polygons.iter_mut().enumerate() {
+            p.flags |= [0, INSIDE_INTERIOR, INSIDE_EXTERIOR, INSIDE_INTERIOR][(marks >> (k % 32 * 2)) as usize & 3];
+        }
+        let eye = Vec3::new(x, y, z) * 1.5;
+        let everything = btf(&t, eye);
+        prop_assert_eq!(everything.len(), t.polygons.len());
+        t.hidden = INSIDE_INTERIOR | INSIDE_EXTERIOR;
+        let mut want = Vec::new();
+        recursive_btf(&t, t.root(), eye, &mut want);
+        let side_eye = t.side_eye(eye);
+        let behind = |p: u32| {
+            let polygon = t.polygon(p);
+            let seen = sees_interior(&polygon, t.eye_side(&polygon, &side_eye));
+            let inside = if seen { INSIDE_INTERIOR } else { INSIDE_EXTERIOR };
+            polygon.flags & inside != 0
+        };
+        let kept: Vec<u32> = everything.iter().copied().filter(|&p| !behind(p)).collect();
+        prop_assert_eq!(&want, &kept);
         prop_assert_eq!(btf(&t, eye), want.clone());
         want.reverse();
         prop_assert_eq!(order_of(&t, eye, Order::FrontToBack), want);

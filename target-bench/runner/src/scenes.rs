@@ -131,7 +131,7 @@ impl Compiled {
     }
 }
 
-/// Compile `spec` into `dir` with `peel compile --shading faceted`, or smooth with a crease
+/// Compile `spec` into `dir` with `peel compile --solid --shading faceted`, or smooth with a crease
 /// in degrees (`--shading smooth --crease DEG`), and export its mesh.
 pub fn compile(
     tools: &Tools,
@@ -154,6 +154,9 @@ pub fn compile(
         peel.as_os_str(),
         "--stats-json".as_ref(),
         stats.as_os_str(),
+        // Faces of closed parts seen from behind are skipped, as every peer here skips back
+        // faces; open parts (the teapot's) stay two-sided.
+        "--solid".as_ref(),
     ];
     if shadows {
         args.push("--shadows".as_ref());
@@ -227,6 +230,7 @@ pub fn compile(
 pub fn options(shadows: bool, crease: Option<f64>) -> Result<CompileOptions, String> {
     let mut options = CompileOptions {
         surface: Surface::Faceted,
+        solid: true,
         ..CompileOptions::default()
     };
     if shadows {

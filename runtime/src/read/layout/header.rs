@@ -42,6 +42,10 @@ pub mod header_flags {
     /// colour), which the vertices of [`polygon_flags::SMOOTH`](super::super::polygon_flags::SMOOTH)
     /// polygons are shaded with. Without it no polygon is smooth.
     pub const SHADES: u16 = 1 << 10;
+    /// Some polygons bound solids ([`polygon_flags::INSIDE_INTERIOR`](super::super::polygon_flags::INSIDE_INTERIOR),
+    /// [`polygon_flags::INSIDE_EXTERIOR`](super::super::polygon_flags::INSIDE_EXTERIOR)):
+    /// seen from behind from outside their solid, they are hidden.
+    pub const SOLID: u16 = 1 << 11;
     /// Every bit this version defines; a reader refuses others.
     pub const KNOWN: u16 = IDS
         | INDEX16
@@ -53,7 +57,8 @@ pub mod header_flags {
         | WIDE_VERTICES
         | INDEX24
         | TWO_COLOURS
-        | SHADES;
+        | SHADES
+        | SOLID;
 }
 
 /// Bytes of the header.

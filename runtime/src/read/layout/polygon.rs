@@ -56,8 +56,16 @@ pub mod polygon_flags {
     /// on the interior side takes the second of each vertex's two intensities (else the
     /// first), an eye on the exterior side the other.
     pub const INTERIOR_BACK: u8 = 1 << 3;
+    /// Only with [`SOLID`](super::header_flags::SOLID): the polygon bounds a solid whose
+    /// inside lies on the polygon's interior side, so an eye outside the solid that sees that
+    /// side sees it from behind, and the solid's surface hides it (in a frame with the whole
+    /// scene in front of the near plane: `Traversal::skip_solids_from_behind`).
+    pub const INSIDE_INTERIOR: u8 = 1 << 4;
+    /// As [`INSIDE_INTERIOR`], the solid's inside on the polygon's exterior side.
+    pub const INSIDE_EXTERIOR: u8 = 1 << 5;
     /// Every bit this version defines; a reader refuses others.
-    pub const KNOWN: u8 = INTERIOR_FRONT | SMOOTH | INTERIOR_BACK;
+    pub const KNOWN: u8 =
+        INTERIOR_FRONT | SMOOTH | INTERIOR_BACK | INSIDE_INTERIOR | INSIDE_EXTERIOR;
 }
 
 /// Bytes of a vertex's shades (with [`header_flags::SHADES`]): two intensities.
