@@ -946,10 +946,12 @@ fn culling_is_pixel_neutral_for_every_camera() {
         t.from_behind,
         t.cameras
     );
-    // From outside, the walk skips the solids' faces seen from behind: about half of them.
+    // From outside, the walk skips the solids' faces seen from behind in the frames that need
+    // no clipping (about 0.7 of the polygons visited remain over a run; views that cut the
+    // scene's box skip none).
     let [plain, solid] = t.outside_visited;
     assert!(
-        solid * 10 <= plain * 7,
+        solid * 100 <= plain * 85,
         "from outside, {solid} polygons visited with solids against {plain} without"
     );
 }
