@@ -13,7 +13,8 @@ use peel_compiler::compile::{compile_mesh, CompileOptions};
 use peel_compiler::load::Mesh;
 use peel_compiler::tools::raster::{HOST_SPANS_PER_ROW, HOST_STACK, HOST_VERTS};
 use peel_compiler::tools::scenes;
-use peel_e2e::{bounds, closed_outward, closed_sphere, mesh_closed_outward};
+use peel_compiler::tools::shot::Shot as ViewShot;
+use peel_e2e::{bounds, closed_outward, closed_sphere, mesh_closed_outward, polygons, reference};
 use peel_runtime::camera::{Camera, Pose};
 use peel_runtime::coverage::Coverage;
 use peel_runtime::display::{Framebuffer, Xrgb8888};
@@ -705,15 +706,46 @@ fn shots() -> impl Strategy<Value = [Shot; 6]> {
         .prop_map(|(a, b, c, d, e, f)| [a, b, c, d, e, f])
 }
 
-/// A camera looking from `eye` towards `target`, with an up hint not parallel to the view.
-fn camera_towards(eye: DVec3, target: DVec3, w: u32, h: u32, near: f64) -> Camera {
-    let forward = (target - eye).normalize();
-    let up = if forward.y.abs() > 0.9 {
+/// An up hint for a view from `eye` towards `target`, not parallel to it.
+fn up_towards(eye: DVec3, target: DVec3) -> DVec3 {
+    if (target - eye).normalize().y.abs() > 0.9 {
         DVec3::X
     } else {
         DVec3::Y
-    };
+    }
+}
+
+/// A camera looking from `eye` towards `target`, with an up hint not parallel to the view.
+fn camera_towards(eye: DVec3, target: DVec3, w: u32, h: u32, near: f64) -> Camera {
+    let up = up_towards(eye, target);
     Camera::look_at(Pose { eye, target, up }, 60.0, w, h, near).expect("camera")
+}
+
+/// Of the pixels where `a` and `b` differ, those robust for the exact ray-casting reference of
+/// `mesh` (compiled into `bytes`) seen as [`camera_towards`] sees it: farther than 1/16 pixel
+/// from every projected edge.
+fn robust_differences(
+    mesh: &Mesh,
+    bytes: &[u8],
+    (eye, target, near): (DVec3, DVec3, f64),
+    (w, h): (u32, u32),
+    a: &[u32],
+    b: &[u32],
+) -> usize {
+    let shot = ViewShot {
+        eye,
+        target,
+        up: up_towards(eye, target),
+        fov_y_deg: 60.0,
+        width: w,
+        height: h,
+        near: Some(near),
+    };
+    let triangles: Vec<[DVec3; 3]> = mesh.triangles.iter().map(|t| t.vertices).collect();
+    let seen = reference(&triangles, &polygons(bytes), &shot, near);
+    (a.iter().zip(b).zip(&seen.robust))
+        .filter(|&((x, y), &robust)| x != y && robust)
+        .count()
 }
 
 impl Shot {
@@ -824,17 +856,28 @@ fn neutral_for(scene: &Solids, shots: &[Shot]) -> Result<Seen, TestCaseError> {
                     let (with_solids, solid_visited) =
                         ids_image_at(sub, &solid_file, &camera, order, true);
                     let differ = with.iter().zip(&without).filter(|(a, b)| a != b).count();
-                    // Faces of the solids seen from behind skipped: the same pixels at the
-                    // renderer's 8 fractional bits. At 0 and 4 bits snapping turns slivers of
-                    // faces over at silhouettes (a face seen from behind then covers a pixel
-                    // centre that no face seen from the front covers): some pixels differ there.
-                    let solid_differ = (with_solids.iter().zip(&without))
-                        .filter(|(a, b)| a != b)
-                        .count();
+                    // Faces of the solids seen from behind skipped: at the renderer's 8
+                    // fractional bits no robust pixel changes. Snapping can turn a sliver of a
+                    // face over at a silhouette (a face seen from behind then covers a pixel
+                    // centre that no face seen from the front covers): within a few hundredths
+                    // of a pixel of its edges at 8 bits, more at 0 and 4.
+                    let differ_at = |a: &[u32], b: &[u32]| a.iter().zip(b).any(|(x, y)| x != y);
+                    let solid_differ = if sub == 8 && differ_at(&with_solids, &without) {
+                        robust_differences(
+                            &mesh,
+                            &solid_bytes,
+                            (eye, target, near),
+                            (w, ht),
+                            &with_solids,
+                            &without,
+                        )
+                    } else {
+                        0
+                    };
                     prop_assert!(
-                        sub < 8 || solid_differ == 0,
+                        solid_differ == 0,
                         "scene {:?}, camera {} {:?} (eye {}, target {}, near {}), {:?}, SUB = {}, \
-                         {}x{}: {} of {} pixels change with solids",
+                         {}x{}: {} of {} robust pixels change with solids",
                         scene,
                         k,
                         shot,
@@ -913,8 +956,8 @@ fn neutral_for(scene: &Solids, shots: &[Shot]) -> Result<Seen, TestCaseError> {
 /// Random scenes of closed solids (see [`solids`]) from two cameras inside a solid, two with
 /// the near plane cutting a solid open and two outside everything: the image with culling
 /// equals the image without, pixel for pixel, in both orders, at 0, 4 and 8 fractional bits
-/// and at three image sizes; so does the image of the scene compiled with `solid`, whose walk
-/// skips the faces seen from behind from outside.
+/// and at three image sizes; the image of the scene compiled with `solid`, whose walk skips the
+/// faces seen from behind from outside, differs from it on no robust pixel.
 #[test]
 fn culling_is_pixel_neutral_for_every_camera() {
     let config = ProptestConfig {
