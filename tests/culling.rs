@@ -874,20 +874,17 @@ fn neutral_for(scene: &Solids, shots: &[Shot]) -> Result<Seen, TestCaseError> {
                     } else {
                         0
                     };
+                    // The frame, for the messages below.
+                    let frame = || {
+                        format!(
+                            "scene {scene:?}, camera {k} {shot:?} (eye {eye}, target {target}, \
+                             near {near}), {order:?}, SUB = {sub}, {w}x{ht}"
+                        )
+                    };
                     prop_assert!(
                         solid_differ == 0,
-                        "scene {:?}, camera {} {:?} (eye {}, target {}, near {}), {:?}, SUB = {}, \
-                         {}x{}: {} of {} robust pixels change with solids",
-                        scene,
-                        k,
-                        shot,
-                        eye,
-                        target,
-                        near,
-                        order,
-                        sub,
-                        w,
-                        ht,
+                        "{}: {} of {} robust pixels change with solids",
+                        frame(),
                         solid_differ,
                         w * ht
                     );
@@ -898,18 +895,8 @@ fn neutral_for(scene: &Solids, shots: &[Shot]) -> Result<Seen, TestCaseError> {
                     prop_assert_eq!(
                         differ,
                         0,
-                        "scene {:?}, camera {} {:?} (eye {}, target {}, near {}), {:?}, SUB = {}, \
-                         {}x{}: {} of {} pixels change with culling",
-                        scene,
-                        k,
-                        shot,
-                        eye,
-                        target,
-                        near,
-                        order,
-                        sub,
-                        w,
-                        ht,
+                        "{}: {} of {} pixels change with culling",
+                        frame(),
                         differ,
                         w * ht
                     );

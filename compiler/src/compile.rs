@@ -92,20 +92,19 @@ pub fn compile_mesh(
             };
             let shades = polygon_shades(&tree, mesh, &smooth);
             let shaded = crate::write::shades::shade_vertices(&tree, &shades)?;
-            let flags: Vec<u8> = if solid.is_empty() {
-                shaded.flags.clone()
+            let merged: Vec<u8>;
+            let flags = if solid.is_empty() {
+                &shaded.flags
             } else {
-                shaded
-                    .flags
-                    .iter()
-                    .zip(&solid)
+                merged = (shaded.flags.iter().zip(&solid))
                     .map(|(a, b)| a | b)
-                    .collect()
+                    .collect();
+                &merged
             };
             let input = crate::write::WriteInput {
                 colours: &shaded.colours,
                 exterior: &shaded.exterior,
-                polygon_flags: &flags,
+                polygon_flags: flags,
                 shades: &shaded.shades,
                 ..input
             };

@@ -31,17 +31,20 @@ pub fn solid_triangles(mesh: &Mesh, quantiser: &Quantiser) -> Vec<bool> {
         })
         .collect();
     let mut ids: FastMap<IPoint, u32> = FastMap::default();
+    let mut points: Vec<IPoint> = Vec::new();
     let mut kept: Vec<(usize, [u32; 3])> = Vec::new();
     for (i, q) in corners.iter().enumerate() {
         if let Some(q) = q {
             let v = q.map(|p| {
-                let next = ids.len() as u32;
-                *ids.entry(p).or_insert(next)
+                *ids.entry(p).or_insert_with(|| {
+                    points.push(p);
+                    points.len() as u32 - 1
+                })
             });
             kept.push((i, v));
         }
     }
-    let mut parts = Parts::new(ids.len());
+    let mut parts = Parts::new(points.len());
     for &(_, [a, b, c]) in &kept {
         parts.join(a, b);
         parts.join(b, c);
@@ -51,10 +54,6 @@ pub fn solid_triangles(mesh: &Mesh, quantiser: &Quantiser) -> Vec<bool> {
         for e in [(a, b), (b, c), (c, a)] {
             *edges.entry(e).or_insert(0) += 1;
         }
-    }
-    let mut points = vec![[0; 3]; ids.len()];
-    for (p, &i) in &ids {
-        points[i as usize] = *p;
     }
     // Per part (its root vertex): open, and six times its signed volume.
     let mut open: FastMap<u32, bool> = FastMap::default();
