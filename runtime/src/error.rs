@@ -54,6 +54,37 @@ pub enum ReadError {
         /// Where they start.
         offset: usize,
     },
+    /// A part of a file of parts ([`crate::read::Parts`]) is not a tree this reader accepts
+    /// (its header's magic, version, flags or depth).
+    BadPart {
+        /// The part's index.
+        part: u32,
+        /// Byte offset of the part's tree.
+        offset: usize,
+    },
+    /// An object's name in a file of parts is empty, too long, not UTF-8, or a repeat.
+    BadName {
+        /// Byte offset of the name's table entry.
+        offset: usize,
+    },
+}
+
+impl ReadError {
+    /// The error of a tree that starts `start` bytes into the file, in the file's offsets
+    /// (part `part` of a file of parts).
+    pub(crate) fn in_part(self, part: u32, start: usize) -> ReadError {
+        let at = |offset: usize| offset.saturating_add(start);
+        match self {
+            ReadError::Truncated { offset } => ReadError::Truncated { offset: at(offset) },
+            ReadError::CountMismatch { offset } => ReadError::CountMismatch { offset: at(offset) },
+            ReadError::BadRecord { offset } => ReadError::BadRecord { offset: at(offset) },
+            ReadError::TrailingBytes { offset } => ReadError::TrailingBytes { offset: at(offset) },
+            _ => ReadError::BadPart {
+                part,
+                offset: start,
+            },
+        }
+    }
 }
 
 impl fmt::Display for ReadError {
@@ -85,6 +116,16 @@ impl fmt::Display for ReadError {
             ReadError::TrailingBytes { offset } => {
                 write!(f, "unexpected bytes after the end, at byte {offset}")
             }
+            ReadError::BadPart { part, offset } => write!(
+                f,
+                "part {part}, at byte {offset}, is not a tree this reader accepts \
+                 (magic, version, flags or depth)"
+            ),
+            ReadError::BadName { offset } => write!(
+                f,
+                "the object name of the part table entry at byte {offset} is empty, too long, \
+                 not UTF-8 or repeated"
+            ),
         }
     }
 }
@@ -147,6 +188,23 @@ pub enum RenderError {
         /// Nodes in the memory.
         nodes: u32,
     },
+    /// A frame with objects ([`crate::place::Posed`]) needs more object memory than the
+    /// renderer has ([`crate::render::Renderer::object_memory`]): none, fewer placements than
+    /// objects, or fewer steps, pieces or cuts than this frame's order.
+    ObjectMemory,
+    /// Two objects whose posed boxes no plane separates overlap on the screen: their order is
+    /// not proven, and the frame is refused rather than drawn wrong.
+    ObjectsIntersect {
+        /// Index of the first object ([`crate::place::Posed::objects`]).
+        first: u16,
+        /// Index of the second.
+        second: u16,
+    },
+    /// An object's pose is not finite.
+    BadPose {
+        /// Index of the object.
+        object: u16,
+    },
     /// [`crate::render::Renderer::draw_rows`] was given rows that are not a range of the
     /// image's rows.
     RowsOutsideImage {
@@ -202,6 +260,18 @@ impl fmt::Display for RenderError {
                 "the frame needs more than the {nodes} nodes of scan memory (nothing sent; give \
                  SCAN_NODES)"
             ),
+            RenderError::ObjectMemory => write!(
+                f,
+                "the frame's objects need more object memory (placements, steps, pieces or cuts)"
+            ),
+            RenderError::ObjectsIntersect { first, second } => write!(
+                f,
+                "objects {first} and {second} intersect on the screen and no plane separates \
+                 their boxes: their order is not proven"
+            ),
+            RenderError::BadPose { object } => {
+                write!(f, "the pose of object {object} is not finite")
+            }
             RenderError::RowsOutsideImage { start, end, height } => write!(
                 f,
                 "rows {start}..{end} are not rows of an image {height} rows high"

@@ -17,6 +17,7 @@ pub mod display;
 pub mod error;
 pub mod fill;
 pub mod pending;
+pub mod place;
 pub mod read;
 pub mod render;
 #[cfg(feature = "scan-order")]

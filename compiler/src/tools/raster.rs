@@ -1,12 +1,16 @@
 //! Raster: render `.peel` bytes into an image on the host (CLI `render`/`demo`, benchmarks,
 //! end-to-end tests), through the no_std runtime exactly as firmware would.
 
+use glam::DVec3;
+use peel_runtime::camera::LocalView;
 use peel_runtime::coverage::Coverage;
 use peel_runtime::display::Colour;
 use peel_runtime::display::{Framebuffer, Xrgb8888};
 use peel_runtime::pending::{Pending, PendingPixel};
-use peel_runtime::read::Scene;
-use peel_runtime::render::{FrameStats, Renderer, Workspace};
+use peel_runtime::place::{Object, ObjectMemory, Posed};
+use peel_runtime::read::layout::MAX_PARTS;
+use peel_runtime::read::{Header, Scene};
+use peel_runtime::render::{Content, FrameStats, Renderer, Workspace};
 use peel_runtime::traverse::Order;
 use peel_runtime::vertices::{CachedVertex, VertexCache};
 
@@ -103,12 +107,99 @@ pub fn render_bytes(
 /// Render `bytes` as `shot` sees them, as `settings` say. An empty scene (no polygons) is an
 /// error: there is nothing to draw, and no extent to frame or to take a near distance from.
 pub fn render_bytes_with(bytes: &[u8], shot: &Shot, settings: &Settings) -> Result<Frame, String> {
-    let (ids, background) = (settings.ids, settings.background);
     let scene = Scene::parse(bytes).map_err(|e| format!("invalid .peel file: {e}"))?;
     if scene.header().polygon_count == 0 {
         return Err(EMPTY_SCENE.to_string());
     }
     let camera = shot.camera(&scene.header())?;
+    let view = camera.view(scene.header().centre);
+    draw(
+        &scene,
+        &view,
+        shot,
+        settings,
+        scene.header().vertex_count,
+        None,
+    )
+}
+
+/// Object memory of the host: every object a file can hold, and steps enough for any frame
+/// the tests and the command line draw.
+pub type HostObjectMemory = ObjectMemory<{ MAX_PARTS as usize }, 4096>;
+
+/// The header that frames a world and posed objects for the camera ([`Shot::camera`],
+/// [`Shot::near_over`]): the world's centre (or the origin) and the bounds of the world and of
+/// every visible object's posed box.
+pub fn posed_header(world: Option<&Scene<'_>>, objects: &[Object<'_>]) -> Header {
+    let centre = Posed::new(world.copied(), objects).centre();
+    let c = DVec3::from_array(centre);
+    let (mut lo, mut hi) = match world {
+        Some(w) => (
+            w.header().bounds_min.as_dvec3(),
+            w.header().bounds_max.as_dvec3(),
+        ),
+        None => (DVec3::INFINITY, DVec3::NEG_INFINITY),
+    };
+    for o in objects {
+        let Some(pose) = o.pose else { continue };
+        let h = o.scene.header();
+        let r = pose.rotation.as_dmat3();
+        let t = pose.translation.as_dvec3();
+        let oc = DVec3::from_array(h.centre);
+        for k in 0..8 {
+            let (a, b) = (h.bounds_min.as_dvec3(), h.bounds_max.as_dvec3());
+            let p = DVec3::new(
+                if k & 1 == 0 { a.x } else { b.x },
+                if k & 2 == 0 { a.y } else { b.y },
+                if k & 4 == 0 { a.z } else { b.z },
+            );
+            let q = t + r * (oc + p) - c;
+            lo = lo.min(q);
+            hi = hi.max(q);
+        }
+    }
+    if !lo.is_finite() {
+        (lo, hi) = (DVec3::ZERO, DVec3::ZERO);
+    }
+    Header {
+        centre,
+        bounds_min: lo.as_vec3(),
+        bounds_max: hi.as_vec3(),
+        ..Header::default()
+    }
+}
+
+/// Render a world (if any) and posed objects as `shot` sees them, as `settings` say: the
+/// frame firmware draws of a file of parts.
+pub fn render_posed_with(
+    world: Option<&Scene<'_>>,
+    objects: &[Object<'_>],
+    shot: &Shot,
+    settings: &Settings,
+) -> Result<Frame, String> {
+    let posed = Posed::new(world.copied(), objects);
+    let parts = || world.into_iter().chain(objects.iter().map(|o| &o.scene));
+    if parts().all(|s| s.header().polygon_count == 0) {
+        return Err(EMPTY_SCENE.to_string());
+    }
+    let header = posed_header(world, objects);
+    let camera = shot.camera(&header)?;
+    let vertices = parts().map(|s| s.header().vertex_count).max().unwrap_or(0);
+    let mut memory: Box<HostObjectMemory> = Box::default();
+    let view = camera.view(header.centre);
+    draw(&posed, &view, shot, settings, vertices, Some(&mut memory))
+}
+
+/// One frame of `content` through a host renderer set up as `settings` say.
+fn draw<C: Content + ?Sized>(
+    content: &C,
+    view: &LocalView,
+    shot: &Shot,
+    settings: &Settings,
+    vertex_count: u32,
+    objects: Option<&mut HostObjectMemory>,
+) -> Result<Frame, String> {
+    let (ids, background) = (settings.ids, settings.background);
     let mut pixels = vec![0u32; shot.width as usize * shot.height as usize];
     let mut fb = Framebuffer::<Xrgb8888>::new(&mut pixels, shot.width, shot.height)
         .map_err(|e| e.to_string())?;
@@ -124,10 +215,13 @@ pub fn render_bytes_with(bytes: &[u8], shot: &Shot, settings: &Settings) -> Resu
     let mut counts = vec![0u16; rows];
     let coverage = Coverage::new(&mut intervals, &mut counts, shot.width, shot.height)
         .map_err(|e| e.to_string())?;
-    let mut memory = vec![CachedVertex::EMPTY; scene.header().vertex_count as usize];
+    let mut memory = vec![CachedVertex::EMPTY; vertex_count as usize];
     let mut renderer = Renderer::new(&mut workspace)
         .span_memory(coverage)
         .vertex_memory(VertexCache::new(&mut memory));
+    if let Some(objects) = objects {
+        renderer = renderer.object_memory(objects);
+    }
     if ids {
         renderer = renderer.ids();
     }
@@ -148,7 +242,7 @@ pub fn render_bytes_with(bytes: &[u8], shot: &Shot, settings: &Settings) -> Resu
         renderer = renderer.antialias(pending).background(bg);
     }
     let stats = renderer
-        .draw(&scene, &camera.view(scene.header().centre), &mut fb)
+        .draw(content, view, &mut fb)
         .map_err(|e| e.to_string())?;
     Ok(Frame {
         width: shot.width,

@@ -198,6 +198,92 @@ fn intersect(inside: Vec3, d_in: f32, outside: Vec3, d_out: f32) -> Vec3 {
     inside + (outside - inside) * t
 }
 
+/// A plane in camera space that a piece of a posed object is cut by (see [`crate::place`]):
+/// its polygons keep the side where `plane.eval(p) >= 0` ([`Keep::Plus`]) or `<= 0`
+/// ([`Keep::Minus`]), or keep both sides with a vertex where an edge crosses it
+/// ([`Keep::Both`]): a plane that cuts another piece of the object, so that each piece has a
+/// vertex wherever its neighbours have one and no crack opens between them.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Cut {
+    /// The plane.
+    pub plane: ClipPlane,
+    /// What is kept.
+    pub keep: Keep,
+}
+
+/// What a [`Cut`] keeps.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Keep {
+    /// The + side.
+    Plus,
+    /// The − side.
+    Minus,
+    /// Both, with the crossings as vertices.
+    Both,
+}
+
+/// Sutherland–Hodgman against `cut`. The two pieces of an object on either side of one plane
+/// get the same point on every edge it crosses, bit for bit: the plane's values are the same
+/// for both, and the point is always computed from the edge's end on the + side.
+pub fn cut_against(cut: &Cut, input: &[Vec3], out: &mut [Vec3]) -> Result<usize, RenderError> {
+    let kept = |d: f32| match cut.keep {
+        Keep::Plus => d >= 0.0,
+        Keep::Minus => d <= 0.0,
+        Keep::Both => true,
+    };
+    let too_large = RenderError::PolygonTooLarge {
+        needed: (input.len() as u32).saturating_add(1),
+        available: out.len() as u32,
+    };
+    let mut len = 0usize;
+    let mut emit = |p: Vec3, len: &mut usize| -> Result<(), RenderError> {
+        let slot = out.get_mut(*len).ok_or(too_large)?;
+        *slot = p;
+        *len += 1;
+        Ok(())
+    };
+    let Some(&last) = input.last() else {
+        return Ok(0);
+    };
+    let (mut prev, mut d_prev) = (last, cut.plane.eval(last));
+    for &cur in input {
+        let d_cur = cut.plane.eval(cur);
+        if d_prev > 0.0 && d_cur < 0.0 {
+            emit(intersect(prev, d_prev, cur, d_cur), &mut len)?;
+        } else if d_prev < 0.0 && d_cur > 0.0 {
+            emit(intersect(cur, d_cur, prev, d_prev), &mut len)?;
+        }
+        if kept(d_cur) {
+            emit(cur, &mut len)?;
+        }
+        prev = cur;
+        d_prev = d_cur;
+    }
+    Ok(len)
+}
+
+/// The polygon `a[..len]` cut by every one of `cuts`, then clipped by `planes` (see
+/// [`clip_polygon`]).
+pub fn cut_polygon<'b>(
+    cuts: &[Cut],
+    planes: &[ClipPlane],
+    len: usize,
+    a: &'b mut [Vec3],
+    b: &'b mut [Vec3],
+) -> Result<&'b [Vec3], RenderError> {
+    let mut len = len.min(a.len());
+    let (mut src, mut dst) = (a, b);
+    for cut in cuts {
+        if len == 0 {
+            break;
+        }
+        let input = src.get(..len).unwrap_or(&[]);
+        len = cut_against(cut, input, dst)?;
+        core::mem::swap(&mut src, &mut dst);
+    }
+    clip_polygon(planes, len, src, dst)
+}
+
 /// Clip the convex polygon held in `a[..len]` against every plane of `planes`, ping-ponging
 /// between `a` and `b`; returns the clipped polygon (a slice of one of them, possibly with
 /// fewer than 3 vertices when nothing is left). (A renderer that knows the whole scene is

@@ -11,6 +11,7 @@
 mod geometry;
 pub mod layout;
 mod node;
+mod parts;
 mod polygon;
 mod side;
 mod validate;
@@ -22,6 +23,7 @@ use glam::Vec3;
 use crate::error::ReadError;
 pub use geometry::Plane;
 pub use node::Node;
+pub use parts::Parts;
 pub use polygon::Polygon;
 pub use side::{Side, SideEye};
 

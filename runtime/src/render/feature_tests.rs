@@ -183,6 +183,7 @@ fn culled_cube(order: Order) -> (FrameStats, bool) {
         #[cfg(feature = "integer-vertices")]
         integer: None,
         antialias: None,
+        cuts: &[],
     };
     let entered = painter.enter(&t, 0, None, &mut Tally::default());
     assert!(sink.1.iter().all(|&c| c == Colour::default()));

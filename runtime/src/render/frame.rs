@@ -10,6 +10,8 @@ use core::ops::Range;
 
 use glam::Vec3;
 
+use super::content::{Content, Drawn};
+use super::objects::{self, MAX_CUTS};
 use super::paint::Paint;
 use super::painter::Painter;
 use super::{FrameStats, Source};
@@ -20,8 +22,9 @@ use crate::display::{Colour, SpanSink};
 use crate::error::RenderError;
 use crate::fill::{self, FixedPoint};
 use crate::pending::{self, Pending};
+use crate::place::{self, Posed, Step};
 use crate::stats::{Counter, Tally};
-use crate::traverse::{Order, StackEntry};
+use crate::traverse::{Order, StackEntry, Start};
 #[cfg(feature = "integer-vertices")]
 use crate::vertices::IntegerView;
 use crate::vertices::VertexCache;
@@ -62,6 +65,21 @@ pub(super) struct Memory<'a, 'm, const SUB: u32> {
     pub(super) coverage: Option<&'a mut Coverage<'m>>,
     pub(super) vertices: Option<&'a mut VertexCache<'m, SUB>>,
     pub(super) pending: Option<&'a mut Pending<'m>>,
+    /// Object memory, for a frame with objects.
+    pub(super) objects: Option<&'a mut place::Memory<'m>>,
+}
+
+/// Where a walk stopped: the step of a frame with objects (0 for a frame of one scene) and
+/// the polygon there.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(super) struct Mark {
+    step: usize,
+    polygon: u32,
+}
+
+/// The root box of a scene, when it stores one.
+fn root_box<T: Source + ?Sized>(scene: &T) -> Option<(Vec3, Vec3)> {
+    scene.root().and_then(|root| scene.node_bounds(root))
 }
 
 /// The window in fixed point, or [`RenderError::ImageTooLarge`] (beyond `i32`, or beyond
@@ -82,8 +100,8 @@ pub(super) fn window<const SUB: u32>(width: u32, height: u32) -> Result<(i32, i3
 /// The frame of rows `rows` of `view`, checked (see the module docs of [`super`]) and ready
 /// for its passes; the memory is cleared for it.
 #[allow(clippy::too_many_arguments)]
-pub(super) fn check<'a, 'm, T, const SUB: u32>(
-    scene: &T,
+pub(super) fn check<'a, 'm, C, const SUB: u32>(
+    content: &C,
     view: &'a LocalView,
     rows: Range<u32>,
     output: Output,
@@ -91,9 +109,10 @@ pub(super) fn check<'a, 'm, T, const SUB: u32>(
     memory: Memory<'a, 'm, SUB>,
 ) -> Result<Frame<'a, 'm, SUB>, RenderError>
 where
-    T: Source + ?Sized,
+    C: Content + ?Sized,
 {
     view.check()?;
+    let drawn = content.drawn();
     if rows.start > rows.end || rows.end > view.height {
         return Err(RenderError::RowsOutsideImage {
             start: rows.start,
@@ -110,6 +129,7 @@ where
         coverage,
         vertices,
         pending,
+        objects,
     } = memory;
     let asked_front_to_back = coverage.is_some() && !settings.back_to_front;
     let order = if asked_front_to_back && cfg!(feature = "front-to-back") {
@@ -127,10 +147,14 @@ where
     let vertices = vertices.filter(|_| cfg!(feature = "vertex-cache"));
     let (width, height) = (view.width, view.height);
     let (max_x, max_y) = window::<SUB>(width, height)?;
-    if paint == Paint::Ids && !(cfg!(feature = "ids") && scene.has_ids()) {
+    let (has_ids, max_vertices) = match drawn {
+        Drawn::One(scene) => (scene.has_ids(), scene.max_polygon_vertices()),
+        Drawn::Posed(posed) => objects::parts_summary(posed, stack.len())?,
+    };
+    if paint == Paint::Ids && !(cfg!(feature = "ids") && has_ids) {
         return Err(RenderError::NoIds);
     }
-    let needed = clip::buffer_len_for(scene.max_polygon_vertices());
+    let needed = clip::buffer_len_for(max_vertices);
     let buffers = [
         clip_a.len(),
         clip_b.len(),
@@ -161,20 +185,29 @@ where
     // subtree needs the frustum test and no polygon needs clipping. Bounds are only trusted
     // when culling is on, as for every other use of them.
     let cull = settings.cull;
-    let scene_box = || scene.root().and_then(|root| scene.node_bounds(root));
+    let scene_box = || match drawn {
+        Drawn::One(scene) => root_box(scene),
+        Drawn::Posed(posed) => posed.world.and_then(|w| root_box(&w)),
+    };
     let all_inside = cull
         && cfg!(feature = "bounds-culling")
         && scene_box().is_some_and(|(lo, hi)| frustum.contains_box(view, lo, hi));
     #[cfg(feature = "integer-vertices")]
     let integer = if settings.integer_vertices && all_inside {
+        let grid = match drawn {
+            Drawn::One(scene) => scene.step_grid(),
+            Drawn::Posed(posed) => posed.world.and_then(|w| w.step_grid()),
+        };
         scene_box()
-            .zip(scene.step_grid())
+            .zip(grid)
             .and_then(|(bounds, grid)| IntegerView::new::<SUB>(view, grid, bounds, max_x, max_y))
     } else {
         None
     };
-    // Only frames without clipping use it (see `crate::vertices`).
-    let mut vertices = vertices.filter(|_| all_inside);
+    // Only frames without clipping use it (see `crate::vertices`); with objects, each part
+    // that needs none.
+    let posed = matches!(drawn, Drawn::Posed(_));
+    let mut vertices = vertices.filter(|_| all_inside || posed);
     if let Some(v) = vertices.as_deref_mut() {
         v.next_frame();
     }
@@ -203,6 +236,15 @@ where
             Mode::Measure
         });
     }
+    // A frame with objects: their placements and the frame's order.
+    let (objects, steps) = match drawn {
+        Drawn::One(_) => (None, 0),
+        Drawn::Posed(posed) => {
+            let memory = objects.ok_or(RenderError::ObjectMemory)?;
+            let steps = objects::prepare(posed, view, max_vertices, available, memory)?;
+            (Some(memory), steps)
+        }
+    };
     let painter = Painter::<SUB> {
         view,
         rows: rows.clone(),
@@ -222,6 +264,7 @@ where
         #[cfg(feature = "integer-vertices")]
         integer,
         antialias: pending,
+        cuts: &[],
     };
     Ok(Frame {
         painter,
@@ -232,6 +275,9 @@ where
         output,
         width,
         rows,
+        objects,
+        steps,
+        integer_vertices: settings.integer_vertices,
         // Front to back was asked for, but the feature is off: painted back to front.
         tally: Tally::new(asked_front_to_back && order == Order::BackToFront),
     })
@@ -247,6 +293,10 @@ pub(super) struct Frame<'a, 'm, const SUB: u32> {
     output: Output,
     width: u32,
     rows: Range<u32>,
+    /// A frame with objects: its memory, holding `steps` steps of its order.
+    objects: Option<&'a mut place::Memory<'m>>,
+    steps: usize,
+    integer_vertices: bool,
     tally: Tally,
 }
 
@@ -254,14 +304,14 @@ impl<const SUB: u32> Frame<'_, '_, SUB> {
     /// Every pass in turn, into `target`, over `background` where it has one (the caller's
     /// setting: held in the frame, LLVM did not prove it unchanged by the walks and kept the
     /// background's code in builds that never set one).
-    pub(super) fn draw<T, S>(
+    pub(super) fn draw<C, S>(
         mut self,
-        scene: &T,
+        scene: &C,
         target: &mut S,
         background: Option<Colour>,
     ) -> Result<FrameStats, RenderError>
     where
-        T: Source + ?Sized,
+        C: Content + ?Sized,
         S: SpanSink + ?Sized,
     {
         // Read once, before the walks, for the same reason.
@@ -297,14 +347,14 @@ impl<const SUB: u32> Frame<'_, '_, SUB> {
     /// without anti-aliasing, unless the sink is a display, which must not be drawn over (it
     /// gets the error instead; a scan-order frame has sent nothing yet). Returns the polygon
     /// whose span did not fit, if any, and the pixels kept pending.
-    fn first_pass<T, S>(
+    fn first_pass<C, S>(
         &mut self,
-        scene: &T,
+        scene: &C,
         target: &mut S,
         background: Option<Colour>,
-    ) -> Result<(Option<u32>, u64), RenderError>
+    ) -> Result<(Option<Mark>, u64), RenderError>
     where
-        T: Source + ?Sized,
+        C: Content + ?Sized,
         S: SpanSink + ?Sized,
     {
         loop {
@@ -345,15 +395,15 @@ impl<const SUB: u32> Frame<'_, '_, SUB> {
 
     /// Pass 2 (span memory exhausted at polygon `last`): the polygons from the farthest up to
     /// `last`, back to front, clipped against the frozen coverage, over the background.
-    fn fallback<T, S>(
+    fn fallback<C, S>(
         &mut self,
-        scene: &T,
+        scene: &C,
         target: &mut S,
-        last: u32,
+        last: Mark,
         background: Option<Colour>,
     ) -> Result<(), RenderError>
     where
-        T: Source + ?Sized,
+        C: Content + ?Sized,
         S: SpanSink + ?Sized,
     {
         let Some(c) = self.coverage.as_deref_mut() else {
@@ -369,26 +419,180 @@ impl<const SUB: u32> Frame<'_, '_, SUB> {
         Ok(())
     }
 
-    /// One walk of the tree in the frame's order (see [`Painter::walk`]).
-    fn walk<T, S>(
+    /// One walk of the tree in the frame's order (see [`Painter::walk`]); with objects, of
+    /// the frame's steps.
+    fn walk<C, S>(
         &mut self,
-        scene: &T,
+        scene: &C,
         target: &mut S,
-        last: Option<u32>,
-    ) -> Result<Option<u32>, RenderError>
+        last: Option<Mark>,
+    ) -> Result<Option<Mark>, RenderError>
     where
-        T: Source + ?Sized,
+        C: Content + ?Sized,
         S: SpanSink + ?Sized,
     {
-        self.painter.walk(
-            scene,
-            self.order,
-            &mut self.stack[..],
-            self.coverage.as_deref_mut(),
-            target,
-            &mut self.tally,
-            last,
-        )
+        match scene.drawn() {
+            Drawn::One(scene) => {
+                let overflow = self.painter.walk(
+                    scene,
+                    self.order,
+                    &mut self.stack[..],
+                    self.coverage.as_deref_mut(),
+                    target,
+                    &mut self.tally,
+                    last.map(|m| m.polygon),
+                    Start::Root,
+                )?;
+                Ok(overflow.map(|polygon| Mark { step: 0, polygon }))
+            }
+            Drawn::Posed(posed) => self.walk_steps(posed, target, last),
+        }
+    }
+
+    /// The steps of a frame with objects in the frame's order (back to front as planned,
+    /// front to back reversed), each part with its view, its clipping and its cuts; with
+    /// `last`, up to that polygon of that step.
+    fn walk_steps<S>(
+        &mut self,
+        posed: &Posed<'_, '_>,
+        target: &mut S,
+        last: Option<Mark>,
+    ) -> Result<Option<Mark>, RenderError>
+    where
+        S: SpanSink + ?Sized,
+    {
+        let Frame {
+            painter,
+            stack,
+            coverage,
+            order,
+            objects,
+            steps,
+            integer_vertices,
+            tally,
+            ..
+        } = self;
+        let Some(memory) = objects.as_deref() else {
+            return Ok(None);
+        };
+        let (order, n) = (*order, *steps);
+        let view = painter.view;
+        let world_inside = painter.all_inside;
+        #[cfg(feature = "integer-vertices")]
+        let world_integer = painter.integer;
+        let cull = painter.cull && cfg!(feature = "bounds-culling");
+        // Which part the vertex memory holds (`u32::MAX`: the world's).
+        let mut cached = None;
+        for i in 0..n {
+            let at = if order == Order::BackToFront {
+                i
+            } else {
+                n - 1 - i
+            };
+            let Some(&step) = memory.steps.get(at) else {
+                break;
+            };
+            let last_here = last.filter(|m| m.step == at).map(|m| m.polygon);
+            let overflow = match step {
+                Step::Subtree(_) | Step::Hull { .. } => {
+                    let Some(world) = posed.world.as_ref() else {
+                        continue;
+                    };
+                    let start = match step {
+                        Step::Hull { node, interior } => Start::Hull { node, interior },
+                        Step::Subtree(node) => Start::Subtree(node),
+                        Step::Piece { .. } => Start::Root,
+                    };
+                    if world_inside && cached != Some(u32::MAX) {
+                        if let Some(v) = painter.vertices.as_deref_mut() {
+                            v.next_frame();
+                        }
+                        cached = Some(u32::MAX);
+                    }
+                    let mut part = painter.part(
+                        view,
+                        world_inside,
+                        #[cfg(feature = "integer-vertices")]
+                        world_integer,
+                        &[],
+                    );
+                    part.walk(
+                        world,
+                        order,
+                        &mut stack[..],
+                        coverage.as_deref_mut(),
+                        target,
+                        tally,
+                        last_here,
+                        start,
+                    )?
+                }
+                Step::Piece { object, cut } => {
+                    let k = usize::from(object);
+                    let (Some(o), Some(placement)) =
+                        (posed.objects.get(k), memory.placements.get(k))
+                    else {
+                        continue;
+                    };
+                    let local = place::object_view(view, placement);
+                    let bounds = root_box(&o.scene);
+                    let inside = cull
+                        && bounds
+                            .is_some_and(|(lo, hi)| painter.frustum.contains_box(&local, lo, hi));
+                    let mut cuts = [objects::NO_CLIP_CUT; MAX_CUTS];
+                    let planned = memory.steps.get(..n).unwrap_or(&[]);
+                    let count = objects::camera_cuts(
+                        planned,
+                        &memory.cuts[..],
+                        object,
+                        cut,
+                        view,
+                        &mut cuts,
+                    );
+                    #[cfg(feature = "integer-vertices")]
+                    let integer = if *integer_vertices && inside && count == 0 {
+                        bounds.zip(o.scene.step_grid()).and_then(|(b, grid)| {
+                            IntegerView::new::<SUB>(&local, grid, b, painter.max_x, painter.max_y)
+                        })
+                    } else {
+                        None
+                    };
+                    #[cfg(not(feature = "integer-vertices"))]
+                    let _ = integer_vertices;
+                    let part_id = u32::from(object);
+                    if inside && count == 0 && cached != Some(part_id) {
+                        if let Some(v) = painter.vertices.as_deref_mut() {
+                            v.next_frame();
+                        }
+                        cached = Some(part_id);
+                    }
+                    let mut part = painter.part(
+                        &local,
+                        inside,
+                        #[cfg(feature = "integer-vertices")]
+                        integer,
+                        &cuts[..count],
+                    );
+                    part.walk(
+                        &o.scene,
+                        order,
+                        &mut stack[..],
+                        coverage.as_deref_mut(),
+                        target,
+                        tally,
+                        last_here,
+                        Start::Root,
+                    )?
+                }
+            };
+            if let Some(polygon) = overflow {
+                return Ok(Some(Mark { step: at, polygon }));
+            }
+            if last_here.is_some() {
+                break;
+            }
+        }
+        Ok(None)
     }
 }
 

@@ -50,7 +50,9 @@
 //! [`Frustum::excludes_box`]: crate::clip::Frustum::excludes_box
 //! [`Frustum::contains_box`]: crate::clip::Frustum::contains_box
 
+mod content;
 mod frame;
+mod objects;
 mod paint;
 mod painter;
 mod renderer;
@@ -59,6 +61,7 @@ mod source;
 mod workspace;
 
 pub use crate::stats::FrameStats;
+pub use content::{Content, Drawn};
 pub use paint::{id_colour, Paint};
 pub use painter::snap;
 pub use renderer::Renderer;

@@ -295,6 +295,7 @@ fn a_full_screen_stops_the_walk_and_culls_covered_subtrees() {
             #[cfg(feature = "integer-vertices")]
             integer: None,
             antialias: None,
+            cuts: &[],
         };
         let mut tally = Tally::default();
         // Without `bounds-culling` every subtree is entered.

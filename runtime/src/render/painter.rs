@@ -23,7 +23,7 @@ use crate::fill::{self, FixedPoint};
 use crate::pending::{Antialiased, Pending, SampleColour};
 use crate::read::Polygon;
 use crate::stats::{Counter, Tally};
-use crate::traverse::{Order, StackEntry, Traversal};
+use crate::traverse::{Order, StackEntry, Start, Traversal};
 use crate::vertices::{IntegerView, VertexCache};
 
 /// Snap a screen point to a [`FixedPoint<SUB>`] in the window (see the module docs);
@@ -91,9 +91,46 @@ pub(super) struct Painter<'w, 'v, const SUB: u32> {
     pub(super) integer: Option<IntegerView>,
     /// Pending pixels, in an anti-aliased frame ([`super::Renderer::antialias`]).
     pub(super) antialias: Option<&'w mut Pending<'v>>,
+    /// The half-spaces, in camera space, a piece of a posed object is clipped to (none
+    /// otherwise; see [`crate::place`]).
+    pub(super) cuts: &'w [clip::Cut],
 }
 
-impl<const SUB: u32> Painter<'_, '_, SUB> {
+impl<'v, const SUB: u32> Painter<'_, 'v, SUB> {
+    /// This painter for one part of a frame with objects: the part's `view` (the camera in its
+    /// frame), whether it lies wholly inside the frustum, its integer projection, and the cuts
+    /// of its piece. Vertex memory serves only a part that needs no clipping.
+    pub(super) fn part<'s>(
+        &'s mut self,
+        view: &'s LocalView,
+        all_inside: bool,
+        #[cfg(feature = "integer-vertices")] integer: Option<IntegerView>,
+        cuts: &'s [clip::Cut],
+    ) -> Painter<'s, 'v, SUB> {
+        let unclipped = all_inside && cuts.is_empty();
+        Painter {
+            view,
+            rows: self.rows.clone(),
+            frustum: self.frustum,
+            max_x: self.max_x,
+            max_y: self.max_y,
+            available: self.available,
+            paint: self.paint,
+            cull: self.cull,
+            cull_subtrees: self.cull_subtrees,
+            all_inside,
+            clip_a: &mut *self.clip_a,
+            clip_b: &mut *self.clip_b,
+            points: &mut *self.points,
+            edges: &mut *self.edges,
+            vertices: self.vertices.as_deref_mut().filter(|_| unclipped),
+            #[cfg(feature = "integer-vertices")]
+            integer: integer.filter(|_| unclipped),
+            antialias: self.antialias.as_deref_mut(),
+            cuts,
+        }
+    }
+
     /// One walk of the tree in `order`, drawing every polygon it yields. In front-to-back
     /// mode ([`Mode::Exclusive`] coverage) it stops when the frame is full, or after the
     /// polygon whose span did not fit the span memory, which it returns. With `last` (the
@@ -110,12 +147,13 @@ impl<const SUB: u32> Painter<'_, '_, SUB> {
         sink: &mut S,
         stats: &mut Tally,
         last: Option<u32>,
+        start: Start,
     ) -> Result<Option<u32>, RenderError> {
         let exclusive = coverage
             .as_deref()
             .is_some_and(|c| c.mode() == Mode::Exclusive);
         let mut overflow = None;
-        let mut traversal = Traversal::new(scene, self.view.eye, order, stack)?;
+        let mut traversal = Traversal::starting(scene, self.view.eye, order, stack, start)?;
         if self.all_inside {
             traversal.skip_solids_from_behind();
         }
@@ -235,10 +273,13 @@ impl<const SUB: u32> Painter<'_, '_, SUB> {
         stats: &mut Tally,
     ) -> Result<(), RenderError> {
         let n = u32::from(polygon.vertex_count);
-        if clip::buffer_len_for(n) > self.available {
-            // Only a source contradicting its own maximum gets here.
+        // (Each cut of a posed object's piece may add a vertex.)
+        let needed = clip::buffer_len_for(n).saturating_add(self.cuts.len() as u32);
+        if needed > self.available {
+            // Only a source contradicting its own maximum gets here, or a piece with more
+            // cuts than the buffers have room for.
             return Err(RenderError::PolygonTooLarge {
-                needed: clip::buffer_len_for(n),
+                needed,
                 available: self.available,
             });
         }
@@ -307,8 +348,9 @@ impl<const SUB: u32> Painter<'_, '_, SUB> {
             }
             // A smooth polygon about to be clipped: its plane's intensities, from its first
             // three corners (the compiler starts a list with its best-shaped three).
+            let cut = !self.cuts.is_empty();
             let plane = match side {
-                Some(side) if !self.all_inside => {
+                Some(side) if !self.all_inside || cut => {
                     let at = |k: usize| self.clip_a.get(k).copied().unwrap_or_default();
                     let shade = |k: u32| scene.corner_shade(polygon, k, side);
                     Some(PlaneShade::new(
@@ -318,7 +360,14 @@ impl<const SUB: u32> Painter<'_, '_, SUB> {
                 }
                 _ => None,
             };
-            let clipped = if self.all_inside {
+            let clipped = if cut {
+                let planes = if self.all_inside {
+                    &[][..]
+                } else {
+                    &self.frustum.planes()[..]
+                };
+                clip::cut_polygon(self.cuts, planes, n as usize, self.clip_a, self.clip_b)?
+            } else if self.all_inside {
                 self.clip_a.get(..n as usize).unwrap_or(&[])
             } else {
                 clip::clip_polygon(self.frustum.planes(), n as usize, self.clip_a, self.clip_b)?

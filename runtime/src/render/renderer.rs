@@ -8,7 +8,7 @@ use glam::Vec3;
 
 use super::frame::{self, Memory, Output, Settings};
 use super::paint::Paint;
-use super::{FrameStats, Source, Workspace};
+use super::{Content, FrameStats, Workspace};
 use crate::camera::LocalView;
 use crate::coverage::Coverage;
 #[cfg(feature = "scan-order")]
@@ -17,6 +17,7 @@ use crate::display::{Colour, SpanSink};
 use crate::error::RenderError;
 use crate::fill::{self, FixedPoint};
 use crate::pending::Pending;
+use crate::place::{self, ObjectMemory};
 #[cfg(feature = "scan-order")]
 use crate::scan::{Gaps, ScanFrame, ScanMemory};
 use crate::traverse::{Order, StackEntry};
@@ -83,6 +84,8 @@ pub struct Renderer<'m, const SUB: u32 = { fill::SUBPIXEL_BITS }> {
     /// Scan memory ([`Renderer::scan_memory`]).
     #[cfg(feature = "scan-order")]
     scan: Option<ScanMemory<'m>>,
+    /// Object memory ([`Renderer::object_memory`]).
+    objects: Option<place::Memory<'m>>,
 }
 
 impl<'m> Renderer<'m> {
@@ -130,6 +133,7 @@ impl<'m, const SUB: u32> Renderer<'m, SUB> {
             pending: None,
             #[cfg(feature = "scan-order")]
             scan: None,
+            objects: None,
         }
     }
 
@@ -164,9 +168,9 @@ impl<'m, const SUB: u32> Renderer<'m, SUB> {
     /// more nodes than the memory holds, without anti-aliasing too (nothing was sent: the
     /// panel keeps its last frame). The other errors are [`Renderer::draw`]'s.
     #[cfg(feature = "scan-order")]
-    pub fn draw_scan<T: Source + ?Sized>(
+    pub fn draw_scan<C: Content + ?Sized>(
         &mut self,
-        scene: &T,
+        scene: &C,
         view: &LocalView,
     ) -> Result<ScanFrame<'_>, RenderError> {
         if self.settings.back_to_front {
@@ -200,6 +204,17 @@ impl<'m, const SUB: u32> Renderer<'m, SUB> {
             gaps: Gaps::pending(pending, background),
             stats,
         })
+    }
+
+    /// Memory for frames with objects ([`crate::place::Posed`]): each object's placement and
+    /// the frame's order. A frame of one scene never uses it.
+    #[inline(always)]
+    pub fn object_memory<const OBJECTS: usize, const STEPS: usize>(
+        mut self,
+        memory: &'m mut ObjectMemory<OBJECTS, STEPS>,
+    ) -> Self {
+        self.objects = Some(memory.into());
+        self
     }
 
     /// Span memory for images of the coverage's size: frames are then drawn front to back,
@@ -331,14 +346,14 @@ impl<'m, const SUB: u32> Renderer<'m, SUB> {
     /// for a view that is degenerate ([`LocalView::check`]), an image too large for the
     /// fixed-point range, a stack or clip buffers too small for the scene, span memory of
     /// another size than the view's image, or ids asked of a scene without them. Never panics.
-    pub fn draw<T, S>(
+    pub fn draw<C, S>(
         &mut self,
-        scene: &T,
+        scene: &C,
         view: &LocalView,
         target: &mut S,
     ) -> Result<FrameStats, RenderError>
     where
-        T: Source + ?Sized,
+        C: Content + ?Sized,
         S: SpanSink + ?Sized,
     {
         self.draw_rows(scene, view, 0..view.height, target)
@@ -353,15 +368,15 @@ impl<'m, const SUB: u32> Renderer<'m, SUB> {
     /// Also an error: rows outside the image ([`RenderError::RowsOutsideImage`]).
     ///
     /// [`Framebuffer::band`]: crate::display::Framebuffer::band
-    pub fn draw_rows<T, S>(
+    pub fn draw_rows<C, S>(
         &mut self,
-        scene: &T,
+        scene: &C,
         view: &LocalView,
         rows: core::ops::Range<u32>,
         target: &mut S,
     ) -> Result<FrameStats, RenderError>
     where
-        T: Source + ?Sized,
+        C: Content + ?Sized,
         S: SpanSink + ?Sized,
     {
         let mut coverage = self.coverage.take();
@@ -380,9 +395,9 @@ impl<'m, const SUB: u32> Renderer<'m, SUB> {
 
     /// A frame of rows `rows` into `target` through `coverage` (the span memory, or the scan
     /// memory), with the renderer's other memory: checked, then its passes.
-    fn frame<T, S>(
+    fn frame<C, S>(
         &mut self,
-        scene: &T,
+        scene: &C,
         view: &LocalView,
         rows: core::ops::Range<u32>,
         target: &mut S,
@@ -390,7 +405,7 @@ impl<'m, const SUB: u32> Renderer<'m, SUB> {
         output: Output,
     ) -> Result<FrameStats, RenderError>
     where
-        T: Source + ?Sized,
+        C: Content + ?Sized,
         S: SpanSink + ?Sized,
     {
         #[cfg(feature = "antialias")]
@@ -406,6 +421,7 @@ impl<'m, const SUB: u32> Renderer<'m, SUB> {
             coverage,
             vertices: self.vertices.as_mut(),
             pending,
+            objects: self.objects.as_mut(),
         };
         // Scan order paints its gaps when the frame is read out.
         let background = self.settings.background.filter(|_| output != Output::Scan);

@@ -106,6 +106,24 @@ impl Tree for Scene<'_> {
     }
 }
 
+/// Where a walk starts ([`Traversal::starting`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Start {
+    /// The whole tree.
+    #[default]
+    Root,
+    /// The subtree under a node.
+    Subtree(u32),
+    /// The polygons of a convex node whose interior side (`interior`) or exterior side the
+    /// eye sees; nothing for a split node.
+    Hull {
+        /// The node.
+        node: u32,
+        /// Which side seen.
+        interior: bool,
+    },
+}
+
 /// Which way the polygons come out.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum Order {
@@ -248,6 +266,36 @@ impl<'t, 's, T: Tree + ?Sized> Traversal<'t, 's, T> {
             visits: 0,
             error: None,
         })
+    }
+
+    /// [`Traversal::new`] walking only part of the tree: a subtree, or the polygons of a
+    /// convex node whose interior (or exterior) side the eye sees, in `order`. A frame with
+    /// objects walks the world in such parts, its objects' pieces between them.
+    pub fn starting(
+        tree: &'t T,
+        eye: Vec3,
+        order: Order,
+        stack: &'s mut [StackEntry],
+        start: Start,
+    ) -> Result<Self, RenderError> {
+        let mut walk = Self::new(tree, eye, order, stack)?;
+        walk.active = match start {
+            Start::Root => walk.active,
+            Start::Subtree(node) => Task::Node(node),
+            Start::Hull { node, interior } => match tree.node(node) {
+                Node::Convex { first, count, .. } => Task::Scan {
+                    first,
+                    count: count.min(tree.polygon_count().saturating_sub(first)),
+                    done: 0,
+                    interior,
+                    then: None,
+                    yielded: 0,
+                    known: false,
+                },
+                Node::Split { .. } => Task::Idle,
+            },
+        };
+        Ok(walk)
     }
 
     /// From now on, skip the faces of solids ([`Tree::solid_sides`]) the eye sees from

@@ -18,10 +18,10 @@ pub(crate) use fields::{
 pub use fields::{none_of_width, LENGTH_SIZE, NONE, NONE16, NONE24};
 pub(crate) use header::header_offset;
 pub use header::{header_flags, FORMAT_VERSION, HEADER_SIZE, MAGIC};
+pub use node::{field_size, node_kind, node_size, BOUNDS_SIZE, NODE_SIZE, PLANE_SIZE};
 pub use parts::{
     parts_offset, MAX_NAME, MAX_PARTS, PARTS_HEADER_SIZE, PARTS_VERSION, PART_ENTRY_SIZE,
 };
-pub use node::{field_size, node_kind, node_size, BOUNDS_SIZE, NODE_SIZE, PLANE_SIZE};
 pub use polygon::{
     colour_size, index_size, polygon_flags, polygon_size, ID_SIZE, INDEX_SIZE, PALETTE_SIZE,
     POLYGON_SIZE, SHADE_SIZE,

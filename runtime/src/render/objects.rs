@@ -1,0 +1,227 @@
+//! A frame with objects, before its walk: the checks of its parts, each object's placement
+//! and the frame's order ([`crate::place`]), and the cuts of a piece in camera space.
+
+use glam::{Vec2, Vec3};
+
+use super::Source;
+use crate::camera::LocalView;
+use crate::clip::{self, ClipPlane, Keep};
+use crate::error::RenderError;
+use crate::place::{self, Cut, Placement, Posed, Step, NO_CUT};
+use crate::read::layout::MAX_PARTS;
+use crate::traverse::Tree;
+
+/// Most cuts a piece may have (each clips every polygon of the piece once more).
+pub(super) const MAX_CUTS: usize = 16;
+
+/// An unused entry of a piece's cuts.
+pub(super) const NO_CLIP_CUT: clip::Cut = clip::Cut {
+    plane: ClipPlane {
+        normal: Vec3::ZERO,
+        offset: 0.0,
+    },
+    keep: Keep::Both,
+};
+
+/// Whether every part holds ids, and the largest polygon of any; every part's depth checked
+/// against the traversal stack's `stack` entries.
+pub(super) fn parts_summary(
+    posed: &Posed<'_, '_>,
+    stack: usize,
+) -> Result<(bool, u32), RenderError> {
+    let mut ids = true;
+    let mut largest = 0;
+    let parts = posed
+        .world
+        .iter()
+        .chain(posed.objects.iter().map(|o| &o.scene));
+    for scene in parts {
+        ids &= scene.has_ids();
+        largest = largest.max(scene.max_polygon_vertices());
+        let needed = scene.max_depth();
+        if needed as usize > stack {
+            return Err(RenderError::StackTooSmall {
+                needed,
+                available: u32::try_from(stack).unwrap_or(u32::MAX),
+            });
+        }
+    }
+    Ok((ids, largest))
+}
+
+/// The placements of `posed`'s objects and the frame's order for `view`, into `memory`;
+/// the number of steps. Refuses a frame whose pieces have more cuts than the clip buffers
+/// (`available` vertices, polygons of up to `max_vertices`) can take.
+pub(super) fn prepare(
+    posed: &Posed<'_, '_>,
+    view: &LocalView,
+    max_vertices: u32,
+    available: u32,
+    memory: &mut place::Memory<'_>,
+) -> Result<usize, RenderError> {
+    let count = posed.objects.len();
+    if memory.placements.len() < count || count > MAX_PARTS as usize {
+        return Err(RenderError::ObjectMemory);
+    }
+    let centre = posed.centre();
+    let mut scale = view.eye.abs().element_sum();
+    if let Some(h) = posed.world.map(|w| w.header()) {
+        scale = scale
+            .max(h.bounds_min.abs().element_sum())
+            .max(h.bounds_max.abs().element_sum());
+    }
+    // Each object's screen rectangle (`None`: it reaches behind the near plane).
+    let mut rects = [None::<(Vec2, Vec2)>; MAX_PARTS as usize];
+    for (k, (object, slot)) in posed
+        .objects
+        .iter()
+        .zip(memory.placements.iter_mut())
+        .enumerate()
+    {
+        let h = object.scene.header();
+        *slot = match object.pose {
+            None => Placement::HIDDEN,
+            Some(pose) if !pose.is_finite() => {
+                return Err(RenderError::BadPose { object: k as u16 });
+            }
+            Some(pose) => {
+                let (rotation, offset) = place::placement(&pose, h.centre, centre);
+                Placement::new(rotation, offset, h.bounds_min, h.bounds_max)
+            }
+        };
+        for c in &slot.corners {
+            scale = scale.max(c.abs().element_sum());
+        }
+        if slot.visible {
+            let local = place::object_view(view, slot);
+            let b = local.box_to_camera(h.bounds_min, h.bounds_max);
+            rects[k] = local.box_on_screen(&b);
+        }
+    }
+    let overlap = |a: u16, b: u16| match (rects[usize::from(a)], rects[usize::from(b)]) {
+        (Some((a0, a1)), Some((b0, b1))) => {
+            // A pixel of slack for rounding and snapping.
+            a0.x <= b1.x + 1.0 && b0.x <= a1.x + 1.0 && a0.y <= b1.y + 1.0 && b0.y <= a1.y + 1.0
+        }
+        _ => true,
+    };
+    let side_eye = posed
+        .world
+        .map(|w| w.side_eye(view.eye))
+        .unwrap_or_default();
+    let world = posed.world.as_ref();
+    let steps = place::plan(world, view.eye, &side_eye, count, scale, &overlap, memory)?;
+    // A piece is cut by at most `MAX_CUTS` planes (see `camera_cuts`).
+    let mut longest = 0;
+    for step in memory.steps.get(..steps).unwrap_or(&[]) {
+        if let Step::Piece { cut, .. } = *step {
+            longest = longest.max(chain_length(&memory.cuts[..], cut));
+        }
+    }
+    if longest > MAX_CUTS {
+        return Err(RenderError::ObjectMemory);
+    }
+    // (A plane of another piece adds up to two vertices.)
+    let needed = clip::buffer_len_for(max_vertices).saturating_add(2 * MAX_CUTS as u32);
+    if needed > available {
+        return Err(RenderError::PolygonTooLarge { needed, available });
+    }
+    Ok(steps)
+}
+
+/// Cuts in the chain that ends at `cut`.
+fn chain_length(cuts: &[Cut], mut cut: u16) -> usize {
+    let mut n = 0;
+    while let Some(c) = cuts.get(usize::from(cut)).filter(|_| cut != NO_CUT) {
+        n += 1;
+        if n > cuts.len() {
+            break;
+        }
+        cut = c.prev;
+    }
+    n
+}
+
+/// The cuts of a piece of `object` in camera space (`view`: the world's), into `out`: every
+/// distinct plane that cuts any piece of the object in this frame's `steps`, in the order the
+/// plan first cut by it, each keeping the side the piece's own chain (ending at `cut`) keeps,
+/// or both. How many. A world plane `n · p = d` is `(n · right, n · up, n · forward) · c +
+/// (n · eye - d)` for the camera point `c`: the same values for every piece it cuts.
+pub(super) fn camera_cuts(
+    steps: &[Step],
+    cuts: &[Cut],
+    object: u16,
+    cut: u16,
+    view: &LocalView,
+    out: &mut [clip::Cut; MAX_CUTS],
+) -> usize {
+    // The object's planes, by the index of the first cut made by each.
+    let mut firsts = [u16::MAX; MAX_CUTS];
+    let mut count = 0;
+    for step in steps {
+        let Step::Piece {
+            object: o,
+            cut: mut at,
+        } = *step
+        else {
+            continue;
+        };
+        if o != object {
+            continue;
+        }
+        let mut guard = 0;
+        while let Some(c) = cuts.get(usize::from(at)).filter(|_| at != NO_CUT) {
+            let known = firsts[..count]
+                .iter()
+                .position(|&f| cuts.get(usize::from(f)).is_some_and(|k| k.plane == c.plane));
+            match known {
+                Some(k) if firsts[k] > at => firsts[k] = at,
+                Some(_) => {}
+                None if count < MAX_CUTS => {
+                    firsts[count] = at;
+                    count += 1;
+                }
+                None => {}
+            }
+            guard += 1;
+            if guard > cuts.len() {
+                break;
+            }
+            at = c.prev;
+        }
+    }
+    firsts[..count].sort_unstable();
+    for (slot, &first) in out.iter_mut().zip(&firsts[..count]) {
+        let Some(c) = cuts.get(usize::from(first)) else {
+            continue;
+        };
+        // The side this piece keeps, if its chain cuts by this plane.
+        let mut keep = Keep::Both;
+        let mut at = cut;
+        let mut guard = 0;
+        while let Some(k) = cuts.get(usize::from(at)).filter(|_| at != NO_CUT) {
+            if k.plane == c.plane {
+                keep = if k.keep_plus { Keep::Plus } else { Keep::Minus };
+                break;
+            }
+            guard += 1;
+            if guard > cuts.len() {
+                break;
+            }
+            at = k.prev;
+        }
+        let normal = c.plane.normal;
+        *slot = clip::Cut {
+            plane: ClipPlane {
+                normal: Vec3::new(
+                    normal.dot(view.right),
+                    normal.dot(view.up),
+                    normal.dot(view.forward),
+                ),
+                offset: normal.dot(view.eye) - c.plane.d,
+            },
+            keep,
+        };
+    }
+    count
+}

@@ -1,0 +1,271 @@
+//! Objects compiled apart and posed per frame (`peel_runtime::place`): their id images against
+//! the ray-casting reference of the posed triangles, over many poses, in both orders, in
+//! every setting: apart, straddling the world's planes, inside the world's hull, touching.
+
+use glam::{DVec3, Vec3};
+use peel_compiler::compile::{compile_mesh, CompileOptions};
+use peel_compiler::load::{Mesh, SourceTriangle};
+use peel_compiler::shade::Surface;
+use peel_compiler::tools::raster::{posed_header, render_posed_with, Settings};
+use peel_compiler::tools::scenes::{self, boxed};
+use peel_compiler::tools::shot::Shot;
+use peel_e2e::{closed_sphere, polygons, reference};
+use peel_runtime::place::{Object, Pose};
+use peel_runtime::read::Scene;
+use peel_runtime::traverse::Order;
+
+/// `mesh` compiled with ids, faceted; its ids start at `first_id` (the triangles before it
+/// in the frame's numbering: degenerate ones, which the compiler drops, keep the count).
+fn compile(mesh: &Mesh, first_id: usize) -> Vec<u8> {
+    let mut numbered = mesh.clone();
+    let at = mesh.triangles[0].vertices[0];
+    let empty = SourceTriangle {
+        vertices: [at; 3],
+        ..mesh.triangles[0]
+    };
+    numbered
+        .triangles
+        .splice(0..0, std::iter::repeat(empty).take(first_id));
+    let options = CompileOptions {
+        ids: true,
+        surface: Surface::Faceted,
+        ..CompileOptions::default()
+    };
+    compile_mesh(&numbered, &options, &|_| {})
+        .expect("compile")
+        .1
+}
+
+/// The world: a floor and a few boxes, one of them hollow (a room of four walls).
+fn world() -> Mesh {
+    let mut t = Vec::new();
+    let floor = [
+        DVec3::new(-6.0, 0.0, -6.0),
+        DVec3::new(-6.0, 0.0, 6.0),
+        DVec3::new(6.0, 0.0, 6.0),
+        DVec3::new(6.0, 0.0, -6.0),
+    ];
+    t.push([floor[0], floor[1], floor[2]]);
+    t.push([floor[0], floor[2], floor[3]]);
+    boxed(
+        &mut t,
+        DVec3::new(-4.0, 0.0, -4.0),
+        DVec3::new(-2.5, 2.0, -2.5),
+    );
+    boxed(
+        &mut t,
+        DVec3::new(1.0, 0.0, -3.0),
+        DVec3::new(2.0, 3.0, -1.0),
+    );
+    // A room's walls, thin boxes: an object can stand inside.
+    boxed(
+        &mut t,
+        DVec3::new(-1.0, 0.0, 2.0),
+        DVec3::new(3.0, 1.5, 2.2),
+    );
+    boxed(
+        &mut t,
+        DVec3::new(-1.0, 0.0, 5.0),
+        DVec3::new(3.0, 1.5, 5.2),
+    );
+    boxed(
+        &mut t,
+        DVec3::new(-1.2, 0.0, 2.0),
+        DVec3::new(-1.0, 1.5, 5.2),
+    );
+    scenes::mesh(t)
+}
+
+/// SplitMix64, for the poses.
+struct Random(u64);
+
+impl Random {
+    fn next(&mut self) -> f64 {
+        self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+        ((z ^ (z >> 31)) >> 11) as f64 / (1u64 << 53) as f64
+    }
+    fn range(&mut self, lo: f64, hi: f64) -> f32 {
+        (lo + (hi - lo) * self.next()) as f32
+    }
+}
+
+/// The triangles of `mesh` placed by `pose`, as the reference casts them.
+fn posed(mesh: &Mesh, pose: &Pose) -> Vec<[DVec3; 3]> {
+    let r = pose.rotation.as_dmat3();
+    let t = pose.translation.as_dvec3();
+    mesh.triangles
+        .iter()
+        .map(|tri| tri.vertices.map(|p| t + r * p))
+        .collect()
+}
+
+/// Robust pixels whose id differs from the reference's, and robust pixels showing an object,
+/// over `shots`, for the world and `objects` (meshes, compiled bytes, poses).
+fn compare(
+    world: (&Mesh, &[u8]),
+    objects: &[(&Mesh, &[u8], Option<Pose>)],
+    shots: &[Shot],
+    settings: &Settings,
+) -> (usize, usize) {
+    let w = Scene::parse(world.1).unwrap();
+    let parts: Vec<Object> = objects
+        .iter()
+        .map(|(_, bytes, pose)| Object {
+            scene: Scene::parse(bytes).unwrap(),
+            pose: *pose,
+        })
+        .collect();
+    let mut tris: Vec<[DVec3; 3]> = world.0.triangles.iter().map(|t| t.vertices).collect();
+    let mut polys = polygons(world.1);
+    let world_ids = tris.len() as u32;
+    for (mesh, bytes, pose) in objects {
+        match pose {
+            Some(pose) => {
+                tris.extend(posed(mesh, pose));
+                let r = pose.rotation.as_dmat3();
+                let t = pose.translation.as_dvec3();
+                polys.extend(
+                    polygons(bytes)
+                        .into_iter()
+                        .map(|p| p.into_iter().map(|q| t + r * q).collect::<Vec<_>>()),
+                );
+            }
+            // Hidden: its ids stay numbered, on triangles nothing sees.
+            None => tris.extend(mesh.triangles.iter().map(|_| [DVec3::splat(1e9); 3])),
+        }
+    }
+    // Where two surfaces cross, their depths tie: the compiler cuts a static scene's
+    // triangles there (its polygons' edges, above), the runtime cuts a posed object by the
+    // world's planes. Those lines are edges too.
+    let object_tris = &tris[world_ids as usize..];
+    for (k, a) in object_tris.iter().enumerate() {
+        for b in tris[..world_ids as usize]
+            .iter()
+            .chain(&object_tris[k + 1..])
+        {
+            if let Some(segment) = crossing(a, b) {
+                polys.push(segment.to_vec());
+            }
+        }
+    }
+    let header = posed_header(Some(&w), &parts);
+    let (mut bad, mut on_objects) = (0, 0);
+    for shot in shots {
+        let frame = render_posed_with(Some(&w), &parts, shot, settings)
+            .unwrap_or_else(|e| panic!("{shot:?}: {e}"));
+        let r = reference(&tris, &polys, shot, shot.near_over(&header));
+        for k in (0..r.ids.len()).filter(|&k| r.robust[k]) {
+            if frame.pixels[k] != r.ids[k] {
+                eprintln!(
+                    "{shot:?} pixel {k}: {} instead of {}",
+                    frame.pixels[k], r.ids[k]
+                );
+                bad += 1;
+            }
+            if r.ids[k] > world_ids {
+                on_objects += 1;
+            }
+        }
+    }
+    (bad, on_objects)
+}
+
+/// The segment along which triangles `a` and `b` cross, if they do.
+fn crossing(a: &[DVec3; 3], b: &[DVec3; 3]) -> Option<[DVec3; 2]> {
+    // The part of `t` on the plane of `u`, as a segment (or none).
+    let on_plane = |t: &[DVec3; 3], u: &[DVec3; 3]| -> Option<[DVec3; 2]> {
+        let n = (u[1] - u[0]).cross(u[2] - u[0]);
+        let d = t.map(|p| n.dot(p - u[0]));
+        let mut points = Vec::new();
+        for i in 0..3 {
+            let (p, q, dp, dq) = (t[i], t[(i + 1) % 3], d[i], d[(i + 1) % 3]);
+            if dp == 0.0 {
+                points.push(p);
+            }
+            if (dp < 0.0 && dq > 0.0) || (dp > 0.0 && dq < 0.0) {
+                points.push(p + (q - p) * (dp / (dp - dq)));
+            }
+        }
+        (points.len() >= 2).then(|| [points[0], points[1]])
+    };
+    let (s, t) = (on_plane(a, b)?, on_plane(b, a)?);
+    let dir = s[1] - s[0];
+    if dir.length_squared() == 0.0 {
+        return None;
+    }
+    let at = |p: DVec3| dir.dot(p - s[0]) / dir.length_squared();
+    let (t0, t1) = (at(t[0]).min(at(t[1])), at(t[0]).max(at(t[1])));
+    let (lo, hi) = (t0.max(0.0), t1.min(1.0));
+    (lo <= hi).then(|| [s[0] + dir * lo, s[0] + dir * hi])
+}
+
+fn orbit(centre: DVec3, radius: f64, height: f64) -> Vec<Shot> {
+    (0..6)
+        .map(|k| {
+            let a = k as f64 * 1.047 + 0.2;
+            let eye = centre + DVec3::new(a.cos() * radius, height, a.sin() * radius);
+            Shot::new(eye, centre, 96, 72)
+        })
+        .collect()
+}
+
+/// Two objects over the world, at random poses: apart, straddling the boxes' and the
+/// floor's planes, inside the room, sometimes hidden. No robust pixel differs from the
+/// reference, front to back and back to front.
+#[test]
+fn posed_objects_match_the_reference() {
+    let world_mesh = world();
+    let torus = scenes::torus(16, 8);
+    let sphere = closed_sphere(8, 12);
+    let world_bytes = compile(&world_mesh, 0);
+    let n = world_mesh.triangles.len();
+    let torus_bytes = compile(&torus, n);
+    let sphere_bytes = compile(&sphere, n + torus.triangles.len());
+    let mut random = Random(7);
+    let mut shown = 0;
+    for round in 0..12 {
+        let mut pose = |random: &mut Random| {
+            Pose::from_degrees(
+                Vec3::new(
+                    random.range(-4.5, 4.5),
+                    random.range(0.0, 2.5),
+                    random.range(-4.5, 4.5),
+                ),
+                random.range(-180.0, 180.0),
+                random.range(-90.0, 90.0),
+                random.range(-180.0, 180.0),
+            )
+        };
+        let a = pose(&mut random);
+        let b = if round % 5 == 4 {
+            None
+        } else {
+            Some(pose(&mut random))
+        };
+        let objects = [
+            (&torus, &torus_bytes[..], Some(a)),
+            (&sphere, &sphere_bytes[..], b),
+        ];
+        let shots = orbit(DVec3::new(0.0, 1.0, 0.0), 11.0, 5.0);
+        for order in [Order::FrontToBack, Order::BackToFront] {
+            let settings = Settings {
+                order,
+                ids: true,
+                ..Settings::default()
+            };
+            let result = std::panic::catch_unwind(|| {
+                compare((&world_mesh, &world_bytes), &objects, &shots, &settings)
+            });
+            let (bad, on_objects) = match result {
+                Ok(r) => r,
+                Err(_) => panic!("round {round}: poses {a:?} {b:?}"),
+            };
+            assert_eq!(bad, 0, "round {round} {order:?}: poses {a:?} {b:?}");
+            shown += on_objects;
+        }
+    }
+    assert!(shown > 1000, "the objects showed on {shown} robust pixels");
+}
