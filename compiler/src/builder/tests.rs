@@ -501,3 +501,71 @@ fn shadows_are_cast_from_the_shading_light_whatever_the_order() {
     let cast = builder(dir.path(), &obj).shadows(true);
     assert_ne!(lit, Key::new(&obj, &bytes, &cast.options).unwrap());
 }
+
+/// A world and two objects: a file of parts whose sizes file gives the largest of each figure
+/// over the parts; the second compile comes from the cache, an edited object misses it, and a
+/// repeated name is refused before anything is written.
+#[test]
+fn objects_make_a_file_of_parts_sized_for_every_part() {
+    let dir = tempfile::tempdir().unwrap();
+    let world = write(dir.path(), "cube.obj", CUBE);
+    let demo = write(
+        dir.path(),
+        "demo.obj",
+        include_str!("../../../fixtures/demo.obj"),
+    );
+    let tri = write(
+        dir.path(),
+        "tri.obj",
+        "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n",
+    );
+    let b = builder(dir.path(), &world)
+        .object("demo", &demo)
+        .object("tri", &tri);
+    let out = b.compile().unwrap();
+    assert!(!out.from_cache);
+    let bytes = fs::read(&out.peel).unwrap();
+    let parts = crate::write::parts::read_parts(&bytes).unwrap();
+    let names: Vec<&str> = parts.iter().map(|p| p.name).collect();
+    assert_eq!(names, ["", "demo", "tri"]);
+    let headers: Vec<_> = (parts.iter())
+        .map(|p| Scene::parse(p.tree).unwrap().header())
+        .collect();
+    let text = fs::read_to_string(&out.sizes).unwrap();
+    let most =
+        |f: fn(&peel_runtime::read::Header) -> u32| headers.iter().map(f).max().unwrap() as usize;
+    assert_eq!(constant(&text, "STACK"), most(|h| h.max_depth));
+    assert_eq!(constant(&text, "VERTICES"), most(|h| h.vertex_count));
+    assert_eq!(constant(&text, "POLYGONS"), most(|h| h.polygon_count));
+    assert_eq!(
+        constant(&text, "VERTS"),
+        most(|h| h.max_polygon_vertices) + peel_runtime::clip::CLIP_PLANES
+    );
+    assert_eq!(constant(&text, "BYTES"), bytes.len());
+    // The demo is the largest part: the figures are not all the world's.
+    assert!(headers[1].polygon_count > headers[0].polygon_count);
+    assert!(text.contains(&format!(
+        "pub const FORMAT_VERSION: u16 = {};",
+        peel_runtime::read::layout::PARTS_VERSION
+    )));
+
+    let again = b.compile().unwrap();
+    assert!(again.from_cache);
+    assert_eq!(fs::read(&again.peel).unwrap(), bytes);
+    assert_eq!(fs::read_to_string(&again.sizes).unwrap(), text);
+    write(
+        dir.path(),
+        "tri.obj",
+        "v 0 0 0\nv 2 0 0\nv 0 1 0\nf 1 2 3\n",
+    );
+    assert!(!b.compile().unwrap().from_cache);
+
+    let e = builder(dir.path(), &world)
+        .out_name("twice.peel")
+        .object("a", &tri)
+        .object("a", &tri)
+        .compile()
+        .unwrap_err();
+    assert!(matches!(e, CompileError::PartName { .. }), "{e:?}");
+    assert!(!dir.path().join("twice.peel").exists());
+}
