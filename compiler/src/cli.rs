@@ -36,6 +36,27 @@ pub fn parse_dvec3(s: &str) -> Result<DVec3, String> {
     Ok(DVec3::from_array(v))
 }
 
+/// Parse `--object NAME=FILE`: a name of 1 to `MAX_NAME` bytes, then the OBJ file.
+pub fn parse_object(s: &str) -> Result<(String, PathBuf), String> {
+    use peel_runtime::read::layout::MAX_NAME;
+    let (name, file) = s
+        .split_once('=')
+        .ok_or_else(|| format!("expected NAME=FILE, got '{s}' (no '=')"))?;
+    if name.is_empty() {
+        return Err(format!("'{s}' has no name before '='"));
+    }
+    if name.len() > MAX_NAME as usize {
+        return Err(format!(
+            "the name '{name}' has {} bytes: at most {MAX_NAME}",
+            name.len()
+        ));
+    }
+    if file.is_empty() {
+        return Err(format!("'{s}' has no file after '='"));
+    }
+    Ok((name.to_string(), PathBuf::from(file)))
+}
+
 /// Parse a direction `x,y,z`: finite, and of some length (`--up`, `--light`).
 pub fn parse_direction(s: &str) -> Result<DVec3, String> {
     let v = parse_dvec3(s)?;
@@ -267,6 +288,19 @@ fn read(path: &Path) -> Result<Vec<u8>, String> {
 /// `peel inspect`: the counters, and the frame memory measured at `size` if given.
 pub fn inspect(path: &Path, json: bool, size: Option<(u32, u32)>) -> Result<(), String> {
     let bytes = read(path)?;
+    if peel_compiler::write::parts::is_parts_file(&bytes) {
+        let info = peel_compiler::dump::inspect_parts(&bytes, size)
+            .map_err(|e| format!("{}: invalid file of parts: {e}", path.display()))?;
+        if json {
+            println!(
+                "{}",
+                serde_json::to_string_pretty(&info).map_err(|e| e.to_string())?
+            );
+        } else {
+            print!("{}", peel_compiler::dump::inspect_parts_text(&info));
+        }
+        return Ok(());
+    }
     let mut info = peel_compiler::dump::inspect(&bytes)
         .map_err(|e| format!("{}: invalid .peel file: {e}", path.display()))?;
     if let Some((width, height)) = size {
@@ -287,6 +321,19 @@ pub fn inspect(path: &Path, json: bool, size: Option<(u32, u32)>) -> Result<(), 
 /// `peel dump`.
 pub fn dump(path: &Path) -> Result<(), String> {
     let bytes = read(path)?;
+    if peel_compiler::write::parts::is_parts_file(&bytes) {
+        let parts = peel_compiler::write::parts::read_parts(&bytes)
+            .map_err(|e| format!("{}: invalid file of parts: {e}", path.display()))?;
+        let names: Vec<&str> = (parts.iter())
+            .map(|p| if p.name.is_empty() { "(world)" } else { p.name })
+            .collect();
+        return Err(format!(
+            "{}: a file of parts ({}): peel dump reads a single tree; peel inspect shows each \
+             part",
+            path.display(),
+            names.join(", ")
+        ));
+    }
     let yaml = peel_compiler::dump::dump_yaml(&bytes)
         .map_err(|e| format!("{}: invalid .peel file: {e}", path.display()))?;
     // A reader that stops early (`peel dump f | head`) is not an error.

@@ -24,6 +24,10 @@ pub struct CompileOptions {
     pub build: BuildOptions,
     /// Store each polygon's source triangle id (for id images).
     pub ids: bool,
+    /// Added to every id stored: a part of a scene of parts numbers its triangles after
+    /// those of the parts before it ([`compile_parts`]), so that one id image tells them
+    /// apart.
+    pub id_offset: u32,
     /// Store vertices as `f32` (12 bytes) instead of 16-bit steps on the scene's bounds (6
     /// bytes, within 1/131070 of the scene's extent per axis): for views so close that such a
     /// step spans more than 1/16 pixel.
@@ -70,6 +74,7 @@ pub fn compile_mesh(
     let tree = build(mesh, &options.build, progress)?;
     let input = crate::write::WriteInput {
         ids: options.ids,
+        id_offset: options.id_offset,
         wide_vertices: options.wide_vertices,
         ..crate::write::WriteInput::default()
     };
@@ -239,6 +244,88 @@ pub fn compile_obj_bytes(
     })
 }
 
+/// A scene of parts compiled ([`compile_parts`]).
+#[derive(Debug, Clone)]
+pub struct CompiledParts {
+    /// The file: a file of parts ([`crate::write::parts`]), or the world's tree file alone,
+    /// byte for byte what [`compile_obj`] gives, when there is no object.
+    pub bytes: Vec<u8>,
+    /// Each part's name (empty for the world) and compile, in file order: the world first.
+    pub parts: Vec<(String, Compiled)>,
+    /// Wall time of the whole compile, in seconds.
+    pub seconds: f64,
+}
+
+/// Load and compile a scene of parts: `world` (optional) and `objects` (name and OBJ file
+/// each), every part in its own frame with `options`. With [`CompileOptions::ids`] the ids
+/// number the world's source triangles first, then each object's in the order given
+/// (offset by the source triangles of the parts before it). The names are checked
+/// ([`crate::write::parts::check_parts`]) before any file is read.
+pub fn compile_parts(
+    world: Option<&Path>,
+    objects: &[(String, PathBuf)],
+    options: &CompileOptions,
+    progress: &(dyn Fn(u64) + Sync),
+) -> Result<CompiledParts, CompileError> {
+    let start = Instant::now();
+    let names: Vec<&str> = objects.iter().map(|(n, _)| n.as_str()).collect();
+    crate::write::parts::check_parts(world.is_some(), &names)?;
+    let world = world
+        .map(|w| Ok::<_, CompileError>((w, read_obj(w)?)))
+        .transpose()?;
+    let objects = (objects.iter())
+        .map(|(name, path)| Ok((name.clone(), path.as_path(), read_obj(path)?)))
+        .collect::<Result<Vec<_>, CompileError>>()?;
+    compile_parts_bytes(world, objects, options, progress, start)
+}
+
+/// [`compile_parts`] for OBJ bytes read already ([`read_obj`]): the world's path and bytes,
+/// and each object's name, path and bytes. `start` is when the compile began.
+pub fn compile_parts_bytes(
+    world: Option<(&Path, Vec<u8>)>,
+    objects: Vec<(String, &Path, Vec<u8>)>,
+    options: &CompileOptions,
+    progress: &(dyn Fn(u64) + Sync),
+    start: Instant,
+) -> Result<CompiledParts, CompileError> {
+    let names: Vec<&str> = objects.iter().map(|(n, _, _)| n.as_str()).collect();
+    crate::write::parts::check_parts(world.is_some(), &names)?;
+    let has_objects = !objects.is_empty();
+    let sources = (world
+        .map(|(path, bytes)| (String::new(), path, bytes))
+        .into_iter())
+    .chain(objects);
+    let mut parts: Vec<(String, Compiled)> = Vec::new();
+    let mut part_options = options.clone();
+    for (name, path, bytes) in sources {
+        let compiled = compile_obj_bytes(path, bytes, &part_options, progress, Instant::now())?;
+        part_options.id_offset = u32::try_from(compiled.stats.input_triangles)
+            .ok()
+            .and_then(|n| part_options.id_offset.checked_add(n))
+            .ok_or_else(|| CompileError::TooLarge {
+                path: path.to_path_buf(),
+                message: "the parts hold more source triangles than 32-bit ids number".into(),
+            })?;
+        parts.push((name, compiled));
+    }
+    let bytes = match (has_objects, parts.first()) {
+        (false, Some((_, world))) => world.bytes.clone(),
+        _ => {
+            let world = parts.first().filter(|(n, _)| n.is_empty());
+            let objects: Vec<(String, Vec<u8>)> = (parts.iter())
+                .skip(usize::from(world.is_some()))
+                .map(|(n, c)| (n.clone(), c.bytes.clone()))
+                .collect();
+            crate::write::parts::parts_file(world.map(|(_, c)| c.bytes.as_slice()), &objects)?
+        }
+    };
+    Ok(CompiledParts {
+        bytes,
+        parts,
+        seconds: start.elapsed().as_secs_f64(),
+    })
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -338,6 +425,81 @@ mod tests {
         assert_ne!(bytes, compile(false, &mesh));
         let soup = scenes::soup(40, 0.3, 3);
         assert_eq!(compile(true, &soup), compile(false, &soup));
+    }
+
+    /// Without objects the file is the world's tree, byte for byte; with them, each part is
+    /// that file compiled alone, the objects' ids following the triangles before them.
+    #[test]
+    fn parts_are_their_files_compiled_alone_with_ids_following_on() {
+        use crate::write::parts::read_parts;
+        use peel_runtime::read::Scene;
+        let options = CompileOptions {
+            ids: true,
+            solid: true,
+            ..CompileOptions::default()
+        };
+        let alone = |name: &str| compile_obj(&fixture(name), &options, &|_| {}).unwrap();
+        let world = fixture("cube.obj");
+        let plain = compile_parts(Some(&world), &[], &options, &|_| {}).unwrap();
+        assert_eq!(plain.bytes, alone("cube.obj").bytes);
+        assert_eq!(plain.parts.len(), 1);
+
+        let objects = [
+            ("stairs".to_string(), fixture("staircase.obj")),
+            ("nest".to_string(), fixture("nested_cubes.obj")),
+        ];
+        let scene = compile_parts(Some(&world), &objects, &options, &|_| {}).unwrap();
+        let parts = read_parts(&scene.bytes).unwrap();
+        let names: Vec<&str> = parts.iter().map(|p| p.name).collect();
+        assert_eq!(names, ["", "stairs", "nest"]);
+        let mut before = 0u32;
+        for (part, file) in parts
+            .iter()
+            .zip(["cube.obj", "staircase.obj", "nested_cubes.obj"])
+        {
+            let own = alone(file);
+            let (mine, theirs) = (
+                Scene::parse(part.tree).unwrap(),
+                Scene::parse(&own.bytes).unwrap(),
+            );
+            assert_eq!(mine.header(), theirs.header(), "{file}");
+            let count = mine.header().polygon_count;
+            assert!(count > 0);
+            for i in 0..count {
+                assert_eq!(
+                    mine.id(i).unwrap(),
+                    theirs.id(i).unwrap() + before,
+                    "{file}"
+                );
+            }
+            before += own.stats.input_triangles as u32;
+        }
+        // The offset is the ids' only change.
+        let no_ids = CompileOptions {
+            ids: false,
+            ..options.clone()
+        };
+        let scene = compile_parts(None, &objects[..1], &no_ids, &|_| {}).unwrap();
+        let part = read_parts(&scene.bytes).unwrap()[0].tree;
+        assert_eq!(
+            part,
+            compile_obj(&fixture("staircase.obj"), &no_ids, &|_| {})
+                .unwrap()
+                .bytes
+        );
+    }
+
+    #[test]
+    fn a_bad_name_is_refused_before_any_file_is_read() {
+        let absent = fixture("absent.obj");
+        let objects = [("a".to_string(), absent.clone()), ("a".to_string(), absent)];
+        let e = compile_parts(None, &objects, &CompileOptions::default(), &|_| {}).unwrap_err();
+        assert!(matches!(e, CompileError::PartName { .. }), "{e:?}");
+        let e = compile_parts(None, &[], &CompileOptions::default(), &|_| {}).unwrap_err();
+        assert!(
+            matches!(e, CompileError::PartCount { parts: 0, .. }),
+            "{e:?}"
+        );
     }
 
     #[test]

@@ -141,15 +141,22 @@ pub fn inspect_text(info: &Inspect) -> String {
     line("palette_colours", info.palette_colours.to_string());
     line("node_bounds", info.node_bounds.to_string());
     line("bytes", info.bytes.to_string());
-    let m = &info.frame_memory;
+    frame_memory_lines(&mut out, &info.frame_memory, "");
+    out
+}
+
+/// The frame memory lines of `peel inspect` (the heading, then the figures with their bytes),
+/// the heading saying `whose` figures they are.
+fn frame_memory_lines(out: &mut String, m: &FrameMemory, whose: &str) {
     let _ = match m.measured_at {
         Some((w, h)) => writeln!(
             out,
-            "frame_memory (the sizes file's, measured at {w}x{h} over an orbit of the scene):"
+            "frame_memory (the sizes file's{whose}, measured at {w}x{h} over an orbit of the \
+             scene):"
         ),
         None => writeln!(
             out,
-            "frame_memory (the sizes file's; span and scan memory are the defaults, \
+            "frame_memory (the sizes file's{whose}; span and scan memory are the defaults, \
              `--size WxH` measures them):"
         ),
     };
@@ -183,6 +190,83 @@ pub fn inspect_text(info: &Inspect) -> String {
         "pending_pixels",
         bytes(m.pending_pixels, size_of::<PendingPixel>()),
     );
+}
+
+/// One part of a file of parts, for `peel inspect`.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct InspectPart {
+    /// The object's name; empty for the world.
+    pub name: String,
+    /// The part's tree's counters.
+    #[serde(flatten)]
+    pub counters: Inspect,
+}
+
+/// Counters of `peel inspect` for a file of parts.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct InspectParts {
+    /// The file's format version (`PARTS_VERSION`).
+    pub format_version: u16,
+    /// Whether part 0 is the world.
+    pub world: bool,
+    /// File size.
+    pub bytes: u64,
+    /// Each part, in file order.
+    pub parts: Vec<InspectPart>,
+    /// The largest of each figure over the parts: one workspace that draws every part.
+    pub frame_memory: FrameMemory,
+}
+
+/// The counters of a file of parts and of each of its parts (each tree validated), the
+/// frame memory measured at `size` if given.
+///
+/// # Errors
+/// What is wrong with the file, or the measurement's error.
+pub fn inspect_parts(bytes: &[u8], size: Option<(u32, u32)>) -> Result<InspectParts, String> {
+    let read = crate::write::parts::read_parts(bytes)?;
+    let mut parts = Vec::with_capacity(read.len());
+    for part in &read {
+        let mut counters = inspect(part.tree).map_err(|e| e.to_string())?;
+        if let Some((width, height)) = size {
+            counters.frame_memory = FrameMemory::measured(part.tree, width, height)?;
+        }
+        parts.push(InspectPart {
+            name: part.name.to_string(),
+            counters,
+        });
+    }
+    let frame_memory = (parts.iter().map(|p| p.counters.frame_memory))
+        .reduce(FrameMemory::max)
+        .ok_or("a file of parts without parts")?;
+    Ok(InspectParts {
+        format_version: peel_runtime::read::layout::PARTS_VERSION,
+        world: read.first().is_some_and(|p| p.name.is_empty()),
+        bytes: bytes.len() as u64,
+        parts,
+        frame_memory,
+    })
+}
+
+/// [`InspectParts`] as `peel inspect` prints it: the file's lines, each part's
+/// ([`inspect_text`], indented under `part K (NAME):`), then the frame memory every part fits.
+pub fn inspect_parts_text(info: &InspectParts) -> String {
+    let mut out = String::new();
+    let _ = writeln!(out, "format_version: {}", info.format_version);
+    let _ = writeln!(out, "world: {}", info.world);
+    let _ = writeln!(out, "parts: {}", info.parts.len());
+    let _ = writeln!(out, "bytes: {}", info.bytes);
+    for (k, part) in info.parts.iter().enumerate() {
+        let label = if part.name.is_empty() {
+            "world"
+        } else {
+            &part.name
+        };
+        let _ = writeln!(out, "part {k} ({label}):");
+        for line in inspect_text(&part.counters).lines() {
+            let _ = writeln!(out, "  {line}");
+        }
+    }
+    frame_memory_lines(&mut out, &info.frame_memory, ", the largest over the parts");
     out
 }
 

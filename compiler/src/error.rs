@@ -103,6 +103,23 @@ pub enum CompileError {
     /// Encoding the tree failed.
     #[error("cannot encode the tree: {0}")]
     Encode(String),
+    /// An object of a scene of parts whose name a file of parts cannot hold: empty, longer
+    /// than `MAX_NAME` bytes, or another object's (the renderer finds objects by name).
+    #[error("object name `{name}`: {problem}")]
+    PartName {
+        /// The name given.
+        name: String,
+        /// What is wrong with it.
+        problem: String,
+    },
+    /// A scene of parts with no part, or more than a file of parts holds.
+    #[error("{parts} parts (the world and the objects): a file of parts holds 1 to {max}")]
+    PartCount {
+        /// The parts given.
+        parts: usize,
+        /// The most a file holds (`MAX_PARTS`).
+        max: u32,
+    },
     /// A compiled file is not valid (for `inspect`, `dump`, `render`).
     #[error("{path}: invalid .peel file: {message}")]
     BadPeel {

@@ -8,7 +8,7 @@ use clap::{Args, Parser, Subcommand};
 use glam::DVec3;
 use indicatif::{ProgressBar, ProgressStyle};
 
-use peel_compiler::compile::{compile_obj, CompileOptions};
+use peel_compiler::compile::{compile_obj, compile_parts, CompileOptions, Compiled};
 use peel_compiler::load::LoadOptions;
 use peel_compiler::shade::normals::Crease;
 use peel_compiler::shade::{Shading, Surface, DEFAULT_LIGHT, DEFAULT_SURFACE};
@@ -64,8 +64,15 @@ enum Command {
 
 #[derive(Args)]
 struct CompileArgs {
-    /// The OBJ file (its MTL files are read too).
-    scene: PathBuf,
+    /// The OBJ file of the world (its MTL files are read too); optional when objects are
+    /// given.
+    #[arg(value_name = "WORLD.obj")]
+    scene: Option<PathBuf>,
+    /// An object NAME (1 to 64 bytes, distinct) compiled from FILE in its own frame, placed by
+    /// the renderer: the output is a file of parts (format 5), the world first, then the
+    /// objects in the order given. Repeatable.
+    #[arg(long = "object", value_parser = cli::parse_object, value_name = "NAME=FILE")]
+    objects: Vec<(String, PathBuf)>,
     /// Output .peel file (the name must end in .peel).
     #[arg(short, long, value_name = "FILE")]
     output: PathBuf,
@@ -215,18 +222,28 @@ fn compile(args: &CompileArgs) -> Result<(), String> {
             default_colour: args.default_colour,
         },
         ids: args.ids,
+        id_offset: 0,
         wide_vertices: args.wide_vertices,
         shading,
         surface,
         solid: args.solid,
     };
-    compile_to(
-        &args.scene,
-        &args.output,
-        &options,
-        args.stats_json.as_deref(),
-    )
-    .map(|_| ())
+    match (&args.scene, args.objects.is_empty()) {
+        (Some(scene), true) => {
+            compile_to(scene, &args.output, &options, args.stats_json.as_deref()).map(|_| ())
+        }
+        (None, true) => Err(
+            "nothing to compile: give the world's OBJ file, or objects with --object NAME=FILE"
+                .into(),
+        ),
+        (world, false) => compile_parts_to(
+            world.as_deref(),
+            &args.objects,
+            &args.output,
+            &options,
+            args.stats_json.as_deref(),
+        ),
+    }
 }
 
 /// How many polygons of a compiled file are smooth-shaded, and how many bound solids.
@@ -261,9 +278,21 @@ pub(crate) fn compile_to(
         eprintln!("warning: {w}");
     }
     peel_compiler::write::write_atomic(output, &compiled.bytes).map_err(|e| e.to_string())?;
+    write_stats(stats_json, &part_stats(&compiled))?;
+    println!(
+        "{} -> {}: {}",
+        scene.display(),
+        output.display(),
+        summary(&compiled)
+    );
+    Ok(compiled.bytes)
+}
+
+/// The statistics of one compiled tree, as `--stats-json` writes them.
+fn part_stats(compiled: &Compiled) -> serde_json::Value {
     let s = compiled.stats;
     let (smooth, solid) = marked_polygons(&compiled.bytes);
-    let stats = serde_json::json!({
+    serde_json::json!({
         "input_triangles": s.input_triangles,
         "degenerate_dropped": s.degenerate_dropped,
         "output_polygons": s.output_polygons,
@@ -276,15 +305,14 @@ pub(crate) fn compile_to(
         "solid_polygons": solid,
         "bytes": compiled.bytes.len(),
         "compile_seconds": compiled.seconds,
-    });
-    if let Some(path) = stats_json {
-        let text = serde_json::to_string_pretty(&stats).map_err(|e| e.to_string())?;
-        peel_compiler::write::write_atomic(path, text.as_bytes()).map_err(|e| e.to_string())?;
-    }
-    println!(
-        "{} -> {}: {} triangles ({} degenerate dropped) -> {} polygons, {} convex + {} split nodes, {} cuts, depth {}, {} planes, {} bytes, {:.3} s",
-        scene.display(),
-        output.display(),
+    })
+}
+
+/// The summary line's counters of one compiled tree.
+fn summary(compiled: &Compiled) -> String {
+    let s = compiled.stats;
+    format!(
+        "{} triangles ({} degenerate dropped) -> {} polygons, {} convex + {} split nodes, {} cuts, depth {}, {} planes, {} bytes, {:.3} s",
         s.input_triangles,
         s.degenerate_dropped,
         s.output_polygons,
@@ -295,6 +323,82 @@ pub(crate) fn compile_to(
         s.planes,
         compiled.bytes.len(),
         compiled.seconds
+    )
+}
+
+/// Write `stats` as JSON to `path`, if given.
+fn write_stats(path: Option<&Path>, stats: &serde_json::Value) -> Result<(), String> {
+    if let Some(path) = path {
+        let text = serde_json::to_string_pretty(stats).map_err(|e| e.to_string())?;
+        peel_compiler::write::write_atomic(path, text.as_bytes()).map_err(|e| e.to_string())?;
+    }
+    Ok(())
+}
+
+/// Compile a scene of parts into `output` (a file of parts): print one summary line per part
+/// and one for the file; `--stats-json` holds `parts`, one record per part (a plain scene's
+/// keys with its `name`, empty for the world, and `obj`), and the file's `bytes` and
+/// `compile_seconds`.
+fn compile_parts_to(
+    world: Option<&Path>,
+    objects: &[(String, PathBuf)],
+    output: &Path,
+    options: &CompileOptions,
+    stats_json: Option<&Path>,
+) -> Result<(), String> {
+    let names: Vec<&str> = objects.iter().map(|(n, _)| n.as_str()).collect();
+    peel_compiler::write::parts::check_parts(world.is_some(), &names)
+        .map_err(|e| format!("--object: {e}"))?;
+    let bar = ProgressBar::new_spinner();
+    bar.set_style(
+        ProgressStyle::with_template("{spinner} {msg} [{elapsed}]").map_err(|e| e.to_string())?,
     );
-    Ok(compiled.bytes)
+    let parts = objects.len() + usize::from(world.is_some());
+    bar.set_message(format!("compiling {parts} parts"));
+    bar.enable_steady_tick(Duration::from_millis(120));
+    let progress =
+        |placed: u64| bar.set_message(format!("compiling {parts} parts: {placed} polygons placed"));
+    let compiled = compile_parts(world, objects, options, &progress);
+    bar.finish_and_clear();
+    let compiled = compiled.map_err(|e| e.to_string())?;
+    for (_, part) in &compiled.parts {
+        for w in &part.warnings {
+            eprintln!("warning: {w}");
+        }
+    }
+    peel_compiler::write::write_atomic(output, &compiled.bytes).map_err(|e| e.to_string())?;
+    let paths = world
+        .into_iter()
+        .chain(objects.iter().map(|(_, p)| p.as_path()));
+    let mut records = Vec::new();
+    for ((name, part), path) in compiled.parts.iter().zip(paths) {
+        let mut record = part_stats(part);
+        record["name"] = name.as_str().into();
+        record["obj"] = path.display().to_string().into();
+        records.push(record);
+        let label = if name.is_empty() { "world" } else { name };
+        println!("{} ({label}): {}", path.display(), summary(part));
+    }
+    write_stats(
+        stats_json,
+        &serde_json::json!({
+            "parts": records,
+            "bytes": compiled.bytes.len(),
+            "compile_seconds": compiled.seconds,
+        }),
+    )?;
+    println!(
+        "-> {}: {} parts ({}{} objects), {} bytes, {:.3} s",
+        output.display(),
+        compiled.parts.len(),
+        if world.is_some() {
+            "the world and "
+        } else {
+            ""
+        },
+        objects.len(),
+        compiled.bytes.len(),
+        compiled.seconds
+    );
+    Ok(())
 }

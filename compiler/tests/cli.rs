@@ -1243,3 +1243,162 @@ fn the_command_line_page_has_every_flag_of_every_subcommand() {
         }
     }
 }
+
+/// The `u32` at `at`.
+fn u32_at(bytes: &[u8], at: usize) -> usize {
+    u32::from_le_bytes(bytes[at..at + 4].try_into().unwrap()) as usize
+}
+
+/// The parts of a file of parts as its table gives them: name and tree bytes each.
+fn table(bytes: &[u8]) -> Vec<(String, &[u8])> {
+    use peel_runtime::read::layout::{parts_offset, PART_ENTRY_SIZE};
+    (0..u32_at(bytes, parts_offset::COUNT))
+        .map(|k| {
+            let entry = parts_offset::TABLE + k * PART_ENTRY_SIZE;
+            let [tree, tree_len, name, name_len] = [0, 4, 8, 12].map(|f| u32_at(bytes, entry + f));
+            assert_eq!(tree % 4, 0, "part {k}");
+            let name = std::str::from_utf8(&bytes[name..name + name_len]).unwrap();
+            (name.to_string(), &bytes[tree..tree + tree_len])
+        })
+        .collect()
+}
+
+/// A world and two objects: a file of parts (version 5) of the three trees, each the tree its
+/// OBJ compiles to alone but for its ids, which follow the triangles of the parts before it.
+#[test]
+fn a_world_and_objects_compile_to_a_file_of_parts() {
+    use peel_runtime::read::layout::{parts_offset, MAGIC, PARTS_VERSION};
+    use peel_runtime::read::Scene;
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("scene.peel");
+    let stats = dir.path().join("stats.json");
+    let files = ["cube.obj", "staircase.obj", "triangle.obj"];
+    let stairs = format!("stairs={}", fixture(files[1]));
+    let tri = format!("tri={}", fixture(files[2]));
+    let o = peel(&[
+        "compile",
+        &fixture(files[0]),
+        "--object",
+        &stairs,
+        "--object",
+        &tri,
+        "--ids",
+        "-o",
+        s(&out),
+        "--stats-json",
+        s(&stats),
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let stdout = String::from_utf8_lossy(&o.stdout);
+    assert!(
+        stdout.contains("(world)") && stdout.contains("(stairs)") && stdout.contains("3 parts"),
+        "{stdout}"
+    );
+    let bytes = std::fs::read(&out).unwrap();
+    assert_eq!(bytes[..4], MAGIC);
+    assert_eq!(u16::from_le_bytes([bytes[4], bytes[5]]), PARTS_VERSION);
+    assert_eq!(u32_at(&bytes, parts_offset::WORLD), 1);
+    let parts = table(&bytes);
+    let names: Vec<&str> = parts.iter().map(|(n, _)| n.as_str()).collect();
+    assert_eq!(names, ["", "stairs", "tri"]);
+
+    let v: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&stats).unwrap()).unwrap();
+    assert_eq!(v["bytes"], bytes.len());
+    let records = v["parts"].as_array().unwrap();
+    assert_eq!(records.len(), 3);
+    let mut before = 0;
+    for (k, ((name, tree), file)) in parts.iter().zip(files).enumerate() {
+        assert_eq!(records[k]["name"], name.as_str());
+        assert_eq!(records[k]["bytes"], tree.len());
+        let alone = dir.path().join(format!("alone{k}.peel"));
+        let o = peel(&["compile", &fixture(file), "--ids", "-o", s(&alone)]);
+        assert!(o.status.success());
+        let alone = std::fs::read(&alone).unwrap();
+        let (mine, theirs) = (Scene::parse(tree).unwrap(), Scene::parse(&alone).unwrap());
+        assert_eq!(mine.header(), theirs.header(), "{file}");
+        assert!(mine.header().polygon_count > 0);
+        for i in 0..mine.header().polygon_count {
+            assert_eq!(mine.id(i), theirs.id(i).map(|id| id + before), "{file}");
+        }
+        before += records[k]["input_triangles"].as_u64().unwrap() as u32;
+    }
+
+    let o = peel(&["inspect", s(&out)]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let text = String::from_utf8_lossy(&o.stdout);
+    for line in [
+        "format_version: 5",
+        "parts: 3",
+        "part 0 (world):",
+        "part 2 (tri):",
+    ] {
+        assert!(text.contains(line), "no `{line}` in {text}");
+    }
+    let o = peel(&["inspect", s(&out), "--json"]);
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    let polygons: Vec<u64> = (v["parts"].as_array().unwrap().iter())
+        .map(|p| p["output_polygons"].as_u64().unwrap())
+        .collect();
+    let most = polygons.iter().max().copied().unwrap();
+    assert_eq!(polygons.len(), 3);
+    assert!(v["frame_memory"]["stack"].as_u64().unwrap() > 0 && most > 0);
+    let o = peel(&["dump", s(&out)]);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(!o.status.success() && err.contains("a file of parts") && err.contains("stairs"));
+
+    // Objects alone: no world.
+    let o = peel(&["compile", "--object", &tri, "-o", s(&out)]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let bytes = std::fs::read(&out).unwrap();
+    assert_eq!(u32_at(&bytes, parts_offset::WORLD), 0);
+    assert_eq!(table(&bytes).len(), 1);
+}
+
+/// A name the table cannot hold, a missing `=`, too many parts, no part, a missing or bad OBJ:
+/// refused, with a message naming the problem, and no file written.
+#[test]
+fn bad_objects_are_refused_and_nothing_is_written() {
+    use peel_runtime::read::layout::{MAX_NAME, MAX_PARTS};
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("scene.peel");
+    let (cube, tri) = (fixture("cube.obj"), fixture("triangle.obj"));
+    let long = format!("{}={tri}", "n".repeat(MAX_NAME as usize + 1));
+    let empty = format!("={tri}");
+    let a = format!("a={tri}");
+    let absent = dir.path().join("absent.obj");
+    let absent_arg = format!("b={}", s(&absent));
+    let bad = format!("b={}", fixture("bad/bad_number.obj"));
+    let cases: [(Vec<&str>, Vec<&str>); 7] = [
+        (vec!["--object", &empty], vec!["--object", "no name"]),
+        (vec!["--object", &long], vec!["--object", "at most"]),
+        (vec!["--object", &tri], vec!["--object", "NAME=FILE"]),
+        (
+            vec!["--object", &a, "--object", &a],
+            vec!["--object", "`a`", "given twice"],
+        ),
+        (
+            vec!["--object", &a, "--object", &absent_arg],
+            vec!["absent.obj"],
+        ),
+        (vec!["--object", &bad], vec!["bad_number.obj:"]),
+        (vec![], vec!["nothing to compile", "--object"]),
+    ];
+    for (objects, says) in cases {
+        let mut args = vec!["compile"];
+        if !objects.is_empty() {
+            args.push(&cube);
+        }
+        args.extend(&objects);
+        args.extend(["-o", s(&out)]);
+        refused(dir.path(), &args, &says);
+    }
+    let many: Vec<String> = (0..MAX_PARTS).map(|k| format!("o{k}={tri}")).collect();
+    let mut args = vec!["compile", cube.as_str()];
+    for m in &many {
+        args.extend(["--object", m.as_str()]);
+    }
+    args.extend(["-o", s(&out)]);
+    let max = format!("1 to {MAX_PARTS}");
+    refused(dir.path(), &args, &["--object", &max]);
+}

@@ -18,6 +18,7 @@
 //! - the OBJ's path as given (warnings and `cargo:rerun-if-changed` lines name it) and its
 //!   absolute path;
 //! - the OBJ's bytes;
+//! - each object of a scene of parts: its name, its paths and its bytes, as the OBJ's;
 //! - each MTL file read: its bytes now must be those the entry was compiled from; and each MTL
 //!   file that was named but missing must still be missing.
 //!
@@ -104,6 +105,20 @@ impl Key {
         })
     }
 
+    /// This key with the objects of a scene of parts added: each one's name, paths (as given
+    /// and absolute) and bytes, in order. Without objects the key is unchanged. `None` when a
+    /// path is not UTF-8.
+    pub fn with_objects(mut self, objects: &[(String, PathBuf, Vec<u8>)]) -> Option<Key> {
+        for (name, path, bytes) in objects {
+            let absolute = fs::canonicalize(path).unwrap_or_default();
+            put(&mut self.head, name.as_bytes());
+            put(&mut self.head, path.to_str()?.as_bytes());
+            put(&mut self.head, absolute.to_str()?.as_bytes());
+            put(&mut self.obj, bytes);
+        }
+        Some(self)
+    }
+
     /// The entry's file name: a hash of the options and the OBJ's paths, not of the compiler
     /// or the bytes, so a new compile of the same asset replaces the old entry.
     pub fn file_name(&self) -> String {
@@ -183,6 +198,7 @@ pub fn encode_options(options: &CompileOptions, out: &mut Vec<u8>) {
                 shadows,
             },
         ids,
+        id_offset,
         wide_vertices,
         shading,
         surface,
@@ -200,6 +216,7 @@ pub fn encode_options(options: &CompileOptions, out: &mut Vec<u8>) {
     out.extend_from_slice(&(*max_polygon_vertices as u64).to_le_bytes());
     out.push(u8::from(*watertight));
     out.push(u8::from(*ids));
+    out.extend_from_slice(&id_offset.to_le_bytes());
     out.push(u8::from(*wide_vertices));
     out.push(u8::from(*solid));
     let direction = |out: &mut Vec<u8>, d: &glam::DVec3| {
@@ -300,7 +317,12 @@ pub fn lookup(dir: &Path, key: &Key) -> Result<Entry, Miss> {
     }
     // The checksum says the bytes are those stored; the full validation says what was stored
     // is a scene this runtime reads.
-    if Scene::parse(&entry.peel).is_err() {
+    let valid = if crate::write::parts::is_parts_file(&entry.peel) {
+        crate::write::parts::read_parts(&entry.peel).is_ok()
+    } else {
+        Scene::parse(&entry.peel).is_ok()
+    };
+    if !valid {
         return Err(Miss::Corrupt);
     }
     Ok(entry)

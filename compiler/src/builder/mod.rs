@@ -10,7 +10,7 @@ pub mod spans;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
-use crate::compile::{compile_obj_bytes, CompileOptions};
+use crate::compile::{compile_obj_bytes, compile_parts_bytes, CompileOptions};
 use crate::error::CompileError;
 use crate::shade::{Shading, Surface};
 
@@ -37,6 +37,8 @@ use crate::shade::{Shading, Surface};
 #[derive(Debug, Clone)]
 pub struct Builder {
     obj: PathBuf,
+    /// The objects of a scene of parts ([`Builder::object`]): name and OBJ file.
+    objects: Vec<(String, PathBuf)>,
     out_dir: Option<PathBuf>,
     out_name: Option<String>,
     options: CompileOptions,
@@ -81,6 +83,7 @@ impl Builder {
     pub fn new(obj: impl AsRef<Path>) -> Self {
         Builder {
             obj: obj.as_ref().to_path_buf(),
+            objects: Vec::new(),
             out_dir: None,
             out_name: None,
             options: CompileOptions::default(),
@@ -89,6 +92,17 @@ impl Builder {
             cache_dir: None,
             image_size: None,
         }
+    }
+
+    /// Add an object `name` compiled from `obj` in its own frame, with the same options:
+    /// the output becomes a file of parts (format 5; `formats/peel.md`), the OBJ given to
+    /// [`Builder::new`] its world, then the objects in the order added. Names have 1 to
+    /// `MAX_NAME` bytes and are distinct ([`CompileError::PartName`]). The sizes file then
+    /// gives the largest of each figure over the parts, so that one workspace draws every
+    /// part; its `CENTRE` and bounds are the world's.
+    pub fn object(mut self, name: impl Into<String>, obj: impl AsRef<Path>) -> Self {
+        self.objects.push((name.into(), obj.as_ref().to_path_buf()));
+        self
     }
 
     /// Write into `dir` instead of `$OUT_DIR`.
@@ -245,16 +259,24 @@ impl Builder {
                 source: std::io::Error::other("the .peel file cannot be named like its sizes file"),
             });
         }
-        // Rerun on the OBJ even if loading fails, so fixing it triggers a rebuild.
+        let names: Vec<&str> = self.objects.iter().map(|(n, _)| n.as_str()).collect();
+        crate::write::parts::check_parts(true, &names)?;
+        // Rerun on the OBJ files even if loading fails, so fixing them triggers a rebuild.
         println!("cargo:rerun-if-changed={}", self.obj.display());
+        for (_, obj) in &self.objects {
+            println!("cargo:rerun-if-changed={}", obj.display());
+        }
         let start = Instant::now();
         let obj_bytes = crate::load::read_obj(&self.obj)?;
+        let objects = (self.objects.iter())
+            .map(|(name, obj)| Ok((name.clone(), obj.clone(), crate::load::read_obj(obj)?)))
+            .collect::<Result<Vec<_>, CompileError>>()?;
         let Done {
             entry: result,
             mtl_files,
             note,
             from_cache,
-        } = self.cached_compile(obj_bytes, start)?;
+        } = self.cached_compile(obj_bytes, objects, start)?;
         for f in watched(&mtl_files, &result.missing) {
             println!("cargo:rerun-if-changed={}", f.display());
         }
@@ -262,17 +284,29 @@ impl Builder {
             println!("cargo:warning={w}");
         }
         println!("peel: {}: {note}", self.obj.display());
-        let scene = peel_runtime::read::Scene::parse(&result.peel).map_err(|e| {
+        let failed = |e: String| {
             CompileError::Invariant(format!("the compiled scene fails validation: {e}"))
-        })?;
-        let spans = match self.image_size {
-            Some((width, height)) => {
-                Some(spans::measure(&result.peel, width, height).map_err(CompileError::Invariant)?)
-            }
-            None => None,
         };
+        let trees: Vec<&[u8]> = if self.objects.is_empty() {
+            vec![&result.peel]
+        } else {
+            let parts = crate::write::parts::read_parts(&result.peel).map_err(failed)?;
+            parts.into_iter().map(|p| p.tree).collect()
+        };
+        let mut headers = Vec::with_capacity(trees.len());
+        let mut measured: Vec<sizes::MeasuredSpans> = Vec::new();
+        for tree in &trees {
+            let scene =
+                peel_runtime::read::Scene::parse(tree).map_err(|e| failed(e.to_string()))?;
+            headers.push(scene.header());
+            if let Some((width, height)) = self.image_size {
+                measured
+                    .push(spans::measure(tree, width, height).map_err(CompileError::Invariant)?);
+            }
+        }
+        let spans = measured.into_iter().reduce(sizes::MeasuredSpans::max);
         let text = sizes::sizes_file(
-            &scene.header(),
+            &sizes::largest(&headers),
             result.peel.len(),
             &name,
             &self.obj.display().to_string(),
@@ -290,12 +324,20 @@ impl Builder {
     }
 
     /// The compile of `obj_bytes`, from the cache when it holds it, else compiled (and stored).
-    fn cached_compile(&self, obj_bytes: Vec<u8>, start: Instant) -> Result<Done, CompileError> {
+    /// `objects` are the objects' names, paths and bytes.
+    fn cached_compile(
+        &self,
+        obj_bytes: Vec<u8>,
+        objects: Vec<(String, PathBuf, Vec<u8>)>,
+        start: Instant,
+    ) -> Result<Done, CompileError> {
         let Some(dir) = self.cache_location() else {
-            return self.compile_now(obj_bytes, start, |_| "cache off".into());
+            return self.compile_now(obj_bytes, objects, start, |_| "cache off".into());
         };
-        let Some(key) = cache::Key::new(&self.obj, &obj_bytes, &self.options) else {
-            return self.compile_now(obj_bytes, start, |_| {
+        let key = cache::Key::new(&self.obj, &obj_bytes, &self.options)
+            .and_then(|key| key.with_objects(&objects));
+        let Some(key) = key else {
+            return self.compile_now(obj_bytes, objects, start, |_| {
                 "not cached: a path is not UTF-8".into()
             });
         };
@@ -315,7 +357,7 @@ impl Builder {
             }
             Err(miss) => miss,
         };
-        self.compile_now(obj_bytes, start, |done| {
+        self.compile_now(obj_bytes, objects, start, |done| {
             let stored = if done.entry.mtl.len() < done.mtl_files.len() {
                 "not cached: an MTL file could not be read".to_string()
             } else {
@@ -333,27 +375,51 @@ impl Builder {
     fn compile_now(
         &self,
         obj_bytes: Vec<u8>,
+        objects: Vec<(String, PathBuf, Vec<u8>)>,
         start: Instant,
         then: impl FnOnce(&Done) -> String,
     ) -> Result<Done, CompileError> {
-        let compiled = compile_obj_bytes(&self.obj, obj_bytes, &self.options, &|_| {}, start)?;
+        let (parts, peel, seconds) = if objects.is_empty() {
+            let compiled = compile_obj_bytes(&self.obj, obj_bytes, &self.options, &|_| {}, start)?;
+            let (peel, seconds) = (compiled.bytes.clone(), compiled.seconds);
+            (vec![compiled], peel, seconds)
+        } else {
+            let objs = (objects.iter())
+                .map(|(name, path, bytes)| (name.clone(), path.as_path(), bytes.clone()))
+                .collect();
+            let compiled = compile_parts_bytes(
+                Some((&self.obj, obj_bytes)),
+                objs,
+                &self.options,
+                &|_| {},
+                start,
+            )?;
+            let parts = compiled.parts.into_iter().map(|(_, c)| c).collect();
+            (parts, compiled.bytes, compiled.seconds)
+        };
+        let objs: Vec<&PathBuf> = std::iter::once(&self.obj)
+            .chain(objects.iter().map(|(_, path, _)| path))
+            .collect();
+        let mut entry = cache::Entry {
+            mtl: Vec::new(),
+            missing: Vec::new(),
+            warnings: Vec::new(),
+            peel,
+        };
+        let mut mtl_files = Vec::new();
+        for part in parts {
+            mtl_files.extend(part.files.into_iter().filter(|f| !objs.contains(&f)));
+            entry.mtl.extend(part.mtl_bytes);
+            entry.missing.extend(part.missing);
+            entry.warnings.extend(part.warnings);
+        }
         let mut done = Done {
-            mtl_files: compiled
-                .files
-                .iter()
-                .filter(|f| **f != self.obj)
-                .cloned()
-                .collect(),
-            entry: cache::Entry {
-                mtl: compiled.mtl_bytes,
-                missing: compiled.missing,
-                warnings: compiled.warnings,
-                peel: compiled.bytes,
-            },
+            mtl_files,
+            entry,
             note: String::new(),
             from_cache: false,
         };
-        done.note = format!("compiled in {:.2} s ({})", compiled.seconds, then(&done));
+        done.note = format!("compiled in {seconds:.2} s ({})", then(&done));
         Ok(done)
     }
 }

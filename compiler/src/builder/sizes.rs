@@ -7,6 +7,7 @@ use std::fmt::Write as _;
 
 use peel_runtime::clip;
 use peel_runtime::fill::MAX_FILL_VERTICES;
+use peel_runtime::read::layout::PARTS_VERSION;
 use peel_runtime::read::Header;
 use peel_runtime::scan::SCAN_NODE_BYTES;
 use peel_runtime::vertices::CachedVertex;
@@ -35,6 +36,48 @@ pub struct MeasuredSpans {
     /// The pending-pixel records with which no anti-aliased frame of the orbit has a row fall
     /// back to plain pixels ([`super::spans::pending_pixels`]).
     pub pending_pixels: usize,
+}
+
+impl MeasuredSpans {
+    /// The largest of each figure of `self` and `other` (measured at the same size): memory
+    /// with which no frame of either runs out.
+    pub fn max(self, other: MeasuredSpans) -> MeasuredSpans {
+        MeasuredSpans {
+            per_row: self.per_row.max(other.per_row),
+            scan_nodes: self.scan_nodes.max(other.scan_nodes),
+            scan_nodes_antialiased: self
+                .scan_nodes_antialiased
+                .max(other.scan_nodes_antialiased),
+            pending_pixels: self.pending_pixels.max(other.pending_pixels),
+            ..self
+        }
+    }
+}
+
+/// The header the sizes file of a file of parts is written from: the first part's (the
+/// world's) with the version [`PARTS_VERSION`] and the largest of each count over the parts,
+/// so that memory sized from it draws every part. One header (a plain scene's) is itself.
+pub fn largest(headers: &[Header]) -> Header {
+    let [first, rest @ ..] = headers else {
+        return Header::default();
+    };
+    if rest.is_empty() {
+        return *first;
+    }
+    let max = |field: fn(&Header) -> u32| headers.iter().map(field).max().unwrap_or(0);
+    Header {
+        version: PARTS_VERSION,
+        vertex_count: max(|h| h.vertex_count),
+        plane_count: max(|h| h.plane_count),
+        index_count: max(|h| h.index_count),
+        polygon_count: max(|h| h.polygon_count),
+        node_count: max(|h| h.node_count),
+        max_depth: max(|h| h.max_depth),
+        max_polygon_vertices: max(|h| h.max_polygon_vertices),
+        palette_count: max(|h| h.palette_count),
+        bounds_count: max(|h| h.bounds_count),
+        ..*first
+    }
 }
 
 /// Scan memory nodes the sizes file gives without a measurement (32 KiB).
@@ -98,6 +141,24 @@ impl FrameMemory {
                 measured_at: Some((m.width, m.height)),
                 ..defaults
             },
+        }
+    }
+
+    /// The largest of each figure of `self` and `other`: memory that draws either scene (the
+    /// parts of a file of parts share one workspace). The measured size is kept where both
+    /// were measured at it.
+    pub fn max(self, other: FrameMemory) -> FrameMemory {
+        FrameMemory {
+            stack: self.stack.max(other.stack),
+            verts: self.verts.max(other.verts),
+            vertex_memory: self.vertex_memory.max(other.vertex_memory),
+            spans_per_row: self.spans_per_row.max(other.spans_per_row),
+            scan_nodes: self.scan_nodes.max(other.scan_nodes),
+            scan_nodes_aa: self.scan_nodes_aa.max(other.scan_nodes_aa),
+            pending_pixels: self.pending_pixels.max(other.pending_pixels),
+            measured_at: self
+                .measured_at
+                .filter(|_| self.measured_at == other.measured_at),
         }
     }
 

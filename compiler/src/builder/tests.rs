@@ -71,7 +71,7 @@ fn missing_mtl_files_are_watched_through_their_nearest_folder() {
     // watches the same paths.
     for from_cache in [false, true] {
         let done = builder(dir.path(), &obj)
-            .cached_compile(fs::read(&obj).unwrap(), Instant::now())
+            .cached_compile(fs::read(&obj).unwrap(), Vec::new(), Instant::now())
             .unwrap();
         assert_eq!(done.from_cache, from_cache);
         assert_eq!(
@@ -157,10 +157,10 @@ fn the_second_compile_comes_from_the_cache_with_the_same_bytes_and_warnings() {
     let obj = cube_with_library(dir.path());
     let b = builder(dir.path(), &obj);
     let first = b
-        .cached_compile(CUBE_WITH_LIBRARY.into(), Instant::now())
+        .cached_compile(CUBE_WITH_LIBRARY.into(), Vec::new(), Instant::now())
         .unwrap();
     let second = b
-        .cached_compile(CUBE_WITH_LIBRARY.into(), Instant::now())
+        .cached_compile(CUBE_WITH_LIBRARY.into(), Vec::new(), Instant::now())
         .unwrap();
     assert!(!first.from_cache && second.from_cache, "{}", second.note);
     assert_eq!(first.entry, second.entry);
@@ -188,7 +188,10 @@ fn a_damaged_entry_is_compiled_again_and_replaced() {
     let dir = tempfile::tempdir().unwrap();
     let obj = write(dir.path(), "cube.obj", CUBE);
     let b = builder(dir.path(), &obj);
-    let good = b.cached_compile(CUBE.into(), Instant::now()).unwrap().entry;
+    let good = b
+        .cached_compile(CUBE.into(), Vec::new(), Instant::now())
+        .unwrap()
+        .entry;
     let [entry] = &entries(dir.path())[..] else {
         panic!("one entry expected");
     };
@@ -211,7 +214,9 @@ fn a_damaged_entry_is_compiled_again_and_replaced() {
     for (what, bytes, miss) in damages {
         fs::write(entry, &bytes).unwrap();
         assert_eq!(cache::lookup(&dir_cache, &key), Err(miss), "{what}");
-        let done = b.cached_compile(CUBE.into(), Instant::now()).unwrap();
+        let done = b
+            .cached_compile(CUBE.into(), Vec::new(), Instant::now())
+            .unwrap();
         assert!(!done.from_cache, "{what}");
         assert_eq!(done.entry, good, "{what}");
         assert_eq!(
@@ -220,7 +225,7 @@ fn a_damaged_entry_is_compiled_again_and_replaced() {
             "{what}: the entry is rewritten"
         );
         assert!(
-            b.cached_compile(CUBE.into(), Instant::now())
+            b.cached_compile(CUBE.into(), Vec::new(), Instant::now())
                 .unwrap()
                 .from_cache
         );
@@ -231,7 +236,9 @@ fn a_damaged_entry_is_compiled_again_and_replaced() {
     bad.peel.truncate(40);
     cache::store(&dir_cache, &key, &bad).unwrap();
     assert_eq!(cache::lookup(&dir_cache, &key), Err(Miss::Corrupt));
-    let done = b.cached_compile(CUBE.into(), Instant::now()).unwrap();
+    let done = b
+        .cached_compile(CUBE.into(), Vec::new(), Instant::now())
+        .unwrap();
     assert!(!done.from_cache);
     assert!(Scene::parse(&fs::read(entry).unwrap()).is_err());
     assert_eq!(cache::lookup(&dir_cache, &key), Ok(good));
@@ -242,7 +249,10 @@ fn an_edited_obj_or_mtl_or_a_new_mtl_is_compiled_again() {
     let dir = tempfile::tempdir().unwrap();
     let obj = write(dir.path(), "t.obj", RED_TRIANGLE);
     let b = builder(dir.path(), &obj);
-    let run = |bytes: &str| b.cached_compile(bytes.into(), Instant::now()).unwrap();
+    let run = |bytes: &str| {
+        b.cached_compile(bytes.into(), Vec::new(), Instant::now())
+            .unwrap()
+    };
     // The MTL is missing: default colour and a warning; its appearance invalidates.
     let missing = run(RED_TRIANGLE);
     assert!(!missing.from_cache && !missing.entry.warnings.is_empty());
@@ -445,7 +455,7 @@ fn a_default_colour_silences_the_warning_about_faces_without_material() {
     let dir = tempfile::tempdir().unwrap();
     let obj = cube_with_library(dir.path());
     let grey = builder(dir.path(), &obj)
-        .cached_compile(CUBE_WITH_LIBRARY.into(), Instant::now())
+        .cached_compile(CUBE_WITH_LIBRARY.into(), Vec::new(), Instant::now())
         .unwrap();
     assert_eq!(grey.entry.warnings.len(), 1, "{:?}", grey.entry.warnings);
     assert!(grey.entry.warnings[0].contains("--default-colour"));
@@ -454,7 +464,7 @@ fn a_default_colour_silences_the_warning_about_faces_without_material() {
         .shading(Shading::Flat);
     for from_cache in [false, true] {
         let done = b
-            .cached_compile(CUBE_WITH_LIBRARY.into(), Instant::now())
+            .cached_compile(CUBE_WITH_LIBRARY.into(), Vec::new(), Instant::now())
             .unwrap();
         assert_eq!(done.from_cache, from_cache);
         assert!(done.entry.warnings.is_empty(), "{:?}", done.entry.warnings);
@@ -490,4 +500,72 @@ fn shadows_are_cast_from_the_shading_light_whatever_the_order() {
     let lit = Key::new(&obj, &bytes, &builder(dir.path(), &obj).options).unwrap();
     let cast = builder(dir.path(), &obj).shadows(true);
     assert_ne!(lit, Key::new(&obj, &bytes, &cast.options).unwrap());
+}
+
+/// A world and two objects: a file of parts whose sizes file gives the largest of each figure
+/// over the parts; the second compile comes from the cache, an edited object misses it, and a
+/// repeated name is refused before anything is written.
+#[test]
+fn objects_make_a_file_of_parts_sized_for_every_part() {
+    let dir = tempfile::tempdir().unwrap();
+    let world = write(dir.path(), "cube.obj", CUBE);
+    let demo = write(
+        dir.path(),
+        "demo.obj",
+        include_str!("../../../fixtures/demo.obj"),
+    );
+    let tri = write(
+        dir.path(),
+        "tri.obj",
+        "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n",
+    );
+    let b = builder(dir.path(), &world)
+        .object("demo", &demo)
+        .object("tri", &tri);
+    let out = b.compile().unwrap();
+    assert!(!out.from_cache);
+    let bytes = fs::read(&out.peel).unwrap();
+    let parts = crate::write::parts::read_parts(&bytes).unwrap();
+    let names: Vec<&str> = parts.iter().map(|p| p.name).collect();
+    assert_eq!(names, ["", "demo", "tri"]);
+    let headers: Vec<_> = (parts.iter())
+        .map(|p| Scene::parse(p.tree).unwrap().header())
+        .collect();
+    let text = fs::read_to_string(&out.sizes).unwrap();
+    let most =
+        |f: fn(&peel_runtime::read::Header) -> u32| headers.iter().map(f).max().unwrap() as usize;
+    assert_eq!(constant(&text, "STACK"), most(|h| h.max_depth));
+    assert_eq!(constant(&text, "VERTICES"), most(|h| h.vertex_count));
+    assert_eq!(constant(&text, "POLYGONS"), most(|h| h.polygon_count));
+    assert_eq!(
+        constant(&text, "VERTS"),
+        most(|h| h.max_polygon_vertices) + peel_runtime::clip::CLIP_PLANES
+    );
+    assert_eq!(constant(&text, "BYTES"), bytes.len());
+    // The demo is the largest part: the figures are not all the world's.
+    assert!(headers[1].polygon_count > headers[0].polygon_count);
+    assert!(text.contains(&format!(
+        "pub const FORMAT_VERSION: u16 = {};",
+        peel_runtime::read::layout::PARTS_VERSION
+    )));
+
+    let again = b.compile().unwrap();
+    assert!(again.from_cache);
+    assert_eq!(fs::read(&again.peel).unwrap(), bytes);
+    assert_eq!(fs::read_to_string(&again.sizes).unwrap(), text);
+    write(
+        dir.path(),
+        "tri.obj",
+        "v 0 0 0\nv 2 0 0\nv 0 1 0\nf 1 2 3\n",
+    );
+    assert!(!b.compile().unwrap().from_cache);
+
+    let e = builder(dir.path(), &world)
+        .out_name("twice.peel")
+        .object("a", &tri)
+        .object("a", &tri)
+        .compile()
+        .unwrap_err();
+    assert!(matches!(e, CompileError::PartName { .. }), "{e:?}");
+    assert!(!dir.path().join("twice.peel").exists());
 }

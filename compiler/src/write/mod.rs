@@ -13,6 +13,7 @@ mod bounds;
 pub(crate) mod encoding;
 pub(crate) mod format;
 pub(crate) mod grid;
+pub mod parts;
 pub(crate) mod shades;
 
 use glam::{DVec3, Vec3};
@@ -59,6 +60,9 @@ pub(crate) struct WriteInput<'a> {
     pub exterior: &'a [[u8; 3]],
     /// Keep source triangle ids.
     pub ids: bool,
+    /// Added to every id kept: in a file of parts, a part's ids follow those of the parts
+    /// before it.
+    pub id_offset: u32,
     /// Store vertices as `f32` instead of 16-bit steps on the scene's bounds.
     pub wide_vertices: bool,
     /// Flags added to each tree polygon's ([`format::polygon_flags::SMOOTH`],
@@ -107,6 +111,7 @@ pub(crate) fn peel_file_encoded(
         colours,
         exterior,
         ids,
+        id_offset,
         wide_vertices,
         polygon_flags: extra_flags,
         shades,
@@ -176,6 +181,7 @@ pub(crate) fn peel_file_encoded(
         vertices: &vertices,
         per_step,
         ids,
+        id_offset,
         extra_flags,
         planes: Vec::new(),
         plane_slots: FastMap::default(),
@@ -326,6 +332,8 @@ struct Emitter<'t> {
     /// Steps per unit of length on each axis, as the runtime brings the eye to steps.
     per_step: DVec3,
     ids: bool,
+    /// Added to every id.
+    id_offset: u32,
     /// Flags added per tree polygon (or empty).
     extra_flags: &'t [u8],
     /// The split nodes' planes, in order of first use.
@@ -523,7 +531,13 @@ impl Emitter<'_> {
         self.indices.extend_from_slice(tail);
         self.indices.extend_from_slice(head);
         if self.ids {
-            self.ids_out.push(polygon.source);
+            let id = polygon.source.checked_add(self.id_offset).ok_or_else(|| {
+                CompileError::Encode(format!(
+                    "source triangle {} after {} of the parts before it: ids are 32-bit",
+                    polygon.source, self.id_offset
+                ))
+            })?;
+            self.ids_out.push(id);
         }
         Ok(())
     }
