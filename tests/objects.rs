@@ -4,36 +4,28 @@
 
 use glam::{DVec3, Vec3};
 use peel_compiler::compile::{compile_mesh, CompileOptions};
-use peel_compiler::load::{Mesh, SourceTriangle};
+use peel_compiler::load::Mesh;
 use peel_compiler::shade::Surface;
 use peel_compiler::tools::raster::{posed_header, render_posed_with, Settings};
 use peel_compiler::tools::scenes::{self, boxed};
 use peel_compiler::tools::shot::Shot;
 use peel_e2e::{closed_sphere, polygons, reference};
+use peel_runtime::error::ReadError;
 use peel_runtime::place::{Object, Pose};
-use peel_runtime::read::Scene;
+use peel_runtime::read::layout::{PARTS_HEADER_SIZE, PART_ENTRY_SIZE};
+use peel_runtime::read::{Parts, Scene};
 use peel_runtime::traverse::Order;
 
-/// `mesh` compiled with ids, faceted; its ids start at `first_id` (the triangles before it
-/// in the frame's numbering: degenerate ones, which the compiler drops, keep the count).
+/// `mesh` compiled with ids, faceted, its ids starting at `first_id` (the triangles before
+/// it in the frame's numbering).
 fn compile(mesh: &Mesh, first_id: usize) -> Vec<u8> {
-    let mut numbered = mesh.clone();
-    let at = mesh.triangles[0].vertices[0];
-    let empty = SourceTriangle {
-        vertices: [at; 3],
-        ..mesh.triangles[0]
-    };
-    numbered
-        .triangles
-        .splice(0..0, std::iter::repeat(empty).take(first_id));
     let options = CompileOptions {
         ids: true,
         surface: Surface::Faceted,
+        id_offset: first_id as u32,
         ..CompileOptions::default()
     };
-    compile_mesh(&numbered, &options, &|_| {})
-        .expect("compile")
-        .1
+    compile_mesh(mesh, &options, &|_| {}).expect("compile").1
 }
 
 /// The world: a floor and a few boxes, one of them hollow (a room of four walls).
@@ -227,7 +219,7 @@ fn posed_objects_match_the_reference() {
     let mut random = Random(7);
     let mut shown = 0;
     for round in 0..12 {
-        let mut pose = |random: &mut Random| {
+        let pose = |random: &mut Random| {
             Pose::from_degrees(
                 Vec3::new(
                     random.range(-4.5, 4.5),
@@ -268,4 +260,47 @@ fn posed_objects_match_the_reference() {
         }
     }
     assert!(shown > 1000, "the objects showed on {shown} robust pixels");
+}
+
+/// A file of parts as the compiler writes it, read by the runtime: the world, the objects by
+/// name and index, and a corrupt name or table refused with the byte offset of its entry.
+#[test]
+fn files_of_parts_read_back() {
+    let world_mesh = world();
+    let world_bytes = compile(&world_mesh, 0);
+    let torus_bytes = compile(&scenes::torus(8, 6), world_mesh.triangles.len());
+    let objects = vec![("wheel".to_string(), torus_bytes.clone())];
+    let file = peel_compiler::write::parts::parts_file(Some(&world_bytes), &objects).unwrap();
+    let parts = Parts::parse(&file).unwrap();
+    assert!(parts.has_table());
+    assert_eq!(parts.object_count(), 1);
+    let world = parts.world().expect("a world");
+    assert_eq!(world.header(), Scene::parse(&world_bytes).unwrap().header());
+    let (name, wheel) = parts.object(0).expect("an object");
+    assert_eq!(name, "wheel");
+    assert_eq!(wheel.header(), Scene::parse(&torus_bytes).unwrap().header());
+    assert_eq!(parts.find("wheel").map(|(k, _)| k), Some(0));
+    assert!(parts.find("world").is_none() && parts.object(1).is_none());
+    // A plain tree file reads as a world alone.
+    let plain = Parts::parse(&world_bytes).unwrap();
+    assert!(!plain.has_table() && plain.object_count() == 0 && plain.world().is_some());
+    // The object's name made empty: its table entry (the second) is named.
+    let entry = PARTS_HEADER_SIZE + PART_ENTRY_SIZE;
+    let mut bad = file.clone();
+    bad[entry + 12..entry + 16].copy_from_slice(&0u32.to_le_bytes());
+    assert_eq!(
+        Parts::parse(&bad).unwrap_err(),
+        ReadError::BadName { offset: entry }
+    );
+    // A tree cut short is refused at a byte offset inside it.
+    let mut short = file.clone();
+    let len = u32::from_le_bytes(short[entry + 4..entry + 8].try_into().unwrap());
+    short[entry + 4..entry + 8].copy_from_slice(&(len - 8).to_le_bytes());
+    let start = u32::from_le_bytes(short[entry..entry + 4].try_into().unwrap()) as usize;
+    match Parts::parse(&short).unwrap_err() {
+        ReadError::Truncated { offset } | ReadError::CountMismatch { offset } => {
+            assert!(offset >= start, "{offset} before the tree at {start}")
+        }
+        e => panic!("{e}"),
+    }
 }

@@ -187,13 +187,13 @@ impl Builder<'_, '_> {
     /// side kept turned accordingly; `plane` itself when it is new.
     fn canonical(&self, plane: Plane, keep_plus: bool) -> (Plane, bool) {
         let length = plane.normal.length();
-        if !(length > 0.0) {
+        if length.is_nan() || length <= 0.0 {
             return (plane, keep_plus);
         }
         let (n, d) = (plane.normal / length, plane.d / length);
         for c in self.cuts.get(..self.cut_count).unwrap_or(&[]) {
             let l = c.plane.normal.length();
-            if !(l > 0.0) {
+            if l.is_nan() || l <= 0.0 {
                 continue;
             }
             let (m, e) = (c.plane.normal / l, c.plane.d / l);
@@ -261,7 +261,7 @@ impl Builder<'_, '_> {
     /// each would cut the piece again.
     fn known_side(&self, mut cut: u16, plane: &Plane) -> Option<Class> {
         let length = plane.normal.length();
-        if !(length > 0.0) {
+        if length.is_nan() || length <= 0.0 {
             return None;
         }
         let (n, d) = (plane.normal / length, plane.d / length);
@@ -463,7 +463,7 @@ pub(crate) fn plan(
         }
     }
     let mut len = 0usize;
-    let root = world.and_then(|w| Tree::root(w));
+    let root = world.and_then(Tree::root);
     match root {
         Some(root) => push(tasks, &mut len, Task::Node { node: root, set })?,
         None if set != NONE => push(tasks, &mut len, Task::Group(set))?,
