@@ -5,8 +5,10 @@
 use glam::{DVec3, Vec3};
 use peel_compiler::compile::{compile_mesh, CompileOptions};
 use peel_compiler::load::Mesh;
-use peel_compiler::shade::Surface;
+use peel_compiler::shade::{Shading, Surface};
+use peel_compiler::tools::raster::HOST_PENDING;
 use peel_compiler::tools::raster::{posed_header, render_posed_with, Settings};
+use peel_compiler::tools::reference::{sampled, Grid};
 use peel_compiler::tools::scenes::{self, boxed};
 use peel_compiler::tools::shot::Shot;
 use peel_e2e::{closed_sphere, polygons, reference};
@@ -105,10 +107,7 @@ fn compare(
     let w = Scene::parse(world.1).unwrap();
     let parts: Vec<Object> = objects
         .iter()
-        .map(|(_, bytes, pose)| Object {
-            scene: Scene::parse(bytes).unwrap(),
-            pose: *pose,
-        })
+        .map(|(_, bytes, pose)| Object::new(Scene::parse(bytes).unwrap(), *pose))
         .collect();
     let mut tris: Vec<[DVec3; 3]> = world.0.triangles.iter().map(|t| t.vertices).collect();
     let mut polys = polygons(world.1);
@@ -262,6 +261,114 @@ fn posed_objects_match_the_reference() {
     assert!(shown > 1000, "the objects showed on {shown} robust pixels");
 }
 
+/// Anti-aliased, flat colours: each pixel within half a unit of the exact mean of its 25
+/// samples over the posed triangles, plus, per sample near an edge (the objects' cuts and
+/// crossings count as edges), its share of the colours' range: the bound
+/// `tests/antialias.rs` holds static scenes to.
+#[test]
+fn antialiased_posed_frames_match_the_exact_samples_but_near_edges() {
+    let grid = Grid::RUNTIME;
+    let k = f64::from(grid.samples());
+    let flat = |mesh: &Mesh, first_id: usize| {
+        let options = CompileOptions {
+            shading: Shading::Flat,
+            id_offset: first_id as u32,
+            ..CompileOptions::default()
+        };
+        compile_mesh(mesh, &options, &|_| {}).expect("compile").1
+    };
+    let mut world_mesh = world();
+    for (i, t) in world_mesh.triangles.iter_mut().enumerate() {
+        t.colour = [40 + (i % 5) as u8 * 40, 200, 90];
+    }
+    let mut torus = scenes::torus(16, 8);
+    for t in &mut torus.triangles {
+        t.colour = [250, 60, 20];
+    }
+    let world_bytes = flat(&world_mesh, 0);
+    let torus_bytes = flat(&torus, world_mesh.triangles.len());
+    let world = Scene::parse(&world_bytes).unwrap();
+    let background = [10, 10, 10];
+    let mut random = Random(11);
+    let (mut near_pixels, mut pixels) = (0, 0);
+    for _ in 0..4 {
+        let pose = Pose::from_degrees(
+            Vec3::new(
+                random.range(-4.0, 4.0),
+                random.range(0.0, 2.0),
+                random.range(-4.0, 4.0),
+            ),
+            random.range(-180.0, 180.0),
+            random.range(-90.0, 90.0),
+            0.0,
+        );
+        let objects = [Object::new(Scene::parse(&torus_bytes).unwrap(), Some(pose))];
+        let mut tris: Vec<[DVec3; 3]> = world_mesh.triangles.iter().map(|t| t.vertices).collect();
+        let mut colours: Vec<[u8; 3]> = world_mesh.triangles.iter().map(|t| t.colour).collect();
+        let mut polys = polygons(&world_bytes);
+        let placed = posed(&torus, &pose);
+        let (r, t) = (pose.rotation.as_dmat3(), pose.translation.as_dvec3());
+        polys.extend(
+            polygons(&torus_bytes)
+                .into_iter()
+                .map(|p| p.into_iter().map(|q| t + r * q).collect::<Vec<_>>()),
+        );
+        for a in &placed {
+            for b in &tris {
+                if let Some(segment) = crossing(a, b) {
+                    polys.push(segment.to_vec());
+                }
+            }
+        }
+        tris.extend(placed);
+        colours.extend(torus.triangles.iter().map(|t| t.colour));
+        let (lo, hi) =
+            colours
+                .iter()
+                .chain([&background])
+                .fold(([255u8; 3], [0u8; 3]), |(lo, hi), c| {
+                    (
+                        [0, 1, 2].map(|i| lo[i].min(c[i])),
+                        [0, 1, 2].map(|i| hi[i].max(c[i])),
+                    )
+                });
+        let header = posed_header(Some(&world), &objects);
+        for shot in orbit(DVec3::new(0.0, 1.0, 0.0), 11.0, 5.0).iter().take(3) {
+            let near = shot.near_over(&header);
+            let exact = sampled(
+                &tris,
+                &polys,
+                shot,
+                near,
+                grid,
+                |id, _| colours[id],
+                background,
+            );
+            let settings = Settings {
+                antialias: Some(HOST_PENDING),
+                background,
+                ..Settings::default()
+            };
+            let aa = render_posed_with(Some(&world), &objects, shot, &settings).unwrap();
+            assert!(aa.stats.antialiased);
+            let rgb = aa.to_rgb();
+            for (p, (want, &m)) in exact.colours.iter().zip(&exact.near_edge).enumerate() {
+                pixels += 1;
+                near_pixels += usize::from(m > 0);
+                for c in 0..3 {
+                    let error = (f64::from(rgb[3 * p + c]) - want[c]).abs();
+                    let bound = 0.5 + f64::from(m) * f64::from(hi[c] - lo[c]) / k;
+                    assert!(
+                        error <= bound + 1e-9,
+                        "pose {pose:?}, {shot:?}: pixel {p} channel {c} off by {error:.3} > {bound:.3}"
+                    );
+                }
+            }
+        }
+    }
+    assert!(near_pixels > 0 && near_pixels < pixels);
+}
+
 /// A file of parts as the compiler writes it, read by the runtime: the world, the objects by
 /// name and index, and a corrupt name or table refused with the byte offset of its entry.
 #[test]
@@ -303,4 +410,43 @@ fn files_of_parts_read_back() {
         }
         e => panic!("{e}"),
     }
+}
+
+/// Two boxes whose faces touch (their boxes share a plane, which orders them), on the floor
+/// inside the room, turned together about the vertical: drawn, and no robust pixel differs
+/// from the reference.
+#[test]
+fn touching_objects_are_ordered_by_their_common_plane() {
+    let world_mesh = world();
+    let mut cube = Vec::new();
+    boxed(&mut cube, DVec3::splat(-0.5), DVec3::splat(0.5));
+    let cube = scenes::mesh(cube);
+    let world_bytes = compile(&world_mesh, 0);
+    let n = world_mesh.triangles.len();
+    let a_bytes = compile(&cube, n);
+    let b_bytes = compile(&cube, n + 12);
+    let mut shown = 0;
+    for turn in [0.0f32, 30.0, 75.0] {
+        let r = glam::Mat3::from_rotation_y(turn.to_radians());
+        let centre = Vec3::new(1.0, 0.5, 3.6);
+        let a = Pose::from_degrees(centre + r * Vec3::new(-0.5, 0.0, 0.0), turn, 0.0, 0.0);
+        let b = Pose::from_degrees(centre + r * Vec3::new(0.5, 0.0, 0.0), turn, 0.0, 0.0);
+        let objects = [
+            (&cube, &a_bytes[..], Some(a)),
+            (&cube, &b_bytes[..], Some(b)),
+        ];
+        let shots = orbit(DVec3::new(1.0, 0.5, 3.6), 6.0, 4.0);
+        for order in [Order::FrontToBack, Order::BackToFront] {
+            let settings = Settings {
+                order,
+                ids: true,
+                ..Settings::default()
+            };
+            let (bad, on_objects) =
+                compare((&world_mesh, &world_bytes), &objects, &shots, &settings);
+            assert_eq!(bad, 0, "turned {turn} {order:?}");
+            shown += on_objects;
+        }
+    }
+    assert!(shown > 1000, "the boxes showed on {shown} robust pixels");
 }

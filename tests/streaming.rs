@@ -10,15 +10,18 @@ use std::sync::OnceLock;
 
 use glam::DVec3;
 use peel_compiler::compile::{compile_mesh, CompileOptions};
-use peel_compiler::tools::raster::{HOST_SPANS_PER_ROW, HOST_STACK, HOST_VERTS};
+use peel_compiler::tools::raster::{
+    posed_header, HostObjectMemory, HOST_SPANS_PER_ROW, HOST_STACK, HOST_VERTS,
+};
 use peel_compiler::tools::scenes;
 use peel_e2e::closed_sphere;
 use peel_runtime::camera::{Camera, LocalView, Pose};
 use peel_runtime::coverage::Coverage;
 use peel_runtime::display::{Colour, Framebuffer, SpanSink, Xrgb8888};
 use peel_runtime::error::RenderError;
+use peel_runtime::place::{Object, Posed};
 use peel_runtime::read::Scene;
-use peel_runtime::render::{FrameStats, Renderer, Workspace};
+use peel_runtime::render::{Content, FrameStats, Renderer, Workspace};
 use peel_runtime::scan::{ScanMemory, ScanNode};
 use peel_runtime::traverse::Order;
 use proptest::prelude::*;
@@ -106,8 +109,8 @@ struct Way {
 }
 
 /// Draw rows `rows` of `view` as `way` says into `sink`, with span memory of `memory_rows`.
-fn draw_rows<const SUB: u32, S: SpanSink>(
-    scene: &Scene<'_>,
+fn draw_rows<const SUB: u32, S: SpanSink, C: Content + ?Sized>(
+    scene: &C,
     view: &LocalView,
     way: Way,
     rows: std::ops::Range<u32>,
@@ -118,7 +121,10 @@ fn draw_rows<const SUB: u32, S: SpanSink>(
     let mut counts = vec![0u16; memory_rows as usize];
     let coverage = Coverage::new(&mut intervals, &mut counts, view.width, memory_rows).unwrap();
     let mut workspace: Box<Workspace<HOST_STACK, HOST_VERTS, SUB>> = Box::default();
-    let mut renderer = Renderer::<SUB>::with_precision(&mut workspace).ids();
+    let mut objects: Box<HostObjectMemory> = Box::default();
+    let mut renderer = Renderer::<SUB>::with_precision(&mut workspace)
+        .ids()
+        .object_memory(&mut objects);
     if way.order == Order::FrontToBack {
         renderer = renderer.span_memory(coverage);
     }
@@ -129,7 +135,11 @@ fn draw_rows<const SUB: u32, S: SpanSink>(
 }
 
 /// The framebuffer frame: cleared to the background, then drawn.
-fn reference<const SUB: u32>(scene: &Scene<'_>, view: &LocalView, order: Order) -> Vec<u32> {
+fn reference<const SUB: u32, C: Content + ?Sized>(
+    scene: &C,
+    view: &LocalView,
+    order: Order,
+) -> Vec<u32> {
     let (w, h) = (view.width, view.height);
     let mut pixels = vec![0u32; (w * h) as usize];
     let mut fb = Framebuffer::<Xrgb8888>::new(&mut pixels, w, h).unwrap();
@@ -139,14 +149,14 @@ fn reference<const SUB: u32>(scene: &Scene<'_>, view: &LocalView, order: Order) 
         slots: HOST_SPANS_PER_ROW,
         stream: false,
     };
-    draw_rows::<SUB, _>(scene, view, way, 0..h, h, &mut fb);
+    draw_rows::<SUB, _, _>(scene, view, way, 0..h, h, &mut fb);
     pixels
 }
 
 /// The scan-order frame of `view` against `expected` (the front-to-back framebuffer frame),
 /// in RGB565, read as one run and row by row; one node less than it used is an error.
-fn check_scan<const SUB: u32>(
-    scene: &Scene<'_>,
+fn check_scan<const SUB: u32, C: Content + ?Sized>(
+    scene: &C,
     view: &LocalView,
     expected: &[u32],
 ) -> Result<(), TestCaseError> {
@@ -163,8 +173,10 @@ fn check_scan<const SUB: u32>(
         // framebuffer's, `runtime/src/render/smooth_tests.rs`).
         memory.set_dithering(false);
         let mut workspace: Box<Workspace<HOST_STACK, HOST_VERTS, SUB>> = Box::default();
+        let mut objects: Box<HostObjectMemory> = Box::default();
         let mut renderer = Renderer::<SUB>::with_precision(&mut workspace)
             .ids()
+            .object_memory(&mut objects)
             .scan_memory(memory)
             .background(BACKGROUND);
         let frame = renderer.draw_scan(scene, view)?;
@@ -198,17 +210,17 @@ fn check_scan<const SUB: u32>(
 }
 
 /// Streamed and banded frames of `scene` against the framebuffer frame.
-fn check<const SUB: u32>(
-    scene: &Scene<'_>,
+fn check<const SUB: u32, C: Content + ?Sized>(
+    scene: &C,
     view: &LocalView,
     band: u32,
     slots: usize,
 ) -> Result<(), TestCaseError> {
     let (w, h) = (view.width, view.height);
     for order in [Order::FrontToBack, Order::BackToFront] {
-        let expected = reference::<SUB>(scene, view, order);
+        let expected = reference::<SUB, _>(scene, view, order);
         if order == Order::FrontToBack {
-            check_scan::<SUB>(scene, view, &expected)?;
+            check_scan::<SUB, _>(scene, view, &expected)?;
         }
         let way = Way {
             order,
@@ -217,7 +229,7 @@ fn check<const SUB: u32>(
         };
         // Streamed: no clear, every pixel written by the frame itself.
         let mut streamed = Counted::new(w, h);
-        let stats = draw_rows::<SUB, _>(scene, view, way, 0..h, h, &mut streamed);
+        let stats = draw_rows::<SUB, _, _>(scene, view, way, 0..h, h, &mut streamed);
         let differ = streamed
             .colours
             .iter()
@@ -244,7 +256,7 @@ fn check<const SUB: u32>(
             let mut buffer = vec![0u32; (w * (rows.end - first)) as usize];
             let mut fb = Framebuffer::<Xrgb8888>::band(&mut buffer, w, rows.clone()).unwrap();
             let mut both = Both(&mut fb, &mut counted, rows.clone());
-            fallback |= draw_rows::<SUB, _>(scene, view, way, rows, band, &mut both).fallback;
+            fallback |= draw_rows::<SUB, _, _>(scene, view, way, rows, band, &mut both).fallback;
             banded[(first * w) as usize..][..buffer.len()].copy_from_slice(&buffer);
         }
         let differ = banded.iter().zip(&expected).filter(|(a, b)| a != b).count();
@@ -301,10 +313,84 @@ proptest! {
         let view = camera.unwrap().view(h.centre);
         let band = band.min(height);
         match sub {
-            0 => check::<0>(&scene, &view, band, slots)?,
-            4 => check::<4>(&scene, &view, band, slots)?,
-            _ => check::<8>(&scene, &view, band, slots)?,
+            0 => check::<0, _>(&scene, &view, band, slots)?,
+            4 => check::<4, _>(&scene, &view, band, slots)?,
+            _ => check::<8, _>(&scene, &view, band, slots)?,
         }
+    }
+}
+
+/// The posed frames' world, a grid of eight boxes, then two small objects: a closed sphere
+/// and a torus, each 0.6 across, with ids after the world's.
+fn posed_scene() -> &'static [Vec<u8>] {
+    static PARTS: OnceLock<Vec<Vec<u8>>> = OnceLock::new();
+    PARTS.get_or_init(|| {
+        let world = scenes::box_grid(2);
+        let mut sphere = closed_sphere(6, 10);
+        let mut torus = scenes::torus(10, 6);
+        for mesh in [&mut sphere, &mut torus] {
+            for t in &mut mesh.triangles {
+                t.vertices = t.vertices.map(|v| v * 0.3);
+            }
+        }
+        let mut first = 0;
+        [world, sphere, torus]
+            .iter()
+            .map(|mesh| {
+                let options = CompileOptions {
+                    ids: true,
+                    id_offset: first,
+                    ..CompileOptions::default()
+                };
+                first += mesh.triangles.len() as u32;
+                compile_mesh(mesh, &options, &|_| {}).expect("compile").1
+            })
+            .collect()
+    })
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 64, failure_persistence: None, ..ProptestConfig::default() })]
+
+    /// The same with objects posed in the solids' scene (apart from each other, through the
+    /// world's solids and planes): streamed, banded and scan-order frames equal the
+    /// framebuffer frame, in both orders, with the fallback.
+    #[test]
+    fn posed_frames_are_the_same_on_every_path(
+        a in prop::array::uniform3(-1.0f32..1.0),
+        b in prop::array::uniform3(-1.0f32..1.0),
+        turn in prop::array::uniform3(-180.0f32..180.0),
+        eye in prop::array::uniform3(-1.6f64..1.6),
+        width in 8u32..48,
+        height in 6u32..36,
+        band in 1u32..40,
+        slots in prop::sample::select(vec![1usize, 2, HOST_SPANS_PER_ROW]),
+    ) {
+        let [world, sphere, torus] = [0, 1, 2].map(|k| Scene::parse(&posed_scene()[k]).unwrap());
+        // Among the boxes (0 to 3.2 on each axis), the sphere left of x = 1.6 and the torus
+        // right of it: a plane between them always.
+        let at = |p: [f32; 3], x: f32| glam::Vec3::new(x + 0.5 * p[0], 1.6 + 1.5 * p[1], 1.6 + 1.5 * p[2]);
+        let objects = [
+            Object::new(sphere, Some(peel_runtime::place::Pose::from_degrees(at(a, 0.75), turn[0], 0.0, 0.0))),
+            Object::new(torus, Some(peel_runtime::place::Pose::from_degrees(
+                    at(b, 2.45),
+                    turn[0],
+                    turn[1],
+                    turn[2],
+                ))),
+        ];
+        let posed = Posed::new(Some(world), &objects);
+        let h = posed_header(Some(&world), &objects);
+        let mesh_box = (h.bounds_min.as_dvec3(), h.bounds_max.as_dvec3());
+        let centre = DVec3::from_array(h.centre) + (mesh_box.0 + mesh_box.1) / 2.0;
+        let reach = (mesh_box.1 - mesh_box.0) / 2.0;
+        let eye = centre + DVec3::from_array(eye) * reach;
+        prop_assume!((eye - centre).length() > 1e-3 * reach.length());
+        let near = Camera::default_near(h.bounds_min, h.bounds_max);
+        let camera = Camera::look_at(Pose::new(eye, centre), 60.0, width, height, near);
+        prop_assume!(camera.is_ok());
+        let view = camera.unwrap().view(h.centre);
+        check::<8, _>(&posed, &view, band.min(height), slots)?;
     }
 }
 
@@ -332,9 +418,9 @@ fn the_scenes_exercise_inside_views_and_the_fallback() {
         slots,
         stream: true,
     };
-    assert!(draw_rows::<8, _>(&scene, &view, way(1), 0..24, 24, &mut sink).fallback);
+    assert!(draw_rows::<8, _, _>(&scene, &view, way(1), 0..24, 24, &mut sink).fallback);
     let mut sink = Counted::new(32, 24);
-    let stats = draw_rows::<8, _>(&scene, &view, way(HOST_SPANS_PER_ROW), 0..24, 24, &mut sink);
+    let stats = draw_rows::<8, _, _>(&scene, &view, way(HOST_SPANS_PER_ROW), 0..24, 24, &mut sink);
     assert!(!stats.fallback);
     // Inside the sphere every pixel shows some polygon: no background.
     let bg = BACKGROUND.to_xrgb8888();
@@ -361,7 +447,9 @@ fn the_scenes_exercise_inside_views_and_the_fallback() {
     let mut sink = Counted::new(64, 48);
     let skipped: u64 = (0..48)
         .step_by(8)
-        .map(|y| draw_rows::<8, _>(&soup, &view, way, y..y + 8, 8, &mut sink).nodes_culled_covered)
+        .map(|y| {
+            draw_rows::<8, _, _>(&soup, &view, way, y..y + 8, 8, &mut sink).nodes_culled_covered
+        })
         .sum();
     assert!(skipped > 0, "no subtree skipped outside its band");
 }

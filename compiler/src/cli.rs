@@ -5,16 +5,19 @@ use std::path::{Path, PathBuf};
 use clap::Args;
 use glam::DVec3;
 
+use glam::Vec3;
 use peel_compiler::compile::CompileOptions;
 use peel_compiler::shade::normals::Crease;
 use peel_compiler::shade::Surface;
 use peel_compiler::tools::raster::{
-    png, render_bytes_with, Frame, Settings, EMPTY_SCENE, HOST_PENDING,
+    png, posed_header, render_bytes_with, render_posed_named, Frame, Settings, EMPTY_SCENE,
+    HOST_PENDING,
 };
 use peel_compiler::tools::shot::Shot;
 use peel_compiler::FrameMemory;
 use peel_runtime::camera::Orbit;
-use peel_runtime::read::{Header, Scene};
+use peel_runtime::place::{Object, Pose};
+use peel_runtime::read::{Header, Parts};
 use peel_runtime::traverse::Order;
 
 /// Parse `x,y,z` (negative numbers allowed: `--eye=-1,2,3` or `--eye -1,2,3`).
@@ -55,6 +58,45 @@ pub fn parse_object(s: &str) -> Result<(String, PathBuf), String> {
         return Err(format!("'{s}' has no file after '='"));
     }
     Ok((name.to_string(), PathBuf::from(file)))
+}
+
+/// `--pose` values: `NAME=tx,ty,tz` or `NAME=tx,ty,tz,yaw,pitch,roll`, the angles in degrees (see
+/// [`Pose::from_degrees`]).
+pub fn parse_pose(s: &str) -> Result<(String, Pose), String> {
+    let (name, values) = s
+        .split_once('=')
+        .ok_or_else(|| format!("expected NAME=tx,ty,tz[,yaw,pitch,roll], got '{s}' (no '=')"))?;
+    if name.is_empty() {
+        return Err(format!("'{s}' has no name before '='"));
+    }
+    let numbers: Vec<f32> = values
+        .split(',')
+        .map(|v| {
+            let x: f32 = v
+                .trim()
+                .parse()
+                .map_err(|_| format!("'{v}' in '{s}' is not a number"))?;
+            if x.is_finite() {
+                Ok(x)
+            } else {
+                Err(format!("'{v}' in '{s}' is not finite"))
+            }
+        })
+        .collect::<Result<_, _>>()?;
+    let angles = match numbers.len() {
+        3 => [0.0; 3],
+        6 => [numbers[3], numbers[4], numbers[5]],
+        n => {
+            return Err(format!(
+                "'{s}' gives {n} numbers: give tx,ty,tz or tx,ty,tz,yaw,pitch,roll"
+            ))
+        }
+    };
+    let t = Vec3::new(numbers[0], numbers[1], numbers[2]);
+    Ok((
+        name.to_string(),
+        Pose::from_degrees(t, angles[0], angles[1], angles[2]),
+    ))
 }
 
 /// Parse a direction `x,y,z`: finite, and of some length (`--up`, `--light`).
@@ -197,6 +239,14 @@ pub struct RenderArgs {
     /// background (`Renderer::antialias`).
     #[arg(long)]
     pub antialias: bool,
+    /// Place an object of a file of parts: NAME=tx,ty,tz or NAME=tx,ty,tz,yaw,pitch,roll,
+    /// angles in degrees, so that its point p goes to T + Ry(yaw) Rx(pitch) Rz(roll) p
+    /// (repeatable; an object without one stays where its file puts it).
+    #[arg(long = "pose", value_parser = parse_pose, allow_hyphen_values = true, value_name = "NAME=T[,ANGLES]")]
+    pub poses: Vec<(String, Pose)>,
+    /// Hide an object of a file of parts (repeatable).
+    #[arg(long = "hide", value_name = "NAME")]
+    pub hidden: Vec<String>,
     /// Print the frame's statistics (polygons visited, culled, drawn, pixels written, overdraw).
     #[arg(long)]
     pub stats: bool,
@@ -356,12 +406,58 @@ pub fn render(args: &RenderArgs) -> Result<(), String> {
         ));
     }
     let bytes = read(&args.file)?;
-    let scene = Scene::parse(&bytes)
+    let parts = Parts::parse(&bytes)
         .map_err(|e| format!("{}: invalid .peel file: {e}", args.file.display()))?;
-    if scene.header().polygon_count == 0 {
+    let world = parts.world();
+    let mut objects = Vec::new();
+    let mut names = Vec::new();
+    for k in 0..parts.object_count() {
+        if let Some((name, scene)) = parts.object(k) {
+            objects.push(Object::new(scene, Some(Pose::IDENTITY)));
+            names.push(name);
+        }
+    }
+    let unknown = |name: &str, option: &str| {
+        let known = if names.is_empty() {
+            "it has no objects".to_string()
+        } else {
+            format!("its objects are {}", names.join(", "))
+        };
+        format!(
+            "{}: {option} {name}: no such object ({known})",
+            args.file.display()
+        )
+    };
+    for (name, pose) in &args.poses {
+        let k = names
+            .iter()
+            .position(|n| n == name)
+            .ok_or_else(|| unknown(name, "--pose"))?;
+        objects[k].pose = Some(*pose);
+    }
+    for name in &args.hidden {
+        let k = names
+            .iter()
+            .position(|n| n == name)
+            .ok_or_else(|| unknown(name, "--hide"))?;
+        objects[k].pose = None;
+    }
+    let parts_drawn = || {
+        world.iter().chain(
+            objects
+                .iter()
+                .filter(|o| o.pose.is_some())
+                .map(|o| &o.scene),
+        )
+    };
+    if parts_drawn().all(|s| s.header().polygon_count == 0) {
         return Err(format!("{}: {EMPTY_SCENE}", args.file.display()));
     }
-    let shot = render_shot(args, &scene.header())?;
+    let header = match (&world, objects.is_empty()) {
+        (Some(scene), true) => scene.header(),
+        _ => posed_header(world.as_ref(), &objects),
+    };
+    let shot = render_shot(args, &header)?;
     let settings = Settings {
         order: match args.order {
             OrderArg::FrontToBack => Order::FrontToBack,
@@ -375,11 +471,15 @@ pub fn render(args: &RenderArgs) -> Result<(), String> {
             .antialias
             .then_some(peel_compiler::tools::raster::HOST_PENDING),
     };
-    let frame =
-        render_bytes_with(&bytes, &shot, &settings).map_err(|e| match camera_hint(&shot) {
-            Some(hint) => format!("{}: {e}: {hint}", args.file.display()),
-            None => format!("{}: {e}", args.file.display()),
-        })?;
+    let frame = if parts.has_table() {
+        render_posed_named(world.as_ref(), &objects, &names, &shot, &settings)
+    } else {
+        render_bytes_with(&bytes, &shot, &settings)
+    };
+    let frame = frame.map_err(|e| match camera_hint(&shot) {
+        Some(hint) => format!("{}: {e}: {hint}", args.file.display()),
+        None => format!("{}: {e}", args.file.display()),
+    })?;
     write_png(&args.output, &frame)?;
     if frame.stats.pixels_written == 0 {
         eprintln!(

@@ -1402,3 +1402,89 @@ fn bad_objects_are_refused_and_nothing_is_written() {
     let max = format!("1 to {MAX_PARTS}");
     refused(dir.path(), &args, &["--object", &max]);
 }
+
+/// `peel render` of a file of parts: objects stay where their files put them or go where
+/// `--pose` says, `--hide` leaves one out; an unknown name, a bad pose and objects whose
+/// order cannot be proven are errors that name them, with no image written.
+#[test]
+fn render_poses_the_objects_of_a_file_of_parts() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = dir.path().join("scene.peel");
+    let a = format!("a={}", fixture("cube.obj"));
+    let b = format!("b={}", fixture("cube.obj"));
+    let o = peel(&[
+        "compile",
+        &fixture("staircase.obj"),
+        "--object",
+        &a,
+        "--object",
+        &b,
+        "--ids",
+        "-o",
+        s(&scene),
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let render = |name: &str, extra: &[&str]| {
+        let png = dir.path().join(name);
+        let mut args = vec![
+            "render",
+            s(&scene),
+            "--ids",
+            "--size",
+            "64x48",
+            "-o",
+            s(&png),
+        ];
+        args.extend_from_slice(extra);
+        (peel(&args), png)
+    };
+    // Both cubes at their file's place: the same box, which no plane separates.
+    let (o, png) = render("same.png", &[]);
+    assert_eq!(o.status.code(), Some(1));
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(err.contains("objects a and b intersect"), "{err}");
+    assert!(!png.exists());
+    // Apart: drawn; the ids of both cubes show (ids follow the world's, then a's, then b's).
+    let (o, png) = render(
+        "apart.png",
+        &["--pose", "a=-4,0,0", "--pose=b=4,0,0,45,0,0"],
+    );
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let ids = |png: &std::path::Path| -> std::collections::BTreeSet<u32> {
+        let img = image::open(png).unwrap().to_rgb8();
+        img.pixels()
+            .map(|p| u32::from(p[0]) << 16 | u32::from(p[1]) << 8 | u32::from(p[2]))
+            .collect()
+    };
+    // Each cube's ids (+ 1, as the image holds them), from its tree.
+    let bytes = std::fs::read(&scene).unwrap();
+    let parts = peel_runtime::read::Parts::parse(&bytes).unwrap();
+    let range = |k: u32| {
+        let (_, tree) = parts.object(k).unwrap();
+        let ids: Vec<u32> = (0..tree.header().polygon_count)
+            .filter_map(|i| tree.id(i))
+            .collect();
+        (ids.iter().min().unwrap() + 1)..=(ids.iter().max().unwrap() + 1)
+    };
+    let (ids_a, ids_b) = (range(0), range(1));
+    assert!(ids_a.end() < ids_b.start());
+    let seen = ids(&png);
+    assert!(seen.iter().any(|id| ids_a.contains(id)), "a: {seen:?}");
+    assert!(seen.iter().any(|id| ids_b.contains(id)), "b: {seen:?}");
+    // b hidden: its ids are gone, a's stay.
+    let (o, png) = render("hidden.png", &["--pose", "a=-4,0,0", "--hide", "b"]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let seen = ids(&png);
+    assert!(!seen.iter().any(|id| ids_b.contains(id)), "b still shows");
+    assert!(seen.iter().any(|id| ids_a.contains(id)), "a is gone");
+    // Errors.
+    let (o, png) = render("unknown.png", &["--pose", "kettle=0,0,0"]);
+    assert_eq!(o.status.code(), Some(1));
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(err.contains("kettle") && err.contains("a, b"), "{err}");
+    assert!(!png.exists());
+    let (o, png) = render("bad.png", &["--pose", "a=1,2"]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("--pose"));
+    assert!(!png.exists());
+}

@@ -200,6 +200,12 @@ pub enum RenderError {
         /// Index of the second.
         second: u16,
     },
+    /// More world planes cut an object this frame than a piece can be clipped by (32): a
+    /// world of many planes through the object's place.
+    TooManyCuts {
+        /// Index of the object.
+        object: u16,
+    },
     /// An object's pose is not finite.
     BadPose {
         /// Index of the object.
@@ -268,6 +274,10 @@ impl fmt::Display for RenderError {
                 f,
                 "objects {first} and {second} intersect on the screen and no plane separates \
                  their boxes: their order is not proven"
+            ),
+            RenderError::TooManyCuts { object } => write!(
+                f,
+                "more than 32 world planes cut object {object} this frame"
             ),
             RenderError::BadPose { object } => {
                 write!(f, "the pose of object {object} is not finite")

@@ -6,6 +6,7 @@ use peel_runtime::camera::LocalView;
 use peel_runtime::coverage::Coverage;
 use peel_runtime::display::Colour;
 use peel_runtime::display::{Framebuffer, Xrgb8888};
+use peel_runtime::error::RenderError;
 use peel_runtime::pending::{Pending, PendingPixel};
 use peel_runtime::place::{Object, ObjectMemory, Posed};
 use peel_runtime::read::layout::MAX_PARTS;
@@ -19,7 +20,7 @@ use super::shot::Shot;
 /// Traversal stack entries of the host workspace (trees deeper than this are refused).
 pub const HOST_STACK: usize = 1 << 14;
 /// Clip buffer vertices of the host workspace.
-pub const HOST_VERTS: usize = 64;
+pub const HOST_VERTS: usize = 96;
 
 /// A rendered frame: `0x00RRGGBB` per pixel, row-major.
 #[derive(Debug, Clone)]
@@ -121,6 +122,7 @@ pub fn render_bytes_with(bytes: &[u8], shot: &Shot, settings: &Settings) -> Resu
         scene.header().vertex_count,
         None,
     )
+    .map_err(|e| e.to_string())
 }
 
 /// Object memory of the host: every object a file can hold, and steps enough for any frame
@@ -177,6 +179,30 @@ pub fn render_posed_with(
     shot: &Shot,
     settings: &Settings,
 ) -> Result<Frame, String> {
+    let numbers: Vec<String> = (0..objects.len()).map(|k| k.to_string()).collect();
+    let names: Vec<&str> = numbers.iter().map(String::as_str).collect();
+    render_posed_named(world, objects, &names, shot, settings)
+}
+
+/// [`render_posed_with`], its errors naming objects by `names` (one per object).
+pub fn render_posed_named(
+    world: Option<&Scene<'_>>,
+    objects: &[Object<'_>],
+    names: &[&str],
+    shot: &Shot,
+    settings: &Settings,
+) -> Result<Frame, String> {
+    let name = |k: u16| names.get(usize::from(k)).copied().unwrap_or("?");
+    let describe = |e: RenderError| match e {
+        RenderError::ObjectsIntersect { first, second } => format!(
+            "objects {} and {} intersect on the screen and no plane separates their boxes: \
+             their order is not proven (move them apart)",
+            name(first),
+            name(second)
+        ),
+        RenderError::BadPose { object } => format!("the pose of {} is not finite", name(object)),
+        e => e.to_string(),
+    };
     let posed = Posed::new(world.copied(), objects);
     let parts = || world.into_iter().chain(objects.iter().map(|o| &o.scene));
     if parts().all(|s| s.header().polygon_count == 0) {
@@ -187,7 +213,7 @@ pub fn render_posed_with(
     let vertices = parts().map(|s| s.header().vertex_count).max().unwrap_or(0);
     let mut memory: Box<HostObjectMemory> = Box::default();
     let view = camera.view(header.centre);
-    draw(&posed, &view, shot, settings, vertices, Some(&mut memory))
+    draw(&posed, &view, shot, settings, vertices, Some(&mut memory)).map_err(describe)
 }
 
 /// One frame of `content` through a host renderer set up as `settings` say.
@@ -198,11 +224,16 @@ fn draw<C: Content + ?Sized>(
     settings: &Settings,
     vertex_count: u32,
     objects: Option<&mut HostObjectMemory>,
-) -> Result<Frame, String> {
+) -> Result<Frame, RenderError> {
     let (ids, background) = (settings.ids, settings.background);
     let mut pixels = vec![0u32; shot.width as usize * shot.height as usize];
-    let mut fb = Framebuffer::<Xrgb8888>::new(&mut pixels, shot.width, shot.height)
-        .map_err(|e| e.to_string())?;
+    let mut fb =
+        Framebuffer::<Xrgb8888>::new(&mut pixels, shot.width, shot.height).map_err(|_| {
+            RenderError::ImageTooLarge {
+                width: shot.width,
+                height: shot.height,
+            }
+        })?;
     let bg = if ids {
         Colour::new(0, 0, 0)
     } else {
@@ -213,8 +244,7 @@ fn draw<C: Content + ?Sized>(
     let rows = shot.height as usize;
     let mut intervals = vec![(0u16, 0u16); HOST_SPANS_PER_ROW * rows];
     let mut counts = vec![0u16; rows];
-    let coverage = Coverage::new(&mut intervals, &mut counts, shot.width, shot.height)
-        .map_err(|e| e.to_string())?;
+    let coverage = Coverage::new(&mut intervals, &mut counts, shot.width, shot.height)?;
     let mut memory = vec![CachedVertex::EMPTY; vertex_count as usize];
     let mut renderer = Renderer::new(&mut workspace)
         .span_memory(coverage)
@@ -237,13 +267,10 @@ fn draw<C: Content + ?Sized>(
     let mut records = vec![PendingPixel::default(); settings.antialias.unwrap_or(0)];
     let mut heads = vec![0u16; rows];
     if settings.antialias.is_some() {
-        let pending =
-            Pending::new(&mut records, &mut heads, shot.height).map_err(|e| e.to_string())?;
+        let pending = Pending::new(&mut records, &mut heads, shot.height)?;
         renderer = renderer.antialias(pending).background(bg);
     }
-    let stats = renderer
-        .draw(content, view, &mut fb)
-        .map_err(|e| e.to_string())?;
+    let stats = renderer.draw(content, view, &mut fb)?;
     Ok(Frame {
         width: shot.width,
         height: shot.height,

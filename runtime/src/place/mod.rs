@@ -4,7 +4,7 @@
 //! A file of parts ([`crate::read::Parts`]) holds a world and objects, each a tree compiled in
 //! its own frame. A frame gives each object a [`Pose`] (or hides it). The renderer then draws
 //! the world's tree and each object's tree, each in its own exact order, and orders them
-//! among themselves with planes ([`plan`]):
+//! among themselves with planes (`plan.rs`):
 //! - an object goes down the world's tree as a polygon would: a split plane with the object
 //!   on one side sends it to that child; a convex node whose polygons' planes all have the
 //!   object on their interior side takes it between its polygons seen from inside and those
@@ -33,13 +33,45 @@ use crate::read::Scene;
 pub(crate) use plan::{plan, Cut, Placement, Step, NO_CUT};
 pub use pose::Pose;
 
-/// An object of a frame: its tree and where it stands (`None`: hidden).
+/// An object of a frame: its tree and where it stands (`None`: hidden). Made once
+/// ([`Object::new`] reads its vertices' box), posed each frame through [`Object::pose`].
 #[derive(Debug, Clone, Copy)]
 pub struct Object<'a> {
     /// The object's tree, compiled in its own frame.
     pub scene: Scene<'a>,
     /// Its pose this frame; `None` hides it.
     pub pose: Option<Pose>,
+    /// The box of its vertices (relative to its centre): tighter than the header's bounds,
+    /// which are the vertex grid's, so that objects that touch are told apart.
+    bounds: (Vec3, Vec3),
+}
+
+impl<'a> Object<'a> {
+    /// The object of `scene`, placed by `pose` (`None`: hidden). Reads every vertex once.
+    pub fn new(scene: Scene<'a>, pose: Option<Pose>) -> Self {
+        let (mut lo, mut hi) = (Vec3::INFINITY, Vec3::NEG_INFINITY);
+        for v in 0..scene.header().vertex_count {
+            let p = scene.vertex(v);
+            lo = lo.min(p);
+            hi = hi.max(p);
+        }
+        let h = scene.header();
+        let bounds = if lo.cmple(hi).all() {
+            (lo, hi)
+        } else {
+            (h.bounds_min, h.bounds_max)
+        };
+        Object {
+            scene,
+            pose,
+            bounds,
+        }
+    }
+
+    /// The box of its vertices, relative to its centre.
+    pub fn bounds(&self) -> (Vec3, Vec3) {
+        self.bounds
+    }
 }
 
 /// What a frame with objects draws: the world (if any) and the objects with their poses.

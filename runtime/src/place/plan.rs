@@ -51,6 +51,10 @@ pub(crate) struct Piece {
     object: u16,
     cut: u16,
     next: u16,
+    /// A box in the object's coordinates that holds the piece: the object's box, shrunk at
+    /// each cut to hold what is left of it.
+    lo: Vec3,
+    hi: Vec3,
 }
 
 impl Piece {
@@ -58,6 +62,8 @@ impl Piece {
         object: 0,
         cut: NO_CUT,
         next: NONE,
+        lo: Vec3::ZERO,
+        hi: Vec3::ZERO,
     };
 }
 
@@ -79,6 +85,9 @@ pub(crate) struct Placement {
     pub(crate) rotation: Mat3,
     pub(crate) offset: Vec3,
     pub(crate) corners: [Vec3; 8],
+    /// The object's box in its own coordinates.
+    pub(crate) lo: Vec3,
+    pub(crate) hi: Vec3,
 }
 
 impl Placement {
@@ -87,25 +96,71 @@ impl Placement {
         rotation: Mat3::IDENTITY,
         offset: Vec3::ZERO,
         corners: [Vec3::ZERO; 8],
+        lo: Vec3::ZERO,
+        hi: Vec3::ZERO,
     };
 
     /// The object of box `lo..=hi` (its coordinates) placed by `rotation` and `offset`.
     pub(crate) fn new(rotation: Mat3, offset: Vec3, lo: Vec3, hi: Vec3) -> Placement {
-        let mut corners = [Vec3::ZERO; 8];
-        for (k, c) in corners.iter_mut().enumerate() {
-            let p = Vec3::new(
-                if k & 1 == 0 { lo.x } else { hi.x },
-                if k & 2 == 0 { lo.y } else { hi.y },
-                if k & 4 == 0 { lo.z } else { hi.z },
-            );
-            *c = rotation * p + offset;
-        }
         Placement {
             visible: true,
             rotation,
             offset,
-            corners,
+            corners: box_corners(lo, hi).map(|p| rotation * p + offset),
+            lo,
+            hi,
         }
+    }
+}
+
+/// The corners of the box `lo..=hi`, corner `k` taking `hi` on the axes of the bits of `k`.
+fn box_corners(lo: Vec3, hi: Vec3) -> [Vec3; 8] {
+    core::array::from_fn(|k| {
+        Vec3::new(
+            if k & 1 == 0 { lo.x } else { hi.x },
+            if k & 2 == 0 { lo.y } else { hi.y },
+            if k & 4 == 0 { lo.z } else { hi.z },
+        )
+    })
+}
+
+/// The box (in the object's coordinates) that holds what is left of the box `lo..=hi` of an
+/// object placed by `p` on the side of `plane` where its distance is `>= 0` (`keep_plus`) or
+/// `<= 0`: that of its corners on that side and of the points where its edges cross the plane.
+fn shrunk(p: &Placement, lo: Vec3, hi: Vec3, plane: &Plane, keep_plus: bool) -> (Vec3, Vec3) {
+    let local = box_corners(lo, hi);
+    let d = local.map(|c| {
+        let d = plane.distance(p.rotation * c + p.offset);
+        if keep_plus {
+            d
+        } else {
+            -d
+        }
+    });
+    let (mut a, mut b) = (Vec3::INFINITY, Vec3::NEG_INFINITY);
+    let mut take = |q: Vec3| {
+        a = a.min(q);
+        b = b.max(q);
+    };
+    for k in 0..8 {
+        if d[k] >= 0.0 {
+            take(local[k]);
+        }
+        // The edges from corner k along each axis it does not take `hi` on.
+        for bit in [1, 2, 4] {
+            let j = k | bit;
+            if j != k && (d[k] < 0.0) != (d[j] < 0.0) {
+                let t = d[k] / (d[k] - d[j]);
+                take(local[k] + (local[j] - local[k]) * t);
+            }
+        }
+    }
+    // Rounding may leave the points a hair outside: never grow, and an empty set (a piece
+    // the plane barely touches) keeps its old box.
+    if a.cmple(b).all() {
+        (a.max(lo), b.min(hi))
+    } else {
+        (lo, hi)
     }
 }
 
@@ -160,10 +215,23 @@ impl Builder<'_, '_> {
         Ok(())
     }
 
-    fn piece(&mut self, object: u16, cut: u16, next: u16) -> Result<u16, RenderError> {
+    fn piece(
+        &mut self,
+        object: u16,
+        cut: u16,
+        next: u16,
+        bounds: (Vec3, Vec3),
+    ) -> Result<u16, RenderError> {
         let at = self.piece_count;
         let slot = self.pieces.get_mut(at).ok_or(full())?;
-        *slot = Piece { object, cut, next };
+        let (lo, hi) = (bounds.0, bounds.1);
+        *slot = Piece {
+            object,
+            cut,
+            next,
+            lo,
+            hi,
+        };
         self.piece_count += 1;
         u16::try_from(at).map_err(|_| full())
     }
@@ -218,10 +286,10 @@ impl Builder<'_, '_> {
             .unwrap_or(Piece::EMPTY)
     }
 
-    fn corners(&self, object: u16) -> &[Vec3; 8] {
+    fn placement(&self, object: u16) -> &Placement {
         self.placements
             .get(usize::from(object))
-            .map_or(&Placement::HIDDEN.corners, |p| &p.corners)
+            .unwrap_or(&Placement::HIDDEN)
     }
 
     /// Splits `set` by `plane` into the pieces on its + side and on its − side, cutting
@@ -233,7 +301,11 @@ impl Builder<'_, '_> {
             let next = p.next;
             let class = match self.known_side(p.cut, plane) {
                 Some(class) => class,
-                None => classify(self.corners(p.object), plane, self.scale),
+                None => {
+                    let at = self.placement(p.object);
+                    let corners = box_corners(p.lo, p.hi).map(|c| at.rotation * c + at.offset);
+                    classify(&corners, plane, self.scale)
+                }
             };
             match class {
                 Class::Plus => {
@@ -245,10 +317,13 @@ impl Builder<'_, '_> {
                     minus = set;
                 }
                 Class::Both => {
+                    let at = *self.placement(p.object);
                     let c = self.cut(*plane, true, p.cut)?;
-                    plus = self.piece(p.object, c, plus)?;
+                    let bounds = shrunk(&at, p.lo, p.hi, plane, true);
+                    plus = self.piece(p.object, c, plus, bounds)?;
                     let c = self.cut(*plane, false, p.cut)?;
-                    minus = self.piece(p.object, c, minus)?;
+                    let bounds = shrunk(&at, p.lo, p.hi, plane, false);
+                    minus = self.piece(p.object, c, minus, bounds)?;
                 }
             }
             set = next;
@@ -459,7 +534,7 @@ pub(crate) fn plan(
     for (k, p) in placements.iter().enumerate().rev() {
         if p.visible {
             let k = u16::try_from(k).map_err(|_| full())?;
-            set = b.piece(k, NO_CUT, set)?;
+            set = b.piece(k, NO_CUT, set, (p.lo, p.hi))?;
         }
     }
     let mut len = 0usize;

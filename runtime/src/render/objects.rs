@@ -12,7 +12,7 @@ use crate::read::layout::MAX_PARTS;
 use crate::traverse::Tree;
 
 /// Most cuts a piece may have (each clips every polygon of the piece once more).
-pub(super) const MAX_CUTS: usize = 16;
+pub(super) const MAX_CUTS: usize = 32;
 
 /// An unused entry of a piece's cuts.
 pub(super) const NO_CLIP_CUT: clip::Cut = clip::Cut {
@@ -86,7 +86,8 @@ pub(super) fn prepare(
             }
             Some(pose) => {
                 let (rotation, offset) = place::placement(&pose, h.centre, centre);
-                Placement::new(rotation, offset, h.bounds_min, h.bounds_max)
+                let (lo, hi) = object.bounds();
+                Placement::new(rotation, offset, lo, hi)
             }
         };
         for c in &slot.corners {
@@ -94,7 +95,8 @@ pub(super) fn prepare(
         }
         if slot.visible {
             let local = place::object_view(view, slot);
-            let b = local.box_to_camera(h.bounds_min, h.bounds_max);
+            let (lo, hi) = object.bounds();
+            let b = local.box_to_camera(lo, hi);
             rects[k] = local.box_on_screen(&b);
         }
     }
@@ -111,52 +113,32 @@ pub(super) fn prepare(
         .unwrap_or_default();
     let world = posed.world.as_ref();
     let steps = place::plan(world, view.eye, &side_eye, count, scale, &overlap, memory)?;
-    // A piece is cut by at most `MAX_CUTS` planes (see `camera_cuts`).
-    let mut longest = 0;
-    for step in memory.steps.get(..steps).unwrap_or(&[]) {
-        if let Step::Piece { cut, .. } = *step {
-            longest = longest.max(chain_length(&memory.cuts[..], cut));
-        }
+    // Each object is cut by at most `MAX_CUTS` planes, each of which may add two vertices
+    // to a polygon (its own pieces' a vertex, the others' a crossing each way).
+    let planned = memory.steps.get(..steps).unwrap_or(&[]);
+    let mut most = 0;
+    for k in 0..count {
+        let mut firsts = [u16::MAX; MAX_CUTS];
+        let object = k as u16;
+        let planes = object_planes(planned, &memory.cuts[..], object, &mut firsts)
+            .ok_or(RenderError::TooManyCuts { object })?;
+        most = most.max(planes);
     }
-    if longest > MAX_CUTS {
-        return Err(RenderError::ObjectMemory);
-    }
-    // (A plane of another piece adds up to two vertices.)
-    let needed = clip::buffer_len_for(max_vertices).saturating_add(2 * MAX_CUTS as u32);
+    let needed = clip::buffer_len_for(max_vertices).saturating_add(2 * most as u32);
     if needed > available {
         return Err(RenderError::PolygonTooLarge { needed, available });
     }
     Ok(steps)
 }
 
-/// Cuts in the chain that ends at `cut`.
-fn chain_length(cuts: &[Cut], mut cut: u16) -> usize {
-    let mut n = 0;
-    while let Some(c) = cuts.get(usize::from(cut)).filter(|_| cut != NO_CUT) {
-        n += 1;
-        if n > cuts.len() {
-            break;
-        }
-        cut = c.prev;
-    }
-    n
-}
-
-/// The cuts of a piece of `object` in camera space (`view`: the world's), into `out`: every
-/// distinct plane that cuts any piece of the object in this frame's `steps`, in the order the
-/// plan first cut by it, each keeping the side the piece's own chain (ending at `cut`) keeps,
-/// or both. How many. A world plane `n · p = d` is `(n · right, n · up, n · forward) · c +
-/// (n · eye - d)` for the camera point `c`: the same values for every piece it cuts.
-pub(super) fn camera_cuts(
+/// The distinct planes that cut pieces of `object` in `steps`, each as the index of the first
+/// cut made by it, in that order, into `firsts`; how many, or `None` past [`MAX_CUTS`].
+fn object_planes(
     steps: &[Step],
     cuts: &[Cut],
     object: u16,
-    cut: u16,
-    view: &LocalView,
-    out: &mut [clip::Cut; MAX_CUTS],
-) -> usize {
-    // The object's planes, by the index of the first cut made by each.
-    let mut firsts = [u16::MAX; MAX_CUTS];
+    firsts: &mut [u16; MAX_CUTS],
+) -> Option<usize> {
     let mut count = 0;
     for step in steps {
         let Step::Piece {
@@ -177,11 +159,10 @@ pub(super) fn camera_cuts(
             match known {
                 Some(k) if firsts[k] > at => firsts[k] = at,
                 Some(_) => {}
-                None if count < MAX_CUTS => {
-                    firsts[count] = at;
+                None => {
+                    *firsts.get_mut(count)? = at;
                     count += 1;
                 }
-                None => {}
             }
             guard += 1;
             if guard > cuts.len() {
@@ -191,6 +172,24 @@ pub(super) fn camera_cuts(
         }
     }
     firsts[..count].sort_unstable();
+    Some(count)
+}
+
+/// The cuts of a piece of `object` in camera space (`view`: the world's), into `out`: every
+/// distinct plane that cuts any piece of the object in this frame's `steps`, in the order the
+/// plan first cut by it, each keeping the side the piece's own chain (ending at `cut`) keeps,
+/// or both. How many. A world plane `n · p = d` is `(n · right, n · up, n · forward) · c +
+/// (n · eye - d)` for the camera point `c`: the same values for every piece it cuts.
+pub(super) fn camera_cuts(
+    steps: &[Step],
+    cuts: &[Cut],
+    object: u16,
+    cut: u16,
+    view: &LocalView,
+    out: &mut [clip::Cut; MAX_CUTS],
+) -> usize {
+    let mut firsts = [u16::MAX; MAX_CUTS];
+    let count = object_planes(steps, cuts, object, &mut firsts).unwrap_or(0);
     for (slot, &first) in out.iter_mut().zip(&firsts[..count]) {
         let Some(c) = cuts.get(usize::from(first)) else {
             continue;
