@@ -562,14 +562,56 @@ pub fn demo(out: &Path) -> Result<(), String> {
     let frame = render_bytes_with(&bytes, &DEMO_SHOT, &settings)?;
     let png_path = out.join("demo.png");
     write_png(&png_path, &frame)?;
+    say(&png_path, &frame);
+    demo_objects(out, &options, &settings)
+}
+
+fn say(png: &Path, frame: &Frame) {
     println!(
         "{}: {}x{}, {} polygons drawn, {} pixels written",
-        png_path.display(),
+        png.display(),
         frame.width,
         frame.height,
         frame.stats.polygons_drawn,
         frame.stats.pixels_written
     );
+}
+
+/// The demo with a part that moves: the torus compiled as an object of a file of parts
+/// (`demo-objects.peel`), drawn where its file puts it (`demo-pose-1.png`), then stood on its
+/// rim and turned (`demo-pose-2.png`). Its light is baked in its own frame, so it turns with
+/// it, and it casts no shadow on the world.
+fn demo_objects(out: &Path, options: &CompileOptions, settings: &Settings) -> Result<(), String> {
+    let world = out.join("demo-world.obj");
+    std::fs::write(&world, DEMO_OBJ).map_err(|e| format!("{}: {e}", world.display()))?;
+    let torus = out.join("demo-torus.obj");
+    std::fs::write(&torus, DEMO_TORUS_OBJ).map_err(|e| format!("{}: {e}", torus.display()))?;
+    let objects = [("torus".to_string(), torus)];
+    let compiled = peel_compiler::compile::compile_parts(Some(&world), &objects, options, &|_| {})
+        .map_err(|e| e.to_string())?;
+    let path = out.join("demo-objects.peel");
+    peel_compiler::write::write_atomic(&path, &compiled.bytes).map_err(|e| e.to_string())?;
+    let parts = Parts::parse(&compiled.bytes).map_err(|e| format!("{}: {e}", path.display()))?;
+    let (world, (_, scene)) = match (parts.world(), parts.object(0)) {
+        (Some(w), Some(o)) => (w, o),
+        _ => return Err(format!("{}: not the demo's parts", path.display())),
+    };
+    // Stood on its rim (a quarter turn about x) and turned 40 degrees about the vertical,
+    // about its own centre, resting on the ground.
+    let centre = Vec3::new(-2.1, 0.34, 1.7);
+    let stood = Vec3::new(-2.1, 1.19, 1.7);
+    let turned = Pose::from_degrees(Vec3::ZERO, 40.0, 90.0, 0.0);
+    let moved = Pose {
+        translation: stood - turned.rotation * centre,
+        ..turned
+    };
+    for (k, pose) in [Pose::IDENTITY, moved].into_iter().enumerate() {
+        let objects = [Object::new(scene, Some(pose))];
+        let frame = render_posed_named(Some(&world), &objects, &["torus"], &DEMO_SHOT, settings)?;
+        let png_path = out.join(format!("demo-pose-{}.png", k + 1));
+        write_png(&png_path, &frame)?;
+        say(&png_path, &frame);
+    }
     Ok(())
 }
 

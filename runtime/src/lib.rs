@@ -27,3 +27,6 @@ pub mod traverse;
 pub mod vertices;
 
 pub use error::{ReadError, RenderError};
+/// The vector types of the API (a [`place::Pose`]'s rotation and translation), at the version
+/// the runtime uses.
+pub use glam;

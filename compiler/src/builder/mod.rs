@@ -311,6 +311,7 @@ impl Builder {
             &name,
             &self.obj.display().to_string(),
             spans,
+            self.objects.len(),
         );
         let out = out_dir.join(&name);
         let sizes = out_dir.join(&sizes_name);

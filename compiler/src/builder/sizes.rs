@@ -176,20 +176,36 @@ impl FrameMemory {
     }
 }
 
+/// World planes a posed object may be cut by in a frame that the `VERTS` of a file of parts
+/// has room for: each may add two vertices to a polygon (`peel_runtime::place`). A frame
+/// that needs more is refused with `RenderError::PolygonTooLarge`.
+pub const OBJECT_PLANES: usize = 8;
+
+/// Steps of a frame's order per object that the `OBJECT_STEPS` of a file of parts allows
+/// (a piece of an object and the world's subtrees and hulls around it; cuts and pieces take
+/// as many entries as steps).
+pub const STEPS_PER_OBJECT: usize = 48;
+
 /// The text of the sizes file of `header` (a `.peel` file of `bytes` bytes named `peel_name`,
 /// compiled from `source`), with the span memory measured for an image size if `spans`.
+/// For a file of parts with `objects` objects (0 for a plain scene): `VERTS` with room for
+/// [`OBJECT_PLANES`] cuts, and the object memory (`OBJECTS`, `OBJECT_STEPS`).
 pub fn sizes_file(
     header: &Header,
     bytes: usize,
     peel_name: &str,
     source: &str,
     spans: Option<MeasuredSpans>,
+    objects: usize,
 ) -> String {
     // The names go into comments and string literals.
     let peel_name = &peel_name.escape_default().to_string();
     let source = &source.escape_default().to_string();
     let memory = FrameMemory::of(header, spans);
-    let (stack, verts, vertex_memory) = (memory.stack, memory.verts, memory.vertex_memory);
+    let (stack, mut verts, vertex_memory) = (memory.stack, memory.verts, memory.vertex_memory);
+    if objects > 0 {
+        verts = (verts + 2 * OBJECT_PLANES).min(MAX_FILL_VERTICES);
+    }
     let vertices = header.vertex_count as usize;
     let entry = std::mem::size_of::<CachedVertex>();
     let mut s = String::new();
@@ -254,6 +270,24 @@ pub fn sizes_file(
         ),
         format!("pub const VERTS: usize = {verts};"),
     );
+    if objects > 0 {
+        item(
+            "Objects of the file of parts: the `OBJECTS` of `place::ObjectMemory<OBJECTS, STEPS>`.",
+            format!("pub const OBJECTS: usize = {objects};"),
+        );
+        item(
+            &format!(
+                "Steps of a frame's order: an allowance of {STEPS_PER_OBJECT} per object, plus as many for the\n\
+                 world (poses are the firmware's, so nothing can be measured here; a frame that\n\
+                 needs more is refused with `RenderError::ObjectMemory`). The `STEPS` of\n\
+                 `place::ObjectMemory<OBJECTS, STEPS>`."
+            ),
+            format!(
+                "pub const OBJECT_STEPS: usize = {};",
+                STEPS_PER_OBJECT * (objects + 1)
+            ),
+        );
+    }
     // Values of a scene can look like mathematical constants to clippy.
     let float = "dead_code, clippy::approx_constant, clippy::excessive_precision";
     item_into(

@@ -537,9 +537,17 @@ fn objects_make_a_file_of_parts_sized_for_every_part() {
     assert_eq!(constant(&text, "STACK"), most(|h| h.max_depth));
     assert_eq!(constant(&text, "VERTICES"), most(|h| h.vertex_count));
     assert_eq!(constant(&text, "POLYGONS"), most(|h| h.polygon_count));
+    // Room for the cuts of posed objects, two vertices a plane.
     assert_eq!(
         constant(&text, "VERTS"),
-        most(|h| h.max_polygon_vertices) + peel_runtime::clip::CLIP_PLANES
+        most(|h| h.max_polygon_vertices)
+            + peel_runtime::clip::CLIP_PLANES
+            + 2 * super::sizes::OBJECT_PLANES
+    );
+    assert_eq!(constant(&text, "OBJECTS"), 2);
+    assert_eq!(
+        constant(&text, "OBJECT_STEPS"),
+        3 * super::sizes::STEPS_PER_OBJECT
     );
     assert_eq!(constant(&text, "BYTES"), bytes.len());
     // The demo is the largest part: the figures are not all the world's.
