@@ -450,3 +450,63 @@ fn touching_objects_are_ordered_by_their_common_plane() {
     }
     assert!(shown > 1000, "the boxes showed on {shown} robust pixels");
 }
+
+/// The memory the sizes file gives a file of parts draws the firmware guide's scene: the
+/// demo's world with its torus turning on the ground, around an orbit, front to back.
+#[test]
+fn the_sizes_files_object_memory_draws_the_turning_torus() {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    let dir = std::env::temp_dir().join(format!("peel-objects-sizes-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let out = peel_compiler::Builder::new(root.join("fixtures/demo.obj"))
+        .object("torus", root.join("fixtures/demo-torus.obj"))
+        .out_dir(&dir)
+        .cache(false)
+        .compile()
+        .expect("compile");
+    let sizes = std::fs::read_to_string(&out.sizes).unwrap();
+    let constant = |name: &str| -> usize {
+        let prefix = format!("pub const {name}: usize = ");
+        sizes
+            .lines()
+            .find_map(|l| l.strip_prefix(&prefix)?.strip_suffix(';'))
+            .unwrap_or_else(|| panic!("no {name}"))
+            .parse()
+            .unwrap()
+    };
+    let bytes = std::fs::read(&out.peel).unwrap();
+    let _ = std::fs::remove_dir_all(&dir);
+    let parts = Parts::parse(&bytes).unwrap();
+    let (world, (_, torus)) = (parts.world().unwrap(), parts.object(0).unwrap());
+    assert_eq!(constant("OBJECTS"), 1);
+    // The memory as the sizes file sizes it (the host's types are larger; the counts are
+    // what matters).
+    let (steps, verts) = (constant("OBJECT_STEPS"), constant("VERTS"));
+    let centre = Vec3::new(-2.1, 0.34, 1.7);
+    let mut most_steps = 0;
+    for k in 0..24 {
+        let turn = Pose::from_degrees(Vec3::ZERO, k as f32 * 15.0, 0.0, 0.0);
+        let pose = Pose {
+            translation: centre - turn.rotation * centre,
+            ..turn
+        };
+        let objects = [Object::new(torus, Some(pose))];
+        let header = posed_header(Some(&world), &objects);
+        let eye = peel_runtime::camera::Orbit {
+            azimuth_deg: k as f64 * 15.0,
+            ..Default::default()
+        }
+        .pose(&header);
+        let shot = Shot::new(eye.eye, eye.target, 320, 240);
+        let frame = render_posed_with(Some(&world), &objects, &shot, &Settings::default())
+            .expect("a frame");
+        most_steps = most_steps.max(frame.stats.object_steps as usize);
+        // The largest polygon (12) and the clip planes (5), two vertices a cutting plane.
+        assert!(12 + 5 + 2 * frame.stats.object_planes as usize <= verts);
+    }
+    eprintln!("the turning torus: at most {most_steps} steps of the {steps} the sizes file gives");
+    assert!(
+        most_steps > 1 && most_steps <= steps,
+        "{most_steps} steps, {steps} given"
+    );
+}

@@ -506,6 +506,10 @@ pub fn render(args: &RenderArgs) -> Result<(), String> {
         }
         println!("stopped when full: {}", s.stopped_full);
         println!("span memory fallback: {}", s.fallback);
+        if parts.has_table() {
+            println!("object steps: {}", s.object_steps);
+            println!("object planes: {}", s.object_planes);
+        }
     }
     println!(
         "{} -> {}: {}x{}, {} polygons visited, {} drawn, {} pixels written",

@@ -35,6 +35,12 @@ pub struct FrameStats {
     /// The frame was anti-aliased ([`Renderer::antialias`](crate::render::Renderer::antialias); not when the span or scan
     /// memory ran out, which draws the frame without).
     pub antialiased: bool,
+    /// A frame with objects: the steps of its order (world subtrees and hulls, and pieces of
+    /// objects), which the object memory's `STEPS` must hold; 0 otherwise.
+    pub object_steps: u32,
+    /// A frame with objects: the most world planes that cut one object (each may add two
+    /// vertices to a polygon: the clip buffers' `VERTS`); 0 otherwise.
+    pub object_planes: u32,
 }
 
 impl FrameStats {
@@ -78,6 +84,8 @@ pub(crate) struct Tally {
     pub(crate) fallback: bool,
     /// The frame was anti-aliased ([`FrameStats::antialiased`]).
     pub(crate) antialiased: bool,
+    pub(crate) object_steps: u32,
+    pub(crate) object_planes: u32,
 }
 
 impl Tally {
@@ -90,6 +98,15 @@ impl Tally {
     }
 
     /// `counter += n` (saturating) with the `stats` feature; nothing without it.
+    /// A frame with objects: its steps and the most planes that cut one object.
+    pub(crate) fn with_objects(self, steps: u32, planes: u32) -> Self {
+        Tally {
+            object_steps: steps,
+            object_planes: planes,
+            ..self
+        }
+    }
+
     #[inline(always)]
     pub(crate) fn add(&mut self, counter: Counter, n: u64) {
         #[cfg(feature = "stats")]
@@ -126,6 +143,8 @@ impl Tally {
             stopped_full: self.stopped_full,
             fallback: self.fallback,
             antialiased: self.antialiased,
+            object_steps: self.object_steps,
+            object_planes: self.object_planes,
         }
     }
 }

@@ -100,8 +100,7 @@ impl<'s, 'a> Posed<'s, 'a> {
 
 /// The memory a frame with objects orders them in: per object its placement, and the
 /// frame's order as steps, with the pieces and cuts it is made of. `OBJECTS` objects at
-/// most, `STEPS` steps, pieces, cuts and pending tasks each (a step is about 12 bytes, the
-/// rest about 60 bytes together).
+/// most, `STEPS` steps, pieces, cuts and pending tasks each: 172 bytes an object, 72 a step.
 #[derive(Debug)]
 pub struct ObjectMemory<const OBJECTS: usize, const STEPS: usize> {
     pub(crate) placements: [Placement; OBJECTS],

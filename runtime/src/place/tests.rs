@@ -43,3 +43,14 @@ fn the_object_view_sees_a_placed_point_where_the_world_view_sees_it() {
     assert!((local.to_camera(p) - view.to_camera(world)).length() < 1e-5);
     assert_eq!(Mat3::IDENTITY, Pose::IDENTITY.rotation);
 }
+
+#[test]
+fn a_step_of_object_memory_costs_what_the_docs_say() {
+    // `ObjectMemory`'s docs and the firmware guide quote these.
+    let per_step =
+        core::mem::size_of::<ObjectMemory<0, 2>>() - core::mem::size_of::<ObjectMemory<0, 1>>();
+    let per_object =
+        core::mem::size_of::<ObjectMemory<2, 0>>() - core::mem::size_of::<ObjectMemory<1, 0>>();
+    assert!(per_step <= 72, "{per_step} bytes a step");
+    assert!(per_object <= 172, "{per_object} bytes an object");
+}

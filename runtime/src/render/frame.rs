@@ -237,12 +237,12 @@ where
         });
     }
     // A frame with objects: their placements and the frame's order.
-    let (objects, steps) = match drawn {
-        Drawn::One(_) => (None, 0),
+    let (objects, steps, planes) = match drawn {
+        Drawn::One(_) => (None, 0, 0),
         Drawn::Posed(posed) => {
             let memory = objects.ok_or(RenderError::ObjectMemory)?;
-            let steps = objects::prepare(posed, view, max_vertices, available, memory)?;
-            (Some(memory), steps)
+            let (steps, planes) = objects::prepare(posed, view, max_vertices, available, memory)?;
+            (Some(memory), steps, planes)
         }
     };
     let painter = Painter::<SUB> {
@@ -279,7 +279,8 @@ where
         steps,
         integer_vertices: settings.integer_vertices,
         // Front to back was asked for, but the feature is off: painted back to front.
-        tally: Tally::new(asked_front_to_back && order == Order::BackToFront),
+        tally: Tally::new(asked_front_to_back && order == Order::BackToFront)
+            .with_objects(steps as u32, planes as u32),
     })
 }
 

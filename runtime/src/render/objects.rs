@@ -50,7 +50,7 @@ pub(super) fn parts_summary(
 }
 
 /// The placements of `posed`'s objects and the frame's order for `view`, into `memory`;
-/// the number of steps. Refuses a frame whose pieces have more cuts than the clip buffers
+/// the number of steps, and the most planes that cut one object. Refuses a frame whose pieces have more cuts than the clip buffers
 /// (`available` vertices, polygons of up to `max_vertices`) can take.
 pub(super) fn prepare(
     posed: &Posed<'_, '_>,
@@ -58,7 +58,7 @@ pub(super) fn prepare(
     max_vertices: u32,
     available: u32,
     memory: &mut place::Memory<'_>,
-) -> Result<usize, RenderError> {
+) -> Result<(usize, usize), RenderError> {
     let count = posed.objects.len();
     if memory.placements.len() < count || count > MAX_PARTS as usize {
         return Err(RenderError::ObjectMemory);
@@ -128,7 +128,7 @@ pub(super) fn prepare(
     if needed > available {
         return Err(RenderError::PolygonTooLarge { needed, available });
     }
-    Ok(steps)
+    Ok((steps, most))
 }
 
 /// The distinct planes that cut pieces of `object` in `steps`, each as the index of the first
