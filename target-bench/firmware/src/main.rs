@@ -48,6 +48,10 @@ macro_rules! variant {
     };
 }
 
+// Objects are drawn by the streamed build alone (its panel sink).
+#[cfg(all(feature = "objects", not(feature = "ftb-stream")))]
+compile_error!("the objects feature goes with ftb-stream only");
+
 variant!(
     "ftb-framebuffer" => FtbFramebuffer,
     "ftb-stream" => FtbStream,
@@ -80,11 +84,8 @@ pub enum Failure {
     WrongVariant(Variant),
     /// The scene.
     Read(peel_runtime::ReadError),
-    /// A file of parts with objects, in a build that draws none.
-    #[cfg(peel_method)]
-    NoObjects,
     /// A file of parts without a world.
-    #[cfg(peel_method)]
+    #[cfg(feature = "objects")]
     NoWorld,
     /// A file of parts with another number of objects than the scene's.
     #[cfg(feature = "objects")]
@@ -126,13 +127,7 @@ impl fmt::Display for Failure {
                 VARIANT.name()
             ),
             Failure::Read(e) => write!(f, "scene: {e}"),
-            #[cfg(peel_method)]
-            Failure::NoObjects => write!(
-                f,
-                "scene: a file of parts with objects, which only ftb-stream draws, not {}",
-                VARIANT.name()
-            ),
-            #[cfg(peel_method)]
+            #[cfg(feature = "objects")]
             Failure::NoWorld => write!(f, "scene: a file of parts without a world"),
             #[cfg(feature = "objects")]
             Failure::Objects(n) => write!(
@@ -217,7 +212,7 @@ fn run(panel: &'static mut [u16], mut pool: Pool) -> Result<(), Failure> {
     })?;
     let mut display = Panel::new(panel, width, height);
     let mut method = method::Method::new(host::asset(config.asset_len), &config, &mut pool)?;
-    let scene_header = method.header();
+    let header = method.header();
     let peripherals = cortex_m::Peripherals::take().ok_or(Failure::Host("no peripherals"))?;
     let clock = clock::Clock::start(peripherals.SYST);
     hprintln!(
@@ -229,9 +224,7 @@ fn run(panel: &'static mut [u16], mut pool: Pool) -> Result<(), Failure> {
     for (k, &angles) in config.cameras().iter().enumerate() {
         // A scene with objects poses them for each camera, and its posed header frames them.
         #[cfg(feature = "objects")]
-        let header = method.pose(k).unwrap_or(scene_header);
-        #[cfg(not(feature = "objects"))]
-        let header = scene_header;
+        let header = method.pose(k).unwrap_or(header);
         // The camera (f64 maths) is set up before the timed region.
         let view = peel_target_kit::orbit_view(&header, angles, config.fov_y_deg, width, height)?;
         display.start_frame();

@@ -9,7 +9,9 @@
 //! received with the host's (`peel render` in the same order, the compiler's host renderer
 //! anti-aliased, or the same z-buffer code run on the host) and write
 //! `target/peel-target/results.json` and `results.md`. Any differing pixel or count fails the
-//! run (after writing the results), as does any failed step.
+//! run (after writing the results), as does any failed step. A full run with the streamed
+//! build also measures the scene with moving objects against the same geometry as one static
+//! file ([`objects`]).
 
 mod accuracy;
 mod elf;
@@ -286,7 +288,7 @@ fn run(args: &Args) -> Result<Vec<String>, String> {
         if streamed && !args.shadows {
             let outcome = objects::Objects {
                 tools: &tools,
-                firmware: &firmware,
+                firmware_dir: &firmware_dir,
                 cameras: &cameras,
                 models: &models,
                 scene_dir: &scene_dir,

@@ -8,7 +8,8 @@
 //! moved by that camera's poses in `f64`) merged with the world's into one plain scene, drawn
 //! by the same firmware for that camera alone; its record takes the median over the cameras.
 //! Both are framed alike (the runner checks it), so each camera sees both from the same view.
-//! Only the streamed build draws objects.
+//! Both are drawn by the streamed build with files of parts (`--features ftb-stream,objects`),
+//! built here; the other records' builds hold none of its code.
 
 use std::collections::HashMap;
 use std::fmt::Write as _;
@@ -48,7 +49,8 @@ const SETUP: Setup = Setup {
 /// What the scene's runs need from the benchmark.
 pub struct Objects<'a> {
     pub tools: &'a Tools,
-    pub firmware: &'a HashMap<(Core, Variant), PathBuf>,
+    /// Where the firmware builds go.
+    pub firmware_dir: &'a Path,
     pub cameras: &'a [OrbitAngles],
     /// Where the shared models are.
     pub models: &'a Path,
@@ -76,6 +78,15 @@ struct Prepared {
 impl Objects<'_> {
     /// Compile, measure on both cores at each size, and compare.
     pub fn run(&self) -> Result<Outcome, String> {
+        let mut firmware = HashMap::new();
+        for core in [Core::M4f, Core::M0Plus] {
+            println!("== build: firmware ftb-stream,objects for {}", core.name());
+            let elf = self.tools.build_objects_firmware(core, self.firmware_dir)?;
+            if core == Core::M0Plus {
+                crate::tools::check_armv6m(&elf)?;
+            }
+            firmware.insert(core, elf);
+        }
         println!("== scene objects");
         let prepared = self.prepare()?;
         let (mut records, mut problems) = (Vec::new(), Vec::new());
@@ -85,9 +96,12 @@ impl Objects<'_> {
         );
         for core in [Core::M4f, Core::M0Plus] {
             for &size in core.sizes() {
-                let (posed, found, posed_counts) = self.measure_posed(&prepared, core, size)?;
+                let elf = &firmware[&core];
+                let (posed, found, posed_counts) =
+                    self.measure_posed(&prepared, elf, core, size)?;
                 problems.extend(found);
-                let (statics, found, static_counts) = self.measure_static(&prepared, core, size)?;
+                let (statics, found, static_counts) =
+                    self.measure_static(&prepared, elf, core, size)?;
                 problems.extend(found);
                 summary.push_str(&compare(
                     core,
@@ -246,6 +260,7 @@ impl Objects<'_> {
     fn measure_posed(
         &self,
         prepared: &Prepared,
+        elf: &Path,
         core: Core,
         size: (u32, u32),
     ) -> Result<(Record, Vec<String>, Vec<u64>), String> {
@@ -287,7 +302,7 @@ impl Objects<'_> {
             size_name(size),
             SETUP.label()
         ));
-        let measure = self.measure(&prepared.posed, core, size, self.cameras, spans);
+        let measure = self.measure(&prepared.posed, elf, core, size, self.cameras, spans);
         let (record, found) = measure.measure(&dir, &expected(&frames))?;
         let counts = instructions(&dir)?;
         Ok((record, found, counts))
@@ -298,6 +313,7 @@ impl Objects<'_> {
     fn measure_static(
         &self,
         prepared: &Prepared,
+        elf: &Path,
         core: Core,
         size: (u32, u32),
     ) -> Result<(Record, Vec<String>, Vec<u64>), String> {
@@ -336,7 +352,7 @@ impl Objects<'_> {
                 SETUP.label()
             ));
             let cameras = &self.cameras[k..=k];
-            let measure = self.measure(scene, core, size, cameras, spans);
+            let measure = self.measure(scene, elf, core, size, cameras, spans);
             let (record, found) = measure.measure(&dir, &expected(&frames))?;
             counts.extend(instructions(&dir)?);
             records.push(record);
@@ -345,9 +361,11 @@ impl Objects<'_> {
         Ok((combine(&records)?, problems, counts))
     }
 
+    #[allow(clippy::too_many_arguments)]
     fn measure<'m>(
         &'m self,
         scene: &'m Compiled,
+        elf: &Path,
         core: Core,
         size: (u32, u32),
         cameras: &'m [OrbitAngles],
@@ -363,7 +381,7 @@ impl Objects<'_> {
             scan_nodes: 0,
             pending_pixels: 0,
             scanline_lists: (0, 0),
-            elf: self.firmware[&(core, SETUP.variant)].clone(),
+            elf: elf.to_path_buf(),
             timeout_s: self.timeout_s,
         }
     }

@@ -11,7 +11,9 @@ use peel_runtime::display::Rgb565Framebuffer;
 use peel_runtime::pending::Pending;
 #[cfg(feature = "objects")]
 use peel_runtime::place::{Object, ObjectMemory, Posed};
-use peel_runtime::read::{Header, Parts, Scene};
+#[cfg(feature = "objects")]
+use peel_runtime::read::Parts;
+use peel_runtime::read::{Header, Scene};
 use peel_runtime::render::{Renderer, Workspace};
 #[cfg(feature = "scan")]
 use peel_runtime::scan::ScanMemory;
@@ -72,12 +74,16 @@ impl Method {
     /// Validate the scene (once, at boot), take the variant's memory and make the
     /// renderer.
     pub fn new(asset: &'static [u8], config: &Config, pool: &mut Pool) -> Result<Method, Failure> {
-        let parts = Parts::parse(asset)?;
+        #[cfg(feature = "objects")]
+        let (parts, scene) = {
+            let parts = Parts::parse(asset)?;
+            (parts, parts.world().ok_or(Failure::NoWorld)?)
+        };
+        #[cfg(feature = "objects")]
         let objects = parts.object_count() as usize;
-        if objects > 0 && !cfg!(feature = "objects") {
-            return Err(Failure::NoObjects);
-        }
-        let scene = parts.world().ok_or(Failure::NoWorld)?;
+        // Other builds read a plain scene as before (a file of parts: `ReadError`'s version).
+        #[cfg(not(feature = "objects"))]
+        let scene = Scene::parse(asset)?;
         let (width, height) = (config.width, config.height);
         let band = if VARIANT.banded() {
             config.band_rows
@@ -88,7 +94,7 @@ impl Method {
         let mut renderer = {
             let workspace = cortex_m::singleton!(: Workspace<STACK, VERTS> = Workspace::new())
                 .ok_or(Failure::Host("workspace taken twice"))?;
-            Renderer::new(workspace)
+            Renderer::new(workspace).background(config.background_colour())
         };
         // The build that draws objects takes its workspace from the pool: a posed frame needs
         // longer clip buffers (its pieces' cuts), which a plain scene's run does not pay for.
@@ -96,15 +102,15 @@ impl Method {
         let mut renderer = {
             // Once only, for the vertex memory below.
             cortex_m::singleton!(: () = ()).ok_or(Failure::Host("renderer made twice"))?;
-            if objects > 0 {
+            let renderer = if objects > 0 {
                 type Posed = Workspace<STACK, { peel_target_kit::objects::VERTS }>;
                 Renderer::new(pool.value(Posed::new(), Use::Workspace)?)
             } else {
                 type Plain = Workspace<STACK, VERTS>;
                 Renderer::new(pool.value(Plain::new(), Use::Workspace)?)
-            }
+            };
+            renderer.background(config.background_colour())
         };
-        renderer = renderer.background(config.background_colour());
         // Without an FPU (a soft-float ABI) a subtree's box test costs more than it saves
         // in a whole frame; a band skips most of the tree by those tests, so there they pay.
         if !cfg!(target_abi = "eabihf") && !VARIANT.banded() {
@@ -253,11 +259,7 @@ impl Method {
         let scene = &self.scene;
         #[cfg(feature = "objects")]
         if let Some(moving) = &self.moving {
-            let posed = Posed::new(Some(*scene), &moving.objects);
-            let stats =
-                self.renderer
-                    .draw(&posed, view, &mut crate::display::PanelSink::new(panel))?;
-            return Ok(stats.fallback);
+            return posed_frame(&mut self.renderer, *scene, moving, view, panel);
         }
         if matches!(VARIANT, Variant::FtbStream | Variant::StreamAa) {
             // Every span straight to the panel, the uncovered ones last (anti-aliased: the
@@ -301,4 +303,21 @@ impl Method {
         }
         Ok(fallback)
     }
+}
+
+/// A posed frame streamed to `panel`; whether span memory ran out. Never inlined: inlined,
+/// its stack frame (the plan's and the pieces' state) would be reserved by every frame of a
+/// plain scene too, which the static baseline draws with this build.
+#[cfg(feature = "objects")]
+#[inline(never)]
+fn posed_frame(
+    renderer: &mut Renderer<'static>,
+    world: Scene<'static>,
+    moving: &Moving,
+    view: &LocalView,
+    panel: &mut Panel,
+) -> Result<bool, Failure> {
+    let posed = Posed::new(Some(world), &moving.objects);
+    let stats = renderer.draw(&posed, view, &mut crate::display::PanelSink::new(panel))?;
+    Ok(stats.fallback)
 }
