@@ -688,7 +688,8 @@ fn compare(
         posed.ram_bytes, statics.ram_bytes
     );
     println!(
-        "   objects {} {w}x{h}: median ratio posed / static {median:.3}",
+        "   {} {} {w}x{h}: median ratio posed / static {median:.3}",
+        posed.scene,
         core.name()
     );
     s
@@ -735,4 +736,110 @@ fn host_counts(prepared: &Prepared, cameras: &[OrbitAngles]) -> Result<String, S
         );
     }
     Ok(s)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_world_is_the_layouts_and_the_static_geometry_is_posed() {
+        let dir = std::env::temp_dir().join(format!("peel-target-objects-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let layout = Layout {
+            unit: 2.5,
+            height: 4.0,
+        };
+        let path = dir.join("objects-world.obj");
+        write_world(&layout, &path).unwrap();
+        let world = load(&path).unwrap();
+        std::fs::remove_dir_all(&dir).unwrap();
+        // The ground's two triangles and twelve a box, each group in its own colour.
+        assert_eq!(world.triangles.len(), 2 + 12 * 4);
+        let (mut lo, mut hi) = (DVec3::INFINITY, DVec3::NEG_INFINITY);
+        for t in &world.triangles {
+            for v in t.vertices {
+                (lo, hi) = (lo.min(v), hi.max(v));
+            }
+        }
+        assert_eq!(
+            (lo, hi),
+            (DVec3::new(-10.0, 0.0, -10.0), DVec3::new(10.0, 4.0, 10.0))
+        );
+        let colours: std::collections::HashSet<[u8; 3]> =
+            world.triangles.iter().map(|t| t.colour).collect();
+        assert_eq!(colours.len(), 5);
+
+        // An object turned a quarter about y and moved: each corner at T + R p.
+        let object = peel_compiler::tools::scenes::mesh(vec![[
+            DVec3::new(1.0, 0.0, 0.0),
+            DVec3::new(0.0, 1.0, 0.0),
+            DVec3::new(0.0, 0.0, 1.0),
+        ]]);
+        let quarter = Pose {
+            rotation: glam::Mat3::from_cols(glam::Vec3::Z * -1.0, glam::Vec3::Y, glam::Vec3::X),
+            translation: glam::Vec3::new(3.0, 0.5, -2.0),
+        };
+        let merged = merge(
+            &world,
+            &[object.clone(), object],
+            &[quarter, Pose::IDENTITY],
+        );
+        assert_eq!(merged.triangles.len(), world.triangles.len() + 2);
+        let moved = merged.triangles[world.triangles.len()].vertices;
+        assert_eq!(
+            moved,
+            [
+                DVec3::new(3.0, 0.5, -3.0),
+                DVec3::new(3.0, 1.5, -2.0),
+                DVec3::new(4.0, 0.5, -2.0)
+            ]
+        );
+        assert_eq!(
+            merged.triangles[world.triangles.len() + 1].vertices[0],
+            DVec3::X
+        );
+    }
+
+    #[test]
+    fn the_static_record_takes_medians_and_the_most_memory() {
+        let record = |instructions, ram_bytes, differing| Record {
+            scene: "objects-static".into(),
+            method: "peel-front-to-back".into(),
+            path: "stream".into(),
+            shading: "flat".into(),
+            core: "cortex-m4f".into(),
+            width: 320,
+            height: 240,
+            triangles: 100,
+            instructions,
+            ram_bytes,
+            framebuffer_bytes: 0,
+            flash_bytes: ram_bytes * 10,
+            text_bytes: 1,
+            display_bytes: instructions / 10,
+            display_writes: 2,
+            differing_pixels: Some(differing),
+            robust_errors: None,
+            pending_peak: None,
+            pending_records: None,
+            pending_fallback: None,
+            deterministic: true,
+            objects: 0,
+        };
+        let combined = combine(&[record(30, 5, 0), record(10, 7, 1), record(20, 6, 2)]).unwrap();
+        assert_eq!(
+            (
+                combined.instructions,
+                combined.ram_bytes,
+                combined.flash_bytes
+            ),
+            (20, 7, 70)
+        );
+        assert_eq!(
+            (combined.display_bytes, combined.differing_pixels),
+            (2, Some(3))
+        );
+        assert!(combine(&[]).is_err());
+    }
 }
