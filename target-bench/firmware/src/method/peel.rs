@@ -72,7 +72,10 @@ pub struct Method {
 
 impl Method {
     /// Validate the scene (once, at boot), take the variant's memory and make the
-    /// renderer.
+    /// renderer. With objects never inlined: the workspace and object memory it moves into
+    /// the pool would otherwise have slots in `run`'s stack frame, which every frame's stack
+    /// peak counts.
+    #[cfg_attr(feature = "objects", inline(never))]
     pub fn new(asset: &'static [u8], config: &Config, pool: &mut Pool) -> Result<Method, Failure> {
         #[cfg(feature = "objects")]
         let (parts, scene) = {
