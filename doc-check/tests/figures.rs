@@ -30,6 +30,7 @@ fn record(scene: &str, method: &str, path: &str, instructions: u64, ram_bytes: u
         pending_records: None,
         pending_fallback: None,
         deterministic: true,
+        objects: 0,
     }
 }
 

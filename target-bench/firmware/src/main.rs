@@ -48,6 +48,10 @@ macro_rules! variant {
     };
 }
 
+// Objects are drawn by the streamed build alone (its panel sink).
+#[cfg(all(feature = "objects", not(feature = "ftb-stream")))]
+compile_error!("the objects feature goes with ftb-stream only");
+
 variant!(
     "ftb-framebuffer" => FtbFramebuffer,
     "ftb-stream" => FtbStream,
@@ -80,6 +84,12 @@ pub enum Failure {
     WrongVariant(Variant),
     /// The scene.
     Read(peel_runtime::ReadError),
+    /// A file of parts without a world.
+    #[cfg(feature = "objects")]
+    NoWorld,
+    /// A file of parts with another number of objects than the scene's.
+    #[cfg(feature = "objects")]
+    Objects(usize),
     /// The z-buffer's mesh.
     Mesh(peel_target_kit::mesh::MeshError),
     /// The renderer.
@@ -117,6 +127,14 @@ impl fmt::Display for Failure {
                 VARIANT.name()
             ),
             Failure::Read(e) => write!(f, "scene: {e}"),
+            #[cfg(feature = "objects")]
+            Failure::NoWorld => write!(f, "scene: a file of parts without a world"),
+            #[cfg(feature = "objects")]
+            Failure::Objects(n) => write!(
+                f,
+                "scene: {n} objects, the scene with objects has {}",
+                peel_target_kit::objects::OBJECTS
+            ),
             Failure::Mesh(e) => write!(f, "mesh: {e}"),
             Failure::Render(e) => write!(f, "render: {e}"),
             Failure::Framebuffer(e) => write!(f, "framebuffer: {e}"),
@@ -204,6 +222,9 @@ fn run(panel: &'static mut [u16], mut pool: Pool) -> Result<(), Failure> {
     );
     let mut stack_peak = 0;
     for (k, &angles) in config.cameras().iter().enumerate() {
+        // A scene with objects poses them for each camera, and its posed header frames them.
+        #[cfg(feature = "objects")]
+        let header = method.pose(k).unwrap_or(header);
         // The camera (f64 maths) is set up before the timed region.
         let view = peel_target_kit::orbit_view(&header, angles, config.fov_y_deg, width, height)?;
         display.start_frame();

@@ -25,6 +25,12 @@ pub enum Use {
     PanelMemory,
     /// A list of the scanline z-buffer (polygon table, vertices, heads, active edges).
     ScanlineList,
+    /// Object memory (the streamed build's scene with objects).
+    #[cfg(feature = "objects")]
+    ObjectMemory,
+    /// The renderer's workspace (the streamed build's, which draws objects too).
+    #[cfg(feature = "objects")]
+    Workspace,
     /// Pending-pixel records (anti-aliased frames; in that build only, like their names).
     #[cfg(feature = "aa")]
     PendingRecords,
@@ -44,6 +50,10 @@ impl core::fmt::Display for Use {
             Use::ScanHeads => "scan memory row heads",
             Use::PanelMemory => "panel memory",
             Use::ScanlineList => "scanline z-buffer list",
+            #[cfg(feature = "objects")]
+            Use::ObjectMemory => "object memory",
+            #[cfg(feature = "objects")]
+            Use::Workspace => "renderer workspace",
             #[cfg(feature = "aa")]
             Use::PendingRecords => "pending-pixel records",
             #[cfg(feature = "aa")]
@@ -147,6 +157,24 @@ impl Pool {
         }
         // SAFETY: as above, and every element was just written.
         Ok(unsafe { core::slice::from_raw_parts_mut(first, n) })
+    }
+
+    /// `value` moved into the pool (object memory, a workspace), aligned for `T` as [`Pool::filled`] is.
+    #[cfg(feature = "objects")]
+    pub fn value<T>(&mut self, value: T, what: Use) -> Result<&'static mut T, Failure> {
+        const { assert!(core::mem::align_of::<T>() <= 8 && core::mem::size_of::<T>() > 0) };
+        let misaligned = !(self.free.as_ptr() as usize).is_multiple_of(core::mem::align_of::<T>());
+        if misaligned {
+            self.words(1, what)?;
+        }
+        let words = self.words(core::mem::size_of::<T>().div_ceil(4), what)?;
+        let at = words.as_mut_ptr().cast::<T>();
+        // SAFETY: the words are ours for good, hold a `T` and are aligned for it (checked
+        // above; the pool's words are 4-aligned); it is written before the reference is made.
+        unsafe {
+            at.write(value);
+            Ok(&mut *at)
+        }
     }
 
     /// Bytes handed out.

@@ -2,8 +2,9 @@
 //! BENCHMARKS.md, section "On the target"): where QEMU puts the data in code memory
 //! ([`layout`]), the config block that tells the firmware what to draw ([`config`]), the
 //! indexed mesh the z-buffer baseline draws ([`mesh`]) and that baseline itself
-//! ([`zbuffer`]). `no_std` and allocation-free like the runtime, so the runner computes its
-//! reference pixels with the very code the firmware runs; the writers need the `std` feature.
+//! ([`zbuffer`]), and the poses of the scene with moving objects ([`objects`]). `no_std` and
+//! allocation-free like the runtime, so the runner computes its reference pixels with the
+//! very code the firmware runs; the writers need the `std` feature.
 #![no_std]
 #![forbid(unsafe_code)]
 #![deny(missing_docs)]
@@ -21,6 +22,7 @@ pub const VERTS: usize = 24;
 pub mod config;
 pub mod gfx3d;
 pub mod mesh;
+pub mod objects;
 pub mod scanline;
 pub mod zbuffer;
 

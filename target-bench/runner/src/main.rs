@@ -9,11 +9,14 @@
 //! received with the host's (`peel render` in the same order, the compiler's host renderer
 //! anti-aliased, or the same z-buffer code run on the host) and write
 //! `target/peel-target/results.json` and `results.md`. Any differing pixel or count fails the
-//! run (after writing the results), as does any failed step.
+//! run (after writing the results), as does any failed step. A full run with the streamed
+//! build also measures the scene with moving objects against the same geometry as one static
+//! file ([`objects`]).
 
 mod accuracy;
 mod elf;
 mod measure;
+mod objects;
 mod pixels;
 mod plan;
 mod report;
@@ -277,6 +280,32 @@ fn run(args: &Args) -> Result<Vec<String>, String> {
             problems.extend(found);
         }
     }
+    // The scene with moving objects and its static baseline: the streamed build only, in
+    // full runs (the quick run stays as it was).
+    let mut objects_summary = String::new();
+    if !args.quick {
+        let streamed = setups.iter().any(|s| s.variant == Variant::FtbStream);
+        if streamed && !args.shadows {
+            let outcome = objects::Objects {
+                tools: &tools,
+                firmware_dir: &firmware_dir,
+                cameras: &cameras,
+                models: &models,
+                scene_dir: &scene_dir,
+                runs_dir: &runs_dir,
+                timeout_s: 900,
+            }
+            .run()?;
+            records.extend(outcome.records);
+            problems.extend(outcome.problems);
+            objects_summary = outcome.summary;
+        } else {
+            let notice = "objects: skipped, only ftb-stream draws a scene with objects, and                           without --shadows"
+                .to_string();
+            println!("   {notice}");
+            skipped.push(notice);
+        }
+    }
     let json = results::json(&records)?;
     write(&out.join("results.json"), json.as_bytes())?;
     write(
@@ -284,6 +313,7 @@ fn run(args: &Args) -> Result<Vec<String>, String> {
         (results::markdown(&records)
             + &results::antialiased(&records)
             + &results::smooth(&records)
+            + &objects_summary
             + &skipped
                 .iter()
                 .map(|n| format!("\n{n}\n"))
@@ -308,7 +338,7 @@ fn run(args: &Args) -> Result<Vec<String>, String> {
         }
     }
     println!(
-        "\n{}{}{}",
+        "\n{}{}{}{objects_summary}",
         results::markdown(&records),
         results::antialiased(&records),
         results::smooth(&records)
@@ -442,7 +472,7 @@ impl Smooth<'_> {
                         _ => None,
                     },
                     robust_errors: Robust::FromFrames,
-                    truth: self.truth,
+                    truth: Some(self.truth),
                     pending_peaks: None,
                 };
                 let (record, found) = measure.measure(&dir, &expected)?;
@@ -754,7 +784,7 @@ impl References {
         Expected {
             frames,
             robust_errors,
-            truth: &self.truth,
+            truth: Some(&self.truth),
             pending_peaks: variant.antialiased().then_some(&self.pending_peaks[..]),
         }
     }

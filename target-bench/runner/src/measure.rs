@@ -15,7 +15,7 @@ use crate::{elf, mkdir, pixels, report, size_name, write, BACKGROUND};
 
 /// Instructions per SysTick tick under `-icount shift=0` (25 MHz core clock, 1 ns per
 /// instruction).
-const INSTRUCTIONS_PER_TICK: u64 = 40;
+pub(crate) const INSTRUCTIONS_PER_TICK: u64 = 40;
 
 /// One configuration: a scene, core, size and display path.
 pub struct Measure<'a> {
@@ -41,8 +41,8 @@ pub struct Expected<'a> {
     pub frames: Option<&'a [Vec<u16>]>,
     /// How the robust errors are known.
     pub robust_errors: Robust,
-    /// The reference.
-    pub truth: &'a Truth,
+    /// The reference (needed by [`Robust::FromFrames`]).
+    pub truth: Option<&'a Truth>,
     /// Anti-aliased: the most pending pixels each frame holds at once on the host with records
     /// to spare (the same code, so the target's peak when none of its rows fell back).
     pub pending_peaks: Option<&'a [u64]>,
@@ -55,6 +55,9 @@ pub enum Robust {
     Known(u64),
     /// Counted from the target's frames by coverage against the reference.
     FromFrames,
+    /// Not measured: no ray-casting reference of the scene (the scene with objects, whose
+    /// frames are the host's to the pixel all the same).
+    Unmeasured,
     /// Not applicable: an anti-aliased pixel blends the triangles it sees, so it is no one
     /// triangle's (its accuracy is measured against a supersampled reference instead,
     /// BENCHMARKS.md "Anti-aliased frames").
@@ -185,12 +188,17 @@ impl Measure<'_> {
         let background = peel_runtime::display::Colour::new(r, g, b).to_rgb565();
         let robust_errors = match expected.robust_errors {
             Robust::Known(n) => Some(n),
-            Robust::FromFrames => Some(
-                (first.frames.iter().enumerate())
-                    .map(|(k, frame)| expected.truth.coverage_errors(k, frame, background))
-                    .sum(),
-            ),
-            Robust::NotApplicable => None,
+            Robust::FromFrames => {
+                let truth = expected
+                    .truth
+                    .ok_or_else(|| format!("{name}: robust errors without a reference"))?;
+                Some(
+                    (first.frames.iter().enumerate())
+                        .map(|(k, frame)| truth.coverage_errors(k, frame, background))
+                        .sum(),
+                )
+            }
+            Robust::NotApplicable | Robust::Unmeasured => None,
         };
         // Anti-aliased: every frame must be, with no row fallen back to plain pixels. A row
         // falls back only when a pixel finds every record in use, so a peak below the records
@@ -290,6 +298,7 @@ impl Measure<'_> {
                 .then_some(u64::from(self.pending_pixels)),
             pending_fallback,
             deterministic,
+            objects: self.scene.objects,
         };
         let dash = |n: Option<u64>| n.map_or_else(|| "-".to_string(), |d| d.to_string());
         println!(

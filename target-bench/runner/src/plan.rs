@@ -214,7 +214,9 @@ usage: bash .ci/target [--quick] [--shadows] [--models DIR] [--only VARIANT,...]
 Runs Peel's renderer in qemu-system-arm (Cortex-M4F and Cortex-M0+ builds), checks its pixels
 against the host and writes target/peel-target/results.json and results.md. The teapot and the
 cow are measured smooth too (peel compile --shading smooth: streamed, in scan order, and
-embedded-3dgfx's Gouraud mode, 320x240, both cores).
+embedded-3dgfx's Gouraud mode, 320x240, both cores). With ftb-stream (not in the quick run),
+the scene with moving objects (a world with the teapot and the cow posed per camera, a file
+of parts) and the same posed geometry as one static file per camera.
 
   --quick         the demo scene, two cameras, 320x240, both cores, every method, and the
                   demo's smooth file streamed (CI)

@@ -166,6 +166,7 @@ mod tests {
             pending_records: None,
             pending_fallback: None,
             deterministic: true,
+            objects: 0,
         }
     }
 

@@ -67,6 +67,15 @@ pub struct Record {
     pub pending_fallback: Option<bool>,
     /// Two runs gave the same instruction count for every frame (and the same pixels).
     pub deterministic: bool,
+    /// Objects posed each frame (a file of parts, `peel_runtime::place`); 0, and absent from
+    /// the JSON, for a plain scene (so records written before it read the same).
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub objects: u64,
+}
+
+/// Whether `n` is 0 (a record's `objects` is then left out of the JSON).
+fn is_zero(n: &u64) -> bool {
+    *n == 0
 }
 
 /// The shading of a record without one (written before smooth records existed).
@@ -154,7 +163,7 @@ const fn figures(key: &'static str, cell: fn(&Record) -> String) -> Column {
 }
 
 /// Every field of [`Record`] as a column, in the JSON's order.
-pub const COLUMNS: [Column; 21] = [
+pub const COLUMNS: [Column; 22] = [
     words("scene", |r| r.scene.clone()),
     words("method", |r| r.method.clone()),
     words("path", |r| r.path.clone()),
@@ -178,6 +187,7 @@ pub const COLUMNS: [Column; 21] = [
         r.pending_fallback.map_or("-", yes_no).to_string()
     }),
     words("deterministic", |r| yes_no(r.deterministic).to_string()),
+    figures("objects", |r| r.objects.to_string()),
 ];
 
 fn yes_no(b: bool) -> &'static str {
@@ -599,6 +609,7 @@ mod tests {
             pending_records: None,
             pending_fallback: None,
             deterministic: true,
+            objects: 0,
         }
     }
 
@@ -635,8 +646,26 @@ mod tests {
                 "deterministic"
             ]
         );
-        // A table's columns are named by the same keys.
-        assert_eq!(COLUMNS.map(|c| c.key), keys[..]);
+        // A table's columns are named by the same keys, and `objects`, which only records of
+        // a scene with objects hold.
+        assert_eq!(
+            COLUMNS[..21].iter().map(|c| c.key).collect::<Vec<_>>(),
+            keys
+        );
+        assert_eq!(COLUMNS[21].key, "objects");
+        let posed = Record {
+            objects: 2,
+            ..record()
+        };
+        let j = json(std::slice::from_ref(&posed)).unwrap();
+        assert!(
+            j.contains("\"deterministic\": true,\n    \"objects\": 2\n"),
+            "{j}"
+        );
+        let back: Vec<Record> = serde_json::from_str(&j).unwrap();
+        assert_eq!(back, [posed]);
+        let back: Vec<Record> = serde_json::from_str(&json(&[record()]).unwrap()).unwrap();
+        assert_eq!(back[0].objects, 0);
         let picked = table(&[record()], &columns_of(&["method", "ram_bytes"]).unwrap());
         assert_eq!(
             picked,

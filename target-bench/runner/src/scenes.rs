@@ -47,27 +47,38 @@ pub fn list(root: &Path, models: &Path, quick: bool, dir: &Path) -> Result<Vec<S
     if quick {
         return Ok(list);
     }
-    for (name, generate) in MODELS {
-        let model = models.join(format!("{name}.obj"));
-        if model.is_file() {
-            list.push(SceneSpec {
-                name: name.into(),
-                obj: model,
-            });
-            continue;
-        }
-        println!(
-            "{}: absent, a generated mesh of similar size stands in",
-            model.display()
-        );
-        let obj = dir.join(format!("{name}-generated.obj"));
-        write_obj(&generate(), &obj)?;
+    for (name, _) in MODELS {
+        let (obj, generated) = model(name, models, dir)?;
         list.push(SceneSpec {
-            name: format!("{name} (generated)"),
+            name: if generated {
+                format!("{name} (generated)")
+            } else {
+                name.into()
+            },
             obj,
         });
     }
     Ok(list)
+}
+
+/// The OBJ file of the shared model `name` (one of [`MODELS`]) from `models`, or when it is
+/// absent its generated stand-in written into `dir` (`true`: generated).
+pub fn model(name: &str, models: &Path, dir: &Path) -> Result<(PathBuf, bool), String> {
+    let model = models.join(format!("{name}.obj"));
+    if model.is_file() {
+        return Ok((model, false));
+    }
+    let (_, generate) = MODELS
+        .iter()
+        .find(|(n, _)| *n == name)
+        .ok_or_else(|| format!("{name}: not a shared model"))?;
+    println!(
+        "{}: absent, a generated mesh of similar size stands in",
+        model.display()
+    );
+    let obj = dir.join(format!("{name}-generated.obj"));
+    write_obj(&generate(), &obj)?;
+    Ok((obj, true))
 }
 
 /// `mesh` as an OBJ file (shared corners merged; coordinates printed exactly).
@@ -118,6 +129,8 @@ pub struct Compiled {
     pub shadows: bool,
     /// Compiled smooth (`--shading smooth`, the default crease).
     pub smooth: bool,
+    /// Objects the frames pose (a file of parts, [`crate::objects`]); 0 for a plain scene.
+    pub objects: u64,
 }
 
 impl Compiled {
@@ -222,6 +235,7 @@ pub fn compile(
         triangles,
         shadows,
         smooth,
+        objects: 0,
     })
 }
 

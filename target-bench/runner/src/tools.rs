@@ -106,13 +106,35 @@ impl Tools {
         gfx3d_commands: Option<u64>,
         dir: &Path,
     ) -> Result<PathBuf, String> {
+        self.build(core, variant, false, gfx3d_commands, dir)
+    }
+
+    /// Build the streamed firmware that draws files of parts (`--features
+    /// ftb-stream,objects`, the scene with moving objects) on `core` into `dir`.
+    pub fn build_objects_firmware(&self, core: Core, dir: &Path) -> Result<PathBuf, String> {
+        self.build(core, Variant::FtbStream, true, None, dir)
+    }
+
+    fn build(
+        &self,
+        core: Core,
+        variant: Variant,
+        objects: bool,
+        gfx3d_commands: Option<u64>,
+        dir: &Path,
+    ) -> Result<PathBuf, String> {
+        let features = if objects {
+            format!("{},objects", variant.name())
+        } else {
+            variant.name().to_string()
+        };
         let crate_dir = self.root.join("target-bench/firmware");
         let build_dir = self.target_dir.join("peel-target/firmware-build");
         let mut build = Command::new(&self.cargo);
         build
             .args(["build", "--release", "--quiet", "--locked", "--target"])
             .arg(core.triple())
-            .args(["--features", variant.name()])
+            .args(["--features", &features])
             .current_dir(&crate_dir)
             .env("CARGO_TARGET_DIR", &build_dir)
             .env_remove("RUSTFLAGS")
@@ -125,13 +147,16 @@ impl Tools {
         let what = format!(
             "firmware build (target-bench/firmware: cargo build --release --target {} --features {})",
             core.triple(),
-            variant.name()
+            features
         );
         output(build, &what)?;
         let elf = build_dir
             .join(core.triple())
             .join("release/peel-target-firmware");
-        let suffix = gfx3d_commands.map_or_else(String::new, |n| format!("-{n}"));
+        let mut suffix = gfx3d_commands.map_or_else(String::new, |n| format!("-{n}"));
+        if objects {
+            suffix.push_str("-objects");
+        }
         let copy = dir.join(format!("{}-{}{suffix}.elf", core.name(), variant.name()));
         std::fs::copy(&elf, &copy).map_err(|e| format!("{}: cannot copy: {e}", elf.display()))?;
         Ok(copy)

@@ -9,6 +9,10 @@ use peel_runtime::display::DrawTargetSink;
 use peel_runtime::display::Rgb565Framebuffer;
 #[cfg(feature = "aa")]
 use peel_runtime::pending::Pending;
+#[cfg(feature = "objects")]
+use peel_runtime::place::{Object, ObjectMemory, Posed};
+#[cfg(feature = "objects")]
+use peel_runtime::read::Parts;
 use peel_runtime::read::{Header, Scene};
 use peel_runtime::render::{Renderer, Workspace};
 #[cfg(feature = "scan")]
@@ -28,10 +32,28 @@ const VERTEX_MEMORY: usize = 512;
 /// The vertex memory ([`CachedVertex::EMPTY`] is all zeros: `.bss`).
 static mut VERTEX_ENTRIES: [CachedVertex; VERTEX_MEMORY] = [CachedVertex::EMPTY; VERTEX_MEMORY];
 
+/// Object memory of the streamed build (the scene with objects, [`peel_target_kit::objects`]):
+/// its objects and the steps of the frame's order. From the pool, so that only a run with
+/// objects counts it as RAM.
+#[cfg(feature = "objects")]
+type Memory =
+    ObjectMemory<{ peel_target_kit::objects::OBJECTS }, { peel_target_kit::objects::STEPS }>;
+
+/// A file of parts' objects and the poses of the current camera.
+#[cfg(feature = "objects")]
+struct Moving {
+    objects: [Object<'static>; peel_target_kit::objects::OBJECTS],
+    headers: [Header; peel_target_kit::objects::OBJECTS],
+}
+
 /// A Peel variant's scene, renderer and pixel memory.
 #[cfg_attr(feature = "scan", allow(dead_code))]
 pub struct Method {
+    /// The scene, or a file of parts' world.
     scene: Scene<'static>,
+    /// A file of parts' objects (`None` for a plain scene).
+    #[cfg(feature = "objects")]
+    moving: Option<Moving>,
     /// Made once, draws every frame (and band): the background set, span memory for one
     /// frame or band when front to back.
     renderer: Renderer<'static>,
@@ -50,8 +72,20 @@ pub struct Method {
 
 impl Method {
     /// Validate the scene (once, at boot), take the variant's memory and make the
-    /// renderer.
+    /// renderer. With objects never inlined: the workspace and object memory it moves into
+    /// the pool would otherwise have slots in `run`'s stack frame, which every frame's stack
+    /// peak counts.
+    #[cfg_attr(feature = "objects", inline(never))]
     pub fn new(asset: &'static [u8], config: &Config, pool: &mut Pool) -> Result<Method, Failure> {
+        #[cfg(feature = "objects")]
+        let (parts, scene) = {
+            let parts = Parts::parse(asset)?;
+            (parts, parts.world().ok_or(Failure::NoWorld)?)
+        };
+        #[cfg(feature = "objects")]
+        let objects = parts.object_count() as usize;
+        // Other builds read a plain scene as before (a file of parts: `ReadError`'s version).
+        #[cfg(not(feature = "objects"))]
         let scene = Scene::parse(asset)?;
         let (width, height) = (config.width, config.height);
         let band = if VARIANT.banded() {
@@ -59,9 +93,27 @@ impl Method {
         } else {
             height
         };
-        let workspace = cortex_m::singleton!(: Workspace<STACK, VERTS> = Workspace::new())
-            .ok_or(Failure::Host("workspace taken twice"))?;
-        let mut renderer = Renderer::new(workspace).background(config.background_colour());
+        #[cfg(not(feature = "objects"))]
+        let mut renderer = {
+            let workspace = cortex_m::singleton!(: Workspace<STACK, VERTS> = Workspace::new())
+                .ok_or(Failure::Host("workspace taken twice"))?;
+            Renderer::new(workspace).background(config.background_colour())
+        };
+        // The build that draws objects takes its workspace from the pool: a posed frame needs
+        // longer clip buffers (its pieces' cuts), which a plain scene's run does not pay for.
+        #[cfg(feature = "objects")]
+        let mut renderer = {
+            // Once only, for the vertex memory below.
+            cortex_m::singleton!(: () = ()).ok_or(Failure::Host("renderer made twice"))?;
+            let renderer = if objects > 0 {
+                type Posed = Workspace<STACK, { peel_target_kit::objects::VERTS }>;
+                Renderer::new(pool.value(Posed::new(), Use::Workspace)?)
+            } else {
+                type Plain = Workspace<STACK, VERTS>;
+                Renderer::new(pool.value(Plain::new(), Use::Workspace)?)
+            };
+            renderer.background(config.background_colour())
+        };
         // Without an FPU (a soft-float ABI) a subtree's box test costs more than it saves
         // in a whole frame; a band skips most of the tree by those tests, so there they pay.
         if !cfg!(target_abi = "eabihf") && !VARIANT.banded() {
@@ -97,10 +149,29 @@ impl Method {
         }
         // A static rather than a singleton, which would build the array in `main`'s stack
         // frame first and so count it twice (`.bss` and the stack's high-water mark).
-        // SAFETY: the workspace singleton above makes this run once, so this is the only
-        // reference.
+        // SAFETY: the singleton above makes this run once, so this is the only reference.
         let vertices = unsafe { &mut *core::ptr::addr_of_mut!(VERTEX_ENTRIES) };
         renderer = renderer.vertex_memory(VertexCache::new(vertices));
+        #[cfg(feature = "objects")]
+        let moving = if objects > 0 {
+            use peel_target_kit::objects::OBJECTS;
+            if objects != OBJECTS {
+                return Err(Failure::Objects(objects));
+            }
+            let memory = pool.value(Memory::new(), Use::ObjectMemory)?;
+            renderer = renderer.object_memory(memory);
+            let object = |k: usize| {
+                let (_, scene) = parts.object(k as u32).ok_or(Failure::Objects(objects))?;
+                Ok::<_, Failure>(Object { scene, pose: None })
+            };
+            let objects = [object(0)?, object(1)?];
+            Some(Moving {
+                headers: objects.map(|o| o.scene.header()),
+                objects,
+            })
+        } else {
+            None
+        };
         let pixel_count = match VARIANT {
             Variant::FtbStream | Variant::StreamAa => 0,
             // The row buffer a DMA takes each row from.
@@ -109,6 +180,8 @@ impl Method {
         };
         Ok(Method {
             scene,
+            #[cfg(feature = "objects")]
+            moving,
             renderer,
             pixels: pool.u16s(pixel_count, Use::Framebuffer)?,
             width,
@@ -133,6 +206,23 @@ impl Method {
     /// The scene's header (for the camera).
     pub fn header(&self) -> Header {
         self.scene.header()
+    }
+
+    /// A file of parts: pose its objects for camera `k` ([`peel_target_kit::objects::poses`]);
+    /// the header that frames the posed scene (`None` for a plain scene).
+    #[cfg(feature = "objects")]
+    pub fn pose(&mut self, k: usize) -> Option<Header> {
+        let moving = self.moving.as_mut()?;
+        let poses = peel_target_kit::objects::poses(k, &moving.headers);
+        for (object, pose) in moving.objects.iter_mut().zip(poses) {
+            object.pose = Some(pose);
+        }
+        let world = self.scene.header();
+        Some(peel_target_kit::objects::posed_header(
+            &world,
+            &moving.headers,
+            &poses,
+        ))
     }
 
     /// Bytes of pixel memory: the framebuffer, the band buffer or the row buffer (0 when
@@ -170,6 +260,10 @@ impl Method {
     fn other_frame(&mut self, view: &LocalView, panel: &mut Panel) -> Result<bool, Failure> {
         let (w, h) = (self.width, self.height);
         let scene = &self.scene;
+        #[cfg(feature = "objects")]
+        if let Some(moving) = &self.moving {
+            return posed_frame(&mut self.renderer, *scene, moving, view, panel);
+        }
         if matches!(VARIANT, Variant::FtbStream | Variant::StreamAa) {
             // Every span straight to the panel, the uncovered ones last (anti-aliased: the
             // pending pixels before them).
@@ -212,4 +306,21 @@ impl Method {
         }
         Ok(fallback)
     }
+}
+
+/// A posed frame streamed to `panel`; whether span memory ran out. Never inlined: inlined,
+/// its stack frame (the plan's and the pieces' state) would be reserved by every frame of a
+/// plain scene too, which the static baseline draws with this build.
+#[cfg(feature = "objects")]
+#[inline(never)]
+fn posed_frame(
+    renderer: &mut Renderer<'static>,
+    world: Scene<'static>,
+    moving: &Moving,
+    view: &LocalView,
+    panel: &mut Panel,
+) -> Result<bool, Failure> {
+    let posed = Posed::new(Some(world), &moving.objects);
+    let stats = renderer.draw(&posed, view, &mut crate::display::PanelSink::new(panel))?;
+    Ok(stats.fallback)
 }
