@@ -39,6 +39,19 @@ pub struct ClipPlane {
 }
 
 impl ClipPlane {
+    /// Whether every point of the camera-space box `b` fails this plane's `eval(p) >= 0` in
+    /// `f32` as the clipper computes it: the margin covers `b`'s error and the rounding of
+    /// the evaluation ([`Frustum::excludes_box`], a piece's cuts).
+    pub fn excludes_box(&self, b: &CameraBox) -> bool {
+        const ROUNDING: f32 = 1.0 / 262_144.0;
+        let size = b.centre.abs() + b.extent + Vec3::splat(b.error);
+        let n = self.normal.abs();
+        let scale = n.element_sum();
+        let margin =
+            2.0 * scale * b.error + ROUNDING * (n.dot(size) + scale * b.error + self.offset.abs());
+        self.eval(b.centre) + n.dot(b.extent) + margin < 0.0
+    }
+
     /// Signed value at `p`: `>= 0` inside.
     pub fn eval(&self, p: Vec3) -> f32 {
         self.normal.dot(p) + self.offset
@@ -126,15 +139,7 @@ impl Frustum {
     /// rounds by a few units of `2^-24` of `|normal|₁ · |p|₁ + |offset|`. Asking for twice
     /// the first plus `2^-18` of the second leaves every such point below zero.
     pub fn excludes_box(&self, b: &CameraBox) -> bool {
-        const ROUNDING: f32 = 1.0 / 262_144.0;
-        let size = b.centre.abs() + b.extent + Vec3::splat(b.error);
-        self.planes.iter().any(|plane| {
-            let n = plane.normal.abs();
-            let scale = n.element_sum();
-            let margin = 2.0 * scale * b.error
-                + ROUNDING * (n.dot(size) + scale * b.error + plane.offset.abs());
-            plane.eval(b.centre) + n.dot(b.extent) + margin < 0.0
-        })
+        self.planes.iter().any(|plane| plane.excludes_box(b))
     }
 }
 
@@ -209,6 +214,22 @@ pub struct Cut {
     pub plane: ClipPlane,
     /// What is kept.
     pub keep: Keep,
+}
+
+impl Cut {
+    /// Whether the cut leaves nothing of the camera-space box `b`: every point of it on the
+    /// side not kept, as [`ClipPlane::excludes_box`] proves it ([`Keep::Both`] keeps all).
+    pub fn removes_box(&self, b: &CameraBox) -> bool {
+        match self.keep {
+            Keep::Plus => self.plane.excludes_box(b),
+            Keep::Minus => ClipPlane {
+                normal: -self.plane.normal,
+                offset: -self.plane.offset,
+            }
+            .excludes_box(b),
+            Keep::Both => false,
+        }
+    }
 }
 
 /// What a [`Cut`] keeps.

@@ -194,10 +194,26 @@ impl<'v, const SUB: u32> Painter<'_, 'v, SUB> {
         coverage: Option<&Coverage<'_>>,
         stats: &mut Tally,
     ) -> bool {
+        // A piece of a posed object skips what its cuts leave nothing of, with or without the
+        // other subtree tests: each piece would otherwise walk its object's whole tree.
+        if !self.cuts.is_empty() && cfg!(feature = "bounds-culling") && self.cut_away(scene, node) {
+            stats.add(Counter::NodesCulledFrustum, 1);
+            return false;
+        }
         if !(self.cull && self.cull_subtrees && cfg!(feature = "bounds-culling")) {
             return true;
         }
         self.test_subtree(scene, node, coverage, stats)
+    }
+
+    /// Whether a cut of this piece leaves nothing of node `node`'s subtree.
+    #[inline(never)]
+    fn cut_away<T: Source + ?Sized>(&self, scene: &T, node: u32) -> bool {
+        let Some((lo, hi)) = scene.node_bounds(node) else {
+            return false;
+        };
+        let b = self.view.box_to_camera(lo, hi);
+        self.cuts.iter().any(|cut| cut.removes_box(&b))
     }
 
     /// [`Self::enter`]'s tests. Out of line on a soft-float ARM core: inlined into the walk,

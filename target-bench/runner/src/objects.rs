@@ -431,10 +431,7 @@ fn posed<'a>(scenes: &[Scene<'a>], poses: &[Pose; OBJECTS]) -> Vec<Object<'a>> {
     scenes
         .iter()
         .zip(poses)
-        .map(|(&scene, &pose)| Object {
-            scene,
-            pose: Some(pose),
-        })
+        .map(|(&scene, &pose)| Object::new(scene, Some(pose)))
         .collect()
 }
 

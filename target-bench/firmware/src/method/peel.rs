@@ -162,7 +162,7 @@ impl Method {
             renderer = renderer.object_memory(memory);
             let object = |k: usize| {
                 let (_, scene) = parts.object(k as u32).ok_or(Failure::Objects(objects))?;
-                Ok::<_, Failure>(Object { scene, pose: None })
+                Ok::<_, Failure>(Object::new(scene, None))
             };
             let objects = [object(0)?, object(1)?];
             Some(Moving {
