@@ -196,20 +196,20 @@ pub enum RenderError {
     /// not proven, and the frame is refused rather than drawn wrong.
     ObjectsIntersect {
         /// Index of the first object ([`crate::place::Posed::objects`]).
-        first: u16,
+        first: u32,
         /// Index of the second.
-        second: u16,
+        second: u32,
     },
     /// More world planes cut an object this frame than a piece can be clipped by (32): a
     /// world of many planes through the object's place.
     TooManyCuts {
         /// Index of the object.
-        object: u16,
+        object: u32,
     },
     /// An object's pose is not finite.
     BadPose {
         /// Index of the object.
-        object: u16,
+        object: u32,
     },
     /// [`crate::render::Renderer::draw_rows`] was given rows that are not a range of the
     /// image's rows.

@@ -192,7 +192,7 @@ pub fn render_posed_named(
     shot: &Shot,
     settings: &Settings,
 ) -> Result<Frame, String> {
-    let name = |k: u16| names.get(usize::from(k)).copied().unwrap_or("?");
+    let name = |k: u32| names.get(k as usize).copied().unwrap_or("?");
     let describe = |e: RenderError| match e {
         RenderError::ObjectsIntersect { first, second } => format!(
             "objects {} and {} intersect on the screen and no plane separates their boxes: \

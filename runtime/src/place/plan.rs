@@ -409,8 +409,8 @@ impl Builder<'_, '_> {
                 None => {
                     let (a, b) = (pending[0].0, pending[1 % n].0);
                     return Err(RenderError::ObjectsIntersect {
-                        first: a.min(b),
-                        second: a.max(b),
+                        first: u32::from(a.min(b)),
+                        second: u32::from(a.max(b)),
                     });
                 }
             };
@@ -480,8 +480,8 @@ impl Builder<'_, '_> {
         }
         if (self.overlap)(a, b) {
             Err(RenderError::ObjectsIntersect {
-                first: a.min(b),
-                second: a.max(b),
+                first: u32::from(a.min(b)),
+                second: u32::from(a.max(b)),
             })
         } else {
             Ok(None)

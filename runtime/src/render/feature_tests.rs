@@ -7,7 +7,7 @@ use std::vec;
 use std::vec::Vec;
 
 use super::frame::window;
-use super::painter::Painter;
+use super::painter::{NoCuts, Painter};
 use super::testing::*;
 use super::*;
 use crate::camera::{Camera, Pose};
@@ -183,7 +183,7 @@ fn culled_cube(order: Order) -> (FrameStats, bool) {
         #[cfg(feature = "integer-vertices")]
         integer: None,
         antialias: None,
-        cuts: &[],
+        cuts: NoCuts,
     };
     let entered = painter.enter(&t, 0, None, &mut Tally::default());
     assert!(sink.1.iter().all(|&c| c == Colour::default()));

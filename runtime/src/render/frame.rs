@@ -13,7 +13,7 @@ use glam::Vec3;
 use super::content::{Content, Drawn};
 use super::objects::{self, MAX_CUTS};
 use super::paint::Paint;
-use super::painter::Painter;
+use super::painter::{NoCuts, Painter, Root};
 use super::{FrameStats, Source};
 use crate::camera::LocalView;
 use crate::clip::{self, Frustum};
@@ -264,7 +264,7 @@ where
         #[cfg(feature = "integer-vertices")]
         integer,
         antialias: pending,
-        cuts: &[],
+        cuts: NoCuts,
     };
     Ok(Frame {
         painter,
@@ -422,6 +422,7 @@ impl<const SUB: u32> Frame<'_, '_, SUB> {
 
     /// One walk of the tree in the frame's order (see [`Painter::walk`]); with objects, of
     /// the frame's steps.
+    #[inline(always)]
     fn walk<C, S>(
         &mut self,
         scene: &C,
@@ -442,7 +443,7 @@ impl<const SUB: u32> Frame<'_, '_, SUB> {
                     target,
                     &mut self.tally,
                     last.map(|m| m.polygon),
-                    Start::Root,
+                    Root,
                 )?;
                 Ok(overflow.map(|polygon| Mark { step: 0, polygon }))
             }
@@ -515,7 +516,7 @@ impl<const SUB: u32> Frame<'_, '_, SUB> {
                         world_inside,
                         #[cfg(feature = "integer-vertices")]
                         world_integer,
-                        &[],
+                        NoCuts,
                     );
                     part.walk(
                         world,

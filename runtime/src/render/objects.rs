@@ -82,7 +82,7 @@ pub(super) fn prepare(
         *slot = match object.pose {
             None => Placement::HIDDEN,
             Some(pose) if !pose.is_finite() => {
-                return Err(RenderError::BadPose { object: k as u16 });
+                return Err(RenderError::BadPose { object: k as u32 });
             }
             Some(pose) => {
                 let (rotation, offset) = place::placement(&pose, h.centre, centre);
@@ -121,7 +121,9 @@ pub(super) fn prepare(
         let mut firsts = [u16::MAX; MAX_CUTS];
         let object = k as u16;
         let planes = object_planes(planned, &memory.cuts[..], object, &mut firsts)
-            .ok_or(RenderError::TooManyCuts { object })?;
+            .ok_or(RenderError::TooManyCuts {
+                object: u32::from(object),
+            })?;
         most = most.max(planes);
     }
     let needed = clip::buffer_len_for(max_vertices).saturating_add(2 * most as u32);

@@ -8,7 +8,7 @@ use std::vec;
 use std::vec::Vec;
 
 #[cfg(feature = "front-to-back")]
-use super::painter::Painter;
+use super::painter::{NoCuts, Painter};
 use super::testing::*;
 use super::*;
 use crate::camera::{Camera, Pose};
@@ -295,7 +295,7 @@ fn a_full_screen_stops_the_walk_and_culls_covered_subtrees() {
             #[cfg(feature = "integer-vertices")]
             integer: None,
             antialias: None,
-            cuts: &[],
+            cuts: NoCuts,
         };
         let mut tally = Tally::default();
         // Without `bounds-culling` every subtree is entered.

@@ -64,8 +64,44 @@ pub(super) fn floor_pixel(v: f32) -> u32 {
     v as u32
 }
 
+/// Where a frame of one scene starts its walk: the root, known at compile time.
+#[derive(Debug, Clone, Copy)]
+pub(super) struct Root;
+
+impl From<Root> for Start {
+    #[inline(always)]
+    fn from(_: Root) -> Start {
+        Start::Root
+    }
+}
+
+/// The cuts a painter clips its polygons by: none (a scene, a world's step: [`NoCuts`], so
+/// that a build without objects carries no cut code) or a piece's.
+pub(super) trait Cuts: Copy {
+    /// The cuts, in camera space.
+    fn list(&self) -> &[clip::Cut];
+}
+
+/// No cuts: the painter of a frame of one scene.
+#[derive(Debug, Clone, Copy)]
+pub(super) struct NoCuts;
+
+impl Cuts for NoCuts {
+    #[inline(always)]
+    fn list(&self) -> &[clip::Cut] {
+        &[]
+    }
+}
+
+impl Cuts for &[clip::Cut] {
+    #[inline(always)]
+    fn list(&self) -> &[clip::Cut] {
+        self
+    }
+}
+
 /// The per-polygon work of a frame, with its buffers.
-pub(super) struct Painter<'w, 'v, const SUB: u32> {
+pub(super) struct Painter<'w, 'v, const SUB: u32, K: Cuts = NoCuts> {
     pub(super) view: &'w LocalView,
     /// The frame rows drawn (all of them, or a band).
     pub(super) rows: core::ops::Range<u32>,
@@ -93,21 +129,21 @@ pub(super) struct Painter<'w, 'v, const SUB: u32> {
     pub(super) antialias: Option<&'w mut Pending<'v>>,
     /// The half-spaces, in camera space, a piece of a posed object is clipped to (none
     /// otherwise; see [`crate::place`]).
-    pub(super) cuts: &'w [clip::Cut],
+    pub(super) cuts: K,
 }
 
-impl<'v, const SUB: u32> Painter<'_, 'v, SUB> {
+impl<'v, const SUB: u32, K: Cuts> Painter<'_, 'v, SUB, K> {
     /// This painter for one part of a frame with objects: the part's `view` (the camera in its
     /// frame), whether it lies wholly inside the frustum, its integer projection, and the cuts
     /// of its piece. Vertex memory serves only a part that needs no clipping.
-    pub(super) fn part<'s>(
+    pub(super) fn part<'s, C: Cuts>(
         &'s mut self,
         view: &'s LocalView,
         all_inside: bool,
         #[cfg(feature = "integer-vertices")] integer: Option<IntegerView>,
-        cuts: &'s [clip::Cut],
-    ) -> Painter<'s, 'v, SUB> {
-        let unclipped = all_inside && cuts.is_empty();
+        cuts: C,
+    ) -> Painter<'s, 'v, SUB, C> {
+        let unclipped = all_inside && cuts.list().is_empty();
         Painter {
             view,
             rows: self.rows.clone(),
@@ -136,9 +172,12 @@ impl<'v, const SUB: u32> Painter<'_, 'v, SUB> {
     /// polygon whose span did not fit the span memory, which it returns. With `last` (the
     /// fallback pass) it stops after polygon `last`, which the first pass already counted.
     /// One function for both passes keeps one copy of the loop in the binary.
+    /// `start` says where in the tree: the root ([`Root`], a frame of one scene, whose walk
+    /// then has no code for the others) or a part of it (a frame with objects walks the world
+    /// in parts).
     #[allow(clippy::too_many_arguments)]
     #[inline(never)]
-    pub(super) fn walk<T: Source + ?Sized, S: SpanSink + ?Sized>(
+    pub(super) fn walk<T: Source + ?Sized, S: SpanSink + ?Sized, St: Into<Start>>(
         &mut self,
         scene: &T,
         order: Order,
@@ -147,13 +186,14 @@ impl<'v, const SUB: u32> Painter<'_, 'v, SUB> {
         sink: &mut S,
         stats: &mut Tally,
         last: Option<u32>,
-        start: Start,
+        start: St,
     ) -> Result<Option<u32>, RenderError> {
+        let mut traversal =
+            Traversal::starting(scene, self.view.eye, order, stack, start.into())?;
         let exclusive = coverage
             .as_deref()
             .is_some_and(|c| c.mode() == Mode::Exclusive);
         let mut overflow = None;
-        let mut traversal = Traversal::starting(scene, self.view.eye, order, stack, start)?;
         if self.all_inside {
             traversal.skip_solids_from_behind();
         }
@@ -196,7 +236,10 @@ impl<'v, const SUB: u32> Painter<'_, 'v, SUB> {
     ) -> bool {
         // A piece of a posed object skips what its cuts leave nothing of, with or without the
         // other subtree tests: each piece would otherwise walk its object's whole tree.
-        if !self.cuts.is_empty() && cfg!(feature = "bounds-culling") && self.cut_away(scene, node) {
+        if !self.cuts.list().is_empty()
+            && cfg!(feature = "bounds-culling")
+            && self.cut_away(scene, node)
+        {
             stats.add(Counter::NodesCulledFrustum, 1);
             return false;
         }
@@ -213,7 +256,7 @@ impl<'v, const SUB: u32> Painter<'_, 'v, SUB> {
             return false;
         };
         let b = self.view.box_to_camera(lo, hi);
-        self.cuts.iter().any(|cut| cut.removes_box(&b))
+        self.cuts.list().iter().any(|cut| cut.removes_box(&b))
     }
 
     /// [`Self::enter`]'s tests. Out of line on a soft-float ARM core: inlined into the walk,
@@ -290,7 +333,7 @@ impl<'v, const SUB: u32> Painter<'_, 'v, SUB> {
     ) -> Result<(), RenderError> {
         let n = u32::from(polygon.vertex_count);
         // (Each cut of a posed object's piece may add a vertex.)
-        let needed = clip::buffer_len_for(n).saturating_add(self.cuts.len() as u32);
+        let needed = clip::buffer_len_for(n).saturating_add(self.cuts.list().len() as u32);
         if needed > self.available {
             // Only a source contradicting its own maximum gets here, or a piece with more
             // cuts than the buffers have room for.
@@ -364,7 +407,7 @@ impl<'v, const SUB: u32> Painter<'_, 'v, SUB> {
             }
             // A smooth polygon about to be clipped: its plane's intensities, from its first
             // three corners (the compiler starts a list with its best-shaped three).
-            let cut = !self.cuts.is_empty();
+            let cut = !self.cuts.list().is_empty();
             let plane = match side {
                 Some(side) if !self.all_inside || cut => {
                     let at = |k: usize| self.clip_a.get(k).copied().unwrap_or_default();
@@ -382,7 +425,8 @@ impl<'v, const SUB: u32> Painter<'_, 'v, SUB> {
                 } else {
                     &self.frustum.planes()[..]
                 };
-                clip::cut_polygon(self.cuts, planes, n as usize, self.clip_a, self.clip_b)?
+                let cuts = self.cuts.list();
+                clip::cut_polygon(cuts, planes, n as usize, self.clip_a, self.clip_b)?
             } else if self.all_inside {
                 self.clip_a.get(..n as usize).unwrap_or(&[])
             } else {

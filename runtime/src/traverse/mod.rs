@@ -271,6 +271,7 @@ impl<'t, 's, T: Tree + ?Sized> Traversal<'t, 's, T> {
     /// [`Traversal::new`] walking only part of the tree: a subtree, or the polygons of a
     /// convex node whose interior (or exterior) side the eye sees, in `order`. A frame with
     /// objects walks the world in such parts, its objects' pieces between them.
+    #[inline(always)]
     pub fn starting(
         tree: &'t T,
         eye: Vec3,
