@@ -120,10 +120,11 @@ pub(super) fn prepare(
     for k in 0..count {
         let mut firsts = [u16::MAX; MAX_CUTS];
         let object = k as u16;
-        let planes = object_planes(planned, &memory.cuts[..], object, &mut firsts)
-            .ok_or(RenderError::TooManyCuts {
+        let planes = object_planes(planned, &memory.cuts[..], object, &mut firsts).ok_or(
+            RenderError::TooManyCuts {
                 object: u32::from(object),
-            })?;
+            },
+        )?;
         most = most.max(planes);
     }
     let needed = clip::buffer_len_for(max_vertices).saturating_add(2 * most as u32);

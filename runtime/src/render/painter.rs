@@ -188,8 +188,7 @@ impl<'v, const SUB: u32, K: Cuts> Painter<'_, 'v, SUB, K> {
         last: Option<u32>,
         start: St,
     ) -> Result<Option<u32>, RenderError> {
-        let mut traversal =
-            Traversal::starting(scene, self.view.eye, order, stack, start.into())?;
+        let mut traversal = Traversal::starting(scene, self.view.eye, order, stack, start.into())?;
         let exclusive = coverage
             .as_deref()
             .is_some_and(|c| c.mode() == Mode::Exclusive);
