@@ -70,6 +70,26 @@ impl Scene<'_> {
     /// stores one for it.
     #[inline]
     pub fn node_bounds(&self, i: u32) -> Option<(Vec3, Vec3)> {
+        let at = self.node_box_at(i)?;
+        Some(self.box_at(at))
+    }
+
+    /// Node `i`'s box as the file stores it: the 16-bit steps of its corners (`(min, max)`),
+    /// which hold the steps of every vertex of its subtree ([`Scene::vertex_steps`]); `None`
+    /// without a box or with `f32` vertices.
+    #[inline]
+    pub fn node_box_steps(&self, i: u32) -> Option<([u16; 3], [u16; 3])> {
+        if self.vertex_size() != 6 {
+            return None;
+        }
+        let r = Record::<BOUNDS_SIZE>::at(self.bytes, self.node_box_at(i)?)?;
+        let q = |k: usize| [r.u16(k), r.u16(k + 2), r.u16(k + 4)];
+        Some((q(0), q(6)))
+    }
+
+    /// The byte offset of node `i`'s box, if it has one.
+    #[inline]
+    fn node_box_at(&self, i: u32) -> Option<usize> {
         if self.header.flags & header_flags::BOUNDS == 0 || i >= self.header.node_count {
             return None;
         }
@@ -84,8 +104,7 @@ impl Scene<'_> {
         if k >= self.header.bounds_count {
             return None;
         }
-        let at = element(self.bounds, BOUNDS_SIZE, k)?;
-        Some(self.box_at(at))
+        element(self.bounds, BOUNDS_SIZE, k)
     }
 
     #[inline]

@@ -13,7 +13,7 @@ use glam::Vec3;
 use super::content::{Content, Drawn};
 use super::objects::{self, MAX_CUTS};
 use super::paint::Paint;
-use super::painter::{NoCuts, Painter, Root};
+use super::painter::{NoCuts, Painter, PieceCuts, Root, StepCut};
 use super::{FrameStats, Source};
 use crate::camera::LocalView;
 use crate::clip::{self, Frustum};
@@ -551,8 +551,21 @@ impl<const SUB: u32> Frame<'_, '_, SUB> {
                         view,
                         &mut cuts,
                     );
+                    // The cuts in the object's vertex steps, which tell the polygons no cut
+                    // crosses (drawn as if uncut) and those cut away.
+                    let mut step_cuts = [StepCut::NONE; MAX_CUTS];
+                    let grid = o.scene.step_grid();
+                    if let Some(grid) = grid {
+                        for (s, c) in step_cuts.iter_mut().zip(&cuts[..count]) {
+                            *s = StepCut::new(c, &local, grid);
+                        }
+                    }
+                    let piece = PieceCuts {
+                        cuts: &cuts[..count],
+                        steps: grid.map(|_| &step_cuts[..count]),
+                    };
                     #[cfg(feature = "integer-vertices")]
-                    let integer = if *integer_vertices && inside && count == 0 {
+                    let integer = if *integer_vertices && inside {
                         bounds.zip(o.scene.step_grid()).and_then(|(b, grid)| {
                             IntegerView::new::<SUB>(&local, grid, b, painter.max_x, painter.max_y)
                         })
@@ -562,7 +575,7 @@ impl<const SUB: u32> Frame<'_, '_, SUB> {
                     #[cfg(not(feature = "integer-vertices"))]
                     let _ = integer_vertices;
                     let part_id = u32::from(object);
-                    if inside && count == 0 && cached != Some(part_id) {
+                    if inside && cached != Some(part_id) {
                         if let Some(v) = painter.vertices.as_deref_mut() {
                             v.next_frame();
                         }
@@ -573,7 +586,7 @@ impl<const SUB: u32> Frame<'_, '_, SUB> {
                         inside,
                         #[cfg(feature = "integer-vertices")]
                         integer,
-                        &cuts[..count],
+                        piece,
                     );
                     part.walk(
                         &o.scene,

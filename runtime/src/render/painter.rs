@@ -76,11 +76,175 @@ impl From<Root> for Start {
 }
 
 /// The cuts a painter clips its polygons by: none (a scene, a world's step: [`NoCuts`], so
-/// that a build without objects carries no cut code) or a piece's.
+/// that a build without objects carries no cut code) or a piece's ([`PieceCuts`]).
 pub(super) trait Cuts: Copy {
     /// The cuts, in camera space.
     fn list(&self) -> &[clip::Cut];
+    /// Where `polygon` lies against the cuts, when its corners' steps tell
+    /// ([`Crossing::Crossed`] when they do not).
+    fn crossing<T: Source + ?Sized>(&self, scene: &T, polygon: &Polygon) -> Crossing {
+        let _ = (scene, polygon);
+        Crossing::Crossed
+    }
+    /// Whether a cut leaves nothing of the box of steps `lo..=hi`, when the cuts are known in
+    /// steps (`None` otherwise).
+    fn removes_steps(&self, lo: [u16; 3], hi: [u16; 3]) -> Option<bool> {
+        let _ = (lo, hi);
+        None
+    }
 }
+
+/// Where a polygon lies against a piece's cuts.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(super) enum Crossing {
+    /// Wholly on the side each cut keeps, and crossing no plane: drawn as if uncut.
+    Clear,
+    /// Wholly on the side a cut removes: nothing of it is drawn.
+    Removed,
+    /// Crossing a plane (or not known): cut.
+    Crossed,
+}
+
+/// A cut in a piece's vertex steps, in integers: `a · q + k` for the steps `q` of a vertex,
+/// within `err` of the camera-space cut's value scaled (see [`StepCut::new`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(super) struct StepCut {
+    a: [i32; 3],
+    k: i32,
+    err: i32,
+    keep: clip::Keep,
+}
+
+impl StepCut {
+    /// An unused entry.
+    pub(super) const NONE: StepCut = StepCut {
+        a: [0; 3],
+        k: 0,
+        err: 0,
+        keep: clip::Keep::Both,
+    };
+
+    /// `cut` (camera space) for the vertices `min + q ∘ step` of an object seen by `view`
+    /// (its local view): `cut(c) = m · (p - eye) + offset` with `m = n_x right + n_y up +
+    /// n_z forward`, so `a = m ∘ step` and `k = m · (min - eye) + offset`, scaled so that
+    /// `|a_i| <= 2^12` (`|a · q| < 2^30` for 16-bit steps) and `|k| <= 2^30`, in `i32`. `err`
+    /// bounds the rounding of `a` and `k` to integers (half a unit each, times the steps)
+    /// and of their `f32` sums, so a sign beyond `err` is the sign of the `f32` cut the
+    /// clipper computes, whose error is far smaller.
+    pub(super) fn new(cut: &clip::Cut, view: &LocalView, (min, step): (Vec3, Vec3)) -> StepCut {
+        let n = cut.plane.normal;
+        let m = view.right * n.x + view.up * n.y + view.forward * n.z;
+        let a = m * step;
+        let k = m.dot(min - view.eye) + cut.plane.offset;
+        let largest = a.abs().max_element();
+        let scale = if largest > 0.0 { 4096.0 / largest } else { 1.0 };
+        let size = a.abs().element_sum() * 65_535.0
+            + m.abs().dot((min - view.eye).abs())
+            + cut.plane.offset.abs();
+        let limit = (1u32 << 30) as f32;
+        let k_scaled = (k * scale).clamp(-limit, limit);
+        let a = [a.x, a.y, a.z].map(|v| libm::roundf(v * scale) as i32);
+        // Rounding a: half a unit a step on each axis; k: one unit; the f32 sums: 2^-16 of
+        // the magnitudes (generously).
+        let err = 3 * 32_768 + 2 + (size * scale / 65_536.0).min(limit) as i32;
+        StepCut {
+            a,
+            k: k_scaled as i32,
+            err,
+            keep: cut.keep,
+        }
+    }
+
+    #[inline]
+    fn value(&self, q: [u16; 3]) -> i32 {
+        let [a0, a1, a2] = self.a;
+        a0 * i32::from(q[0]) + a1 * i32::from(q[1]) + a2 * i32::from(q[2]) + self.k
+    }
+}
+
+/// A piece's cuts: in camera space, and in its vertex steps when the object has them.
+#[derive(Debug, Clone, Copy)]
+pub(super) struct PieceCuts<'s> {
+    pub(super) cuts: &'s [clip::Cut],
+    pub(super) steps: Option<&'s [StepCut]>,
+}
+
+impl Cuts for PieceCuts<'_> {
+    #[inline(always)]
+    fn list(&self) -> &[clip::Cut] {
+        self.cuts
+    }
+
+    fn removes_steps(&self, lo: [u16; 3], hi: [u16; 3]) -> Option<bool> {
+        self.removes_box_steps(lo, hi)
+    }
+
+    fn crossing<T: Source + ?Sized>(&self, scene: &T, polygon: &Polygon) -> Crossing {
+        let Some(steps) = self.steps.filter(|s| s.len() <= MAX_STEP_CUTS) else {
+            return Crossing::Crossed;
+        };
+        // Per cut: every corner strictly above (`above`), strictly below (`below`).
+        let (mut above, mut below) = ([true; MAX_STEP_CUTS], [true; MAX_STEP_CUTS]);
+        for i in 0..u32::from(polygon.vertex_count) {
+            let q = scene
+                .vertex_index(polygon, i)
+                .and_then(|v| scene.vertex_steps(v));
+            let Some(q) = q else {
+                return Crossing::Crossed;
+            };
+            for (j, s) in steps.iter().enumerate() {
+                let e = s.value(q);
+                above[j] &= e > s.err;
+                below[j] &= e < -s.err;
+            }
+        }
+        let mut clear = true;
+        for (j, s) in steps.iter().enumerate() {
+            let removed = match s.keep {
+                clip::Keep::Plus => below[j],
+                clip::Keep::Minus => above[j],
+                clip::Keep::Both => false,
+            };
+            if removed {
+                return Crossing::Removed;
+            }
+            clear &= above[j] || below[j];
+        }
+        if clear {
+            Crossing::Clear
+        } else {
+            Crossing::Crossed
+        }
+    }
+}
+
+impl PieceCuts<'_> {
+    /// [`Cuts::removes_steps`] for a piece.
+    fn removes_box_steps(&self, lo: [u16; 3], hi: [u16; 3]) -> Option<bool> {
+        let steps = self.steps?;
+        Some(steps.iter().any(|s| {
+            // The largest and smallest of `a · q + k` over the box, axis by axis.
+            let (mut most, mut least) = (s.k, s.k);
+            for i in 0..3 {
+                let (x, y) = (s.a[i] * i32::from(lo[i]), s.a[i] * i32::from(hi[i]));
+                most += x.max(y);
+                least += x.min(y);
+            }
+            match s.keep {
+                clip::Keep::Plus => most < -s.err,
+                clip::Keep::Minus => least > s.err,
+                clip::Keep::Both => false,
+            }
+        }))
+    }
+}
+
+/// Most cuts [`PieceCuts::crossing`] tells polygons apart by (more: every polygon is cut).
+pub(super) const MAX_STEP_CUTS: usize = 32;
+
+/// Polygons of at most this many corners keep their corners' shared projections through a
+/// cut (more: every point of theirs is projected from the cut's `f32`).
+const KEPT_CORNERS: usize = 16;
 
 /// No cuts: the painter of a frame of one scene.
 #[derive(Debug, Clone, Copy)]
@@ -90,13 +254,6 @@ impl Cuts for NoCuts {
     #[inline(always)]
     fn list(&self) -> &[clip::Cut] {
         &[]
-    }
-}
-
-impl Cuts for &[clip::Cut] {
-    #[inline(always)]
-    fn list(&self) -> &[clip::Cut] {
-        self
     }
 }
 
@@ -143,7 +300,8 @@ impl<'v, const SUB: u32, K: Cuts> Painter<'_, 'v, SUB, K> {
         #[cfg(feature = "integer-vertices")] integer: Option<IntegerView>,
         cuts: C,
     ) -> Painter<'s, 'v, SUB, C> {
-        let unclipped = all_inside && cuts.list().is_empty();
+        // A piece's polygons that no cut crosses draw as if uncut (see `draw`).
+        let unclipped = all_inside;
         Painter {
             view,
             rows: self.rows.clone(),
@@ -248,9 +406,14 @@ impl<'v, const SUB: u32, K: Cuts> Painter<'_, 'v, SUB, K> {
         self.test_subtree(scene, node, coverage, stats)
     }
 
-    /// Whether a cut of this piece leaves nothing of node `node`'s subtree.
+    /// Whether a cut of this piece leaves nothing of node `node`'s subtree: in integers on the
+    /// box's steps when the cuts are known in steps, else in `f32` on its camera box.
     #[inline(never)]
     fn cut_away<T: Source + ?Sized>(&self, scene: &T, node: u32) -> bool {
+        let steps = scene.node_box_steps(node);
+        if let Some(away) = steps.and_then(|(lo, hi)| self.cuts.removes_steps(lo, hi)) {
+            return away;
+        }
         let Some((lo, hi)) = scene.node_bounds(node) else {
             return false;
         };
@@ -378,7 +541,17 @@ impl<'v, const SUB: u32, K: Cuts> Painter<'_, 'v, SUB, K> {
         // The gradient of a smooth polygon that clipping gave new points, built while they are
         // at hand (the others' is built just before the fill).
         let mut clipped_gradient: Option<Gradient<SUB>> = None;
-        let count = if cache.is_some() || integer.is_some() {
+        // A piece's polygon: wholly cut away, wholly kept, or crossed by a cut.
+        let mut crossed = !self.cuts.list().is_empty();
+        let shared_corners = cache.is_some() || integer.is_some();
+        if crossed && shared_corners {
+            match self.cuts.crossing(scene, polygon) {
+                Crossing::Clear => crossed = false,
+                Crossing::Removed => return Ok(()),
+                Crossing::Crossed => {}
+            }
+        }
+        let count = if shared_corners && !crossed {
             // No clipping in this frame: each corner is its vertex's snapped projection,
             // computed once per frame when there is vertex memory.
             let corner = |v: Vec3| screen(view.to_camera(v));
@@ -404,9 +577,39 @@ impl<'v, const SUB: u32, K: Cuts> Painter<'_, 'v, SUB, K> {
             for (i, slot) in (0..n).zip(self.clip_a.iter_mut()) {
                 *slot = view.to_camera(scene.polygon_vertex(polygon, i));
             }
+            // A crossed polygon of a piece that needs no clipping otherwise: its corners that
+            // the cuts keep take their shared projections (integer or cached), as its
+            // neighbours that no cut crosses have them, so that no crack opens between them.
+            let mut kept = [(Vec3::ZERO, FixedPoint::<SUB>::new(0, 0)); KEPT_CORNERS];
+            let kept_count = if crossed && shared_corners && n as usize <= KEPT_CORNERS {
+                let mut cache = self
+                    .vertices
+                    .as_deref_mut()
+                    .filter(|_| cfg!(feature = "vertex-cache"));
+                for (i, slot) in (0..n).zip(kept.iter_mut()) {
+                    let c = self.clip_a.get(i as usize).copied().unwrap_or_default();
+                    let corner = |v: Vec3| screen(view.to_camera(v));
+                    let shared = |v: u32| {
+                        let steps = integer.and_then(|g| scene.vertex_steps(v).map(|q| (g, q)));
+                        match steps {
+                            Some((g, q)) => grid(g.point::<SUB>(q)),
+                            None => corner(scene.vertex(v)),
+                        }
+                    };
+                    let p = match (scene.vertex_index(polygon, i), cache.as_deref_mut()) {
+                        (Some(v), Some(cache)) => cache.get(v, || shared(v)),
+                        (Some(v), None) => shared(v),
+                        (None, _) => screen(c),
+                    };
+                    *slot = (c, p);
+                }
+                n as usize
+            } else {
+                0
+            };
             // A smooth polygon about to be clipped: its plane's intensities, from its first
             // three corners (the compiler starts a list with its best-shaped three).
-            let cut = !self.cuts.list().is_empty();
+            let cut = crossed;
             let plane = match side {
                 Some(side) if !self.all_inside || cut => {
                     let at = |k: usize| self.clip_a.get(k).copied().unwrap_or_default();
@@ -432,8 +635,14 @@ impl<'v, const SUB: u32, K: Cuts> Painter<'_, 'v, SUB, K> {
                 clip::clip_polygon(self.frustum.planes(), n as usize, self.clip_a, self.clip_b)?
             };
             let mut count = 0usize;
+            let kept = kept.get(..kept_count).unwrap_or(&[]);
             for (slot, &c) in self.points.iter_mut().zip(clipped) {
-                *slot = screen(c);
+                // (A corner the cuts kept is the very point given them, bit for bit.)
+                let corner = kept.iter().find(|(k, _)| k.to_array() == c.to_array());
+                *slot = match corner {
+                    Some(&(_, p)) => p,
+                    None => screen(c),
+                };
                 count += 1;
             }
             if let Some(plane) = plane {

@@ -36,6 +36,12 @@ pub trait Source: Tree {
         let _ = i;
         None
     }
+    /// Node `i`'s box in the 16-bit steps of its vertices ([`Source::vertex_steps`]), when the
+    /// scene stores one: it holds the steps of every vertex of the subtree.
+    fn node_box_steps(&self, i: u32) -> Option<([u16; 3], [u16; 3])> {
+        let _ = i;
+        None
+    }
     /// The index of vertex `i` of `polygon` in the scene's shared vertex list, when it has one:
     /// a frame then projects each shared vertex once, the first time its index comes, from the
     /// position [`Source::polygon_vertex`] gives (see [`crate::vertices`]). Equal indices must
@@ -100,6 +106,9 @@ impl Source for Scene<'_> {
     }
     fn node_bounds(&self, i: u32) -> Option<(Vec3, Vec3)> {
         Scene::node_bounds(self, i)
+    }
+    fn node_box_steps(&self, i: u32) -> Option<([u16; 3], [u16; 3])> {
+        Scene::node_box_steps(self, i)
     }
     fn vertex_index(&self, polygon: &Polygon, i: u32) -> Option<u32> {
         Scene::polygon_vertex_index(self, polygon, i)
