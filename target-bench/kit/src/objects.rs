@@ -18,9 +18,9 @@ use peel_runtime::read::Header;
 
 /// The objects the scene poses.
 pub const OBJECTS: usize = 2;
-/// Clip-buffer vertices of the firmware's workspace for a posed frame: a piece's polygons
-/// are clipped by up to 16 cuts besides the view, and the renderer asks for the largest
-/// polygon's buffer and two vertices a cut (the scene's largest polygons need 46).
+/// Clip-buffer vertices of the firmware's workspace for a posed frame: the renderer asks
+/// for the largest polygon's buffer and two vertices for each plane that cuts an object in
+/// the frame (the poses here need at most 46).
 pub const VERTS: usize = 48;
 /// Steps of the frame's order the firmware's object memory holds
 /// (`peel_runtime::place::ObjectMemory<OBJECTS, STEPS>`, about 72 bytes a step with its piece,
