@@ -335,33 +335,17 @@ impl Builder<'_, '_> {
     /// cut it by the same plane (within [`HAIR`]): the polygons of a world plane are many, and
     /// each would cut the piece again.
     fn known_side(&self, mut cut: u16, plane: &Plane) -> Option<Class> {
-        let length = plane.normal.length();
-        if length.is_nan() || length <= 0.0 {
-            return None;
-        }
-        let (n, d) = (plane.normal / length, plane.d / length);
+        // Every cut holds its plane's canonical value (`Self::cut`): the same plane is the
+        // same bits; `same` says whether it faces the way `plane` does.
+        let (canonical, same) = self.canonical(*plane, true);
         let mut steps = 0;
         while let Some(c) = self.cuts.get(usize::from(cut)).filter(|_| cut != NO_CUT) {
-            let l = c.plane.normal.length();
-            if l > 0.0 {
-                let (m, e) = (c.plane.normal / l, c.plane.d / l);
-                let near = |a: Vec3, b: Vec3, x: f32, y: f32| {
-                    (a - b).abs().element_sum() <= 4.0 * HAIR && (x - y).abs() <= self.scale * HAIR
-                };
-                if near(n, m, d, e) {
-                    return Some(if c.keep_plus {
-                        Class::Plus
-                    } else {
-                        Class::Minus
-                    });
-                }
-                if near(n, -m, d, -e) {
-                    return Some(if c.keep_plus {
-                        Class::Minus
-                    } else {
-                        Class::Plus
-                    });
-                }
+            if c.plane == canonical {
+                return Some(if c.keep_plus == same {
+                    Class::Plus
+                } else {
+                    Class::Minus
+                });
             }
             steps += 1;
             if steps > self.cut_count {
