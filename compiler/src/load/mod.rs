@@ -38,6 +38,7 @@
 //!   [`MAX_TRIANGLES`] triangles; otherwise [`CompileError::TooLarge`].
 
 mod lines;
+pub mod texture;
 mod triangulate;
 mod warnings;
 
@@ -72,6 +73,9 @@ pub struct SourceTriangle {
     /// `None` where the face gives none, and smooth shading computes them
     /// ([`crate::shade::normals`]).
     pub normals: Option<[DVec3; 3]>,
+    /// The texture and the corners' texture coordinates, where the material has a `map_Kd`
+    /// and the face gives `vt` at every corner; else `None`.
+    pub texture: Option<texture::CornerUvs>,
 }
 
 /// How a file is loaded.
@@ -105,6 +109,8 @@ pub struct Mesh {
     /// folders (a missing file itself would make cargo rerun it on every build), so adding
     /// the file triggers a rebuild.
     pub missing: Vec<PathBuf>,
+    /// The textures the triangles name ([`SourceTriangle::texture`]), each read once.
+    pub textures: Vec<texture::Texture>,
 }
 
 /// Load an OBJ file (and its MTL files).
@@ -359,6 +365,7 @@ pub fn load_obj_text_with(
                     vertices: t.map(|i| corners[i]),
                     colour,
                     normals: normals.as_ref().map(|n| t.map(|i| n[i])),
+                    texture: None,
                 }));
         }
     }

@@ -138,6 +138,7 @@ mod tests {
                     vertices,
                     colour: [200; 3],
                     normals: None,
+                    texture: None,
                 })
                 .collect(),
             ..Mesh::default()

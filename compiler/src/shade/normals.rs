@@ -190,6 +190,7 @@ mod tests {
                 vertices,
                 colour: DEFAULT_COLOUR,
                 normals: None,
+                texture: None,
             })
             .collect()
     }

@@ -325,6 +325,7 @@ mod tests {
                     vertices,
                     colour: crate::load::DEFAULT_COLOUR,
                     normals: None,
+                    texture: None,
                 })
                 .collect(),
             ..Mesh::default()

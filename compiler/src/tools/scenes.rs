@@ -15,6 +15,7 @@ pub fn mesh(triangles: Vec<[DVec3; 3]>) -> Mesh {
                 vertices,
                 colour: DEFAULT_COLOUR,
                 normals: None,
+                texture: None,
             })
             .collect(),
         ..Mesh::default()

@@ -16,6 +16,7 @@ pub(crate) fn mesh_of(tris: Vec<[DVec3; 3]>) -> Mesh {
                 vertices,
                 colour: [1, 2, 3],
                 normals: None,
+                texture: None,
             })
             .collect(),
         ..Mesh::default()

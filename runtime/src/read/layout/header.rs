@@ -46,6 +46,10 @@ pub mod header_flags {
     /// [`polygon_flags::INSIDE_EXTERIOR`](super::super::polygon_flags::INSIDE_EXTERIOR)):
     /// seen from behind from outside their solid, they are hidden.
     pub const SOLID: u16 = 1 << 11;
+    /// Only in a file of version [`TEXTURED_VERSION`](super::super::TEXTURED_VERSION), and
+    /// always there: the file ends with the texture arrays (`uvs`, `textures`, `texels`,
+    /// `polygon_textures`), and polygons may be textured.
+    pub const TEXTURES: u16 = 1 << 12;
     /// Every bit this version defines; a reader refuses others.
     pub const KNOWN: u16 = IDS
         | INDEX16
@@ -58,7 +62,8 @@ pub mod header_flags {
         | INDEX24
         | TWO_COLOURS
         | SHADES
-        | SOLID;
+        | SOLID
+        | TEXTURES;
 }
 
 /// Bytes of the header.

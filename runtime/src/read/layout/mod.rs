@@ -2,7 +2,7 @@
 //! compiler's writer shares with this reader, and little-endian field access that never panics.
 //!
 //! One file per part of the format, its items all re-exported here: the header (`header.rs`),
-//! nodes (`node.rs`), polygons (`polygon.rs`), vertices and their grid (`vertex.rs`), and how
+//! nodes (`node.rs`), polygons (`polygon.rs`), textures (`texture.rs`), vertices and their grid (`vertex.rs`), and how
 //! any field is read (`fields.rs`).
 
 mod fields;
@@ -10,6 +10,7 @@ mod header;
 mod node;
 mod parts;
 mod polygon;
+mod texture;
 mod vertex;
 
 pub(crate) use fields::{
@@ -25,6 +26,10 @@ pub use parts::{
 pub use polygon::{
     colour_size, index_size, polygon_flags, polygon_size, ID_SIZE, INDEX_SIZE, PALETTE_SIZE,
     POLYGON_SIZE, SHADE_SIZE,
+};
+pub use texture::{
+    texture_bytes, texture_flags, MAX_TEXTURES, MAX_TEXTURE_LOG2, NO_TEXTURE, TEXEL_SIZE,
+    TEXTURED_VERSION, TEXTURE_SIZE, UV_FRACTION_BITS, UV_SIZE,
 };
 pub use vertex::{dequantise, per_step, step, vertex_size, Grid};
 
