@@ -1,9 +1,9 @@
 //! The sinks that route a fill's spans through a [`Coverage`]: [`CoverageSink`], the public
 //! one, and [`Clipped`], the renderer's, which also moves a band's rows and counts. Both carry
-//! flat and shaded spans alike ([`SpanPaint`]).
+//! flat, shaded and textured spans alike ([`SpanPaint`]).
 
 use super::Coverage;
-use crate::display::{Colour, RowShade, Shifted, SpanPaint, SpanSink};
+use crate::display::{Colour, RowShade, RowTexture, Shifted, SpanPaint, SpanSink};
 
 /// A [`SpanSink`] that paints through a [`Coverage`] into another sink, counting pixels.
 #[derive(Debug)]
@@ -23,6 +23,10 @@ impl<S: SpanSink + ?Sized> SpanSink for CoverageSink<'_, '_, S> {
 
     fn shaded_span(&mut self, y: u32, x_start: u32, x_end: u32, shade: &RowShade) {
         self.pixels += self.coverage.span(y, x_start, x_end, shade, self.sink);
+    }
+
+    fn textured_span(&mut self, y: u32, x_start: u32, x_end: u32, texture: &RowTexture<'_>) {
+        self.pixels += self.coverage.span(y, x_start, x_end, texture, self.sink);
     }
 }
 
@@ -66,5 +70,9 @@ impl<S: SpanSink + ?Sized> SpanSink for Clipped<'_, '_, S> {
 
     fn shaded_span(&mut self, y: u32, x_start: u32, x_end: u32, shade: &RowShade) {
         self.route(y, x_start, x_end, shade);
+    }
+
+    fn textured_span(&mut self, y: u32, x_start: u32, x_end: u32, texture: &RowTexture<'_>) {
+        self.route(y, x_start, x_end, texture);
     }
 }

@@ -5,7 +5,7 @@ use core::fmt;
 use core::marker::PhantomData;
 
 use super::dither::{dithered, row_thresholds};
-use super::{Colour, RowShade, SpanSink};
+use super::{Colour, Modulation, RowShade, RowTexture, SpanSink};
 
 /// How a [`Colour`] is stored in one pixel of a [`Framebuffer`].
 pub trait PixelFormat {
@@ -22,6 +22,15 @@ pub trait PixelFormat {
     fn encode_shaded(run: &mut [Self::Raw], x_start: u32, y: u32, shade: &RowShade, dither: bool) {
         let _ = (y, dither);
         for (pixel, colour) in run.iter_mut().zip(shade.colours(x_start)) {
+            *pixel = Self::encode(colour);
+        }
+    }
+
+    /// Store a textured span: `run[i]` is pixel `(x_start + i, y)`, of colour
+    /// `texture.at(x_start + i)`. By default each colour is [`Self::encode`]d.
+    #[inline]
+    fn encode_textured(run: &mut [Self::Raw], x_start: u32, texture: &RowTexture<'_>) {
+        for (pixel, colour) in run.iter_mut().zip(texture.colours(x_start)) {
             *pixel = Self::encode(colour);
         }
     }
@@ -51,6 +60,20 @@ impl PixelFormat for Rgb565 {
     #[inline]
     fn encode(colour: Colour) -> u16 {
         colour.to_rgb565()
+    }
+
+    /// Texels unlit are stored as they are: the file's texels are RGB565 already.
+    #[inline]
+    fn encode_textured(run: &mut [u16], x_start: u32, texture: &RowTexture<'_>) {
+        if texture.modulation == Modulation::None {
+            for (pixel, texel) in run.iter_mut().zip(texture.texels(x_start)) {
+                *pixel = texel;
+            }
+        } else {
+            for (pixel, colour) in run.iter_mut().zip(texture.colours(x_start)) {
+                *pixel = colour.to_rgb565();
+            }
+        }
     }
 
     #[inline]
@@ -311,6 +334,15 @@ impl<P: PixelFormat> SpanSink for Framebuffer<'_, P> {
         let dither = self.dither;
         if let Some(run) = self.run(y, x_start, x_end) {
             P::encode_shaded(run, x_start, y, shade, dither);
+        }
+    }
+
+    /// A textured span stored pixel by pixel ([`PixelFormat::encode_textured`]), clipped as
+    /// [`Self::span`] is.
+    #[inline]
+    fn textured_span(&mut self, y: u32, x_start: u32, x_end: u32, texture: &RowTexture<'_>) {
+        if let Some(run) = self.run(y, x_start, x_end) {
+            P::encode_textured(run, x_start, texture);
         }
     }
 }

@@ -18,6 +18,7 @@ mod dither;
 mod framebuffer;
 mod nowhere;
 mod row_shade;
+mod row_texture;
 mod shifted;
 mod span_paint;
 #[cfg(test)]
@@ -35,6 +36,9 @@ pub use framebuffer::{
 };
 pub use nowhere::Nowhere;
 pub use row_shade::{shaded, RowColours, RowShade, SHADE_FRACTION_BITS};
+pub use row_texture::{
+    modulate, rgb565_colour, Modulation, RowTexture, TexelColours, TexelWalk, RUN,
+};
 pub(crate) use shifted::Shifted;
 pub use span_paint::{Paint, SpanPaint};
 
@@ -107,6 +111,14 @@ pub trait SpanSink {
     fn shaded_span(&mut self, y: u32, x_start: u32, x_end: u32, shade: &RowShade) {
         shade.runs(x_start, x_end, |a, b, colour| self.span(y, a, b, colour));
     }
+
+    /// Paint one span of a textured polygon: pixel `x` takes
+    /// [`texture.at(x)`](RowTexture::at), `texture` being its row's whole. By default each
+    /// run of pixels of one colour goes to [`Self::span`]; the framebuffers override it with
+    /// a direct loop.
+    fn textured_span(&mut self, y: u32, x_start: u32, x_end: u32, texture: &RowTexture<'_>) {
+        texture.runs(x_start, x_end, |a, b, colour| self.span(y, a, b, colour));
+    }
 }
 
 impl<S: SpanSink + ?Sized> SpanSink for &mut S {
@@ -123,6 +135,11 @@ impl<S: SpanSink + ?Sized> SpanSink for &mut S {
     #[inline]
     fn shaded_span(&mut self, y: u32, x_start: u32, x_end: u32, shade: &RowShade) {
         (**self).shaded_span(y, x_start, x_end, shade);
+    }
+
+    #[inline]
+    fn textured_span(&mut self, y: u32, x_start: u32, x_end: u32, texture: &RowTexture<'_>) {
+        (**self).textured_span(y, x_start, x_end, texture);
     }
 }
 

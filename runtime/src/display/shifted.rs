@@ -2,7 +2,7 @@
 //! memory of a band counts its rows from the band's first; what it forwards goes back to
 //! frame rows through this adapter, as embedded-graphics' `Translated` moves a draw target.
 
-use super::{Colour, RowShade, SpanSink};
+use super::{Colour, RowShade, RowTexture, SpanSink};
 
 /// Forwards every span `by` rows down: from a band's rows back to frame rows.
 #[derive(Debug)]
@@ -26,5 +26,12 @@ impl<S: SpanSink + ?Sized> SpanSink for Shifted<'_, S> {
     fn shaded_span(&mut self, y: u32, x_start: u32, x_end: u32, shade: &RowShade) {
         self.sink
             .shaded_span(y.wrapping_add(self.by), x_start, x_end, shade);
+    }
+
+    /// The same texture row on the frame row: it depends on the column only.
+    #[inline]
+    fn textured_span(&mut self, y: u32, x_start: u32, x_end: u32, texture: &RowTexture<'_>) {
+        self.sink
+            .textured_span(y.wrapping_add(self.by), x_start, x_end, texture);
     }
 }

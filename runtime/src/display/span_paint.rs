@@ -1,8 +1,9 @@
-//! [`SpanPaint`]: what a span is painted with, one colour or one row of a smooth shade, so
+//! [`SpanPaint`]: what a span is painted with, one colour or one row of a smooth shade or of a
+//! texture, so
 //! that the adapters between the fill and the sink (the span memory, a band's shift) forward
 //! the pieces of either kind with one code path.
 
-use super::{Colour, RowShade, SpanSink};
+use super::{Colour, RowShade, RowTexture, SpanSink};
 
 /// A [`SpanPaint`] by kind, for a store that keeps the kinds apart (scan memory).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -11,6 +12,8 @@ pub enum Paint<'a> {
     Colour(Colour),
     /// A smooth shade's row.
     Shade(&'a RowShade),
+    /// A textured polygon's row.
+    Texture(&'a RowTexture<'a>),
 }
 
 /// What a span is painted with: a [`Colour`], or a [`RowShade`] (a piece of a span takes the
@@ -58,18 +61,43 @@ impl SpanPaint for RowShade {
         sink.shaded_span(y, x_start, x_end, self);
     }
 
-    fn runs(&self, x_start: u32, x_end: u32, mut run: impl FnMut(u32, u32, Colour)) {
-        if x_start >= x_end {
-            return;
-        }
-        let mut colours = self.colours(x_start);
-        let mut current = (x_start, colours.next().unwrap_or_default());
-        for (x, colour) in (x_start + 1..x_end).zip(colours) {
-            if colour != current.1 {
-                run(current.0, x, current.1);
-                current = (x, colour);
-            }
-        }
-        run(current.0, x_end, current.1);
+    fn runs(&self, x_start: u32, x_end: u32, run: impl FnMut(u32, u32, Colour)) {
+        runs_of(self.colours(x_start), x_start, x_end, run);
     }
+}
+
+impl SpanPaint for RowTexture<'_> {
+    #[inline]
+    fn kind(&self) -> Paint<'_> {
+        Paint::Texture(self)
+    }
+
+    #[inline]
+    fn paint<S: SpanSink + ?Sized>(&self, sink: &mut S, y: u32, x_start: u32, x_end: u32) {
+        sink.textured_span(y, x_start, x_end, self);
+    }
+
+    fn runs(&self, x_start: u32, x_end: u32, run: impl FnMut(u32, u32, Colour)) {
+        runs_of(self.colours(x_start), x_start, x_end, run);
+    }
+}
+
+/// Each run of one colour of `colours` (pixels `x_start ..`) within `x_start .. x_end`.
+fn runs_of(
+    mut colours: impl Iterator<Item = Colour>,
+    x_start: u32,
+    x_end: u32,
+    mut run: impl FnMut(u32, u32, Colour),
+) {
+    if x_start >= x_end {
+        return;
+    }
+    let mut current = (x_start, colours.next().unwrap_or_default());
+    for (x, colour) in (x_start + 1..x_end).zip(colours) {
+        if colour != current.1 {
+            run(current.0, x, current.1);
+            current = (x, colour);
+        }
+    }
+    run(current.0, x_end, current.1);
 }

@@ -21,6 +21,7 @@ mod edge;
 pub mod gradient;
 pub mod samples;
 mod small;
+pub mod texture;
 
 #[cfg(test)]
 mod tests;

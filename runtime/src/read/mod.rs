@@ -14,6 +14,7 @@ mod node;
 mod parts;
 mod polygon;
 mod side;
+mod texture;
 mod validate;
 
 use core::fmt;
@@ -26,6 +27,7 @@ pub use node::Node;
 pub use parts::Parts;
 pub use polygon::Polygon;
 pub use side::{Side, SideEye};
+pub use texture::Texture;
 
 /// The header, decoded. Its [`Default`] is all zero: with only `centre` and the bounds set, a
 /// header frames a scene for the camera ([`crate::camera::Orbit::pose`],
@@ -93,6 +95,10 @@ pub struct Scene<'a> {
     nodes: usize,
     /// The `shades` array (with [`layout::header_flags::SHADES`]; else it is empty).
     shades: usize,
+    /// The texture arrays (with [`layout::header_flags::TEXTURES`]; else all zero). Only
+    /// with the `textures` feature: zeroing it linked a `memclr` into the smallest build.
+    #[cfg(feature = "textures")]
+    textures: texture::TextureArrays,
     /// The size of a step on each axis ([`layout::step`]).
     step: Vec3,
     /// Steps per unit of length on each axis ([`layout::per_step`]): brings the eye to steps.

@@ -421,7 +421,7 @@ fn header_identity_is_checked_first() {
     assert_eq!(spec.parse(), Err(ReadError::BadMagic));
     assert_eq!(Scene::parse(b"PNG").unwrap_err(), ReadError::BadMagic);
     // Versions 1 and 2 (the previous layouts) and a later one.
-    for version in [1, 2, FORMAT_VERSION + 1] {
+    for version in [1, 2, FORMAT_VERSION + 1, TEXTURED_VERSION + 1] {
         let mut spec = Spec::small();
         spec.version = version;
         assert_eq!(spec.parse(), Err(ReadError::UnsupportedVersion { version }));
@@ -431,10 +431,10 @@ fn header_identity_is_checked_first() {
         );
     }
     let mut spec = Spec::small();
-    spec.flags = 1 << 12;
+    spec.flags = 1 << 13;
     assert_eq!(
         spec.parse(),
-        Err(ReadError::UnknownFlags { flags: 1 << 12 })
+        Err(ReadError::UnknownFlags { flags: 1 << 13 })
     );
     for both in [
         header_flags::NARROW | header_flags::MEDIUM,
@@ -1395,6 +1395,238 @@ fn a_short_or_miscounted_shades_array_is_refused() {
         Scene::parse(&longer).unwrap_err(),
         ReadError::TrailingBytes {
             offset: bytes.len()
+        }
+    );
+}
+
+/// The texture arrays of a version 6 file, appended to a [`Spec`]'s bytes.
+#[derive(Clone)]
+struct TextureSpec {
+    uvs: Vec<[i32; 2]>,
+    /// `log2_width, log2_height, flags, colours - 1, offset`.
+    records: Vec<(u8, u8, u8, u8, u32)>,
+    texels: Vec<u8>,
+    polygons: Vec<u8>,
+}
+
+impl TextureSpec {
+    /// Two textures on [`Spec::small`]: texture 0 a 2 x 2 of RGB565 texels, clamped across
+    /// `s`; texture 1 a 4 x 2 of three palette colours. Polygon 0 takes texture 1, polygon 1
+    /// none, polygon 2 texture 0.
+    fn small(spec: &Spec) -> TextureSpec {
+        let direct: [u16; 4] = [0xF800, 0x07E0, 0x001F, 0xFFFF];
+        let palette: [u16; 3] = [0x1234, 0xABCD, 0x0F0F];
+        let indices: [u8; 8] = [0, 1, 2, 1, 0, 0, 2, 2];
+        let mut texels: Vec<u8> = direct.iter().flat_map(|t| t.to_le_bytes()).collect();
+        texels.extend(palette.iter().flat_map(|t| t.to_le_bytes()));
+        texels.extend(indices);
+        TextureSpec {
+            uvs: (0..spec.vertices.len() as i32)
+                .map(|v| [v * 1000 - 2000, -v * 77])
+                .collect(),
+            records: std::vec![
+                (1, 1, texture_flags::CLAMP_S, 0, 0),
+                (2, 1, texture_flags::PALETTE, 2, 8)
+            ],
+            texels,
+            polygons: std::vec![1, NO_TEXTURE, 0],
+        }
+    }
+
+    /// `spec` as version 6 with these arrays.
+    fn encode(&self, spec: &Spec) -> Vec<u8> {
+        let mut spec = spec.clone();
+        spec.version = TEXTURED_VERSION;
+        spec.flags |= header_flags::TEXTURES;
+        let mut out = spec.encode();
+        let length = |out: &mut Vec<u8>, n: usize| out.extend((n as u64).to_le_bytes());
+        length(&mut out, self.uvs.len());
+        for [s, t] in &self.uvs {
+            out.extend(s.to_le_bytes());
+            out.extend(t.to_le_bytes());
+        }
+        length(&mut out, self.records.len());
+        for &(w, h, flags, colours, offset) in &self.records {
+            out.extend([w, h, flags, colours]);
+            out.extend(offset.to_le_bytes());
+        }
+        length(&mut out, self.texels.len());
+        out.extend(&self.texels);
+        length(&mut out, self.polygons.len());
+        out.extend(&self.polygons);
+        out
+    }
+
+    /// Offsets of the `uvs`, `textures`, `texels` and `polygon_textures` lengths.
+    #[cfg(feature = "textures")]
+    fn lengths(&self, spec: &Spec) -> [usize; 4] {
+        let end = self.encode(spec).len();
+        let polygons = end - 8 - self.polygons.len();
+        let texels = polygons - 8 - self.texels.len();
+        let records = texels - 8 - TEXTURE_SIZE * self.records.len();
+        let uvs = records - 8 - UV_SIZE * self.uvs.len();
+        [uvs, records, texels, polygons]
+    }
+}
+
+#[cfg(feature = "textures")]
+#[test]
+fn textures_read_back() {
+    let spec = Spec::small();
+    let textures = TextureSpec::small(&spec);
+    let bytes = textures.encode(&spec);
+    let scene = Scene::parse(&bytes).unwrap();
+    assert!(scene.has_textures());
+    assert_eq!(scene.texture_count(), 2);
+    for (v, &uv) in textures.uvs.iter().enumerate() {
+        assert_eq!(scene.vertex_uv(v as u32), uv);
+    }
+    assert_eq!(scene.vertex_uv(99), [0, 0], "out of range");
+    let t0 = scene.polygon_texture(2).unwrap();
+    assert_eq!((t0.log2_width, t0.log2_height), (1, 1));
+    assert_eq!(t0.flags, texture_flags::CLAMP_S);
+    assert_eq!(
+        [t0.texel(0, 0), t0.texel(1, 0), t0.texel(0, 1), t0.texel(1, 1)],
+        [0xF800, 0x07E0, 0x001F, 0xFFFF]
+    );
+    // Coordinates wrap modulo the sides.
+    assert_eq!(t0.texel(3, 2), 0x07E0);
+    let t1 = scene.polygon_texture(0).unwrap();
+    assert_eq!((t1.log2_width, t1.log2_height), (2, 1));
+    let row = |r: u32| (0..4).map(|c| t1.texel(c, r)).collect::<Vec<_>>();
+    assert_eq!(row(0), [0x1234, 0xABCD, 0x0F0F, 0xABCD]);
+    assert_eq!(row(1), [0x1234, 0x1234, 0x0F0F, 0x0F0F]);
+    assert_eq!(scene.polygon_texture(1), None, "untextured");
+    assert_eq!(scene.polygon_texture(3), None, "out of range");
+    assert_eq!(scene.texture(2), None);
+    // An untextured file has none of it.
+    let plain = Spec::small().encode();
+    let plain = Scene::parse(&plain).unwrap();
+    assert!(!plain.has_textures());
+    assert_eq!((plain.polygon_texture(0), plain.vertex_uv(0)), (None, [0, 0]));
+}
+
+#[cfg(feature = "textures")]
+#[test]
+fn textures_belong_to_version_6_and_version_6_to_textures() {
+    let spec = Spec::small();
+    let bytes = TextureSpec::small(&spec).encode(&spec);
+    let flags = u16::from_le_bytes([bytes[6], bytes[7]]);
+    // Version 4 with the flag.
+    let mut four = bytes.clone();
+    four[4..6].copy_from_slice(&FORMAT_VERSION.to_le_bytes());
+    assert_eq!(
+        Scene::parse(&four).unwrap_err(),
+        ReadError::InconsistentFlags { flags }
+    );
+    // Version 6 without it.
+    let mut six = spec.encode();
+    six[4..6].copy_from_slice(&TEXTURED_VERSION.to_le_bytes());
+    assert_eq!(
+        Scene::parse(&six).unwrap_err(),
+        ReadError::InconsistentFlags { flags: spec.flags }
+    );
+}
+
+#[cfg(feature = "textures")]
+#[test]
+fn every_prefix_of_a_textured_file_is_truncated_and_more_bytes_trail() {
+    let spec = Spec::small();
+    let bytes = TextureSpec::small(&spec).encode(&spec);
+    let start = spec.encode().len();
+    for end in start..bytes.len() {
+        assert!(
+            matches!(
+                Scene::parse(&bytes[..end]),
+                Err(ReadError::Truncated { .. })
+            ),
+            "{end}"
+        );
+    }
+    let mut longer = bytes.clone();
+    longer.push(0);
+    assert_eq!(
+        Scene::parse(&longer).unwrap_err(),
+        ReadError::TrailingBytes {
+            offset: bytes.len()
+        }
+    );
+}
+
+#[cfg(feature = "textures")]
+#[test]
+fn bad_texture_records_are_refused_where_they_are() {
+    let spec = Spec::small();
+    let good = TextureSpec::small(&spec);
+    let [uvs, records, texels, polygons] = good.lengths(&spec);
+    let record = |k: usize| records + 8 + TEXTURE_SIZE * k;
+    let check = |t: &TextureSpec, expected: ReadError, what: &str| {
+        assert_eq!(Scene::parse(&t.encode(&spec)).unwrap_err(), expected, "{what}");
+    };
+    let mut t = good.clone();
+    t.uvs.pop();
+    check(&t, ReadError::CountMismatch { offset: uvs }, "uvs count");
+    let mut t = good.clone();
+    t.polygons.push(0);
+    check(&t, ReadError::CountMismatch { offset: polygons }, "polygon count");
+    let mut t = good.clone();
+    t.records.clear();
+    t.texels.clear();
+    check(
+        &t,
+        ReadError::BadRecord { offset: records },
+        "no texture",
+    );
+    let mut t = good.clone();
+    t.records[0].0 = MAX_TEXTURE_LOG2 + 1;
+    check(&t, ReadError::BadRecord { offset: record(0) }, "too wide");
+    let mut t = good.clone();
+    t.records[1].2 |= 1 << 7;
+    check(&t, ReadError::BadRecord { offset: record(1) }, "unknown flag");
+    let mut t = good.clone();
+    t.records[0].3 = 1;
+    check(&t, ReadError::BadRecord { offset: record(0) }, "colours without palette");
+    let mut t = good.clone();
+    t.records[1].4 = 9;
+    check(&t, ReadError::BadRecord { offset: record(1) }, "offset");
+    let mut t = good.clone();
+    t.texels.push(0);
+    check(&t, ReadError::BadRecord { offset: texels }, "texels past the last");
+    let mut t = good.clone();
+    t.texels.pop();
+    check(&t, ReadError::BadRecord { offset: texels }, "texels short");
+    // Palette index 3 of three colours: the seventh index byte.
+    let mut t = good.clone();
+    let last = t.texels.len() - 2;
+    t.texels[last] = 3;
+    check(
+        &t,
+        ReadError::BadRecord {
+            offset: texels + 8 + last,
+        },
+        "palette index",
+    );
+    let mut t = good.clone();
+    t.polygons[1] = 2;
+    check(
+        &t,
+        ReadError::BadRecord {
+            offset: polygons + 8 + 1,
+        },
+        "polygon texture",
+    );
+}
+
+/// A build without textures refuses a textured file as it refuses other parts it left out.
+#[cfg(not(feature = "textures"))]
+#[test]
+fn a_build_without_textures_refuses_them() {
+    let spec = Spec::small();
+    let bytes = TextureSpec::small(&spec).encode(&spec);
+    assert_eq!(
+        Scene::parse(&bytes).unwrap_err(),
+        ReadError::UnsupportedFlags {
+            flags: spec.flags | header_flags::TEXTURES
         }
     );
 }

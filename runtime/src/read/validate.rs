@@ -16,6 +16,13 @@ use super::layout::{
     u64_at, u8_at, vertex_size, BOUNDS_SIZE, FORMAT_VERSION, HEADER_SIZE, ID_SIZE, LENGTH_SIZE,
     MAGIC, NONE, PALETTE_SIZE, PLANE_SIZE, SHADE_SIZE,
 };
+use super::layout::TEXTURED_VERSION;
+#[cfg(feature = "textures")]
+use super::layout::{
+    texture_flags, u32_at, MAX_TEXTURES, MAX_TEXTURE_LOG2, NO_TEXTURE, TEXTURE_SIZE, UV_SIZE,
+};
+#[cfg(feature = "textures")]
+use super::texture::TextureArrays;
 use super::{Header, Scene};
 use crate::error::ReadError;
 
@@ -38,6 +45,8 @@ pub(super) fn parse(bytes: &[u8]) -> Result<Scene<'_>, ReadError> {
     check_polygons(&scene)?;
     check_nodes(&scene)?;
     check_depth(&scene)?;
+    #[cfg(feature = "textures")]
+    check_textures(&scene)?;
     Ok(scene)
 }
 
@@ -56,14 +65,19 @@ fn read_header(bytes: &[u8]) -> Result<Header, ReadError> {
         None if MAGIC.starts_with(bytes) => return Err(ReadError::Truncated { offset: 0 }),
         None => return Err(ReadError::BadMagic),
     }
-    if let Some(version) = u16_at(bytes, h::VERSION) {
-        if version != FORMAT_VERSION {
+    let version = u16_at(bytes, h::VERSION);
+    if let Some(version) = version {
+        if version != FORMAT_VERSION && version != TEXTURED_VERSION {
             return Err(ReadError::UnsupportedVersion { version });
         }
     }
     if let Some(flags) = u16_at(bytes, h::FLAGS) {
         if flags & !hf::KNOWN != 0 {
             return Err(ReadError::UnknownFlags { flags });
+        }
+        // Textures are version 6's, and version 6 always has them.
+        if (version == Some(TEXTURED_VERSION)) != (flags & hf::TEXTURES != 0) {
+            return Err(ReadError::InconsistentFlags { flags });
         }
         let both_widths = hf::NARROW | hf::MEDIUM;
         let both_indices = hf::INDEX16 | hf::INDEX24;
@@ -77,7 +91,8 @@ fn read_header(bytes: &[u8]) -> Result<Header, ReadError> {
         let large = !cfg!(feature = "large-scenes")
             && (flags & hf::NARROW == 0 || flags & hf::INDEX16 == 0);
         let wide = !cfg!(feature = "wide-vertices") && flags & hf::WIDE_VERTICES != 0;
-        if large || wide {
+        let textures = !cfg!(feature = "textures") && flags & hf::TEXTURES != 0;
+        if large || wide || textures {
             return Err(ReadError::UnsupportedFlags { flags });
         }
     }
@@ -176,6 +191,12 @@ fn locate_arrays(bytes: &[u8], header: Header) -> Result<Scene<'_>, ReadError> {
         } else {
             at
         },
+        #[cfg(feature = "textures")]
+        textures: if flags & hf::TEXTURES != 0 {
+            locate_textures(bytes, &mut at, header)?
+        } else {
+            TextureArrays::default()
+        },
         step: Vec3::new(
             layout::step(header.bounds_min.x, header.bounds_max.x),
             layout::step(header.bounds_min.y, header.bounds_max.y),
@@ -224,6 +245,92 @@ fn locate_arrays(bytes: &[u8], header: Header) -> Result<Scene<'_>, ReadError> {
         scene.indices16 = section(scene.indices, header.index_count, 2);
     }
     Ok(scene)
+}
+
+#[cfg(feature = "textures")]
+/// The texture arrays after the nodes and shades (see `formats/peel.md`, "Textures"): their
+/// lengths and extents, not their records.
+fn locate_textures(
+    bytes: &[u8],
+    at: &mut usize,
+    header: Header,
+) -> Result<TextureArrays, ReadError> {
+    let uvs = array(bytes, at, header.vertex_count, UV_SIZE)?;
+    let count_at = *at;
+    let count = need(u64_at(bytes, count_at), count_at)?;
+    if count == 0 || count > u64::from(MAX_TEXTURES) {
+        return Err(bad(count_at));
+    }
+    let records = array(bytes, at, count as u32, TEXTURE_SIZE)?;
+    let texels_at = *at;
+    let texel_bytes = need(u64_at(bytes, texels_at), texels_at)?;
+    let texel_bytes = u32::try_from(texel_bytes).map_err(|_| ReadError::Truncated {
+        offset: texels_at + LENGTH_SIZE,
+    })?;
+    let texels = array(bytes, at, texel_bytes, 1)?;
+    let polygons = array(bytes, at, header.polygon_count, 1)?;
+    Ok(TextureArrays {
+        uvs,
+        records,
+        count: count as u32,
+        texels,
+        texel_bytes: texel_bytes as usize,
+        polygons,
+    })
+}
+
+/// Every texture record well formed, the records' bytes following each other to the end of
+/// `texels`, every palette index in its palette, every polygon's texture byte a texture or
+/// [`NO_TEXTURE`].
+#[cfg(feature = "textures")]
+fn check_textures(scene: &Scene<'_>) -> Result<(), ReadError> {
+    if !scene.has_textures() {
+        return Ok(());
+    }
+    let t = scene.textures;
+    let b = scene.bytes;
+    let mut end = 0usize;
+    for (_, at) in records(t.records, TEXTURE_SIZE, t.count) {
+        let byte = |k: usize| u8_at(b, at + k).unwrap_or(u8::MAX);
+        let (lw, lh, flags, colours) = (byte(0), byte(1), byte(2), byte(3));
+        let palette = flags & texture_flags::PALETTE != 0;
+        let ok = lw <= MAX_TEXTURE_LOG2
+            && lh <= MAX_TEXTURE_LOG2
+            && flags & !texture_flags::KNOWN == 0
+            && (palette || colours == 0)
+            && u32_at(b, at + 4).map(|o| o as usize) == Some(end);
+        if !ok {
+            return Err(bad(at));
+        }
+        let colours = u32::from(colours) + 1;
+        let size = layout::texture_bytes(lw, lh, flags, colours);
+        if end + size > t.texel_bytes {
+            return Err(bad(t.texels - LENGTH_SIZE));
+        }
+        if palette {
+            let first = t.texels + end + colours as usize * layout::TEXEL_SIZE;
+            let indices = b.get(first..first + (size - colours as usize * layout::TEXEL_SIZE));
+            if let Some(k) = indices
+                .unwrap_or(&[])
+                .iter()
+                .position(|&i| u32::from(i) >= colours)
+            {
+                return Err(bad(first + k));
+            }
+        }
+        end += size;
+    }
+    if end != t.texel_bytes {
+        return Err(bad(t.texels - LENGTH_SIZE));
+    }
+    for (i, at) in records(t.polygons, 1, scene.header.polygon_count) {
+        let _ = i;
+        let k = u8_at(b, at).unwrap_or(0);
+        if k != NO_TEXTURE && u32::from(k) >= t.count {
+            return Err(bad(at));
+        }
+    }
+    Ok(())
 }
 
 /// Finite centre, finite bounds with `min <= max` and a finite extent `max - min` (which

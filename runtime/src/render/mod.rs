@@ -58,6 +58,8 @@ mod painter;
 mod renderer;
 mod shade;
 mod source;
+#[cfg(feature = "textures")]
+mod texture;
 mod workspace;
 
 pub use crate::stats::FrameStats;

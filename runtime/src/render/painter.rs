@@ -18,6 +18,10 @@ use crate::coverage::{Clipped, Coverage, Mode};
 use crate::display::SpanSink;
 use crate::error::RenderError;
 use crate::fill::gradient::Gradient;
+#[cfg(feature = "textures")]
+use crate::fill::texture::{Lighting, TextureMap};
+#[cfg(feature = "textures")]
+use super::texture::texture_map;
 use crate::fill::samples::{SAMPLE_COLUMNS, SAMPLE_ROWS};
 use crate::fill::{self, FixedPoint};
 use crate::pending::{Antialiased, Pending, SampleColour};
@@ -744,6 +748,15 @@ impl<'v, const SUB: u32, K: Cuts> Painter<'_, 'v, SUB, K> {
                 };
                 let rect = [x0, y0, x1, y1];
                 let rows = self.rows.clone();
+                // A textured polygon: its texels through its perspective map, lit by its
+                // colour or its gradient.
+                #[cfg(feature = "textures")]
+                if let Some(mut map) = self.texture_map(scene, index, polygon, pts, colour, gradient) {
+                    let pixels =
+                        fill::fill_in_rect(pts, rect, self.edges, width, rows, &mut map, &mut sink);
+                    stats.add(Counter::PixelsWritten, pixels);
+                    return Ok(());
+                }
                 match gradient {
                     Some(mut g) => {
                         fill::fill_in_rect(pts, rect, self.edges, width, rows, &mut g, &mut sink)
@@ -763,5 +776,40 @@ impl<'v, const SUB: u32, K: Cuts> Painter<'_, 'v, SUB, K> {
         };
         stats.add(Counter::PixelsWritten, pixels);
         Ok(())
+    }
+
+    /// The perspective map of polygon `index` (whose screen polygon is `points`) when the
+    /// frame paints colours and the polygon is textured: its texels times `colour`, or times
+    /// its smooth `gradient`.
+    #[cfg(feature = "textures")]
+    fn texture_map<'t, T: Source + ?Sized>(
+        &self,
+        scene: &'t T,
+        index: u32,
+        polygon: &Polygon,
+        points: &[FixedPoint<SUB>],
+        colour: crate::display::Colour,
+        gradient: Option<Gradient<SUB>>,
+    ) -> Option<TextureMap<'t, SUB>> {
+        if !matches!(self.paint, Paint::Colours) {
+            return None;
+        }
+        let texture = scene.texture(index)?;
+        let view = &self.view;
+        let corners = [0, 1, 2].map(|i| view.to_camera(scene.polygon_vertex(polygon, i)));
+        let uvs = [0, 1, 2].map(|i| scene.corner_uv(polygon, i));
+        let mut reach = [0u32; 2];
+        for i in 0..u32::from(polygon.vertex_count) {
+            let uv = scene.corner_uv(polygon, i);
+            reach = [
+                reach[0].max(uv[0].unsigned_abs()),
+                reach[1].max(uv[1].unsigned_abs()),
+            ];
+        }
+        let lighting = match gradient {
+            Some(g) => Lighting::Smooth(g),
+            None => Lighting::Colour(colour),
+        };
+        texture_map(view, texture, corners, uvs, reach, points, lighting)
     }
 }

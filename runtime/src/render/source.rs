@@ -6,7 +6,7 @@
 use glam::Vec3;
 
 use crate::display::Colour;
-use crate::read::{Polygon, Scene};
+use crate::read::{Polygon, Scene, Texture};
 use crate::traverse::Tree;
 
 /// Everything a [`Renderer`] reads from a scene; [`Scene`] implements it (tests use small
@@ -82,6 +82,17 @@ pub trait Source: Tree {
         let _ = (polygon, i, side);
         u8::MAX
     }
+    /// The texture of polygon `i`, or `None` (the default) for an untextured polygon.
+    fn texture(&self, i: u32) -> Option<Texture<'_>> {
+        let _ = i;
+        None
+    }
+    /// The texture coordinates `[s, t]` of corner `i` of `polygon` (`2^16` a whole side of
+    /// its texture), for a polygon that [`Source::texture`] gave a texture.
+    fn corner_uv(&self, polygon: &Polygon, i: u32) -> [i32; 2] {
+        let _ = (polygon, i);
+        [0, 0]
+    }
 }
 
 impl Source for Scene<'_> {
@@ -127,5 +138,11 @@ impl Source for Scene<'_> {
     }
     fn corner_shade(&self, polygon: &Polygon, i: u32, side: usize) -> u8 {
         Scene::polygon_vertex_index(self, polygon, i).map_or(0, |v| self.vertex_shade(v, side))
+    }
+    fn texture(&self, i: u32) -> Option<Texture<'_>> {
+        Scene::polygon_texture(self, i)
+    }
+    fn corner_uv(&self, polygon: &Polygon, i: u32) -> [i32; 2] {
+        Scene::polygon_vertex_index(self, polygon, i).map_or([0, 0], |v| self.vertex_uv(v))
     }
 }

@@ -69,7 +69,7 @@ mod shaded;
 pub(crate) use frame::Gaps;
 pub use frame::{ScanFrame, ScanPixels};
 
-use crate::display::{Colour, Paint, RowShade};
+use crate::display::{Colour, Paint, RowShade, RowTexture, SpanPaint};
 use crate::error::RenderError;
 use shaded::Shading;
 
@@ -531,7 +531,19 @@ impl<'m> ScanMemory<'m> {
         match paint {
             Paint::Colour(colour) => self.span(y, x_start, x_end, colour),
             Paint::Shade(shade) => self.shaded_span(y, x_start, x_end, shade),
+            Paint::Texture(texture) => self.textured_span(y, x_start, x_end, texture),
         }
+    }
+
+    /// [`ScanMemory::span`] with a texture's row: kept as its runs of one colour.
+    #[inline(never)]
+    fn textured_span(&mut self, y: u32, x_start: u32, x_end: u32, texture: &RowTexture) -> u64 {
+        let mut covered = 0;
+        let x_end = x_end.min(u32::from(self.width));
+        texture.runs(x_start, x_end, |a, b, colour| {
+            covered += self.span(y, a, b, colour);
+        });
+        covered
     }
 
     /// [`ScanMemory::span`] with a shade. A piece of it is kept as its runs of one RGB565

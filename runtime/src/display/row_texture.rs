@@ -1,0 +1,290 @@
+//! [`RowTexture`]: one row of a textured polygon, what a sink receives with a textured span
+//! ([`SpanSink::textured_span`](super::SpanSink::textured_span)). The fill's
+//! [`TextureMap`](crate::fill::texture::TextureMap) makes one per row.
+//!
+//! # Perspective in integers
+//! On a polygon's plane, `1/z`, `s/z` and `t/z` are affine on the screen: the row holds them
+//! at pixel 0 (`w`, `s`, `t`, scaled so that `w` is at most `2^30` on the polygon and `s`,
+//! `t` at most `2^30` in magnitude) and their steps a pixel, wrapping `i32`s as a
+//! [`RowShade`]'s are. A pixel's coordinates are the quotients `s / w` and `t / w` (times
+//! `2^shift`): exact at the ends of runs of [`RUN`] pixels aligned to the screen's columns
+//! (`x = 16 k`, taken inside the polygon's span on the row, whose pixels they are), one
+//! 64-bit division each, and linear in between, as Quake's span drawer steps its texture
+//! coordinates. Where the perspective bends too much for a chord over 16 pixels (more than
+//! 1/8 of a texel off), the run is halved, aligned likewise, down to single pixels. A pixel's texel therefore depends on its column and on the polygon's span on
+//! its row, never on the piece of the span a sink is given.
+
+use super::{shaded, Colour, RowShade};
+use crate::read::layout::texture_flags;
+use crate::read::Texture;
+
+/// Pixels between two exact divisions: the run's ends are its first pixel and the next run's.
+pub const RUN: u32 = 16;
+
+/// Fraction bits of a texture coordinate between runs' ends (beyond its own 16).
+const STEP_BITS: u32 = 8;
+
+/// A repeating axis's coordinate is taken modulo its period at each run's start, and a run
+/// steps by at most this much (`2^6` textures, far beyond any texel a pixel can show).
+const MAX_RUN_CHANGE: i32 = 1 << 22;
+
+/// The most a run's chord may stray from the perspective, in texels: `1 /` this.
+const MAX_CHORD_ERROR_INVERSE: i64 = 8;
+
+/// A clamped axis's coordinate past this is past the edge anyway.
+const CLAMP_REACH: i32 = 1 << 17;
+
+/// What a row's texels are multiplied by.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Modulation {
+    /// Nothing: an unlit white material shows its texels as they are.
+    None,
+    /// One colour over the polygon: a faceted or unlit polygon's colour on the side seen.
+    Colour(Colour),
+    /// A smooth polygon's shade: its material times the pixel's intensity.
+    Shade(RowShade),
+}
+
+/// One pixel row of a textured polygon (see the module's doc).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct RowTexture<'a> {
+    /// The texture.
+    pub texture: Texture<'a>,
+    /// `[w, s, t]` at the centre of pixel 0 of the row, modulo `2^32`.
+    pub base: [i32; 3],
+    /// Their change from a pixel to the next on the right, modulo `2^32`.
+    pub step: [i32; 3],
+    /// `s / w` times `2^shift[0]` is the pixel's `s` in the file's units (`2^16` the
+    /// texture's width); likewise `t`.
+    pub shift: [u8; 2],
+    /// The polygon's pixels on this row: `first .. end` (runs' ends are taken inside).
+    pub first: u32,
+    /// See `first`.
+    pub end: u32,
+    /// What the texels are multiplied by.
+    pub modulation: Modulation,
+}
+
+impl RowTexture<'_> {
+    /// The file coordinates `[s, t]` at the centre of pixel `x` (of the polygon's span),
+    /// exactly: the quotients, each clamped to `±2^30`.
+    #[inline]
+    pub fn exact(&self, x: u32) -> [i32; 2] {
+        self.exact_with_w(x).1
+    }
+
+    /// [`Self::exact`] with `w` there (at least 1).
+    #[inline]
+    fn exact_with_w(&self, x: u32) -> (i32, [i32; 2]) {
+        let at = |k: usize| self.base[k].wrapping_add(self.step[k].wrapping_mul(x as i32));
+        let w = at(0).max(1);
+        let q = |k: usize| {
+            let v = (i64::from(at(k)) << self.shift[k - 1]) / i64::from(w);
+            v.clamp(-(1 << 30), 1 << 30) as i32
+        };
+        (w, [q(1), q(2)])
+    }
+
+    /// The colour of pixel `x`.
+    #[inline]
+    pub fn at(&self, x: u32) -> Colour {
+        self.colours(x).next().unwrap_or_default()
+    }
+
+    /// The colours of pixels `x, x + 1, ...`, each as [`Self::at`] gives it. The iterator
+    /// never ends: zip it with the pixels of a span.
+    #[inline]
+    pub fn colours(&self, x: u32) -> TexelColours<'_, '_> {
+        TexelColours {
+            walk: TexelWalk::new(self, x),
+            shade: match self.modulation {
+                Modulation::Shade(shade) => Some(shade.colours(x)),
+                _ => None,
+            },
+        }
+    }
+
+    /// The RGB565 texels of pixels `x, x + 1, ...` (before any modulation).
+    #[inline]
+    pub fn texels(&self, x: u32) -> TexelWalk<'_, '_> {
+        TexelWalk::new(self, x)
+    }
+}
+
+/// The 8-bit channels of an RGB565 colour, each `round(c * 255 / max)`.
+#[inline]
+pub const fn rgb565_colour(c: u16) -> Colour {
+    let (r, g, b) = ((c >> 11) as u32, ((c >> 5) & 63) as u32, (c & 31) as u32);
+    Colour::new(
+        ((r * 527 + 23) >> 6) as u8,
+        ((g * 259 + 33) >> 6) as u8,
+        ((b * 527 + 23) >> 6) as u8,
+    )
+}
+
+/// `x` times `k` a channel, each `round(x * k / 255)` ([`shaded`]'s rounding).
+#[inline]
+pub const fn modulate(x: Colour, k: Colour) -> Colour {
+    Colour::new(
+        shaded(Colour::grey(x.r), k.r).r,
+        shaded(Colour::grey(x.g), k.g).r,
+        shaded(Colour::grey(x.b), k.b).r,
+    )
+}
+
+/// One axis of a run: the coordinate at the current pixel with [`STEP_BITS`] more fraction
+/// bits, and its step.
+#[derive(Debug, Clone, Copy, Default)]
+struct Axis {
+    value: i32,
+    step: i32,
+}
+
+/// The texels of a row's pixels from one on, left to right ([`RowTexture::texels`]).
+#[derive(Debug, Clone)]
+pub struct TexelWalk<'r, 'a> {
+    row: &'r RowTexture<'a>,
+    /// The next pixel.
+    x: u32,
+    /// Where the current run ends (its last pixel plus one).
+    run_end: u32,
+    axes: [Axis; 2],
+}
+
+impl<'r, 'a> TexelWalk<'r, 'a> {
+    fn new(row: &'r RowTexture<'a>, x: u32) -> Self {
+        let mut walk = TexelWalk {
+            row,
+            x,
+            run_end: x,
+            axes: [Axis::default(); 2],
+        };
+        walk.start_run();
+        walk
+    }
+
+    /// Set up the run holding pixel `self.x`: its ends' exact coordinates, inside the
+    /// polygon's span, and the steps between them. A run of [`RUN`] pixels whose chord would
+    /// stray from the perspective by more than 1/8 of a texel ([`MAX_CHORD_ERROR_INVERSE`]) is halved (the
+    /// halves aligned too), down to single pixels, each exact.
+    #[inline(never)]
+    fn start_run(&mut self) {
+        let row = self.row;
+        let last = row.end.saturating_sub(1).max(row.first);
+        let mut len = RUN;
+        let (a, b, qa, qb) = loop {
+            let start = self.x & !(len - 1);
+            let a = start.clamp(row.first, last);
+            let b = (start + len).clamp(row.first, last);
+            let ((wa, qa), (wb, qb)) = (row.exact_with_w(a), row.exact_with_w(b));
+            if len == 1 || self.chord_fits(wa, wb, qa, qb) {
+                self.run_end = start + len;
+                break (a, b, qa, qb);
+            }
+            len >>= 1;
+        };
+        let flags = row.texture.flags;
+        for (k, axis) in self.axes.iter_mut().enumerate() {
+            let clamp = flags & (texture_flags::CLAMP_S << k) != 0;
+            let (mut from, mut to) = (qa[k], qb[k]);
+            if clamp {
+                from = from.clamp(-CLAMP_REACH, CLAMP_REACH);
+                to = to.clamp(-CLAMP_REACH, CLAMP_REACH);
+            } else {
+                // Modulo the period: only the texel within it matters.
+                let period = from & !0xFFFF;
+                from -= period;
+                to = to
+                    .wrapping_sub(period)
+                    .clamp(from - MAX_RUN_CHANGE, from + MAX_RUN_CHANGE);
+            }
+            let change = (to - from) << STEP_BITS;
+            let step = match b - a {
+                0 => 0,
+                n if n.is_power_of_two() => change >> n.trailing_zeros(),
+                n => change / n as i32,
+            };
+            // From `a` to pixel `x`.
+            let offset = self.x.saturating_sub(a) as i32;
+            *axis = Axis {
+                value: (from << STEP_BITS).wrapping_add(step.wrapping_mul(offset)),
+                step,
+            };
+        }
+    }
+
+    /// Whether the chord between a run's ends, where `w` is `wa` and `wb` and the
+    /// coordinates `qa` and `qb`, stays within 1/8 of a texel ([`MAX_CHORD_ERROR_INVERSE`]) of the
+    /// perspective in between. On a run where `w` changes by the ratio `r >= 1`, the
+    /// coordinates stray from the chord by at most `(r - 1) / 4` of their change, so it
+    /// suffices that `change (w_far - w_near) <= 4 w_near / 8`, the change in texels.
+    #[inline]
+    fn chord_fits(&self, wa: i32, wb: i32, qa: [i32; 2], qb: [i32; 2]) -> bool {
+        let t = &self.row.texture;
+        let texels = |k: usize, log2: u8| {
+            let change = i64::from(qb[k]) - i64::from(qa[k]);
+            (change.abs() >> (16 - u32::from(log2))) + 1
+        };
+        let change = texels(0, t.log2_width).max(texels(1, t.log2_height));
+        let (near, far) = (wa.min(wb).max(1), wa.max(wb).max(1));
+        change * i64::from(far - near) * MAX_CHORD_ERROR_INVERSE <= 4 * i64::from(near)
+    }
+
+    /// The next pixel's texel column and row.
+    #[inline]
+    fn texel_place(&self) -> (u32, u32) {
+        let t = &self.row.texture;
+        let place = |k: usize, log2: u8| {
+            let v = self.axes[k].value >> (STEP_BITS + 16 - u32::from(log2));
+            let max = (1i32 << log2) - 1;
+            if t.flags & (texture_flags::CLAMP_S << k) != 0 {
+                v.clamp(0, max) as u32
+            } else {
+                (v & max) as u32
+            }
+        };
+        (place(0, t.log2_width), place(1, t.log2_height))
+    }
+}
+
+impl Iterator for TexelWalk<'_, '_> {
+    type Item = u16;
+
+    #[inline]
+    fn next(&mut self) -> Option<u16> {
+        if self.x >= self.run_end {
+            self.start_run();
+        }
+        let (column, row) = self.texel_place();
+        let texel = self.row.texture.texel(column, row);
+        for axis in &mut self.axes {
+            axis.value = axis.value.wrapping_add(axis.step);
+        }
+        self.x += 1;
+        Some(texel)
+    }
+}
+
+/// The colours of a row's pixels from one on ([`RowTexture::colours`]).
+#[derive(Debug, Clone)]
+pub struct TexelColours<'r, 'a> {
+    walk: TexelWalk<'r, 'a>,
+    shade: Option<super::RowColours>,
+}
+
+impl Iterator for TexelColours<'_, '_> {
+    type Item = Colour;
+
+    #[inline]
+    fn next(&mut self) -> Option<Colour> {
+        let x = rgb565_colour(self.walk.next()?);
+        Some(match (&self.walk.row.modulation, self.shade.as_mut()) {
+            (_, Some(shade)) => modulate(x, shade.next()?),
+            (Modulation::Colour(k), None) => modulate(x, *k),
+            _ => x,
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests;

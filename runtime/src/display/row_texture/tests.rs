@@ -1,0 +1,170 @@
+extern crate std;
+
+use std::vec::Vec;
+
+use super::*;
+use crate::display::SHADE_FRACTION_BITS;
+
+/// A 4 x 4 texture whose texel `(c, r)` is `r * 4 + c + 1` (RGB565 values, all distinct).
+const TEXELS: [u8; 32] = {
+    let mut b = [0u8; 32];
+    let mut i = 0;
+    while i < 16 {
+        b[2 * i] = (i + 1) as u8;
+        i += 1;
+    }
+    b
+};
+
+fn texture(flags: u8) -> Texture<'static> {
+    Texture {
+        log2_width: 2,
+        log2_height: 2,
+        flags,
+        colours: &[],
+        texels: &TEXELS,
+    }
+}
+
+/// The texel value at `(c, r)` of [`texture`].
+fn value(c: u32, r: u32) -> u16 {
+    (r * 4 + c + 1) as u16
+}
+
+/// A row whose `s / w` and `t / w` are `(a_s + b_s x) / (a_w + b_w x)` and so on, with
+/// `w` scaled by `2^20`.
+fn row(w: (f64, f64), s: (f64, f64), t: (f64, f64), span: (u32, u32), flags: u8) -> RowTexture<'static> {
+    let scale = (1u32 << 20) as f64;
+    let shift = 17u8;
+    let to = |v: f64| v.round() as i32;
+    RowTexture {
+        texture: texture(flags),
+        base: [
+            to(w.0 * scale),
+            to(s.0 * scale / (1u32 << shift) as f64),
+            to(t.0 * scale / (1u32 << shift) as f64),
+        ],
+        step: [
+            to(w.1 * scale),
+            to(s.1 * scale / (1u32 << shift) as f64),
+            to(t.1 * scale / (1u32 << shift) as f64),
+        ],
+        shift: [shift; 2],
+        first: span.0,
+        end: span.1,
+        modulation: Modulation::None,
+    }
+}
+
+#[test]
+fn rgb565_expands_rounded_and_back_exactly() {
+    for c in 0..=u16::MAX {
+        let x = rgb565_colour(c);
+        let (r, g, b) = ((c >> 11) as f64, ((c >> 5) & 63) as f64, (c & 31) as f64);
+        assert_eq!(x.r, (r * 255.0 / 31.0).round() as u8, "{c:#x}");
+        assert_eq!(x.g, (g * 255.0 / 63.0).round() as u8, "{c:#x}");
+        assert_eq!(x.b, (b * 255.0 / 31.0).round() as u8, "{c:#x}");
+        assert_eq!(x.to_rgb565(), c, "{c:#x} back");
+    }
+}
+
+#[test]
+fn modulation_rounds_each_channel() {
+    for x in (0..=255u8).step_by(3) {
+        for k in 0..=255u8 {
+            let m = modulate(Colour::new(x, 255, 0), Colour::new(k, k, k));
+            let exact = (f64::from(x) * f64::from(k) / 255.0).round() as u8;
+            assert_eq!((m.r, m.g, m.b), (exact, k, 0), "{x} {k}");
+        }
+    }
+}
+
+/// Without perspective (`w` constant) every pixel's texel is the one its exact coordinates
+/// fall in, and any piece of the span gives the whole span's pixels.
+#[test]
+fn an_affine_row_gives_each_pixel_its_texel_whatever_the_piece() {
+    // s = (x + 0.6) / 10 of the texture: a texel every 2.5 pixels, no pixel on a texel's
+    // edge; t fixed in row 1.
+    let r = row(
+        (1.0, 0.0),
+        (65536.0 * 0.06, 65536.0 * 0.1),
+        (65536.0 * 0.3, 0.0),
+        (3, 77),
+        0,
+    );
+    let whole: Vec<u16> = r.texels(3).take(74).collect();
+    for (x, &texel) in (3..77u32).zip(&whole) {
+        let s = (f64::from(x) + 0.6) * 0.1;
+        let column = ((s * 4.0).floor() as u32) % 4;
+        assert_eq!(texel, value(column, 1), "pixel {x}");
+    }
+    for start in [3, 10, 15, 16, 17, 40, 76] {
+        let piece: Vec<u16> = r.texels(start).take((77 - start) as usize).collect();
+        assert_eq!(piece[..], whole[(start - 3) as usize..], "from {start}");
+    }
+}
+
+/// With perspective: exact at runs' ends, and every pixel within a texel of its exact one.
+#[test]
+fn a_perspective_row_is_exact_at_runs_ends_and_close_between() {
+    // w falls from 1 to 0.1 across 200 pixels; s and t over several repeats.
+    let w = (1.0, -0.9 / 200.0);
+    let s = (0.0, 65536.0 * 3.0 / 200.0 * 0.5);
+    let t = (65536.0 * 0.25, 65536.0 * 1.0 / 200.0 * 0.3);
+    let r = row(w, s, t, (0, 200), 0);
+    let texels: Vec<u16> = r.texels(0).take(200).collect();
+    let mut adjacent = 0;
+    for (x, &texel) in (0..200u32).zip(&texels) {
+        let [qs, qt] = r.exact(x);
+        let place = |q: i32| ((q >> 14) & 3) as u32;
+        let exact = value(place(qs), place(qt));
+        if x % RUN == 0 || x == 199 {
+            assert_eq!(texel, exact, "run end {x}");
+        } else if texel != exact {
+            adjacent += 1;
+            let near = (0..3).any(|dc| (0..3).any(|dr| {
+                texel == value((place(qs) + dc + 3) % 4, (place(qt) + dr + 3) % 4)
+            }));
+            assert!(near, "pixel {x}: {texel} against {exact}");
+        }
+    }
+    assert!(adjacent < 10, "{adjacent} pixels off by a texel");
+}
+
+#[test]
+fn clamped_axes_take_the_edge_texels() {
+    // s from -1 to 2 textures across 30 pixels: clamped, the first pixels show column 0 and
+    // the last column 3; repeated, they wrap.
+    let s = (-65536.0, 65536.0 * 3.0 / 30.0);
+    let t = (65536.0 * 0.6, 0.0);
+    let clamped = row((1.0, 0.0), s, t, (0, 30), texture_flags::CLAMP_S);
+    let texels: Vec<u16> = clamped.texels(0).take(30).collect();
+    assert!(texels[..9].iter().all(|&v| v == value(0, 2)), "{texels:?}");
+    assert!(texels[21..].iter().all(|&v| v == value(3, 2)), "{texels:?}");
+    let repeated = row((1.0, 0.0), s, t, (0, 30), 0);
+    let texels: Vec<u16> = repeated.texels(0).take(30).collect();
+    // Pixel 2 at -0.8 of a texture, column 0 of the repeat; pixel 3 at -0.7, column 1.
+    assert_eq!(texels[2], value(0, 2));
+    assert_eq!(texels[3], value(1, 2));
+}
+
+#[test]
+fn colours_are_the_texels_times_the_lighting() {
+    let mut r = row((1.0, 0.0), (0.0, 65536.0 / 8.0), (0.0, 0.0), (0, 8), 0);
+    let plain: Vec<Colour> = r.colours(0).take(8).collect();
+    assert!(plain.iter().zip(r.texels(0)).all(|(&c, t)| c == rgb565_colour(t)));
+    let k = Colour::new(200, 100, 50);
+    r.modulation = Modulation::Colour(k);
+    let lit: Vec<Colour> = r.colours(0).take(8).collect();
+    assert!(lit.iter().zip(&plain).all(|(&l, &p)| l == modulate(p, k)));
+    let shade = RowShade {
+        base: 100 << SHADE_FRACTION_BITS,
+        step: 10 << SHADE_FRACTION_BITS,
+        colour: k,
+    };
+    r.modulation = Modulation::Shade(shade);
+    for (x, (c, &p)) in (0..8u32).zip(r.colours(0).zip(&plain)) {
+        assert_eq!(c, modulate(p, shade.at(x)), "{x}");
+        assert_eq!(r.at(x), c);
+    }
+}
