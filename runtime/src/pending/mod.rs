@@ -39,7 +39,7 @@ use pixel::SUM_BITS;
 pub use pixel::{PendingPixel, SampleColour};
 pub(crate) use sink::{drain, Antialiased};
 
-use crate::display::{Colour, RowShade};
+use crate::display::{modulate, Colour, RowShade, RowTexture};
 use crate::error::RenderError;
 use crate::fill::samples::{
     row_extent, Mask, RowExtent, RowSpans, CENTRE_SAMPLE, FULL_MASK, NO_SPAN, SAMPLES,
@@ -91,7 +91,7 @@ struct Cursor {
 /// of every span's end: not an interval when the spans are narrow), and the run of finished
 /// pixels being extended.
 #[derive(Debug)]
-pub struct RowAdd {
+pub struct RowAdd<'t> {
     x: u32,
     hi: u32,
     inner_lo: u32,
@@ -101,22 +101,36 @@ pub struct RowAdd {
     /// A smooth polygon's shade on the pixel row's middle sample row, in sample columns: a
     /// pixel takes its centre sample's colour.
     shade: Option<RowShade>,
+    /// A textured polygon's row, in pixels: a pixel takes its centre's texel (times the
+    /// shade at its centre sample, for a smooth polygon).
+    texture: Option<RowTexture<'t>>,
     cursor: Cursor,
     run: Option<(u32, u32, Colour)>,
 }
 
-impl RowAdd {
+impl<'t> RowAdd<'t> {
     /// Pixel `x`'s colour and its packed samples: the polygon's one colour, or its shade at
-    /// the pixel's centre sample.
+    /// the pixel's centre sample, or its texel there.
     #[inline]
     fn colour_at(&self, x: u32) -> (Colour, u64) {
-        match &self.shade {
-            None => (self.colour, self.sample),
-            Some(shade) => {
-                let c = shade.at(x * SAMPLE_COLUMNS + SAMPLE_COLUMNS / 2);
-                (c, pixel::packed(c))
-            }
-        }
+        let shade = |x: u32| {
+            self.shade
+                .as_ref()
+                .map(|s| s.at(x * SAMPLE_COLUMNS + SAMPLE_COLUMNS / 2))
+        };
+        let c = match (&self.texture, shade(x)) {
+            (None, None) => return (self.colour, self.sample),
+            (None, Some(c)) => c,
+            (Some(t), None) => t.at(x),
+            (Some(t), Some(c)) => modulate(t.at(x), c),
+        };
+        (c, pixel::packed(c))
+    }
+
+    /// Texture the row: `row(first, end)` gives its texture's row for its pixels
+    /// `first .. end`.
+    pub(crate) fn texture(&mut self, row: impl FnOnce(u32, u32) -> RowTexture<'t>) {
+        self.texture = Some(row(self.x, self.hi));
     }
 }
 
@@ -223,7 +237,11 @@ impl<'m> Pending<'m> {
     /// then call [`Pending::next_run`] until it returns `None`. With `shade` (a smooth
     /// polygon's, on the sample row through the pixel centres, in sample columns) each pixel
     /// takes the colour at its centre sample instead.
-    pub fn begin_add(&mut self, colour: &SampleColour, shade: Option<RowShade>) -> Option<RowAdd> {
+    pub fn begin_add<'t>(
+        &mut self,
+        colour: &SampleColour,
+        shade: Option<RowShade>,
+    ) -> Option<RowAdd<'t>> {
         if !core::mem::take(&mut self.holding) {
             return None;
         }
@@ -243,6 +261,7 @@ impl<'m> Pending<'m> {
             colour: colour.colour,
             sample: colour.sample,
             shade,
+            texture: None,
             cursor: Cursor {
                 row,
                 link: None,
@@ -261,7 +280,7 @@ impl<'m> Pending<'m> {
     /// sample, as without anti-aliasing.
     pub fn next_run(
         &mut self,
-        add: &mut RowAdd,
+        add: &mut RowAdd<'_>,
         finished: impl Fn(u32) -> bool,
     ) -> Option<(u32, u32, Colour)> {
         while add.x < add.hi {
@@ -271,7 +290,13 @@ impl<'m> Pending<'m> {
                 self.walk_to(&mut add.cursor, x);
                 let (colour, sample) = add.colour_at(x);
                 // A shaded run is one pixel long (runs of one colour join below).
-                let end = |e: u32| if add.shade.is_some() { x + 1 } else { e };
+                let end = |e: u32| {
+                    if add.shade.is_some() || add.texture.is_some() {
+                        x + 1
+                    } else {
+                        e
+                    }
+                };
                 match self.record(add.cursor.at).map(|r| u32::from(r.x)) {
                     Some(rx) if rx == x => {
                         (x, x + 1, self.finish(&mut add.cursor, FULL_MASK, sample))

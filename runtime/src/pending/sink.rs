@@ -10,23 +10,26 @@ use crate::coverage::{Coverage, CoverageSink};
 use crate::display::{Colour, Shifted, SpanSink};
 use crate::fill::gradient::Gradient;
 use crate::fill::samples::{RowExtent, RowSpans, SampleSink, SAMPLE_ROWS};
+use crate::fill::texture::TextureMap;
 
 /// An anti-aliased polygon's route from the fill to `sink`: its colour (or a smooth polygon's
 /// gradient on the sample grid), the pending pixels, the band's coverage (its row 0 being
 /// frame row `first_row`) and the pixels sent.
-pub(crate) struct Antialiased<'c, 'p, 'm, S: SpanSink + ?Sized, const SUB: u32> {
+pub(crate) struct Antialiased<'c, 'p, 'm, 't, S: SpanSink + ?Sized, const SUB: u32> {
     pub(crate) pending: &'c mut Pending<'p>,
     pub(crate) colour: SampleColour,
     /// A smooth polygon's gradient over the sample grid: each pixel takes its centre
     /// sample's colour.
     pub(crate) gradient: Option<Gradient<SUB>>,
+    /// A textured polygon's map over the pixel grid: each pixel takes its centre's texel.
+    pub(crate) texture: Option<TextureMap<'t, SUB>>,
     pub(crate) coverage: &'c mut Coverage<'m>,
     pub(crate) sink: &'c mut S,
     pub(crate) first_row: u32,
     pub(crate) pixels: u64,
 }
 
-impl<S: SpanSink + ?Sized, const SUB: u32> Antialiased<'_, '_, '_, S, SUB> {
+impl<S: SpanSink + ?Sized, const SUB: u32> Antialiased<'_, '_, '_, '_, S, SUB> {
     /// Gather a span of sample row `y` (the band starts on a pixel row, so a sample row keeps
     /// its place in it); a span of the next pixel row first adds the gathered one.
     #[inline(never)]
@@ -49,6 +52,9 @@ impl<S: SpanSink + ?Sized, const SUB: u32> Antialiased<'_, '_, '_, S, SUB> {
         let Some(mut add) = self.pending.begin_add(&self.colour, shade) else {
             return;
         };
+        if let Some(map) = &self.texture {
+            add.texture(|first, end| map.row(y + self.first_row, first, end));
+        }
         let coverage = &mut *self.coverage;
         // (A test per pixel, as scan memory, whose rows are lists, answers it too.)
         while let Some((x0, x1, c)) = self
@@ -64,13 +70,13 @@ impl<S: SpanSink + ?Sized, const SUB: u32> Antialiased<'_, '_, '_, S, SUB> {
     }
 }
 
-impl<S: SpanSink + ?Sized, const SUB: u32> SpanSink for Antialiased<'_, '_, '_, S, SUB> {
+impl<S: SpanSink + ?Sized, const SUB: u32> SpanSink for Antialiased<'_, '_, '_, '_, S, SUB> {
     fn span(&mut self, y: u32, x_start: u32, x_end: u32, _: Colour) {
         self.sample_span(y, x_start, x_end);
     }
 }
 
-impl<S: SpanSink + ?Sized, const SUB: u32> SampleSink for Antialiased<'_, '_, '_, S, SUB> {
+impl<S: SpanSink + ?Sized, const SUB: u32> SampleSink for Antialiased<'_, '_, '_, '_, S, SUB> {
     fn sample_rows(&mut self, y: u32, spans: &RowSpans, extent: &RowExtent) {
         self.pending
             .gather_row(y.wrapping_sub(self.first_row), spans, extent);

@@ -1486,7 +1486,12 @@ fn textures_read_back() {
     assert_eq!((t0.log2_width, t0.log2_height), (1, 1));
     assert_eq!(t0.flags, texture_flags::CLAMP_S);
     assert_eq!(
-        [t0.texel(0, 0), t0.texel(1, 0), t0.texel(0, 1), t0.texel(1, 1)],
+        [
+            t0.texel(0, 0),
+            t0.texel(1, 0),
+            t0.texel(0, 1),
+            t0.texel(1, 1)
+        ],
         [0xF800, 0x07E0, 0x001F, 0xFFFF]
     );
     // Coordinates wrap modulo the sides.
@@ -1503,7 +1508,10 @@ fn textures_read_back() {
     let plain = Spec::small().encode();
     let plain = Scene::parse(&plain).unwrap();
     assert!(!plain.has_textures());
-    assert_eq!((plain.polygon_texture(0), plain.vertex_uv(0)), (None, [0, 0]));
+    assert_eq!(
+        (plain.polygon_texture(0), plain.vertex_uv(0)),
+        (None, [0, 0])
+    );
 }
 
 #[cfg(feature = "textures")]
@@ -1561,37 +1569,53 @@ fn bad_texture_records_are_refused_where_they_are() {
     let [uvs, records, texels, polygons] = good.lengths(&spec);
     let record = |k: usize| records + 8 + TEXTURE_SIZE * k;
     let check = |t: &TextureSpec, expected: ReadError, what: &str| {
-        assert_eq!(Scene::parse(&t.encode(&spec)).unwrap_err(), expected, "{what}");
+        assert_eq!(
+            Scene::parse(&t.encode(&spec)).unwrap_err(),
+            expected,
+            "{what}"
+        );
     };
     let mut t = good.clone();
     t.uvs.pop();
     check(&t, ReadError::CountMismatch { offset: uvs }, "uvs count");
     let mut t = good.clone();
     t.polygons.push(0);
-    check(&t, ReadError::CountMismatch { offset: polygons }, "polygon count");
+    check(
+        &t,
+        ReadError::CountMismatch { offset: polygons },
+        "polygon count",
+    );
     let mut t = good.clone();
     t.records.clear();
     t.texels.clear();
-    check(
-        &t,
-        ReadError::BadRecord { offset: records },
-        "no texture",
-    );
+    check(&t, ReadError::BadRecord { offset: records }, "no texture");
     let mut t = good.clone();
     t.records[0].0 = MAX_TEXTURE_LOG2 + 1;
     check(&t, ReadError::BadRecord { offset: record(0) }, "too wide");
     let mut t = good.clone();
     t.records[1].2 |= 1 << 7;
-    check(&t, ReadError::BadRecord { offset: record(1) }, "unknown flag");
+    check(
+        &t,
+        ReadError::BadRecord { offset: record(1) },
+        "unknown flag",
+    );
     let mut t = good.clone();
     t.records[0].3 = 1;
-    check(&t, ReadError::BadRecord { offset: record(0) }, "colours without palette");
+    check(
+        &t,
+        ReadError::BadRecord { offset: record(0) },
+        "colours without palette",
+    );
     let mut t = good.clone();
     t.records[1].4 = 9;
     check(&t, ReadError::BadRecord { offset: record(1) }, "offset");
     let mut t = good.clone();
     t.texels.push(0);
-    check(&t, ReadError::BadRecord { offset: texels }, "texels past the last");
+    check(
+        &t,
+        ReadError::BadRecord { offset: texels },
+        "texels past the last",
+    );
     let mut t = good.clone();
     t.texels.pop();
     check(&t, ReadError::BadRecord { offset: texels }, "texels short");

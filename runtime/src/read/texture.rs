@@ -93,7 +93,8 @@ impl<'a> Scene<'a> {
         }
         let at = arrays.records + k as usize * layout::TEXTURE_SIZE;
         let b = self.bytes;
-        let (log2_width, log2_height, flags) = (u8_at(b, at)?, u8_at(b, at + 1)?, u8_at(b, at + 2)?);
+        let (log2_width, log2_height, flags) =
+            (u8_at(b, at)?, u8_at(b, at + 1)?, u8_at(b, at + 2)?);
         let colours = if flags & texture_flags::PALETTE != 0 {
             u32::from(u8_at(b, at + 3)?) + 1
         } else {

@@ -10,13 +10,13 @@
 
 use glam::Vec3;
 
+use super::layout::TEXTURED_VERSION;
 use super::layout::{
     self, colour_size, f32_at, f64_at, field_at, field_size, header_flags as hf,
     header_offset as h, index_size, node_kind, node_size, polygon_flags, polygon_size, u16_at,
     u64_at, u8_at, vertex_size, BOUNDS_SIZE, FORMAT_VERSION, HEADER_SIZE, ID_SIZE, LENGTH_SIZE,
     MAGIC, NONE, PALETTE_SIZE, PLANE_SIZE, SHADE_SIZE,
 };
-use super::layout::TEXTURED_VERSION;
 #[cfg(feature = "textures")]
 use super::layout::{
     texture_flags, u32_at, MAX_TEXTURES, MAX_TEXTURE_LOG2, NO_TEXTURE, TEXTURE_SIZE, UV_SIZE,

@@ -11,6 +11,8 @@ use glam::{Vec2, Vec3};
 
 use super::paint::{id_colour, Paint};
 use super::shade::PlaneShade;
+#[cfg(feature = "textures")]
+use super::texture::texture_map;
 use super::Source;
 use crate::camera::LocalView;
 use crate::clip::{self, Frustum};
@@ -18,11 +20,9 @@ use crate::coverage::{Clipped, Coverage, Mode};
 use crate::display::SpanSink;
 use crate::error::RenderError;
 use crate::fill::gradient::Gradient;
+use crate::fill::samples::{SAMPLE_COLUMNS, SAMPLE_ROWS};
 #[cfg(feature = "textures")]
 use crate::fill::texture::{Lighting, TextureMap};
-#[cfg(feature = "textures")]
-use super::texture::texture_map;
-use crate::fill::samples::{SAMPLE_COLUMNS, SAMPLE_ROWS};
 use crate::fill::{self, FixedPoint};
 use crate::pending::{Antialiased, Pending, SampleColour};
 use crate::read::Polygon;
@@ -718,6 +718,19 @@ impl<'v, const SUB: u32, K: Cuts> Painter<'_, 'v, SUB, K> {
         // `fill::coordinate_limit` (anti-aliased: the sample grid's window).
         // (`cfg!` here too: without it the optimiser kept the anti-aliased fill in builds
         // without the feature at `opt-level = "s"`.)
+        // An anti-aliased textured polygon's map, on the pixel grid; a smooth one's texels
+        // are lit by the pending pixels' shade.
+        #[cfg(feature = "textures")]
+        let antialiased_texture = if cfg!(feature = "antialias") && antialiased {
+            let white = crate::display::Colour::grey(255);
+            let lit = if gradient.is_some() { white } else { colour };
+            let grid = (SAMPLE_COLUMNS, SAMPLE_ROWS);
+            self.texture_map(scene, index, polygon, pts, grid, lit, None)
+        } else {
+            None
+        };
+        #[cfg(not(feature = "textures"))]
+        let antialiased_texture = None;
         let pending = match self.antialias.as_deref_mut() {
             Some(p) if cfg!(feature = "antialias") && antialiased => Some(p),
             _ => None,
@@ -730,6 +743,7 @@ impl<'v, const SUB: u32, K: Cuts> Painter<'_, 'v, SUB, K> {
                     pending,
                     colour: SampleColour::new(colour),
                     gradient,
+                    texture: antialiased_texture,
                     coverage,
                     sink,
                     first_row: r0,
@@ -751,7 +765,9 @@ impl<'v, const SUB: u32, K: Cuts> Painter<'_, 'v, SUB, K> {
                 // A textured polygon: its texels through its perspective map, lit by its
                 // colour or its gradient.
                 #[cfg(feature = "textures")]
-                if let Some(mut map) = self.texture_map(scene, index, polygon, pts, colour, gradient) {
+                if let Some(mut map) =
+                    self.texture_map(scene, index, polygon, pts, (1, 1), colour, gradient)
+                {
                     let pixels =
                         fill::fill_in_rect(pts, rect, self.edges, width, rows, &mut map, &mut sink);
                     stats.add(Counter::PixelsWritten, pixels);
@@ -778,7 +794,8 @@ impl<'v, const SUB: u32, K: Cuts> Painter<'_, 'v, SUB, K> {
         Ok(())
     }
 
-    /// The perspective map of polygon `index` (whose screen polygon is `points`) when the
+    /// The perspective map of polygon `index` (whose screen polygon is `points`, on a grid of
+    /// `grid` points a pixel) when the
     /// frame paints colours and the polygon is textured: its texels times `colour`, or times
     /// its smooth `gradient`.
     #[cfg(feature = "textures")]
@@ -788,6 +805,7 @@ impl<'v, const SUB: u32, K: Cuts> Painter<'_, 'v, SUB, K> {
         index: u32,
         polygon: &Polygon,
         points: &[FixedPoint<SUB>],
+        grid: (u32, u32),
         colour: crate::display::Colour,
         gradient: Option<Gradient<SUB>>,
     ) -> Option<TextureMap<'t, SUB>> {
@@ -810,6 +828,6 @@ impl<'v, const SUB: u32, K: Cuts> Painter<'_, 'v, SUB, K> {
             Some(g) => Lighting::Smooth(g),
             None => Lighting::Colour(colour),
         };
-        texture_map(view, texture, corners, uvs, reach, points, lighting)
+        texture_map(view, texture, corners, uvs, reach, points, grid, lighting)
     }
 }

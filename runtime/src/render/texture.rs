@@ -20,7 +20,8 @@ const W_SCALE: f32 = (1u32 << 30) as f32;
 
 /// The map of a polygon whose first three corners are `corners` (camera space) with file
 /// coordinates `uvs`, whose coordinates are at most `reach` in magnitude over all its corners,
-/// drawn as the screen polygon `points` (its pixels' polygon, at `SUB` fractional bits).
+/// drawn as the screen polygon `points` (at `SUB` fractional bits, `grid` points a pixel:
+/// the anti-aliased fill's samples are 5 x 5).
 /// `None` for a polygon seen edge-on or degenerate (it draws nothing, or a sliver; the
 /// renderer then draws it in its colour).
 pub(super) fn texture_map<'a, const SUB: u32>(
@@ -30,6 +31,7 @@ pub(super) fn texture_map<'a, const SUB: u32>(
     uvs: [[i32; 2]; 3],
     reach: [u32; 2],
     points: &[FixedPoint<SUB>],
+    grid: (u32, u32),
     lighting: Lighting<SUB>,
 ) -> Option<TextureMap<'a, SUB>> {
     let [p0, p1, p2] = corners;
@@ -57,11 +59,12 @@ pub(super) fn texture_map<'a, const SUB: u32>(
         [dx, dy, c.z + dx * (x - cx) + dy * (y - cy)]
     };
     // The polygon's nearest point: the largest `1/z` over its corners (affine on it).
-    let scale = 1.0 / (1u32 << SUB) as f32;
+    let unit = (1u32 << SUB) as f32;
+    let (sx, sy) = (1.0 / (unit * grid.0 as f32), 1.0 / (unit * grid.1 as f32));
     let nearest = points
         .iter()
         .map(|p| {
-            let [_, _, w] = plane(inverse_z, p.x as f32 * scale, p.y as f32 * scale);
+            let [_, _, w] = plane(inverse_z, p.x as f32 * sx, p.y as f32 * sy);
             w
         })
         .fold(0.0f32, f32::max);
@@ -69,7 +72,8 @@ pub(super) fn texture_map<'a, const SUB: u32>(
         return None;
     }
     let first = points.first()?;
-    let anchor = ((first.x >> SUB).max(0) as u32, (first.y >> SUB).max(0) as u32);
+    let pixel = |v: i32, n: u32| (v >> SUB).max(0) as u32 / n;
+    let anchor = (pixel(first.x, grid.0), pixel(first.y, grid.1));
     let (x, y) = (anchor.0 as f32 + 0.5, anchor.1 as f32 + 0.5);
     // `s` below `2^shift`: `s w / 2^shift` stays below `w`'s `2^30`.
     let shift = reach.map(|r| (32 - r.leading_zeros()) as u8);

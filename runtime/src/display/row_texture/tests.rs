@@ -33,7 +33,13 @@ fn value(c: u32, r: u32) -> u16 {
 
 /// A row whose `s / w` and `t / w` are `(a_s + b_s x) / (a_w + b_w x)` and so on, with
 /// `w` scaled by `2^20`.
-fn row(w: (f64, f64), s: (f64, f64), t: (f64, f64), span: (u32, u32), flags: u8) -> RowTexture<'static> {
+fn row(
+    w: (f64, f64),
+    s: (f64, f64),
+    t: (f64, f64),
+    span: (u32, u32),
+    flags: u8,
+) -> RowTexture<'static> {
     let scale = (1u32 << 20) as f64;
     let shift = 17u8;
     let to = |v: f64| v.round() as i32;
@@ -122,9 +128,9 @@ fn a_perspective_row_is_exact_at_runs_ends_and_close_between() {
             assert_eq!(texel, exact, "run end {x}");
         } else if texel != exact {
             adjacent += 1;
-            let near = (0..3).any(|dc| (0..3).any(|dr| {
-                texel == value((place(qs) + dc + 3) % 4, (place(qt) + dr + 3) % 4)
-            }));
+            let near = (0..3).any(|dc| {
+                (0..3).any(|dr| texel == value((place(qs) + dc + 3) % 4, (place(qt) + dr + 3) % 4))
+            });
             assert!(near, "pixel {x}: {texel} against {exact}");
         }
     }
@@ -152,7 +158,10 @@ fn clamped_axes_take_the_edge_texels() {
 fn colours_are_the_texels_times_the_lighting() {
     let mut r = row((1.0, 0.0), (0.0, 65536.0 / 8.0), (0.0, 0.0), (0, 8), 0);
     let plain: Vec<Colour> = r.colours(0).take(8).collect();
-    assert!(plain.iter().zip(r.texels(0)).all(|(&c, t)| c == rgb565_colour(t)));
+    assert!(plain
+        .iter()
+        .zip(r.texels(0))
+        .all(|(&c, t)| c == rgb565_colour(t)));
     let k = Colour::new(200, 100, 50);
     r.modulation = Modulation::Colour(k);
     let lit: Vec<Colour> = r.colours(0).take(8).collect();
