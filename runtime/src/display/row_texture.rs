@@ -11,7 +11,8 @@
 //! (`x = 16 k`, taken inside the polygon's span on the row, whose pixels they are), one
 //! 64-bit division each, and linear in between, as Quake's span drawer steps its texture
 //! coordinates. Where the perspective bends too much for a chord over 16 pixels (more than
-//! 1/8 of a texel off), the run is halved, aligned likewise, down to single pixels. A pixel's texel therefore depends on its column and on the polygon's span on
+//! 1/16 pixel and 1/256 texel off), the run is halved, aligned likewise, down to single
+//! pixels. A pixel's texel therefore depends on its column and on the polygon's span on
 //! its row, never on the piece of the span a sink is given.
 
 use super::{shaded, Colour, RowShade};
@@ -27,9 +28,6 @@ const STEP_BITS: u32 = 8;
 /// A repeating axis's coordinate is taken modulo its period at each run's start, and a run
 /// steps by at most this much (`2^6` textures, far beyond any texel a pixel can show).
 const MAX_RUN_CHANGE: i32 = 1 << 22;
-
-/// The most a run's chord may stray from the perspective, in texels: `1 /` this.
-const MAX_CHORD_ERROR_INVERSE: i64 = 8;
 
 /// A clamped axis's coordinate past this is past the edge anyway.
 const CLAMP_REACH: i32 = 1 << 17;
@@ -165,8 +163,8 @@ impl<'r, 'a> TexelWalk<'r, 'a> {
 
     /// Set up the run holding pixel `self.x`: its ends' exact coordinates, inside the
     /// polygon's span, and the steps between them. A run of [`RUN`] pixels whose chord would
-    /// stray from the perspective by more than 1/8 of a texel ([`MAX_CHORD_ERROR_INVERSE`]) is halved (the
-    /// halves aligned too), down to single pixels, each exact.
+    /// stray too far from the perspective ([`Self::chord_fits`]) is halved (the halves
+    /// aligned too), down to single pixels, each exact.
     #[inline(never)]
     fn start_run(&mut self) {
         let row = self.row;
@@ -177,7 +175,7 @@ impl<'r, 'a> TexelWalk<'r, 'a> {
             let a = start.clamp(row.first, last);
             let b = (start + len).clamp(row.first, last);
             let ((wa, qa), (wb, qb)) = (row.exact_with_w(a), row.exact_with_w(b));
-            if len == 1 || self.chord_fits(wa, wb, qa, qb) {
+            if len == 1 || self.chord_fits(b - a, wa, wb, qa, qb) {
                 self.run_end = start + len;
                 break (a, b, qa, qb);
             }
@@ -213,21 +211,29 @@ impl<'r, 'a> TexelWalk<'r, 'a> {
         }
     }
 
-    /// Whether the chord between a run's ends, where `w` is `wa` and `wb` and the
-    /// coordinates `qa` and `qb`, stays within 1/8 of a texel ([`MAX_CHORD_ERROR_INVERSE`]) of the
-    /// perspective in between. On a run where `w` changes by the ratio `r >= 1`, the
-    /// coordinates stray from the chord by at most `(r - 1) / 4` of their change, so it
-    /// suffices that `change (w_far - w_near) <= 4 w_near / 8`, the change in texels.
+    /// Whether the chord over a run of `len` pixels between ends where `w` is `wa` and `wb`
+    /// and the coordinates `qa` and `qb` is close enough to the perspective in between. Where
+    /// `w` changes by the ratio `r >= 1` over the run, a point strays from the chord by at most
+    /// `(r - 1) / 4` of the run, in pixels and in texels alike. A pixel whose centre and the
+    /// points 1/16 pixel around it lie in one texel (a robust pixel, as the accuracy rule
+    /// counts them) keeps its texel when the run strays by at most 1/16 pixel; failing that,
+    /// a stray of 1/256 texel moves at most 1/128 of the pixels into a texel next to theirs.
     #[inline]
-    fn chord_fits(&self, wa: i32, wb: i32, qa: [i32; 2], qb: [i32; 2]) -> bool {
+    fn chord_fits(&self, len: u32, wa: i32, wb: i32, qa: [i32; 2], qb: [i32; 2]) -> bool {
+        let (near, far) = (i64::from(wa.min(wb).max(1)), i64::from(wa.max(wb).max(1)));
+        let bend = far - near;
+        // In pixels: `len (r - 1) / 4 <= 1/16`.
+        if 4 * i64::from(len) * bend <= near {
+            return true;
+        }
+        // In 1/256 of a texel: `change (r - 1) / 4 <= 1`.
         let t = &self.row.texture;
-        let texels = |k: usize, log2: u8| {
-            let change = i64::from(qb[k]) - i64::from(qa[k]);
-            (change.abs() >> (16 - u32::from(log2))) + 1
+        let change = |k: usize, log2: u8| {
+            let q = (i64::from(qb[k]) - i64::from(qa[k])).abs();
+            (q << log2 >> 8) + 1
         };
-        let change = texels(0, t.log2_width).max(texels(1, t.log2_height));
-        let (near, far) = (wa.min(wb).max(1), wa.max(wb).max(1));
-        change * i64::from(far - near) * MAX_CHORD_ERROR_INVERSE <= 4 * i64::from(near)
+        let change = change(0, t.log2_width).max(change(1, t.log2_height));
+        change.saturating_mul(bend) <= 4 * near
     }
 
     /// The next pixel's texel column and row.
