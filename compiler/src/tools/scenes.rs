@@ -1,6 +1,7 @@
 //! Generated scenes for benchmarks and tests: closed meshes (sphere, torus, a grid of boxes) and
 //! random triangle soups, deterministic for a given size and seed; textures made in code (one
-//! whose every texel has its own colour, a checkerboard) and meshes textured with them.
+//! whose every texel has its own colour, a checkerboard), meshes textured with them, and the
+//! pictures of the textured fixtures (`fixtures/textured-box/`, `fixtures/textured-floor/`).
 
 use std::path::PathBuf;
 
@@ -396,6 +397,82 @@ pub fn numbered_box() -> Mesh {
     }
 }
 
+/// Die digits 1 to 6, 5 x 7, a row a byte (bit 4 the left column).
+const DIGITS: [[u8; 7]; 6] = [
+    [0x04, 0x0C, 0x04, 0x04, 0x04, 0x04, 0x0E],
+    [0x0E, 0x11, 0x01, 0x02, 0x04, 0x08, 0x1F],
+    [0x1F, 0x02, 0x04, 0x02, 0x01, 0x11, 0x0E],
+    [0x02, 0x06, 0x0A, 0x12, 0x1F, 0x02, 0x02],
+    [0x1F, 0x10, 0x1E, 0x01, 0x01, 0x11, 0x0E],
+    [0x06, 0x08, 0x10, 0x1E, 0x11, 0x11, 0x0E],
+];
+
+/// The background of the die's faces 1 to 6: red, green, blue, yellow, purple, teal.
+const FACE_COLOURS: [u16; 6] = [
+    rgb565(26, 8, 4),
+    rgb565(6, 44, 8),
+    rgb565(4, 16, 26),
+    rgb565(28, 52, 4),
+    rgb565(22, 10, 24),
+    rgb565(4, 44, 24),
+];
+
+/// Face `n` (1 to 6) of the textured box: 32 x 32 texels, the white digit `n` three texels a
+/// dot, upright in the middle, on the face's colour in a black frame.
+pub fn die_face(n: usize) -> Texture {
+    assert!((1..=6).contains(&n), "a die's faces are 1 to 6");
+    let (digit, colour) = (DIGITS[n - 1], FACE_COLOURS[n - 1]);
+    let mut face = generated(&format!("face {n}"), 5, 5, |c, r| {
+        let dot = |c: u32, r: u32| {
+            // The digit's 15 x 21 texels from (8, 5).
+            let (x, y) = (c.checked_sub(8)? / 3, r.checked_sub(5)? / 3);
+            (x < 5 && y < 7).then(|| (digit[y as usize] >> (4 - x)) & 1 == 1)
+        };
+        if c == 0 || r == 0 || c == 31 || r == 31 {
+            0
+        } else if dot(c, r) == Some(true) {
+            0xFFFF
+        } else {
+            colour
+        }
+    });
+    face.path = PathBuf::from(format!("face{n}.png"));
+    face
+}
+
+/// The textured floor's tile: 32 x 32 texels, four stones of 16 x 16 in two colours, a grey
+/// joint on each one's top and left edge and a dark mark near its top left corner (so that
+/// the tile's orientation shows).
+pub fn floor_tile() -> Texture {
+    let (light, dark) = (rgb565(27, 50, 20), rgb565(20, 34, 14));
+    let (joint, mark) = (rgb565(12, 24, 12), rgb565(10, 18, 8));
+    let mut tile = generated("tile", 5, 5, |c, r| {
+        let (x, y) = (c % 16, r % 16);
+        if x == 0 || y == 0 {
+            joint
+        } else if (3..5).contains(&x) && (3..5).contains(&y) {
+            mark
+        } else if (c / 16 + r / 16) % 2 == 0 {
+            light
+        } else {
+            dark
+        }
+    });
+    tile.path = PathBuf::from("tile.png");
+    tile
+}
+
+/// The pictures of the textured fixtures by their paths under `fixtures/`: what the PNGs hold,
+/// each texel's RGB565 colour expanded to 8 bits a channel
+/// ([`rgb888`](super::reference::rgb888)), so that the loader reads them back exactly. A test
+/// checks the files against these (and with `PEEL_WRITE_FIXTURES=1` writes them).
+pub fn fixture_pictures() -> Vec<(String, Texture)> {
+    let faces = (1..=6).map(|n| (format!("textured-box/face{n}.png"), die_face(n)));
+    faces
+        .chain([("textured-floor/tile.png".to_string(), floor_tile())])
+        .collect()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -564,6 +641,87 @@ mod tests {
                 at,
                 "face {face}"
             );
+        }
+    }
+
+    /// The die's faces: 32 x 32, framed in black, each its own colour with its digit in white
+    /// (9 texels a dot).
+    #[test]
+    fn die_faces_show_their_digits() {
+        let dots = [10, 14, 14, 14, 17, 15];
+        let mut backgrounds = HashSet::new();
+        for n in 1..=6 {
+            let f = die_face(n);
+            assert_eq!((f.width(), f.height()), (32, 32));
+            assert!((0..32).all(|k| [(k, 0), (0, k), (k, 31), (31, k)]
+                .iter()
+                .all(|&(c, r)| f.texel(c, r) == 0)));
+            let white = f.texels.iter().filter(|&&c| c == 0xFFFF).count();
+            assert_eq!(white, 9 * dots[n - 1], "face {n}");
+            backgrounds.insert(f.texel(2, 2));
+        }
+        assert_eq!(backgrounds.len(), 6);
+    }
+
+    /// The committed pictures of the textured fixtures are the generated ones
+    /// ([`fixture_pictures`]); `PEEL_WRITE_FIXTURES=1` writes them first.
+    #[cfg(feature = "png")]
+    #[test]
+    fn fixture_pictures_are_the_generated_ones() {
+        let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../fixtures");
+        for (path, texture) in fixture_pictures() {
+            let (w, h) = (texture.width(), texture.height());
+            let rgb: Vec<u8> = texture.texels.iter().flat_map(|&c| rgb888(c)).collect();
+            let file = root.join(&path);
+            if std::env::var_os("PEEL_WRITE_FIXTURES").is_some() {
+                let image = image::RgbImage::from_raw(w, h, rgb.clone()).unwrap();
+                image.save(&file).unwrap();
+            }
+            let read = image::open(&file)
+                .unwrap_or_else(|e| panic!("{}: {e}", file.display()))
+                .to_rgb8();
+            assert_eq!(read.dimensions(), (w, h), "{path}");
+            assert!(
+                read.as_raw() == &rgb,
+                "{path} differs from its generated picture"
+            );
+            let size = std::fs::metadata(&file).unwrap().len();
+            assert!(size < 4096, "{path}: {size} bytes");
+        }
+    }
+
+    /// The textured fixtures' OBJ files load (their `vt` and `map_Kd` aside), the box's faces
+    /// as [`BOX_FACES`] list them.
+    #[test]
+    fn textured_fixtures_load() {
+        let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../fixtures");
+        let b = crate::load::load_obj(&root.join("textured-box/box.obj")).unwrap();
+        assert_eq!((b.faces, b.triangles.len()), (6, 12));
+        for (face, corners) in BOX_FACES.iter().enumerate() {
+            let mut want: Vec<[i64; 3]> = corners
+                .iter()
+                .map(|&c| DVec3::from_array(BOX_CORNERS[c]).as_i64vec3().to_array())
+                .collect();
+            want.sort();
+            let mut got: Vec<[i64; 3]> = (b.triangles[2 * face..2 * face + 2].iter())
+                .flat_map(|t| t.vertices.map(|p| p.as_i64vec3().to_array()))
+                .collect();
+            got.sort();
+            got.dedup();
+            assert_eq!(got, want, "face {face}");
+            for t in &b.triangles[2 * face..2 * face + 2] {
+                let [p, q, r] = t.vertices;
+                assert!(
+                    (q - p).cross(r - p).dot(p + q + r) > 0.0,
+                    "face {face} inwards"
+                );
+            }
+        }
+        let f = crate::load::load_obj(&root.join("textured-floor/floor.obj")).unwrap();
+        assert_eq!(f.triangles.len(), 2);
+        for t in &f.triangles {
+            let [p, q, r] = t.vertices;
+            assert!((q - p).cross(r - p).y > 0.0, "the floor faces up");
         }
     }
 
