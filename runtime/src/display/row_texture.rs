@@ -17,6 +17,7 @@
 
 use super::{shaded, Colour, RowShade};
 use crate::read::layout::texture_flags;
+use crate::read::rgb565_at;
 use crate::read::Texture;
 
 /// Pixels between two exact divisions: the run's ends are its first pixel and the next run's.
@@ -130,15 +131,8 @@ pub const fn modulate(x: Colour, k: Colour) -> Colour {
     )
 }
 
-/// One axis of a run: the coordinate at the current pixel with [`STEP_BITS`] more fraction
-/// bits, and its step.
-#[derive(Debug, Clone, Copy, Default)]
-struct Axis {
-    value: i32,
-    step: i32,
-}
-
-/// The texels of a row's pixels from one on, left to right ([`RowTexture::texels`]).
+/// The texels of a row's pixels from one on, left to right ([`RowTexture::texels`]): per
+/// pixel two adds, two shifts and masks, and a load; per run two divisions.
 #[derive(Debug, Clone)]
 pub struct TexelWalk<'r, 'a> {
     row: &'r RowTexture<'a>,
@@ -146,16 +140,29 @@ pub struct TexelWalk<'r, 'a> {
     x: u32,
     /// Where the current run ends (its last pixel plus one).
     run_end: u32,
-    axes: [Axis; 2],
+    /// `[s, t]` at the next pixel, with [`STEP_BITS`] more fraction bits, and their steps.
+    value: [i32; 2],
+    step: [i32; 2],
+    /// A coordinate's texel is `value >> shift`, masked or clamped to `max`.
+    shift: [u32; 2],
+    max: [i32; 2],
+    /// Whether either axis clamps (the masks serve the rest).
+    clamp: bool,
 }
 
 impl<'r, 'a> TexelWalk<'r, 'a> {
     fn new(row: &'r RowTexture<'a>, x: u32) -> Self {
+        let t = &row.texture;
+        let sides = [t.log2_width, t.log2_height].map(u32::from);
         let mut walk = TexelWalk {
             row,
             x,
             run_end: x,
-            axes: [Axis::default(); 2],
+            value: [0; 2],
+            step: [0; 2],
+            shift: sides.map(|log2| STEP_BITS + 16 - log2),
+            max: sides.map(|log2| (1i32 << log2) - 1),
+            clamp: t.flags & (texture_flags::CLAMP_S | texture_flags::CLAMP_T) != 0,
         };
         walk.start_run();
         walk
@@ -182,7 +189,7 @@ impl<'r, 'a> TexelWalk<'r, 'a> {
             len >>= 1;
         };
         let flags = row.texture.flags;
-        for (k, axis) in self.axes.iter_mut().enumerate() {
+        for k in 0..2 {
             let clamp = flags & (texture_flags::CLAMP_S << k) != 0;
             let (mut from, mut to) = (qa[k], qb[k]);
             if clamp {
@@ -204,10 +211,8 @@ impl<'r, 'a> TexelWalk<'r, 'a> {
             };
             // From `a` to pixel `x`.
             let offset = self.x.saturating_sub(a) as i32;
-            *axis = Axis {
-                value: (from << STEP_BITS).wrapping_add(step.wrapping_mul(offset)),
-                step,
-            };
+            self.value[k] = (from << STEP_BITS).wrapping_add(step.wrapping_mul(offset));
+            self.step[k] = step;
         }
     }
 
@@ -236,20 +241,18 @@ impl<'r, 'a> TexelWalk<'r, 'a> {
         change.saturating_mul(bend) <= 4 * near
     }
 
-    /// The next pixel's texel column and row.
+    /// The next pixel's texel: its index in the texture's texels.
     #[inline]
-    fn texel_place(&self) -> (u32, u32) {
-        let t = &self.row.texture;
-        let place = |k: usize, log2: u8| {
-            let v = self.axes[k].value >> (STEP_BITS + 16 - u32::from(log2));
-            let max = (1i32 << log2) - 1;
-            if t.flags & (texture_flags::CLAMP_S << k) != 0 {
-                v.clamp(0, max) as u32
+    fn texel_index(&self) -> usize {
+        let place = |k: usize| {
+            let v = self.value[k] >> self.shift[k];
+            if self.clamp && self.row.texture.flags & (texture_flags::CLAMP_S << k) != 0 {
+                v.clamp(0, self.max[k])
             } else {
-                (v & max) as u32
+                v & self.max[k]
             }
         };
-        (place(0, t.log2_width), place(1, t.log2_height))
+        ((place(1) << self.row.texture.log2_width) | place(0)) as usize
     }
 }
 
@@ -261,13 +264,17 @@ impl Iterator for TexelWalk<'_, '_> {
         if self.x >= self.run_end {
             self.start_run();
         }
-        let (column, row) = self.texel_place();
-        let texel = self.row.texture.texel(column, row);
-        for axis in &mut self.axes {
-            axis.value = axis.value.wrapping_add(axis.step);
-        }
+        let i = self.texel_index();
+        self.value[0] = self.value[0].wrapping_add(self.step[0]);
+        self.value[1] = self.value[1].wrapping_add(self.step[1]);
         self.x += 1;
-        Some(texel)
+        let t = &self.row.texture;
+        Some(if t.flags & texture_flags::PALETTE != 0 {
+            let k = t.texels.get(i).copied().unwrap_or(0);
+            rgb565_at(t.colours, usize::from(k))
+        } else {
+            rgb565_at(t.texels, i)
+        })
     }
 }
 
