@@ -161,6 +161,8 @@ pub struct TexelWalk<'r, 'a> {
     max: [i32; 2],
     /// Whether either axis clamps (the masks serve the rest).
     clamp: bool,
+    /// The last run end's column, `w` and coordinates: the next run starts there.
+    end: (u32, i32, [i32; 2]),
 }
 
 impl<'r, 'a> TexelWalk<'r, 'a> {
@@ -176,6 +178,7 @@ impl<'r, 'a> TexelWalk<'r, 'a> {
             shift: sides.map(|log2| STEP_BITS + 16 - log2),
             max: sides.map(|log2| (1i32 << log2) - 1),
             clamp: t.flags & (texture_flags::CLAMP_S | texture_flags::CLAMP_T) != 0,
+            end: (u32::MAX, 0, [0; 2]),
         };
         walk.start_run();
         walk
@@ -194,9 +197,15 @@ impl<'r, 'a> TexelWalk<'r, 'a> {
             let start = self.x & !(len - 1);
             let a = start.clamp(row.first, last);
             let b = (start + len).clamp(row.first, last);
-            let ((wa, qa), (wb, qb)) = (row.exact_with_w(a), row.exact_with_w(b));
+            // (A run starts where the last one ended: its end's division serves again.)
+            let (wa, qa) = match self.end {
+                (x, w, q) if x == a => (w, q),
+                _ => row.exact_with_w(a),
+            };
+            let (wb, qb) = row.exact_with_w(b);
             if len == 1 || self.chord_fits(b - a, wa, wb, qa, qb) {
                 self.run_end = start + len;
+                self.end = (b, wb, qb);
                 break (a, b, qa, qb);
             }
             len >>= 1;
