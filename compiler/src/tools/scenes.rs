@@ -1,8 +1,9 @@
 //! Generated scenes for benchmarks and tests: closed meshes (sphere, torus, a grid of boxes) and
-//! random triangle soups, deterministic for a given size and seed.
+//! random triangle soups, deterministic for a given size and seed, and any of them textured.
 
-use glam::DVec3;
+use glam::{DVec2, DVec3};
 
+use crate::load::texture::{CornerUvs, Texture};
 use crate::load::{Mesh, SourceTriangle, DEFAULT_COLOUR};
 pub use crate::random::SplitMix;
 
@@ -20,6 +21,35 @@ pub fn mesh(triangles: Vec<[DVec3; 3]>) -> Mesh {
             .collect(),
         ..Mesh::default()
     }
+}
+
+/// `mesh` with one texture on every triangle, its corners' coordinates `uv(corners)`: a
+/// `2^log2 x 2^log2` checkerboard of red and white texels that repeats (`clamp` off).
+pub fn textured(mut mesh: Mesh, log2: u8, uv: impl Fn([DVec3; 3]) -> [DVec2; 3]) -> Mesh {
+    let side = 1u32 << log2;
+    let texels = (0..side * side)
+        .map(|i| {
+            if (i % side + i / side).is_multiple_of(2) {
+                0xF800
+            } else {
+                0xFFFF
+            }
+        })
+        .collect();
+    mesh.textures = vec![Texture {
+        path: "checkerboard.png".into(),
+        log2_width: log2,
+        log2_height: log2,
+        clamp: [false; 2],
+        texels,
+    }];
+    for t in &mut mesh.triangles {
+        t.texture = Some(CornerUvs {
+            texture: 0,
+            uv: uv(t.vertices),
+        });
+    }
+    mesh
 }
 
 /// Add the quad `a b c d` (counter-clockwise seen from outside) as two triangles.
