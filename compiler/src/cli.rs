@@ -138,6 +138,24 @@ fn parse_finite(s: &str) -> Result<f64, String> {
         .ok_or_else(|| format!("'{s}' is not a finite number"))
 }
 
+/// Parse the largest side of a texture (`--max-texture`): a power of two from 1 to 1024.
+pub fn parse_max_texture(s: &str) -> Result<u32, String> {
+    let options = peel_compiler::load::LoadOptions {
+        max_texture: s
+            .trim()
+            .parse()
+            .map_err(|_| format!("'{s}' is not a whole number of texels"))?,
+        ..peel_compiler::load::LoadOptions::default()
+    };
+    options.check().map_err(|_| {
+        format!(
+            "the largest texture side must be a power of two from 1 to {}, got {s}",
+            1u32 << peel_runtime::read::layout::MAX_TEXTURE_LOG2
+        )
+    })?;
+    Ok(options.max_texture)
+}
+
 /// Parse a crease angle in degrees, from 0 to 180 (`--crease`).
 pub fn parse_crease(s: &str) -> Result<peel_compiler::shade::normals::Crease, String> {
     let degrees = s
