@@ -285,8 +285,16 @@ fn textured_triangle(vertices: [DVec3; 3], uv: [DVec2; 3], texture: u32) -> Sour
 /// Add the quad `p` (counter-clockwise seen from outside) with its corners' coordinates `uv`
 /// as two triangles, split as [`quad`] splits one.
 fn textured_quad(out: &mut Vec<SourceTriangle>, p: [DVec3; 4], uv: [DVec2; 4], texture: u32) {
-    out.push(textured_triangle([p[0], p[1], p[2]], [uv[0], uv[1], uv[2]], texture));
-    out.push(textured_triangle([p[0], p[2], p[3]], [uv[0], uv[2], uv[3]], texture));
+    out.push(textured_triangle(
+        [p[0], p[1], p[2]],
+        [uv[0], uv[1], uv[2]],
+        texture,
+    ));
+    out.push(textured_triangle(
+        [p[0], p[2], p[3]],
+        [uv[0], uv[2], uv[3]],
+        texture,
+    ));
 }
 
 /// [`sphere`] in white under a 64 x 64 [`checkerboard`] of 8 x 8 squares: `u` around, from 1
