@@ -227,11 +227,13 @@ fn copy_vertices<'t>(
                 .or(first[v as usize])
                 .unwrap_or([0; 2])
         });
-        let uv = uv.unwrap_or_else(|| {
-            (uv_by_shade.get(&(v, shades)).copied())
+        let uv = match uv {
+            Some(uv) => uv,
+            None if textured_any => (uv_by_shade.get(&(v, shades)).copied())
                 .or(first_uv[v as usize])
-                .unwrap_or([0; 2])
-        });
+                .unwrap_or([0; 2]),
+            None => [0; 2],
+        };
         (v, shades, uv)
     };
     let mut copies: FastMap<(u32, [u8; 2], [i32; 2]), u32> = FastMap::default();
