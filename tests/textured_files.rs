@@ -1,5 +1,5 @@
-//! Textured scenes end to end, as files: OBJ `vt` and MTL `map_Kd` -> compiler -> a format 6 file
-//! runtime reads -> pixels. The texels show the right way up, a polygon cut by the compiler
+//! Textured scenes end to end, as files: OBJ `vt` and MTL `map_Kd` -> compiler -> a format 6
+//! file the runtime reads -> pixels. The texels show the right way up, a polygon cut by the compiler
 //! keeps the coordinates of its positions, and textures are stored as the format says (a
 //! palette or RGB565, their clamp flags, only those drawn).
 
