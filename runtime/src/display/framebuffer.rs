@@ -5,7 +5,7 @@ use core::fmt;
 use core::marker::PhantomData;
 
 use super::dither::{dithered, row_thresholds};
-use super::{Colour, Filter, Modulation, RowShade, RowTexture, SpanSink};
+use super::{Colour, RowShade, RowTexture, SpanSink};
 
 /// How a [`Colour`] is stored in one pixel of a [`Framebuffer`].
 pub trait PixelFormat {
@@ -62,16 +62,11 @@ impl PixelFormat for Rgb565 {
         colour.to_rgb565()
     }
 
-    /// Texels unlit are stored as they are: the file's texels are RGB565 already.
+    /// Texels unlit are stored as they are (the file's texels are RGB565 already), lit ones
+    /// multiplied once a run of equal texels ([`RowTexture::rgb565_into`]).
     #[inline]
     fn encode_textured(run: &mut [u16], x_start: u32, texture: &RowTexture<'_>) {
-        if texture.modulation == Modulation::None && texture.filter == Filter::Nearest {
-            texture.texels(x_start).fill(run);
-        } else {
-            for (pixel, colour) in run.iter_mut().zip(texture.colours(x_start)) {
-                *pixel = colour.to_rgb565();
-            }
-        }
+        texture.rgb565_into(x_start, run);
     }
 
     #[inline]

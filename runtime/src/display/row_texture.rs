@@ -8,8 +8,8 @@
 //! `t` at most `2^30` in magnitude) and their steps a pixel, wrapping `i32`s as a
 //! [`RowShade`]'s are. A pixel's coordinates are the quotients `s / w` and `t / w` (times
 //! `2^shift`): exact at the ends of runs of [`RUN`] pixels aligned to the screen's columns
-//! (`x = 16 k`, taken inside the polygon's span on the row, whose pixels they are), one
-//! 64-bit division each, and linear in between, as Quake's span drawer steps its texture
+//! (`x = 16 k`, taken inside the polygon's span on the row, whose pixels they are), one `f32`
+//! division each (`1/w`, then a multiply a coordinate), and linear in between, as Quake's span drawer steps its texture
 //! coordinates. Where the perspective bends too much for a chord over 16 pixels (more than
 //! 1/16 pixel and 1/256 texel off), the run is halved, aligned likewise, down to single
 //! pixels. A pixel's texel therefore depends on its column and on the polygon's span on
@@ -29,6 +29,9 @@ const STEP_BITS: u32 = 8;
 /// A repeating axis's coordinate is taken modulo its period at each run's start, and a run
 /// steps by at most this much (`2^6` textures, far beyond any texel a pixel can show).
 const MAX_RUN_CHANGE: i32 = 1 << 22;
+
+/// The largest quotient kept, `2^30` (file units: `2^14` textures).
+const QUOTIENT_LIMIT: f32 = (1u32 << 30) as f32;
 
 /// A clamped axis's coordinate past this is past the edge anyway.
 const CLAMP_REACH: i32 = 1 << 17;
@@ -85,14 +88,19 @@ impl RowTexture<'_> {
         self.exact_with_w(x).1
     }
 
-    /// [`Self::exact`] with `w` there (at least 1).
+    /// [`Self::exact`] with `w` there (at least 1). One `f32` division, `1 / w`, and a
+    /// multiply a coordinate, each rounded as IEEE 754 says (on every core alike: a soft-float
+    /// core's library rounds as an FPU does), so the host and the target agree bit for bit;
+    /// the quotient errs by about `2^-22` of itself, far below a texel.
     #[inline]
     fn exact_with_w(&self, x: u32) -> (i32, [i32; 2]) {
         let at = |k: usize| self.base[k].wrapping_add(self.step[k].wrapping_mul(x as i32));
         let w = at(0).max(1);
+        let r = 1.0 / w as f32;
         let q = |k: usize| {
-            let v = (i64::from(at(k)) << self.shift[k - 1]) / i64::from(w);
-            v.clamp(-(1 << 30), 1 << 30) as i32
+            let scale = (1u64 << self.shift[k - 1]) as f32;
+            // (`as` saturates: a quotient past `i32` is clamped anyway.)
+            ((at(k) as f32 * r) * scale).clamp(-QUOTIENT_LIMIT, QUOTIENT_LIMIT) as i32
         };
         (w, [q(1), q(2)])
     }
@@ -113,6 +121,42 @@ impl RowTexture<'_> {
                 Modulation::Shade(shade) => Some(shade.colours(x)),
                 _ => None,
             },
+        }
+    }
+
+    /// The RGB565 colours of pixels `x_start .. x_start + out.len()` into `out`, each
+    /// [`Self::at`]'s `to_rgb565()`: the texels a run at a time ([`TexelWalk::fill`]), then,
+    /// lit by one colour, each texel multiplied once for a run of equal ones (a magnified
+    /// texel covers several pixels, a picture has areas of one colour).
+    pub fn rgb565_into(&self, x_start: u32, out: &mut [u16]) {
+        if self.filter != Filter::Nearest {
+            for (slot, colour) in out.iter_mut().zip(self.colours(x_start)) {
+                *slot = colour.to_rgb565();
+            }
+            return;
+        }
+        self.texels(x_start).fill(out);
+        match self.modulation {
+            Modulation::None => {}
+            Modulation::Colour(k) => {
+                let mut last: Option<(u16, u16)> = None;
+                for slot in out.iter_mut() {
+                    let texel = *slot;
+                    *slot = match last {
+                        Some((t, c)) if t == texel => c,
+                        _ => {
+                            let c = modulate(rgb565_colour(texel), k).to_rgb565();
+                            last = Some((texel, c));
+                            c
+                        }
+                    };
+                }
+            }
+            Modulation::Shade(shade) => {
+                for (slot, k) in out.iter_mut().zip(shade.colours(x_start)) {
+                    *slot = modulate(rgb565_colour(*slot), k).to_rgb565();
+                }
+            }
         }
     }
 

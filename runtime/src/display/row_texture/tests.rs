@@ -248,3 +248,41 @@ fn fill_is_the_walk() {
         }
     }
 }
+
+/// `rgb565_into` is each pixel's colour in RGB565, unlit, lit by a colour and by a shade, and
+/// bilinear.
+#[test]
+fn rgb565_into_is_each_pixels_colour() {
+    let mut r = row(
+        (1.0, -0.003),
+        (65536.0 * 0.1, 65536.0 * 0.01),
+        (65536.0 * 0.2, 65536.0 * 0.004),
+        (0, 100),
+        0,
+    );
+    let shade = RowShade {
+        base: 90 << SHADE_FRACTION_BITS,
+        step: 1 << (SHADE_FRACTION_BITS - 1),
+        colour: Colour::new(250, 200, 100),
+    };
+    for modulation in [
+        Modulation::None,
+        Modulation::Colour(Colour::new(200, 128, 30)),
+        Modulation::Shade(shade),
+    ] {
+        for filter in [Filter::Nearest, Filter::Bilinear] {
+            r.modulation = modulation;
+            r.filter = filter;
+            for start in [0u32, 7, 50] {
+                let mut out = vec![0u16; (100 - start) as usize];
+                r.rgb565_into(start, &mut out);
+                let expected: Vec<u16> = r
+                    .colours(start)
+                    .take(out.len())
+                    .map(|c| c.to_rgb565())
+                    .collect();
+                assert_eq!(out, expected, "{modulation:?} {filter:?} from {start}");
+            }
+        }
+    }
+}
