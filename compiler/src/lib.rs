@@ -11,9 +11,9 @@
 //! mesh), the [`tree`] and [`shade`] types those take and return, [`write`](mod@write) (the
 //! atomic file write), [`dump`] (a `.peel` file as YAML or counters). Apart from the pipeline,
 //! [`tools`] holds the host tools and the test and benchmark support: `raster`, `reference`,
-//! `scenes`, `shading_gap`, and with the `bench` feature `bench_frames` (`peel bench`) and
-//! `bench_compile` (`peel bench compile`); the `png` feature adds `tools::raster::png`. The
-//! other stages are private.
+//! `scenes`, `shading_gap`, `texture_check`, and with the `bench` feature `bench_frames`
+//! (`peel bench`) and `bench_compile` (`peel bench compile`); the `png` feature adds
+//! `tools::raster::png`. The other stages are private.
 #![forbid(unsafe_code)]
 #![warn(missing_docs)]
 

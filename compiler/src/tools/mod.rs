@@ -6,9 +6,10 @@
 //! - [`raster`]: render `.peel` bytes into an image on the host, through the no_std runtime
 //!   (`peel render`/`peel demo`, benchmarks, end-to-end tests).
 //! - [`reference`](mod@reference): the brute-force f64 ray caster the tests and `peel bench`
-//!   measure pixel errors against.
+//!   measure pixel errors against, and the exact texel under each pixel of textured surfaces.
+//! - [`texture_check`]: a textured frame's pixels against those texels.
 //! - [`scenes`]: generated meshes (sphere, torus, box grid, triangle soup) for benchmarks and
-//!   tests.
+//!   tests, generated textures and textured meshes, and the textured fixtures' pictures.
 //! - [`shading_gap`]: how far a mesh's faceted picture is from its smooth one, on the
 //!   reference's robust pixels.
 //! - `bench_frames` (`peel bench`, feature `bench`): frame time against pixel error, Peel
@@ -30,6 +31,7 @@ pub mod reference;
 pub mod scenes;
 pub mod shading_gap;
 pub mod shot;
+pub mod texture_check;
 
 /// One row of a markdown table, `| a | b | ... |` and a newline: the benchmarks' tables (frames,
 /// compile, target) build their rows from cells rather than hand-counted format strings.

@@ -3,7 +3,8 @@
 //! fill. The end-to-end tests and `peel bench` measure pixel errors against it. Per pixel it
 //! also knows the side of the triangle seen, so the tests check the lighting
 //! ([`Reference::seen_normal`], [`Reference::exclude_grazing_light`]), and the colour the
-//! compiler's shading gives it there, faceted or smooth ([`Reference::colours`]).
+//! compiler's shading gives it there, faceted or smooth ([`Reference::colours`]). For textured
+//! surfaces it gives the exact texel under each pixel centre ([`texels()`]).
 
 use crate::shade::corners::Facing;
 use crate::shade::smooth::SmoothShades;
@@ -13,6 +14,9 @@ use crate::shadow::Light;
 use glam::{DVec2, DVec3};
 
 use super::shot::Shot;
+
+mod texels;
+pub use texels::{modulate, rgb888, texels, TexelHit, Texels};
 
 /// A [`Shot`] as `docs/host.md` defines its camera: the basis `f`, `r`, `u`, the focal length
 /// `fpx` in pixels, and the near distance resolved.
@@ -563,6 +567,13 @@ fn screen_bbox(cam: &Lens, c: &[DVec3]) -> Option<(usize, usize, usize, usize)> 
 
 /// Möller–Trumbore; returns the ray parameter of the hit (both faces count).
 fn ray_triangle(o: DVec3, d: DVec3, t: &[DVec3; 3]) -> Option<f64> {
+    ray_hit(o, d, t).map(|(s, _)| s)
+}
+
+/// [`ray_triangle`] with the hit point's barycentric weights of `t`'s corners (the point is
+/// `w[0] t[0] + w[1] t[1] + w[2] t[2]`), which interpolate anything given per corner exactly
+/// as it varies over the triangle in space: the perspective-correct interpolation.
+fn ray_hit(o: DVec3, d: DVec3, t: &[DVec3; 3]) -> Option<(f64, [f64; 3])> {
     let e1 = t[1] - t[0];
     let e2 = t[2] - t[0];
     let p = d.cross(e2);
@@ -581,7 +592,7 @@ fn ray_triangle(o: DVec3, d: DVec3, t: &[DVec3; 3]) -> Option<f64> {
     if v < 0.0 || u + v > 1.0 {
         return None;
     }
-    Some(e2.dot(q) * inv)
+    Some((e2.dot(q) * inv, [1.0 - u - v, u, v]))
 }
 
 /// Mark pixels near the projected edges of the camera-space polygon `c`, after clipping it to

@@ -11,11 +11,13 @@
 //! (`x = 16 k`, taken inside the polygon's span on the row, whose pixels they are), one
 //! 64-bit division each, and linear in between, as Quake's span drawer steps its texture
 //! coordinates. Where the perspective bends too much for a chord over 16 pixels (more than
-//! 1/8 of a texel off), the run is halved, aligned likewise, down to single pixels. A pixel's texel therefore depends on its column and on the polygon's span on
+//! 1/16 pixel and 1/256 texel off), the run is halved, aligned likewise, down to single
+//! pixels. A pixel's texel therefore depends on its column and on the polygon's span on
 //! its row, never on the piece of the span a sink is given.
 
 use super::{shaded, Colour, RowShade};
 use crate::read::layout::texture_flags;
+use crate::read::rgb565_at;
 use crate::read::Texture;
 
 /// Pixels between two exact divisions: the run's ends are its first pixel and the next run's.
@@ -27,9 +29,6 @@ const STEP_BITS: u32 = 8;
 /// A repeating axis's coordinate is taken modulo its period at each run's start, and a run
 /// steps by at most this much (`2^6` textures, far beyond any texel a pixel can show).
 const MAX_RUN_CHANGE: i32 = 1 << 22;
-
-/// The most a run's chord may stray from the perspective, in texels: `1 /` this.
-const MAX_CHORD_ERROR_INVERSE: i64 = 8;
 
 /// A clamped axis's coordinate past this is past the edge anyway.
 const CLAMP_REACH: i32 = 1 << 17;
@@ -132,15 +131,8 @@ pub const fn modulate(x: Colour, k: Colour) -> Colour {
     )
 }
 
-/// One axis of a run: the coordinate at the current pixel with [`STEP_BITS`] more fraction
-/// bits, and its step.
-#[derive(Debug, Clone, Copy, Default)]
-struct Axis {
-    value: i32,
-    step: i32,
-}
-
-/// The texels of a row's pixels from one on, left to right ([`RowTexture::texels`]).
+/// The texels of a row's pixels from one on, left to right ([`RowTexture::texels`]): per
+/// pixel two adds, two shifts and masks, and a load; per run two divisions.
 #[derive(Debug, Clone)]
 pub struct TexelWalk<'r, 'a> {
     row: &'r RowTexture<'a>,
@@ -148,16 +140,29 @@ pub struct TexelWalk<'r, 'a> {
     x: u32,
     /// Where the current run ends (its last pixel plus one).
     run_end: u32,
-    axes: [Axis; 2],
+    /// `[s, t]` at the next pixel, with [`STEP_BITS`] more fraction bits, and their steps.
+    value: [i32; 2],
+    step: [i32; 2],
+    /// A coordinate's texel is `value >> shift`, masked or clamped to `max`.
+    shift: [u32; 2],
+    max: [i32; 2],
+    /// Whether either axis clamps (the masks serve the rest).
+    clamp: bool,
 }
 
 impl<'r, 'a> TexelWalk<'r, 'a> {
     fn new(row: &'r RowTexture<'a>, x: u32) -> Self {
+        let t = &row.texture;
+        let sides = [t.log2_width, t.log2_height].map(u32::from);
         let mut walk = TexelWalk {
             row,
             x,
             run_end: x,
-            axes: [Axis::default(); 2],
+            value: [0; 2],
+            step: [0; 2],
+            shift: sides.map(|log2| STEP_BITS + 16 - log2),
+            max: sides.map(|log2| (1i32 << log2) - 1),
+            clamp: t.flags & (texture_flags::CLAMP_S | texture_flags::CLAMP_T) != 0,
         };
         walk.start_run();
         walk
@@ -165,8 +170,8 @@ impl<'r, 'a> TexelWalk<'r, 'a> {
 
     /// Set up the run holding pixel `self.x`: its ends' exact coordinates, inside the
     /// polygon's span, and the steps between them. A run of [`RUN`] pixels whose chord would
-    /// stray from the perspective by more than 1/8 of a texel ([`MAX_CHORD_ERROR_INVERSE`]) is halved (the
-    /// halves aligned too), down to single pixels, each exact.
+    /// stray too far from the perspective ([`Self::chord_fits`]) is halved (the halves
+    /// aligned too), down to single pixels, each exact.
     #[inline(never)]
     fn start_run(&mut self) {
         let row = self.row;
@@ -177,14 +182,14 @@ impl<'r, 'a> TexelWalk<'r, 'a> {
             let a = start.clamp(row.first, last);
             let b = (start + len).clamp(row.first, last);
             let ((wa, qa), (wb, qb)) = (row.exact_with_w(a), row.exact_with_w(b));
-            if len == 1 || self.chord_fits(wa, wb, qa, qb) {
+            if len == 1 || self.chord_fits(b - a, wa, wb, qa, qb) {
                 self.run_end = start + len;
                 break (a, b, qa, qb);
             }
             len >>= 1;
         };
         let flags = row.texture.flags;
-        for (k, axis) in self.axes.iter_mut().enumerate() {
+        for k in 0..2 {
             let clamp = flags & (texture_flags::CLAMP_S << k) != 0;
             let (mut from, mut to) = (qa[k], qb[k]);
             if clamp {
@@ -206,44 +211,48 @@ impl<'r, 'a> TexelWalk<'r, 'a> {
             };
             // From `a` to pixel `x`.
             let offset = self.x.saturating_sub(a) as i32;
-            *axis = Axis {
-                value: (from << STEP_BITS).wrapping_add(step.wrapping_mul(offset)),
-                step,
-            };
+            self.value[k] = (from << STEP_BITS).wrapping_add(step.wrapping_mul(offset));
+            self.step[k] = step;
         }
     }
 
-    /// Whether the chord between a run's ends, where `w` is `wa` and `wb` and the
-    /// coordinates `qa` and `qb`, stays within 1/8 of a texel ([`MAX_CHORD_ERROR_INVERSE`]) of the
-    /// perspective in between. On a run where `w` changes by the ratio `r >= 1`, the
-    /// coordinates stray from the chord by at most `(r - 1) / 4` of their change, so it
-    /// suffices that `change (w_far - w_near) <= 4 w_near / 8`, the change in texels.
+    /// Whether the chord over a run of `len` pixels between ends where `w` is `wa` and `wb`
+    /// and the coordinates `qa` and `qb` is close enough to the perspective in between. Where
+    /// `w` changes by the ratio `r >= 1` over the run, a point strays from the chord by at most
+    /// `(r - 1) / 4` of the run, in pixels and in texels alike. A pixel whose centre and the
+    /// points 1/16 pixel around it lie in one texel (a robust pixel, as the accuracy rule
+    /// counts them) keeps its texel when the run strays by at most 1/16 pixel; failing that,
+    /// a stray of 1/256 texel moves at most 1/128 of the pixels into a texel next to theirs.
     #[inline]
-    fn chord_fits(&self, wa: i32, wb: i32, qa: [i32; 2], qb: [i32; 2]) -> bool {
+    fn chord_fits(&self, len: u32, wa: i32, wb: i32, qa: [i32; 2], qb: [i32; 2]) -> bool {
+        let (near, far) = (i64::from(wa.min(wb).max(1)), i64::from(wa.max(wb).max(1)));
+        let bend = far - near;
+        // In pixels: `len (r - 1) / 4 <= 1/16`.
+        if 4 * i64::from(len) * bend <= near {
+            return true;
+        }
+        // In 1/256 of a texel: `change (r - 1) / 4 <= 1`.
         let t = &self.row.texture;
-        let texels = |k: usize, log2: u8| {
-            let change = i64::from(qb[k]) - i64::from(qa[k]);
-            (change.abs() >> (16 - u32::from(log2))) + 1
+        let change = |k: usize, log2: u8| {
+            let q = (i64::from(qb[k]) - i64::from(qa[k])).abs();
+            (q << log2 >> 8) + 1
         };
-        let change = texels(0, t.log2_width).max(texels(1, t.log2_height));
-        let (near, far) = (wa.min(wb).max(1), wa.max(wb).max(1));
-        change * i64::from(far - near) * MAX_CHORD_ERROR_INVERSE <= 4 * i64::from(near)
+        let change = change(0, t.log2_width).max(change(1, t.log2_height));
+        change.saturating_mul(bend) <= 4 * near
     }
 
-    /// The next pixel's texel column and row.
+    /// The next pixel's texel: its index in the texture's texels.
     #[inline]
-    fn texel_place(&self) -> (u32, u32) {
-        let t = &self.row.texture;
-        let place = |k: usize, log2: u8| {
-            let v = self.axes[k].value >> (STEP_BITS + 16 - u32::from(log2));
-            let max = (1i32 << log2) - 1;
-            if t.flags & (texture_flags::CLAMP_S << k) != 0 {
-                v.clamp(0, max) as u32
+    fn texel_index(&self) -> usize {
+        let place = |k: usize| {
+            let v = self.value[k] >> self.shift[k];
+            if self.clamp && self.row.texture.flags & (texture_flags::CLAMP_S << k) != 0 {
+                v.clamp(0, self.max[k])
             } else {
-                (v & max) as u32
+                v & self.max[k]
             }
         };
-        (place(0, t.log2_width), place(1, t.log2_height))
+        ((place(1) << self.row.texture.log2_width) | place(0)) as usize
     }
 }
 
@@ -255,13 +264,17 @@ impl Iterator for TexelWalk<'_, '_> {
         if self.x >= self.run_end {
             self.start_run();
         }
-        let (column, row) = self.texel_place();
-        let texel = self.row.texture.texel(column, row);
-        for axis in &mut self.axes {
-            axis.value = axis.value.wrapping_add(axis.step);
-        }
+        let i = self.texel_index();
+        self.value[0] = self.value[0].wrapping_add(self.step[0]);
+        self.value[1] = self.value[1].wrapping_add(self.step[1]);
         self.x += 1;
-        Some(texel)
+        let t = &self.row.texture;
+        Some(if t.flags & texture_flags::PALETTE != 0 {
+            let k = t.texels.get(i).copied().unwrap_or(0);
+            rgb565_at(t.colours, usize::from(k))
+        } else {
+            rgb565_at(t.texels, i)
+        })
     }
 }
 

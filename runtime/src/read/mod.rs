@@ -27,6 +27,7 @@ pub use node::Node;
 pub use parts::Parts;
 pub use polygon::Polygon;
 pub use side::{Side, SideEye};
+pub(crate) use texture::rgb565_at;
 pub use texture::Texture;
 
 /// The header, decoded. Its [`Default`] is all zero: with only `centre` and the bounds set, a

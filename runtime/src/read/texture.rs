@@ -53,6 +53,7 @@ impl Texture<'_> {
 /// RGB565 entry `i` of `bytes` (little endian), 0 past the end.
 #[inline]
 pub(crate) fn rgb565_at(bytes: &[u8], i: usize) -> u16 {
+    // (One bounds check for both bytes.)
     match bytes.get(i * TEXEL_SIZE..i * TEXEL_SIZE + TEXEL_SIZE) {
         Some(&[lo, hi]) => u16::from_le_bytes([lo, hi]),
         _ => 0,

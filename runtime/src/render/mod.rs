@@ -84,3 +84,5 @@ mod feature_tests;
 
 #[cfg(all(test, feature = "smooth"))]
 mod smooth_tests;
+#[cfg(all(test, feature = "textures"))]
+mod texture_tests;

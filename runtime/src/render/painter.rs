@@ -12,7 +12,7 @@ use glam::{Vec2, Vec3};
 use super::paint::{id_colour, Paint};
 use super::shade::PlaneShade;
 #[cfg(feature = "textures")]
-use super::texture::texture_map;
+use super::texture::{texture_map, Corners};
 use super::Source;
 use crate::camera::LocalView;
 use crate::clip::{self, Frustum};
@@ -725,7 +725,7 @@ impl<'v, const SUB: u32, K: Cuts> Painter<'_, 'v, SUB, K> {
             let white = crate::display::Colour::grey(255);
             let lit = if gradient.is_some() { white } else { colour };
             let grid = (SAMPLE_COLUMNS, SAMPLE_ROWS);
-            self.texture_map(scene, index, polygon, pts, grid, lit, None)
+            self.texture_map(scene, index, polygon, pts, grid, Lighting::Colour(lit))
         } else {
             None
         };
@@ -765,8 +765,12 @@ impl<'v, const SUB: u32, K: Cuts> Painter<'_, 'v, SUB, K> {
                 // A textured polygon: its texels through its perspective map, lit by its
                 // colour or its gradient.
                 #[cfg(feature = "textures")]
+                let lighting = match gradient {
+                    Some(g) => Lighting::Smooth(g),
+                    None => Lighting::Colour(colour),
+                };
                 if let Some(mut map) =
-                    self.texture_map(scene, index, polygon, pts, (1, 1), colour, gradient)
+                    self.texture_map(scene, index, polygon, pts, (1, 1), lighting)
                 {
                     let pixels =
                         fill::fill_in_rect(pts, rect, self.edges, width, rows, &mut map, &mut sink);
@@ -795,9 +799,8 @@ impl<'v, const SUB: u32, K: Cuts> Painter<'_, 'v, SUB, K> {
     }
 
     /// The perspective map of polygon `index` (whose screen polygon is `points`, on a grid of
-    /// `grid` points a pixel) when the
-    /// frame paints colours and the polygon is textured: its texels times `colour`, or times
-    /// its smooth `gradient`.
+    /// `grid` points a pixel) when the frame paints colours and the polygon is textured: its
+    /// texels times `lighting`.
     #[cfg(feature = "textures")]
     fn texture_map<'t, T: Source + ?Sized>(
         &self,
@@ -806,8 +809,7 @@ impl<'v, const SUB: u32, K: Cuts> Painter<'_, 'v, SUB, K> {
         polygon: &Polygon,
         points: &[FixedPoint<SUB>],
         grid: (u32, u32),
-        colour: crate::display::Colour,
-        gradient: Option<Gradient<SUB>>,
+        lighting: Lighting<SUB>,
     ) -> Option<TextureMap<'t, SUB>> {
         if !matches!(self.paint, Paint::Colours) {
             return None;
@@ -824,10 +826,11 @@ impl<'v, const SUB: u32, K: Cuts> Painter<'_, 'v, SUB, K> {
                 reach[1].max(uv[1].unsigned_abs()),
             ];
         }
-        let lighting = match gradient {
-            Some(g) => Lighting::Smooth(g),
-            None => Lighting::Colour(colour),
+        let corners = Corners {
+            at: corners,
+            uvs,
+            reach,
         };
-        texture_map(view, texture, corners, uvs, reach, points, grid, lighting)
+        texture_map(view, texture, corners, points, grid, lighting)
     }
 }

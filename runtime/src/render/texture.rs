@@ -18,8 +18,17 @@ use crate::read::Texture;
 /// `w = 1/z` is scaled to at most this on the polygon.
 const W_SCALE: f32 = (1u32 << 30) as f32;
 
-/// The map of a polygon whose first three corners are `corners` (camera space) with file
-/// coordinates `uvs`, whose coordinates are at most `reach` in magnitude over all its corners,
+/// A textured polygon's corners as the map needs them.
+pub(super) struct Corners {
+    /// The first three, in camera space.
+    pub(super) at: [Vec3; 3],
+    /// Their file coordinates.
+    pub(super) uvs: [[i32; 2]; 3],
+    /// The largest magnitude of `s` and of `t` over all the polygon's corners.
+    pub(super) reach: [u32; 2],
+}
+
+/// The map of a polygon with `corners`,
 /// drawn as the screen polygon `points` (at `SUB` fractional bits, `grid` points a pixel:
 /// the anti-aliased fill's samples are 5 x 5).
 /// `None` for a polygon seen edge-on or degenerate (it draws nothing, or a sliver; the
@@ -27,14 +36,13 @@ const W_SCALE: f32 = (1u32 << 30) as f32;
 pub(super) fn texture_map<'a, const SUB: u32>(
     view: &LocalView,
     texture: Texture<'a>,
-    corners: [Vec3; 3],
-    uvs: [[i32; 2]; 3],
-    reach: [u32; 2],
+    corners: Corners,
     points: &[FixedPoint<SUB>],
     grid: (u32, u32),
     lighting: Lighting<SUB>,
 ) -> Option<TextureMap<'a, SUB>> {
-    let [p0, p1, p2] = corners;
+    let Corners { at, uvs, reach } = corners;
+    let [p0, p1, p2] = at;
     let (e1, e2) = (p1 - p0, p2 - p0);
     let n = e1.cross(e2);
     let area = n.length_squared();

@@ -29,6 +29,10 @@ pub(crate) struct TestTree {
     pub shades: Vec<[u8; 2]>,
     /// What [`Tree::solid_sides`] answers.
     pub hidden: u8,
+    /// The texture of every polygon, if any.
+    pub texture: Option<crate::read::Texture<'static>>,
+    /// Per vertex its texture coordinates `[s, t]` (with `texture`).
+    pub uvs: Vec<[i32; 2]>,
 }
 
 impl TestTree {
@@ -158,6 +162,18 @@ impl Source for TestTree {
             .get(k)
             .and_then(|&v| self.shades.get(v as usize))
             .map_or(0, |s| s[side & 1])
+    }
+    fn texture(&self, i: u32) -> Option<crate::read::Texture<'_>> {
+        let _ = i;
+        self.texture
+    }
+    fn corner_uv(&self, polygon: &Polygon, i: u32) -> [i32; 2] {
+        let k = polygon.first_index as usize + i as usize;
+        self.indices
+            .get(k)
+            .and_then(|&v| self.uvs.get(v as usize))
+            .copied()
+            .unwrap_or_default()
     }
 }
 
