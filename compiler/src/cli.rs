@@ -138,6 +138,24 @@ fn parse_finite(s: &str) -> Result<f64, String> {
         .ok_or_else(|| format!("'{s}' is not a finite number"))
 }
 
+/// Parse the largest side of a texture (`--max-texture`): a power of two from 1 to 1024.
+pub fn parse_max_texture(s: &str) -> Result<u32, String> {
+    let options = peel_compiler::load::LoadOptions {
+        max_texture: s
+            .trim()
+            .parse()
+            .map_err(|_| format!("'{s}' is not a whole number of texels"))?,
+        ..peel_compiler::load::LoadOptions::default()
+    };
+    options.check().map_err(|_| {
+        format!(
+            "the largest texture side must be a power of two from 1 to {}, got {s}",
+            1u32 << peel_runtime::read::layout::MAX_TEXTURE_LOG2
+        )
+    })?;
+    Ok(options.max_texture)
+}
+
 /// Parse a crease angle in degrees, from 0 to 180 (`--crease`).
 pub fn parse_crease(s: &str) -> Result<peel_compiler::shade::normals::Crease, String> {
     let degrees = s
@@ -567,7 +585,79 @@ pub fn demo(out: &Path) -> Result<(), String> {
     let png_path = out.join("demo.png");
     write_png(&png_path, &frame)?;
     say(&png_path, &frame);
-    demo_objects(out, &options, &settings)
+    demo_objects(out, &options, &settings)?;
+    demo_textured(out, &settings)
+}
+
+/// The demo's textured scenes: the die standing on the tiled floor, lit, with the sun's
+/// shadows (which cut the floor where they fall: its pieces keep the tile's coordinates),
+/// written with its pictures (`demo-textured.png`); and a generated torus under a
+/// checkerboard, smoothly shaded (`demo-checker.png`).
+fn demo_textured(out: &Path, settings: &Settings) -> Result<(), String> {
+    let files: [(&str, &[u8]); 9] = [
+        ("demo-textured.obj", DEMO_TEXTURED_OBJ.as_bytes()),
+        ("demo-textured.mtl", DEMO_TEXTURED_MTL.as_bytes()),
+        (
+            "textured-box/face1.png",
+            include_bytes!("../../fixtures/textured-box/face1.png"),
+        ),
+        (
+            "textured-box/face2.png",
+            include_bytes!("../../fixtures/textured-box/face2.png"),
+        ),
+        (
+            "textured-box/face3.png",
+            include_bytes!("../../fixtures/textured-box/face3.png"),
+        ),
+        (
+            "textured-box/face4.png",
+            include_bytes!("../../fixtures/textured-box/face4.png"),
+        ),
+        (
+            "textured-box/face5.png",
+            include_bytes!("../../fixtures/textured-box/face5.png"),
+        ),
+        (
+            "textured-box/face6.png",
+            include_bytes!("../../fixtures/textured-box/face6.png"),
+        ),
+        (
+            "textured-floor/tile.png",
+            include_bytes!("../../fixtures/textured-floor/tile.png"),
+        ),
+    ];
+    for (name, bytes) in files {
+        let path = out.join(name);
+        if let Some(dir) = path.parent() {
+            std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
+        }
+        std::fs::write(&path, bytes).map_err(|e| format!("{}: {e}", path.display()))?;
+    }
+    let mut options = CompileOptions::default();
+    options.build.shadows = options.shading.light();
+    let obj = out.join("demo-textured.obj");
+    let bytes = crate::compile_to(&obj, &out.join("demo-textured.peel"), &options, None)?;
+    let frame = render_bytes_with(&bytes, &DEMO_SHOT, settings)?;
+    let png_path = out.join("demo-textured.png");
+    write_png(&png_path, &frame)?;
+    say(&png_path, &frame);
+
+    let torus = peel_compiler::tools::scenes::textured_torus(24, 48);
+    let smooth = CompileOptions {
+        surface: Surface::Smooth(Crease::default()),
+        ..CompileOptions::default()
+    };
+    let (_, bytes) = peel_compiler::compile::compile_mesh(&torus, &smooth, &|_| {})
+        .map_err(|e| e.to_string())?;
+    let shot = Shot {
+        fov_y_deg: 40.0,
+        ..Shot::new(DVec3::new(0.0, 2.4, 3.2), DVec3::ZERO, 800, 600)
+    };
+    let frame = render_bytes_with(&bytes, &shot, settings)?;
+    let png_path = out.join("demo-checker.png");
+    write_png(&png_path, &frame)?;
+    say(&png_path, &frame);
+    Ok(())
 }
 
 fn say(png: &Path, frame: &Frame) {
@@ -626,6 +716,10 @@ const DEMO_MTL: &str = include_str!("../../fixtures/demo.mtl");
 /// indices: it follows demo.obj in one file). The benchmarks keep demo.obj alone.
 const DEMO_TORUS_OBJ: &str = include_str!("../../fixtures/demo-torus.obj");
 const DEMO_TORUS_MTL: &str = include_str!("../../fixtures/demo-torus.mtl");
+/// The textured scene `peel demo` draws too (`fixtures/demo-textured.obj`), with the pictures
+/// of `fixtures/textured-box/` and `fixtures/textured-floor/`.
+const DEMO_TEXTURED_OBJ: &str = include_str!("../../fixtures/demo-textured.obj");
+const DEMO_TEXTURED_MTL: &str = include_str!("../../fixtures/demo-textured.mtl");
 
 /// Arguments of `peel bench`.
 #[derive(Args)]

@@ -14,6 +14,7 @@ use crate::shade::smooth::Smooth;
 use crate::shade::{Shading, Surface};
 use crate::tree::{build, BuildOptions, DisplayTree, TreeStats};
 use crate::write::format::polygon_flags;
+use peel_runtime::read::layout::NO_TEXTURE;
 
 /// Everything a compile can be asked.
 #[derive(Debug, Clone, Default)]
@@ -79,16 +80,36 @@ pub fn compile_mesh(
         ..crate::write::WriteInput::default()
     };
     let solid = solid_flags(&tree, mesh, options.solid);
+    // Textured polygons: their vertices' coordinates, and each one's texture.
+    let uvs = crate::texture::polygon_uvs(&tree, mesh);
+    let polygon_textures: Vec<u8> = if uvs.is_empty() {
+        Vec::new()
+    } else {
+        (tree.polygons.iter())
+            .map(|p| match mesh.triangles[p.source as usize].texture {
+                // The load holds at most `MAX_TEXTURES`.
+                Some(t) => t.texture as u8,
+                None => NO_TEXTURE,
+            })
+            .collect()
+    };
+    let input = crate::write::WriteInput {
+        textures: &mesh.textures,
+        polygon_textures: &polygon_textures,
+        ..input
+    };
     let bytes = match options.surface {
         Surface::Faceted => {
             let (colours, exterior) = bake(&tree, mesh, &options.shading);
+            let copied = crate::write::shades::uv_vertices(&tree, &uvs)?;
             let input = crate::write::WriteInput {
                 colours: &colours,
                 exterior: &exterior,
                 polygon_flags: &solid,
+                uvs: &copied.uvs,
                 ..input
             };
-            crate::write::encode_with(&tree, &input)?
+            crate::write::encode_with(&copied.tree, &input)?
         }
         Surface::Smooth(crease) => {
             let smooth = Smooth {
@@ -96,7 +117,7 @@ pub fn compile_mesh(
                 crease,
             };
             let shades = polygon_shades(&tree, mesh, &smooth);
-            let shaded = crate::write::shades::shade_vertices(&tree, &shades)?;
+            let shaded = crate::write::shades::shade_vertices(&tree, &shades, &uvs)?;
             let merged: Vec<u8>;
             let flags = if solid.is_empty() {
                 &shaded.flags
@@ -111,6 +132,7 @@ pub fn compile_mesh(
                 exterior: &shaded.exterior,
                 polygon_flags: flags,
                 shades: &shaded.shades,
+                uvs: &shaded.uvs,
                 ..input
             };
             crate::write::encode_with(&shaded.tree, &input)?

@@ -76,6 +76,92 @@ pub enum CompileError {
         /// Which limit was exceeded.
         message: String,
     },
+    /// A statement of an MTL file that a used material needs is malformed (a `map_Kd` option).
+    #[error("{path}:{line}: {message}")]
+    Mtl {
+        /// The MTL file.
+        path: PathBuf,
+        /// 1-based line.
+        line: usize,
+        /// What is wrong.
+        message: String,
+    },
+    /// A texture image (MTL `map_Kd`) could not be read: missing, or not a file.
+    #[error("{mtl}:{line}: texture {image}: cannot read: {source}")]
+    TextureFile {
+        /// The image file.
+        image: PathBuf,
+        /// The MTL file of the `map_Kd` statement.
+        mtl: PathBuf,
+        /// 1-based line of the `map_Kd` statement.
+        line: usize,
+        /// What the OS said.
+        source: std::io::Error,
+    },
+    /// A texture image could not be decoded (not a PNG or JPEG, damaged, too large to decode).
+    #[error("{mtl}:{line}: texture {image}: cannot decode: {message}")]
+    TextureImage {
+        /// The image file.
+        image: PathBuf,
+        /// The MTL file of the `map_Kd` statement.
+        mtl: PathBuf,
+        /// 1-based line of the `map_Kd` statement.
+        line: usize,
+        /// What the decoder said.
+        message: String,
+    },
+    /// Without resampling, a texture whose side is not a power of two or is over the limit.
+    #[error(
+        "{mtl}:{line}: texture {image} is {width}x{height}: without resampling (--no-resample) \
+         each side must be a power of two of at most {max} texels (--max-texture)"
+    )]
+    TextureSize {
+        /// The image file.
+        image: PathBuf,
+        /// The MTL file of the `map_Kd` statement.
+        mtl: PathBuf,
+        /// 1-based line of the `map_Kd` statement.
+        line: usize,
+        /// The image's width in pixels.
+        width: u32,
+        /// The image's height in pixels.
+        height: u32,
+        /// The largest side allowed.
+        max: u32,
+    },
+    /// A textured face in a compiler built without the `textures` feature, which decodes images.
+    #[error(
+        "{mtl}:{line}: texture {image}: this compiler was built without the `textures` feature \
+         (enable it on peel-compiler to compile textured materials)"
+    )]
+    TexturesOff {
+        /// The image file.
+        image: PathBuf,
+        /// The MTL file of the `map_Kd` statement.
+        mtl: PathBuf,
+        /// 1-based line of the `map_Kd` statement.
+        line: usize,
+    },
+    /// More textures than a file holds (`MAX_TEXTURES`).
+    #[error("{path}: the faces use {count} textures: a file holds at most {max}")]
+    TooManyTextures {
+        /// The OBJ file.
+        path: PathBuf,
+        /// The textures used (counted up to one past the limit).
+        count: usize,
+        /// The most a file holds.
+        max: u32,
+    },
+    /// A texture size limit that is not a power of two from 1 to 1024.
+    #[error(
+        "invalid texture size limit {max} (--max-texture): a power of two from 1 to {largest}"
+    )]
+    MaxTexture {
+        /// The limit given.
+        max: u32,
+        /// The largest limit (`2^MAX_TEXTURE_LOG2`).
+        largest: u32,
+    },
     /// A light the compiler cannot shade with or cast shadows from (a direction of no length, a
     /// position that is not finite, a point light too far for exact shadows).
     #[error("{0}")]

@@ -31,6 +31,7 @@ mod random;
 pub mod shade;
 pub mod shadow;
 mod split;
+mod texture;
 pub mod tools;
 pub mod tree;
 pub mod write;

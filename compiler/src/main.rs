@@ -9,7 +9,7 @@ use glam::DVec3;
 use indicatif::{ProgressBar, ProgressStyle};
 
 use peel_compiler::compile::{compile_obj, compile_parts, CompileOptions, Compiled};
-use peel_compiler::load::LoadOptions;
+use peel_compiler::load::{LoadOptions, DEFAULT_MAX_TEXTURE};
 use peel_compiler::shade::normals::Crease;
 use peel_compiler::shade::{Shading, Surface, DEFAULT_LIGHT, DEFAULT_SURFACE};
 use peel_compiler::tree::BuildOptions;
@@ -127,6 +127,15 @@ struct CompileArgs {
     /// gets no warning.)
     #[arg(long, value_parser = cli::parse_rgb, value_name = "R,G,B", alias = "default-color")]
     default_colour: Option<[u8; 3]>,
+    /// The largest side of a stored texture (MTL map_Kd), in texels: a power of two from 1
+    /// to 1024. Larger images, and sides that are not powers of two, are resampled to the
+    /// nearest power of two within it.
+    #[arg(long, value_parser = cli::parse_max_texture, default_value_t = DEFAULT_MAX_TEXTURE, value_name = "N")]
+    max_texture: u32,
+    /// Refuse a texture whose sides are not powers of two of at most --max-texture instead of
+    /// resampling it.
+    #[arg(long)]
+    no_resample: bool,
     /// Also write the statistics as JSON to this file.
     #[arg(long, value_name = "FILE")]
     stats_json: Option<PathBuf>,
@@ -220,6 +229,8 @@ fn compile(args: &CompileArgs) -> Result<(), String> {
         },
         load: LoadOptions {
             default_colour: args.default_colour,
+            max_texture: args.max_texture,
+            resample: !args.no_resample,
         },
         ids: args.ids,
         id_offset: 0,

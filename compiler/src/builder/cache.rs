@@ -188,7 +188,12 @@ fn sources_fingerprint(dir: &Path) -> u64 {
 /// does not compile until it is part of the key.
 pub fn encode_options(options: &CompileOptions, out: &mut Vec<u8>) {
     let CompileOptions {
-        load: LoadOptions { default_colour },
+        load:
+            LoadOptions {
+                default_colour,
+                max_texture,
+                resample,
+            },
         build:
             BuildOptions {
                 candidates,
@@ -211,6 +216,8 @@ pub fn encode_options(options: &CompileOptions, out: &mut Vec<u8>) {
             out.extend_from_slice(c);
         }
     }
+    out.extend_from_slice(&max_texture.to_le_bytes());
+    out.push(u8::from(*resample));
     out.extend_from_slice(&(*candidates as u64).to_le_bytes());
     out.extend_from_slice(&seed.to_le_bytes());
     out.extend_from_slice(&(*max_polygon_vertices as u64).to_le_bytes());

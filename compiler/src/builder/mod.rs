@@ -184,6 +184,21 @@ impl Builder {
         self
     }
 
+    /// The largest side of a stored texture, in texels: a power of two from 1 to 1024
+    /// (`peel compile --max-texture N`; default [`crate::load::DEFAULT_MAX_TEXTURE`]). Larger
+    /// images are resampled to it (see [`crate::load::LoadOptions::max_texture`]).
+    pub fn max_texture(mut self, texels: u32) -> Self {
+        self.options.load.max_texture = texels;
+        self
+    }
+
+    /// Resample textures whose sides are not powers of two within the limit (default: on);
+    /// off (`peel compile --no-resample`), such a texture is an error.
+    pub fn resample(mut self, on: bool) -> Self {
+        self.options.load.resample = on;
+        self
+    }
+
     /// Use the compile cache (default: on). Off, every run compiles.
     pub fn cache(mut self, on: bool) -> Self {
         self.cache = on;

@@ -127,6 +127,12 @@ fn the_key_is_the_compiler_the_options_and_the_obj() {
     let mut o = options.clone();
     o.load.default_colour = Some([1, 2, 3]);
     variants.push(o);
+    let mut o = options.clone();
+    o.load.max_texture = 64;
+    variants.push(o);
+    let mut o = options.clone();
+    o.load.resample = false;
+    variants.push(o);
     // The surface other than the default, and another crease.
     let smooth = Surface::smooth(60.0).unwrap();
     for surface in [

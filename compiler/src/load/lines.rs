@@ -27,6 +27,9 @@ pub(super) struct Statement {
     /// Every corner names a normal (`v//vn` or `v/vt/vn`): the face's corners take the file's
     /// normals. A face that names them for some corners only takes none.
     pub normals: bool,
+    /// Every corner names texture coordinates (`v/vt` or `v/vt/vn`): with a textured material
+    /// the face is textured. A face that names them for some corners only is not.
+    pub uvs: bool,
 }
 
 /// What the line check learnt about the file.
@@ -98,10 +101,11 @@ pub(super) fn check(path: &Path, text: &str, limits: Limits) -> Result<Lines, Co
             Some(keyword @ ("f" | "l")) => {
                 let mut arity = 0;
                 let (mut first, mut last) = ("", "");
-                let mut normals = true;
+                let (mut normals, mut uvs) = (true, true);
                 for corner in words {
                     check_corner(path, line, corner, &counts)?;
                     normals &= corner.split('/').nth(2).is_some_and(|vn| !vn.is_empty());
+                    uvs &= corner.split('/').nth(1).is_some_and(|vt| !vt.is_empty());
                     if arity == 0 {
                         first = corner;
                     }
@@ -132,6 +136,7 @@ pub(super) fn check(path: &Path, text: &str, limits: Limits) -> Result<Lines, Co
                     is_face,
                     material,
                     normals: normals && arity > 0,
+                    uvs: uvs && arity > 0,
                 });
             }
             Some("usemtl") => {
@@ -404,6 +409,16 @@ mod tests {
     }
 
     #[test]
+    fn a_face_has_texture_coordinates_when_every_corner_names_them() {
+        let s = run("v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvn 0 0 1\n\
+                     f 1/1 2/1 3/1\nf 1/1/1 2/1/1 3/1/1\nf 1//1 2//1 3//1\nf 1/1 2 3/1\n\
+                     f 1/1/1 2//1 3/1/1\nf 1 2 3\n")
+        .unwrap();
+        let uvs: Vec<bool> = s.statements.iter().map(|s| s.uvs).collect();
+        assert_eq!(uvs, [true, true, false, false, false, false]);
+    }
+
+    #[test]
     fn weight_that_overflows_is_non_finite() {
         let e = run("v 1e300 0 0 1e-300\n").unwrap_err();
         assert!(matches!(e, CompileError::NonFinite { line: 1, .. }), "{e}");
@@ -419,6 +434,16 @@ mod tests {
     fn texture_index_out_of_range_is_reported() {
         let e = run("v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nf 1/1 2/2 3/1\n").unwrap_err();
         assert!(matches!(e, CompileError::Parse { line: 5, .. }), "{e}");
+        assert!(
+            e.to_string().starts_with(
+                "t.obj:5: texture coordinate index 2 out of range (1 defined before this line)"
+            ),
+            "{e}"
+        );
+        // Negative indices count back from the line; a `vt` after the face is not before it.
+        let e = run("v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nf 1/-2 2/1 3/1\nvt 1 1\n").unwrap_err();
+        assert!(matches!(e, CompileError::Parse { line: 5, .. }), "{e}");
+        assert!(run("v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nf 1/-1 2/1 3/1\n").is_ok());
     }
 
     #[test]

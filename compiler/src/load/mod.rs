@@ -28,6 +28,13 @@
 //!   statements are not surfaces and are skipped with a warning. A file that ends without a
 //!   line end in the middle of a face (fewer than three corners, or a last corner cut short)
 //!   is cut off: an error at that line.
+//! - A face of a material with a texture (`map_Kd`, its options read by `mtl`) whose every corner
+//!   names texture coordinates (`v/vt`, `v/vt/vn`) is textured ([`SourceTriangle::texture`]; a
+//!   polygon's triangles take those of their corners); its colour is the material's `Kd`, or
+//!   white without one (the texture as it is). Each image is read at the first face that uses
+//!   it (`decode`: PNG or JPEG with the `textures` feature, brought to power-of-two sides) and
+//!   joins [`Mesh::files`]. Faces of such a material without coordinates at every corner
+//!   show its colour alone, with a warning.
 //! - A face whose every corner names a normal (`v//vn`, `v/vt/vn`) keeps them, normalised, on
 //!   its triangles' corners ([`SourceTriangle::normals`]; a polygon's triangles take those of
 //!   their corners). A face that names them for some corners only, or whose normals are not
@@ -37,7 +44,9 @@
 //!   more than [`MAX_VERTEX_STATEMENTS`] `v`/`vt`/`vn` statements nor produce more than
 //!   [`MAX_TRIANGLES`] triangles; otherwise [`CompileError::TooLarge`].
 
+mod decode;
 mod lines;
+mod mtl;
 pub mod texture;
 mod triangulate;
 mod warnings;
@@ -78,8 +87,11 @@ pub struct SourceTriangle {
     pub texture: Option<texture::CornerUvs>,
 }
 
+/// The default largest side of a texture, in texels ([`LoadOptions::max_texture`]).
+pub const DEFAULT_MAX_TEXTURE: u32 = 256;
+
 /// How a file is loaded.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct LoadOptions {
     /// The colour of faces whose colour the files do not give (no material, an undefined
     /// material, a material without `Kd`, a missing MTL file); `None` is [`DEFAULT_COLOUR`].
@@ -87,6 +99,39 @@ pub struct LoadOptions {
     /// they give no warning (nor do they in a file that names no material at all). The other
     /// cases still warn (they are mistakes in the files).
     pub default_colour: Option<[u8; 3]>,
+    /// The largest side of a stored texture, in texels: a power of two from 1 to 1024
+    /// (`2^MAX_TEXTURE_LOG2`), [`DEFAULT_MAX_TEXTURE`] by default. A texture costs its target
+    /// two bytes a texel (one with a palette), in flash.
+    pub max_texture: u32,
+    /// Resample a texture whose side is not a power of two, or is larger than
+    /// [`LoadOptions::max_texture`], to the nearest power of two within the limit (Lanczos);
+    /// without it such a texture is an error ([`CompileError::TextureSize`]).
+    pub resample: bool,
+}
+
+impl Default for LoadOptions {
+    fn default() -> Self {
+        LoadOptions {
+            default_colour: None,
+            max_texture: DEFAULT_MAX_TEXTURE,
+            resample: true,
+        }
+    }
+}
+
+impl LoadOptions {
+    /// Refuses a [`LoadOptions::max_texture`] that is not a power of two from 1 to 1024
+    /// ([`CompileError::MaxTexture`]).
+    pub fn check(&self) -> Result<(), CompileError> {
+        let largest = 1u32 << peel_runtime::read::layout::MAX_TEXTURE_LOG2;
+        if !self.max_texture.is_power_of_two() || self.max_texture > largest {
+            return Err(CompileError::MaxTexture {
+                max: self.max_texture,
+                largest,
+            });
+        }
+        Ok(())
+    }
 }
 
 /// A loaded scene.
@@ -99,11 +144,12 @@ pub struct Mesh {
     pub faces: usize,
     /// Non-fatal problems (missing MTL, face without material, ...), already worded for people.
     pub warnings: Vec<String>,
-    /// Every file read (the OBJ and its MTL files), for `cargo:rerun-if-changed`.
+    /// Every file read (the OBJ, its MTL files and the texture images its faces use), for
+    /// `cargo:rerun-if-changed`.
     pub files: Vec<PathBuf>,
-    /// The bytes of each MTL file read, as the loader parsed them, in the order of `files`
-    /// (a build cache keys on exactly what was compiled). A file that could not be read has
-    /// no entry.
+    /// The bytes of each MTL file and texture image read, as the loader parsed them, in the
+    /// order of `files` (a build cache keys on exactly what was compiled). A file that could
+    /// not be read has no entry.
     pub mtl_bytes: Vec<(PathBuf, Vec<u8>)>,
     /// MTL files the OBJ names but that do not exist: a build script watches these paths'
     /// folders (a missing file itself would make cargo rerun it on every build), so adding
@@ -188,6 +234,7 @@ pub fn load_obj_text_with(
     text: &str,
     options: &LoadOptions,
 ) -> Result<Mesh, CompileError> {
+    options.check()?;
     let limits = lines::Limits {
         vertices: MAX_VERTEX_STATEMENTS,
         triangles: MAX_TRIANGLES,
@@ -280,6 +327,11 @@ pub fn load_obj_text_with(
             }
         }
     }
+    let mut textures = texture::Table::new(
+        map_kd_statements(&libraries, &materials)?,
+        options.max_texture,
+        options.resample,
+    );
     let default_colour = options.default_colour.unwrap_or(DEFAULT_COLOUR);
     let colours: Vec<Option<[u8; 3]>> = materials
         .iter()
@@ -312,6 +364,7 @@ pub fn load_obj_text_with(
             }
             let indices = &m.indices[next..next + arity];
             let normal_indices = m.normal_indices.get(next..next + arity);
+            let uv_indices = m.texcoord_indices.get(next..next + arity);
             next += arity;
             if !statement.is_face {
                 notes.polylines.add(statement.line);
@@ -321,13 +374,34 @@ pub fn load_obj_text_with(
                 notes.short_faces.add(statement.line);
                 continue;
             }
-            let colour = face_colour(
-                m.material_id,
-                &colours,
-                statement,
-                default_colour,
-                &mut notes,
-            );
+            let uvs = match m.material_id.filter(|&id| textures.textured(id)) {
+                Some(id) => {
+                    let uvs = uv_indices
+                        .filter(|_| statement.uvs)
+                        .and_then(|indices| face_uvs(&m.texcoords, indices));
+                    match uvs {
+                        Some(uvs) => textures.texture(id)?.map(|k| (k, uvs)),
+                        None => {
+                            notes.no_uvs.entry(id).or_default().add(statement.line);
+                            None
+                        }
+                    }
+                }
+                None => None,
+            };
+            // A textured material without `Kd` shows its texture as it is.
+            let white = uvs.is_some() && m.material_id.is_some_and(|id| colours[id].is_none());
+            let colour = if white {
+                [255; 3]
+            } else {
+                face_colour(
+                    m.material_id,
+                    &colours,
+                    statement,
+                    default_colour,
+                    &mut notes,
+                )
+            };
             let corners: Vec<DVec3> = indices
                 .iter()
                 .map(|&i| {
@@ -365,7 +439,10 @@ pub fn load_obj_text_with(
                     vertices: t.map(|i| corners[i]),
                     colour,
                     normals: normals.as_ref().map(|n| t.map(|i| n[i])),
-                    texture: None,
+                    texture: uvs.as_ref().map(|(k, uv)| texture::CornerUvs {
+                        texture: *k,
+                        uv: t.map(|i| uv[i]),
+                    }),
                 }));
         }
     }
@@ -381,6 +458,19 @@ pub fn load_obj_text_with(
             path: path.to_path_buf(),
         });
     }
+    if textures.textures.len() > peel_runtime::read::layout::MAX_TEXTURES as usize {
+        return Err(CompileError::TooManyTextures {
+            path: path.to_path_buf(),
+            count: textures.textures.len(),
+            max: peel_runtime::read::layout::MAX_TEXTURES,
+        });
+    }
+    for (image, bytes) in textures.files {
+        mesh.files.push(image.clone());
+        mesh.mtl_bytes.push((image, bytes));
+    }
+    mesh.textures = textures.textures;
+    mesh.warnings.extend(textures.warnings);
     let plain = checked.mtllib_lines.is_empty() && checked.material_names.is_empty();
     if options.default_colour.is_some() || plain {
         // Faces without a material were meant to get the caller's colour, or the file names
@@ -414,6 +504,49 @@ fn read_mtl(full: &Path) -> (MtlOutcome, tobj::MTLLoadResult) {
         Ok(result) => (MtlOutcome::Loaded(bytes), Ok(result)),
         Err(e) => (MtlOutcome::Malformed(bytes, e.to_string()), Err(e)),
     }
+}
+
+/// Each tobj material's `map_Kd` statement, read from the MTL files tobj merged (`libraries`,
+/// in order, those loaded), paired with `materials` one for one.
+fn map_kd_statements(
+    libraries: &[(PathBuf, MtlOutcome)],
+    materials: &[tobj::Material],
+) -> Result<Vec<Option<mtl::MapKd>>, CompileError> {
+    let mine: Vec<mtl::Material> = (libraries.iter())
+        .filter_map(|(path, outcome)| match outcome {
+            MtlOutcome::Loaded(bytes) => {
+                Some(mtl::materials(path, &String::from_utf8_lossy(bytes)))
+            }
+            _ => None,
+        })
+        .flatten()
+        .collect();
+    let paired = mine.len() == materials.len()
+        && mine.iter().zip(materials).all(|(a, b)| {
+            a.name == b.name
+                && a.map_kd.as_ref().map(|m| m.text.as_str()) == b.diffuse_texture.as_deref()
+        });
+    if !paired {
+        return Err(CompileError::Invariant(format!(
+            "the MTL files read give {} materials where tobj read {}, or other ones",
+            mine.len(),
+            materials.len()
+        )));
+    }
+    Ok(mine.into_iter().map(|m| m.map_kd).collect())
+}
+
+/// A face's corner texture coordinates `(u, v)` from tobj's `texcoords` at `indices`; `None`
+/// when one is not finite.
+fn face_uvs(texcoords: &[f64], indices: &[u32]) -> Option<Vec<glam::DVec2>> {
+    indices
+        .iter()
+        .map(|&i| {
+            let i = 2 * i as usize;
+            let uv = glam::DVec2::new(*texcoords.get(i)?, *texcoords.get(i + 1)?);
+            uv.is_finite().then_some(uv)
+        })
+        .collect()
 }
 
 /// A face's corner normals from tobj's `normals` at `indices`, each of unit length; `None`

@@ -196,6 +196,7 @@ fn a_chosen_default_colour_is_meant_for_faces_without_material_and_silences_thei
     let obj = dir.path().join("m.obj");
     let options = LoadOptions {
         default_colour: Some([1, 2, 3]),
+        ..LoadOptions::default()
     };
     let mesh = load_obj_with(&obj, &options).unwrap();
     let colours: Vec<_> = mesh.triangles.iter().map(|t| t.colour).collect();

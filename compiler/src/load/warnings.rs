@@ -53,6 +53,9 @@ pub(super) struct Notes {
     pub(super) polylines: Tally,
     /// Polygon faces that are not simple, by reason.
     pub(super) not_simple: BTreeMap<String, Tally>,
+    /// Faces of a textured material without (finite) texture coordinates at every corner, by
+    /// material id.
+    pub(super) no_uvs: BTreeMap<usize, Tally>,
 }
 
 impl Notes {
@@ -112,6 +115,20 @@ impl Notes {
                 "{file}: skipped {} (`l` is not a surface; {})",
                 t.count("polyline", "polylines"),
                 t.at()
+            ));
+        }
+        for (id, t) in &self.no_uvs {
+            out.push(format!(
+                "{file}: material `{}` has a texture (`map_Kd`), but {} ({}) no texture \
+                 coordinates (`vt`) at every corner: {} its colour alone",
+                materials[*id].name,
+                t.count("face gives", "faces give"),
+                t.at(),
+                if t.count == 1 {
+                    "it shows"
+                } else {
+                    "they show"
+                },
             ));
         }
         for (why, t) in &self.not_simple {

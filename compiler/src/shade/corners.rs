@@ -77,17 +77,7 @@ impl CornerShades {
     /// a corner's are exactly 1 there and 0 elsewhere); a third each for a triangle of no
     /// area.
     pub fn weights(&self, p: DVec3) -> [f64; 3] {
-        let [a, b, c] = self.corners;
-        let (ab, ac, ap) = (b - a, c - a, p - a);
-        let n = ab.cross(ac);
-        let area = n.length_squared();
-        if !(area > 0.0 && area.is_finite()) {
-            return [1.0 / 3.0; 3];
-        }
-        // `ap = s ab + t ac + h n`: crossing with `ac` or `ab` and dotting with `n` drops `h`.
-        let s = ap.cross(ac).dot(n) / area;
-        let t = ab.cross(ap).dot(n) / area;
-        [1.0 - s - t, s, t]
+        weights(self.corners, p)
     }
 
     /// The intensity of `side` at the point `p` of the triangle's plane: its corners'
@@ -107,6 +97,23 @@ impl CornerShades {
         let k = self.intensity_at(side, p);
         kd.map(|c| f64::from(c) * k)
     }
+}
+
+/// The barycentric coordinates of `p` projected onto the plane of the triangle `corners` (they
+/// sum to 1; a corner's are exactly 1 there and 0 elsewhere); a third each for a triangle of
+/// no area.
+pub fn weights(corners: [DVec3; 3], p: DVec3) -> [f64; 3] {
+    let [a, b, c] = corners;
+    let (ab, ac, ap) = (b - a, c - a, p - a);
+    let n = ab.cross(ac);
+    let area = n.length_squared();
+    if !(area > 0.0 && area.is_finite()) {
+        return [1.0 / 3.0; 3];
+    }
+    // `ap = s ab + t ac + h n`: crossing with `ac` or `ab` and dotting with `n` drops `h`.
+    let s = ap.cross(ac).dot(n) / area;
+    let t = ab.cross(ap).dot(n) / area;
+    [1.0 - s - t, s, t]
 }
 
 /// An intensity in 8 bits, as a file stores it: `round(255 * intensity)`.

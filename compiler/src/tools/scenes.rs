@@ -1,6 +1,6 @@
 //! Generated scenes for benchmarks and tests: closed meshes (sphere, torus, a grid of boxes) and
 //! random triangle soups, deterministic for a given size and seed; textures made in code (one
-//! whose every texel has its own colour, a checkerboard), meshes textured with them, and the
+//! whose every texel has its own colour, a checkerboard), meshes textured with them, any generated mesh textured with a checkerboard, and the
 //! pictures of the textured fixtures (`fixtures/textured-box/`, `fixtures/textured-floor/`).
 
 use std::path::PathBuf;
@@ -25,6 +25,35 @@ pub fn mesh(triangles: Vec<[DVec3; 3]>) -> Mesh {
             .collect(),
         ..Mesh::default()
     }
+}
+
+/// `mesh` with one texture on every triangle, its corners' coordinates `uv(corners)`: a
+/// `2^log2 x 2^log2` checkerboard of red and white texels that repeats (`clamp` off).
+pub fn textured(mut mesh: Mesh, log2: u8, uv: impl Fn([DVec3; 3]) -> [DVec2; 3]) -> Mesh {
+    let side = 1u32 << log2;
+    let texels = (0..side * side)
+        .map(|i| {
+            if (i % side + i / side).is_multiple_of(2) {
+                0xF800
+            } else {
+                0xFFFF
+            }
+        })
+        .collect();
+    mesh.textures = vec![Texture {
+        path: "checkerboard.png".into(),
+        log2_width: log2,
+        log2_height: log2,
+        clamp: [false; 2],
+        texels,
+    }];
+    for t in &mut mesh.triangles {
+        t.texture = Some(CornerUvs {
+            texture: 0,
+            uv: uv(t.vertices),
+        });
+    }
+    mesh
 }
 
 /// Add the quad `a b c d` (counter-clockwise seen from outside) as two triangles.
@@ -244,7 +273,7 @@ pub fn checkerboard(
 }
 
 /// A white triangle under texture `texture`, its corners at `vertices` with coordinates `uv`.
-fn textured(vertices: [DVec3; 3], uv: [DVec2; 3], texture: u32) -> SourceTriangle {
+fn textured_triangle(vertices: [DVec3; 3], uv: [DVec2; 3], texture: u32) -> SourceTriangle {
     SourceTriangle {
         vertices,
         colour: WHITE,
@@ -256,8 +285,16 @@ fn textured(vertices: [DVec3; 3], uv: [DVec2; 3], texture: u32) -> SourceTriangl
 /// Add the quad `p` (counter-clockwise seen from outside) with its corners' coordinates `uv`
 /// as two triangles, split as [`quad`] splits one.
 fn textured_quad(out: &mut Vec<SourceTriangle>, p: [DVec3; 4], uv: [DVec2; 4], texture: u32) {
-    out.push(textured([p[0], p[1], p[2]], [uv[0], uv[1], uv[2]], texture));
-    out.push(textured([p[0], p[2], p[3]], [uv[0], uv[2], uv[3]], texture));
+    out.push(textured_triangle(
+        [p[0], p[1], p[2]],
+        [uv[0], uv[1], uv[2]],
+        texture,
+    ));
+    out.push(textured_triangle(
+        [p[0], p[2], p[3]],
+        [uv[0], uv[2], uv[3]],
+        texture,
+    ));
 }
 
 /// [`sphere`] in white under a 64 x 64 [`checkerboard`] of 8 x 8 squares: `u` around, from 1
@@ -281,7 +318,7 @@ pub fn textured_sphere(rings: usize, segments: usize) -> Mesh {
         .map(|corners| {
             // A triangle's segment: the smallest `j` of its corners.
             let j = corners.iter().map(|c| c.1).min().unwrap_or(0);
-            textured(
+            textured_triangle(
                 corners.map(|c| points(c.0, c.1)),
                 corners.map(|c| uv(c, j)),
                 0,
@@ -305,7 +342,7 @@ pub fn textured_torus(n: usize, m: usize) -> Mesh {
     let uv = |(i, j): (usize, usize)| DVec2::new(1.0 - i as f64 / n as f64, j as f64 / m as f64);
     let triangles = torus_corners(n, m)
         .into_iter()
-        .map(|c| textured(c.map(|(i, j)| points(i, j)), c.map(uv), 0))
+        .map(|c| textured_triangle(c.map(|(i, j)| points(i, j)), c.map(uv), 0))
         .collect();
     Mesh {
         triangles,

@@ -15,7 +15,7 @@ use serde::{Deserialize, Deserializer, Serialize, Serializer};
 use peel_runtime::read::layout::dequantise;
 pub use peel_runtime::read::layout::{
     field_size, header_flags, node_kind, none_of_width, polygon_flags, FORMAT_VERSION, HEADER_SIZE,
-    MAGIC, NONE,
+    MAGIC, NONE, TEXTURED_VERSION,
 };
 pub use peel_runtime::read::Header;
 
@@ -101,6 +101,22 @@ pub struct Node {
     pub bounds: u32,
 }
 
+/// A texture record (`TEXTURE_SIZE` = 8 bytes): its sides, flags and palette size, and where
+/// its bytes start in [`PeelFile::texels`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+pub struct TextureRecord {
+    /// `log2` of the width in texels.
+    pub log2_width: u8,
+    /// `log2` of the height in texels.
+    pub log2_height: u8,
+    /// `peel_runtime::read::layout::texture_flags`.
+    pub flags: u8,
+    /// The palette's colours less one with `texture_flags::PALETTE`, else 0.
+    pub colours_minus_one: u8,
+    /// The offset of its bytes in `texels`.
+    pub offset: u32,
+}
+
 /// A whole `.peel` file: the header, then flat arrays (each a `u64` length then its records).
 #[derive(Debug, Clone, PartialEq)]
 pub struct PeelFile {
@@ -129,10 +145,21 @@ pub struct PeelFile {
     /// Per vertex, the intensities `[front, back]` of its source triangle's sides (255: the
     /// material's colour) when `header_flags::SHADES` is set, else empty and not written.
     pub shades: Vec<[u8; 2]>,
+    /// Per vertex, its texture coordinates `[s, t]` when `header_flags::TEXTURES` is set (a
+    /// file of version `TEXTURED_VERSION`), else empty and not written; so are the three
+    /// arrays below.
+    pub uvs: Vec<[i32; 2]>,
+    /// The texture records (1 to `MAX_TEXTURES`).
+    pub textures: Vec<TextureRecord>,
+    /// Every texture's bytes, in record order.
+    pub texels: Vec<u8>,
+    /// Per polygon, its texture or `NO_TEXTURE`.
+    pub polygon_textures: Vec<u8>,
 }
 
-/// Fields of [`PeelFile`] in file order (the last, `shades`, only with its flag).
-const FILE_FIELDS: usize = 10;
+/// Fields of [`PeelFile`] in file order (`shades` only with its flag, the last four only with
+/// `TEXTURES`).
+const FILE_FIELDS: usize = 14;
 
 impl Serialize for PeelFile {
     fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
@@ -141,7 +168,14 @@ impl Serialize for PeelFile {
         if !shades && !self.shades.is_empty() {
             return Err(ser::Error::custom("shades without the SHADES flag"));
         }
-        let mut t = s.serialize_tuple(FILE_FIELDS - usize::from(!shades))?;
+        let textures = flags & header_flags::TEXTURES != 0;
+        let texture_arrays =
+            self.uvs.len() + self.textures.len() + self.texels.len() + self.polygon_textures.len();
+        if !textures && texture_arrays != 0 {
+            return Err(ser::Error::custom("textures without the TEXTURES flag"));
+        }
+        let fields = FILE_FIELDS - usize::from(!shades) - 4 * usize::from(!textures);
+        let mut t = s.serialize_tuple(fields)?;
         t.serialize_element(&header_words(&self.header))?;
         t.serialize_element(&Records(&self.vertices, flags))?;
         t.serialize_element(&self.planes)?;
@@ -153,6 +187,12 @@ impl Serialize for PeelFile {
         t.serialize_element(&Records(&self.nodes, flags))?;
         if shades {
             t.serialize_element(&self.shades)?;
+        }
+        if textures {
+            t.serialize_element(&self.uvs)?;
+            t.serialize_element(&self.textures)?;
+            t.serialize_element(&self.texels)?;
+            t.serialize_element(&self.polygon_textures)?;
         }
         t.end()
     }
@@ -594,9 +634,19 @@ impl<'de> Deserialize<'de> for PeelFile {
                         seq.next_element_seed(RecordsSeed(flags, std::marker::PhantomData))?,
                     )?,
                     shades: Vec::new(),
+                    uvs: Vec::new(),
+                    textures: Vec::new(),
+                    texels: Vec::new(),
+                    polygon_textures: Vec::new(),
                 };
                 if flags & header_flags::SHADES != 0 {
                     file.shades = required(seq.next_element()?)?;
+                }
+                if flags & header_flags::TEXTURES != 0 {
+                    file.uvs = required(seq.next_element()?)?;
+                    file.textures = required(seq.next_element()?)?;
+                    file.texels = required(seq.next_element()?)?;
+                    file.polygon_textures = required(seq.next_element()?)?;
                 }
                 Ok(file)
             }

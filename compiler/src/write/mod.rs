@@ -15,6 +15,7 @@ pub(crate) mod format;
 pub(crate) mod grid;
 pub mod parts;
 pub(crate) mod shades;
+pub(crate) mod textures;
 
 use glam::{DVec3, Vec3};
 use peel_runtime::read::Plane;
@@ -71,6 +72,15 @@ pub(crate) struct WriteInput<'a> {
     pub polygon_flags: &'a [u8],
     /// Per tree vertex, its `[front, back]` intensities (a smooth file, [`shades`]), or empty.
     pub shades: &'a [[u8; 2]],
+    /// The textures `polygon_textures` name.
+    pub textures: &'a [crate::load::texture::Texture],
+    /// Per tree polygon, its index in `textures` or `NO_TEXTURE`; or empty: none is textured.
+    /// When some polygon is textured the file is of version `TEXTURED_VERSION`, with the
+    /// textures they use.
+    pub polygon_textures: &'a [u8],
+    /// Per tree vertex, its texture coordinates (`shades::uv_vertices`); empty when no
+    /// polygon is textured.
+    pub uvs: &'a [[i32; 2]],
 }
 
 /// The file for `tree`, `colours[i]` being the colour of `tree.polygons[i]`; source triangle
@@ -115,6 +125,9 @@ pub(crate) fn peel_file_encoded(
         wide_vertices,
         polygon_flags: extra_flags,
         shades,
+        textures,
+        polygon_textures,
+        uvs,
     } = *input;
     let exterior = if exterior.is_empty() {
         colours
@@ -144,6 +157,23 @@ pub(crate) fn peel_file_encoded(
              vertices",
             extra_flags.len(),
             shades.len(),
+            tree.polygons.len(),
+            tree.vertices.len()
+        )));
+    }
+    let textured = polygon_textures
+        .iter()
+        .any(|&k| k != peel_runtime::read::layout::NO_TEXTURE);
+    let textures_ok = if textured {
+        polygon_textures.len() == tree.polygons.len() && uvs.len() == tree.vertices.len()
+    } else {
+        uvs.is_empty()
+    };
+    if !textures_ok {
+        return Err(invariant(format!(
+            "{} polygon textures and {} texture coordinates for {} polygons and {} vertices",
+            polygon_textures.len(),
+            uvs.len(),
             tree.polygons.len(),
             tree.vertices.len()
         )));
@@ -183,6 +213,7 @@ pub(crate) fn peel_file_encoded(
         ids,
         id_offset,
         extra_flags,
+        polygon_textures,
         planes: Vec::new(),
         plane_slots: FastMap::default(),
         file_nodes: Vec::new(),
@@ -191,6 +222,7 @@ pub(crate) fn peel_file_encoded(
         rgb_exterior: Vec::new(),
         indices: Vec::new(),
         ids_out: Vec::new(),
+        textures_out: Vec::new(),
         max_depth: 0,
         emitted: vec![false; tree.polygons.len()],
     };
@@ -248,6 +280,19 @@ pub(crate) fn peel_file_encoded(
     if extra_flags.iter().any(|&f| f & inside != 0) {
         flags |= header_flags::SOLID;
     }
+    let stored = textures::store(textures, &out.textures_out)?;
+    if stored.is_some() {
+        flags |= header_flags::TEXTURES;
+    }
+    let version = if stored.is_some() {
+        format::TEXTURED_VERSION
+    } else {
+        format::FORMAT_VERSION
+    };
+    let (uvs, texture_records, texels, polygon_textures) = match stored {
+        Some(s) => (uvs.to_vec(), s.records, s.texels, s.polygons),
+        None => Default::default(),
+    };
     let boxes = boxes.unwrap_or_default();
     // The narrowest node and polygon fields that every count they index fits (the width's
     // largest value is NONE).
@@ -268,7 +313,7 @@ pub(crate) fn peel_file_encoded(
         flags |= header_flags::MEDIUM;
     }
     let header = Header {
-        version: format::FORMAT_VERSION,
+        version,
         flags: if ids {
             flags | header_flags::IDS
         } else {
@@ -305,6 +350,10 @@ pub(crate) fn peel_file_encoded(
         bounds: boxes,
         nodes: file_nodes,
         shades: shades.to_vec(),
+        uvs,
+        textures: texture_records,
+        texels,
+        polygon_textures,
     })
 }
 
@@ -336,6 +385,8 @@ struct Emitter<'t> {
     id_offset: u32,
     /// Flags added per tree polygon (or empty).
     extra_flags: &'t [u8],
+    /// Per tree polygon, its texture (or empty).
+    polygon_textures: &'t [u8],
     /// The split nodes' planes, in order of first use.
     planes: Vec<[f32; 4]>,
     /// Tree plane -> index in `planes`.
@@ -349,6 +400,8 @@ struct Emitter<'t> {
     rgb_exterior: Vec<[u8; 3]>,
     indices: Vec<u32>,
     ids_out: Vec<u32>,
+    /// Per file polygon, its texture in `polygon_textures` (`NO_TEXTURE` without).
+    textures_out: Vec<u8>,
     max_depth: u32,
     /// Per tree polygon: already written (a polygon is owned by exactly one convex node).
     emitted: Vec<bool>,
@@ -527,6 +580,10 @@ impl Emitter<'_> {
         });
         self.rgb.push(colours[0][p as usize]);
         self.rgb_exterior.push(colours[1][p as usize]);
+        self.textures_out.push(
+            (self.polygon_textures.get(p as usize).copied())
+                .unwrap_or(peel_runtime::read::layout::NO_TEXTURE),
+        );
         let (head, tail) = list.split_at(start);
         self.indices.extend_from_slice(tail);
         self.indices.extend_from_slice(head);

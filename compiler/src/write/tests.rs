@@ -176,6 +176,39 @@ pub(crate) fn assert_reads_back(file: &PeelFile) {
     for (v, pair) in file.shades.iter().enumerate() {
         assert_eq!([0, 1].map(|k| scene.vertex_shade(v as u32, k)), *pair);
     }
+    // Textures: each vertex's coordinates, each record's bytes, each polygon's texture.
+    assert_eq!(scene.has_textures(), !file.textures.is_empty());
+    for (v, uv) in file.uvs.iter().enumerate() {
+        assert_eq!(scene.vertex_uv(v as u32), *uv);
+    }
+    assert_eq!(scene.texture_count() as usize, file.textures.len());
+    for (k, record) in file.textures.iter().enumerate() {
+        let texture = scene.texture(k as u32).unwrap();
+        let colours = if record.flags & layout::texture_flags::PALETTE != 0 {
+            u32::from(record.colours_minus_one) + 1
+        } else {
+            0
+        };
+        let start = record.offset as usize;
+        let size =
+            layout::texture_bytes(record.log2_width, record.log2_height, record.flags, colours);
+        let (palette, texels) =
+            file.texels[start..start + size].split_at(colours as usize * layout::TEXEL_SIZE);
+        let stored = peel_runtime::read::Texture {
+            log2_width: record.log2_width,
+            log2_height: record.log2_height,
+            flags: record.flags,
+            colours: palette,
+            texels,
+        };
+        assert_eq!(texture, stored);
+    }
+    for (i, &k) in file.polygon_textures.iter().enumerate() {
+        assert_eq!(
+            scene.polygon_texture(i as u32),
+            (k != layout::NO_TEXTURE).then(|| scene.texture(u32::from(k)).unwrap())
+        );
+    }
     assert_eq!(file.header.palette_count as usize, file.palette.len());
     assert_eq!(file.header.bounds_count as usize, file.bounds.len());
     assert_eq!(scene.root(), (!file.nodes.is_empty()).then_some(0));

@@ -5,7 +5,7 @@ use core::fmt;
 use core::marker::PhantomData;
 
 use super::dither::{dithered, row_thresholds};
-use super::{Colour, Modulation, RowShade, RowTexture, SpanSink};
+use super::{Colour, Filter, Modulation, RowShade, RowTexture, SpanSink};
 
 /// How a [`Colour`] is stored in one pixel of a [`Framebuffer`].
 pub trait PixelFormat {
@@ -65,7 +65,7 @@ impl PixelFormat for Rgb565 {
     /// Texels unlit are stored as they are: the file's texels are RGB565 already.
     #[inline]
     fn encode_textured(run: &mut [u16], x_start: u32, texture: &RowTexture<'_>) {
-        if texture.modulation == Modulation::None {
+        if texture.modulation == Modulation::None && texture.filter == Filter::Nearest {
             for (pixel, texel) in run.iter_mut().zip(texture.texels(x_start)) {
                 *pixel = texel;
             }

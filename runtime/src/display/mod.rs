@@ -37,7 +37,7 @@ pub use framebuffer::{
 pub use nowhere::Nowhere;
 pub use row_shade::{shaded, RowColours, RowShade, SHADE_FRACTION_BITS};
 pub use row_texture::{
-    modulate, rgb565_colour, Modulation, RowTexture, TexelColours, TexelWalk, RUN,
+    modulate, rgb565_colour, Filter, Modulation, RowTexture, TexelColours, TexelWalk, RUN,
 };
 pub(crate) use shifted::Shifted;
 pub use span_paint::{Paint, SpanPaint};

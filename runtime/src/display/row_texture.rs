@@ -33,6 +33,17 @@ const MAX_RUN_CHANGE: i32 = 1 << 22;
 /// A clamped axis's coordinate past this is past the edge anyway.
 const CLAMP_REACH: i32 = 1 << 17;
 
+/// How a pixel takes its colour from the texels around its centre's coordinates.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Filter {
+    /// The texel the centre falls in (the default): exact, as the accuracy rule counts it.
+    #[default]
+    Nearest,
+    /// The four texels around the centre, weighted by its distance to theirs (1/16 texel
+    /// steps): smoother when a texel spans several pixels, four loads a pixel.
+    Bilinear,
+}
+
 /// What a row's texels are multiplied by.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Modulation {
@@ -62,6 +73,8 @@ pub struct RowTexture<'a> {
     pub end: u32,
     /// What the texels are multiplied by.
     pub modulation: Modulation,
+    /// How a pixel takes its texels.
+    pub filter: Filter,
 }
 
 impl RowTexture<'_> {
@@ -103,7 +116,7 @@ impl RowTexture<'_> {
         }
     }
 
-    /// The RGB565 texels of pixels `x, x + 1, ...` (before any modulation).
+    /// The RGB565 texels of pixels `x, x + 1, ...` (before any modulation), nearest.
     #[inline]
     pub fn texels(&self, x: u32) -> TexelWalk<'_, '_> {
         TexelWalk::new(self, x)
@@ -148,6 +161,8 @@ pub struct TexelWalk<'r, 'a> {
     max: [i32; 2],
     /// Whether either axis clamps (the masks serve the rest).
     clamp: bool,
+    /// The last run end's column, `w` and coordinates: the next run starts there.
+    end: (u32, i32, [i32; 2]),
 }
 
 impl<'r, 'a> TexelWalk<'r, 'a> {
@@ -163,6 +178,7 @@ impl<'r, 'a> TexelWalk<'r, 'a> {
             shift: sides.map(|log2| STEP_BITS + 16 - log2),
             max: sides.map(|log2| (1i32 << log2) - 1),
             clamp: t.flags & (texture_flags::CLAMP_S | texture_flags::CLAMP_T) != 0,
+            end: (u32::MAX, 0, [0; 2]),
         };
         walk.start_run();
         walk
@@ -181,9 +197,15 @@ impl<'r, 'a> TexelWalk<'r, 'a> {
             let start = self.x & !(len - 1);
             let a = start.clamp(row.first, last);
             let b = (start + len).clamp(row.first, last);
-            let ((wa, qa), (wb, qb)) = (row.exact_with_w(a), row.exact_with_w(b));
+            // (A run starts where the last one ended: its end's division serves again.)
+            let (wa, qa) = match self.end {
+                (x, w, q) if x == a => (w, q),
+                _ => row.exact_with_w(a),
+            };
+            let (wb, qb) = row.exact_with_w(b);
             if len == 1 || self.chord_fits(b - a, wa, wb, qa, qb) {
                 self.run_end = start + len;
+                self.end = (b, wb, qb);
                 break (a, b, qa, qb);
             }
             len >>= 1;
@@ -241,18 +263,75 @@ impl<'r, 'a> TexelWalk<'r, 'a> {
         change.saturating_mul(bend) <= 4 * near
     }
 
+    /// Texel `v` on axis `k`, repeated or clamped.
+    #[inline]
+    fn place(&self, k: usize, v: i32) -> i32 {
+        if self.clamp && self.row.texture.flags & (texture_flags::CLAMP_S << k) != 0 {
+            v.clamp(0, self.max[k])
+        } else {
+            v & self.max[k]
+        }
+    }
+
     /// The next pixel's texel: its index in the texture's texels.
     #[inline]
     fn texel_index(&self) -> usize {
-        let place = |k: usize| {
-            let v = self.value[k] >> self.shift[k];
-            if self.clamp && self.row.texture.flags & (texture_flags::CLAMP_S << k) != 0 {
-                v.clamp(0, self.max[k])
-            } else {
-                v & self.max[k]
-            }
-        };
+        let place = |k: usize| self.place(k, self.value[k] >> self.shift[k]);
         ((place(1) << self.row.texture.log2_width) | place(0)) as usize
+    }
+
+    /// The RGB565 texel at index `i`.
+    #[inline]
+    fn texel(&self, i: usize) -> u16 {
+        let t = &self.row.texture;
+        if t.flags & texture_flags::PALETTE != 0 {
+            let k = t.texels.get(i).copied().unwrap_or(0);
+            rgb565_at(t.colours, usize::from(k))
+        } else {
+            rgb565_at(t.texels, i)
+        }
+    }
+
+    /// Step to the next pixel.
+    #[inline]
+    fn advance(&mut self) {
+        self.value[0] = self.value[0].wrapping_add(self.step[0]);
+        self.value[1] = self.value[1].wrapping_add(self.step[1]);
+        self.x += 1;
+    }
+
+    /// The next pixel's colour filtered bilinearly: the four texels around its coordinates
+    /// (texel centres at half a texel), weighted in 1/16 of a texel.
+    fn next_bilinear(&mut self) -> Colour {
+        if self.x >= self.run_end {
+            self.start_run();
+        }
+        // Coordinates in 1/16 texel from the first texel's centre.
+        let at = |k: usize| (self.value[k] >> (self.shift[k] - 4)) - 8;
+        let (s, t) = (at(0), at(1));
+        let (fs, ft) = ((s & 15) as u32, (t & 15) as u32);
+        let (c0, r0) = (s >> 4, t >> 4);
+        let log2 = self.row.texture.log2_width;
+        let index = |c: i32, r: i32| ((self.place(1, r) << log2) | self.place(0, c)) as usize;
+        let corners = [
+            (index(c0, r0), (16 - fs) * (16 - ft)),
+            (index(c0 + 1, r0), fs * (16 - ft)),
+            (index(c0, r0 + 1), (16 - fs) * ft),
+            (index(c0 + 1, r0 + 1), fs * ft),
+        ];
+        let mut sum = [128u32; 3];
+        for (i, weight) in corners {
+            let c = rgb565_colour(self.texel(i));
+            sum[0] += u32::from(c.r) * weight;
+            sum[1] += u32::from(c.g) * weight;
+            sum[2] += u32::from(c.b) * weight;
+        }
+        self.advance();
+        Colour::new(
+            (sum[0] >> 8) as u8,
+            (sum[1] >> 8) as u8,
+            (sum[2] >> 8) as u8,
+        )
     }
 }
 
@@ -265,16 +344,8 @@ impl Iterator for TexelWalk<'_, '_> {
             self.start_run();
         }
         let i = self.texel_index();
-        self.value[0] = self.value[0].wrapping_add(self.step[0]);
-        self.value[1] = self.value[1].wrapping_add(self.step[1]);
-        self.x += 1;
-        let t = &self.row.texture;
-        Some(if t.flags & texture_flags::PALETTE != 0 {
-            let k = t.texels.get(i).copied().unwrap_or(0);
-            rgb565_at(t.colours, usize::from(k))
-        } else {
-            rgb565_at(t.texels, i)
-        })
+        self.advance();
+        Some(self.texel(i))
     }
 }
 
@@ -290,7 +361,10 @@ impl Iterator for TexelColours<'_, '_> {
 
     #[inline]
     fn next(&mut self) -> Option<Colour> {
-        let x = rgb565_colour(self.walk.next()?);
+        let x = match self.walk.row.filter {
+            Filter::Nearest => rgb565_colour(self.walk.next()?),
+            Filter::Bilinear => self.walk.next_bilinear(),
+        };
         Some(match (&self.walk.row.modulation, self.shade.as_mut()) {
             (_, Some(shade)) => modulate(x, shade.next()?),
             (Modulation::Colour(k), None) => modulate(x, *k),

@@ -11,7 +11,7 @@
 
 use super::gradient::Gradient;
 use super::Shader;
-use crate::display::{Colour, Modulation, RowTexture, SpanSink};
+use crate::display::{Colour, Filter, Modulation, RowTexture, SpanSink};
 use crate::read::Texture;
 
 /// What a [`TextureMap`]'s texels are multiplied by, for the whole polygon.
@@ -35,6 +35,7 @@ pub struct TextureMap<'a, const SUB: u32> {
     row_step: [i32; 3],
     shift: [u8; 2],
     lighting: Lighting<SUB>,
+    filter: Filter,
 }
 
 /// Largest magnitude of a plane's step: beyond, the polygon is a sliver the planes cannot
@@ -52,6 +53,7 @@ impl<'a, const SUB: u32> TextureMap<'a, SUB> {
         anchor: (u32, u32),
         shift: [u8; 2],
         lighting: Lighting<SUB>,
+        filter: Filter,
     ) -> Option<Self> {
         let mut map = TextureMap {
             texture,
@@ -60,6 +62,7 @@ impl<'a, const SUB: u32> TextureMap<'a, SUB> {
             row_step: [0; 3],
             shift,
             lighting,
+            filter,
         };
         let (ax, ay) = (i64::from(anchor.0), i64::from(anchor.1));
         for (k, [dx, dy, at]) in planes.into_iter().enumerate() {
@@ -104,6 +107,7 @@ impl<'a, const SUB: u32> TextureMap<'a, SUB> {
                 Lighting::Colour(k) => Modulation::Colour(k),
                 Lighting::Smooth(g) => Modulation::Shade(g.row(y)),
             },
+            filter: self.filter,
         }
     }
 }

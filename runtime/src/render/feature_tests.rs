@@ -174,6 +174,7 @@ fn culled_cube(order: Order) -> (FrameStats, bool) {
         paint: Paint::Colours,
         cull: true,
         cull_subtrees: true,
+        filter: crate::display::Filter::Nearest,
         all_inside: false,
         clip_a: &mut a,
         clip_b: &mut b,

@@ -18,7 +18,7 @@ use super::{FrameStats, Source};
 use crate::camera::LocalView;
 use crate::clip::{self, Frustum};
 use crate::coverage::{Coverage, Mode};
-use crate::display::{Colour, SpanSink};
+use crate::display::{Colour, Filter, SpanSink};
 use crate::error::RenderError;
 use crate::fill::{self, FixedPoint};
 use crate::pending::{self, Pending};
@@ -52,6 +52,7 @@ pub(super) struct Settings {
     pub(super) cull_subtrees: bool,
     pub(super) integer_vertices: bool,
     pub(super) background: Option<Colour>,
+    pub(super) filter: Filter,
 }
 
 /// The memory a frame draws with, borrowed from the renderer (the coverage from the scan
@@ -255,6 +256,7 @@ where
         paint,
         cull,
         cull_subtrees: settings.cull_subtrees,
+        filter: settings.filter,
         all_inside,
         clip_a,
         clip_b,

@@ -286,6 +286,7 @@ fn a_full_screen_stops_the_walk_and_culls_covered_subtrees() {
             paint: Paint::Colours,
             cull: true,
             cull_subtrees: true,
+            filter: crate::display::Filter::Nearest,
             all_inside: false,
             clip_a: &mut a,
             clip_b: &mut b,

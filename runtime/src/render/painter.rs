@@ -17,7 +17,7 @@ use super::Source;
 use crate::camera::LocalView;
 use crate::clip::{self, Frustum};
 use crate::coverage::{Clipped, Coverage, Mode};
-use crate::display::SpanSink;
+use crate::display::{Filter, SpanSink};
 use crate::error::RenderError;
 use crate::fill::gradient::Gradient;
 use crate::fill::samples::{SAMPLE_COLUMNS, SAMPLE_ROWS};
@@ -274,6 +274,9 @@ pub(super) struct Painter<'w, 'v, const SUB: u32, K: Cuts = NoCuts> {
     pub(super) cull: bool,
     /// Subtrees are tested against their boxes (see [`super::Renderer::without_subtree_culling`]).
     pub(super) cull_subtrees: bool,
+    /// How textured polygons' pixels take their texels ([`super::Renderer::bilinear`]).
+    #[cfg_attr(not(feature = "textures"), allow(dead_code))]
+    pub(super) filter: Filter,
     /// Every polygon of the scene is inside the frustum (see [`Frustum::contains_box`]).
     pub(super) all_inside: bool,
     pub(super) clip_a: &'w mut [Vec3],
@@ -316,6 +319,7 @@ impl<'v, const SUB: u32, K: Cuts> Painter<'_, 'v, SUB, K> {
             paint: self.paint,
             cull: self.cull,
             cull_subtrees: self.cull_subtrees,
+            filter: self.filter,
             all_inside,
             clip_a: &mut *self.clip_a,
             clip_b: &mut *self.clip_b,
@@ -831,6 +835,6 @@ impl<'v, const SUB: u32, K: Cuts> Painter<'_, 'v, SUB, K> {
             uvs,
             reach,
         };
-        texture_map(view, texture, corners, points, grid, lighting)
+        texture_map(view, texture, corners, points, grid, lighting, self.filter)
     }
 }

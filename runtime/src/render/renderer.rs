@@ -13,7 +13,7 @@ use crate::camera::LocalView;
 use crate::coverage::Coverage;
 #[cfg(feature = "scan-order")]
 use crate::display::Nowhere;
-use crate::display::{Colour, SpanSink};
+use crate::display::{Colour, Filter, SpanSink};
 use crate::error::RenderError;
 use crate::fill::{self, FixedPoint};
 use crate::pending::Pending;
@@ -128,6 +128,7 @@ impl<'m, const SUB: u32> Renderer<'m, SUB> {
                 cull_subtrees: true,
                 integer_vertices: false,
                 background: None,
+                filter: Filter::Nearest,
             },
             #[cfg(feature = "antialias")]
             pending: None,
@@ -292,6 +293,15 @@ impl<'m, const SUB: u32> Renderer<'m, SUB> {
     #[inline(always)]
     pub fn integer_vertices(mut self) -> Self {
         self.settings.integer_vertices = true;
+        self
+    }
+
+    /// Textured polygons filtered bilinearly: each pixel the four texels around its centre's
+    /// coordinates, weighted, instead of the one it falls in ([`Filter`]). Smoother where a
+    /// texel spans several pixels; four loads and a blend a pixel.
+    #[inline(always)]
+    pub fn bilinear(mut self) -> Self {
+        self.settings.filter = Filter::Bilinear;
         self
     }
 

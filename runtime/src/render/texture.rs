@@ -11,6 +11,7 @@
 use glam::Vec3;
 
 use crate::camera::LocalView;
+use crate::display::Filter;
 use crate::fill::texture::{Lighting, TextureMap};
 use crate::fill::FixedPoint;
 use crate::read::Texture;
@@ -40,6 +41,7 @@ pub(super) fn texture_map<'a, const SUB: u32>(
     points: &[FixedPoint<SUB>],
     grid: (u32, u32),
     lighting: Lighting<SUB>,
+    filter: Filter,
 ) -> Option<TextureMap<'a, SUB>> {
     let Corners { at, uvs, reach } = corners;
     let [p0, p1, p2] = at;
@@ -97,5 +99,6 @@ pub(super) fn texture_map<'a, const SUB: u32>(
         anchor,
         shift,
         lighting,
+        filter,
     )
 }

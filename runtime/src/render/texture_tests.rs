@@ -348,3 +348,41 @@ fn antialiased_textured_pixels_inside_a_face_are_the_plain_ones() {
         assert!(same * 100 >= inside * 95, "{same} of {inside} from {eye}");
     }
 }
+
+/// Bilinear, switched on: another picture than the nearest texels', the same through the
+/// framebuffer and streamed.
+#[test]
+fn bilinear_frames_blend_and_stream_alike() {
+    let t = textured_box();
+    let cam = camera(views()[0]);
+    let draw = |bilinear: bool, sink: &mut dyn SpanSink| {
+        let (mut intervals, mut counts) = (vec![(0u16, 0u16); 16 * H], vec![0u16; H]);
+        let coverage = Coverage::new(&mut intervals, &mut counts, W as u32, H as u32).unwrap();
+        let mut ws = Workspace::<16, 12>::new();
+        let renderer = Renderer::new(&mut ws)
+            .span_memory(coverage)
+            .background(BACKGROUND);
+        let mut renderer = if bilinear {
+            renderer.bilinear()
+        } else {
+            renderer
+        };
+        renderer.draw(&t, &cam.view(t.centre()), sink).unwrap();
+    };
+    let mut nearest = vec![0u32; W * H];
+    draw(
+        false,
+        &mut Xrgb8888Framebuffer::new(&mut nearest, W as u32, H as u32).unwrap(),
+    );
+    let mut blended = vec![0u32; W * H];
+    draw(
+        true,
+        &mut Xrgb8888Framebuffer::new(&mut blended, W as u32, H as u32).unwrap(),
+    );
+    let differ = nearest.iter().zip(&blended).filter(|(a, b)| a != b).count();
+    assert!(differ > W * H / 10, "{differ} pixels blended");
+    let mut target = Once(vec![None; W * H]);
+    draw(true, &mut target);
+    let streamed: Vec<Colour> = target.0.iter().map(|c| c.unwrap()).collect();
+    assert_eq!(streamed, colours(&blended));
+}

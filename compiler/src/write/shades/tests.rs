@@ -107,7 +107,7 @@ fn check_smooth(mesh: &Mesh, shading: Shading) -> (usize, usize, usize) {
     let header = scene.header();
     assert_ne!(header.flags & header_flags::SHADES, 0);
     // File indices are the shaded tree's vertices: a polygon is known by its vertices.
-    let shaded = shade_vertices(&tree, &polygon_shades(&tree, mesh, &smooth)).unwrap();
+    let shaded = shade_vertices(&tree, &polygon_shades(&tree, mesh, &smooth), &[]).unwrap();
     let key = |vertices: &[u32]| {
         let mut v = vertices.to_vec();
         v.sort_unstable();
@@ -221,7 +221,7 @@ fn vertices_are_copied_only_where_shades_differ() {
         crease: crate::shade::normals::Crease::DEFAULT,
     };
     let polygons = polygon_shades(&tree, &mesh, &smooth);
-    let shaded = shade_vertices(&tree, &polygons).unwrap();
+    let shaded = shade_vertices(&tree, &polygons, &[]).unwrap();
     let mut pairs: Vec<Vec<[u8; 2]>> = vec![Vec::new(); tree.vertices.len()];
     let mut used = vec![false; tree.vertices.len()];
     for ((p, s), &flag) in tree.polygons.iter().zip(&polygons).zip(&shaded.flags) {
@@ -320,7 +320,7 @@ fn faceted_and_unlit_files_have_no_shades() {
 fn shades_that_do_not_match_the_polygons_are_refused() {
     let mesh = scenes::box_grid(1);
     let (tree, _) = compile_mesh(&mesh, &CompileOptions::default(), &|_| {}).unwrap();
-    let e = shade_vertices(&tree, &[]).unwrap_err();
+    let e = shade_vertices(&tree, &[], &[]).unwrap_err();
     assert!(matches!(e, CompileError::Invariant(_)), "{e:?}");
     // A smooth flag without shades is refused by the writer.
     let colours = vec![[1, 2, 3]; tree.polygons.len()];
@@ -331,4 +331,178 @@ fn shades_that_do_not_match_the_polygons_are_refused() {
         ..WriteInput::default()
     };
     assert!(peel_file_with(&tree, &input).is_err());
+}
+
+/// `mesh` textured: spherical coordinates around the vertical axis, the seam where `u` wraps
+/// from 1 to 0 (a triangle across it takes `u + 1` at the corners before it), and every third
+/// triangle left untextured.
+fn textured(mesh: Mesh) -> Mesh {
+    let mut mesh = scenes::textured(mesh, 2, |t| {
+        let turn = std::f64::consts::TAU;
+        let mut uv = t.map(|p| glam::DVec2::new(p.z.atan2(p.x) / turn + 0.5, p.y));
+        let right = uv.iter().map(|uv| uv.x).fold(0.0, f64::max);
+        for uv in &mut uv {
+            if right - uv.x > 0.5 {
+                uv.x += 1.0;
+            }
+        }
+        uv
+    });
+    for t in mesh.triangles.iter_mut().step_by(3) {
+        t.texture = None;
+    }
+    mesh
+}
+
+/// Each copy has the position of its vertex, a smooth polygon's copy its shades (swapped with
+/// the polygon's interior index, when it was), a textured polygon's copy its coordinates; no
+/// vertex has two copies of the same shades and coordinates.
+fn check_copies(
+    tree: &DisplayTree,
+    copied: &DisplayTree,
+    shades: &[PolygonShades],
+    flags: &[u8],
+    uvs: &[PolygonUvs],
+    vertex_shades: &[[u8; 2]],
+    vertex_uvs: &[[i32; 2]],
+) {
+    let mut seen: FastMap<(u32, [u8; 2], [i32; 2]), u32> = FastMap::default();
+    let mut origin = vec![None; copied.vertices.len()];
+    for (i, (p, copy)) in tree.polygons.iter().zip(&copied.polygons).enumerate() {
+        for (k, (&v, &c)) in p.vertices.iter().zip(&copy.vertices).enumerate() {
+            assert_eq!(copied.vertices[c as usize], tree.vertices[v as usize]);
+            assert_eq!(*origin[c as usize].get_or_insert(v), v);
+            if flags[i] & polygon_flags::SMOOTH != 0 {
+                let [f, b] = shades[i].vertices[k];
+                // Stored swapped exactly when the interior index no longer says the interior.
+                let swapped =
+                    (flags[i] & polygon_flags::INTERIOR_BACK != 0) != p.interior_is_back();
+                let want = if swapped { [b, f] } else { [f, b] };
+                assert_eq!(vertex_shades[c as usize], want);
+            }
+            if let Some(uv) = &uvs[i] {
+                assert_eq!(vertex_uvs[c as usize], uv[k]);
+            }
+        }
+    }
+    for (c, v) in origin.iter().enumerate() {
+        let v = v.expect("every copy is used");
+        let shade = vertex_shades.get(c).copied().unwrap_or_default();
+        let uv = vertex_uvs.get(c).copied().unwrap_or_default();
+        if let Some(other) = seen.insert((v, shade, uv), c as u32) {
+            panic!("copies {other} and {c} of vertex {v} are alike");
+        }
+    }
+}
+
+/// Faceted and textured: a vertex is copied once per distinct coordinates of the textured
+/// polygons that use it (the untextured ones take one of those copies), once if only
+/// untextured polygons use it.
+#[test]
+fn textured_vertices_are_copied_once_per_distinct_coordinates() {
+    let mesh = textured(curved());
+    let options = options(Shading::default(), Surface::Faceted);
+    let (tree, _) = compile_mesh(&mesh, &options, &|_| {}).unwrap();
+    let uvs = crate::texture::polygon_uvs(&tree, &mesh);
+    let copied = uv_vertices(&tree, &uvs).unwrap();
+    let mut distinct: Vec<Vec<[i32; 2]>> = vec![Vec::new(); tree.vertices.len()];
+    let mut used = vec![false; tree.vertices.len()];
+    for (p, uvs) in tree.polygons.iter().zip(&uvs) {
+        for (k, &v) in p.vertices.iter().enumerate() {
+            used[v as usize] = true;
+            if let Some(uv) = uvs.as_ref().map(|uvs| uvs[k]) {
+                if !distinct[v as usize].contains(&uv) {
+                    distinct[v as usize].push(uv);
+                }
+            }
+        }
+    }
+    let want: usize = (0..tree.vertices.len())
+        .filter(|&v| used[v])
+        .map(|v| distinct[v].len().max(1))
+        .sum();
+    assert_eq!(copied.tree.vertices.len(), want);
+    assert!(want > tree.vertices.len(), "the seam copies some");
+    assert_eq!(copied.uvs.len(), want);
+    assert!(copied.shades.is_empty());
+    let flat = vec![0; tree.polygons.len()];
+    check_copies(&tree, &copied.tree, &[], &flat, &uvs, &[], &copied.uvs);
+    // Without textured polygons, nothing is copied.
+    let untextured = uv_vertices(&tree, &[]).unwrap();
+    assert!(matches!(untextured.tree, Cow::Borrowed(_)) && untextured.uvs.is_empty());
+}
+
+/// Smooth and textured: every copy as its polygons need it, and none twice; the file reads
+/// back, shades and coordinates included.
+#[test]
+fn smooth_textured_vertices_carry_their_shades_and_coordinates() {
+    let mesh = textured(curved());
+    let shading = Shading::default();
+    let (tree, _) = compile_mesh(
+        &mesh,
+        &options(shading, Surface::smooth(60.0).unwrap()),
+        &|_| {},
+    )
+    .unwrap();
+    let smooth = Smooth {
+        shading,
+        crease: crate::shade::normals::Crease::DEFAULT,
+    };
+    let polygons = polygon_shades(&tree, &mesh, &smooth);
+    let uvs = crate::texture::polygon_uvs(&tree, &mesh);
+    let shaded = shade_vertices(&tree, &polygons, &uvs).unwrap();
+    assert!(shaded.flags.iter().any(|&f| f & polygon_flags::SMOOTH != 0));
+    assert_eq!(shaded.shades.len(), shaded.tree.vertices.len());
+    assert_eq!(shaded.uvs.len(), shaded.tree.vertices.len());
+    check_copies(
+        &tree,
+        &shaded.tree,
+        &polygons,
+        &shaded.flags,
+        &uvs,
+        &shaded.shades,
+        &shaded.uvs,
+    );
+    // The seam copies more than the shades alone.
+    let plain = shade_vertices(&tree, &polygons, &[]).unwrap();
+    assert!(shaded.tree.vertices.len() > plain.tree.vertices.len());
+    let textures: Vec<u8> = (tree.polygons.iter())
+        .map(|p| {
+            mesh.triangles[p.source as usize]
+                .texture
+                .map_or(peel_runtime::read::layout::NO_TEXTURE, |t| t.texture as u8)
+        })
+        .collect();
+    let file = peel_file_with(
+        &shaded.tree,
+        &WriteInput {
+            colours: &shaded.colours,
+            exterior: &shaded.exterior,
+            polygon_flags: &shaded.flags,
+            shades: &shaded.shades,
+            textures: &mesh.textures,
+            polygon_textures: &textures,
+            uvs: &shaded.uvs,
+            ..WriteInput::default()
+        },
+    )
+    .unwrap();
+    assert_eq!(
+        file.header.version,
+        peel_runtime::read::layout::TEXTURED_VERSION
+    );
+    assert_eq!(file.uvs.len(), file.vertices.len());
+    assert_reads_back(&file);
+}
+
+#[test]
+fn coordinates_that_do_not_match_the_polygons_are_refused() {
+    let mesh = scenes::box_grid(1);
+    let (tree, _) = compile_mesh(&mesh, &CompileOptions::default(), &|_| {}).unwrap();
+    let e = uv_vertices(&tree, &[None]).unwrap_err();
+    assert!(matches!(e, CompileError::Invariant(_)), "{e:?}");
+    let mut uvs: Vec<PolygonUvs> = vec![None; tree.polygons.len()];
+    uvs[0] = Some(vec![[0, 0]]);
+    let e = uv_vertices(&tree, &uvs).unwrap_err();
+    assert!(matches!(e, CompileError::Invariant(_)), "{e:?}");
 }

@@ -59,6 +59,7 @@ fn row(
         first: span.0,
         end: span.1,
         modulation: Modulation::None,
+        filter: Filter::Nearest,
     }
 }
 
@@ -176,4 +177,35 @@ fn colours_are_the_texels_times_the_lighting() {
         assert_eq!(c, modulate(p, shade.at(x)), "{x}");
         assert_eq!(r.at(x), c);
     }
+}
+
+/// Bilinear: at a texel's centre its own colour, halfway between two centres their average,
+/// a quarter of the way three parts to one; clamped past the edge.
+#[test]
+fn bilinear_weighs_the_four_texels_around_the_centre() {
+    // s = x / 16 of the texture: texel centres (4 texels) at x = 2, 6, 10, 14.
+    let mut r = row(
+        (1.0, 0.0),
+        (0.0, 65536.0 / 16.0),
+        (65536.0 * (0.5 / 4.0), 0.0),
+        (0, 16),
+        texture_flags::CLAMP_S,
+    );
+    r.filter = Filter::Bilinear;
+    let colours: Vec<Colour> = r.colours(0).take(16).collect();
+    let at = |c: u32| rgb565_colour(value(c, 0));
+    assert_eq!(colours[2], at(0));
+    assert_eq!(colours[6], at(1));
+    let mix = |a: Colour, b: Colour, w: u32| {
+        let m = |x: u8, y: u8| ((u32::from(x) * (16 - w) + u32::from(y) * w) * 16 + 128) >> 8;
+        Colour::new(m(a.r, b.r) as u8, m(a.g, b.g) as u8, m(a.b, b.b) as u8)
+    };
+    assert_eq!(colours[4], mix(at(0), at(1), 8), "halfway");
+    assert_eq!(colours[3], mix(at(0), at(1), 4), "a quarter");
+    // Left of the first centre, clamped: the first texel alone.
+    assert_eq!(colours[0], at(0));
+    assert_eq!(colours[15], at(3));
+    // Nearest takes one texel where bilinear mixes.
+    r.filter = Filter::Nearest;
+    assert_eq!(r.at(4), at(1));
 }
