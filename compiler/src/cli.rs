@@ -257,6 +257,10 @@ pub struct RenderArgs {
     /// background (`Renderer::antialias`).
     #[arg(long)]
     pub antialias: bool,
+    /// Textures filtered bilinearly: each pixel the four texels around its centre, weighted
+    /// (`Renderer::bilinear`); by default the texel it falls in.
+    #[arg(long)]
+    pub bilinear: bool,
     /// Place an object of a file of parts: NAME=tx,ty,tz or NAME=tx,ty,tz,yaw,pitch,roll,
     /// angles in degrees, so that its point p goes to T + Ry(yaw) Rx(pitch) Rz(roll) p
     /// (repeatable; an object without one stays where its file puts it).
@@ -488,6 +492,7 @@ pub fn render(args: &RenderArgs) -> Result<(), String> {
         antialias: args
             .antialias
             .then_some(peel_compiler::tools::raster::HOST_PENDING),
+        bilinear: args.bilinear,
     };
     let frame = if parts.has_table() {
         render_posed_named(world.as_ref(), &objects, &names, &shot, &settings)

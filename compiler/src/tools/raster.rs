@@ -68,6 +68,8 @@ pub struct Settings {
     /// Anti-aliased (`Renderer::antialias`) with this many pending-pixel records (the CLI
     /// gives [`HOST_PENDING`]), blending edges with the background.
     pub antialias: Option<usize>,
+    /// Textures filtered bilinearly (`Renderer::bilinear`) instead of by nearest texel.
+    pub bilinear: bool,
 }
 
 /// Pending-pixel records given to anti-aliased frames on the host: all a pool can use.
@@ -82,6 +84,7 @@ impl Default for Settings {
             background: [0, 0, 0],
             integer_vertices: false,
             antialias: None,
+            bilinear: false,
         }
     }
 }
@@ -263,6 +266,9 @@ fn draw<C: Content + ?Sized>(
     }
     if settings.integer_vertices {
         renderer = renderer.integer_vertices();
+    }
+    if settings.bilinear {
+        renderer = renderer.bilinear();
     }
     let mut records = vec![PendingPixel::default(); settings.antialias.unwrap_or(0)];
     let mut heads = vec![0u16; rows];

@@ -66,9 +66,7 @@ impl PixelFormat for Rgb565 {
     #[inline]
     fn encode_textured(run: &mut [u16], x_start: u32, texture: &RowTexture<'_>) {
         if texture.modulation == Modulation::None && texture.filter == Filter::Nearest {
-            for (pixel, texel) in run.iter_mut().zip(texture.texels(x_start)) {
-                *pixel = texel;
-            }
+            texture.texels(x_start).fill(run);
         } else {
             for (pixel, colour) in run.iter_mut().zip(texture.colours(x_start)) {
                 *pixel = colour.to_rgb565();

@@ -335,6 +335,57 @@ impl<'r, 'a> TexelWalk<'r, 'a> {
     }
 }
 
+impl TexelWalk<'_, '_> {
+    /// The texels of the next `out.len()` pixels into `out`, a run at a time: the run's end,
+    /// the palette and the clamps tested once a run, not once a pixel (Quake's span drawer's
+    /// inner loop).
+    pub fn fill(&mut self, out: &mut [u16]) {
+        let mut out = out;
+        while !out.is_empty() {
+            if self.x >= self.run_end {
+                self.start_run();
+            }
+            let n = ((self.run_end - self.x) as usize).min(out.len());
+            let (run, rest) = out.split_at_mut(n);
+            let t = &self.row.texture;
+            let palette = t.flags & texture_flags::PALETTE != 0;
+            if self.clamp {
+                for slot in run.iter_mut() {
+                    let i = self.texel_index();
+                    self.advance();
+                    *slot = self.texel(i);
+                }
+            } else {
+                let [(s, ds), (v, dt)] = [0, 1].map(|k| (self.value[k], self.step[k]));
+                let (mut s, mut v) = (s, v);
+                let [shift_s, shift_t] = self.shift;
+                let [max_s, max_t] = self.max;
+                let log2 = t.log2_width;
+                let index = |s: i32, v: i32| {
+                    ((((v >> shift_t) & max_t) << log2) | ((s >> shift_s) & max_s)) as usize
+                };
+                if palette {
+                    for slot in run.iter_mut() {
+                        let k = t.texels.get(index(s, v)).copied().unwrap_or(0);
+                        *slot = rgb565_at(t.colours, usize::from(k));
+                        s = s.wrapping_add(ds);
+                        v = v.wrapping_add(dt);
+                    }
+                } else {
+                    for slot in run.iter_mut() {
+                        *slot = rgb565_at(t.texels, index(s, v));
+                        s = s.wrapping_add(ds);
+                        v = v.wrapping_add(dt);
+                    }
+                }
+                self.value = [s, v];
+                self.x += n as u32;
+            }
+            out = rest;
+        }
+    }
+}
+
 impl Iterator for TexelWalk<'_, '_> {
     type Item = u16;
 

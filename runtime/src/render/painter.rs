@@ -769,17 +769,19 @@ impl<'v, const SUB: u32, K: Cuts> Painter<'_, 'v, SUB, K> {
                 // A textured polygon: its texels through its perspective map, lit by its
                 // colour or its gradient.
                 #[cfg(feature = "textures")]
-                let lighting = match gradient {
-                    Some(g) => Lighting::Smooth(g),
-                    None => Lighting::Colour(colour),
-                };
-                if let Some(mut map) =
-                    self.texture_map(scene, index, polygon, pts, (1, 1), lighting)
                 {
-                    let pixels =
-                        fill::fill_in_rect(pts, rect, self.edges, width, rows, &mut map, &mut sink);
-                    stats.add(Counter::PixelsWritten, pixels);
-                    return Ok(());
+                    let lighting = match gradient {
+                        Some(g) => Lighting::Smooth(g),
+                        None => Lighting::Colour(colour),
+                    };
+                    let map = self.texture_map(scene, index, polygon, pts, (1, 1), lighting);
+                    if let Some(mut map) = map {
+                        let (edges, rows) = (&mut *self.edges, rows.clone());
+                        let pixels =
+                            fill::fill_in_rect(pts, rect, edges, width, rows, &mut map, &mut sink);
+                        stats.add(Counter::PixelsWritten, pixels);
+                        return Ok(());
+                    }
                 }
                 match gradient {
                     Some(mut g) => {

@@ -1,5 +1,7 @@
 extern crate std;
 
+use std::boxed::Box;
+use std::vec;
 use std::vec::Vec;
 
 use super::*;
@@ -208,4 +210,41 @@ fn bilinear_weighs_the_four_texels_around_the_centre() {
     // Nearest takes one texel where bilinear mixes.
     r.filter = Filter::Nearest;
     assert_eq!(r.at(4), at(1));
+}
+
+/// `fill` gives the iterator's texels, from any pixel, over runs, repeating and clamped,
+/// direct and through a palette.
+#[test]
+fn fill_is_the_walk() {
+    let palette_texels: Vec<u8> = (0..16u8).map(|i| (i * 7) % 5).collect();
+    let colours: Vec<u8> = [0x1111u16, 0x2222, 0x3333, 0x4444, 0x5555]
+        .iter()
+        .flat_map(|c| c.to_le_bytes())
+        .collect();
+    for flags in [0, texture_flags::CLAMP_S, texture_flags::CLAMP_T] {
+        for palette in [false, true] {
+            let mut r = row(
+                (1.0, -0.004),
+                (-65536.0 * 0.3, 65536.0 * 0.021),
+                (65536.0 * 0.2, 65536.0 * 0.013),
+                (2, 150),
+                flags,
+            );
+            if palette {
+                r.texture.flags |= texture_flags::PALETTE;
+                r.texture.texels = Box::leak(palette_texels.clone().into_boxed_slice());
+                r.texture.colours = Box::leak(colours.clone().into_boxed_slice());
+            }
+            for start in [2u32, 9, 16, 33, 140] {
+                let n = (150 - start) as usize;
+                let walked: Vec<u16> = r.texels(start).take(n).collect();
+                let mut filled = vec![0u16; n];
+                r.texels(start).fill(&mut filled);
+                assert_eq!(
+                    filled, walked,
+                    "flags {flags}, palette {palette}, from {start}"
+                );
+            }
+        }
+    }
 }
