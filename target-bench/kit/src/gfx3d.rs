@@ -46,7 +46,9 @@ use glam::Vec3;
 use peel_runtime::camera::LocalView;
 use peel_runtime::read::Header;
 
+#[cfg(any(feature = "textures", test))]
 use peel_runtime::read::layout::{texture_bytes, texture_flags, MAX_TEXTURE_LOG2, TEXTURE_SIZE};
+#[cfg(any(feature = "textures", feature = "std", test))]
 use peel_runtime::read::Texture;
 
 use crate::bytes::{f32_at, f64_at, u16_at, u32_at};
@@ -96,9 +98,11 @@ pub enum Gfx3dError {
     /// Flags this version does not know.
     Flags(u16),
     /// Group `0` is not where the previous one ends, or names a missing texture.
+    #[cfg(any(feature = "textures", test))]
     Group(u32),
     /// Texture record `0` is not of the `.peel` format, not where the previous one ends, or
     /// not 2-aligned.
+    #[cfg(any(feature = "textures", test))]
     Texture(u32),
 }
 
@@ -116,7 +120,9 @@ impl core::fmt::Display for Gfx3dError {
                 write!(f, "embedded-3dgfx scene face {t} names a missing vertex")
             }
             Gfx3dError::Flags(flags) => write!(f, "embedded-3dgfx scene flags {flags:#06x}"),
+            #[cfg(any(feature = "textures", test))]
             Gfx3dError::Group(g) => write!(f, "embedded-3dgfx scene group {g} is malformed"),
+            #[cfg(any(feature = "textures", test))]
             Gfx3dError::Texture(k) => {
                 write!(f, "embedded-3dgfx scene texture {k} is malformed")
             }
@@ -141,6 +147,57 @@ pub struct CameraSetup {
     pub far: f32,
 }
 
+/// The flags a scene may have: [`TEXTURED`] only with the `textures` feature (the firmware
+/// builds with textures), so that the other builds hold none of its code.
+const KNOWN_FLAGS: u16 = if cfg!(any(feature = "textures", test)) {
+    VERTEX_NORMALS | TEXTURED
+} else {
+    VERTEX_NORMALS
+};
+
+/// A textured scene's sections ([`TEXTURED`]): coordinates (one per vertex), group records,
+/// texture records and texel bytes.
+#[cfg(any(feature = "textures", test))]
+#[derive(Debug, Clone, Copy, Default)]
+struct Sections<'a> {
+    uvs: &'a [u8],
+    groups: &'a [u8],
+    textures: &'a [u8],
+    texels: &'a [u8],
+    /// Where the texel bytes start in the file.
+    texels_at: usize,
+}
+
+#[cfg(any(feature = "textures", test))]
+impl<'a> Sections<'a> {
+    /// The sections of `bytes` from `start` on, for `nv` vertices.
+    fn parse(bytes: &'a [u8], start: usize, nv: usize) -> Result<Sections<'a>, Gfx3dError> {
+        let take = |start: usize, len: Option<usize>| {
+            let end = len
+                .and_then(|n| n.checked_add(start))
+                .ok_or(Gfx3dError::Truncated)?;
+            Ok::<_, Gfx3dError>((bytes.get(start..end).ok_or(Gfx3dError::Truncated)?, end))
+        };
+        let count = |at| {
+            u32_at(bytes, at)
+                .map(|n| n as usize)
+                .ok_or(Gfx3dError::Truncated)
+        };
+        let (uvs, end) = take(start, nv.checked_mul(UV))?;
+        let (groups, end) = take(end + 4, count(end)?.checked_mul(GROUP))?;
+        let (nt, nd) = (count(end)?, count(end + 4)?);
+        let (textures, end) = take(end + 8, nt.checked_mul(TEXTURE_SIZE))?;
+        let (texels, _) = take(end, Some(nd))?;
+        Ok(Sections {
+            uvs,
+            groups,
+            textures,
+            texels,
+            texels_at: end,
+        })
+    }
+}
+
 /// A validated scene over borrowed bytes.
 #[derive(Debug, Clone, Copy)]
 pub struct Scene<'a> {
@@ -149,11 +206,9 @@ pub struct Scene<'a> {
     normals: &'a [u8],
     /// One per vertex, or none.
     vertex_normals: &'a [u8],
-    /// Textured: one per vertex, the group records, the texture records and their bytes.
-    uvs: &'a [u8],
-    groups: &'a [u8],
-    textures: &'a [u8],
-    texels: &'a [u8],
+    /// A textured scene's sections (empty for another).
+    #[cfg(any(feature = "textures", test))]
+    sections: Sections<'a>,
     centre: [f64; 3],
     bounds_min: Vec3,
     bounds_max: Vec3,
@@ -187,30 +242,20 @@ impl<'a> Scene<'a> {
         let (faces, f_end) = section(v_end, nf)?;
         let (normals, n_end) = section(f_end, nf)?;
         let flags = u16_at(bytes, 70).ok_or(Gfx3dError::Truncated)?;
-        if flags & !(VERTEX_NORMALS | TEXTURED) != 0 {
+        if flags & !KNOWN_FLAGS != 0 {
             return Err(Gfx3dError::Flags(flags));
         }
-        let (vertex_normals, mut end) = if flags & VERTEX_NORMALS != 0 {
+        let (vertex_normals, _end) = if flags & VERTEX_NORMALS != 0 {
             section(n_end, nv)?
         } else {
             (&bytes[..0], n_end)
         };
-        let (mut uvs, mut groups, mut textures, mut texels) =
-            (&bytes[..0], &bytes[..0], &bytes[..0], &bytes[..0]);
-        if flags & TEXTURED != 0 {
-            let take = |start: usize, len: Option<usize>| {
-                let end = len
-                    .and_then(|n| n.checked_add(start))
-                    .ok_or(Gfx3dError::Truncated)?;
-                Ok::<_, Gfx3dError>((bytes.get(start..end).ok_or(Gfx3dError::Truncated)?, end))
-            };
-            (uvs, end) = take(end, nv.checked_mul(UV))?;
-            let ng = count(end)?;
-            (groups, end) = take(end + 4, ng.checked_mul(GROUP))?;
-            let (nt, nd) = (count(end)?, count(end + 4)?);
-            (textures, end) = take(end + 8, nt.checked_mul(TEXTURE_SIZE))?;
-            (texels, _) = take(end, Some(nd))?;
-        }
+        #[cfg(any(feature = "textures", test))]
+        let sections = if flags & TEXTURED != 0 {
+            Sections::parse(bytes, _end, nv)?
+        } else {
+            Sections::default()
+        };
         if nv == 0 {
             return Err(Gfx3dError::Empty);
         }
@@ -228,24 +273,23 @@ impl<'a> Scene<'a> {
             faces,
             normals,
             vertex_normals,
-            uvs,
-            groups,
-            textures,
-            texels,
+            #[cfg(any(feature = "textures", test))]
+            sections,
             centre: [f(16), f(24), f(32)],
             bounds_min: v(40),
             bounds_max: v(52),
             scale,
             colour: u16_at(bytes, 68).unwrap_or(0),
         };
-        if flags & TEXTURED == 0 {
-            for t in 0..scene.face_count() {
-                if scene.face(t).iter().any(|&i| i as usize >= nv) {
-                    return Err(Gfx3dError::Index(t));
-                }
+        #[cfg(any(feature = "textures", test))]
+        if flags & TEXTURED != 0 {
+            scene.check_textures()?;
+            return Ok(scene);
+        }
+        for t in 0..scene.face_count() {
+            if scene.face(t).iter().any(|&i| i as usize >= nv) {
+                return Err(Gfx3dError::Index(t));
             }
-        } else {
-            scene.check_textures(texels.as_ptr() as usize - bytes.as_ptr() as usize)?;
         }
         Ok(scene)
     }
@@ -292,24 +336,27 @@ impl<'a> Scene<'a> {
     }
 
     /// Whether the scene is textured ([`encode_textured`]): drawn as its groups.
+    #[cfg(any(feature = "textures", test))]
     pub fn textured(&self) -> bool {
-        !self.uvs.is_empty()
+        !self.sections.uvs.is_empty()
     }
 
     /// Number of groups (0 for a scene that is not textured).
+    #[cfg(any(feature = "textures", test))]
     pub fn group_count(&self) -> u32 {
-        (self.groups.len() / GROUP) as u32
+        (self.sections.groups.len() / GROUP) as u32
     }
 
     /// Group `g` of a textured scene (`None` past the end).
+    #[cfg(any(feature = "textures", test))]
     pub fn group(&self, g: u32) -> Option<Group<'a>> {
         let at = g as usize * GROUP;
-        let field = |k: usize| u32_at(self.groups, at + 4 * k).map(|n| n as usize);
+        let field = |k: usize| u32_at(self.sections.groups, at + 4 * k).map(|n| n as usize);
         let (v0, nv, f0, nf) = (field(0)?, field(1)?, field(2)?, field(3)?);
         let texture = field(4)? as u32;
         Some(Group {
             vertices: self.vertices.get(v0 * ELEMENT..(v0 + nv) * ELEMENT)?,
-            uvs: self.uvs.get(v0 * UV..(v0 + nv) * UV)?,
+            uvs: self.sections.uvs.get(v0 * UV..(v0 + nv) * UV)?,
             faces: self.faces.get(f0 * ELEMENT..(f0 + nf) * ELEMENT)?,
             normals: self.normals.get(f0 * ELEMENT..(f0 + nf) * ELEMENT)?,
             texture: (texture != NO_TEXTURE).then_some(texture),
@@ -318,14 +365,16 @@ impl<'a> Scene<'a> {
     }
 
     /// Number of textures.
+    #[cfg(any(feature = "textures", test))]
     pub fn texture_count(&self) -> u32 {
-        (self.textures.len() / TEXTURE_SIZE) as u32
+        (self.sections.textures.len() / TEXTURE_SIZE) as u32
     }
 
     /// Texture `k`, its bytes in place, as the `.peel` file's reader gives it.
+    #[cfg(any(feature = "textures", test))]
     pub fn texture(&self, k: u32) -> Option<Texture<'a>> {
         let at = k as usize * TEXTURE_SIZE;
-        let record = self.textures.get(at..at + TEXTURE_SIZE)?;
+        let record = self.sections.textures.get(at..at + TEXTURE_SIZE)?;
         let (log2_width, log2_height, flags) = (record[0], record[1], record[2]);
         let colours = if flags & texture_flags::PALETTE != 0 {
             u32::from(record[3]) + 1
@@ -334,7 +383,7 @@ impl<'a> Scene<'a> {
         };
         let start = u32_at(record, 4)? as usize;
         let size = texture_bytes(log2_width, log2_height, flags, colours);
-        let bytes = self.texels.get(start..start.checked_add(size)?)?;
+        let bytes = self.sections.texels.get(start..start.checked_add(size)?)?;
         let (colours, texels) = bytes.split_at(colours as usize * 2);
         Some(Texture {
             log2_width,
@@ -345,15 +394,16 @@ impl<'a> Scene<'a> {
         })
     }
 
-    /// A textured scene's groups and textures checked (`texels_at`: where its texel bytes
-    /// start in the file): each group where the previous one ends and its faces' indices
+    /// A textured scene's groups and textures checked: each group where the previous one ends and its faces' indices
     /// within it, each texture record of the `.peel` format where the previous one ends, its
     /// RGB565 values 2-aligned in the file.
-    fn check_textures(&self, texels_at: usize) -> Result<(), Gfx3dError> {
+    #[cfg(any(feature = "textures", test))]
+    fn check_textures(&self) -> Result<(), Gfx3dError> {
+        let texels_at = self.sections.texels_at;
         let (mut vertices, mut faces) = (0, 0);
         for g in 0..self.group_count() {
             let at = g as usize * GROUP;
-            let field = |k: usize| u32_at(self.groups, at + 4 * k).unwrap_or(0) as usize;
+            let field = |k: usize| u32_at(self.sections.groups, at + 4 * k).unwrap_or(0) as usize;
             let texture = field(4) as u32;
             if field(0) != vertices
                 || field(2) != faces
@@ -374,7 +424,7 @@ impl<'a> Scene<'a> {
         }
         let mut end = 0;
         for k in 0..self.texture_count() {
-            let record = &self.textures[k as usize * TEXTURE_SIZE..][..TEXTURE_SIZE];
+            let record = &self.sections.textures[k as usize * TEXTURE_SIZE..][..TEXTURE_SIZE];
             let (log2_width, log2_height, flags) = (record[0], record[1], record[2]);
             let palette = flags & texture_flags::PALETTE != 0;
             let offset = u32_at(record, 4).unwrap_or(0) as usize;
@@ -390,7 +440,7 @@ impl<'a> Scene<'a> {
                 .ok_or(Gfx3dError::Texture(k))?;
             end += texture.colours.len() + texture.texels.len();
         }
-        if end != self.texels.len() {
+        if end != self.sections.texels.len() {
             return Err(Gfx3dError::Texture(self.texture_count()));
         }
         Ok(())
@@ -470,6 +520,7 @@ impl<'a> Scene<'a> {
     }
 }
 
+#[cfg(any(feature = "textures", test))]
 /// One group of a textured scene: one mesh of the library, with one texture (or none) and one
 /// colour; its faces' indices count from its first vertex.
 #[derive(Debug, Clone, Copy)]
@@ -488,6 +539,7 @@ pub struct Group<'a> {
     pub colour: u16,
 }
 
+#[cfg(any(feature = "textures", test))]
 impl Group<'_> {
     /// Number of vertices.
     pub fn vertex_count(&self) -> u32 {
