@@ -14,7 +14,7 @@ use crate::shade::smooth::Smooth;
 use crate::shade::{Shading, Surface};
 use crate::tree::{build, BuildOptions, DisplayTree, TreeStats};
 use crate::write::format::polygon_flags;
-use peel_runtime::read::layout::NO_TEXTURE;
+use peel_runtime::read::layout::{MAX_TEXTURES, NO_TEXTURE};
 
 /// Everything a compile can be asked.
 #[derive(Debug, Clone, Default)]
@@ -72,6 +72,13 @@ pub fn compile_mesh(
     progress: &(dyn Fn(u64) + Sync),
 ) -> Result<(DisplayTree, Vec<u8>), CompileError> {
     options.shading.check()?;
+    if mesh.textures.len() > MAX_TEXTURES as usize {
+        return Err(CompileError::TooManyTextures {
+            path: mesh.files.first().cloned().unwrap_or_default(),
+            count: mesh.textures.len(),
+            max: MAX_TEXTURES,
+        });
+    }
     let tree = build(mesh, &options.build, progress)?;
     let input = crate::write::WriteInput {
         ids: options.ids,
@@ -87,7 +94,7 @@ pub fn compile_mesh(
     } else {
         (tree.polygons.iter())
             .map(|p| match mesh.triangles[p.source as usize].texture {
-                // The load holds at most `MAX_TEXTURES`.
+                // At most `MAX_TEXTURES` (checked above): below `NO_TEXTURE`.
                 Some(t) => t.texture as u8,
                 None => NO_TEXTURE,
             })
@@ -522,6 +529,23 @@ mod tests {
             matches!(e, CompileError::PartCount { parts: 0, .. }),
             "{e:?}"
         );
+    }
+
+    /// A mesh made in code is held to the file's limit too: texture indices are bytes.
+    #[test]
+    fn a_mesh_of_more_textures_than_a_file_holds_is_refused() {
+        let mut mesh = crate::tools::scenes::textured(crate::tools::scenes::box_grid(1), 0, |_| {
+            [glam::DVec2::ZERO; 3]
+        });
+        let one = mesh.textures[0].clone();
+        mesh.textures = vec![one; MAX_TEXTURES as usize + 1];
+        let e = compile_mesh(&mesh, &CompileOptions::default(), &|_| {}).unwrap_err();
+        assert!(
+            matches!(e, CompileError::TooManyTextures { count: 256, .. }),
+            "{e:?}"
+        );
+        mesh.textures.pop();
+        assert!(compile_mesh(&mesh, &CompileOptions::default(), &|_| {}).is_ok());
     }
 
     #[test]

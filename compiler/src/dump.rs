@@ -4,7 +4,7 @@
 use std::fmt::Write as _;
 
 use peel_runtime::pending::PendingPixel;
-use peel_runtime::read::layout::{header_flags, polygon_flags};
+use peel_runtime::read::layout::{header_flags, polygon_flags, texture_flags, TEXEL_SIZE};
 use peel_runtime::read::{Node, Scene};
 use peel_runtime::scan::ScanNode;
 use peel_runtime::vertices::CachedVertex;
@@ -16,8 +16,25 @@ use crate::builder::sizes::FrameMemory;
 /// Decimals of every float in the dump: fixed, so that snapshots are stable.
 const DECIMALS: usize = 6;
 
+/// One texture of a file, for `peel inspect`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+pub struct InspectTexture {
+    /// Width in texels.
+    pub width: u32,
+    /// Height in texels.
+    pub height: u32,
+    /// The colours of its palette (0: RGB565 texels).
+    pub palette_colours: u32,
+    /// Columns past the edges take the edge column (else it repeats across `s`).
+    pub clamp_s: bool,
+    /// Rows past the edges take the edge row (else it repeats across `t`).
+    pub clamp_t: bool,
+    /// Its bytes in the file (palette and texels).
+    pub bytes: u64,
+}
+
 /// Counters of `peel inspect`.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Inspect {
     /// The file's format version.
     pub format_version: u16,
@@ -42,6 +59,12 @@ pub struct Inspect {
     pub smooth_polygons: u64,
     /// Polygons that bound solids (`peel compile --solid`): skipped when seen from behind.
     pub solid_polygons: u64,
+    /// Polygons drawn with a texture.
+    pub textured_polygons: u64,
+    /// The textures, in file order (none in a file without textures).
+    pub textures: Vec<InspectTexture>,
+    /// The textures' bytes together (their palettes and texels).
+    pub texture_bytes: u64,
     /// World position of the centre of the scene's bounding box (what a framing camera looks
     /// at).
     pub centre: [f64; 3],
@@ -71,6 +94,9 @@ pub fn inspect(bytes: &[u8]) -> Result<Inspect, ReadError> {
     let convex_nodes = (0..header.node_count)
         .filter(|&i| matches!(scene.node(i), Node::Convex { .. }))
         .count() as u64;
+    let textures: Vec<InspectTexture> = (0..scene.texture_count())
+        .filter_map(|k| inspect_texture(&scene, k))
+        .collect();
     Ok(Inspect {
         format_version: header.version,
         output_polygons: header.polygon_count.into(),
@@ -90,6 +116,11 @@ pub fn inspect(bytes: &[u8]) -> Result<Inspect, ReadError> {
                 scene.polygon(p).flags & inside != 0
             })
             .count() as u64,
+        textured_polygons: (0..header.polygon_count)
+            .filter(|&p| scene.polygon_texture(p).is_some())
+            .count() as u64,
+        texture_bytes: textures.iter().map(|t| t.bytes).sum(),
+        textures,
         centre: (origin + (lo + hi) * 0.5).to_array(),
         bounds_min: (origin + lo).to_array(),
         bounds_max: (origin + hi).to_array(),
@@ -98,6 +129,19 @@ pub fn inspect(bytes: &[u8]) -> Result<Inspect, ReadError> {
         node_bounds: header.bounds_count.into(),
         bytes: bytes.len() as u64,
         frame_memory: FrameMemory::of(&header, None),
+    })
+}
+
+/// Texture `k` of `scene`, for `peel inspect` and `peel dump`.
+fn inspect_texture(scene: &Scene<'_>, k: u32) -> Option<InspectTexture> {
+    let t = scene.texture(k)?;
+    Some(InspectTexture {
+        width: 1 << t.log2_width,
+        height: 1 << t.log2_height,
+        palette_colours: (t.colours.len() / TEXEL_SIZE) as u32,
+        clamp_s: t.flags & texture_flags::CLAMP_S != 0,
+        clamp_t: t.flags & texture_flags::CLAMP_T != 0,
+        bytes: (t.colours.len() + t.texels.len()) as u64,
     })
 }
 
@@ -134,15 +178,41 @@ pub fn inspect_text(info: &Inspect) -> String {
     line("ids", info.ids.to_string());
     line("smooth_polygons", info.smooth_polygons.to_string());
     line("solid_polygons", info.solid_polygons.to_string());
+    line("textured_polygons", info.textured_polygons.to_string());
     line("centre", triple(info.centre));
     line("bounds_min", triple(info.bounds_min));
     line("bounds_max", triple(info.bounds_max));
     line("radius", fixed(info.radius));
     line("palette_colours", info.palette_colours.to_string());
     line("node_bounds", info.node_bounds.to_string());
+    // The count, then a line per texture.
+    let listed: String = (info.textures.iter())
+        .map(|t| format!("\n  - {}", texture_text(t)))
+        .collect();
+    line("textures", format!("{}{listed}", info.textures.len()));
+    line("texture_bytes", info.texture_bytes.to_string());
     line("bytes", info.bytes.to_string());
     frame_memory_lines(&mut out, &info.frame_memory, "");
     out
+}
+
+/// A texture in a line: `256x128, palette of 12 colours, clamp s and t, 32792 bytes`.
+fn texture_text(t: &InspectTexture) -> String {
+    let texels = match t.palette_colours {
+        0 => "RGB565".to_string(),
+        1 => "palette of 1 colour".to_string(),
+        n => format!("palette of {n} colours"),
+    };
+    let wrap = match (t.clamp_s, t.clamp_t) {
+        (false, false) => "repeats",
+        (true, true) => "clamp s and t",
+        (true, false) => "clamp s",
+        (false, true) => "clamp t",
+    };
+    format!(
+        "{}x{}, {texels}, {wrap}, {} bytes",
+        t.width, t.height, t.bytes
+    )
 }
 
 /// The frame memory lines of `peel inspect` (the heading, then the figures with their bytes),
@@ -316,7 +386,9 @@ enum Item {
 /// coordinate that follows, where `peel inspect`'s is the box's centre in world coordinates;
 /// both with six decimals), the split planes, then the tree as nested nodes
 /// with their polygons (flags, colour, the exterior side's colour where it differs, id if
-/// present, vertices, and a smooth polygon's vertices' shades `[front, back]`); subtrees nested deeper
+/// present, vertices, a smooth polygon's vertices' shades `[front, back]`, a textured
+/// polygon's texture and its vertices' coordinates `[s, t]`; the textures themselves are
+/// listed after the header, one line each); subtrees nested deeper
 /// than `MAX_INDENT` (256 spaces) follow in a `subtrees` list, in the order they are referred to.
 pub fn dump_yaml(bytes: &[u8]) -> Result<String, ReadError> {
     let scene = Scene::parse(bytes)?;
@@ -332,6 +404,7 @@ pub fn dump_yaml(bytes: &[u8]) -> Result<String, ReadError> {
         (h.flags & header_flags::MEDIUM != 0, "medium"),
         (h.flags & header_flags::TWO_COLOURS != 0, "two_colours"),
         (h.flags & header_flags::SHADES != 0, "shades"),
+        (h.flags & header_flags::TEXTURES != 0, "textures"),
     ]);
     // Writing into a String cannot fail.
     let _ = writeln!(
@@ -354,6 +427,14 @@ pub fn dump_yaml(bytes: &[u8]) -> Result<String, ReadError> {
         h.palette_count,
         h.bounds_count,
     );
+    if scene.texture_count() > 0 {
+        out.push_str("textures:\n");
+        for k in 0..scene.texture_count() {
+            if let Some(t) = inspect_texture(&scene, k) {
+                let _ = writeln!(out, "  - {}  # {k}", texture_text(&t));
+            }
+        }
+    }
     if h.plane_count == 0 {
         out.push_str("split_planes: []\n");
     } else {
@@ -476,6 +557,24 @@ fn write_polygon(out: &mut String, scene: &Scene<'_>, p: u32, indent: usize) {
             f32_triple(scene.polygon_vertex(&polygon, k))
         );
     }
+    if let Some(texture) = scene.polygon_texture(p) {
+        // The texture's index: the one whose texels these are.
+        let k = (0..scene.texture_count()).find(|&k| {
+            scene
+                .texture(k)
+                .is_some_and(|t| t.texels.as_ptr() == texture.texels.as_ptr())
+        });
+        let uvs: Vec<String> = (0..u32::from(polygon.vertex_count))
+            .map(|k| {
+                let v = scene.polygon_vertex_index(&polygon, k).unwrap_or(u32::MAX);
+                let [s, t] = scene.vertex_uv(v);
+                format!("[{s}, {t}]")
+            })
+            .collect();
+        let k = k.map_or_else(|| "null".to_string(), |k| k.to_string());
+        let _ = writeln!(out, "{:inner$}texture: {k}", "");
+        let _ = writeln!(out, "{:inner$}uvs: [{}]", "", uvs.join(", "));
+    }
     if polygon.flags & polygon_flags::SMOOTH != 0 {
         // Each vertex's intensities, [front, back] of the source triangle.
         let shades: Vec<String> = (0..u32::from(polygon.vertex_count))
@@ -586,6 +685,9 @@ mod tests {
             ids: true,
             smooth_polygons: 0,
             solid_polygons: 0,
+            textured_polygons: 0,
+            textures: Vec::new(),
+            texture_bytes: 0,
             centre: (origin + (lo + hi) * 0.5).to_array(),
             bounds_min: (origin + lo).to_array(),
             bounds_max: (origin + hi).to_array(),
@@ -605,6 +707,55 @@ mod tests {
             },
         };
         assert_eq!(info, expected);
+    }
+
+    /// A box whose faces are textured but one: the texture listed once, the textured polygons
+    /// counted, each with its texture and its vertices' coordinates in the dump.
+    #[test]
+    fn a_textured_file_lists_its_textures() {
+        use crate::compile::{compile_mesh, CompileOptions};
+        use crate::tools::scenes;
+        let mut mesh = scenes::textured(scenes::box_grid(1), 2, |t| {
+            t.map(|p| glam::DVec2::new(p.x + p.z, p.y))
+        });
+        mesh.triangles[0].texture = None;
+        let bytes = compile_mesh(&mesh, &CompileOptions::default(), &|_| {})
+            .unwrap()
+            .1;
+        let info = inspect(&bytes).unwrap();
+        assert_eq!(info.format_version, 6);
+        assert_eq!(info.textured_polygons, info.output_polygons - 1);
+        let checkerboard = InspectTexture {
+            width: 4,
+            height: 4,
+            palette_colours: 2,
+            clamp_s: false,
+            clamp_t: false,
+            bytes: 4 + 16,
+        };
+        assert_eq!(
+            (info.textures.as_slice(), info.texture_bytes),
+            (&[checkerboard][..], 20)
+        );
+        let text = inspect_text(&info);
+        assert!(
+            text.contains("textures: 1\n  - 4x4, palette of 2 colours, repeats, 20 bytes\n"),
+            "{text}"
+        );
+        let yaml = dump_yaml(&bytes).unwrap();
+        assert!(
+            yaml.contains("\ntextures:\n  - 4x4, palette of 2 colours, repeats, 20 bytes  # 0\n"),
+            "{yaml}"
+        );
+        assert_eq!(
+            yaml.matches("texture: 0\n").count() as u64,
+            info.textured_polygons,
+            "{yaml}"
+        );
+        assert_eq!(
+            yaml.matches("uvs: [[").count() as u64,
+            info.textured_polygons
+        );
     }
 
     #[test]

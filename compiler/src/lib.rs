@@ -4,7 +4,8 @@
 //! triangles) -> `quantise` (power-of-two integer grid) -> `planes` (exact integer planes and
 //! predicates) -> `peel` (convex-hull layers) / `split` (exact cuts and the choice of the
 //! splitting plane) -> `tree` (the display tree and its invariants) -> `shade` (baked Lambert
-//! colours) -> `write` (the `.peel` bytes, written atomically).
+//! colours) and `texture` (texture coordinates) -> `write` (the `.peel` bytes, written
+//! atomically).
 //!
 //! The public API is what a build script or a tool needs: [`Builder`] (compile an OBJ from
 //! `build.rs`), [`compile`] and [`load`] (the whole compile in one call, of a file or of a

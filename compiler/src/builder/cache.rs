@@ -19,8 +19,8 @@
 //!   absolute path;
 //! - the OBJ's bytes;
 //! - each object of a scene of parts: its name, its paths and its bytes, as the OBJ's;
-//! - each MTL file read: its bytes now must be those the entry was compiled from; and each MTL
-//!   file that was named but missing must still be missing.
+//! - each MTL file and texture image read: its bytes now must be those the entry was compiled
+//!   from; and each MTL file that was named but missing must still be missing.
 //!
 //! Entries are files named by a hash of the options and the OBJ's paths (one entry per asset
 //! and option set: a changed asset replaces its entry, the folder does not grow with edits).
@@ -265,7 +265,7 @@ pub fn encode_options(options: &CompileOptions, out: &mut Vec<u8>) {
 /// A compile, as the cache keeps it.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct Entry {
-    /// The MTL files read and their bytes.
+    /// The MTL files and texture images read, and their bytes.
     pub mtl: Vec<(PathBuf, Vec<u8>)>,
     /// MTL files named but missing.
     pub missing: Vec<PathBuf>,
@@ -286,7 +286,7 @@ pub enum Miss {
     Corrupt,
     /// The entry was made by another compiler, or from other OBJ bytes.
     Stale,
-    /// An MTL file changed, appeared or can no longer be read.
+    /// An MTL file or texture image changed, appeared or can no longer be read.
     MtlChanged,
 }
 
@@ -298,7 +298,7 @@ impl Miss {
             Miss::Unreadable => "entry unreadable",
             Miss::Corrupt => "entry corrupt, replaced",
             Miss::Stale => "entry from another compiler or other OBJ bytes, replaced",
-            Miss::MtlChanged => "an MTL file changed, entry replaced",
+            Miss::MtlChanged => "an MTL file or texture changed, entry replaced",
         }
     }
 }

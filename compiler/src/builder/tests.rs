@@ -288,6 +288,48 @@ fn an_edited_obj_or_mtl_or_a_new_mtl_is_compiled_again() {
     assert_eq!(entries(dir.path()).len(), 1);
 }
 
+/// A texture image is one of the files a compile read: watched, and an edit of it compiles
+/// again.
+#[cfg(feature = "textures")]
+#[test]
+fn an_edited_texture_is_compiled_again() {
+    let dir = tempfile::tempdir().unwrap();
+    let obj = write(
+        dir.path(),
+        "t.obj",
+        "mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 0 1\nusemtl tex\n\
+         f 1/1 2/2 3/3\n",
+    );
+    write(dir.path(), "m.mtl", "newmtl tex\nmap_Kd t.png\n");
+    let image = dir.path().join("t.png");
+    let png = |rgb: [u8; 3]| {
+        image::RgbImage::from_pixel(2, 2, image::Rgb(rgb))
+            .save(&image)
+            .unwrap()
+    };
+    png([255, 0, 0]);
+    let b = builder(dir.path(), &obj);
+    let bytes = fs::read(&obj).unwrap();
+    let run = || {
+        b.cached_compile(bytes.clone(), Vec::new(), Instant::now())
+            .unwrap()
+    };
+    let red = run();
+    assert!(!red.from_cache);
+    assert!(red.mtl_files.contains(&image), "{:?}", red.mtl_files);
+    assert!(watched(&red.mtl_files, &[]).contains(&image));
+    assert!(run().from_cache);
+    png([0, 0, 255]);
+    let blue = run();
+    assert!(
+        !blue.from_cache && blue.note.contains("texture"),
+        "{}",
+        blue.note
+    );
+    assert_ne!(blue.entry.peel, red.entry.peel);
+    assert!(run().from_cache);
+}
+
 #[test]
 fn the_cache_folder_is_in_the_target_directory_for_every_profile_and_target() {
     let target = Path::new("/work/project/target");

@@ -204,10 +204,11 @@ fn copy_vertices<'t>(
     // An untextured polygon takes the coordinates of the first textured use with the shades
     // it takes, else of the first textured use; a flat textured one the shades of the first
     // smooth use with its coordinates, else those of `first`.
-    let mut first_uv: Vec<Option<[i32; 2]>> = vec![None; tree.vertices.len()];
+    let mut first_uv: Vec<Option<[i32; 2]>> =
+        vec![None; tree.vertices.len() * usize::from(textured_any)];
     let mut uv_by_shade: FastMap<(u32, [u8; 2]), [i32; 2]> = FastMap::default();
     let mut shade_by_uv: FastMap<(u32, [i32; 2]), [u8; 2]> = FastMap::default();
-    for (i, p) in tree.polygons.iter().enumerate() {
+    for (i, p) in (tree.polygons.iter().enumerate()).filter(|_| textured_any) {
         for (k, &v) in p.vertices.iter().enumerate() {
             if let Some(uv) = uv(i, k) {
                 first_uv[v as usize].get_or_insert(uv);
@@ -227,11 +228,13 @@ fn copy_vertices<'t>(
                 .or(first[v as usize])
                 .unwrap_or([0; 2])
         });
-        let uv = uv.unwrap_or_else(|| {
-            (uv_by_shade.get(&(v, shades)).copied())
-                .or(first_uv[v as usize])
-                .unwrap_or([0; 2])
-        });
+        let uv = match uv {
+            Some(uv) => uv,
+            None if textured_any => (uv_by_shade.get(&(v, shades)).copied())
+                .or_else(|| first_uv[v as usize])
+                .unwrap_or([0; 2]),
+            None => [0; 2],
+        };
         (v, shades, uv)
     };
     let mut copies: FastMap<(u32, [u8; 2], [i32; 2]), u32> = FastMap::default();

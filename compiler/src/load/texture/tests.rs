@@ -262,6 +262,50 @@ fn sides_that_cannot_be_stored_are_resampled_or_refused() {
     }
 }
 
+/// 256 materials, each with its own image and a face: one texture more than a file holds.
+#[cfg(feature = "textures")]
+#[test]
+fn more_textures_than_a_file_holds_are_an_error() {
+    let dir = tempfile::tempdir().unwrap();
+    let (mut obj, mut mtl) = (
+        "mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\n".to_string(),
+        String::new(),
+    );
+    for k in 0..256 {
+        obj += &format!("usemtl m{k}\nf 1/1 2/1 3/1\n");
+        mtl += &format!("newmtl m{k}\nmap_Kd t{k}.png\n");
+        png(&dir.path().join(format!("t{k}.png")), 1, 1, |_, _| {
+            [k as u8, 0, 0]
+        });
+    }
+    fs::write(dir.path().join("m.obj"), &obj).unwrap();
+    fs::write(dir.path().join("m.mtl"), &mtl).unwrap();
+    let e = load_obj(&dir.path().join("m.obj")).unwrap_err();
+    assert!(
+        matches!(
+            e,
+            CompileError::TooManyTextures {
+                count: 256,
+                max: 255,
+                ..
+            }
+        ),
+        "{e:?}"
+    );
+    assert!(
+        e.to_string()
+            .contains("m.obj: the faces use 256 textures: a file holds at most 255"),
+        "{e}"
+    );
+    // 255 of them fit.
+    let obj = obj.replace("usemtl m255\nf 1/1 2/1 3/1\n", "");
+    fs::write(dir.path().join("m.obj"), &obj).unwrap();
+    assert_eq!(
+        load_obj(&dir.path().join("m.obj")).unwrap().textures.len(),
+        255
+    );
+}
+
 #[cfg(feature = "textures")]
 #[test]
 fn a_jpeg_is_decoded_too() {
