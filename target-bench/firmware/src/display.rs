@@ -17,7 +17,9 @@
 //!   `draw_iter`). The builds that draw smooth files stream through [`PanelSink`]: a flat span
 //!   is the same `fill_solid`, a shaded span one window and one burst of its pixels, each
 //!   computed as it is sent and dithered to RGB565 as [`dither_rgb565`] does (what the
-//!   runtime's RGB565 framebuffer stores), not a window per run of one colour.
+//!   runtime's RGB565 framebuffer stores), not a window per run of one colour; the build
+//!   with textures sends a textured span the same way, each pixel its texel (times the
+//!   polygon's colour) in RGB565.
 //!
 //! Every window set-up is charged in full (11 bytes: mipidsi 0.10 does not remember the
 //! panel's window). `display_writes` counts the driver's separate writes, each its own
@@ -35,6 +37,8 @@ use embedded_graphics_core::Pixel;
 use peel_runtime::display::Rgb565Framebuffer;
 #[cfg(all(feature = "smooth", not(feature = "scan")))]
 use peel_runtime::display::{dither_rgb565, Colour, RowShade, SpanSink};
+#[cfg(all(feature = "textures", feature = "smooth", not(feature = "scan")))]
+use peel_runtime::display::{Filter, Modulation, RowTexture};
 
 /// Bytes of CASET (the window's columns): command and two 16-bit columns.
 const CASET_BYTES: u64 = 5;
@@ -195,6 +199,32 @@ impl Panel {
         }
     }
 
+    /// One textured span of row `y`, columns `x_start..x_end` (clipped to the panel): one
+    /// window and one burst of its pixels, two writes, as [`Panel::shaded_span`]. Pixel `x` is
+    /// `texture.at(x)` in RGB565 as the runtime's RGB565 framebuffer stores it (unlit nearest
+    /// texels as they are, a run at a time), computed as it is sent.
+    #[cfg(all(feature = "textures", feature = "smooth", not(feature = "scan")))]
+    #[inline(never)]
+    pub fn textured_span(&mut self, y: u32, x_start: u32, x_end: u32, texture: &RowTexture<'_>) {
+        let x_end = x_end.min(self.width);
+        if y >= self.height || x_start >= x_end {
+            return;
+        }
+        let n = (x_end - x_start) as usize;
+        self.count(n as u64);
+        let at = (y * self.width + x_start) as usize;
+        let Some(run) = self.memory.get_mut(at..at + n) else {
+            return;
+        };
+        if texture.modulation == Modulation::None && texture.filter == Filter::Nearest {
+            texture.texels(x_start).fill(run);
+        } else {
+            for (slot, colour) in run.iter_mut().zip(texture.colours(x_start)) {
+                *slot = colour.to_rgb565();
+            }
+        }
+    }
+
     /// Count a `DrawTarget` write of `pixels` pixels: the window set-up and the pixels, two
     /// writes.
     fn count(&mut self, pixels: u64) {
@@ -276,7 +306,8 @@ impl DrawTarget for Panel {
 
 /// The streamed builds' sink when they draw smooth files: a flat span as
 /// `DrawTargetSink` sends it (one `fill_solid`, its colour converted once per polygon), a
-/// shaded span as one window and one burst of dithered pixels ([`Panel::shaded_span`]).
+/// shaded span as one window and one burst of dithered pixels ([`Panel::shaded_span`]), and
+/// in the build with textures a textured span likewise ([`Panel::textured_span`]).
 #[cfg(all(feature = "smooth", not(feature = "scan")))]
 pub struct PanelSink<'a> {
     panel: &'a mut Panel,
@@ -324,5 +355,10 @@ impl SpanSink for PanelSink<'_> {
 
     fn shaded_span(&mut self, y: u32, x_start: u32, x_end: u32, shade: &RowShade) {
         self.panel.shaded_span(y, x_start, x_end, shade);
+    }
+
+    #[cfg(feature = "textures")]
+    fn textured_span(&mut self, y: u32, x_start: u32, x_end: u32, texture: &RowTexture<'_>) {
+        self.panel.textured_span(y, x_start, x_end, texture);
     }
 }

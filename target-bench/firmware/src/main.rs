@@ -52,6 +52,13 @@ macro_rules! variant {
 #[cfg(all(feature = "objects", not(feature = "ftb-stream")))]
 compile_error!("the objects feature goes with ftb-stream only");
 
+// Textures are drawn by the streamed build (its panel sink) and by embedded-3dgfx alone.
+#[cfg(all(
+    feature = "textures",
+    not(any(feature = "ftb-stream", feature = "embedded-3dgfx"))
+))]
+compile_error!("the textures feature goes with ftb-stream or embedded-3dgfx only");
+
 variant!(
     "ftb-framebuffer" => FtbFramebuffer,
     "ftb-stream" => FtbStream,

@@ -31,6 +31,12 @@ pub enum Use {
     /// The renderer's workspace (the streamed build's, which draws objects too).
     #[cfg(feature = "objects")]
     Workspace,
+    /// embedded-3dgfx's meshes of a textured scene (one a group), in the build with textures.
+    #[cfg(all(feature = "textures", feature = "embedded-3dgfx"))]
+    Meshes,
+    /// embedded-3dgfx's texture manager, in the build with textures.
+    #[cfg(all(feature = "textures", feature = "embedded-3dgfx"))]
+    Textures,
     /// Pending-pixel records (anti-aliased frames; in that build only, like their names).
     #[cfg(feature = "aa")]
     PendingRecords,
@@ -54,6 +60,10 @@ impl core::fmt::Display for Use {
             Use::ObjectMemory => "object memory",
             #[cfg(feature = "objects")]
             Use::Workspace => "renderer workspace",
+            #[cfg(all(feature = "textures", feature = "embedded-3dgfx"))]
+            Use::Meshes => "embedded-3dgfx meshes",
+            #[cfg(all(feature = "textures", feature = "embedded-3dgfx"))]
+            Use::Textures => "embedded-3dgfx texture manager",
             #[cfg(feature = "aa")]
             Use::PendingRecords => "pending-pixel records",
             #[cfg(feature = "aa")]
@@ -159,8 +169,12 @@ impl Pool {
         Ok(unsafe { core::slice::from_raw_parts_mut(first, n) })
     }
 
-    /// `value` moved into the pool (object memory, a workspace), aligned for `T` as [`Pool::filled`] is.
-    #[cfg(feature = "objects")]
+    /// `value` moved into the pool (object memory, a workspace, embedded-3dgfx's texture
+    /// manager), aligned for `T` as [`Pool::filled`] is.
+    #[cfg(any(
+        feature = "objects",
+        all(feature = "textures", feature = "embedded-3dgfx")
+    ))]
     pub fn value<T>(&mut self, value: T, what: Use) -> Result<&'static mut T, Failure> {
         const { assert!(core::mem::align_of::<T>() <= 8 && core::mem::size_of::<T>() > 0) };
         let misaligned = !(self.free.as_ptr() as usize).is_multiple_of(core::mem::align_of::<T>());
@@ -175,6 +189,32 @@ impl Pool {
             at.write(value);
             Ok(&mut *at)
         }
+    }
+
+    /// `n` values, the `k`-th `make(k)` (embedded-3dgfx's meshes), aligned for `T` as
+    /// [`Pool::filled`] is; `make`'s error, if any, after the values before it were made.
+    #[cfg(all(feature = "textures", feature = "embedded-3dgfx"))]
+    pub fn made<T>(
+        &mut self,
+        n: usize,
+        mut make: impl FnMut(usize) -> Result<T, Failure>,
+        what: Use,
+    ) -> Result<&'static mut [T], Failure> {
+        const { assert!(core::mem::align_of::<T>() <= 8 && core::mem::size_of::<T>() > 0) };
+        let misaligned = !(self.free.as_ptr() as usize).is_multiple_of(core::mem::align_of::<T>());
+        if misaligned {
+            self.words(1, what)?;
+        }
+        let words = self.words((n * core::mem::size_of::<T>()).div_ceil(4), what)?;
+        let first = words.as_mut_ptr().cast::<T>();
+        for k in 0..n {
+            // SAFETY: the words are ours for good and hold `n` values of `T` from `first`,
+            // which is aligned for `T` (checked above; the pool's words are 4-aligned). On an
+            // error the values made are never read (nor dropped: the words stay taken).
+            unsafe { first.add(k).write(make(k)?) };
+        }
+        // SAFETY: as above, and every element was just written.
+        Ok(unsafe { core::slice::from_raw_parts_mut(first, n) })
     }
 
     /// Bytes handed out.

@@ -18,29 +18,53 @@
 //! | 16 | centre (3 x f64) |
 //! | 40, 52 | bounds min, max relative to the centre, unscaled (3 x f32 each) |
 //! | 64 | scale: library units per scene unit (f32, a power of two) |
-//! | 68 | the mesh's one RGB565 colour (u16), then [`VERTEX_NORMALS`] or 0 (u16) |
+//! | 68 | the mesh's one RGB565 colour (u16), then its flags (u16): [`VERTEX_NORMALS`], [`TEXTURED`] |
 //! | 72 | vertices relative to the centre, scaled (3 x f32 each) |
 //! | then | faces: three vertex indices (3 x u32 each: the target's `usize`) |
 //! | then | unit face normals (3 x f32 each), one per face |
 //! | then | with [`VERTEX_NORMALS`]: unit vertex normals (3 x f32 each), one per vertex |
+//! | then | with [`TEXTURED`]: texture coordinates (2 x f32 each), one per vertex |
+//! | then | with [`TEXTURED`]: the group count (u32), then [`GROUP`] bytes a group |
+//! | then | with [`TEXTURED`]: texture count T and texel bytes D (u32 each), T texture records of the `.peel` format (8 bytes each), D texel bytes, zeros to a multiple of 4 |
 //!
 //! A smooth scene ([`encode_smooth`]) has vertex normals, for the library's Gouraud mode
 //! (`GouraudLightDir`, one normal per vertex): a vertex is then a point with one of its
 //! corners' normals, a point with several (a crease) being several vertices.
 //!
+//! A textured scene ([`encode_textured`]) is one mesh of the library per texture and colour (a
+//! `Geometry` has one texture, a `K3dMesh` one colour): a **group**, whose vertices, faces and
+//! normals are consecutive in their sections, its faces' indices counting from its first
+//! vertex. A vertex is a point with one texture coordinate in one group. A group record is six
+//! u32: first vertex, vertex count, first face, face count, texture (or [`NO_TEXTURE`]) and
+//! the material's RGB565 colour. The textures are the `.peel` file's own records and bytes
+//! (RGB565 texels, or a palette and `u8` indices), so they take the same flash.
+//!
 //! Every section starts at a multiple of 4 bytes, so a 4-aligned file is a set of aligned
-//! `[f32; 3]` and `[u32; 3]` arrays.
+//! `[f32; 3]`, `[f32; 2]` and `[u32; 3]` arrays (the texels 2-aligned).
 
 use glam::Vec3;
 use peel_runtime::camera::LocalView;
 use peel_runtime::read::Header;
 
+#[cfg(any(feature = "textures", test))]
+use peel_runtime::read::layout::{texture_bytes, texture_flags, MAX_TEXTURE_LOG2, TEXTURE_SIZE};
+#[cfg(any(feature = "textures", feature = "std", test))]
+use peel_runtime::read::Texture;
+
 use crate::bytes::{f32_at, f64_at, u16_at, u32_at};
 
 /// Format version.
 pub const VERSION: u32 = 2;
-/// The flag of the header's second `u16`: vertex normals follow the face normals.
+/// A flag of the header's second `u16`: vertex normals follow the face normals.
 pub const VERTEX_NORMALS: u16 = 1;
+/// A flag of the header's second `u16`: texture coordinates, groups and textures follow.
+pub const TEXTURED: u16 = 2;
+/// Bytes of a vertex's texture coordinates.
+pub const UV: usize = 8;
+/// Bytes of a group record.
+pub const GROUP: usize = 24;
+/// A group's texture when it has none.
+pub const NO_TEXTURE: u32 = u32::MAX;
 /// The file's first bytes.
 pub const MAGIC: [u8; 4] = *b"PTBG";
 /// Header size.
@@ -69,8 +93,17 @@ pub enum Gfx3dError {
     Empty,
     /// A scale that is not a positive finite number.
     Scale,
-    /// Face `0` names a vertex past the vertex count.
+    /// Face `0` names a vertex past the vertex count (of its group).
     Index(u32),
+    /// Flags this version does not know.
+    Flags(u16),
+    /// Group `0` is not where the previous one ends, or names a missing texture.
+    #[cfg(any(feature = "textures", test))]
+    Group(u32),
+    /// Texture record `0` is not of the `.peel` format, not where the previous one ends, or
+    /// not 2-aligned.
+    #[cfg(any(feature = "textures", test))]
+    Texture(u32),
 }
 
 impl core::fmt::Display for Gfx3dError {
@@ -85,6 +118,13 @@ impl core::fmt::Display for Gfx3dError {
             Gfx3dError::Scale => write!(f, "embedded-3dgfx scene with an unusable scale"),
             Gfx3dError::Index(t) => {
                 write!(f, "embedded-3dgfx scene face {t} names a missing vertex")
+            }
+            Gfx3dError::Flags(flags) => write!(f, "embedded-3dgfx scene flags {flags:#06x}"),
+            #[cfg(any(feature = "textures", test))]
+            Gfx3dError::Group(g) => write!(f, "embedded-3dgfx scene group {g} is malformed"),
+            #[cfg(any(feature = "textures", test))]
+            Gfx3dError::Texture(k) => {
+                write!(f, "embedded-3dgfx scene texture {k} is malformed")
             }
         }
     }
@@ -107,6 +147,57 @@ pub struct CameraSetup {
     pub far: f32,
 }
 
+/// The flags a scene may have: [`TEXTURED`] only with the `textures` feature (the firmware
+/// builds with textures), so that the other builds hold none of its code.
+const KNOWN_FLAGS: u16 = if cfg!(any(feature = "textures", test)) {
+    VERTEX_NORMALS | TEXTURED
+} else {
+    VERTEX_NORMALS
+};
+
+/// A textured scene's sections ([`TEXTURED`]): coordinates (one per vertex), group records,
+/// texture records and texel bytes.
+#[cfg(any(feature = "textures", test))]
+#[derive(Debug, Clone, Copy, Default)]
+struct Sections<'a> {
+    uvs: &'a [u8],
+    groups: &'a [u8],
+    textures: &'a [u8],
+    texels: &'a [u8],
+    /// Where the texel bytes start in the file.
+    texels_at: usize,
+}
+
+#[cfg(any(feature = "textures", test))]
+impl<'a> Sections<'a> {
+    /// The sections of `bytes` from `start` on, for `nv` vertices.
+    fn parse(bytes: &'a [u8], start: usize, nv: usize) -> Result<Sections<'a>, Gfx3dError> {
+        let take = |start: usize, len: Option<usize>| {
+            let end = len
+                .and_then(|n| n.checked_add(start))
+                .ok_or(Gfx3dError::Truncated)?;
+            Ok::<_, Gfx3dError>((bytes.get(start..end).ok_or(Gfx3dError::Truncated)?, end))
+        };
+        let count = |at| {
+            u32_at(bytes, at)
+                .map(|n| n as usize)
+                .ok_or(Gfx3dError::Truncated)
+        };
+        let (uvs, end) = take(start, nv.checked_mul(UV))?;
+        let (groups, end) = take(end + 4, count(end)?.checked_mul(GROUP))?;
+        let (nt, nd) = (count(end)?, count(end + 4)?);
+        let (textures, end) = take(end + 8, nt.checked_mul(TEXTURE_SIZE))?;
+        let (texels, _) = take(end, Some(nd))?;
+        Ok(Sections {
+            uvs,
+            groups,
+            textures,
+            texels,
+            texels_at: end,
+        })
+    }
+}
+
 /// A validated scene over borrowed bytes.
 #[derive(Debug, Clone, Copy)]
 pub struct Scene<'a> {
@@ -115,6 +206,9 @@ pub struct Scene<'a> {
     normals: &'a [u8],
     /// One per vertex, or none.
     vertex_normals: &'a [u8],
+    /// A textured scene's sections (empty for another).
+    #[cfg(any(feature = "textures", test))]
+    sections: Sections<'a>,
     centre: [f64; 3],
     bounds_min: Vec3,
     bounds_max: Vec3,
@@ -147,10 +241,20 @@ impl<'a> Scene<'a> {
         let (vertices, v_end) = section(HEADER, nv)?;
         let (faces, f_end) = section(v_end, nf)?;
         let (normals, n_end) = section(f_end, nf)?;
-        let (vertex_normals, _) = if u16_at(bytes, 70) == Some(VERTEX_NORMALS) {
+        let flags = u16_at(bytes, 70).ok_or(Gfx3dError::Truncated)?;
+        if flags & !KNOWN_FLAGS != 0 {
+            return Err(Gfx3dError::Flags(flags));
+        }
+        let (vertex_normals, _end) = if flags & VERTEX_NORMALS != 0 {
             section(n_end, nv)?
         } else {
             (&bytes[..0], n_end)
+        };
+        #[cfg(any(feature = "textures", test))]
+        let sections = if flags & TEXTURED != 0 {
+            Sections::parse(bytes, _end, nv)?
+        } else {
+            Sections::default()
         };
         if nv == 0 {
             return Err(Gfx3dError::Empty);
@@ -169,12 +273,19 @@ impl<'a> Scene<'a> {
             faces,
             normals,
             vertex_normals,
+            #[cfg(any(feature = "textures", test))]
+            sections,
             centre: [f(16), f(24), f(32)],
             bounds_min: v(40),
             bounds_max: v(52),
             scale,
             colour: u16_at(bytes, 68).unwrap_or(0),
         };
+        #[cfg(any(feature = "textures", test))]
+        if flags & TEXTURED != 0 {
+            scene.check_textures()?;
+            return Ok(scene);
+        }
         for t in 0..scene.face_count() {
             if scene.face(t).iter().any(|&i| i as usize >= nv) {
                 return Err(Gfx3dError::Index(t));
@@ -222,6 +333,117 @@ impl<'a> Scene<'a> {
     /// Vertex `i`'s unit normal (zeros past the end, or without vertex normals).
     pub fn vertex_normal(&self, i: u32) -> [f32; 3] {
         triple(self.vertex_normals, i).map(f32::from_bits)
+    }
+
+    /// Whether the scene is textured ([`encode_textured`]): drawn as its groups.
+    #[cfg(any(feature = "textures", test))]
+    pub fn textured(&self) -> bool {
+        !self.sections.uvs.is_empty()
+    }
+
+    /// Number of groups (0 for a scene that is not textured).
+    #[cfg(any(feature = "textures", test))]
+    pub fn group_count(&self) -> u32 {
+        (self.sections.groups.len() / GROUP) as u32
+    }
+
+    /// Group `g` of a textured scene (`None` past the end).
+    #[cfg(any(feature = "textures", test))]
+    pub fn group(&self, g: u32) -> Option<Group<'a>> {
+        let at = g as usize * GROUP;
+        let field = |k: usize| u32_at(self.sections.groups, at + 4 * k).map(|n| n as usize);
+        let (v0, nv, f0, nf) = (field(0)?, field(1)?, field(2)?, field(3)?);
+        let texture = field(4)? as u32;
+        Some(Group {
+            vertices: self.vertices.get(v0 * ELEMENT..(v0 + nv) * ELEMENT)?,
+            uvs: self.sections.uvs.get(v0 * UV..(v0 + nv) * UV)?,
+            faces: self.faces.get(f0 * ELEMENT..(f0 + nf) * ELEMENT)?,
+            normals: self.normals.get(f0 * ELEMENT..(f0 + nf) * ELEMENT)?,
+            texture: (texture != NO_TEXTURE).then_some(texture),
+            colour: field(5)? as u16,
+        })
+    }
+
+    /// Number of textures.
+    #[cfg(any(feature = "textures", test))]
+    pub fn texture_count(&self) -> u32 {
+        (self.sections.textures.len() / TEXTURE_SIZE) as u32
+    }
+
+    /// Texture `k`, its bytes in place, as the `.peel` file's reader gives it.
+    #[cfg(any(feature = "textures", test))]
+    pub fn texture(&self, k: u32) -> Option<Texture<'a>> {
+        let at = k as usize * TEXTURE_SIZE;
+        let record = self.sections.textures.get(at..at + TEXTURE_SIZE)?;
+        let (log2_width, log2_height, flags) = (record[0], record[1], record[2]);
+        let colours = if flags & texture_flags::PALETTE != 0 {
+            u32::from(record[3]) + 1
+        } else {
+            0
+        };
+        let start = u32_at(record, 4)? as usize;
+        let size = texture_bytes(log2_width, log2_height, flags, colours);
+        let bytes = self.sections.texels.get(start..start.checked_add(size)?)?;
+        let (colours, texels) = bytes.split_at(colours as usize * 2);
+        Some(Texture {
+            log2_width,
+            log2_height,
+            flags,
+            colours,
+            texels,
+        })
+    }
+
+    /// A textured scene's groups and textures checked: each group where the previous one ends and its faces' indices
+    /// within it, each texture record of the `.peel` format where the previous one ends, its
+    /// RGB565 values 2-aligned in the file.
+    #[cfg(any(feature = "textures", test))]
+    fn check_textures(&self) -> Result<(), Gfx3dError> {
+        let texels_at = self.sections.texels_at;
+        let (mut vertices, mut faces) = (0, 0);
+        for g in 0..self.group_count() {
+            let at = g as usize * GROUP;
+            let field = |k: usize| u32_at(self.sections.groups, at + 4 * k).unwrap_or(0) as usize;
+            let texture = field(4) as u32;
+            if field(0) != vertices
+                || field(2) != faces
+                || (texture != NO_TEXTURE && texture >= self.texture_count())
+            {
+                return Err(Gfx3dError::Group(g));
+            }
+            let group = self.group(g).ok_or(Gfx3dError::Group(g))?;
+            for t in 0..group.face_count() {
+                if group.face(t).iter().any(|&i| i >= group.vertex_count()) {
+                    return Err(Gfx3dError::Index(faces as u32 + t));
+                }
+            }
+            (vertices, faces) = (vertices + field(1), faces + field(3));
+        }
+        if vertices != self.vertex_count() as usize || faces != self.face_count() as usize {
+            return Err(Gfx3dError::Group(self.group_count()));
+        }
+        let mut end = 0;
+        for k in 0..self.texture_count() {
+            let record = &self.sections.textures[k as usize * TEXTURE_SIZE..][..TEXTURE_SIZE];
+            let (log2_width, log2_height, flags) = (record[0], record[1], record[2]);
+            let palette = flags & texture_flags::PALETTE != 0;
+            let offset = u32_at(record, 4).unwrap_or(0) as usize;
+            let ok = log2_width <= MAX_TEXTURE_LOG2
+                && log2_height <= MAX_TEXTURE_LOG2
+                && flags & !texture_flags::KNOWN == 0
+                && (palette || record[3] == 0)
+                && offset == end
+                && (texels_at + offset).is_multiple_of(2);
+            let texture = self
+                .texture(k)
+                .filter(|_| ok)
+                .ok_or(Gfx3dError::Texture(k))?;
+            end += texture.colours.len() + texture.texels.len();
+        }
+        if end != self.sections.texels.len() {
+            return Err(Gfx3dError::Texture(self.texture_count()));
+        }
+        Ok(())
     }
 
     /// Vertex `i`, scaled, relative to the centre (zeros past the end).
@@ -298,6 +520,49 @@ impl<'a> Scene<'a> {
     }
 }
 
+#[cfg(any(feature = "textures", test))]
+/// One group of a textured scene: one mesh of the library, with one texture (or none) and one
+/// colour; its faces' indices count from its first vertex.
+#[derive(Debug, Clone, Copy)]
+pub struct Group<'a> {
+    /// Its vertices' bytes: `[f32; 3]` each, little-endian.
+    pub vertices: &'a [u8],
+    /// Its vertices' texture coordinates: `[f32; 2]` each, `(0, 0)` the image's top left.
+    pub uvs: &'a [u8],
+    /// Its faces' bytes: `[u32; 3]` each, indices into its vertices.
+    pub faces: &'a [u8],
+    /// Its faces' unit normals: `[f32; 3]` each.
+    pub normals: &'a [u8],
+    /// Its texture, or `None`.
+    pub texture: Option<u32>,
+    /// Its material's RGB565 colour.
+    pub colour: u16,
+}
+
+#[cfg(any(feature = "textures", test))]
+impl Group<'_> {
+    /// Number of vertices.
+    pub fn vertex_count(&self) -> u32 {
+        (self.vertices.len() / ELEMENT) as u32
+    }
+
+    /// Number of faces.
+    pub fn face_count(&self) -> u32 {
+        (self.faces.len() / ELEMENT) as u32
+    }
+
+    /// Face `t`'s vertex indices (zeros past the end).
+    pub fn face(&self, t: u32) -> [u32; 3] {
+        triple(self.faces, t)
+    }
+
+    /// Vertex `i`'s texture coordinates (zeros past the end).
+    pub fn uv(&self, i: u32) -> [f32; 2] {
+        let at = i as usize * UV;
+        [0, 4].map(|k| f32_at(self.uvs, at + k).unwrap_or(0.0))
+    }
+}
+
 /// Element `i` of a section of 12-byte elements, as three words.
 fn triple(section: &[u8], i: u32) -> [u32; 3] {
     let at = i as usize * ELEMENT;
@@ -335,22 +600,8 @@ fn encode_with(
     mesh: &crate::mesh::Mesh<'_>,
     corners: Option<&[[[f32; 3]; 3]]>,
 ) -> Option<std::vec::Vec<u8>> {
-    use glam::DVec3;
-    let header = mesh.header();
-    let (lo, hi) = mesh.bounds();
-    let radius = (hi - lo).length() * 0.5;
-    if !radius.is_finite() {
-        return None;
-    }
-    // `radius = m 2^e` with `m` in 0.5..1, so `radius * 2^(14 - e)` lies in 8192..16384.
-    let scale = if radius > 0.0 {
-        libm::ldexpf(1.0, 14 - libm::frexpf(radius).1)
-    } else {
-        1.0
-    };
-    let positions: std::vec::Vec<Vec3> = (0..header.vertex_count)
-        .map(|i| mesh.vertex(i as u16) * scale)
-        .collect();
+    let scale = scale_of(mesh)?;
+    let positions = scaled_positions(mesh, scale);
     // Smooth: one vertex per distinct point and normal, in order of first use.
     let mut vertices: std::vec::Vec<Vec3> = std::vec::Vec::new();
     let mut vertex_normals: std::vec::Vec<[f32; 3]> = std::vec::Vec::new();
@@ -361,15 +612,12 @@ fn encode_with(
     }
     let mut faces = std::vec::Vec::new();
     let mut normals = std::vec::Vec::new();
-    let brightness = |c: u16| ((c >> 11) << 3) + (((c >> 5) & 0x3f) << 2) + ((c & 0x1f) << 3);
     let mut colour: Option<u16> = None;
     for t in 0..mesh.triangle_count() {
         let (corner_ids, rgb) = mesh.triangle(t);
-        let [p, q, s] = corner_ids.map(|i| positions[usize::from(i)].as_dvec3());
-        let n = (q - p).cross(s - p);
-        if n == DVec3::ZERO {
+        let Some(n) = face_normal(&positions, corner_ids) else {
             continue;
-        }
+        };
         if colour.is_none_or(|c| brightness(rgb) > brightness(c)) {
             colour = Some(rgb);
         }
@@ -391,11 +639,209 @@ fn encode_with(
             }
         };
         faces.push(face);
-        normals.push(n.normalize().as_vec3());
+        normals.push(n);
     }
-    let mut out = std::vec::Vec::with_capacity(
-        HEADER + ELEMENT * (vertices.len() + faces.len() + normals.len() + vertex_normals.len()),
-    );
+    let flags = if corners.is_some() { VERTEX_NORMALS } else { 0 };
+    let mut out = start(mesh, &vertices, &faces, scale, colour.unwrap_or(0), flags);
+    end_with(&mut out, &normals, &vertex_normals);
+    Some(out)
+}
+
+/// A triangle's texture for [`encode_textured`]: the texture (its index among the
+/// `.peel` file's) and its corners' coordinates as the library takes them (`(0, 0)` the
+/// image's top left, 1 a whole side: the file's `s` and `t` over `2^16`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CornerTexture {
+    /// The texture.
+    pub texture: u32,
+    /// `(u, v)` per corner, in the order of the triangle's vertices.
+    pub uv: [[f32; 2]; 3],
+}
+
+/// The textured scene's bytes ([`TEXTURED`]): the mesh's faces (exactly degenerate ones left
+/// out, as in [`encode`]) in groups of one texture and colour, in order of first use:
+/// `corners[t]` is triangle `t`'s texture (`None`: untextured) and `colours[t]` its material's
+/// RGB565 colour (which the library lights), `textures` the `.peel` file's textures, stored as
+/// that file stores them. `None` when the bounds are not finite, `corners` or `colours` is not
+/// one per triangle, or a triangle names a texture past `textures`.
+#[cfg(any(feature = "std", test))]
+pub fn encode_textured(
+    mesh: &crate::mesh::Mesh<'_>,
+    corners: &[Option<CornerTexture>],
+    colours: &[u16],
+    textures: &[Texture<'_>],
+) -> Option<std::vec::Vec<u8>> {
+    use std::collections::HashMap;
+    use std::vec::Vec;
+    let n = mesh.triangle_count() as usize;
+    if corners.len() != n || colours.len() != n {
+        return None;
+    }
+    let scale = scale_of(mesh)?;
+    let positions = scaled_positions(mesh, scale);
+    /// A group being made: its key, vertices (with the point they are of), coordinates,
+    /// faces and normals.
+    #[derive(Default)]
+    struct Making {
+        key: (u32, u16),
+        index: HashMap<(u16, [u32; 2]), u32>,
+        vertices: Vec<Vec3>,
+        uvs: Vec<[f32; 2]>,
+        faces: Vec<[u32; 3]>,
+        normals: Vec<Vec3>,
+    }
+    let mut groups: Vec<Making> = Vec::new();
+    for t in 0..mesh.triangle_count() {
+        let (corner_ids, _) = mesh.triangle(t);
+        let Some(normal) = face_normal(&positions, corner_ids) else {
+            continue;
+        };
+        let texture = corners[t as usize];
+        let key = (
+            texture.map_or(NO_TEXTURE, |c| c.texture),
+            colours[t as usize],
+        );
+        if texture.is_some_and(|c| c.texture as usize >= textures.len()) {
+            return None;
+        }
+        let g = match groups.iter().position(|g| g.key == key) {
+            Some(g) => g,
+            None => {
+                groups.push(Making {
+                    key,
+                    ..Making::default()
+                });
+                groups.len() - 1
+            }
+        };
+        let group = &mut groups[g];
+        let mut k = 0;
+        let face = corner_ids.map(|i| {
+            let uv = texture.map_or([0.0; 2], |c| c.uv[k]);
+            k += 1;
+            *group
+                .index
+                .entry((i, uv.map(f32::to_bits)))
+                .or_insert_with(|| {
+                    group.vertices.push(positions[usize::from(i)]);
+                    group.uvs.push(uv);
+                    (group.vertices.len() - 1) as u32
+                })
+        });
+        group.faces.push(face);
+        group.normals.push(normal);
+    }
+    let vertices: Vec<Vec3> = groups.iter().flat_map(|g| g.vertices.clone()).collect();
+    let faces: Vec<[u32; 3]> = groups.iter().flat_map(|g| g.faces.clone()).collect();
+    let normals: Vec<Vec3> = groups.iter().flat_map(|g| g.normals.clone()).collect();
+    let colour = groups.first().map_or(0, |g| g.key.1);
+    let mut out = start(mesh, &vertices, &faces, scale, colour, TEXTURED);
+    end_with(&mut out, &normals, &[]);
+    for g in &groups {
+        for uv in &g.uvs {
+            for c in uv {
+                out.extend_from_slice(&c.to_le_bytes());
+            }
+        }
+    }
+    let word = |out: &mut Vec<u8>, w: usize| out.extend_from_slice(&(w as u32).to_le_bytes());
+    word(&mut out, groups.len());
+    let (mut first_vertex, mut first_face) = (0, 0);
+    for g in &groups {
+        for w in [
+            first_vertex,
+            g.vertices.len(),
+            first_face,
+            g.faces.len(),
+            g.key.0 as usize,
+            usize::from(g.key.1),
+        ] {
+            word(&mut out, w);
+        }
+        first_vertex += g.vertices.len();
+        first_face += g.faces.len();
+    }
+    let texel_bytes: usize = textures
+        .iter()
+        .map(|t| t.colours.len() + t.texels.len())
+        .sum();
+    word(&mut out, textures.len());
+    word(&mut out, texel_bytes);
+    let mut offset = 0;
+    for t in textures {
+        let colours = t.colours.len() / 2;
+        out.extend_from_slice(&[
+            t.log2_width,
+            t.log2_height,
+            t.flags,
+            colours.saturating_sub(1) as u8,
+        ]);
+        word(&mut out, offset);
+        offset += t.colours.len() + t.texels.len();
+    }
+    for t in textures {
+        out.extend_from_slice(t.colours);
+        out.extend_from_slice(t.texels);
+    }
+    out.resize(out.len().next_multiple_of(4), 0);
+    Some(out)
+}
+
+/// Library units per scene unit: a power of two that puts the scene's radius in
+/// [`RADIUS`]`..2 * RADIUS`; `None` when the bounds are not finite.
+#[cfg(any(feature = "std", test))]
+fn scale_of(mesh: &crate::mesh::Mesh<'_>) -> Option<f32> {
+    let (lo, hi) = mesh.bounds();
+    let radius = (hi - lo).length() * 0.5;
+    if !radius.is_finite() {
+        return None;
+    }
+    // `radius = m 2^e` with `m` in 0.5..1, so `radius * 2^(14 - e)` lies in 8192..16384.
+    Some(if radius > 0.0 {
+        libm::ldexpf(1.0, 14 - libm::frexpf(radius).1)
+    } else {
+        1.0
+    })
+}
+
+/// The mesh's vertices times `scale`.
+#[cfg(any(feature = "std", test))]
+fn scaled_positions(mesh: &crate::mesh::Mesh<'_>, scale: f32) -> std::vec::Vec<Vec3> {
+    (0..mesh.header().vertex_count)
+        .map(|i| mesh.vertex(i as u16) * scale)
+        .collect()
+}
+
+/// The unit normal of the triangle `corners` of `positions`; `None` when it is exactly
+/// degenerate.
+#[cfg(any(feature = "std", test))]
+fn face_normal(positions: &[Vec3], corners: [u16; 3]) -> Option<Vec3> {
+    let [p, q, s] = corners.map(|i| positions[usize::from(i)].as_dvec3());
+    let n = (q - p).cross(s - p);
+    (n != glam::DVec3::ZERO).then(|| n.normalize().as_vec3())
+}
+
+/// Red, green and blue of an RGB565 colour summed at 8 bits each.
+#[cfg(any(feature = "std", test))]
+fn brightness(c: u16) -> u16 {
+    ((c >> 11) << 3) + (((c >> 5) & 0x3f) << 2) + ((c & 0x1f) << 3)
+}
+
+/// The header, `vertices` and `faces` of a scene of `mesh` at `scale` with `colour` and
+/// `flags`.
+#[cfg(any(feature = "std", test))]
+fn start(
+    mesh: &crate::mesh::Mesh<'_>,
+    vertices: &[Vec3],
+    faces: &[[u32; 3]],
+    scale: f32,
+    colour: u16,
+    flags: u16,
+) -> std::vec::Vec<u8> {
+    let header = mesh.header();
+    let (lo, hi) = mesh.bounds();
+    let mut out =
+        std::vec::Vec::with_capacity(HEADER + ELEMENT * 3 * (vertices.len() + faces.len()));
     out.extend_from_slice(&MAGIC);
     out.extend_from_slice(&VERSION.to_le_bytes());
     out.extend_from_slice(&(vertices.len() as u32).to_le_bytes());
@@ -403,31 +849,38 @@ fn encode_with(
     for c in header.centre {
         out.extend_from_slice(&c.to_le_bytes());
     }
-    let words = |out: &mut std::vec::Vec<u8>, v: [u32; 3]| {
-        for w in v {
-            out.extend_from_slice(&w.to_le_bytes());
-        }
-    };
     for v in [lo, hi] {
         words(&mut out, v.to_array().map(f32::to_bits));
     }
     out.extend_from_slice(&scale.to_le_bytes());
-    out.extend_from_slice(&colour.unwrap_or(0).to_le_bytes());
-    let flag = if corners.is_some() { VERTEX_NORMALS } else { 0 };
-    out.extend_from_slice(&flag.to_le_bytes());
-    for v in &vertices {
+    out.extend_from_slice(&colour.to_le_bytes());
+    out.extend_from_slice(&flags.to_le_bytes());
+    for v in vertices {
         words(&mut out, v.to_array().map(f32::to_bits));
     }
-    for &f in &faces {
+    for &f in faces {
         words(&mut out, f);
     }
-    for n in &normals {
-        words(&mut out, n.to_array().map(f32::to_bits));
+    out
+}
+
+/// The face normals and vertex normals after the faces.
+#[cfg(any(feature = "std", test))]
+fn end_with(out: &mut std::vec::Vec<u8>, normals: &[Vec3], vertex_normals: &[[f32; 3]]) {
+    for n in normals {
+        words(out, n.to_array().map(f32::to_bits));
     }
-    for n in &vertex_normals {
-        words(&mut out, n.map(f32::to_bits));
+    for n in vertex_normals {
+        words(out, n.map(f32::to_bits));
     }
-    Some(out)
+}
+
+/// Three little-endian words.
+#[cfg(any(feature = "std", test))]
+fn words(out: &mut std::vec::Vec<u8>, v: [u32; 3]) {
+    for w in v {
+        out.extend_from_slice(&w.to_le_bytes());
+    }
 }
 
 #[cfg(test)]
@@ -537,6 +990,115 @@ mod tests {
             Scene::parse(&bytes[..bytes.len() - 1]).err(),
             Some(Gfx3dError::Truncated)
         );
+    }
+
+    #[test]
+    fn textured_scenes_are_groups_of_one_texture_and_colour() {
+        let source = mesh_bytes();
+        let mesh = Mesh::parse(&source).unwrap();
+        // Two textures of the `.peel` format: 2 x 2 RGB565 texels, and a palette of three
+        // colours for 4 x 2 indices.
+        let direct = [1u8, 0, 2, 0, 3, 0, 4, 0];
+        let palette = [5u8, 0, 6, 0, 7, 0];
+        let indices = [0u8, 1, 2, 0, 1, 2, 0, 1];
+        let textures = [
+            Texture {
+                log2_width: 1,
+                log2_height: 1,
+                flags: 0,
+                colours: &[],
+                texels: &direct,
+            },
+            Texture {
+                log2_width: 2,
+                log2_height: 1,
+                flags: texture_flags::PALETTE | texture_flags::CLAMP_S,
+                colours: &palette,
+                texels: &indices,
+            },
+        ];
+        let uv = |t: f32| [[t, 0.0], [0.0, t], [t, t]];
+        let corner = |texture, t| Some(CornerTexture { texture, uv: uv(t) });
+        // Faces 0 and 2 under texture 1 (sharing two points, with other coordinates), face 1
+        // under texture 0, face 3 untextured; the degenerate triangle left out.
+        let corners = [corner(1, 0.5), corner(0, 0.25), corner(1, 0.75), None, None];
+        let colours = [0xffff; 5];
+        assert!(encode_textured(&mesh, &corners[..4], &colours, &textures).is_none());
+        assert!(encode_textured(&mesh, &corners, &colours, &textures[..1]).is_none());
+        let bytes = encode_textured(&mesh, &corners, &colours, &textures).unwrap();
+        assert_eq!(bytes.len() % 4, 0);
+        let scene = Scene::parse(&bytes).unwrap();
+        assert!(scene.textured() && !scene.smooth());
+        assert_eq!((scene.face_count(), scene.group_count()), (4, 3));
+        let groups: Vec<Group> = (0..3).map(|g| scene.group(g).unwrap()).collect();
+        assert!(scene.group(3).is_none());
+        assert_eq!(
+            groups.iter().map(|g| g.texture).collect::<Vec<_>>(),
+            [Some(1), Some(0), None]
+        );
+        assert_eq!(
+            groups
+                .iter()
+                .map(|g| (g.vertex_count(), g.face_count()))
+                .collect::<Vec<_>>(),
+            [(6, 2), (3, 1), (3, 1)]
+        );
+        let flat_bytes = scene_bytes();
+        let flat = Scene::parse(&flat_bytes).unwrap();
+        // Each face's corners, coordinates and normal as given, in group order: 0, 2, 1, 3.
+        for (g, t, source) in [(0, 0, 0), (0, 1, 2), (1, 0, 1), (2, 0, 3)] {
+            let group = groups[g];
+            let at = |i: u32| triple(group.vertices, i).map(f32::from_bits);
+            assert_eq!(
+                group.face(t).map(at),
+                flat.face(source).map(|i| flat.vertex(i))
+            );
+            let want = corners[source as usize].map_or([[0.0; 2]; 3], |c| c.uv);
+            assert_eq!(group.face(t).map(|i| group.uv(i)), want);
+            assert_eq!(
+                triple(group.normals, t).map(f32::from_bits),
+                flat.normal(source)
+            );
+            assert_eq!(group.colour, 0xffff);
+        }
+        for (k, t) in textures.iter().enumerate() {
+            assert_eq!(scene.texture(k as u32), Some(*t));
+        }
+        assert_eq!(scene.texture(2), None);
+        let corrupt = |at: usize, value: &[u8]| {
+            let mut b = bytes.clone();
+            b[at..at + value.len()].copy_from_slice(value);
+            Scene::parse(&b).err()
+        };
+        assert_eq!(corrupt(70, &6u16.to_le_bytes()), Some(Gfx3dError::Flags(6)));
+        let groups_at = HEADER + 20 * ELEMENT + 12 * UV + 4;
+        // Group 1's first vertex, texture; a face index past its group.
+        assert_eq!(
+            corrupt(groups_at + GROUP, &4u32.to_le_bytes()),
+            Some(Gfx3dError::Group(1))
+        );
+        assert_eq!(
+            corrupt(groups_at + GROUP + 16, &2u32.to_le_bytes()),
+            Some(Gfx3dError::Group(1))
+        );
+        let face_1 = HEADER + 12 * ELEMENT + ELEMENT;
+        assert_eq!(
+            corrupt(face_1, &6u32.to_le_bytes()),
+            Some(Gfx3dError::Index(1))
+        );
+        // Texture 1's offset, and an unknown flag.
+        let records = groups_at + 3 * GROUP + 8;
+        assert_eq!(
+            corrupt(records + TEXTURE_SIZE + 4, &9u32.to_le_bytes()),
+            Some(Gfx3dError::Texture(1))
+        );
+        assert_eq!(corrupt(records + 2, &[8]), Some(Gfx3dError::Texture(0)));
+        for len in [bytes.len() - 4, groups_at] {
+            assert_eq!(
+                Scene::parse(&bytes[..len]).err(),
+                Some(Gfx3dError::Truncated)
+            );
+        }
     }
 
     #[test]

@@ -21,6 +21,7 @@ mod pixels;
 mod plan;
 mod report;
 mod scenes;
+mod textured;
 mod tools;
 
 use std::collections::hash_map::{Entry, HashMap};
@@ -143,7 +144,7 @@ fn run(args: &Args) -> Result<Vec<String>, String> {
     let scenes = scenes::list(&root, &models, args.quick, &scene_dir)?;
     let cameras = plan::cameras(if args.quick { 2 } else { 8 });
     let (mut records, mut problems, mut skipped) = (Vec::new(), Vec::new(), Vec::new());
-    let mut gfx3d_builds: HashMap<(Core, u64), std::path::PathBuf> = HashMap::new();
+    let mut gfx3d_builds: Gfx3dBuilds = HashMap::new();
     for spec in &scenes {
         println!("== scene {}", spec.name);
         let scene = scenes::compile(&tools, spec, args.shadows, None, &scene_dir)?;
@@ -232,6 +233,7 @@ fn run(args: &Args) -> Result<Vec<String>, String> {
                             &dir(setup),
                             &mut gfx3d_builds,
                             &firmware_dir,
+                            false,
                         )?;
                     }
                     let run = |setup: plan::Setup| {
@@ -306,6 +308,36 @@ fn run(args: &Args) -> Result<Vec<String>, String> {
             skipped.push(notice);
         }
     }
+    // The textured scenes and their untextured baselines: Peel streamed and embedded-3dgfx,
+    // by the builds with textures, in full runs.
+    let mut textured_summary = String::new();
+    if !args.quick {
+        let textured_setups = textured::setups(&setups);
+        if !textured_setups.is_empty() && !args.shadows {
+            let outcome = textured::Textured {
+                tools: &tools,
+                root: &root,
+                firmware_dir: &firmware_dir,
+                plain: &firmware,
+                setups: &textured_setups,
+                cameras: &cameras,
+                scene_dir: &scene_dir,
+                runs_dir: &runs_dir,
+                references_dir: &out.join("references"),
+                timeout_s: 900,
+            }
+            .run(&mut gfx3d_builds)?;
+            records.extend(outcome.records);
+            problems.extend(outcome.problems);
+            textured_summary = outcome.summary;
+        } else {
+            let notice = "textured scenes: skipped, only ftb-stream and embedded-3dgfx draw them, \
+                          without --shadows"
+                .to_string();
+            println!("   {notice}");
+            skipped.push(notice);
+        }
+    }
     let json = results::json(&records)?;
     write(&out.join("results.json"), json.as_bytes())?;
     write(
@@ -313,7 +345,9 @@ fn run(args: &Args) -> Result<Vec<String>, String> {
         (results::markdown(&records)
             + &results::antialiased(&records)
             + &results::smooth(&records)
+            + &results::textured(&records)
             + &objects_summary
+            + &textured_summary
             + &skipped
                 .iter()
                 .map(|n| format!("\n{n}\n"))
@@ -338,10 +372,11 @@ fn run(args: &Args) -> Result<Vec<String>, String> {
         }
     }
     println!(
-        "\n{}{}{}{objects_summary}",
+        "\n{}{}{}{}{objects_summary}{textured_summary}",
         results::markdown(&records),
         results::antialiased(&records),
-        results::smooth(&records)
+        results::smooth(&records),
+        results::textured(&records)
     );
     println!(
         "written: {} and results.md",
@@ -350,30 +385,40 @@ fn run(args: &Args) -> Result<Vec<String>, String> {
     Ok(problems)
 }
 
+/// embedded-3dgfx's builds made so far, by core, command buffer and whether with textures.
+type Gfx3dBuilds = HashMap<(Core, u64, bool), std::path::PathBuf>;
+
 /// embedded-3dgfx's build for `measure`'s scene on its core: a run of the probe build
 /// (`measure.elf`, in `dir`) finds the smallest command buffer that fits the scene over the
-/// cameras, and the build with it is made once per core and size of buffer.
+/// cameras, and the build with it is made once per core and size of buffer (with textures as
+/// `textures` says, as the probe build was).
 fn gfx3d_elf(
     tools: &Tools,
     measure: &Measure<'_>,
     dir: &Path,
-    builds: &mut HashMap<(Core, u64), std::path::PathBuf>,
+    builds: &mut Gfx3dBuilds,
     firmware_dir: &Path,
+    textures: bool,
 ) -> Result<std::path::PathBuf, String> {
     let probe = measure.probe(dir)?;
     let commands = probe
         .gfx3d_commands
         .ok_or("embedded-3dgfx: no command count")?;
     let core = measure.core;
-    Ok(match builds.entry((core, commands)) {
+    Ok(match builds.entry((core, commands, textures)) {
         Entry::Occupied(e) => e.get().clone(),
         Entry::Vacant(e) => {
             println!(
-                "== build: firmware embedded-3dgfx for {} with {commands} commands",
+                "== build: firmware embedded-3dgfx{} for {} with {commands} commands",
+                if textures { ",textures" } else { "" },
                 core.name()
             );
-            e.insert(tools.build_firmware(core, Variant::Gfx3d, Some(commands), firmware_dir)?)
-                .clone()
+            let elf = if textures {
+                tools.build_textures_firmware(core, Variant::Gfx3d, Some(commands), firmware_dir)?
+            } else {
+                tools.build_firmware(core, Variant::Gfx3d, Some(commands), firmware_dir)?
+            };
+            e.insert(elf).clone()
         }
     })
 }
@@ -402,7 +447,7 @@ impl Smooth<'_> {
         spec: &scenes::SceneSpec,
         shadows: bool,
         scene_dir: &Path,
-        gfx3d_builds: &mut HashMap<(Core, u64), std::path::PathBuf>,
+        gfx3d_builds: &mut Gfx3dBuilds,
     ) -> Result<(Vec<results::Record>, Vec<String>), String> {
         println!("== scene {} smooth", spec.name);
         let scene = scenes::compile(self.tools, spec, shadows, Some(self.crease), scene_dir)?;
@@ -463,8 +508,14 @@ impl Smooth<'_> {
                     timeout_s: self.timeout_s,
                 };
                 if setup.variant == Variant::Gfx3d {
-                    measure.elf =
-                        gfx3d_elf(self.tools, &measure, &dir, gfx3d_builds, self.firmware_dir)?;
+                    measure.elf = gfx3d_elf(
+                        self.tools,
+                        &measure,
+                        &dir,
+                        gfx3d_builds,
+                        self.firmware_dir,
+                        false,
+                    )?;
                 }
                 let expected = Expected {
                     frames: match setup.variant {

@@ -140,7 +140,10 @@ impl Measure<'_> {
         let name = format!(
             "{}{} {} {} {}",
             self.scene.spec.name,
-            if self.scene.smooth { " smooth" } else { "" },
+            match self.scene.shading() {
+                peel_target_runner::results::FLAT => String::new(),
+                shading => format!(" {shading}"),
+            },
             self.core.name(),
             size_name(self.size),
             self.setup.label()

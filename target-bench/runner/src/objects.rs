@@ -207,6 +207,7 @@ impl Objects<'_> {
                 triangles,
                 shadows: false,
                 smooth: false,
+                textured: false,
                 objects: n,
             };
 

@@ -216,7 +216,9 @@ against the host and writes target/peel-target/results.json and results.md. The 
 cow are measured smooth too (peel compile --shading smooth: streamed, in scan order, and
 embedded-3dgfx's Gouraud mode, 320x240, both cores). With ftb-stream (not in the quick run),
 the scene with moving objects (a world with the teapot and the cow posed per camera, a file
-of parts) and the same posed geometry as one static file per camera.
+of parts) and the same posed geometry as one static file per camera; with ftb-stream or
+embedded-3dgfx (not in the quick run), the textured box and a textured sphere, each beside
+the same OBJ untextured, by the builds with textures (320x240, both cores).
 
   --quick         the demo scene, two cameras, 320x240, both cores, every method, and the
                   demo's smooth file streamed (CI)

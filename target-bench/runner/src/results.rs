@@ -87,6 +87,8 @@ fn flat() -> String {
 pub const FLAT: &str = "flat";
 /// [`Record::shading`] of smooth records.
 pub const SMOOTH: &str = "smooth";
+/// [`Record::shading`] of textured records.
+pub const TEXTURED: &str = "textured";
 
 impl Record {
     /// What tells a record apart from every other of a run: scene, method, path, shading,
@@ -453,7 +455,7 @@ fn flat_twin<'r>(records: &'r [Record], smooth: &Record) -> Option<&'r Record> {
 /// same scene, method, path, core and size), their instructions and RAM and the ratios, and
 /// whether each meets [`SMOOTH_GOALS`] where one applies. Empty without smooth records.
 pub fn smooth(records: &[Record]) -> String {
-    let smooth: Vec<&Record> = records.iter().filter(|r| !r.is_flat()).collect();
+    let smooth: Vec<&Record> = records.iter().filter(|r| r.shading == SMOOTH).collect();
     if smooth.is_empty() {
         return String::new();
     }
@@ -507,6 +509,68 @@ pub fn smooth(records: &[Record]) -> String {
             flat.map_or_else(dash, |f| grouped(f.ram_bytes)),
             grouped(r.display_bytes),
             grouped(r.display_writes),
+            or_dash(r.differing_pixels),
+            if goals.is_empty() {
+                dash()
+            } else {
+                goals.join("; ")
+            },
+        ]));
+    }
+    s
+}
+
+/// Goals for textured frames against their untextured twins (issue 47): Peel's streamed frame
+/// at most this multiple of the untextured frame's instructions on the Cortex-M4F and on the
+/// Cortex-M0+, in at most this RAM (bytes).
+pub const TEXTURE_GOALS: (f64, f64, u64) = (1.5, 2.0, 32_768);
+
+/// The textured frames' section of `results.md`: each textured record beside its untextured
+/// twin (the `flat` record of the same scene, method, path, core and size), their instructions,
+/// RAM and flash and the ratios, and whether Peel's streamed frames meet [`TEXTURE_GOALS`].
+/// Empty without textured records.
+pub fn textured(records: &[Record]) -> String {
+    let textured: Vec<&Record> = records.iter().filter(|r| r.shading == TEXTURED).collect();
+    if textured.is_empty() {
+        return String::new();
+    }
+    let (m4f, m0plus, ram) = TEXTURE_GOALS;
+    let mut s = String::from(
+        "\n## Textured frames against untextured\n\n\
+         | scene | method | path | core | size | instructions | untextured | x untextured | \
+         ram_bytes | untextured | flash_bytes | untextured | differing_pixels | goals |\n\
+         |---|---|---|---|---|--:|--:|--:|--:|--:|--:|--:|--:|---|\n",
+    );
+    let dash = || "-".to_string();
+    let yes = |ok: bool| if ok { "yes" } else { "NO" };
+    for r in textured {
+        let flat = flat_twin(records, r);
+        let x = flat.map(|f| r.instructions as f64 / f.instructions.max(1) as f64);
+        let mut goals = Vec::new();
+        if r.method == "peel-front-to-back" && r.path == "stream" {
+            let limit = if r.core == "cortex-m4f" { m4f } else { m0plus };
+            if let Some(x) = x {
+                goals.push(format!("x untextured <= {limit}: {}", yes(x <= limit)));
+            }
+            goals.push(format!(
+                "RAM <= {}: {}",
+                grouped(ram),
+                yes(r.ram_bytes <= ram)
+            ));
+        }
+        s.push_str(&peel_compiler::tools::markdown_row([
+            r.scene.clone(),
+            r.method.clone(),
+            r.path.clone(),
+            r.core.clone(),
+            format!("{}x{}", r.width, r.height),
+            grouped(r.instructions),
+            flat.map_or_else(dash, |f| grouped(f.instructions)),
+            x.map_or_else(dash, |x| format!("{x:.2}x")),
+            grouped(r.ram_bytes),
+            flat.map_or_else(dash, |f| grouped(f.ram_bytes)),
+            grouped(r.flash_bytes),
+            flat.map_or_else(dash, |f| grouped(f.flash_bytes)),
             or_dash(r.differing_pixels),
             if goals.is_empty() {
                 dash()
@@ -749,6 +813,47 @@ mod tests {
         let back: Vec<Record> = serde_json::from_str(&j).unwrap();
         assert_eq!(back, [record()]);
         assert!(back[0].is_flat());
+    }
+
+    #[test]
+    fn textured_records_stand_beside_their_untextured_twins() {
+        let mut textured_stream = record();
+        (textured_stream.path, textured_stream.shading) = ("stream".into(), TEXTURED.into());
+        (textured_stream.instructions, textured_stream.ram_bytes) = (1_400_000, 30_000);
+        let mut flat_stream = textured_stream.clone();
+        (flat_stream.shading, flat_stream.instructions) = (FLAT.into(), 1_000_000);
+        let mut m0 = textured_stream.clone();
+        (m0.core, m0.instructions, m0.ram_bytes) = ("cortex-m0plus".into(), 2_100_000, 40_000);
+        let mut m0_flat = flat_stream.clone();
+        m0_flat.core = "cortex-m0plus".into();
+        let mut smooth_stream = flat_stream.clone();
+        smooth_stream.shading = SMOOTH.into();
+        let records = [flat_stream, textured_stream, m0_flat, m0, smooth_stream];
+        let md = textured(&records);
+        let lines: Vec<&str> = md.lines().filter(|l| l.starts_with("| demo")).collect();
+        assert_eq!(lines.len(), 2, "{md}");
+        assert!(
+            lines[0].contains("| cortex-m4f | 320x240 | 1 400 000 | 1 000 000 | 1.40x | 30 000 |"),
+            "{md}"
+        );
+        assert!(
+            lines[0].ends_with("| x untextured <= 1.5: yes; RAM <= 32 768: yes |"),
+            "{md}"
+        );
+        assert!(
+            lines[1].ends_with("| x untextured <= 2: NO; RAM <= 32 768: NO |"),
+            "{md}"
+        );
+        // Neither the smooth section nor this one shows the other's records.
+        assert!(!smooth(&records).contains("textured"));
+        assert_eq!(
+            smooth(&records)
+                .lines()
+                .filter(|l| l.starts_with("| demo"))
+                .count(),
+            1
+        );
+        assert!(textured(&records[..1]).is_empty());
     }
 
     #[test]

@@ -129,6 +129,8 @@ pub struct Compiled {
     pub shadows: bool,
     /// Compiled smooth (`--shading smooth`, the default crease).
     pub smooth: bool,
+    /// A textured file (format 6, from an OBJ with `vt` and an MTL with `map_Kd`).
+    pub textured: bool,
     /// Objects the frames pose (a file of parts, [`crate::objects`]); 0 for a plain scene.
     pub objects: u64,
 }
@@ -136,10 +138,11 @@ pub struct Compiled {
 impl Compiled {
     /// The records' `shading`.
     pub fn shading(&self) -> &'static str {
-        if self.smooth {
-            peel_target_runner::results::SMOOTH
-        } else {
-            peel_target_runner::results::FLAT
+        use peel_target_runner::results::{FLAT, SMOOTH, TEXTURED};
+        match (self.textured, self.smooth) {
+            (true, _) => TEXTURED,
+            (false, true) => SMOOTH,
+            (false, false) => FLAT,
         }
     }
 }
@@ -201,10 +204,16 @@ pub fn compile(
             spec.obj.display()
         )
     })?;
+    let textured = Scene::parse(&peel_bytes)
+        .map_err(|e| format!("{}: {e}", peel.display()))?
+        .has_textures();
     let gfx3d_bytes = {
         let parsed = peel_target_kit::mesh::Mesh::parse(&mesh_bytes)
             .map_err(|e| format!("{}: {e}", spec.obj.display()))?;
-        let encoded = if let Some(crease) = crease {
+        let encoded = if textured {
+            let (corners, colours, textures) = gfx3d_textures(&spec.obj, &peel_bytes)?;
+            peel_target_kit::gfx3d::encode_textured(&parsed, &corners, &colours, &textures)
+        } else if let Some(crease) = crease {
             let corners = gfx3d_corner_normals(&spec.obj, crease)?;
             peel_target_kit::gfx3d::encode_smooth(&parsed, &corners)
         } else {
@@ -235,6 +244,7 @@ pub fn compile(
         triangles,
         shadows,
         smooth,
+        textured,
         objects: 0,
     })
 }
@@ -268,6 +278,64 @@ fn gfx3d_corner_normals(obj: &Path, crease: f64) -> Result<Vec<[[f32; 3]; 3]>, S
         .into_iter()
         .map(|c| c.map(|n| n.as_vec3().to_array()))
         .collect())
+}
+
+/// embedded-3dgfx's textures of the textured `obj` compiled into `peel_bytes`: each source
+/// triangle's texture and corners' coordinates (`None` untextured; `(u, 1 - v)` of the OBJ's
+/// `vt`, the library's `v` running down the image), its material's colour in RGB565 (which
+/// the library lights), and the file's textures. A triangle's texture is the file's with the
+/// very texels of the mesh's (found by content: the writer may order them otherwise).
+#[allow(clippy::type_complexity)]
+fn gfx3d_textures<'a>(
+    obj: &Path,
+    peel_bytes: &'a [u8],
+) -> Result<
+    (
+        Vec<Option<peel_target_kit::gfx3d::CornerTexture>>,
+        Vec<u16>,
+        Vec<peel_runtime::read::Texture<'a>>,
+    ),
+    String,
+> {
+    let fail = |e: String| format!("{}: {e}", obj.display());
+    let mesh = load_obj(obj).map_err(|e| fail(e.to_string()))?;
+    let scene = Scene::parse(peel_bytes).map_err(|e| fail(format!("its .peel file: {e}")))?;
+    let textures: Vec<_> = (0..scene.texture_count())
+        .filter_map(|k| scene.texture(k))
+        .collect();
+    let in_file = mesh
+        .textures
+        .iter()
+        .map(|t| {
+            textures
+                .iter()
+                .position(|f| {
+                    (f.log2_width, f.log2_height) == (t.log2_width, t.log2_height)
+                        && (0..t.height())
+                            .all(|r| (0..t.width()).all(|c| f.texel(c, r) == t.texel(c, r)))
+                })
+                .map(|k| k as u32)
+                .ok_or_else(|| fail(format!("{}: not in its .peel file", t.path.display())))
+        })
+        .collect::<Result<Vec<u32>, String>>()?;
+    let corners = mesh
+        .triangles
+        .iter()
+        .map(|t| {
+            let c = t.texture?;
+            Some(peel_target_kit::gfx3d::CornerTexture {
+                texture: in_file[c.texture as usize],
+                uv: c.uv.map(|uv| [uv.x as f32, (1.0 - uv.y) as f32]),
+            })
+        })
+        .collect();
+    let colours = (mesh.triangles.iter())
+        .map(|t| {
+            let [r, g, b] = t.colour;
+            Colour::new(r, g, b).to_rgb565()
+        })
+        .collect();
+    Ok((corners, colours, textures))
 }
 
 /// The source triangles of `obj` as the z-buffer's mesh, framed by the header of its `.peel`

@@ -106,27 +106,39 @@ impl Tools {
         gfx3d_commands: Option<u64>,
         dir: &Path,
     ) -> Result<PathBuf, String> {
-        self.build(core, variant, false, gfx3d_commands, dir)
+        self.build(core, variant, None, gfx3d_commands, dir)
     }
 
     /// Build the streamed firmware that draws files of parts (`--features
     /// ftb-stream,objects`, the scene with moving objects) on `core` into `dir`.
     pub fn build_objects_firmware(&self, core: Core, dir: &Path) -> Result<PathBuf, String> {
-        self.build(core, Variant::FtbStream, true, None, dir)
+        self.build(core, Variant::FtbStream, Some("objects"), None, dir)
     }
 
+    /// Build `variant` (streamed, or embedded-3dgfx with `gfx3d_commands`) with textures
+    /// (`--features <variant>,textures`, the textured scenes) on `core` into `dir`.
+    pub fn build_textures_firmware(
+        &self,
+        core: Core,
+        variant: Variant,
+        gfx3d_commands: Option<u64>,
+        dir: &Path,
+    ) -> Result<PathBuf, String> {
+        self.build(core, variant, Some("textures"), gfx3d_commands, dir)
+    }
+
+    /// Build `variant` with the feature `extra` too, if any.
     fn build(
         &self,
         core: Core,
         variant: Variant,
-        objects: bool,
+        extra: Option<&str>,
         gfx3d_commands: Option<u64>,
         dir: &Path,
     ) -> Result<PathBuf, String> {
-        let features = if objects {
-            format!("{},objects", variant.name())
-        } else {
-            variant.name().to_string()
+        let features = match extra {
+            Some(extra) => format!("{},{extra}", variant.name()),
+            None => variant.name().to_string(),
         };
         let crate_dir = self.root.join("target-bench/firmware");
         let build_dir = self.target_dir.join("peel-target/firmware-build");
@@ -154,8 +166,9 @@ impl Tools {
             .join(core.triple())
             .join("release/peel-target-firmware");
         let mut suffix = gfx3d_commands.map_or_else(String::new, |n| format!("-{n}"));
-        if objects {
-            suffix.push_str("-objects");
+        if let Some(extra) = extra {
+            suffix.push('-');
+            suffix.push_str(extra);
         }
         let copy = dir.join(format!("{}-{}{suffix}.elf", core.name(), variant.name()));
         std::fs::copy(&elf, &copy).map_err(|e| format!("{}: cannot copy: {e}", elf.display()))?;

@@ -8,12 +8,24 @@
 //! ([`peel_target_kit::gfx3d`]), as the library's README advises for MCUs. Not
 //! `execute_tiled`: it only bins the triangles and still needs the whole framebuffer and
 //! depth buffer.
+//!
+//! The build with textures (`--features embedded-3dgfx,textures`, the library's `textured`)
+//! draws a textured scene as one mesh a group (a texture and a colour,
+//! [`peel_target_kit::gfx3d::Group`]) in its textured mode lit per face
+//! (`RenderMode::TexturedGouraud` with face normals only: each corner lit by its face's
+//! normal, the texel times the lit colour), with `execute_with_textures` and a
+//! `TextureManager` of the scene's textures read in place from code memory (RGB565, or a
+//! palette and `u8` indices: `Texture::new_palettized8`), nearest texel, perspective-correct
+//! at the ends of 16-pixel runs (its defaults). It always repeats a texture (it has no
+//! clamp). An untextured scene draws as in the other build, through `execute_with_textures`.
 
 use core::convert::Infallible;
 
 use embedded_3dgfx::engine::K3dengine;
 use embedded_3dgfx::error::RenderError;
 use embedded_3dgfx::pipeline::command_buffer::CommandBuffer;
+#[cfg(feature = "textures")]
+use embedded_3dgfx::pipeline::rasterize::texture::{Texture, TextureManager};
 use embedded_3dgfx::pipeline::renderer::FrameCtx;
 use embedded_3dgfx::pipeline::vertex::mesh::{Geometry, K3dMesh, RenderMode};
 use embedded_graphics_core::draw_target::DrawTarget;
@@ -50,6 +62,10 @@ const fn parse(digits: &str) -> usize {
     n
 }
 
+/// Textures a scene may have (the library's `TextureManager` capacity).
+#[cfg(feature = "textures")]
+const MAX_TEXTURES: usize = 8;
+
 /// The command buffer, in `.bss` (counted in the statics; a `CommandBuffer` is the library's
 /// own type, so it cannot come from the pool's words).
 static mut COMMAND_BUFFER: CommandBuffer<COMMANDS> = CommandBuffer::new();
@@ -66,6 +82,9 @@ pub enum Gfx3dFailure {
     Misaligned,
     /// An image too large for the library's 16-bit sizes.
     ImageTooLarge,
+    /// More textures than the texture manager holds ([`MAX_TEXTURES`]).
+    #[cfg(feature = "textures")]
+    TooManyTextures(u32),
     /// The library.
     Render(RenderError),
 }
@@ -76,6 +95,10 @@ impl core::fmt::Display for Gfx3dFailure {
             Gfx3dFailure::Scene(e) => write!(f, "{e}"),
             Gfx3dFailure::Misaligned => write!(f, "scene not 4-aligned in code memory"),
             Gfx3dFailure::ImageTooLarge => write!(f, "image over 65535 pixels wide or high"),
+            #[cfg(feature = "textures")]
+            Gfx3dFailure::TooManyTextures(n) => {
+                write!(f, "{n} textures, the texture manager holds {MAX_TEXTURES}")
+            }
             // The library's errors have no `Display`.
             Gfx3dFailure::Render(e) => write!(f, "{e:?}"),
         }
@@ -100,10 +123,18 @@ impl From<Gfx3dError> for Failure {
     }
 }
 
-/// An element of the scene read in place: three 4-byte numbers, any bit pattern valid.
+/// An element of the scene read in place: numbers, any bit pattern valid.
 trait Plain {}
 impl Plain for [f32; 3] {}
 impl Plain for [usize; 3] {}
+#[cfg(feature = "textures")]
+impl Plain for [f32; 2] {}
+// An RGB565 texel: one `u16` (its only field, so at offset 0 of a 2-byte value), any value a
+// colour.
+#[cfg(feature = "textures")]
+impl Plain for Rgb565 {}
+#[cfg(feature = "textures")]
+const _: () = assert!(core::mem::size_of::<Rgb565>() == 2 && core::mem::align_of::<Rgb565>() == 2);
 
 /// `bytes` (a whole number of `T`) as `T`s, in place.
 fn in_place<T: Plain>(bytes: &'static [u8]) -> Result<&'static [T], Failure> {
@@ -114,7 +145,7 @@ fn in_place<T: Plain>(bytes: &'static [u8]) -> Result<&'static [T], Failure> {
         return Err(Gfx3dFailure::Misaligned.into());
     }
     // SAFETY: aligned, within `bytes`, which are never written (code memory), and every bit
-    // pattern is a `T` ([`Plain`]); little-endian like the scene.
+    // pattern is a `T` ([`Plain`]); little-endian like the scene (and a `.peel` file's texels).
     Ok(unsafe { core::slice::from_raw_parts(bytes.as_ptr().cast::<T>(), bytes.len() / size) })
 }
 
@@ -155,7 +186,14 @@ impl DrawTarget for Target<'_> {
 pub struct Method {
     scene: Scene<'static>,
     engine: K3dengine,
+    #[cfg(not(feature = "textures"))]
     mesh: K3dMesh<'static>,
+    /// The build with textures: a mesh a group of a textured scene (one for another scene),
+    /// and the textures.
+    #[cfg(feature = "textures")]
+    meshes: &'static mut [K3dMesh<'static>],
+    #[cfg(feature = "textures")]
+    textures: &'static mut TextureManager<MAX_TEXTURES>,
     commands: &'static mut CommandBuffer<COMMANDS>,
     colour: &'static mut [u16],
     depth: &'static mut [u16],
@@ -174,24 +212,29 @@ impl Method {
         let (Ok(w), Ok(h)) = (u16::try_from(width), u16::try_from(height)) else {
             return Err(Gfx3dFailure::ImageTooLarge.into());
         };
-        // Indices and sizes were checked by `parse`: the library's own check (an assertion)
-        // passes.
-        let geometry = Geometry::new(
-            in_place(scene.vertex_bytes())?,
-            in_place(scene.face_bytes())?,
-        )
-        .with_normals(in_place(scene.normal_bytes())?)
-        .with_vertex_normals(in_place(scene.vertex_normal_bytes())?);
-        let mut mesh = K3dMesh::new(geometry);
-        mesh.color = Rgb565::from(RawU16::new(scene.colour()));
         // The library negates the light's z before its dot product with the normal: this is
         // the direction towards the light `LIGHT` (the compiler's default) in scene axes.
         let light = Vector3::new(LIGHT[0], LIGHT[1], -LIGHT[2]);
-        // A smooth scene (vertex normals): each corner lit, the colours interpolated.
-        mesh.render_mode = if scene.smooth() {
-            RenderMode::GouraudLightDir(light)
-        } else {
-            RenderMode::SolidLightDir(light)
+        // Indices and sizes were checked by `parse`: the library's own check (an assertion)
+        // passes.
+        #[cfg(not(feature = "textures"))]
+        let mesh = whole_mesh(&scene, light)?;
+        #[cfg(feature = "textures")]
+        let (meshes, textures) = {
+            let textures = pool.value(TextureManager::new(), Use::Textures)?;
+            for k in 0..scene.texture_count() {
+                let texture = texture(&scene, k)?;
+                textures
+                    .add_texture(texture)
+                    .ok_or(Gfx3dFailure::TooManyTextures(scene.texture_count()))?;
+            }
+            let meshes = if scene.textured() {
+                let groups = scene.group_count() as usize;
+                pool.made(groups, |g| group_mesh(&scene, g as u32, light), Use::Meshes)?
+            } else {
+                pool.made(1, |_| whole_mesh(&scene, light), Use::Meshes)?
+            };
+            (meshes, textures)
         };
         cortex_m::singleton!(: () = ()).ok_or(Failure::Host("command buffer taken twice"))?;
         // SAFETY: the singleton above makes this run once, so this is the only reference.
@@ -200,7 +243,12 @@ impl Method {
         Ok(Method {
             scene,
             engine: K3dengine::new(w, h),
+            #[cfg(not(feature = "textures"))]
             mesh,
+            #[cfg(feature = "textures")]
+            meshes,
+            #[cfg(feature = "textures")]
+            textures,
             commands,
             colour: pool.u16s(n, Use::Framebuffer)?,
             depth: pool.u16s(n, Use::DepthBuffer)?,
@@ -235,8 +283,12 @@ impl Method {
         camera.set_position(Point3::from(setup.eye));
         camera.set_target(Point3::from(setup.target));
         // The depth clear, then one triangle per front face.
+        #[cfg(not(feature = "textures"))]
         self.engine
             .record(core::iter::once(&self.mesh), self.commands, None)?;
+        #[cfg(feature = "textures")]
+        self.engine
+            .record(self.meshes.iter(), self.commands, None)?;
         self.commands_peak = self.commands_peak.max(self.commands.len());
         // `record` asks for no colour clear.
         self.colour.fill(self.background);
@@ -251,10 +303,76 @@ impl Method {
             width: self.width,
             height: self.height,
         };
+        #[cfg(not(feature = "textures"))]
         self.engine
             .execute(&mut target, &mut frame, self.commands, None)?;
+        #[cfg(feature = "textures")]
+        self.engine.execute_with_textures(
+            &mut target,
+            &mut frame,
+            self.commands,
+            self.textures,
+            None,
+        )?;
         let fb = Rgb565Framebuffer::new(&mut self.colour[..], self.width, self.height)?;
         panel.write_framebuffer(&fb);
         Ok(false)
     }
+}
+
+/// The whole scene as one mesh of its one colour, lit per face, or for a smooth scene (vertex
+/// normals) each corner lit and the colours interpolated.
+fn whole_mesh(scene: &Scene<'static>, light: Vector3<f32>) -> Result<K3dMesh<'static>, Failure> {
+    let geometry = Geometry::new(
+        in_place(scene.vertex_bytes())?,
+        in_place(scene.face_bytes())?,
+    )
+    .with_normals(in_place(scene.normal_bytes())?)
+    .with_vertex_normals(in_place(scene.vertex_normal_bytes())?);
+    let mut mesh = K3dMesh::new(geometry);
+    mesh.color = Rgb565::from(RawU16::new(scene.colour()));
+    mesh.render_mode = if scene.smooth() {
+        RenderMode::GouraudLightDir(light)
+    } else {
+        RenderMode::SolidLightDir(light)
+    };
+    Ok(mesh)
+}
+
+/// Group `g` of a textured scene as one mesh of its colour lit per face: textured
+/// (`TexturedGouraud` without vertex normals: each corner lit by its face's normal) when it
+/// has a texture, else as [`whole_mesh`] lights a flat scene.
+#[cfg(feature = "textures")]
+fn group_mesh(
+    scene: &Scene<'static>,
+    g: u32,
+    light: Vector3<f32>,
+) -> Result<K3dMesh<'static>, Failure> {
+    let group = scene.group(g).ok_or(Gfx3dError::Group(g))?;
+    let geometry = Geometry::new(in_place(group.vertices)?, in_place(group.faces)?)
+        .with_normals(in_place(group.normals)?)
+        .with_uvs(in_place(group.uvs)?);
+    let (geometry, mode) = match group.texture {
+        // Textures are added in order: texture `k` has id `k`.
+        Some(k) => (geometry.with_texture(k), RenderMode::TexturedGouraud(light)),
+        None => (geometry, RenderMode::SolidLightDir(light)),
+    };
+    let mut mesh = K3dMesh::new(geometry);
+    mesh.color = Rgb565::from(RawU16::new(group.colour));
+    mesh.render_mode = mode;
+    Ok(mesh)
+}
+
+/// Texture `k` of `scene` as the library's, its bytes read in place: RGB565 texels, or a
+/// palette and `u8` indices.
+#[cfg(feature = "textures")]
+fn texture(scene: &Scene<'static>, k: u32) -> Result<Texture, Failure> {
+    use peel_runtime::read::layout::texture_flags::PALETTE;
+    let t = scene.texture(k).ok_or(Gfx3dError::Texture(k))?;
+    let (w, h) = (1u32 << t.log2_width, 1u32 << t.log2_height);
+    Ok(if t.flags & PALETTE != 0 {
+        Texture::new_palettized8(t.texels, in_place(t.colours)?, w, h)
+    } else {
+        Texture::new(in_place(t.texels)?, w, h)
+    })
 }
