@@ -38,7 +38,7 @@ use peel_runtime::display::Rgb565Framebuffer;
 #[cfg(all(feature = "smooth", not(feature = "scan")))]
 use peel_runtime::display::{dither_rgb565, Colour, RowShade, SpanSink};
 #[cfg(all(feature = "textures", feature = "smooth", not(feature = "scan")))]
-use peel_runtime::display::{Filter, Modulation, RowTexture};
+use peel_runtime::display::RowTexture;
 
 /// Bytes of CASET (the window's columns): command and two 16-bit columns.
 const CASET_BYTES: u64 = 5;
@@ -201,8 +201,9 @@ impl Panel {
 
     /// One textured span of row `y`, columns `x_start..x_end` (clipped to the panel): one
     /// window and one burst of its pixels, two writes, as [`Panel::shaded_span`]. Pixel `x` is
-    /// `texture.at(x)` in RGB565 as the runtime's RGB565 framebuffer stores it (unlit nearest
-    /// texels as they are, a run at a time), computed as it is sent.
+    /// `texture.at(x)` in RGB565 as the runtime's RGB565 framebuffer stores it
+    /// (`RowTexture::rgb565_into`: the texels a run at a time, lit ones multiplied once a run
+    /// of equal texels), computed as it is sent.
     #[cfg(all(feature = "textures", feature = "smooth", not(feature = "scan")))]
     #[inline(never)]
     pub fn textured_span(&mut self, y: u32, x_start: u32, x_end: u32, texture: &RowTexture<'_>) {
@@ -216,13 +217,7 @@ impl Panel {
         let Some(run) = self.memory.get_mut(at..at + n) else {
             return;
         };
-        if texture.modulation == Modulation::None && texture.filter == Filter::Nearest {
-            texture.texels(x_start).fill(run);
-        } else {
-            for (slot, colour) in run.iter_mut().zip(texture.colours(x_start)) {
-                *slot = colour.to_rgb565();
-            }
-        }
+        texture.rgb565_into(x_start, run);
     }
 
     /// Count a `DrawTarget` write of `pixels` pixels: the window set-up and the pixels, two
