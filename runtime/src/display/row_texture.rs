@@ -207,6 +207,8 @@ pub struct TexelWalk<'r, 'a> {
     clamp: bool,
     /// The last run end's column, `w` and coordinates: the next run starts there.
     end: (u32, i32, [i32; 2]),
+    /// The block of [`RUN`] pixels last decided, and the length of its runs.
+    block: Option<(u32, u32)>,
 }
 
 impl<'r, 'a> TexelWalk<'r, 'a> {
@@ -223,37 +225,48 @@ impl<'r, 'a> TexelWalk<'r, 'a> {
             max: sides.map(|log2| (1i32 << log2) - 1),
             clamp: t.flags & (texture_flags::CLAMP_S | texture_flags::CLAMP_T) != 0,
             end: (u32::MAX, 0, [0; 2]),
+            block: None,
         };
         walk.start_run();
         walk
     }
 
     /// Set up the run holding pixel `self.x`: its ends' exact coordinates, inside the
-    /// polygon's span, and the steps between them. A run of [`RUN`] pixels whose chord would
-    /// stray too far from the perspective ([`Self::chord_fits`]) is halved (the halves
-    /// aligned too), down to single pixels, each exact.
+    /// polygon's span, and the steps between them. Runs are the aligned blocks of [`RUN`]
+    /// pixels, or where a block's chord would stray too far from the perspective
+    /// ([`Self::run_length`], decided on the block's ends alone, so a piece of a span decides
+    /// alike) aligned parts of it, down to single pixels, each exact.
     #[inline(never)]
     fn start_run(&mut self) {
         let row = self.row;
         let last = row.end.saturating_sub(1).max(row.first);
-        let mut len = RUN;
-        let (a, b, qa, qb) = loop {
-            let start = self.x & !(len - 1);
-            let a = start.clamp(row.first, last);
-            let b = (start + len).clamp(row.first, last);
+        let at = |walk: &Self, x: u32| match walk.end {
             // (A run starts where the last one ended: its end's division serves again.)
-            let (wa, qa) = match self.end {
-                (x, w, q) if x == a => (w, q),
-                _ => row.exact_with_w(a),
-            };
-            let (wb, qb) = row.exact_with_w(b);
-            if len == 1 || self.chord_fits(b - a, wa, wb, qa, qb) {
-                self.run_end = start + len;
-                self.end = (b, wb, qb);
-                break (a, b, qa, qb);
-            }
-            len >>= 1;
+            (e, w, q) if e == x => (w, q),
+            _ => row.exact_with_w(x),
         };
+        let block = self.x & !(RUN - 1);
+        let len = match self.block {
+            Some((start, len)) if start == block => len,
+            _ => {
+                let a = block.clamp(row.first, last);
+                let b = (block + RUN).clamp(row.first, last);
+                let ((wa, qa), (wb, qb)) = (at(self, a), row.exact_with_w(b));
+                let len = self.run_length(wa, wb, qa, qb);
+                self.block = Some((block, len));
+                if len == RUN {
+                    self.end = (b, wb, qb);
+                }
+                len
+            }
+        };
+        let start = self.x & !(len - 1);
+        let a = start.clamp(row.first, last);
+        let b = (start + len).clamp(row.first, last);
+        let (_, qa) = at(self, a);
+        let (wb, qb) = at(self, b);
+        self.run_end = start + len;
+        self.end = (b, wb, qb);
         let flags = row.texture.flags;
         for k in 0..2 {
             let clamp = flags & (texture_flags::CLAMP_S << k) != 0;
@@ -282,29 +295,41 @@ impl<'r, 'a> TexelWalk<'r, 'a> {
         }
     }
 
-    /// Whether the chord over a run of `len` pixels between ends where `w` is `wa` and `wb`
-    /// and the coordinates `qa` and `qb` is close enough to the perspective in between. Where
-    /// `w` changes by the ratio `r >= 1` over the run, a point strays from the chord by at most
-    /// `(r - 1) / 4` of the run, in pixels and in texels alike. A pixel whose centre and the
-    /// points 1/16 pixel around it lie in one texel (a robust pixel, as the accuracy rule
-    /// counts them) keeps its texel when the run strays by at most 1/16 pixel; failing that,
-    /// a stray of 1/256 texel moves at most 1/128 of the pixels into a texel next to theirs.
+    /// The length of the runs a block of [`RUN`] pixels is drawn in, from its ends, where `w`
+    /// is `wa` and `wb` and the coordinates `qa` and `qb`: the longest power of two whose
+    /// chord stays close enough to the perspective. Where `w` changes by the ratio `r >= 1`
+    /// over a run, a point strays from the chord by at most `(r - 1) / 4` of the run, in
+    /// pixels and in texels alike; over a run of `L` pixels of the block, `r - 1` and the
+    /// run's change are both about `L / 16` of the block's, so the stray goes as `L^2`. A
+    /// pixel whose centre and the points 1/16 pixel around it lie in one texel (a robust
+    /// pixel, as the accuracy rule counts them) keeps its texel when the run strays by at most
+    /// 1/16 pixel; failing that, a stray of 1/256 texel moves at most 1/128 of the pixels into
+    /// a texel next to theirs.
     #[inline]
-    fn chord_fits(&self, len: u32, wa: i32, wb: i32, qa: [i32; 2], qb: [i32; 2]) -> bool {
+    fn run_length(&self, wa: i32, wb: i32, qa: [i32; 2], qb: [i32; 2]) -> u32 {
         let (near, far) = (i64::from(wa.min(wb).max(1)), i64::from(wa.max(wb).max(1)));
         let bend = far - near;
-        // In pixels: `len (r - 1) / 4 <= 1/16`.
-        if 4 * i64::from(len) * bend <= near {
-            return true;
-        }
-        // In 1/256 of a texel: `change (r - 1) / 4 <= 1`.
+        // The block's change, in 1/256 of a texel.
         let t = &self.row.texture;
         let change = |k: usize, log2: u8| {
             let q = (i64::from(qb[k]) - i64::from(qa[k])).abs();
             (q << log2 >> 8) + 1
         };
         let change = change(0, t.log2_width).max(change(1, t.log2_height));
-        change.saturating_mul(bend) <= 4 * near
+        let mut len = RUN;
+        while len > 1 {
+            // `(L / 16)^2` of the block's stray: `L^2 bend / 16^2` against `near`.
+            let square = i64::from(len * len);
+            // In pixels: `L (r_L - 1) / 4 <= 1/16`, `r_L - 1 = L bend / (16 near)`.
+            let pixels = 4 * square * bend <= 16 * near;
+            // In 1/256 texel: `change_L (r_L - 1) / 4 <= 1`, `change_L = L change / 16`.
+            let texels = square.saturating_mul(change).saturating_mul(bend) <= 1024 * near;
+            if pixels || texels {
+                break;
+            }
+            len >>= 1;
+        }
+        len
     }
 
     /// Texel `v` on axis `k`, repeated or clamped.
