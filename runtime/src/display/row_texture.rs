@@ -2,18 +2,19 @@
 //! ([`SpanSink::textured_span`](super::SpanSink::textured_span)). The fill's
 //! [`TextureMap`](crate::fill::texture::TextureMap) makes one per row.
 //!
-//! # Perspective in integers
+//! # Perspective
 //! On a polygon's plane, `1/z`, `s/z` and `t/z` are affine on the screen: the row holds them
 //! at pixel 0 (`w`, `s`, `t`, scaled so that `w` is at most `2^30` on the polygon and `s`,
 //! `t` at most `2^30` in magnitude) and their steps a pixel, wrapping `i32`s as a
 //! [`RowShade`]'s are. A pixel's coordinates are the quotients `s / w` and `t / w` (times
 //! `2^shift`): exact at the ends of runs of [`RUN`] pixels aligned to the screen's columns
 //! (`x = 16 k`, taken inside the polygon's span on the row, whose pixels they are), one `f32`
-//! division each (`1/w`, then a multiply a coordinate), and linear in between, as Quake's span drawer steps its texture
-//! coordinates. Where the perspective bends too much for a chord over 16 pixels (more than
-//! 1/16 pixel and 1/256 texel off), the run is halved, aligned likewise, down to single
-//! pixels. A pixel's texel therefore depends on its column and on the polygon's span on
-//! its row, never on the piece of the span a sink is given.
+//! division each (`1/w`, then a multiply a coordinate, rounded alike on every core), and
+//! stepped in integers in between, as Quake's span drawer steps its texture coordinates.
+//! Where the perspective bends too much for a chord over 16 pixels (more than about 1/16
+//! pixel and 1/256 texel off), the block's runs are shorter, aligned likewise, down to single
+//! pixels. A pixel's texel therefore depends on its column and on the polygon's span on its
+//! row, never on the piece of the span a sink is given.
 
 use super::{shaded, Colour, RowShade};
 use crate::read::layout::texture_flags;
