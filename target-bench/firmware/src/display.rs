@@ -35,10 +35,10 @@ use embedded_graphics_core::pixelcolor::{IntoStorage, Rgb565};
 use embedded_graphics_core::primitives::{PointsIter, Rectangle};
 use embedded_graphics_core::Pixel;
 use peel_runtime::display::Rgb565Framebuffer;
-#[cfg(all(feature = "smooth", not(feature = "scan")))]
-use peel_runtime::display::{dither_rgb565, Colour, RowShade, SpanSink};
 #[cfg(all(feature = "textures", feature = "smooth", not(feature = "scan")))]
 use peel_runtime::display::RowTexture;
+#[cfg(all(feature = "smooth", not(feature = "scan")))]
+use peel_runtime::display::{dither_rgb565, Colour, RowShade, SpanSink};
 
 /// Bytes of CASET (the window's columns): command and two 16-bit columns.
 const CASET_BYTES: u64 = 5;
