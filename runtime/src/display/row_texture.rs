@@ -98,12 +98,13 @@ impl RowTexture<'_> {
         let at = |k: usize| self.base[k].wrapping_add(self.step[k].wrapping_mul(x as i32));
         let w = at(0).max(1);
         let r = 1.0 / w as f32;
-        let q = |k: usize| {
-            let scale = (1u64 << self.shift[k - 1]) as f32;
+        let [shift_s, shift_t] = self.shift;
+        let q = |k: usize, shift: u8| {
+            let scale = (1u64 << shift) as f32;
             // (`as` saturates: a quotient past `i32` is clamped anyway.)
             ((at(k) as f32 * r) * scale).clamp(-QUOTIENT_LIMIT, QUOTIENT_LIMIT) as i32
         };
-        (w, [q(1), q(2)])
+        (w, [q(1, shift_s), q(2, shift_t)])
     }
 
     /// The colour of pixel `x`.
@@ -250,8 +251,8 @@ impl<'r, 'a> TexelWalk<'r, 'a> {
         let len = match self.block {
             Some((start, len)) if start == block => len,
             _ => {
-                let a = block.clamp(row.first, last);
-                let b = (block + RUN).clamp(row.first, last);
+                let a = block.max(row.first).min(last);
+                let b = (block + RUN).max(row.first).min(last);
                 let ((wa, qa), (wb, qb)) = (at(self, a), row.exact_with_w(b));
                 let len = self.run_length(wa, wb, qa, qb);
                 self.block = Some((block, len));
@@ -262,8 +263,8 @@ impl<'r, 'a> TexelWalk<'r, 'a> {
             }
         };
         let start = self.x & !(len - 1);
-        let a = start.clamp(row.first, last);
-        let b = (start + len).clamp(row.first, last);
+        let a = start.max(row.first).min(last);
+        let b = (start + len).max(row.first).min(last);
         let (_, qa) = at(self, a);
         let (wb, qb) = at(self, b);
         self.run_end = start + len;
@@ -281,13 +282,14 @@ impl<'r, 'a> TexelWalk<'r, 'a> {
                 from -= period;
                 to = to
                     .wrapping_sub(period)
-                    .clamp(from - MAX_RUN_CHANGE, from + MAX_RUN_CHANGE);
+                    .max(from - MAX_RUN_CHANGE)
+                    .min(from + MAX_RUN_CHANGE);
             }
             let change = (to - from) << STEP_BITS;
             let step = match b - a {
                 0 => 0,
                 n if n.is_power_of_two() => change >> n.trailing_zeros(),
-                n => change / n as i32,
+                n => change.checked_div(n as i32).unwrap_or(0),
             };
             // From `a` to pixel `x`.
             let offset = self.x.saturating_sub(a) as i32;
@@ -337,7 +339,8 @@ impl<'r, 'a> TexelWalk<'r, 'a> {
     #[inline]
     fn place(&self, k: usize, v: i32) -> i32 {
         if self.clamp && self.row.texture.flags & (texture_flags::CLAMP_S << k) != 0 {
-            v.clamp(0, self.max[k])
+            // (`max` and `min`: `clamp` checks its bounds, a panic the proof would see.)
+            v.max(0).min(self.max[k])
         } else {
             v & self.max[k]
         }
@@ -416,7 +419,9 @@ impl TexelWalk<'_, '_> {
                 self.start_run();
             }
             let n = ((self.run_end - self.x) as usize).min(out.len());
-            let (run, rest) = out.split_at_mut(n);
+            let Some((run, rest)) = out.split_at_mut_checked(n) else {
+                return;
+            };
             let t = &self.row.texture;
             let palette = t.flags & texture_flags::PALETTE != 0;
             if self.clamp {
@@ -426,8 +431,8 @@ impl TexelWalk<'_, '_> {
                     *slot = self.texel(i);
                 }
             } else {
-                let [(s, ds), (v, dt)] = [0, 1].map(|k| (self.value[k], self.step[k]));
-                let (mut s, mut v) = (s, v);
+                let [mut s, mut v] = self.value;
+                let [ds, dt] = self.step;
                 let [shift_s, shift_t] = self.shift;
                 let [max_s, max_t] = self.max;
                 let log2 = t.log2_width;

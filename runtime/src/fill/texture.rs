@@ -65,7 +65,12 @@ impl<'a, const SUB: u32> TextureMap<'a, SUB> {
             filter,
         };
         let (ax, ay) = (i64::from(anchor.0), i64::from(anchor.1));
-        for (k, [dx, dy, at]) in planes.into_iter().enumerate() {
+        let slots = map
+            .step
+            .iter_mut()
+            .zip(map.row_step.iter_mut())
+            .zip(map.origin.iter_mut());
+        for (((step, row_step), origin), [dx, dy, at]) in slots.zip(planes) {
             let fits = |v: f32| v.is_finite() && v.abs() < MAX_STEP;
             if !(fits(dx) && fits(dy) && fits(at)) {
                 return None;
@@ -73,9 +78,9 @@ impl<'a, const SUB: u32> TextureMap<'a, SUB> {
             // `as` rounds toward zero; adding half away from zero rounds to nearest.
             let round = |v: f32| (v + 0.5f32.copysign(v)) as i64;
             let (sx, sy) = (round(dx), round(dy));
-            map.step[k] = sx as i32;
-            map.row_step[k] = sy as i32;
-            map.origin[k] = (round(at) - sx * ax - sy * ay) as i32;
+            *step = sx as i32;
+            *row_step = sy as i32;
+            *origin = (round(at) - sx * ax - sy * ay) as i32;
         }
         Some(map)
     }

@@ -104,7 +104,7 @@ impl<'a> Scene<'a> {
         let start = arrays.texels + u32_at(b, at + 4)? as usize;
         let size = layout::texture_bytes(log2_width, log2_height, flags, colours);
         let bytes = b.get(start..start.checked_add(size)?)?;
-        let (colours, texels) = bytes.split_at(colours as usize * TEXEL_SIZE);
+        let (colours, texels) = bytes.split_at_checked(colours as usize * TEXEL_SIZE)?;
         Some(Texture {
             log2_width,
             log2_height,
