@@ -177,6 +177,20 @@ impl Panel {
         Some((first, a.size.width as usize, a.size.height as usize))
     }
 
+    /// The panel's pixels of row `y`, columns `x_start..x_end` clipped to it, counted as one
+    /// window and one burst; `None` when nothing is left.
+    #[cfg(all(feature = "smooth", not(feature = "scan")))]
+    fn burst(&mut self, y: u32, x_start: u32, x_end: u32) -> Option<&mut [u16]> {
+        let x_end = x_end.min(self.width);
+        if y >= self.height || x_start >= x_end {
+            return None;
+        }
+        let n = (x_end - x_start) as usize;
+        self.count(n as u64);
+        let at = (y * self.width + x_start) as usize;
+        self.memory.get_mut(at..at + n)
+    }
+
     /// One shaded span of row `y`, columns `x_start..x_end` (clipped to the panel): one window
     /// and one burst of its pixels, two writes, as a flat span's `fill_solid`. Pixel `x` is
     /// `shade.at(x)` dithered ([`dither_rgb565`]), computed as it is sent (a driver feeding
@@ -184,14 +198,7 @@ impl Panel {
     #[cfg(all(feature = "smooth", not(feature = "scan")))]
     #[inline(never)]
     pub fn shaded_span(&mut self, y: u32, x_start: u32, x_end: u32, shade: &RowShade) {
-        let x_end = x_end.min(self.width);
-        if y >= self.height || x_start >= x_end {
-            return;
-        }
-        let n = (x_end - x_start) as usize;
-        self.count(n as u64);
-        let at = (y * self.width + x_start) as usize;
-        let Some(run) = self.memory.get_mut(at..at + n) else {
+        let Some(run) = self.burst(y, x_start, x_end) else {
             return;
         };
         for ((slot, colour), x) in run.iter_mut().zip(shade.colours(x_start)).zip(x_start..) {
@@ -207,17 +214,9 @@ impl Panel {
     #[cfg(all(feature = "textures", feature = "smooth", not(feature = "scan")))]
     #[inline(never)]
     pub fn textured_span(&mut self, y: u32, x_start: u32, x_end: u32, texture: &RowTexture<'_>) {
-        let x_end = x_end.min(self.width);
-        if y >= self.height || x_start >= x_end {
-            return;
+        if let Some(run) = self.burst(y, x_start, x_end) {
+            texture.rgb565_into(x_start, run);
         }
-        let n = (x_end - x_start) as usize;
-        self.count(n as u64);
-        let at = (y * self.width + x_start) as usize;
-        let Some(run) = self.memory.get_mut(at..at + n) else {
-            return;
-        };
-        texture.rgb565_into(x_start, run);
     }
 
     /// Count a `DrawTarget` write of `pixels` pixels: the window set-up and the pixels, two
