@@ -24,12 +24,11 @@ use crate::read::Texture;
 /// Pixels between two exact divisions: the run's ends are its first pixel and the next run's.
 pub const RUN: u32 = 16;
 
+/// Palettes up to this many colours are lit once a span ([`RowTexture::rgb565_into`]).
+const SMALL_PALETTE: usize = 16;
+
 /// Fraction bits of a texture coordinate between runs' ends (beyond its own 16).
 const STEP_BITS: u32 = 8;
-
-/// A repeating axis's coordinate is taken modulo its period at each run's start, and a run
-/// steps by at most this much (`2^6` textures, far beyond any texel a pixel can show).
-const MAX_RUN_CHANGE: i32 = 1 << 22;
 
 /// The largest quotient kept, `2^30` (file units: `2^14` textures).
 const QUOTIENT_LIMIT: f32 = (1u32 << 30) as f32;
@@ -100,7 +99,8 @@ impl RowTexture<'_> {
         let r = 1.0 / w as f32;
         let [shift_s, shift_t] = self.shift;
         let q = |k: usize, shift: u8| {
-            let scale = (1u64 << shift) as f32;
+            // `2^shift` from its exponent bits (a power of two, exact: no integer conversion).
+            let scale = f32::from_bits((127 + u32::from(shift).min(127)) << 23);
             // (`as` saturates: a quotient past `i32` is clamped anyway.)
             ((at(k) as f32 * r) * scale).clamp(-QUOTIENT_LIMIT, QUOTIENT_LIMIT) as i32
         };
@@ -136,6 +136,33 @@ impl RowTexture<'_> {
                 *slot = colour.to_rgb565();
             }
             return;
+        }
+        let t = &self.texture;
+        let colours = t.colours.len() / 2;
+        if t.flags & texture_flags::PALETTE != 0 && colours <= SMALL_PALETTE {
+            // A small palette is lit once for the span, not once a texel.
+            let k = match self.modulation {
+                Modulation::Shade(_) => None,
+                Modulation::Colour(k) => Some(k),
+                Modulation::None => Some(Colour::grey(255)),
+            };
+            if let Some(k) = k {
+                let mut palette = [0u16; SMALL_PALETTE];
+                for (i, slot) in palette.iter_mut().enumerate().take(colours) {
+                    let c = rgb565_at(t.colours, i);
+                    *slot = match self.modulation {
+                        Modulation::None => c,
+                        _ => modulate(rgb565_colour(c), k).to_rgb565(),
+                    };
+                }
+                let texels = t.texels;
+                // (A parsed file's indices are below its colours' count.)
+                self.texels(x_start).fill_by(out, |i| {
+                    let k = texels.get(i).copied().unwrap_or(0);
+                    palette[usize::from(k) % SMALL_PALETTE]
+                });
+                return;
+            }
         }
         self.texels(x_start).fill(out);
         match self.modulation {
@@ -191,7 +218,11 @@ pub const fn modulate(x: Colour, k: Colour) -> Colour {
 }
 
 /// The texels of a row's pixels from one on, left to right ([`RowTexture::texels`]): per
-/// pixel two adds, two shifts and masks, and a load; per run two divisions.
+/// pixel two adds, two shifts and a load; per run one division.
+///
+/// A repeating axis's coordinate is kept with the texture's period as `2^32`, so that the
+/// wrapping of `i32` arithmetic is the repeat and its texel the top bits; a clamped axis's
+/// keeps [`STEP_BITS`] more fraction bits than the file's units.
 #[derive(Debug, Clone)]
 pub struct TexelWalk<'r, 'a> {
     row: &'r RowTexture<'a>,
@@ -199,38 +230,61 @@ pub struct TexelWalk<'r, 'a> {
     x: u32,
     /// Where the current run ends (its last pixel plus one).
     run_end: u32,
-    /// `[s, t]` at the next pixel, with [`STEP_BITS`] more fraction bits, and their steps.
+    /// `[s, t]` at the next pixel and their steps.
     value: [i32; 2],
     step: [i32; 2],
-    /// A coordinate's texel is `value >> shift`, masked or clamped to `max`.
+    /// A coordinate's texel is `value >> shift` (logical where it repeats), masked or clamped
+    /// to `max`.
     shift: [u32; 2],
     max: [i32; 2],
-    /// Whether either axis clamps (the masks serve the rest).
-    clamp: bool,
-    /// The last run end's column, `w` and coordinates: the next run starts there.
-    end: (u32, i32, [i32; 2]),
+    /// Whether each axis clamps.
+    clamps: [bool; 2],
+    /// The last two run ends computed (column, `w`, coordinates): a run starts where the last
+    /// one ended, and a block's first run where the block was decided.
+    end: Exact,
+    begin: Exact,
     /// The block of [`RUN`] pixels last decided, and the length of its runs.
     block: Option<(u32, u32)>,
 }
+
+/// A run end's column, `w` and coordinates ([`RowTexture::exact_with_w`]).
+type Exact = (u32, i32, [i32; 2]);
 
 impl<'r, 'a> TexelWalk<'r, 'a> {
     fn new(row: &'r RowTexture<'a>, x: u32) -> Self {
         let t = &row.texture;
         let sides = [t.log2_width, t.log2_height].map(u32::from);
+        let clamps = [texture_flags::CLAMP_S, texture_flags::CLAMP_T].map(|f| t.flags & f != 0);
+        let shift = |k: usize| match (clamps[k], sides[k]) {
+            (true, log2) => STEP_BITS + 16 - log2,
+            // (A one-texel axis keeps its coordinate 0: see `start_run`.)
+            (false, 0) => 31,
+            (false, log2) => 32 - log2,
+        };
         let mut walk = TexelWalk {
             row,
             x,
             run_end: x,
             value: [0; 2],
             step: [0; 2],
-            shift: sides.map(|log2| STEP_BITS + 16 - log2),
+            shift: [shift(0), shift(1)],
             max: sides.map(|log2| (1i32 << log2) - 1),
-            clamp: t.flags & (texture_flags::CLAMP_S | texture_flags::CLAMP_T) != 0,
+            clamps,
             end: (u32::MAX, 0, [0; 2]),
+            begin: (u32::MAX, 0, [0; 2]),
             block: None,
         };
         walk.start_run();
         walk
+    }
+
+    /// The exact values at column `x`, from the last two computed where one was there.
+    #[inline]
+    fn exact(&self, x: u32) -> (i32, [i32; 2]) {
+        match (self.end, self.begin) {
+            ((e, w, q), _) | (_, (e, w, q)) if e == x => (w, q),
+            _ => self.row.exact_with_w(x),
+        }
     }
 
     /// Set up the run holding pixel `self.x`: its ends' exact coordinates, inside the
@@ -242,58 +296,59 @@ impl<'r, 'a> TexelWalk<'r, 'a> {
     fn start_run(&mut self) {
         let row = self.row;
         let last = row.end.saturating_sub(1).max(row.first);
-        let at = |walk: &Self, x: u32| match walk.end {
-            // (A run starts where the last one ended: its end's division serves again.)
-            (e, w, q) if e == x => (w, q),
-            _ => row.exact_with_w(x),
-        };
+        let inside = |x: u32| x.max(row.first).min(last);
         let block = self.x & !(RUN - 1);
         let len = match self.block {
             Some((start, len)) if start == block => len,
             _ => {
-                let a = block.max(row.first).min(last);
-                let b = (block + RUN).max(row.first).min(last);
-                let ((wa, qa), (wb, qb)) = (at(self, a), row.exact_with_w(b));
+                let (a, b) = (inside(block), inside(block + RUN));
+                let (wa, qa) = self.exact(a);
+                let (wb, qb) = row.exact_with_w(b);
                 let len = self.run_length(wa, wb, qa, qb);
                 self.block = Some((block, len));
-                if len == RUN {
-                    self.end = (b, wb, qb);
-                }
+                self.begin = (a, wa, qa);
+                self.end = (b, wb, qb);
                 len
             }
         };
         let start = self.x & !(len - 1);
-        let a = start.max(row.first).min(last);
-        let b = (start + len).max(row.first).min(last);
-        let (_, qa) = at(self, a);
-        let (wb, qb) = at(self, b);
+        let (a, b) = (inside(start), inside(start + len));
+        let (_, qa) = self.exact(a);
+        let (wb, qb) = self.exact(b);
         self.run_end = start + len;
-        self.end = (b, wb, qb);
-        let flags = row.texture.flags;
+        if self.end.0 != b {
+            self.begin = self.end;
+            self.end = (b, wb, qb);
+        }
+        let n = b - a;
+        // From `a` to pixel `x`.
+        let offset = self.x.saturating_sub(a) as i32;
         for k in 0..2 {
-            let clamp = flags & (texture_flags::CLAMP_S << k) != 0;
-            let (mut from, mut to) = (qa[k], qb[k]);
-            if clamp {
-                from = from.clamp(-CLAMP_REACH, CLAMP_REACH);
-                to = to.clamp(-CLAMP_REACH, CLAMP_REACH);
+            let (from, to) = (qa[k], qb[k]);
+            let (value, step) = if self.clamps[k] {
+                let from = from.max(-CLAMP_REACH).min(CLAMP_REACH);
+                let to = to.max(-CLAMP_REACH).min(CLAMP_REACH);
+                let change = (to - from) << STEP_BITS;
+                (from << STEP_BITS, divide(change, n))
+            } else if self.max[k] == 0 {
+                (0, 0)
             } else {
-                // Modulo the period: only the texel within it matters.
-                let period = from & !0xFFFF;
-                from -= period;
-                to = to
-                    .wrapping_sub(period)
-                    .max(from - MAX_RUN_CHANGE)
-                    .min(from + MAX_RUN_CHANGE);
-            }
-            let change = (to - from) << STEP_BITS;
-            let step = match b - a {
-                0 => 0,
-                n if n.is_power_of_two() => change >> n.trailing_zeros(),
-                n => change.checked_div(n as i32).unwrap_or(0),
+                // The period is `2^16` file units, `2^32` here: a shift by 16 wraps the
+                // coordinate into it, and the change's low 32 bits are all a step needs.
+                let change = to.wrapping_sub(from);
+                let step = if n.is_power_of_two() {
+                    change << (16 - n.trailing_zeros())
+                } else if change.unsigned_abs() < 1 << 15 {
+                    divide(change << 16, n)
+                } else {
+                    // (More than half a texture in a cut run: rare, in 64 bits.)
+                    (i64::from(change) << 16)
+                        .checked_div(i64::from(n))
+                        .unwrap_or(0) as i32
+                };
+                (from << 16, step)
             };
-            // From `a` to pixel `x`.
-            let offset = self.x.saturating_sub(a) as i32;
-            self.value[k] = (from << STEP_BITS).wrapping_add(step.wrapping_mul(offset));
+            self.value[k] = value.wrapping_add(step.wrapping_mul(offset));
             self.step[k] = step;
         }
     }
@@ -335,10 +390,20 @@ impl<'r, 'a> TexelWalk<'r, 'a> {
         len
     }
 
+    /// Texel coordinate `k` of `v`, not yet repeated or clamped.
+    #[inline]
+    fn coordinate(&self, k: usize, v: i32) -> i32 {
+        if self.clamps[k] {
+            v >> self.shift[k]
+        } else {
+            ((v as u32) >> self.shift[k]) as i32
+        }
+    }
+
     /// Texel `v` on axis `k`, repeated or clamped.
     #[inline]
     fn place(&self, k: usize, v: i32) -> i32 {
-        if self.clamp && self.row.texture.flags & (texture_flags::CLAMP_S << k) != 0 {
+        if self.clamps[k] {
             // (`max` and `min`: `clamp` checks its bounds, a panic the proof would see.)
             v.max(0).min(self.max[k])
         } else {
@@ -349,7 +414,7 @@ impl<'r, 'a> TexelWalk<'r, 'a> {
     /// The next pixel's texel: its index in the texture's texels.
     #[inline]
     fn texel_index(&self) -> usize {
-        let place = |k: usize| self.place(k, self.value[k] >> self.shift[k]);
+        let place = |k: usize| self.place(k, self.coordinate(k, self.value[k]));
         ((place(1) << self.row.texture.log2_width) | place(0)) as usize
     }
 
@@ -380,7 +445,15 @@ impl<'r, 'a> TexelWalk<'r, 'a> {
             self.start_run();
         }
         // Coordinates in 1/16 texel from the first texel's centre.
-        let at = |k: usize| (self.value[k] >> (self.shift[k] - 4)) - 8;
+        let at = |k: usize| {
+            let v = self.value[k];
+            let sixteenths = if self.clamps[k] {
+                v >> (self.shift[k] - 4)
+            } else {
+                ((v as u32) >> (self.shift[k] - 4)) as i32
+            };
+            sixteenths - 8
+        };
         let (s, t) = (at(0), at(1));
         let (fs, ft) = ((s & 15) as u32, (t & 15) as u32);
         let (c0, r0) = (s >> 4, t >> 4);
@@ -408,11 +481,35 @@ impl<'r, 'a> TexelWalk<'r, 'a> {
     }
 }
 
+/// `change / n` (0 where `n` is 0), by a shift where `n` is a power of two.
+#[inline]
+fn divide(change: i32, n: u32) -> i32 {
+    match n {
+        0 => 0,
+        n if n.is_power_of_two() => change >> n.trailing_zeros(),
+        n => change.checked_div(n as i32).unwrap_or(0),
+    }
+}
+
 impl TexelWalk<'_, '_> {
     /// The texels of the next `out.len()` pixels into `out`, a run at a time: the run's end,
     /// the palette and the clamps tested once a run, not once a pixel (Quake's span drawer's
     /// inner loop).
     pub fn fill(&mut self, out: &mut [u16]) {
+        let t = self.row.texture;
+        if t.flags & texture_flags::PALETTE != 0 {
+            self.fill_by(out, |i| {
+                let k = t.texels.get(i).copied().unwrap_or(0);
+                rgb565_at(t.colours, usize::from(k))
+            });
+        } else {
+            self.fill_by(out, |i| rgb565_at(t.texels, i));
+        }
+    }
+
+    /// [`Self::fill`] with `colour(i)` the colour of texel `i`.
+    #[inline]
+    fn fill_by(&mut self, out: &mut [u16], colour: impl Fn(usize) -> u16) {
         let mut out = out;
         while !out.is_empty() {
             if self.x >= self.run_end {
@@ -422,36 +519,22 @@ impl TexelWalk<'_, '_> {
             let Some((run, rest)) = out.split_at_mut_checked(n) else {
                 return;
             };
-            let t = &self.row.texture;
-            let palette = t.flags & texture_flags::PALETTE != 0;
-            if self.clamp {
+            if self.clamps[0] || self.clamps[1] {
                 for slot in run.iter_mut() {
                     let i = self.texel_index();
                     self.advance();
-                    *slot = self.texel(i);
+                    *slot = colour(i);
                 }
             } else {
                 let [mut s, mut v] = self.value;
                 let [ds, dt] = self.step;
                 let [shift_s, shift_t] = self.shift;
-                let [max_s, max_t] = self.max;
-                let log2 = t.log2_width;
-                let index = |s: i32, v: i32| {
-                    ((((v >> shift_t) & max_t) << log2) | ((s >> shift_s) & max_s)) as usize
-                };
-                if palette {
-                    for slot in run.iter_mut() {
-                        let k = t.texels.get(index(s, v)).copied().unwrap_or(0);
-                        *slot = rgb565_at(t.colours, usize::from(k));
-                        s = s.wrapping_add(ds);
-                        v = v.wrapping_add(dt);
-                    }
-                } else {
-                    for slot in run.iter_mut() {
-                        *slot = rgb565_at(t.texels, index(s, v));
-                        s = s.wrapping_add(ds);
-                        v = v.wrapping_add(dt);
-                    }
+                let log2 = u32::from(self.row.texture.log2_width);
+                for slot in run.iter_mut() {
+                    let i = ((((v as u32) >> shift_t) << log2) | ((s as u32) >> shift_s)) as usize;
+                    *slot = colour(i);
+                    s = s.wrapping_add(ds);
+                    v = v.wrapping_add(dt);
                 }
                 self.value = [s, v];
                 self.x += n as u32;
