@@ -24,6 +24,12 @@ use crate::read::Texture;
 /// Pixels between two exact divisions: the run's ends are its first pixel and the next run's.
 pub const RUN: u32 = 16;
 
+/// A chord stands for the perspective where it strays by at most `1 / STRAY_PIXELS` of a
+/// pixel (a robust pixel keeps its texel) or else `1 / STRAY_TEXELS` of a texel.
+const STRAY_PIXELS: u64 = 16;
+/// See [`STRAY_PIXELS`].
+const STRAY_TEXELS: u64 = 16;
+
 /// Palettes up to this many colours are lit once a span ([`RowTexture::rgb565_into`]).
 const SMALL_PALETTE: usize = 16;
 
@@ -274,7 +280,9 @@ impl<'r, 'a> TexelWalk<'r, 'a> {
             begin: (u32::MAX, 0, [0; 2]),
             block: None,
         };
-        walk.start_run();
+        if !walk.start_span() {
+            walk.start_run();
+        }
         walk
     }
 
@@ -285,6 +293,24 @@ impl<'r, 'a> TexelWalk<'r, 'a> {
             ((e, w, q), _) | (_, (e, w, q)) if e == x => (w, q),
             _ => self.row.exact_with_w(x),
         }
+    }
+
+    /// Draw the whole span as one run where its chord stays close enough to the perspective
+    /// ([`Self::straight`]): two divisions a span. Whether it does depends on the span alone,
+    /// so a piece of it decides alike.
+    fn start_span(&mut self) -> bool {
+        let row = self.row;
+        let (a, b) = (row.first, row.end.saturating_sub(1).max(row.first));
+        let (wa, qa) = row.exact_with_w(a);
+        let (wb, qb) = row.exact_with_w(b);
+        if !self.straight(wa, wb, qa, qb, b - a) {
+            self.begin = (a, wa, qa);
+            self.end = (b, wb, qb);
+            return false;
+        }
+        self.run_end = u32::MAX;
+        self.set_run(a, b, qa, qb);
+        true
     }
 
     /// Set up the run holding pixel `self.x`: its ends' exact coordinates, inside the
@@ -303,7 +329,7 @@ impl<'r, 'a> TexelWalk<'r, 'a> {
             _ => {
                 let (a, b) = (inside(block), inside(block + RUN));
                 let (wa, qa) = self.exact(a);
-                let (wb, qb) = row.exact_with_w(b);
+                let (wb, qb) = self.exact(b);
                 let len = self.run_length(wa, wb, qa, qb);
                 self.block = Some((block, len));
                 self.begin = (a, wa, qa);
@@ -320,6 +346,13 @@ impl<'r, 'a> TexelWalk<'r, 'a> {
             self.begin = self.end;
             self.end = (b, wb, qb);
         }
+        self.set_run(a, b, qa, qb);
+    }
+
+    /// The coordinates at pixel `self.x` and their steps, on the chord from `qa` at column `a`
+    /// to `qb` at column `b`.
+    #[inline]
+    fn set_run(&mut self, a: u32, b: u32, qa: [i32; 2], qb: [i32; 2]) {
         let n = b - a;
         // From `a` to pixel `x`.
         let offset = self.x.saturating_sub(a) as i32;
@@ -336,12 +369,12 @@ impl<'r, 'a> TexelWalk<'r, 'a> {
                 // The period is `2^16` file units, `2^32` here: a shift by 16 wraps the
                 // coordinate into it, and the change's low 32 bits are all a step needs.
                 let change = to.wrapping_sub(from);
-                let step = if n.is_power_of_two() {
+                let step = if n.is_power_of_two() && n <= 1 << 16 {
                     change << (16 - n.trailing_zeros())
                 } else if change.unsigned_abs() < 1 << 15 {
                     divide(change << 16, n)
                 } else {
-                    // (More than half a texture in a cut run: rare, in 64 bits.)
+                    // (More than half a texture: in 64 bits.)
                     (i64::from(change) << 16)
                         .checked_div(i64::from(n))
                         .unwrap_or(0) as i32
@@ -353,41 +386,58 @@ impl<'r, 'a> TexelWalk<'r, 'a> {
         }
     }
 
-    /// The length of the runs a block of [`RUN`] pixels is drawn in, from its ends, where `w`
-    /// is `wa` and `wb` and the coordinates `qa` and `qb`: the longest power of two whose
-    /// chord stays close enough to the perspective. Where `w` changes by the ratio `r >= 1`
-    /// over a run, a point strays from the chord by at most `(r - 1) / 4` of the run, in
-    /// pixels and in texels alike; over a run of `L` pixels of the block, `r - 1` and the
-    /// run's change are both about `L / 16` of the block's, so the stray goes as `L^2`. A
-    /// pixel whose centre and the points 1/16 pixel around it lie in one texel (a robust
-    /// pixel, as the accuracy rule counts them) keeps its texel when the run strays by at most
-    /// 1/16 pixel; failing that, a stray of 1/256 texel moves at most 1/128 of the pixels into
-    /// a texel next to theirs.
+    /// How far a chord between `w` = `wa` and `wb`, coordinates `qa` and `qb`, may stray from
+    /// the perspective: `(bend, near, change)`, with the chord's change in 1/256 texel (plus
+    /// one). Where `w` changes by the ratio `r = far / near >= 1` over a chord of `L` pixels,
+    /// a point strays from it by at most `L (r - 1) / 4` pixels, and `(r - 1) / 4` of the
+    /// chord's change in texels.
     #[inline]
-    fn run_length(&self, wa: i32, wb: i32, qa: [i32; 2], qb: [i32; 2]) -> u32 {
-        let (near, far) = (i64::from(wa.min(wb).max(1)), i64::from(wa.max(wb).max(1)));
-        let bend = far - near;
-        // The block's change, in 1/256 of a texel.
+    fn bend(&self, wa: i32, wb: i32, qa: [i32; 2], qb: [i32; 2]) -> (u64, u64, u64) {
+        let (near, far) = (wa.min(wb).max(1) as u64, wa.max(wb).max(1) as u64);
         let t = &self.row.texture;
         let change = |k: usize, log2: u8| {
-            let q = (i64::from(qb[k]) - i64::from(qa[k])).abs();
+            let q = (i64::from(qb[k]) - i64::from(qa[k])).unsigned_abs();
             (q << log2 >> 8) + 1
         };
         let change = change(0, t.log2_width).max(change(1, t.log2_height));
-        let mut len = RUN;
-        while len > 1 {
-            // `(L / 16)^2` of the block's stray: `L^2 bend / 16^2` against `near`.
-            let square = i64::from(len * len);
-            // In pixels: `L (r_L - 1) / 4 <= 1/16`, `r_L - 1 = L bend / (16 near)`.
-            let pixels = 4 * square * bend <= 16 * near;
-            // In 1/256 texel: `change_L (r_L - 1) / 4 <= 1`, `change_L = L change / 16`.
-            let texels = square.saturating_mul(change).saturating_mul(bend) <= 1024 * near;
-            if pixels || texels {
-                break;
+        (far - near, near, change)
+    }
+
+    /// Whether a chord of `len` pixels strays by at most [`STRAY_PIXELS`] of a pixel or
+    /// [`STRAY_TEXELS`] of a texel ([`Self::bend`]).
+    #[inline]
+    fn straight(&self, wa: i32, wb: i32, qa: [i32; 2], qb: [i32; 2], len: u32) -> bool {
+        let (bend, near, change) = self.bend(wa, wb, qa, qb);
+        // `len bend / (4 near) <= 1 / STRAY_PIXELS`.
+        let pixels = u64::from(len) * bend * STRAY_PIXELS <= 4 * near;
+        // `change bend / (4 near) <= 256 / STRAY_TEXELS` (`change` in 1/256 texel).
+        let texels = change.saturating_mul(bend).saturating_mul(STRAY_TEXELS) <= 1024 * near;
+        pixels || texels
+    }
+
+    /// The length of the runs a block of [`RUN`] pixels is drawn in, from its ends (as
+    /// [`Self::straight`] takes them): the longest power of two whose chord stays close
+    /// enough to the perspective. Over a run of `L` pixels of the block, `r - 1` and the
+    /// run's change are both about `L / 16` of the block's, so the stray goes as `L^2`. A
+    /// pixel whose centre and the points 1/16 pixel around it lie in one texel (a robust
+    /// pixel, as the accuracy rule counts them) keeps its texel when the run strays by at most
+    /// 1/16 pixel; failing that, a stray of 1/16 texel moves few of the pixels into a texel
+    /// next to theirs.
+    #[inline]
+    fn run_length(&self, wa: i32, wb: i32, qa: [i32; 2], qb: [i32; 2]) -> u32 {
+        let (bend, near, change) = self.bend(wa, wb, qa, qb);
+        // With `L = 2^k`, the run's stray is `L^2 / 256` of the block's whole chord's: in
+        // pixels `L^2 bend STRAY_PIXELS <= 64 near`, in texels `L^2 change bend STRAY_TEXELS
+        // <= 2^18 near` (`X L^2 <= Y` taken as `X <= Y >> 2k`, the same for integers).
+        let pixels = bend * STRAY_PIXELS;
+        let texels = change.saturating_mul(bend).saturating_mul(STRAY_TEXELS);
+        let (pixel_room, texel_room) = (64 * near, (1 << 18) * near);
+        for k in [4u32, 3, 2, 1] {
+            if pixels <= pixel_room >> (2 * k) || texels <= texel_room >> (2 * k) {
+                return 1 << k;
             }
-            len >>= 1;
         }
-        len
+        1
     }
 
     /// Texel coordinate `k` of `v`, not yet repeated or clamped.
