@@ -359,8 +359,8 @@ impl<'r, 'a> TexelWalk<'r, 'a> {
         for k in 0..2 {
             let (from, to) = (qa[k], qb[k]);
             let (value, step) = if self.clamps[k] {
-                let from = from.max(-CLAMP_REACH).min(CLAMP_REACH);
-                let to = to.max(-CLAMP_REACH).min(CLAMP_REACH);
+                let from = from.clamp(-CLAMP_REACH, CLAMP_REACH);
+                let to = to.clamp(-CLAMP_REACH, CLAMP_REACH);
                 let change = (to - from) << STEP_BITS;
                 (from << STEP_BITS, divide(change, n))
             } else if self.max[k] == 0 {
