@@ -257,6 +257,7 @@ pub struct TexelWalk<'r, 'a> {
 type Exact = (u32, i32, [i32; 2]);
 
 impl<'r, 'a> TexelWalk<'r, 'a> {
+    #[inline]
     fn new(row: &'r RowTexture<'a>, x: u32) -> Self {
         let t = &row.texture;
         let sides = [t.log2_width, t.log2_height].map(u32::from);
@@ -298,6 +299,7 @@ impl<'r, 'a> TexelWalk<'r, 'a> {
     /// Draw the whole span as one run where its chord stays close enough to the perspective
     /// ([`Self::straight`]): two divisions a span. Whether it does depends on the span alone,
     /// so a piece of it decides alike.
+    #[inline]
     fn start_span(&mut self) -> bool {
         let row = self.row;
         let (a, b) = (row.first, row.end.saturating_sub(1).max(row.first));

@@ -64,7 +64,7 @@ impl<'a, const SUB: u32> TextureMap<'a, SUB> {
             lighting,
             filter,
         };
-        let (ax, ay) = (i64::from(anchor.0), i64::from(anchor.1));
+        let (ax, ay) = (anchor.0 as i32, anchor.1 as i32);
         let slots = map
             .step
             .iter_mut()
@@ -75,12 +75,15 @@ impl<'a, const SUB: u32> TextureMap<'a, SUB> {
             if !(fits(dx) && fits(dy) && fits(at)) {
                 return None;
             }
-            // `as` rounds toward zero; adding half away from zero rounds to nearest.
-            let round = |v: f32| (v + 0.5f32.copysign(v)) as i64;
+            // `as` rounds toward zero; adding half away from zero rounds to nearest (below
+            // `MAX_STEP`, within `i32`; the origin is kept modulo `2^32`).
+            let round = |v: f32| (v + 0.5f32.copysign(v)) as i32;
             let (sx, sy) = (round(dx), round(dy));
-            *step = sx as i32;
-            *row_step = sy as i32;
-            *origin = (round(at) - sx * ax - sy * ay) as i32;
+            *step = sx;
+            *row_step = sy;
+            *origin = round(at)
+                .wrapping_sub(sx.wrapping_mul(ax))
+                .wrapping_sub(sy.wrapping_mul(ay));
         }
         Some(map)
     }

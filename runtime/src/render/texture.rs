@@ -88,7 +88,9 @@ pub(super) fn texture_map<'a, const SUB: u32>(
     // `s` below `2^shift`: `s w / 2^shift` stays below `w`'s `2^30`.
     let shift = reach.map(|r| (32 - r.leading_zeros()) as u8);
     let k = W_SCALE / nearest;
-    let scaled = |c: Vec3, shift: u8| plane(c * (k / (1u64 << shift) as f32), x, y);
+    // (`2^-shift` from its exponent bits: exact, no integer conversion.)
+    let power = |shift: u8| f32::from_bits((127 - u32::from(shift).min(126)) << 23);
+    let scaled = |c: Vec3, shift: u8| plane(c * (k * power(shift)), x, y);
     TextureMap::new(
         texture,
         [
