@@ -257,7 +257,8 @@ pub struct TexelWalk<'r, 'a> {
 type Exact = (u32, i32, [i32; 2]);
 
 impl<'r, 'a> TexelWalk<'r, 'a> {
-    #[inline]
+    // (Always inlined: returned, the walk would be copied.)
+    #[inline(always)]
     fn new(row: &'r RowTexture<'a>, x: u32) -> Self {
         let t = &row.texture;
         let sides = [t.log2_width, t.log2_height].map(u32::from);
