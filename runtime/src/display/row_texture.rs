@@ -37,7 +37,7 @@ const SMALL_PALETTE: usize = 16;
 const STEP_BITS: u32 = 8;
 
 /// The largest quotient kept, `2^30` (file units: `2^14` textures).
-const QUOTIENT_LIMIT: f32 = (1u32 << 30) as f32;
+const QUOTIENT_LIMIT: i32 = 1 << 30;
 
 /// A clamped axis's coordinate past this is past the edge anyway.
 const CLAMP_REACH: i32 = 1 << 17;
@@ -105,11 +105,13 @@ impl RowTexture<'_> {
         let r = 1.0 / w as f32;
         let [shift_s, shift_t] = self.shift;
         let q = |k: usize, shift: u8| {
-            // `2^shift` from its exponent bits (a power of two, exact: no integer conversion).
-            let scale = f32::from_bits((127 + u32::from(shift).min(127)) << 23);
-            // (`as` saturates: a quotient past `i32` is clamped anyway.)
-            ((at(k) as f32 * r) * scale).clamp(-QUOTIENT_LIMIT, QUOTIENT_LIMIT) as i32
+            // `r 2^shift` by its exponent (`r` is normal, in `[2^-30, 1]`): exact, so the
+            // product rounds as `(s r) 2^shift` would, without a second multiply.
+            let scaled = f32::from_bits(r.to_bits() + (u32::from(shift).min(127) << 23));
+            // (`as` saturates, and the clamp in integers is the clamp in `f32`.)
+            (at(k) as f32 * scaled) as i32
         };
+        let q = |k: usize, shift: u8| q(k, shift).clamp(-QUOTIENT_LIMIT, QUOTIENT_LIMIT);
         (w, [q(1, shift_s), q(2, shift_t)])
     }
 
@@ -412,9 +414,9 @@ impl<'r, 'a> TexelWalk<'r, 'a> {
     fn straight(&self, wa: i32, wb: i32, qa: [i32; 2], qb: [i32; 2], len: u32) -> bool {
         let (bend, near, change) = self.bend(wa, wb, qa, qb);
         // `len bend / (4 near) <= 1 / STRAY_PIXELS`.
-        let pixels = u64::from(len) * bend * STRAY_PIXELS <= 4 * near;
+        let pixels = product(u64::from(len), bend) * STRAY_PIXELS <= 4 * near;
         // `change bend / (4 near) <= 256 / STRAY_TEXELS` (`change` in 1/256 texel).
-        let texels = change.saturating_mul(bend).saturating_mul(STRAY_TEXELS) <= 1024 * near;
+        let texels = product(change, bend).saturating_mul(STRAY_TEXELS) <= 1024 * near;
         pixels || texels
     }
 
@@ -433,7 +435,7 @@ impl<'r, 'a> TexelWalk<'r, 'a> {
         // pixels `L^2 bend STRAY_PIXELS <= 64 near`, in texels `L^2 change bend STRAY_TEXELS
         // <= 2^18 near` (`X L^2 <= Y` taken as `X <= Y >> 2k`, the same for integers).
         let pixels = bend * STRAY_PIXELS;
-        let texels = change.saturating_mul(bend).saturating_mul(STRAY_TEXELS);
+        let texels = product(change, bend).saturating_mul(STRAY_TEXELS);
         let (pixel_room, texel_room) = (64 * near, (1 << 18) * near);
         for k in [4u32, 3, 2, 1] {
             if pixels <= pixel_room >> (2 * k) || texels <= texel_room >> (2 * k) {
@@ -531,6 +533,16 @@ impl<'r, 'a> TexelWalk<'r, 'a> {
             (sum[1] >> 8) as u8,
             (sum[2] >> 8) as u8,
         )
+    }
+}
+
+/// `a b`, saturated: in 32 bits where both are below `2^16`, the usual case (a core without a
+/// 64-bit multiply, the Cortex-M0+, calls a library for one).
+#[inline]
+fn product(a: u64, b: u64) -> u64 {
+    match (u16::try_from(a), u16::try_from(b)) {
+        (Ok(a), Ok(b)) => u64::from(u32::from(a) * u32::from(b)),
+        _ => a.saturating_mul(b),
     }
 }
 
