@@ -7,14 +7,14 @@
 //! at pixel 0 (`w`, `s`, `t`, scaled so that `w` is at most `2^30` on the polygon and `s`,
 //! `t` at most `2^30` in magnitude) and their steps a pixel, wrapping `i32`s as a
 //! [`RowShade`]'s are. A pixel's coordinates are the quotients `s / w` and `t / w` (times
-//! `2^shift`): exact at the ends of runs of [`RUN`] pixels aligned to the screen's columns
-//! (`x = 16 k`, taken inside the polygon's span on the row, whose pixels they are), one `f32`
-//! division each (`1/w`, then a multiply a coordinate, rounded alike on every core), and
-//! stepped in integers in between, as Quake's span drawer steps its texture coordinates.
-//! Where the perspective bends too much for a chord over 16 pixels (more than about 1/16
-//! pixel and 1/256 texel off), the block's runs are shorter, aligned likewise, down to single
-//! pixels. A pixel's texel therefore depends on its column and on the polygon's span on its
-//! row, never on the piece of the span a sink is given.
+//! `2^shift`), exact at the ends of runs, one `f32` division each (`1/w`, then a multiply a
+//! coordinate, rounded alike on every core), and stepped in integers in between, as Quake's
+//! span drawer steps its texture coordinates. A run is the polygon's whole span on the row
+//! where its chord strays from the perspective by at most 1/16 pixel or 1/16 texel; else
+//! runs of [`RUN`] pixels aligned to the screen's columns (`x = 16 k`, their ends taken
+//! inside the span, whose pixels they are), shorter where a block's chord strays more, aligned
+//! likewise, down to single pixels. A pixel's texel therefore depends on its column and on the
+//! polygon's span on its row, never on the piece of the span a sink is given.
 
 use super::{shaded, Colour, RowShade};
 use crate::read::layout::texture_flags;

@@ -28,6 +28,18 @@ fn texture(flags: u8) -> Texture<'static> {
     }
 }
 
+/// [`texture`] through a palette of 3 colours (a small palette: lit once a span).
+fn palette_texture() -> Texture<'static> {
+    const INDICES: [u8; 16] = [0, 1, 2, 1, 2, 0, 0, 1, 1, 1, 2, 2, 0, 2, 1, 0];
+    const COLOURS: [u8; 6] = [0x1f, 0x00, 0xe0, 0x07, 0x34, 0x92];
+    Texture {
+        flags: texture_flags::PALETTE,
+        colours: &COLOURS,
+        texels: &INDICES,
+        ..texture(0)
+    }
+}
+
 /// The texel value at `(c, r)` of [`texture`].
 fn value(c: u32, r: u32) -> u16 {
     (r * 4 + c + 1) as u16
@@ -273,16 +285,102 @@ fn rgb565_into_is_each_pixels_colour() {
         for filter in [Filter::Nearest, Filter::Bilinear] {
             r.modulation = modulation;
             r.filter = filter;
-            for start in [0u32, 7, 50] {
-                let mut out = vec![0u16; (100 - start) as usize];
-                r.rgb565_into(start, &mut out);
-                let expected: Vec<u16> = r
-                    .colours(start)
-                    .take(out.len())
-                    .map(|c| c.to_rgb565())
-                    .collect();
-                assert_eq!(out, expected, "{modulation:?} {filter:?} from {start}");
+            for palette in [false, true] {
+                r.texture = if palette {
+                    palette_texture()
+                } else {
+                    texture(0)
+                };
+                for start in [0u32, 7, 50] {
+                    let mut out = vec![0u16; (100 - start) as usize];
+                    r.rgb565_into(start, &mut out);
+                    let expected: Vec<u16> = r
+                        .colours(start)
+                        .take(out.len())
+                        .map(|c| c.to_rgb565())
+                        .collect();
+                    assert_eq!(
+                        out, expected,
+                        "{modulation:?} {filter:?} palette {palette} from {start}"
+                    );
+                }
             }
         }
+    }
+}
+
+/// A row whose chord strays little is one run: exact at its span's ends, within a texel of
+/// the exact coordinates between, and any piece gives the whole span's texels. A row that
+/// bends much is not.
+#[test]
+fn a_straight_span_is_one_run() {
+    // w from 1 to 0.98 over 100 pixels; s over two repeats.
+    let r = row(
+        (1.0, -0.0002),
+        (65536.0 * 0.1, 65536.0 * 0.02),
+        (65536.0 * 0.6, 65536.0 * 0.001),
+        (10, 110),
+        0,
+    );
+    let ends = |r: &RowTexture<'_>, a: u32, b: u32| {
+        let (wa, qa) = r.exact_with_w(a);
+        let (wb, qb) = r.exact_with_w(b);
+        TexelWalk::new(r, a).straight(wa, wb, qa, qb, b - a)
+    };
+    assert!(ends(&r, 10, 109));
+    let whole: Vec<u16> = r.texels(10).take(100).collect();
+    let place = |q: i32| ((q >> 14) & 3) as u32;
+    // A texel is 2^14 file units: a pixel whose exact coordinates lie further than the
+    // stray (1/16 texel) from a texel's edge keeps its texel.
+    let from_edge = |q: i32| {
+        let within = q & ((1 << 14) - 1);
+        within.min((1 << 14) - within)
+    };
+    let mut off = 0;
+    for (x, &texel) in (10..110u32).zip(&whole) {
+        let [qs, qt] = r.exact(x);
+        if x == 10 || x == 109 {
+            assert_eq!(texel, value(place(qs), place(qt)), "span end {x}");
+        } else if texel != value(place(qs), place(qt)) {
+            off += 1;
+            let near_edge = from_edge(qs).min(from_edge(qt)) <= 1 << 10;
+            assert!(near_edge, "pixel {x}: {texel} off, far from an edge");
+        }
+    }
+    // (Some are: one chord, not a division a pixel.)
+    assert!(off > 0 && off <= 12, "{off} pixels off");
+    for start in [11, 16, 50, 109] {
+        let piece: Vec<u16> = r.texels(start).take((110 - start) as usize).collect();
+        assert_eq!(piece[..], whole[(start - 10) as usize..], "from {start}");
+    }
+    let bent = row(
+        (1.0, -0.9 / 200.0),
+        (0.0, 65536.0 * 0.0075),
+        (0.0, 0.0),
+        (0, 200),
+        0,
+    );
+    assert!(!ends(&bent, 0, 199));
+}
+
+/// A repeating axis wraps however many periods its coordinate spans, and a one-texel axis
+/// shows its only texel.
+#[test]
+fn repeats_wrap_over_many_periods() {
+    // s from -40.07 textures by 1.025 a pixel (four texels a pixel and a tenth), t anywhere
+    // on a one-texel-high texture.
+    let mut r = row(
+        (1.0, 0.0),
+        (-65536.0 * 40.07, 65536.0 * (1.0 + 1.0 / 40.0)),
+        (65536.0 * 7.3, 65536.0 * 0.37),
+        (0, 80),
+        0,
+    );
+    r.texture.log2_height = 0;
+    let texels: Vec<u16> = r.texels(0).take(80).collect();
+    for (x, &texel) in (0..80u32).zip(&texels) {
+        let s = -40.07 + f64::from(x) * (1.0 + 1.0 / 40.0);
+        let column = ((s * 4.0).floor() as i64).rem_euclid(4) as u32;
+        assert_eq!(texel, value(column, 0), "pixel {x}");
     }
 }
