@@ -230,7 +230,7 @@ pub const fn modulate(x: Colour, k: Colour) -> Colour {
 ///
 /// A repeating axis's coordinate is kept with the texture's period as `2^32`, so that the
 /// wrapping of `i32` arithmetic is the repeat and its texel the top bits; a clamped axis's
-/// keeps [`STEP_BITS`] more fraction bits than the file's units.
+/// keeps `STEP_BITS` more fraction bits than the file's units.
 #[derive(Debug, Clone)]
 pub struct TexelWalk<'r, 'a> {
     row: &'r RowTexture<'a>,
