@@ -109,9 +109,8 @@ impl RowTexture<'_> {
             // product rounds as `(s r) 2^shift` would, without a second multiply.
             let scaled = f32::from_bits(r.to_bits() + (u32::from(shift).min(127) << 23));
             // (`as` saturates, and the clamp in integers is the clamp in `f32`.)
-            (at(k) as f32 * scaled) as i32
+            ((at(k) as f32 * scaled) as i32).clamp(-QUOTIENT_LIMIT, QUOTIENT_LIMIT)
         };
-        let q = |k: usize, shift: u8| q(k, shift).clamp(-QUOTIENT_LIMIT, QUOTIENT_LIMIT);
         (w, [q(1, shift_s), q(2, shift_t)])
     }
 
@@ -146,43 +145,37 @@ impl RowTexture<'_> {
             return;
         }
         let t = &self.texture;
+        let lit = |texel: u16| match self.modulation {
+            Modulation::Colour(k) => modulate(rgb565_colour(texel), k).to_rgb565(),
+            _ => texel,
+        };
         let colours = t.colours.len() / 2;
-        if t.flags & texture_flags::PALETTE != 0 && colours <= SMALL_PALETTE {
+        let by_colour = !matches!(self.modulation, Modulation::Shade(_));
+        if by_colour && t.flags & texture_flags::PALETTE != 0 && colours <= SMALL_PALETTE {
             // A small palette is lit once for the span, not once a texel.
-            let k = match self.modulation {
-                Modulation::Shade(_) => None,
-                Modulation::Colour(k) => Some(k),
-                Modulation::None => Some(Colour::grey(255)),
-            };
-            if let Some(k) = k {
-                let mut palette = [0u16; SMALL_PALETTE];
-                for (i, slot) in palette.iter_mut().enumerate().take(colours) {
-                    let c = rgb565_at(t.colours, i);
-                    *slot = match self.modulation {
-                        Modulation::None => c,
-                        _ => modulate(rgb565_colour(c), k).to_rgb565(),
-                    };
-                }
-                let texels = t.texels;
-                // (A parsed file's indices are below its colours' count.)
-                self.texels(x_start).fill_by(out, |i| {
-                    let k = texels.get(i).copied().unwrap_or(0);
-                    palette[usize::from(k) % SMALL_PALETTE]
-                });
-                return;
+            let mut palette = [0u16; SMALL_PALETTE];
+            for (i, slot) in palette.iter_mut().enumerate().take(colours) {
+                *slot = lit(rgb565_at(t.colours, i));
             }
+            let texels = t.texels;
+            // (A parsed file's indices are below its colours' count.)
+            self.texels(x_start).fill_by(out, |i| {
+                let k = texels.get(i).copied().unwrap_or(0);
+                palette[usize::from(k) % SMALL_PALETTE]
+            });
+            return;
         }
         self.texels(x_start).fill(out);
         match self.modulation {
             Modulation::None => {}
-            Modulation::Colour(k) => {
+            Modulation::Colour(_) => {
                 let mut last: Option<(u16, u16)> = None;
                 for slot in out.iter_mut() {
                     let texel = *slot;
                     *slot = match last {
                         Some((t, c)) if t == texel => c,
                         _ => {
-                            let c = modulate(rgb565_colour(texel), k).to_rgb565();
+                            let c = lit(texel);
                             last = Some((texel, c));
                             c
                         }
@@ -445,13 +438,14 @@ impl<'r, 'a> TexelWalk<'r, 'a> {
         1
     }
 
-    /// Texel coordinate `k` of `v`, not yet repeated or clamped.
+    /// Coordinate `k` of `v` in units of `2^-fraction` texel, not yet repeated or clamped.
     #[inline]
-    fn coordinate(&self, k: usize, v: i32) -> i32 {
+    fn coordinate(&self, k: usize, v: i32, fraction: u32) -> i32 {
+        let shift = self.shift[k] - fraction;
         if self.clamps[k] {
-            v >> self.shift[k]
+            v >> shift
         } else {
-            ((v as u32) >> self.shift[k]) as i32
+            ((v as u32) >> shift) as i32
         }
     }
 
@@ -469,20 +463,14 @@ impl<'r, 'a> TexelWalk<'r, 'a> {
     /// The next pixel's texel: its index in the texture's texels.
     #[inline]
     fn texel_index(&self) -> usize {
-        let place = |k: usize| self.place(k, self.coordinate(k, self.value[k]));
+        let place = |k: usize| self.place(k, self.coordinate(k, self.value[k], 0));
         ((place(1) << self.row.texture.log2_width) | place(0)) as usize
     }
 
     /// The RGB565 texel at index `i`.
     #[inline]
     fn texel(&self, i: usize) -> u16 {
-        let t = &self.row.texture;
-        if t.flags & texture_flags::PALETTE != 0 {
-            let k = t.texels.get(i).copied().unwrap_or(0);
-            rgb565_at(t.colours, usize::from(k))
-        } else {
-            rgb565_at(t.texels, i)
-        }
+        self.row.texture.texel_at(i)
     }
 
     /// Step to the next pixel.
@@ -500,15 +488,7 @@ impl<'r, 'a> TexelWalk<'r, 'a> {
             self.start_run();
         }
         // Coordinates in 1/16 texel from the first texel's centre.
-        let at = |k: usize| {
-            let v = self.value[k];
-            let sixteenths = if self.clamps[k] {
-                v >> (self.shift[k] - 4)
-            } else {
-                ((v as u32) >> (self.shift[k] - 4)) as i32
-            };
-            sixteenths - 8
-        };
+        let at = |k: usize| self.coordinate(k, self.value[k], 4) - 8;
         let (s, t) = (at(0), at(1));
         let (fs, ft) = ((s & 15) as u32, (t & 15) as u32);
         let (c0, r0) = (s >> 4, t >> 4);
@@ -563,11 +543,9 @@ impl TexelWalk<'_, '_> {
     pub fn fill(&mut self, out: &mut [u16]) {
         let t = self.row.texture;
         if t.flags & texture_flags::PALETTE != 0 {
-            self.fill_by(out, |i| {
-                let k = t.texels.get(i).copied().unwrap_or(0);
-                rgb565_at(t.colours, usize::from(k))
-            });
+            self.fill_by(out, |i| t.texel_at(i));
         } else {
+            // (The palette tested once a fill, not once a texel.)
             self.fill_by(out, |i| rgb565_at(t.texels, i));
         }
     }

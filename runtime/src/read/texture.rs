@@ -40,10 +40,15 @@ impl Texture<'_> {
     pub fn texel(&self, column: u32, row: u32) -> u16 {
         let w = 1u32 << self.log2_width;
         let h = 1u32 << self.log2_height;
-        let i = (((row & (h - 1)) << self.log2_width) | (column & (w - 1))) as usize;
+        self.texel_at((((row & (h - 1)) << self.log2_width) | (column & (w - 1))) as usize)
+    }
+
+    /// The RGB565 colour of texel `i` (row by row; 0 past the end).
+    #[inline]
+    pub fn texel_at(&self, i: usize) -> u16 {
         if self.flags & texture_flags::PALETTE != 0 {
-            let k = self.texels.get(i).copied().unwrap_or(0) as usize;
-            rgb565_at(self.colours, k)
+            let k = self.texels.get(i).copied().unwrap_or(0);
+            rgb565_at(self.colours, usize::from(k))
         } else {
             rgb565_at(self.texels, i)
         }
