@@ -211,6 +211,19 @@ pub enum RenderError {
         /// Index of the object.
         object: u32,
     },
+    /// A front-to-back frame of a scene with transparent surfaces into a sink that takes each
+    /// pixel once (a display, scan memory) has no composite memory
+    /// ([`crate::render::Renderer::composite_memory`]), or that memory has fewer row heads
+    /// than the frame has rows. (Into a framebuffer, such a frame is drawn back to front.)
+    CompositeMemory,
+    /// Transparent surfaces in an anti-aliased frame: a pending pixel's samples would each
+    /// need their own transmittance. Refused before the first pixel; draw the scene without
+    /// [`crate::render::Renderer::antialias`].
+    AntialiasedTransparency,
+    /// Transparent surfaces in a scan-order frame ([`crate::render::Renderer::draw_scan`]):
+    /// its scan memory keeps one colour an interval, not a composite. Refused before the first
+    /// pixel; stream the frame ([`crate::render::Renderer::draw`]) instead.
+    ScanOrderTransparency,
     /// [`crate::render::Renderer::draw_rows`] was given rows that are not a range of the
     /// image's rows.
     RowsOutsideImage {
@@ -282,6 +295,18 @@ impl fmt::Display for RenderError {
             RenderError::BadPose { object } => {
                 write!(f, "the pose of object {object} is not finite")
             }
+            RenderError::CompositeMemory => write!(
+                f,
+                "transparent surfaces front to back need composite memory with a head per row"
+            ),
+            RenderError::AntialiasedTransparency => write!(
+                f,
+                "transparent surfaces cannot be anti-aliased (draw without antialias)"
+            ),
+            RenderError::ScanOrderTransparency => write!(
+                f,
+                "transparent surfaces cannot be drawn in scan order (stream the frame instead)"
+            ),
             RenderError::RowsOutsideImage { start, end, height } => write!(
                 f,
                 "rows {start}..{end} are not rows of an image {height} rows high"

@@ -12,6 +12,7 @@ extern crate std;
 
 pub mod camera;
 pub mod clip;
+pub mod composite;
 pub mod coverage;
 pub mod display;
 pub mod error;

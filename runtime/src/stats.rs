@@ -41,6 +41,9 @@ pub struct FrameStats {
     /// A frame with objects: the most world planes that cut one object (each may add two
     /// vertices to a polygon: the clip buffers' `VERTS`); 0 otherwise.
     pub object_planes: u32,
+    /// Front to back with transparent surfaces: the rows whose composite memory ran out, drawn
+    /// with screen-door transparency instead ([`crate::composite`]); 0 otherwise.
+    pub fallback_rows: u32,
 }
 
 impl FrameStats {
@@ -86,6 +89,8 @@ pub(crate) struct Tally {
     pub(crate) antialiased: bool,
     pub(crate) object_steps: u32,
     pub(crate) object_planes: u32,
+    /// Rows fallen back to screen-door transparency ([`FrameStats::fallback_rows`]).
+    pub(crate) fallback_rows: u32,
 }
 
 impl Tally {
@@ -145,6 +150,7 @@ impl Tally {
             antialiased: self.antialiased,
             object_steps: self.object_steps,
             object_planes: self.object_planes,
+            fallback_rows: self.fallback_rows,
         }
     }
 }

@@ -239,6 +239,36 @@ impl<'m> Coverage<'m> {
         })
     }
 
+    /// Each uncovered piece of `[x_start, x_end)` on row `y`, left to right, as
+    /// `piece(start, end)`, merging nothing: where a transparent span may show (it covers
+    /// nothing). In scan memory, which keeps no transparent span, nothing.
+    #[inline]
+    pub fn uncovered(&self, y: u32, x_start: u32, x_end: u32, mut piece: impl FnMut(u32, u32)) {
+        if matches!(self.store, Store::Scan(_)) {
+            return;
+        }
+        let x_end = x_end.min(u32::from(self.width));
+        if x_start >= x_end {
+            return;
+        }
+        let row = self.row(y);
+        let first = row.partition_point(|&(_, e)| u32::from(e) <= x_start);
+        let mut at = x_start;
+        for &(s, e) in row.get(first..).unwrap_or(&[]) {
+            let (s, e) = (u32::from(s), u32::from(e));
+            if s >= x_end {
+                break;
+            }
+            if s > at {
+                piece(at, s);
+            }
+            at = at.max(e);
+        }
+        if at < x_end {
+            piece(at, x_end);
+        }
+    }
+
     /// Paint `[x_start, x_end)` of row `y` into `sink` as the mode says; returns the pixels
     /// forwarded (in scan memory: covered, as it forwards nothing). Out-of-frame or empty
     /// spans, and every span once exhausted (in the merging modes), forward nothing.

@@ -3,7 +3,7 @@
 //! flat, shaded and textured spans alike ([`SpanPaint`]).
 
 use super::Coverage;
-use crate::display::{Colour, RowShade, RowTexture, Shifted, SpanPaint, SpanSink};
+use crate::display::{Colour, RowShade, RowTexture, Shifted, SpanPaint, SpanSink, Transparent};
 
 /// A [`SpanSink`] that paints through a [`Coverage`] into another sink, counting pixels.
 #[derive(Debug)]
@@ -27,6 +27,11 @@ impl<S: SpanSink + ?Sized> SpanSink for CoverageSink<'_, '_, S> {
 
     fn textured_span(&mut self, y: u32, x_start: u32, x_end: u32, texture: &RowTexture<'_>) {
         self.pixels += self.coverage.span(y, x_start, x_end, texture, self.sink);
+    }
+
+    fn transparent_span(&mut self, y: u32, x_start: u32, x_end: u32, colour: Colour, opacity: u8) {
+        let paint = Transparent { colour, opacity };
+        self.pixels += self.coverage.span(y, x_start, x_end, &paint, self.sink);
     }
 }
 
@@ -74,5 +79,11 @@ impl<S: SpanSink + ?Sized> SpanSink for Clipped<'_, '_, S> {
 
     fn textured_span(&mut self, y: u32, x_start: u32, x_end: u32, texture: &RowTexture<'_>) {
         self.route(y, x_start, x_end, texture);
+    }
+
+    /// Back to front (the only order that routes a transparent span here): blended over what
+    /// the sink shows.
+    fn transparent_span(&mut self, y: u32, x_start: u32, x_end: u32, colour: Colour, opacity: u8) {
+        self.route(y, x_start, x_end, &Transparent { colour, opacity });
     }
 }

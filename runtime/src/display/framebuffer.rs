@@ -5,7 +5,7 @@ use core::fmt;
 use core::marker::PhantomData;
 
 use super::dither::{dithered, row_thresholds};
-use super::{Colour, RowShade, RowTexture, SpanSink};
+use super::{over, rgb565_colour, Colour, RowShade, RowTexture, SpanSink};
 
 /// How a [`Colour`] is stored in one pixel of a [`Framebuffer`].
 pub trait PixelFormat {
@@ -13,6 +13,9 @@ pub trait PixelFormat {
     type Raw: Copy + fmt::Debug + PartialEq;
     /// The stored value of `colour` (computed once per span, not per pixel).
     fn encode(colour: Colour) -> Self::Raw;
+
+    /// The colour a stored pixel shows (what a transparent span is blended over).
+    fn decode(raw: Self::Raw) -> Colour;
 
     /// Store a shaded span: `run[i]` is pixel `(x_start + i, y)` (`y` a frame row), of colour
     /// `shade.at(x_start + i)`; `dither` is the framebuffer's switch, for a format with fewer
@@ -46,6 +49,11 @@ impl PixelFormat for Gray8 {
     fn encode(colour: Colour) -> u8 {
         colour.luma()
     }
+
+    #[inline]
+    fn decode(raw: u8) -> Colour {
+        Colour::grey(raw)
+    }
 }
 
 /// 16-bit RGB565: [`Colour::to_rgb565`], and shaded spans [`dither_rgb565`] unless the
@@ -60,6 +68,11 @@ impl PixelFormat for Rgb565 {
     #[inline]
     fn encode(colour: Colour) -> u16 {
         colour.to_rgb565()
+    }
+
+    #[inline]
+    fn decode(raw: u16) -> Colour {
+        rgb565_colour(raw)
     }
 
     /// Texels unlit are stored as they are (the file's texels are RGB565 already), lit ones
@@ -94,6 +107,11 @@ impl PixelFormat for Xrgb8888 {
     #[inline]
     fn encode(colour: Colour) -> u32 {
         colour.to_xrgb8888()
+    }
+
+    #[inline]
+    fn decode(raw: u32) -> Colour {
+        Colour::new((raw >> 16) as u8, (raw >> 8) as u8, raw as u8)
     }
 }
 
@@ -336,6 +354,24 @@ impl<P: PixelFormat> SpanSink for Framebuffer<'_, P> {
     fn textured_span(&mut self, y: u32, x_start: u32, x_end: u32, texture: &RowTexture<'_>) {
         if let Some(run) = self.run(y, x_start, x_end) {
             P::encode_textured(run, x_start, texture);
+        }
+    }
+
+    /// `colour` at `opacity` blended [`over`] each pixel, exactly (back to front), clipped
+    /// as [`Self::span`] is.
+    fn transparent_span(&mut self, y: u32, x_start: u32, x_end: u32, colour: Colour, opacity: u8) {
+        if let Some(run) = self.run(y, x_start, x_end) {
+            let mut last = None;
+            for pixel in run {
+                // (Runs of one colour below blend once.)
+                let below = *pixel;
+                let blended = match last {
+                    Some((b, v)) if b == below => v,
+                    _ => P::encode(over(colour, opacity, P::decode(below))),
+                };
+                last = Some((below, blended));
+                *pixel = blended;
+            }
         }
     }
 }

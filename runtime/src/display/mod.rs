@@ -23,6 +23,7 @@ mod shifted;
 mod span_paint;
 #[cfg(test)]
 pub(crate) mod testing;
+mod transparent;
 
 #[cfg(feature = "embedded-graphics")]
 mod embedded;
@@ -41,6 +42,7 @@ pub use row_texture::{
 };
 pub(crate) use shifted::Shifted;
 pub use span_paint::{Paint, SpanPaint};
+pub use transparent::{over, screen_door, screen_door_shows, Transparent};
 
 /// An RGB888 colour. Id images use it too: `id + 1` as 24 bits, red the high byte.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
@@ -119,6 +121,16 @@ pub trait SpanSink {
     fn textured_span(&mut self, y: u32, x_start: u32, x_end: u32, texture: &RowTexture<'_>) {
         texture.runs(x_start, x_end, |a, b, colour| self.span(y, a, b, colour));
     }
+
+    /// Paint one span of a transparent polygon, back to front: `colour` at `opacity` (of 255)
+    /// over what the pixels show. By default the sink cannot read its pixels, so it draws
+    /// the polygon's [`screen_door`] in `colour`; the framebuffers override it with the exact
+    /// blend ([`over`]).
+    fn transparent_span(&mut self, y: u32, x_start: u32, x_end: u32, colour: Colour, opacity: u8) {
+        screen_door(y, x_start, x_end, opacity, |a, b| {
+            self.span(y, a, b, colour)
+        });
+    }
 }
 
 impl<S: SpanSink + ?Sized> SpanSink for &mut S {
@@ -140,6 +152,11 @@ impl<S: SpanSink + ?Sized> SpanSink for &mut S {
     #[inline]
     fn textured_span(&mut self, y: u32, x_start: u32, x_end: u32, texture: &RowTexture<'_>) {
         (**self).textured_span(y, x_start, x_end, texture);
+    }
+
+    #[inline]
+    fn transparent_span(&mut self, y: u32, x_start: u32, x_end: u32, colour: Colour, opacity: u8) {
+        (**self).transparent_span(y, x_start, x_end, colour, opacity);
     }
 }
 

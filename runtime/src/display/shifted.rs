@@ -34,4 +34,11 @@ impl<S: SpanSink + ?Sized> SpanSink for Shifted<'_, S> {
         self.sink
             .textured_span(y.wrapping_add(self.by), x_start, x_end, texture);
     }
+
+    /// The same blend on the frame row.
+    #[inline]
+    fn transparent_span(&mut self, y: u32, x_start: u32, x_end: u32, colour: Colour, opacity: u8) {
+        self.sink
+            .transparent_span(y.wrapping_add(self.by), x_start, x_end, colour, opacity);
+    }
 }

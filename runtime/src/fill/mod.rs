@@ -364,6 +364,13 @@ impl Shader for Colour {
     }
 }
 
+impl Shader for crate::display::Transparent {
+    #[inline]
+    fn span<S: SpanSink + ?Sized>(&mut self, sink: &mut S, y: u32, x_start: u32, x_end: u32) {
+        sink.transparent_span(y, x_start, x_end, self.colour, self.opacity);
+    }
+}
+
 impl<const SUB: u32> Shader for Gradient<SUB> {
     #[inline]
     fn span<S: SpanSink + ?Sized>(&mut self, sink: &mut S, y: u32, x_start: u32, x_end: u32) {

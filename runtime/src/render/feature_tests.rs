@@ -184,6 +184,7 @@ fn culled_cube(order: Order) -> (FrameStats, bool) {
         #[cfg(feature = "integer-vertices")]
         integer: None,
         antialias: None,
+        composite: None,
         cuts: NoCuts,
     };
     let entered = painter.enter(&t, 0, None, &mut Tally::default());

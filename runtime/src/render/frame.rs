@@ -17,6 +17,7 @@ use super::painter::{NoCuts, Painter, PieceCuts, Root, StepCut};
 use super::{FrameStats, Source};
 use crate::camera::LocalView;
 use crate::clip::{self, Frustum};
+use crate::composite::{Composite, ScreenDoor};
 use crate::coverage::{Coverage, Mode};
 use crate::display::{Colour, Filter, SpanSink};
 use crate::error::RenderError;
@@ -66,6 +67,8 @@ pub(super) struct Memory<'a, 'm, const SUB: u32> {
     pub(super) coverage: Option<&'a mut Coverage<'m>>,
     pub(super) vertices: Option<&'a mut VertexCache<'m, SUB>>,
     pub(super) pending: Option<&'a mut Pending<'m>>,
+    /// Composite memory, for a front-to-back frame with transparent surfaces.
+    pub(super) composite: Option<&'a mut Composite<'m>>,
     /// Object memory, for a frame with objects.
     pub(super) objects: Option<&'a mut place::Memory<'m>>,
 }
@@ -130,10 +133,32 @@ where
         coverage,
         vertices,
         pending,
+        composite,
         objects,
     } = memory;
+    let paint = settings.paint;
+    // Transparent surfaces in a frame of colours: front to back through the composite
+    // memory; without it, into a sink that takes overdraw, back to front (exact too).
+    let transparent = cfg!(feature = "transparency")
+        && paint == Paint::Colours
+        && match drawn {
+            Drawn::One(scene) => scene.has_transparency(),
+            Drawn::Posed(posed) => {
+                posed.world.is_some_and(|w| w.has_transparency())
+                    || posed.objects.iter().any(|o| o.scene.has_transparency())
+            }
+        };
+    let composite = composite.filter(|_| transparent);
+    if transparent && output == Output::Scan {
+        return Err(RenderError::ScanOrderTransparency);
+    }
     let asked_front_to_back = coverage.is_some() && !settings.back_to_front;
-    let order = if asked_front_to_back && cfg!(feature = "front-to-back") {
+    let once_sink = matches!(output, Output::Sink { once: true });
+    if transparent && composite.is_none() && asked_front_to_back && once_sink {
+        return Err(RenderError::CompositeMemory);
+    }
+    let composed = !transparent || composite.is_some();
+    let order = if asked_front_to_back && cfg!(feature = "front-to-back") && composed {
         Order::FrontToBack
     } else {
         Order::BackToFront
@@ -142,7 +167,6 @@ where
         Output::Sink { once } => once,
         Output::Scan => true,
     };
-    let paint = settings.paint;
     // Without the features the memory is never used: the optimiser drops that code.
     let mut coverage = coverage.filter(|_| cfg!(feature = "front-to-back"));
     let vertices = vertices.filter(|_| cfg!(feature = "vertex-cache"));
@@ -225,10 +249,20 @@ where
             .is_ok()
     });
     if let Some(p) = pending.as_deref_mut() {
+        if transparent {
+            return Err(RenderError::AntialiasedTransparency);
+        }
         if p.height() < band {
             return Err(RenderError::PendingMemory);
         }
         p.clear();
+    }
+    let mut composite = composite.filter(|_| order == Order::FrontToBack);
+    if let Some(c) = composite.as_deref_mut() {
+        if c.height() < band || !c.holds_a_row(width) {
+            return Err(RenderError::CompositeMemory);
+        }
+        c.clear();
     }
     if let Some(c) = coverage.as_deref_mut() {
         c.set_mode(if order == Order::FrontToBack {
@@ -266,6 +300,7 @@ where
         #[cfg(feature = "integer-vertices")]
         integer,
         antialias: pending,
+        composite,
         cuts: NoCuts,
     };
     Ok(Frame {
@@ -329,16 +364,31 @@ impl<const SUB: u32> Frame<'_, '_, SUB> {
             // No overdraw on a display (nor in scan memory): the frame stops here.
             return Err(RenderError::SpanMemoryFull);
         }
-        if let Some(last) = overflow {
+        let composited = self.painter.composite.is_some();
+        if overflow.is_some() && composited {
+            // Runs cannot be drawn over: the whole frame again, back to front.
+            self.again_back_to_front(scene, target, background)?;
+        } else if let Some(last) = overflow {
             self.fallback(scene, target, last, background)?;
         } else if order == Order::FrontToBack {
             let coverage = self.coverage.as_deref();
-            if coverage.is_some() {
-                paint_background(background, coverage, width, &rows, target);
+            match (self.painter.composite.as_deref_mut(), coverage) {
+                (Some(composite), Some(coverage)) => {
+                    let band = rows.end - rows.start;
+                    composite.finish_rows(coverage, background, band, rows.start, target);
+                    self.tally.fallback_rows = composite.fallen_rows();
+                    if self.tally.fallback_rows > 0 {
+                        self.screen_door_pass(scene, target, background)?;
+                    }
+                }
+                (_, Some(_)) => paint_background(background, coverage, width, &rows, target),
+                _ => {}
             }
         }
         let distinct = match self.coverage.as_deref() {
-            Some(c) if !c.exhausted() && !self.tally.fallback => Some(c.covered() + kept),
+            Some(c) if !c.exhausted() && !self.tally.fallback && self.tally.fallback_rows == 0 => {
+                Some(c.covered() + kept)
+            }
             _ => None,
         };
         Ok(self.tally.report(distinct))
@@ -394,6 +444,70 @@ impl<const SUB: u32> Frame<'_, '_, SUB> {
                 }
             }
         }
+    }
+
+    /// A front-to-back frame with transparent surfaces whose span memory ran out: its runs
+    /// cannot be drawn over, so the whole frame is painted again back to front, the
+    /// background first (a sink that takes overdraw: a display's frame stopped instead).
+    fn again_back_to_front<C, S>(
+        &mut self,
+        scene: &C,
+        target: &mut S,
+        background: Option<Colour>,
+    ) -> Result<(), RenderError>
+    where
+        C: Content + ?Sized,
+        S: SpanSink + ?Sized,
+    {
+        self.tally.fallback = true;
+        self.painter.composite = None;
+        let coverage = self.coverage.take();
+        paint_background(background, None, self.width, &self.rows, target);
+        self.order = Order::BackToFront;
+        let walked = self.walk(scene, target, None);
+        self.coverage = coverage;
+        walked.map(|_| ())
+    }
+
+    /// The rows that fell back to screen-door transparency, drawn again front to back (see
+    /// [`crate::composite`]): a walk a group of them, then the group's background.
+    fn screen_door_pass<C, S>(
+        &mut self,
+        scene: &C,
+        target: &mut S,
+        background: Option<Colour>,
+    ) -> Result<(), RenderError>
+    where
+        C: Content + ?Sized,
+        S: SpanSink + ?Sized,
+    {
+        let (Some(composite), Some(coverage)) =
+            (self.painter.composite.take(), self.coverage.take())
+        else {
+            return Ok(());
+        };
+        let (band, first_row, width) =
+            (self.rows.end - self.rows.start, self.rows.start, self.width);
+        let mut from = 0;
+        let mut result = Ok(());
+        while let Some(until) = composite.next_group(from, band, coverage) {
+            let mut sink = ScreenDoor {
+                composite: &mut *composite,
+                sink: &mut *target,
+                first_row,
+                width,
+                pixels: 0,
+            };
+            result = self.walk(scene, &mut sink, None).map(|_| ());
+            if result.is_err() {
+                break;
+            }
+            composite.end_group(until, width, background, first_row, target);
+            from = until;
+        }
+        self.painter.composite = Some(composite);
+        self.coverage = Some(coverage);
+        result
     }
 
     /// Pass 2 (span memory exhausted at polygon `last`): the polygons from the farthest up to

@@ -86,3 +86,5 @@ mod feature_tests;
 mod smooth_tests;
 #[cfg(all(test, feature = "textures"))]
 mod texture_tests;
+#[cfg(all(test, feature = "transparency", feature = "front-to-back"))]
+mod transparency_tests;

@@ -296,6 +296,7 @@ fn a_full_screen_stops_the_walk_and_culls_covered_subtrees() {
             #[cfg(feature = "integer-vertices")]
             integer: None,
             antialias: None,
+            composite: None,
             cuts: NoCuts,
         };
         let mut tally = Tally::default();

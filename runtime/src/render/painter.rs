@@ -16,8 +16,9 @@ use super::texture::{texture_map, Corners};
 use super::Source;
 use crate::camera::LocalView;
 use crate::clip::{self, Frustum};
+use crate::composite::{Composite, Composited};
 use crate::coverage::{Clipped, Coverage, Mode};
-use crate::display::{Filter, SpanSink};
+use crate::display::{Colour, Filter, SpanSink, Transparent};
 use crate::error::RenderError;
 use crate::fill::gradient::Gradient;
 use crate::fill::samples::{SAMPLE_COLUMNS, SAMPLE_ROWS};
@@ -291,6 +292,9 @@ pub(super) struct Painter<'w, 'v, const SUB: u32, K: Cuts = NoCuts> {
     pub(super) integer: Option<IntegerView>,
     /// Pending pixels, in an anti-aliased frame ([`super::Renderer::antialias`]).
     pub(super) antialias: Option<&'w mut Pending<'v>>,
+    /// The runs behind transparent surfaces, in a front-to-back frame of a scene that has
+    /// them ([`super::Renderer::composite_memory`]).
+    pub(super) composite: Option<&'w mut Composite<'v>>,
     /// The half-spaces, in camera space, a piece of a posed object is clipped to (none
     /// otherwise; see [`crate::place`]).
     pub(super) cuts: K,
@@ -329,6 +333,7 @@ impl<'v, const SUB: u32, K: Cuts> Painter<'_, 'v, SUB, K> {
             #[cfg(feature = "integer-vertices")]
             integer: integer.filter(|_| unclipped),
             antialias: self.antialias.as_deref_mut(),
+            composite: self.composite.as_deref_mut(),
             cuts,
         }
     }
@@ -702,6 +707,12 @@ impl<'v, const SUB: u32, K: Cuts> Painter<'_, 'v, SUB, K> {
             Paint::Ids if cfg!(feature = "ids") => id_colour(scene.id(index).unwrap_or(u32::MAX)),
             Paint::Colours | Paint::Ids => scene.colour_seen(index, polygon, interior),
         };
+        // A transparent polygon's opacity (opaque in an id image, whose pixels name the
+        // nearest surface).
+        let opacity = match self.paint {
+            Paint::Colours if cfg!(feature = "transparency") => scene.opacity(index, polygon),
+            _ => u8::MAX,
+        };
         stats.add(Counter::PolygonsDrawn, 1);
         // A smooth polygon's gradient (`colour` is then its material's), or its one colour
         // where the gradient is flat.
@@ -758,50 +769,102 @@ impl<'v, const SUB: u32, K: Cuts> Painter<'_, 'v, SUB, K> {
                 sink.pixels
             }
             (_, coverage) => {
-                let mut sink = Clipped {
-                    coverage,
-                    sink,
-                    first_row: r0,
-                    pixels: 0,
-                };
+                // Transparent surfaces front to back: through the composite memory (never
+                // without the feature: the optimiser drops that fill).
+                let composite = self
+                    .composite
+                    .take()
+                    .filter(|_| cfg!(feature = "transparency"));
                 let rect = [x0, y0, x1, y1];
-                let rows = self.rows.clone();
-                // A textured polygon: its texels through its perspective map, lit by its
-                // colour or its gradient.
-                #[cfg(feature = "textures")]
-                {
-                    let lighting = match gradient {
-                        Some(g) => Lighting::Smooth(g),
-                        None => Lighting::Colour(colour),
-                    };
-                    let map = self.texture_map(scene, index, polygon, pts, (1, 1), lighting);
-                    if let Some(mut map) = map {
-                        let (edges, rows) = (&mut *self.edges, rows.clone());
-                        let pixels =
-                            fill::fill_in_rect(pts, rect, edges, width, rows, &mut map, &mut sink);
-                        stats.add(Counter::PixelsWritten, pixels);
-                        return Ok(());
+                // (Out of the painter while it fills: `fill_into` borrows it whole.)
+                let points = core::mem::take(&mut self.points);
+                let pts = points.get(..count).unwrap_or(&[]);
+                let (pixels, counted) = match (composite, coverage) {
+                    (Some(composite), Some(coverage)) => {
+                        let mut sink = Composited {
+                            composite: &mut *composite,
+                            coverage,
+                            sink,
+                            first_row: r0,
+                            pixels: 0,
+                        };
+                        let filled = self.fill_into(
+                            scene, index, polygon, pts, rect, gradient, colour, opacity, &mut sink,
+                        );
+                        let counted = sink.pixels;
+                        self.composite = Some(composite);
+                        (filled, counted)
                     }
-                }
-                match gradient {
-                    Some(mut g) => {
-                        fill::fill_in_rect(pts, rect, self.edges, width, rows, &mut g, &mut sink)
+                    (composite, coverage) => {
+                        self.composite = composite;
+                        let mut sink = Clipped {
+                            coverage,
+                            sink,
+                            first_row: r0,
+                            pixels: 0,
+                        };
+                        let filled = self.fill_into(
+                            scene, index, polygon, pts, rect, gradient, colour, opacity, &mut sink,
+                        );
+                        (filled, sink.pixels)
                     }
-                    None => fill::fill_in_rect(
-                        pts,
-                        rect,
-                        self.edges,
-                        width,
-                        rows,
-                        &mut { colour },
-                        &mut sink,
-                    ),
                 };
-                sink.pixels
+                self.points = points;
+                match pixels {
+                    Some(textured) => textured,
+                    None => counted,
+                }
             }
         };
         stats.add(Counter::PixelsWritten, pixels);
         Ok(())
+    }
+
+    /// Fill polygon `index` (its screen polygon `pts`, within `rect`) into `sink`: its texels
+    /// through its perspective map (returning the pixels the fill drew), else its gradient,
+    /// its colour at its `opacity`, or its one colour (returning `None`: the sink counts).
+    #[allow(clippy::too_many_arguments)]
+    #[inline(always)]
+    fn fill_into<T: Source + ?Sized, S: SpanSink + ?Sized>(
+        &mut self,
+        scene: &T,
+        index: u32,
+        polygon: &Polygon,
+        pts: &[FixedPoint<SUB>],
+        rect: [u32; 4],
+        gradient: Option<Gradient<SUB>>,
+        colour: Colour,
+        opacity: u8,
+        sink: &mut S,
+    ) -> Option<u64> {
+        let (width, rows) = (self.view.width, self.rows.clone());
+        // A textured polygon: its texels through its perspective map, lit by its colour or
+        // its gradient.
+        #[cfg(feature = "textures")]
+        {
+            let lighting = match gradient {
+                Some(g) => Lighting::Smooth(g),
+                None => Lighting::Colour(colour),
+            };
+            let map = self.texture_map(scene, index, polygon, pts, (1, 1), lighting);
+            if let Some(mut map) = map {
+                let (edges, rows) = (&mut *self.edges, rows.clone());
+                return Some(fill::fill_in_rect(
+                    pts, rect, edges, width, rows, &mut map, sink,
+                ));
+            }
+        }
+        #[cfg(not(feature = "textures"))]
+        let _ = (scene, index, polygon);
+        match gradient {
+            Some(mut g) => fill::fill_in_rect(pts, rect, self.edges, width, rows, &mut g, sink),
+            None if opacity < u8::MAX && cfg!(feature = "transparency") => {
+                let mut paint = Transparent { colour, opacity };
+                fill::fill_in_rect(pts, rect, self.edges, width, rows, &mut paint, sink)
+            }
+            None => fill::fill_in_rect(pts, rect, self.edges, width, rows, &mut { colour }, sink),
+        };
+        None
     }
 
     /// The perspective map of polygon `index` (whose screen polygon is `points`, on a grid of

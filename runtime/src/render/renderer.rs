@@ -10,6 +10,7 @@ use super::frame::{self, Memory, Output, Settings};
 use super::paint::Paint;
 use super::{Content, FrameStats, Workspace};
 use crate::camera::LocalView;
+use crate::composite::Composite;
 use crate::coverage::Coverage;
 #[cfg(feature = "scan-order")]
 use crate::display::Nowhere;
@@ -86,6 +87,9 @@ pub struct Renderer<'m, const SUB: u32 = { fill::SUBPIXEL_BITS }> {
     scan: Option<ScanMemory<'m>>,
     /// Object memory ([`Renderer::object_memory`]).
     objects: Option<place::Memory<'m>>,
+    /// Composite memory ([`Renderer::composite_memory`]).
+    #[cfg(feature = "transparency")]
+    composite: Option<Composite<'m>>,
 }
 
 impl<'m> Renderer<'m> {
@@ -135,6 +139,8 @@ impl<'m, const SUB: u32> Renderer<'m, SUB> {
             #[cfg(feature = "scan-order")]
             scan: None,
             objects: None,
+            #[cfg(feature = "transparency")]
+            composite: None,
         }
     }
 
@@ -324,6 +330,28 @@ impl<'m, const SUB: u32> Renderer<'m, SUB> {
         self
     }
 
+    /// Composite memory for front-to-back frames of scenes with transparent surfaces (with the
+    /// `transparency` feature; see [`crate::composite`]): per row, the runs of pixels behind
+    /// them, each finished when an opaque surface or the background shows through. Without
+    /// it such a frame is drawn back to front into a framebuffer (exact as well, with
+    /// overdraw) and refused for a display ([`RenderError::CompositeMemory`]). Opaque scenes
+    /// never use it.
+    #[cfg(feature = "transparency")]
+    #[inline(always)]
+    pub fn composite_memory(mut self, composite: Composite<'m>) -> Self {
+        self.composite = Some(composite);
+        self
+    }
+
+    /// The composite memory, if any (after a frame: its peak); never without the
+    /// `transparency` feature.
+    pub fn composite(&self) -> Option<&Composite<'m>> {
+        #[cfg(feature = "transparency")]
+        return self.composite.as_ref();
+        #[cfg(not(feature = "transparency"))]
+        None
+    }
+
     /// The pending pixels' memory, if any (after a frame: its peak); never without the
     /// `antialias` feature.
     pub fn pending(&self) -> Option<&Pending<'m>> {
@@ -422,6 +450,10 @@ impl<'m, const SUB: u32> Renderer<'m, SUB> {
         let pending = self.pending.as_mut();
         #[cfg(not(feature = "antialias"))]
         let pending = None;
+        #[cfg(feature = "transparency")]
+        let composite = self.composite.as_mut();
+        #[cfg(not(feature = "transparency"))]
+        let composite = None;
         let memory = Memory {
             stack: &mut self.stack[..],
             clip_a: &mut self.clip_a[..],
@@ -431,6 +463,7 @@ impl<'m, const SUB: u32> Renderer<'m, SUB> {
             coverage,
             vertices: self.vertices.as_mut(),
             pending,
+            composite,
             objects: self.objects.as_mut(),
         };
         // Scan order paints its gaps when the frame is read out.

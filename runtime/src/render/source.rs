@@ -93,6 +93,16 @@ pub trait Source: Tree {
         let _ = (polygon, i);
         [0, 0]
     }
+    /// Whether some polygon is transparent ([`Source::opacity`] below 255); `false` (the
+    /// default) for an opaque scene, whose frames need no composite memory.
+    fn has_transparency(&self) -> bool {
+        false
+    }
+    /// The opacity of polygon `i` (of 255; 255, the default, is opaque).
+    fn opacity(&self, i: u32, polygon: &Polygon) -> u8 {
+        let _ = (i, polygon);
+        u8::MAX
+    }
 }
 
 impl Source for Scene<'_> {

@@ -33,6 +33,8 @@ pub(crate) struct TestTree {
     pub texture: Option<crate::read::Texture<'static>>,
     /// Per vertex its texture coordinates `[s, t]` (with `texture`).
     pub uvs: Vec<[i32; 2]>,
+    /// Per polygon its opacity; empty: every polygon is opaque.
+    pub opacities: Vec<u8>,
 }
 
 impl TestTree {
@@ -174,6 +176,12 @@ impl Source for TestTree {
             .and_then(|&v| self.uvs.get(v as usize))
             .copied()
             .unwrap_or_default()
+    }
+    fn has_transparency(&self) -> bool {
+        self.opacities.iter().any(|&a| a < u8::MAX)
+    }
+    fn opacity(&self, i: u32, _: &Polygon) -> u8 {
+        self.opacities.get(i as usize).copied().unwrap_or(u8::MAX)
     }
 }
 
