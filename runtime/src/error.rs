@@ -212,7 +212,7 @@ pub enum RenderError {
         object: u32,
     },
     /// A front-to-back frame of a scene with transparent surfaces into a sink that takes each
-    /// pixel once (a display, scan memory) has no composite memory
+    /// pixel once (a display, or scan memory) has no composite memory
     /// ([`crate::render::Renderer::composite_memory`]), or that memory has fewer row heads
     /// than the frame has rows. (Into a framebuffer, such a frame is drawn back to front.)
     CompositeMemory,
@@ -220,10 +220,6 @@ pub enum RenderError {
     /// need their own transmittance. Refused before the first pixel; draw the scene without
     /// [`crate::render::Renderer::antialias`].
     AntialiasedTransparency,
-    /// Transparent surfaces in a scan-order frame ([`crate::render::Renderer::draw_scan`]):
-    /// its scan memory keeps one colour an interval, not a composite. Refused before the first
-    /// pixel; stream the frame ([`crate::render::Renderer::draw`]) instead.
-    ScanOrderTransparency,
     /// [`crate::render::Renderer::draw_rows`] was given rows that are not a range of the
     /// image's rows.
     RowsOutsideImage {
@@ -302,10 +298,6 @@ impl fmt::Display for RenderError {
             RenderError::AntialiasedTransparency => write!(
                 f,
                 "transparent surfaces cannot be anti-aliased (draw without antialias)"
-            ),
-            RenderError::ScanOrderTransparency => write!(
-                f,
-                "transparent surfaces cannot be drawn in scan order (stream the frame instead)"
             ),
             RenderError::RowsOutsideImage { start, end, height } => write!(
                 f,

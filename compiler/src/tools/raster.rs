@@ -3,6 +3,7 @@
 
 use glam::DVec3;
 use peel_runtime::camera::LocalView;
+use peel_runtime::composite::{Composite, CompositeRun, MAX_RUNS};
 use peel_runtime::coverage::Coverage;
 use peel_runtime::display::Colour;
 use peel_runtime::display::{Framebuffer, Xrgb8888};
@@ -71,6 +72,10 @@ pub struct Settings {
     /// Textures filtered bilinearly (`Renderer::bilinear`) instead of by nearest texel.
     pub bilinear: bool,
 }
+
+/// Composite-memory records given to front-to-back frames on the host: all a memory can use
+/// (a scene without transparent surfaces uses none).
+pub const HOST_COMPOSITE: usize = MAX_RUNS;
 
 /// Pending-pixel records given to anti-aliased frames on the host: all a pool can use.
 pub const HOST_PENDING: usize = 32_767;
@@ -270,6 +275,13 @@ fn draw<C: Content + ?Sized>(
     if settings.bilinear {
         renderer = renderer.bilinear();
     }
+    // Transparent surfaces front to back: their runs in composite memory (all a memory can
+    // use), finished by the background (an opaque scene never touches either).
+    let mut runs = vec![CompositeRun::default(); HOST_COMPOSITE];
+    let mut run_heads = vec![0u16; rows];
+    renderer = renderer
+        .composite_memory(Composite::new(&mut runs, &mut run_heads, shot.height)?)
+        .background(bg);
     let mut records = vec![PendingPixel::default(); settings.antialias.unwrap_or(0)];
     let mut heads = vec![0u16; rows];
     if settings.antialias.is_some() {

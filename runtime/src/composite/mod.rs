@@ -480,20 +480,34 @@ impl<'m> Composite<'m> {
     /// The end of a frame (or band) whose row 0 is frame row `first_row`: every row that did
     /// not fall back gets `background`, where `coverage` does not cover it, through the runs
     /// still open there (`C + T background`; black without a background) or as it is (left
-    /// alone without one). Returns the pixels sent.
+    /// alone without one). Returns the pixels sent. In scan memory, which keeps colours, the
+    /// runs go into it and its gaps are left to the read-out.
     pub(crate) fn finish_rows<S: SpanSink + ?Sized>(
         &mut self,
-        coverage: &Coverage<'_>,
+        coverage: &mut Coverage<'_>,
         background: Option<Colour>,
         rows: u32,
         first_row: u32,
         sink: &mut S,
     ) -> u64 {
+        let bg = background.unwrap_or_default();
+        if coverage.keeps_colours() {
+            // Scan memory: the runs go into it, its gaps are the read-out's.
+            for y in 0..rows {
+                let mut at = self.head(y);
+                while !self.fallen(y) && at != NONE {
+                    let r = self.run(at);
+                    sink::into_scan(coverage, y, start(r), end(r), under(r).over(bg));
+                    at = next(r);
+                }
+            }
+            self.spend_runs(rows);
+            return 0;
+        }
         let mut sink = Shifted {
             sink,
             by: first_row,
         };
-        let bg = background.unwrap_or_default();
         let width = coverage.width();
         let mut sent = 0u64;
         for y in 0..rows {
@@ -534,8 +548,13 @@ impl<'m> Composite<'m> {
                 gap(x, width, &mut sink, &mut at);
             }
         }
-        // (The runs are spent; a bitmap of the screen-door pass may take their memory.)
-        let fallen = self.fallen;
+        self.spend_runs(rows);
+        sent
+    }
+
+    /// The runs of the first `rows` rows are finished: their memory is free (a bitmap of
+    /// the screen-door pass may take it); the rows that fell back stay marked.
+    fn spend_runs(&mut self, rows: u32) {
         self.heads.iter_mut().take(rows as usize).for_each(|h| {
             if *h & FALLEN == 0 {
                 *h = NONE;
@@ -544,8 +563,6 @@ impl<'m> Composite<'m> {
         self.free = NONE;
         self.unused = 0;
         self.in_use = 0;
-        self.fallen = fallen;
-        sent
     }
 }
 

@@ -6,7 +6,9 @@
 
 use super::{Composite, FALLEN};
 use crate::coverage::Coverage;
-use crate::display::{screen_door_shows, Colour, RowShade, RowTexture, SpanPaint, SpanSink};
+use crate::display::{
+    screen_door_shows, Colour, Nowhere, RowShade, RowTexture, SpanPaint, SpanSink,
+};
 
 /// A row that fell back and waits for a later group (the low bits of its head).
 const NO_SLOT: u16 = super::NONE;
@@ -66,13 +68,12 @@ impl Composite<'_> {
                 if let Some(h) = self.heads.get_mut(y as usize) {
                     *h = FALLEN | used as u16;
                 }
+                // Drawn: what the span memory (or scan memory) covers.
                 let base = used * per_row;
                 for k in 0..per_row {
-                    self.set_word(base + k, 0);
+                    self.set_word(base + k, u32::MAX);
                 }
-                for &(a, b) in coverage.row(y) {
-                    self.mark(base, u32::from(a), u32::from(b));
-                }
+                coverage.uncovered(y, 0, width, |a, b| self.unmark(base, a, b));
                 used += 1;
             }
             y += 1;
@@ -85,6 +86,14 @@ impl Composite<'_> {
         for x in a..b {
             let k = base + (x / 32) as usize;
             self.set_word(k, self.word(k) | 1 << (x % 32));
+        }
+    }
+
+    /// Clear the bits `a .. b` of the bitmap at word `base`.
+    fn unmark(&mut self, base: usize, a: u32, b: u32) {
+        for x in a..b {
+            let k = base + (x / 32) as usize;
+            self.set_word(k, self.word(k) & !(1 << (x % 32)));
         }
     }
 
@@ -134,15 +143,17 @@ impl Composite<'_> {
 
 /// The screen-door pass's sink (the renderer's spans, in frame rows): of the rows in the
 /// group, the pixels not drawn yet, each drawn once; every other span is dropped.
-pub(crate) struct ScreenDoor<'c, 'm, S: SpanSink + ?Sized> {
+pub(crate) struct ScreenDoor<'c, 'm, 'v, S: SpanSink + ?Sized> {
     pub(crate) composite: &'c mut Composite<'m>,
     pub(crate) sink: &'c mut S,
+    /// Scan memory, which takes the pixels instead of `sink` (a scan-order frame).
+    pub(crate) scan: Option<&'c mut Coverage<'v>>,
     pub(crate) first_row: u32,
     pub(crate) width: u32,
     pub(crate) pixels: u64,
 }
 
-impl<S: SpanSink + ?Sized> ScreenDoor<'_, '_, S> {
+impl<S: SpanSink + ?Sized> ScreenDoor<'_, '_, '_, S> {
     /// Draw the pixels of `x_start .. x_end` on frame row `y` that `shows` and that are not
     /// drawn yet, with `paint`.
     fn route<P: SpanPaint>(
@@ -170,13 +181,18 @@ impl<S: SpanSink + ?Sized> ScreenDoor<'_, '_, S> {
                 x += 1;
             }
             self.composite.mark(base, start, x);
-            paint.paint(&mut *self.sink, y, start, x);
+            match self.scan.as_deref_mut() {
+                Some(scan) => {
+                    scan.span(local, start, x, paint, &mut Nowhere);
+                }
+                None => paint.paint(&mut *self.sink, y, start, x),
+            }
             self.pixels += u64::from(x - start);
         }
     }
 }
 
-impl<S: SpanSink + ?Sized> SpanSink for ScreenDoor<'_, '_, S> {
+impl<S: SpanSink + ?Sized> SpanSink for ScreenDoor<'_, '_, '_, S> {
     fn span(&mut self, y: u32, x_start: u32, x_end: u32, colour: Colour) {
         self.route(y, x_start, x_end, &colour, |_| true);
     }

@@ -5,7 +5,7 @@
 
 use super::Composite;
 use crate::coverage::Coverage;
-use crate::display::{Colour, RowShade, RowTexture, Shifted, SpanPaint, SpanSink};
+use crate::display::{Colour, Nowhere, RowShade, RowTexture, Shifted, SpanPaint, SpanSink};
 
 /// A polygon's route from the fill to `sink` through `coverage` and `composite` (their row 0
 /// being frame row `first_row`), counting the pixels sent.
@@ -41,10 +41,53 @@ impl<S: SpanSink + ?Sized> SpanSink for Finishing<'_, '_, S> {
     }
 }
 
+/// Pieces painted into a coverage that keeps colours (scan memory), which clips them.
+struct IntoScan<'c, 'm> {
+    coverage: &'c mut Coverage<'m>,
+    pixels: u64,
+}
+
+impl SpanSink for IntoScan<'_, '_> {
+    fn span(&mut self, y: u32, x_start: u32, x_end: u32, colour: Colour) {
+        self.pixels += self.coverage.span(y, x_start, x_end, &colour, &mut Nowhere);
+    }
+
+    fn shaded_span(&mut self, y: u32, x_start: u32, x_end: u32, shade: &RowShade) {
+        self.pixels += self.coverage.span(y, x_start, x_end, shade, &mut Nowhere);
+    }
+
+    fn textured_span(&mut self, y: u32, x_start: u32, x_end: u32, texture: &RowTexture<'_>) {
+        self.pixels += self.coverage.span(y, x_start, x_end, texture, &mut Nowhere);
+    }
+}
+
+/// A finished run's pixels in scan memory: `colour` on `[x_start, x_end)` of row `y`.
+pub(super) fn into_scan(
+    coverage: &mut Coverage<'_>,
+    y: u32,
+    x_start: u32,
+    x_end: u32,
+    colour: Colour,
+) {
+    coverage.span(y, x_start, x_end, &colour, &mut Nowhere);
+}
+
 impl<S: SpanSink + ?Sized> Composited<'_, '_, '_, S> {
     fn opaque<P: SpanPaint>(&mut self, y: u32, x_start: u32, x_end: u32, paint: &P) {
         let local = y.wrapping_sub(self.first_row);
         if !self.composite.opaque_fits(local) {
+            return;
+        }
+        if self.coverage.keeps_colours() {
+            // Scan memory forwards nothing: the runs are finished into it first, and it clips
+            // the rest of the span.
+            let mut scan = IntoScan {
+                coverage: &mut *self.coverage,
+                pixels: 0,
+            };
+            self.composite
+                .finish(local, x_start, x_end, paint, &mut scan);
+            self.pixels = self.pixels.saturating_add(scan.pixels);
             return;
         }
         let sink = Shifted {

@@ -103,7 +103,7 @@ fn draw(spans: &[Span], records: usize, background: Colour) -> (Once, Composite<
         }
         check_invariants(&composite, &coverage);
     }
-    composite.finish_rows(&coverage, Some(background), H, 0, &mut sink);
+    composite.finish_rows(&mut coverage, Some(background), H, 0, &mut sink);
     (sink, composite)
 }
 

@@ -239,13 +239,20 @@ impl<'m> Coverage<'m> {
         })
     }
 
+    /// Whether the store keeps each interval's colour (scan memory): it forwards no span, so
+    /// a span's pieces are painted into it.
+    #[inline]
+    pub(crate) fn keeps_colours(&self) -> bool {
+        matches!(self.store, Store::Scan(_))
+    }
+
     /// Each uncovered piece of `[x_start, x_end)` on row `y`, left to right, as
     /// `piece(start, end)`, merging nothing: where a transparent span may show (it covers
-    /// nothing). In scan memory, which keeps no transparent span, nothing.
+    /// nothing).
     #[inline]
     pub fn uncovered(&self, y: u32, x_start: u32, x_end: u32, mut piece: impl FnMut(u32, u32)) {
-        if matches!(self.store, Store::Scan(_)) {
-            return;
+        if let Store::Scan(s) = &self.store {
+            return s.uncovered(y, x_start, x_end, piece);
         }
         let x_end = x_end.min(u32::from(self.width));
         if x_start >= x_end {

@@ -58,6 +58,9 @@ impl NoScan<'_> {
     pub(crate) fn paint(&mut self, _: u32, _: u32, _: u32, _: Paint<'_>) -> u64 {
         match self.never {}
     }
+    pub(crate) fn uncovered(&self, _: u32, _: u32, _: u32, _: impl FnMut(u32, u32)) {
+        match self.never {}
+    }
 }
 
 /// Span memory: `intervals` split into rows of `per_row` slots, `counts[y]` of them in use.

@@ -149,9 +149,6 @@ where
             }
         };
     let composite = composite.filter(|_| transparent);
-    if transparent && output == Output::Scan {
-        return Err(RenderError::ScanOrderTransparency);
-    }
     let asked_front_to_back = coverage.is_some() && !settings.back_to_front;
     let once_sink = matches!(output, Output::Sink { once: true });
     if transparent && composite.is_none() && asked_front_to_back && once_sink {
@@ -315,6 +312,7 @@ where
         objects,
         steps,
         integer_vertices: settings.integer_vertices,
+        backdrop: settings.background,
         // Front to back was asked for, but the feature is off: painted back to front.
         tally: Tally::new(asked_front_to_back && order == Order::BackToFront)
             .with_objects(steps as u32, planes as u32),
@@ -335,6 +333,9 @@ pub(super) struct Frame<'a, 'm, const SUB: u32> {
     objects: Option<&'a mut place::Memory<'m>>,
     steps: usize,
     integer_vertices: bool,
+    /// The renderer's background, which finishes the runs behind transparent surfaces (a
+    /// scan-order frame's too, whose gaps the read-out paints).
+    backdrop: Option<Colour>,
     tally: Tally,
 }
 
@@ -371,18 +372,29 @@ impl<const SUB: u32> Frame<'_, '_, SUB> {
         } else if let Some(last) = overflow {
             self.fallback(scene, target, last, background)?;
         } else if order == Order::FrontToBack {
-            let coverage = self.coverage.as_deref();
-            match (self.painter.composite.as_deref_mut(), coverage) {
+            match (
+                self.painter.composite.as_deref_mut(),
+                self.coverage.as_deref_mut(),
+            ) {
                 (Some(composite), Some(coverage)) => {
                     let band = rows.end - rows.start;
-                    composite.finish_rows(coverage, background, band, rows.start, target);
+                    let backdrop = self.backdrop;
+                    composite.finish_rows(coverage, backdrop, band, rows.start, target);
                     self.tally.fallback_rows = composite.fallen_rows();
                     if self.tally.fallback_rows > 0 {
                         self.screen_door_pass(scene, target, background)?;
                     }
+                    if self.coverage.as_deref().is_some_and(|c| c.exhausted()) {
+                        // (Scan memory, which the runs went into.)
+                        return Err(RenderError::SpanMemoryFull);
+                    }
                 }
-                (_, Some(_)) => paint_background(background, coverage, width, &rows, target),
-                _ => {}
+                (_, coverage) => {
+                    let coverage = coverage.map(|c| &*c);
+                    if coverage.is_some() {
+                        paint_background(background, coverage, width, &rows, target);
+                    }
+                }
             }
         }
         let distinct = match self.coverage.as_deref() {
@@ -488,12 +500,13 @@ impl<const SUB: u32> Frame<'_, '_, SUB> {
         };
         let (band, first_row, width) =
             (self.rows.end - self.rows.start, self.rows.start, self.width);
-        let mut from = 0;
-        let mut result = Ok(());
+        let (mut from, mut result) = (0, Ok(()));
+        let scan = self.output == Output::Scan;
         while let Some(until) = composite.next_group(from, band, coverage) {
             let mut sink = ScreenDoor {
                 composite: &mut *composite,
                 sink: &mut *target,
+                scan: Some(&mut *coverage).filter(|_| scan),
                 first_row,
                 width,
                 pixels: 0,
@@ -502,6 +515,8 @@ impl<const SUB: u32> Frame<'_, '_, SUB> {
             if result.is_err() {
                 break;
             }
+            // (Scan order: the read-out paints the gaps.)
+            let background = background.filter(|_| !scan);
             composite.end_group(until, width, background, first_row, target);
             from = until;
         }

@@ -326,3 +326,44 @@ fn transparency_refusals() {
         assert_eq!(result, Err(RenderError::AntialiasedTransparency));
     }
 }
+
+/// Scan order keeps the composite in its memory: the frame read out is the streamed frame's
+/// in RGB565, with enough composite memory and with too little (the screen door's rows).
+#[cfg(feature = "scan-order")]
+#[test]
+fn scan_order_reads_out_the_streamed_composite() {
+    use crate::display::Rgb565Framebuffer;
+    use crate::scan::{ScanMemory, ScanNode};
+    let t = glass_box();
+    for eye in views() {
+        let cam = camera(eye);
+        let view = cam.view(t.centre());
+        for runs in [512, 12] {
+            let mut expected = vec![0u16; W * H];
+            let mut fb = Rgb565Framebuffer::new(&mut expected, W as u32, H as u32).unwrap();
+            let (mut memory, mut ws) = (Memory::new(runs), Workspace::<16, 12>::new());
+            let streamed = memory
+                .renderer(&mut ws, H as u32)
+                .draw(&t, &view, &mut fb)
+                .unwrap();
+            assert_eq!(streamed.fallback_rows > 0, runs == 12, "from {eye}");
+
+            let mut nodes = vec![ScanNode::EMPTY; 4096];
+            let mut heads = vec![0u16; H];
+            let scan = ScanMemory::new(&mut nodes, &mut heads, W as u32, H as u32).unwrap();
+            let (mut composite_runs, mut composite_heads) =
+                (vec![CompositeRun::default(); runs], vec![0u16; H]);
+            let composite =
+                Composite::new(&mut composite_runs, &mut composite_heads, H as u32).unwrap();
+            let mut ws = Workspace::<16, 12>::new();
+            let mut renderer = Renderer::new(&mut ws)
+                .scan_memory(scan)
+                .composite_memory(composite)
+                .background(BACKGROUND);
+            let frame = renderer.draw_scan(&t, &view).unwrap();
+            assert_eq!(frame.stats().fallback_rows, streamed.fallback_rows);
+            let pixels: Vec<u16> = frame.pixels().collect();
+            assert_eq!(pixels, expected, "scan order with {runs} runs from {eye}");
+        }
+    }
+}

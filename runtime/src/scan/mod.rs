@@ -443,6 +443,39 @@ impl<'m> ScanMemory<'m> {
         })
     }
 
+    /// Each uncovered piece of `[x_start, x_end)` on row `y`, left to right, as
+    /// `piece(start, end)`: the pixels before the row's first node and its gap nodes.
+    pub(crate) fn uncovered(
+        &self,
+        y: u32,
+        x_start: u32,
+        x_end: u32,
+        mut piece: impl FnMut(u32, u32),
+    ) {
+        let x_end = x_end.min(u32::from(self.width));
+        let mut clipped = |a: u32, b: u32| {
+            let (a, b) = (a.max(x_start), b.min(x_end));
+            if a < b {
+                piece(a, b);
+            }
+        };
+        let head = self.head(y);
+        let first = if head == NIL {
+            u32::from(self.width)
+        } else {
+            u32::from(self.node(head).first())
+        };
+        clipped(0, first);
+        for (_, n, end) in self.row_nodes(y) {
+            if u32::from(n.first()) >= x_end {
+                break;
+            }
+            if n.is_gap() {
+                clipped(u32::from(n.first()), u32::from(end));
+            }
+        }
+    }
+
     /// Where column `x` is in a row, searched from node `from` (a row's first, or a node that
     /// starts at or before `x`) by the starts alone: a node ends where the next starts.
     #[inline]
