@@ -292,12 +292,14 @@ pub fn surfaces(
         .collect()
 }
 
-/// The picture (row-major) the sorted z-buffer ([`draw_sorted`]) draws of `triangles` (world
-/// coordinates; ids are indices) for `shot` with near distance `near`, through the runtime's
-/// clip, projection, snapping and fill at its precision, as `peel bench`'s baselines draw:
-/// triangle `id` seen from its front (`front`) has colour `colour(id, front)` and opacity
-/// `opacity[id]`; `background` where nothing opaque covers a pixel. The error says why the
-/// shot makes no camera.
+/// The picture (row-major) the sorted z-buffer draws of `triangles` (world coordinates; ids
+/// are indices) for `shot` with near distance `near`: the opaque ones through an `f32` depth
+/// buffer, then the transparent ones sorted by their centroids' camera depth, far to near,
+/// each blended over the picture (in 8 bits) where it is nearer than the opaque depth, without
+/// writing depth. Through the runtime's clip, projection, snapping and fill at its precision,
+/// as `peel bench`'s baselines draw: triangle `id` seen from its front (`front`) has colour
+/// `colour(id, front)` and opacity `opacity[id]`; `background` where nothing opaque covers a
+/// pixel. The error says why the shot makes no camera.
 pub fn sorted_picture(
     triangles: &[[DVec3; 3]],
     colour: impl Fn(usize, bool) -> [f64; 3],
@@ -420,7 +422,7 @@ mod tests {
         let (got, want) = both(&[backdrop, far, opaque, near], &opacity);
         let robust = want.robust.iter().filter(|&&r| r).count();
         assert!(robust > 96 * 72 / 2, "{robust} robust pixels");
-        assert!(want.transparent.iter().any(|&n| n == 2));
+        assert!(want.transparent.contains(&2));
         assert_eq!(want.wrong_pixels(&got, TOLERANCE), 0);
         // The transparent panes listed first are drawn in the same order.
         let (got, want) = both(&[near, backdrop, opaque, far], &opacity);
