@@ -6,10 +6,12 @@
 //! - [`raster`]: render `.peel` bytes into an image on the host, through the no_std runtime
 //!   (`peel render`/`peel demo`, benchmarks, end-to-end tests).
 //! - [`reference`](mod@reference): the brute-force f64 ray caster the tests and `peel bench`
-//!   measure pixel errors against, and the exact texel under each pixel of textured surfaces.
+//!   measure pixel errors against, the exact texel under each pixel of textured surfaces, and
+//!   transparent surfaces composited in exact depth order.
 //! - [`texture_check`]: a textured frame's pixels against those texels.
 //! - [`scenes`]: generated meshes (sphere, torus, box grid, triangle soup) for benchmarks and
-//!   tests, generated textures and textured meshes, and the textured fixtures' pictures.
+//!   tests, generated textures and textured meshes, the textured fixtures' pictures, and
+//!   scenes with transparent surfaces (OBJ and MTL text) and their fixtures.
 //! - [`shading_gap`]: how far a mesh's faceted picture is from its smooth one, on the
 //!   reference's robust pixels.
 //! - `bench_frames` (`peel bench`, feature `bench`): frame time against pixel error, Peel

@@ -4,7 +4,8 @@
 //! also knows the side of the triangle seen, so the tests check the lighting
 //! ([`Reference::seen_normal`], [`Reference::exclude_grazing_light`]), and the colour the
 //! compiler's shading gives it there, faceted or smooth ([`Reference::colours`]). For textured
-//! surfaces it gives the exact texel under each pixel centre ([`texels()`]).
+//! surfaces it gives the exact texel under each pixel centre ([`texels()`]). Transparent
+//! surfaces it composites in exact depth order ([`composite()`]).
 
 use crate::shade::corners::Facing;
 use crate::shade::smooth::SmoothShades;
@@ -15,7 +16,9 @@ use glam::{DVec2, DVec3};
 
 use super::shot::Shot;
 
+mod composite;
 mod texels;
+pub use composite::{composite, composite_lit, Composited, OPAQUE};
 pub use texels::{modulate, rgb888, texels, TexelHit, Texels};
 
 /// A [`Shot`] as `docs/host.md` defines its camera: the basis `f`, `r`, `u`, the focal length

@@ -1,7 +1,9 @@
 //! Generated scenes for benchmarks and tests: closed meshes (sphere, torus, a grid of boxes) and
 //! random triangle soups, deterministic for a given size and seed; textures made in code (one
 //! whose every texel has its own colour, a checkerboard), meshes textured with them, any generated mesh textured with a checkerboard, and the
-//! pictures of the textured fixtures (`fixtures/textured-box/`, `fixtures/textured-floor/`).
+//! pictures of the textured fixtures (`fixtures/textured-box/`, `fixtures/textured-floor/`);
+//! scenes with transparent surfaces as OBJ and MTL text, and their fixtures
+//! (`fixtures/crossing-panes/`, `fixtures/interpenetrating-boxes/`, `fixtures/glass-box/`).
 
 use std::path::PathBuf;
 
@@ -10,6 +12,12 @@ use glam::{DVec2, DVec3};
 use crate::load::texture::{CornerUvs, Texture};
 use crate::load::{Mesh, SourceTriangle, DEFAULT_COLOUR};
 pub use crate::random::SplitMix;
+
+mod transparent;
+pub use transparent::{
+    crossing_panes, glass_box, glass_box_object, glass_box_teapot, interpenetrating_boxes,
+    transparent_fixtures, transparent_scenes, Material, TransparentScene,
+};
 
 /// A mesh of `triangles` in the default colour.
 pub fn mesh(triangles: Vec<[DVec3; 3]>) -> Mesh {

@@ -43,6 +43,7 @@ use measure::{measure_scene, prepare_scene, Variant, Work};
 pub use candidates::candidates_knob;
 pub use plot::{bitmap_png, plot};
 pub use report::{from_json, json, markdown, markdown_of};
+pub use zbuffer::sorted_picture;
 
 /// A visibility method of the benchmark: Peel's two drawing orders and the baselines.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
