@@ -165,9 +165,11 @@ fn rectangle(centre: DVec3, u: DVec3, v: DVec3) -> [[DVec3; 3]; 2] {
     )
 }
 
-/// A floor in the plane `y = 0`, facing up, from `-half` to `half` on x and z.
+/// A floor in the plane `y = -0.1`, facing up, from `-half` to `half` on x and z: a little
+/// below the boxes standing at `y = 0`, whose bottoms would else lie in its plane (a
+/// transparent face and an opaque one in one plane have no order).
 fn floor(half: f64) -> [[DVec3; 3]; 2] {
-    rectangle(DVec3::ZERO, DVec3::Z * half, DVec3::X * half)
+    rectangle(DVec3::Y * -0.1, DVec3::Z * half, DVec3::X * half)
 }
 
 /// A unit vector in the plane `y = 0` at `degrees` from +x towards -z.
