@@ -830,12 +830,28 @@ fn bench_frames(args: &BenchArgs) -> Result<(), String> {
         .map(|(name, mesh)| bench_frames::frame_scene(&name, mesh, &mut |m| eprintln!("{m}")))
         .collect::<Result<_, _>>()?;
     let (w, h) = args.size;
-    let records = bench_frames::run(&scenes, w, h, args.cameras, &mut |m| eprintln!("{m}"))?;
+    let mut records = bench_frames::run(&scenes, w, h, args.cameras, &mut |m| eprintln!("{m}"))?;
     let mut report = format!(
         "## Frame time vs error ({w}x{h}, {} cameras per scene)\n\n",
         args.cameras
     );
     report += &bench_frames::markdown(&records);
+    // The transparent scenes, with the z-buffer that sorts transparent triangles each frame.
+    let transparent =
+        peel_compiler::tools::scenes::transparent_scenes(Some(&args.models), &mut |m| {
+            eprintln!("{m}")
+        })
+        .map_err(|e| e.to_string())?;
+    let composited = bench_frames::run_transparent(&transparent, &mut |m| eprintln!("{m}"))?;
+    report += &format!(
+        "\n## Transparent surfaces (160x120, 4 views per scene; wrong: a channel more than {} \
+         from the composited ray cast)\n\n",
+        bench_frames::TOLERANCE
+    );
+    report += &bench_frames::markdown(&composited);
+    // (The plot is of the opaque scenes'.)
+    let opaque = records.len();
+    records.extend(composited);
     let knob_scene = scenes
         .iter()
         .find(|s| s.name == "cow")
@@ -854,7 +870,7 @@ fn bench_frames(args: &BenchArgs) -> Result<(), String> {
     let md = args.out.join("frames.md");
     peel_compiler::write::write_atomic(&md, report.as_bytes()).map_err(|e| e.to_string())?;
     let png = args.out.join("frames.png");
-    peel_compiler::write::write_atomic(&png, &bench_frames::plot(&records)?)
+    peel_compiler::write::write_atomic(&png, &bench_frames::plot(&records[..opaque])?)
         .map_err(|e| e.to_string())?;
     if let Some(json) = &args.json {
         let text = bench_frames::json(&records)?;

@@ -260,6 +260,12 @@ fn frame_memory_lines(out: &mut String, m: &FrameMemory, whose: &str) {
         "pending_pixels",
         bytes(m.pending_pixels, size_of::<PendingPixel>()),
     );
+    if m.composite_runs > 0 {
+        line(
+            "composite_runs",
+            bytes(m.composite_runs, peel_runtime::composite::RUN_BYTES),
+        );
+    }
 }
 
 /// One part of a file of parts, for `peel inspect`.
@@ -703,6 +709,7 @@ mod tests {
                 scan_nodes: RECOMMENDED_SCAN_NODES,
                 scan_nodes_aa: RECOMMENDED_SCAN_NODES_AA,
                 pending_pixels: RECOMMENDED_PENDING_PIXELS,
+                composite_runs: 0,
                 measured_at: None,
             },
         };

@@ -6,8 +6,9 @@
 use std::fmt::Write as _;
 
 use peel_runtime::clip;
+use peel_runtime::composite::RUN_BYTES;
 use peel_runtime::fill::MAX_FILL_VERTICES;
-use peel_runtime::read::layout::PARTS_VERSION;
+use peel_runtime::read::layout::{header_flags, PARTS_VERSION};
 use peel_runtime::read::Header;
 use peel_runtime::scan::SCAN_NODE_BYTES;
 use peel_runtime::vertices::CachedVertex;
@@ -36,6 +37,10 @@ pub struct MeasuredSpans {
     /// The pending-pixel records with which no anti-aliased frame of the orbit has a row fall
     /// back to plain pixels ([`super::spans::pending_pixels`]).
     pub pending_pixels: usize,
+    /// The composite-memory records with which no front-to-back frame of the orbit has a row
+    /// fall back to screen-door transparency ([`super::spans::composite_runs`]; 0 for an
+    /// opaque scene).
+    pub composite_runs: usize,
 }
 
 impl MeasuredSpans {
@@ -49,6 +54,7 @@ impl MeasuredSpans {
                 .scan_nodes_antialiased
                 .max(other.scan_nodes_antialiased),
             pending_pixels: self.pending_pixels.max(other.pending_pixels),
+            composite_runs: self.composite_runs.max(other.composite_runs),
             ..self
         }
     }
@@ -90,6 +96,10 @@ pub const RECOMMENDED_SCAN_NODES_AA: usize = 6144;
 /// Pending-pixel records the sizes file gives without a measurement (24 KiB).
 pub const RECOMMENDED_PENDING_PIXELS: usize = 2048;
 
+/// Composite-memory records the sizes file gives a scene with transparent surfaces without a
+/// measurement (12 KiB).
+pub const RECOMMENDED_COMPOSITE_RUNS: usize = 1024;
+
 /// The memory a frame of a scene needs, as its sizes file gives it: the figures firmware sizes
 /// its buffers from (`peel inspect` prints them). Each field is the sizes file's constant of
 /// the same name in capitals.
@@ -111,6 +121,10 @@ pub struct FrameMemory {
     pub scan_nodes_aa: usize,
     /// Pending-pixel records for anti-aliased frames.
     pub pending_pixels: usize,
+    /// Composite-memory records for front-to-back frames with transparent surfaces (0 for an
+    /// opaque scene, whose JSON leaves it out).
+    #[serde(skip_serializing_if = "is_zero")]
+    pub composite_runs: usize,
     /// The image size the last four were measured at (`SPANS_MEASURED_AT`); `None` where they
     /// are the sizes file's defaults.
     pub measured_at: Option<(u32, u32)>,
@@ -129,6 +143,11 @@ impl FrameMemory {
             scan_nodes: RECOMMENDED_SCAN_NODES,
             scan_nodes_aa: RECOMMENDED_SCAN_NODES_AA,
             pending_pixels: RECOMMENDED_PENDING_PIXELS,
+            composite_runs: if header.flags & header_flags::TRANSPARENT != 0 {
+                RECOMMENDED_COMPOSITE_RUNS
+            } else {
+                0
+            },
             measured_at: None,
         };
         match spans {
@@ -138,6 +157,7 @@ impl FrameMemory {
                 scan_nodes: m.scan_nodes,
                 scan_nodes_aa: m.scan_nodes_antialiased,
                 pending_pixels: m.pending_pixels,
+                composite_runs: m.composite_runs,
                 measured_at: Some((m.width, m.height)),
                 ..defaults
             },
@@ -156,6 +176,7 @@ impl FrameMemory {
             scan_nodes: self.scan_nodes.max(other.scan_nodes),
             scan_nodes_aa: self.scan_nodes_aa.max(other.scan_nodes_aa),
             pending_pixels: self.pending_pixels.max(other.pending_pixels),
+            composite_runs: self.composite_runs.max(other.composite_runs),
             measured_at: self
                 .measured_at
                 .filter(|_| self.measured_at == other.measured_at),
@@ -174,6 +195,10 @@ impl FrameMemory {
         let spans = super::spans::measure(bytes, width, height)?;
         Ok(FrameMemory::of(&scene.header(), Some(spans)))
     }
+}
+
+fn is_zero(n: &usize) -> bool {
+    *n == 0
 }
 
 /// World planes a posed object may be cut by in a frame that the `VERTS` of a file of parts
@@ -432,6 +457,29 @@ pub fn sizes_file(
             ),
             format!("pub const PENDING_PIXELS: usize = {pending_pixels};"),
         ),
+    }
+    // Only a scene with transparent surfaces needs composite memory.
+    if header.flags & header_flags::TRANSPARENT != 0 {
+        let runs = memory.composite_runs;
+        let doc = match spans {
+            None => format!(
+                "Composite-memory records (`composite::CompositeRun`, {RUN_BYTES} bytes each: {}\n\
+                 bytes) for front-to-back frames of this scene's transparent surfaces\n\
+                 (`Renderer::composite_memory`, with a `u16` head per row): a guess\n\
+                 (`Builder::image_size` measures what the scene needs). A row that runs out is\n\
+                 drawn with screen-door transparency (`FrameStats::fallback_rows`).",
+                runs * RUN_BYTES
+            ),
+            Some(MeasuredSpans { width, height, .. }) => format!(
+                "Composite-memory records (`composite::CompositeRun`, {RUN_BYTES} bytes each: {}\n\
+                 bytes) this scene needs at {width}x{height} for front-to-back frames of its\n\
+                 transparent surfaces (`Renderer::composite_memory`, with a `u16` head per row):\n\
+                 the most any frame of the orbit of `SPANS_PER_ROW` holds. A row that runs out\n\
+                 is drawn with screen-door transparency (`FrameStats::fallback_rows`).",
+                runs * RUN_BYTES
+            ),
+        };
+        item(&doc, format!("pub const COMPOSITE_RUNS: usize = {runs};"));
     }
     item(
         &format!(

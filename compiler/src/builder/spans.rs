@@ -5,6 +5,7 @@
 //! writes. Firmware sized by this figure keeps every frame of the orbit front to back.
 
 use peel_runtime::camera::{Camera, Orbit, DEFAULT_FOV_Y_DEG};
+use peel_runtime::composite::{Composite, CompositeRun, MAX_RUNS};
 use peel_runtime::coverage::Coverage;
 use peel_runtime::display::{Colour, SpanSink};
 use peel_runtime::pending::{Pending, PendingPixel};
@@ -30,6 +31,7 @@ pub fn measure(bytes: &[u8], width: u32, height: u32) -> Result<MeasuredSpans, S
         scan_nodes_antialiased: scan_nodes_antialiased(bytes, width, height)
             .map_err(at("anti-aliased scan memory"))?,
         pending_pixels: pending_pixels(bytes, width, height).map_err(at("pending pixels"))?,
+        composite_runs: composite_runs(bytes, width, height).map_err(at("composite memory"))?,
     })
 }
 
@@ -86,6 +88,10 @@ pub fn scan_nodes_antialiased(bytes: &[u8], width: u32, height: u32) -> Result<u
 
 fn scan_nodes_with(bytes: &[u8], width: u32, height: u32, aa: bool) -> Result<usize, String> {
     let scene = Scene::parse(bytes).map_err(|e| e.to_string())?;
+    // Transparent surfaces are never anti-aliased (`RenderError::AntialiasedTransparency`).
+    if aa && scene.has_transparency() {
+        return Ok(0);
+    }
     let views = orbit_views(&scene, width, height)?;
     let mut workspace: Box<Workspace<{ 1 << 14 }, 64>> = Box::default();
     let mut nodes = vec![ScanNode::EMPTY; usize::from(u16::MAX)];
@@ -94,7 +100,12 @@ fn scan_nodes_with(bytes: &[u8], width: u32, height: u32, aa: bool) -> Result<us
         ScanMemory::new(&mut nodes, &mut heads, width, height).map_err(|e| e.to_string())?;
     let mut records = vec![PendingPixel::default(); if aa { MOST_PENDING } else { 0 }];
     let mut pending_heads = vec![0u16; height as usize];
-    let mut renderer = Renderer::new(&mut workspace).scan_memory(memory);
+    let mut runs = vec![CompositeRun::default(); MAX_RUNS];
+    let mut run_heads = vec![0u16; height as usize];
+    let composite = Composite::new(&mut runs, &mut run_heads, height).map_err(|e| e.to_string())?;
+    let mut renderer = Renderer::new(&mut workspace)
+        .scan_memory(memory)
+        .composite_memory(composite);
     if aa {
         let pending =
             Pending::new(&mut records, &mut pending_heads, height).map_err(|e| e.to_string())?;
@@ -125,6 +136,10 @@ const MOST_PENDING: usize = 32_767;
 /// As [`spans_per_row`]'s, and a frame that keeps more pixels pending than a pool can address.
 pub fn pending_pixels(bytes: &[u8], width: u32, height: u32) -> Result<usize, String> {
     let scene = Scene::parse(bytes).map_err(|e| e.to_string())?;
+    // Transparent surfaces are never anti-aliased (`RenderError::AntialiasedTransparency`).
+    if scene.has_transparency() {
+        return Ok(0);
+    }
     let views = orbit_views(&scene, width, height)?;
     let per_row = (width as usize).div_ceil(2).max(1);
     let mut workspace: Box<Workspace<{ 1 << 14 }, 64>> = Box::default();
@@ -149,6 +164,46 @@ pub fn pending_pixels(bytes: &[u8], width: u32, height: u32) -> Result<usize, St
         return Err(format!(
             "a frame keeps more than {MOST_PENDING} pixels pending"
         ));
+    }
+    Ok(most)
+}
+
+/// The composite-memory records (`peel_runtime::composite::CompositeRun`, 12 bytes each)
+/// with which no front-to-back frame of the orbit of [`spans_per_row`] has a row fall back to
+/// screen-door transparency: the most any of its frames holds at once (with span memory
+/// enough, `spans_per_row_bound`); 0 for a scene without transparent surfaces.
+///
+/// # Errors
+/// As [`spans_per_row`]'s, and a frame that needs more records than a memory can address.
+pub fn composite_runs(bytes: &[u8], width: u32, height: u32) -> Result<usize, String> {
+    let scene = Scene::parse(bytes).map_err(|e| e.to_string())?;
+    if !scene.has_transparency() {
+        return Ok(0);
+    }
+    let views = orbit_views(&scene, width, height)?;
+    let per_row = (width as usize).div_ceil(2).max(1);
+    let mut workspace: Box<Workspace<{ 1 << 14 }, 64>> = Box::default();
+    let mut intervals = vec![(0u16, 0u16); per_row * height as usize];
+    let mut counts = vec![0u16; height as usize];
+    let mut runs = vec![CompositeRun::default(); MAX_RUNS];
+    let mut heads = vec![0u16; height as usize];
+    let coverage =
+        Coverage::new(&mut intervals, &mut counts, width, height).map_err(|e| e.to_string())?;
+    let composite = Composite::new(&mut runs, &mut heads, height).map_err(|e| e.to_string())?;
+    let mut renderer = Renderer::new(&mut workspace)
+        .span_memory(coverage)
+        .composite_memory(composite);
+    let mut most = 0;
+    for view in &views {
+        let stats = renderer
+            .draw(&scene, view, &mut Nowhere)
+            .map_err(|e| e.to_string())?;
+        if stats.fallback_rows > 0 {
+            return Err(format!(
+                "a frame needs more than {MAX_RUNS} composite records"
+            ));
+        }
+        most = most.max(renderer.composite().map_or(0, |c| c.peak()));
     }
     Ok(most)
 }
@@ -178,6 +233,10 @@ pub fn spans_per_row(bytes: &[u8], width: u32, height: u32) -> Result<usize, Str
     let mut workspace: Box<Workspace<{ 1 << 14 }, 64>> = Box::default();
     let mut intervals = vec![(0u16, 0u16); bound * height as usize];
     let mut counts = vec![0u16; height as usize];
+    // (A scene with transparent surfaces is drawn front to back with composite memory.)
+    let transparent = scene.has_transparency();
+    let mut runs = vec![CompositeRun::default(); if transparent { MAX_RUNS } else { 0 }];
+    let mut run_heads = vec![0u16; height as usize];
     let mut enough = |per_row: usize| -> Result<bool, String> {
         for view in &views {
             let coverage = Coverage::new(
@@ -187,8 +246,13 @@ pub fn spans_per_row(bytes: &[u8], width: u32, height: u32) -> Result<usize, Str
                 height,
             )
             .map_err(|e| e.to_string())?;
-            let stats = Renderer::new(&mut workspace)
-                .span_memory(coverage)
+            let mut renderer = Renderer::new(&mut workspace).span_memory(coverage);
+            if transparent {
+                let composite =
+                    Composite::new(&mut runs, &mut run_heads, height).map_err(|e| e.to_string())?;
+                renderer = renderer.composite_memory(composite);
+            }
+            let stats = renderer
                 .draw(&scene, view, &mut Nowhere)
                 .map_err(|e| e.to_string())?;
             if stats.fallback {

@@ -150,7 +150,7 @@ where
         };
     let composite = composite.filter(|_| transparent);
     let asked_front_to_back = coverage.is_some() && !settings.back_to_front;
-    let once_sink = matches!(output, Output::Sink { once: true });
+    let once_sink = matches!(output, Output::Sink { once: true } | Output::Scan);
     if transparent && composite.is_none() && asked_front_to_back && once_sink {
         return Err(RenderError::CompositeMemory);
     }

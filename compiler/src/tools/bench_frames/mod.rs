@@ -24,6 +24,7 @@ mod prepare;
 mod report;
 #[cfg(test)]
 mod testing;
+mod transparency;
 mod warnock;
 mod watkins;
 mod weiler_atherton;
@@ -43,6 +44,7 @@ use measure::{measure_scene, prepare_scene, Variant, Work};
 pub use candidates::candidates_knob;
 pub use plot::{bitmap_png, plot};
 pub use report::{from_json, json, markdown, markdown_of};
+pub use transparency::{run_transparent, SORTED, TOLERANCE};
 pub use zbuffer::sorted_picture;
 
 /// A visibility method of the benchmark: Peel's two drawing orders and the baselines.

@@ -31,9 +31,11 @@ pub fn markdown_of<'r>(
         "| scene | method | median frame (ms) | speed vs zbuffer-int | memory (bytes) | polygons drawn | pixels written | robust errors | all errors |\n|---|---|---:|---:|---:|---:|---:|---:|---:|\n",
     );
     for r in rows {
+        // (A transparent scene's baseline is the sorted z-buffer.)
         let base = records
             .iter()
             .find(|b| b.scene == r.scene && b.method == Method::ZbufferInt.name())
+            .or_else(|| (records.iter()).find(|b| b.scene == r.scene && b.method == super::SORTED))
             .map(|b| b.median_frame_ms)
             .unwrap_or(f64::NAN);
         s += &crate::tools::markdown_row([
