@@ -591,7 +591,70 @@ pub fn demo(out: &Path) -> Result<(), String> {
     write_png(&png_path, &frame)?;
     say(&png_path, &frame);
     demo_objects(out, &options, &settings)?;
-    demo_textured(out, &settings)
+    demo_textured(out, &settings)?;
+    demo_transparent(out)
+}
+
+/// The demo's transparent scenes, unlit so that each colour is its material's: the panes that
+/// cross one another and the boxes that interpenetrate, each drawn by Peel front to back
+/// (`demo-panes.png`, `demo-boxes.png`) and by a z-buffer that sorts the transparent
+/// triangles by their centroid's depth (`demo-panes-sorted.png`, `demo-boxes-sorted.png`).
+fn demo_transparent(out: &Path) -> Result<(), String> {
+    use peel_compiler::tools::scenes;
+    let options = CompileOptions {
+        shading: peel_compiler::shade::Shading::Flat,
+        surface: Surface::Faceted,
+        ..CompileOptions::default()
+    };
+    let background = [24, 26, 32];
+    for (name, scene) in [
+        ("panes", scenes::crossing_panes()),
+        ("boxes", scenes::interpenetrating_boxes()),
+    ] {
+        let mtl = format!("demo-{name}.mtl");
+        let mtl_path = out.join(&mtl);
+        std::fs::write(&mtl_path, scene.mtl()).map_err(|e| format!("{}: {e}", mtl_path.display()))?;
+        let obj = out.join(format!("demo-{name}.obj"));
+        std::fs::write(&obj, scene.obj(&mtl)).map_err(|e| format!("{}: {e}", obj.display()))?;
+        let peel = out.join(format!("demo-{name}.peel"));
+        let bytes = crate::compile_to(&obj, &peel, &options, None)?;
+        let first = scene.shots.first().ok_or("a scene without views")?;
+        let shot = Shot {
+            width: 640,
+            height: 480,
+            ..first.clone()
+        };
+        let settings = Settings {
+            background,
+            ..Settings::default()
+        };
+        let frame = render_bytes_with(&bytes, &shot, &settings)?;
+        let png_path = out.join(format!("demo-{name}.png"));
+        write_png(&png_path, &frame)?;
+        say(&png_path, &frame);
+        let header = peel_runtime::read::Scene::parse(&bytes)
+            .map_err(|e| e.to_string())?
+            .header();
+        let colours = scene.colours();
+        let sorted = peel_compiler::tools::bench_frames::sorted_picture(
+            &scene.corners(),
+            |id, _| colours[id].map(f64::from),
+            &scene.opacities(),
+            background,
+            &shot,
+            shot.near_over(&header),
+        )?;
+        let frame = Frame {
+            pixels: (sorted.iter())
+                .map(|p| u32::from_be_bytes([0, p[0], p[1], p[2]]))
+                .collect(),
+            ..frame
+        };
+        let png_path = out.join(format!("demo-{name}-sorted.png"));
+        write_png(&png_path, &frame)?;
+        println!("{}: the same, by a z-buffer sorting by depth", png_path.display());
+    }
+    Ok(())
 }
 
 /// The demo's textured scenes: the die standing on the tiled floor, lit, with the sun's

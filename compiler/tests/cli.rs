@@ -826,10 +826,41 @@ fn bench_quick_runs_every_method_on_every_scene() {
     // Each scene's methods, and front to back at 0 and 4 subpixel bits (the table's
     // `SUBPIXEL_BITS` rows).
     let subpixel = ["peel-front-to-back/sub0", "peel-front-to-back/sub4"];
+    // Then the transparent scenes (the teapot's only with the shared models): Peel in both
+    // orders and the z-buffer that sorts transparent triangles, against the composited cast.
+    let transparent = [
+        "crossing-panes",
+        "glass-box",
+        "glass-box-opaque",
+        "interpenetrating-boxes",
+    ];
+    let composited = ["peel-front-to-back", "peel-back-to-front", "zbuffer-sorted"];
+    let teapot = records
+        .iter()
+        .filter(|r| r["scene"] == "glass-box-teapot")
+        .count();
+    assert!(teapot == 0 || teapot == composited.len());
+    let teapots = usize::from(teapot > 0) * 2 * composited.len();
     assert_eq!(
         records.len(),
         scenes.len() * (methods.len() + subpixel.len())
+            + transparent.len() * composited.len()
+            + teapots
     );
+    for scene in transparent {
+        for method in composited {
+            let r = records
+                .iter()
+                .find(|r| r["scene"] == scene && r["method"] == method)
+                .unwrap_or_else(|| panic!("{scene} {method}"));
+            let robust = r["robust_errors"].as_u64().unwrap();
+            if method.starts_with("peel") {
+                assert_eq!(robust, 0, "{r}");
+            } else if scene == "crossing-panes" {
+                assert!(robust > 0, "the sorted z-buffer where panes cross: {r}");
+            }
+        }
+    }
     for scene in scenes {
         for method in methods.iter().chain(&subpixel) {
             let r = records

@@ -421,7 +421,7 @@ fn header_identity_is_checked_first() {
     assert_eq!(spec.parse(), Err(ReadError::BadMagic));
     assert_eq!(Scene::parse(b"PNG").unwrap_err(), ReadError::BadMagic);
     // Versions 1 and 2 (the previous layouts) and a later one.
-    for version in [1, 2, FORMAT_VERSION + 1, TEXTURED_VERSION + 1] {
+    for version in [1, 2, FORMAT_VERSION + 1, TRANSPARENT_VERSION + 1] {
         let mut spec = Spec::small();
         spec.version = version;
         assert_eq!(spec.parse(), Err(ReadError::UnsupportedVersion { version }));
@@ -431,10 +431,10 @@ fn header_identity_is_checked_first() {
         );
     }
     let mut spec = Spec::small();
-    spec.flags = 1 << 13;
+    spec.flags = 1 << 14;
     assert_eq!(
         spec.parse(),
-        Err(ReadError::UnknownFlags { flags: 1 << 13 })
+        Err(ReadError::UnknownFlags { flags: 1 << 14 })
     );
     for both in [
         header_flags::NARROW | header_flags::MEDIUM,
@@ -1652,5 +1652,113 @@ fn a_build_without_textures_refuses_them() {
         ReadError::UnsupportedFlags {
             flags: spec.flags | header_flags::TEXTURES
         }
+    );
+}
+
+/// `spec` as a version 7 file: the `TRANSPARENT` flag and `opacities` (one a polygon) after
+/// everything else, the polygons whose opacity is below 255 flagged.
+#[cfg(feature = "transparency")]
+fn transparent_file(spec: &Spec, opacities: &[u8]) -> Vec<u8> {
+    let mut spec = spec.clone();
+    spec.version = TRANSPARENT_VERSION;
+    spec.flags |= header_flags::TRANSPARENT;
+    for (p, &a) in spec.polygons.iter_mut().zip(opacities) {
+        if a < OPAQUE {
+            p.2 |= polygon_flags::TRANSPARENT;
+        }
+    }
+    let mut out = spec.encode();
+    out.extend((opacities.len() as u64).to_le_bytes());
+    out.extend(opacities);
+    out
+}
+
+#[cfg(feature = "transparency")]
+#[test]
+fn opacities_read_back_and_belong_to_version_7() {
+    let spec = Spec::small();
+    let n = spec.polygons.len();
+    let mut opacities = std::vec![OPAQUE; n];
+    opacities[1] = 90;
+    let bytes = transparent_file(&spec, &opacities);
+    let scene = Scene::parse(&bytes).unwrap();
+    assert!(scene.has_transparency());
+    assert_eq!(scene.opacity(1), 90);
+    assert_eq!(scene.opacity(0), OPAQUE);
+    assert_eq!(scene.opacity(99), OPAQUE, "out of range");
+    assert_ne!(scene.polygon(1).flags & polygon_flags::TRANSPARENT, 0);
+    assert!(!Scene::parse(&spec.encode()).unwrap().has_transparency());
+    // Version 4 with the flag, version 7 without it.
+    let flags = u16::from_le_bytes([bytes[6], bytes[7]]);
+    let mut four = bytes.clone();
+    four[4..6].copy_from_slice(&FORMAT_VERSION.to_le_bytes());
+    assert_eq!(
+        Scene::parse(&four).unwrap_err(),
+        ReadError::InconsistentFlags { flags }
+    );
+    let mut seven = spec.encode();
+    seven[4..6].copy_from_slice(&TRANSPARENT_VERSION.to_le_bytes());
+    assert_eq!(
+        Scene::parse(&seven).unwrap_err(),
+        ReadError::InconsistentFlags { flags: spec.flags }
+    );
+    // A short array, or bytes after it.
+    for end in bytes.len() - n..bytes.len() {
+        assert!(matches!(
+            Scene::parse(&bytes[..end]),
+            Err(ReadError::Truncated { .. })
+        ));
+    }
+    let mut longer = bytes.clone();
+    longer.push(0);
+    assert!(matches!(
+        Scene::parse(&longer),
+        Err(ReadError::TrailingBytes { .. })
+    ));
+}
+
+#[cfg(feature = "transparency")]
+#[test]
+fn an_opacity_must_agree_with_its_polygon() {
+    let spec = Spec::small();
+    let n = spec.polygons.len();
+    let opacity_at = |bytes: &[u8], k: usize| bytes.len() - n + k;
+    // Flagged and opaque.
+    let mut opacities = std::vec![OPAQUE; n];
+    opacities[0] = 100;
+    let mut bytes = transparent_file(&spec, &opacities);
+    let at = opacity_at(&bytes, 0);
+    bytes[at] = OPAQUE;
+    assert_eq!(
+        Scene::parse(&bytes).unwrap_err(),
+        ReadError::BadRecord { offset: at }
+    );
+    // Unflagged and transparent.
+    let mut bytes = transparent_file(&spec, &opacities);
+    let at = opacity_at(&bytes, 1);
+    bytes[at] = 10;
+    assert_eq!(
+        Scene::parse(&bytes).unwrap_err(),
+        ReadError::BadRecord { offset: at }
+    );
+    // Transparent and part of a solid.
+    let mut solid = spec.clone();
+    solid.flags |= header_flags::SOLID;
+    solid.polygons[0].2 |= polygon_flags::INSIDE_INTERIOR;
+    let bytes = transparent_file(&solid, &opacities);
+    assert_eq!(
+        Scene::parse(&bytes).unwrap_err(),
+        ReadError::BadRecord {
+            offset: opacity_at(&bytes, 0)
+        }
+    );
+    // The polygon flag without the header's.
+    let mut flagged = spec.clone();
+    flagged.polygons[2].2 |= polygon_flags::TRANSPARENT;
+    assert_eq!(
+        flagged.parse(),
+        Err(ReadError::BadRecord {
+            offset: polygon_at(&flagged, 2)
+        })
     );
 }
