@@ -613,7 +613,8 @@ fn demo_transparent(out: &Path) -> Result<(), String> {
     ] {
         let mtl = format!("demo-{name}.mtl");
         let mtl_path = out.join(&mtl);
-        std::fs::write(&mtl_path, scene.mtl()).map_err(|e| format!("{}: {e}", mtl_path.display()))?;
+        std::fs::write(&mtl_path, scene.mtl())
+            .map_err(|e| format!("{}: {e}", mtl_path.display()))?;
         let obj = out.join(format!("demo-{name}.obj"));
         std::fs::write(&obj, scene.obj(&mtl)).map_err(|e| format!("{}: {e}", obj.display()))?;
         let peel = out.join(format!("demo-{name}.peel"));
@@ -622,7 +623,7 @@ fn demo_transparent(out: &Path) -> Result<(), String> {
         let shot = Shot {
             width: 640,
             height: 480,
-            ..first.clone()
+            ..*first
         };
         let settings = Settings {
             background,
@@ -652,7 +653,10 @@ fn demo_transparent(out: &Path) -> Result<(), String> {
         };
         let png_path = out.join(format!("demo-{name}-sorted.png"));
         write_png(&png_path, &frame)?;
-        println!("{}: the same, by a z-buffer sorting by depth", png_path.display());
+        println!(
+            "{}: the same, by a z-buffer sorting by depth",
+            png_path.display()
+        );
     }
     Ok(())
 }
