@@ -222,6 +222,7 @@ fn run(args: &Args) -> Result<Vec<String>, String> {
                             refs.scan_nodes.0
                         },
                         pending_pixels: refs.pending_pixels,
+                        composite_runs: 0,
                         scanline_lists: refs.scanline_lists,
                         elf: elf.to_path_buf(),
                         timeout_s: if args.quick { 120 } else { 900 },
@@ -503,6 +504,7 @@ impl Smooth<'_> {
                     spans_per_row: spans_per_row as u32,
                     scan_nodes: scan_nodes as u32,
                     pending_pixels: 0,
+                    composite_runs: 0,
                     scanline_lists: (0, 0),
                     elf: self.firmware[&(core, setup.variant)].clone(),
                     timeout_s: self.timeout_s,

@@ -196,6 +196,7 @@ impl Textured<'_> {
                             spans_per_row: refs.spans_per_row,
                             scan_nodes: 0,
                             pending_pixels: 0,
+                            composite_runs: 0,
                             scanline_lists: (0, 0),
                             elf: firmware[&(core, setup.variant)].clone(),
                             timeout_s: self.timeout_s,
