@@ -23,6 +23,7 @@ mod report;
 mod scenes;
 mod textured;
 mod tools;
+mod transparent;
 
 use std::collections::hash_map::{Entry, HashMap};
 use std::path::Path;
@@ -339,6 +340,33 @@ fn run(args: &Args) -> Result<Vec<String>, String> {
             skipped.push(notice);
         }
     }
+    // The transparent glass box, its opaque baseline and the teapot alone: the streamed build
+    // with transparency, in full runs.
+    let mut transparent_summary = String::new();
+    if !args.quick {
+        let streamed = setups.iter().any(|s| s.variant == Variant::FtbStream);
+        if streamed && !args.shadows {
+            let outcome = transparent::Transparent {
+                tools: &tools,
+                models: &models,
+                firmware_dir: &firmware_dir,
+                cameras: &cameras,
+                scene_dir: &scene_dir,
+                runs_dir: &runs_dir,
+                references_dir: &out.join("references"),
+                timeout_s: 900,
+            }
+            .run()?;
+            records.extend(outcome.records);
+            problems.extend(outcome.problems);
+            transparent_summary = outcome.summary;
+        } else {
+            let notice = "transparent scene: skipped, only ftb-stream draws it, without --shadows"
+                .to_string();
+            println!("   {notice}");
+            skipped.push(notice);
+        }
+    }
     let json = results::json(&records)?;
     write(&out.join("results.json"), json.as_bytes())?;
     write(
@@ -349,6 +377,7 @@ fn run(args: &Args) -> Result<Vec<String>, String> {
             + &results::textured(&records)
             + &objects_summary
             + &textured_summary
+            + &transparent_summary
             + &skipped
                 .iter()
                 .map(|n| format!("\n{n}\n"))
@@ -373,7 +402,7 @@ fn run(args: &Args) -> Result<Vec<String>, String> {
         }
     }
     println!(
-        "\n{}{}{}{}{objects_summary}{textured_summary}",
+        "\n{}{}{}{}{objects_summary}{textured_summary}{transparent_summary}",
         results::markdown(&records),
         results::antialiased(&records),
         results::smooth(&records),

@@ -268,7 +268,7 @@ impl Textured<'_> {
 }
 
 /// Instructions of each frame of the first run in `dir` (its QEMU log).
-fn instructions(dir: &Path) -> Result<Vec<u64>, String> {
+pub(crate) fn instructions(dir: &Path) -> Result<Vec<u64>, String> {
     let log = dir.join("run-1/qemu.out");
     let text = std::fs::read_to_string(&log)
         .map_err(|e| format!("{}: cannot read: {e}", log.display()))?;
