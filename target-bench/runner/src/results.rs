@@ -779,7 +779,7 @@ mod tests {
             "{j}"
         );
         let back: Vec<Record> = serde_json::from_str(&j).unwrap();
-        assert_eq!(back, [glass.clone()]);
+        assert_eq!(back, std::slice::from_ref(&glass));
         // The transparent record and its opaque baseline are told apart.
         assert_ne!(glass.identity(), record().identity());
         let posed = Record {
