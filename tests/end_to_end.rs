@@ -629,6 +629,7 @@ fn generated_solids_match() {
     let mut crossed = torus.clone();
     let turned: Vec<_> = (torus.triangles.iter())
         .map(|t| SourceTriangle {
+            opacity: u8::MAX,
             // A mirror (y and z swapped) keeps the faces outward once the corners swap too.
             vertices: [t.vertices[0], t.vertices[2], t.vertices[1]]
                 .map(|v| DVec3::new(v.x + 0.7, v.z, v.y)),

@@ -200,6 +200,7 @@ fn a_file_whose_textured_faces_are_all_dropped_is_version_4() {
     let mut mesh = scenes::box_grid(1);
     let flat = [DVec3::ZERO, DVec3::X, DVec3::X * 2.0];
     mesh.triangles.push(SourceTriangle {
+        opacity: u8::MAX,
         vertices: flat,
         ..mesh.triangles[0]
     });

@@ -100,9 +100,15 @@ pub fn compile_mesh(
             })
             .collect()
     };
+    // Transparent polygons: each one's opacity (empty for an opaque scene).
+    let opacities: Vec<u8> = (tree.polygons.iter())
+        .map(|p| mesh.triangles[p.source as usize].opacity)
+        .collect();
+    let transparent = opacities.iter().any(|&a| a < crate::load::OPAQUE);
     let input = crate::write::WriteInput {
         textures: &mesh.textures,
         polygon_textures: &polygon_textures,
+        opacities: if transparent { &opacities } else { &[] },
         ..input
     };
     let bytes = match options.surface {
@@ -124,7 +130,20 @@ pub fn compile_mesh(
                 crease,
             };
             let shades = polygon_shades(&tree, mesh, &smooth);
-            let shaded = crate::write::shades::shade_vertices(&tree, &shades, &uvs)?;
+            let mut shaded = crate::write::shades::shade_vertices(&tree, &shades, &uvs)?;
+            if transparent {
+                // A transparent polygon has one colour a side (composited in runs of one
+                // colour): faceted, lit as a faceted file lights it.
+                let (interior, exterior) = bake(&tree, mesh, &options.shading);
+                let smooth = polygon_flags::SMOOTH | polygon_flags::INTERIOR_BACK;
+                for (k, &a) in opacities.iter().enumerate() {
+                    if a < crate::load::OPAQUE {
+                        shaded.colours[k] = interior[k];
+                        shaded.exterior[k] = exterior[k];
+                        shaded.flags[k] &= !smooth;
+                    }
+                }
+            }
             let merged: Vec<u8>;
             let flags = if solid.is_empty() {
                 &shaded.flags

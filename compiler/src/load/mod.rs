@@ -85,7 +85,13 @@ pub struct SourceTriangle {
     /// The texture and the corners' texture coordinates, where the material has a `map_Kd`
     /// and the face gives `vt` at every corner; else `None`.
     pub texture: Option<texture::CornerUvs>,
+    /// Its material's opacity (MTL `d`, or `1 - Tr`), of 255: [`OPAQUE`] for an opaque one
+    /// (no `d` or `Tr`, or no material), below it for a transparent one.
+    pub opacity: u8,
 }
+
+/// The opacity of an opaque triangle ([`SourceTriangle::opacity`]).
+pub const OPAQUE: u8 = u8::MAX;
 
 /// The default largest side of a texture, in texels ([`LoadOptions::max_texture`]).
 pub const DEFAULT_MAX_TEXTURE: u32 = 256;
@@ -327,8 +333,13 @@ pub fn load_obj_text_with(
             }
         }
     }
+    let mine = mtl_materials(&libraries, &materials)?;
+    // Each material's opacity and where it was given (an error names a bad value's line).
+    let opacities = (mine.iter())
+        .map(mtl::Material::opacity)
+        .collect::<Result<Vec<_>, _>>()?;
     let mut textures = texture::Table::new(
-        map_kd_statements(&libraries, &materials)?,
+        mine.into_iter().map(|m| m.map_kd).collect(),
         options.max_texture,
         options.resample,
     );
@@ -433,6 +444,21 @@ pub fn load_obj_text_with(
                     triangulate::fan(arity)
                 }
             };
+            let opacity = m.material_id.and_then(|id| opacities.get(id));
+            if let (Some(o), Some(_)) = (opacity.filter(|o| o.opacity < OPAQUE), &uvs) {
+                let (mtl, line) = o.at.clone().unwrap_or_default();
+                return Err(CompileError::Mtl {
+                    path: mtl,
+                    line,
+                    message: format!(
+                        "a transparent material cannot be textured (a face with `vt` uses it at \
+                         {}:{}): make it opaque or drop its `map_Kd`",
+                        path.display(),
+                        statement.line
+                    ),
+                });
+            }
+            let opacity = opacity.map_or(OPAQUE, |o| o.opacity);
             mesh.faces += 1;
             mesh.triangles
                 .extend(triangles.iter().map(|t| SourceTriangle {
@@ -443,6 +469,7 @@ pub fn load_obj_text_with(
                         texture: *k,
                         uv: t.map(|i| uv[i]),
                     }),
+                    opacity,
                 }));
         }
     }
@@ -506,12 +533,13 @@ fn read_mtl(full: &Path) -> (MtlOutcome, tobj::MTLLoadResult) {
     }
 }
 
-/// Each tobj material's `map_Kd` statement, read from the MTL files tobj merged (`libraries`,
-/// in order, those loaded), paired with `materials` one for one.
-fn map_kd_statements(
+/// Each tobj material as the MTL files tobj merged say it (`libraries`, in order, those
+/// loaded: its `map_Kd`, `d` and `Tr` statements with their lines), paired with `materials`
+/// one for one.
+fn mtl_materials(
     libraries: &[(PathBuf, MtlOutcome)],
     materials: &[tobj::Material],
-) -> Result<Vec<Option<mtl::MapKd>>, CompileError> {
+) -> Result<Vec<mtl::Material>, CompileError> {
     let mine: Vec<mtl::Material> = (libraries.iter())
         .filter_map(|(path, outcome)| match outcome {
             MtlOutcome::Loaded(bytes) => {
@@ -533,7 +561,7 @@ fn map_kd_statements(
             materials.len()
         )));
     }
-    Ok(mine.into_iter().map(|m| m.map_kd).collect())
+    Ok(mine)
 }
 
 /// A face's corner texture coordinates `(u, v)` from tobj's `texcoords` at `indices`; `None`

@@ -33,8 +33,74 @@ pub(super) struct Options {
 pub(super) struct Material {
     /// Its name (`newmtl`).
     pub name: String,
+    /// The MTL file it is in.
+    pub mtl: PathBuf,
     /// Its last `map_Kd` statement (tobj keeps the last), if any.
     pub map_kd: Option<MapKd>,
+    /// Its last `d` (dissolve: the opacity) and `Tr` (transparency, `1 - d`) statements:
+    /// the line and the text after the keyword.
+    pub dissolve: Option<(usize, String)>,
+    pub transparency: Option<(usize, String)>,
+}
+
+/// Where a material's opacity was given: its MTL file and line.
+#[derive(Debug, Clone, PartialEq)]
+pub(super) struct OpacityAt {
+    /// The opacity, of 255 ([`super::OPAQUE`] without `d` or `Tr`).
+    pub opacity: u8,
+    /// The MTL file and the line of its `d` (else its `Tr`) statement, when given.
+    pub at: Option<(PathBuf, usize)>,
+}
+
+impl Material {
+    /// The opacity its `d` or `Tr` give (`round(255 d)`, `d = 1 - Tr`): an error names the
+    /// MTL file `path` and the line of a value that is no number from 0 to 1, or of a `d` and
+    /// a `Tr` that disagree by more than 1/255.
+    pub(super) fn opacity(&self) -> Result<OpacityAt, crate::CompileError> {
+        let path = &self.mtl;
+        let value = |(line, text): &(usize, String), name: &str| {
+            let v: Option<f64> = text.split_whitespace().next().and_then(|w| w.parse().ok());
+            match v.filter(|v| (0.0..=1.0).contains(v)) {
+                Some(v) => Ok((*line, v)),
+                None => Err(crate::CompileError::Mtl {
+                    path: path.to_path_buf(),
+                    line: *line,
+                    message: format!(
+                        "material `{}`: `{name} {text}`: the value must be a number from 0 to 1",
+                        self.name
+                    ),
+                }),
+            }
+        };
+        let d = self.dissolve.as_ref().map(|s| value(s, "d")).transpose()?;
+        let tr = (self.transparency.as_ref())
+            .map(|s| value(s, "Tr"))
+            .transpose()?;
+        let (line, opacity) = match (d, tr) {
+            (Some((line, d)), Some((_, tr))) if (d - (1.0 - tr)).abs() > 1.0 / 255.0 => {
+                return Err(crate::CompileError::Mtl {
+                    path: path.to_path_buf(),
+                    line,
+                    message: format!(
+                        "material `{}`: `d {d}` and `Tr {tr}` disagree (`Tr` is `1 - d`)",
+                        self.name
+                    ),
+                })
+            }
+            (Some((line, d)), _) => (line, d),
+            (None, Some((line, tr))) => (line, 1.0 - tr),
+            (None, None) => {
+                return Ok(OpacityAt {
+                    opacity: super::OPAQUE,
+                    at: None,
+                })
+            }
+        };
+        Ok(OpacityAt {
+            opacity: (opacity * 255.0).round() as u8,
+            at: Some((path.to_path_buf(), line)),
+        })
+    }
 }
 
 /// The materials of the MTL file `path` whose text is `text`, as tobj reads them: a material
@@ -51,7 +117,10 @@ pub(super) fn materials(path: &Path, text: &str) -> Vec<Material> {
                 let name = line.get(6..).unwrap_or_default().trim();
                 current = (!name.is_empty()).then(|| Material {
                     name: name.to_owned(),
+                    mtl: path.to_path_buf(),
                     map_kd: None,
+                    dissolve: None,
+                    transparency: None,
                 });
             }
             Some("map_Kd") => {
@@ -62,6 +131,17 @@ pub(super) fn materials(path: &Path, text: &str) -> Vec<Material> {
                         line: index + 1,
                         text: rest.to_owned(),
                     });
+                }
+            }
+            Some(keyword @ ("d" | "Tr")) => {
+                let rest = line.get(keyword.len()..).unwrap_or_default().trim();
+                if let Some(material) = current.as_mut() {
+                    let statement = Some((index + 1, rest.to_owned()));
+                    if keyword == "d" {
+                        material.dissolve = statement;
+                    } else {
+                        material.transparency = statement;
+                    }
                 }
             }
             _ => {}

@@ -20,7 +20,8 @@ use super::{IPoint, Quantiser};
 /// Per triangle of `mesh`, whether it bounds a solid: its connected part (triangles sharing
 /// grid vertices, degenerate ones left out as the build leaves them out) is closed, every
 /// directed edge met once and its reverse once, and encloses a positive volume (its faces
-/// wound counter-clockwise seen from outside, as OBJ's fronts are). Exact and deterministic.
+/// wound counter-clockwise seen from outside, as OBJ's fronts are), and none of its triangles
+/// is transparent (its inside shows through). Exact and deterministic.
 pub fn solid_triangles(mesh: &Mesh, quantiser: &Quantiser) -> Vec<bool> {
     let corners: Vec<Option<[IPoint; 3]>> = mesh
         .triangles
@@ -58,12 +59,14 @@ pub fn solid_triangles(mesh: &Mesh, quantiser: &Quantiser) -> Vec<bool> {
     // Per part (its root vertex): open, and six times its signed volume.
     let mut open: FastMap<u32, bool> = FastMap::default();
     let mut volume: FastMap<u32, i128> = FastMap::default();
-    for &(_, [a, b, c]) in &kept {
+    for &(i, [a, b, c]) in &kept {
         let root = parts.root(a);
         let closed = [(a, b), (b, c), (c, a)]
             .iter()
             .all(|&(x, y)| edges.get(&(x, y)) == Some(&1) && edges.get(&(y, x)) == Some(&1));
-        *open.entry(root).or_insert(false) |= !closed;
+        // A part with a transparent face shows its inside: it hides nothing, as an open one.
+        let see_through = mesh.triangles[i].opacity < crate::load::OPAQUE;
+        *open.entry(root).or_insert(false) |= !closed || see_through;
         let [p, q, r] = [a, b, c].map(|v| points[v as usize]);
         *volume.entry(root).or_insert(0) += det(p, q, r);
     }
@@ -135,6 +138,7 @@ mod tests {
             triangles: triangles
                 .iter()
                 .map(|&vertices| SourceTriangle {
+                    opacity: u8::MAX,
                     vertices,
                     colour: [200; 3],
                     normals: None,

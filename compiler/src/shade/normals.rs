@@ -187,6 +187,7 @@ mod tests {
     fn triangles(v: &[[DVec3; 3]]) -> Vec<SourceTriangle> {
         v.iter()
             .map(|&vertices| SourceTriangle {
+                opacity: u8::MAX,
                 vertices,
                 colour: DEFAULT_COLOUR,
                 normals: None,

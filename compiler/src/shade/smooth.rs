@@ -148,6 +148,7 @@ mod tests {
         ];
         for t in [[0, 1, 2], [0, 2, 3]] {
             mesh.triangles.push(crate::load::SourceTriangle {
+                opacity: u8::MAX,
                 vertices: t.map(|i| floor[i]),
                 ..mesh.triangles[0]
             });

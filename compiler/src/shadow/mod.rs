@@ -16,6 +16,9 @@
 //! or is the occluder's neighbour). Which side of a fragment faces the light is exact too: a
 //! sign of `n · l`, or the side of its plane `L` is on, the same over the whole plane.
 //!
+//! A transparent source triangle (an MTL `d` below 1) casts no shadow: light passes through
+//! it. It receives shadows as any other.
+//!
 //! Why the tree is unaffected: every piece lies in its fragment's support plane and shadow
 //! planes are only ever edge planes of pieces, never support planes. The build's support
 //! planes are thus the same, and so are its invariants and its termination argument (the
@@ -227,12 +230,14 @@ fn facing(plane: &Plane, l: [i64; 3]) -> Side {
 }
 
 /// Each fragment of `fragments` (the source triangles, as the input stage makes them) cut
-/// along the shadows the others cast from `light`, each piece marked in shadow or not
+/// along the shadows the others cast from `light` (those whose source triangle `casts`, by
+/// source id: a transparent triangle casts none; a source beyond `casts` does), each piece marked in shadow or not
 /// ([`Fragment::shadowed`]); the planes of the cuts are added to `table`. Deterministic: the
 /// planes are added in source order, the pieces come in source order. Fails on a point light
 /// too far from the scene for exact planes (a sun then does the same job).
 pub(crate) fn cast(
     fragments: &[Fragment],
+    casts: &[bool],
     table: &mut PlaneTable,
     light: Light,
     grid: &Quantiser,
@@ -272,8 +277,9 @@ pub(crate) fn cast(
         let q = corners(f);
         let support = table.get(f.support).plane;
         let light_side = caster.side(&support);
-        if q.len() != 3 || light_side == Side::On {
-            continue; // lit edge-on: no shadow
+        let caster_at_all = casts.get(f.source as usize).copied().unwrap_or(true);
+        if q.len() != 3 || light_side == Side::On || !caster_at_all {
+            continue; // lit edge-on (or transparent): no shadow
         }
         let mut bounds = [(f.support, light_side.opposite()); 4];
         for k in 0..3 {

@@ -61,6 +61,7 @@ fn every_vertex_takes_the_coordinates_of_its_position_cut_or_not() {
     let sphere = mesh.triangles.len();
     for t in [[0, 1, 2], [0, 2, 3]] {
         mesh.triangles.push(SourceTriangle {
+            opacity: u8::MAX,
             vertices: t.map(|i| floor[i]),
             ..mesh.triangles[0]
         });

@@ -322,6 +322,7 @@ mod tests {
             triangles: t
                 .into_iter()
                 .map(|vertices| crate::load::SourceTriangle {
+                    opacity: u8::MAX,
                     vertices,
                     colour: crate::load::DEFAULT_COLOUR,
                     normals: None,

@@ -25,6 +25,7 @@ pub fn mesh(triangles: Vec<[DVec3; 3]>) -> Mesh {
         triangles: triangles
             .into_iter()
             .map(|vertices| SourceTriangle {
+                opacity: u8::MAX,
                 vertices,
                 colour: DEFAULT_COLOUR,
                 normals: None,
@@ -283,6 +284,7 @@ pub fn checkerboard(
 /// A white triangle under texture `texture`, its corners at `vertices` with coordinates `uv`.
 fn textured_triangle(vertices: [DVec3; 3], uv: [DVec2; 3], texture: u32) -> SourceTriangle {
     SourceTriangle {
+        opacity: u8::MAX,
         vertices,
         colour: WHITE,
         normals: None,

@@ -107,9 +107,15 @@ pub(crate) fn prepare(mesh: &Mesh, light: Option<Light>) -> Result<Input, Compil
         })
         .collect();
     let shadowed = match light {
-        Some(light) => Some(crate::shadow::cast(
-            &fragments, &mut table, light, &quantiser,
-        )?),
+        Some(light) => {
+            // A transparent triangle casts no shadow (it receives them).
+            let casts: Vec<bool> = (mesh.triangles.iter())
+                .map(|t| t.opacity == crate::load::OPAQUE)
+                .collect();
+            Some(crate::shadow::cast(
+                &fragments, &casts, &mut table, light, &quantiser,
+            )?)
+        }
         None => None,
     };
     Ok(Input {

@@ -13,6 +13,7 @@ pub(crate) fn mesh_of(tris: Vec<[DVec3; 3]>) -> Mesh {
         triangles: tris
             .into_iter()
             .map(|vertices| SourceTriangle {
+                opacity: u8::MAX,
                 vertices,
                 colour: [1, 2, 3],
                 normals: None,

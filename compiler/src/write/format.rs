@@ -15,7 +15,7 @@ use serde::{Deserialize, Deserializer, Serialize, Serializer};
 use peel_runtime::read::layout::dequantise;
 pub use peel_runtime::read::layout::{
     field_size, header_flags, node_kind, none_of_width, polygon_flags, FORMAT_VERSION, HEADER_SIZE,
-    MAGIC, NONE, TEXTURED_VERSION,
+    MAGIC, NONE, OPAQUE, TEXTURED_VERSION, TRANSPARENT_VERSION,
 };
 pub use peel_runtime::read::Header;
 
@@ -155,11 +155,14 @@ pub struct PeelFile {
     pub texels: Vec<u8>,
     /// Per polygon, its texture or `NO_TEXTURE`.
     pub polygon_textures: Vec<u8>,
+    /// Per polygon, its opacity when `header_flags::TRANSPARENT` is set (a file of version
+    /// `TRANSPARENT_VERSION`), else empty and not written.
+    pub opacities: Vec<u8>,
 }
 
-/// Fields of [`PeelFile`] in file order (`shades` only with its flag, the last four only with
-/// `TEXTURES`).
-const FILE_FIELDS: usize = 14;
+/// Fields of [`PeelFile`] in file order (`shades` only with its flag, the four texture arrays
+/// only with `TEXTURES`, `opacities` only with `TRANSPARENT`).
+const FILE_FIELDS: usize = 15;
 
 impl Serialize for PeelFile {
     fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
@@ -174,7 +177,14 @@ impl Serialize for PeelFile {
         if !textures && texture_arrays != 0 {
             return Err(ser::Error::custom("textures without the TEXTURES flag"));
         }
-        let fields = FILE_FIELDS - usize::from(!shades) - 4 * usize::from(!textures);
+        let transparent = flags & header_flags::TRANSPARENT != 0;
+        if !transparent && !self.opacities.is_empty() {
+            return Err(ser::Error::custom("opacities without the TRANSPARENT flag"));
+        }
+        let fields = FILE_FIELDS
+            - usize::from(!shades)
+            - 4 * usize::from(!textures)
+            - usize::from(!transparent);
         let mut t = s.serialize_tuple(fields)?;
         t.serialize_element(&header_words(&self.header))?;
         t.serialize_element(&Records(&self.vertices, flags))?;
@@ -193,6 +203,9 @@ impl Serialize for PeelFile {
             t.serialize_element(&self.textures)?;
             t.serialize_element(&self.texels)?;
             t.serialize_element(&self.polygon_textures)?;
+        }
+        if transparent {
+            t.serialize_element(&self.opacities)?;
         }
         t.end()
     }
@@ -638,6 +651,7 @@ impl<'de> Deserialize<'de> for PeelFile {
                     textures: Vec::new(),
                     texels: Vec::new(),
                     polygon_textures: Vec::new(),
+                    opacities: Vec::new(),
                 };
                 if flags & header_flags::SHADES != 0 {
                     file.shades = required(seq.next_element()?)?;
@@ -647,6 +661,9 @@ impl<'de> Deserialize<'de> for PeelFile {
                     file.textures = required(seq.next_element()?)?;
                     file.texels = required(seq.next_element()?)?;
                     file.polygon_textures = required(seq.next_element()?)?;
+                }
+                if flags & header_flags::TRANSPARENT != 0 {
+                    file.opacities = required(seq.next_element()?)?;
                 }
                 Ok(file)
             }

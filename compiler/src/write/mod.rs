@@ -26,6 +26,7 @@ use crate::tree::{DisplayTree, TreeNode};
 use encoding::Encoding;
 use format::{
     header_flags, node_kind, polygon_flags, ColourField, Header, Node, PeelFile, Polygon, Vertex,
+    OPAQUE,
 };
 
 pub use atomic::{write_atomic, write_atomic_with};
@@ -81,6 +82,10 @@ pub(crate) struct WriteInput<'a> {
     /// Per tree vertex, its texture coordinates (`shades::uv_vertices`); empty when no
     /// polygon is textured.
     pub uvs: &'a [[i32; 2]],
+    /// Per tree polygon, its opacity (`OPAQUE` for an opaque one); or empty: all are opaque.
+    /// When some polygon is transparent the file is of version `TRANSPARENT_VERSION`, each
+    /// such polygon flagged [`format::polygon_flags::TRANSPARENT`].
+    pub opacities: &'a [u8],
 }
 
 /// The file for `tree`, `colours[i]` being the colour of `tree.polygons[i]`; source triangle
@@ -128,6 +133,7 @@ pub(crate) fn peel_file_encoded(
         textures,
         polygon_textures,
         uvs,
+        opacities,
     } = *input;
     let exterior = if exterior.is_empty() {
         colours
@@ -178,6 +184,14 @@ pub(crate) fn peel_file_encoded(
             tree.vertices.len()
         )));
     }
+    let transparent = opacities.iter().any(|&a| a < OPAQUE);
+    if transparent && opacities.len() != tree.polygons.len() {
+        return Err(invariant(format!(
+            "{} opacities for {} polygons",
+            opacities.len(),
+            tree.polygons.len()
+        )));
+    }
     let wide = tree
         .vertices
         .iter()
@@ -214,6 +228,8 @@ pub(crate) fn peel_file_encoded(
         id_offset,
         extra_flags,
         polygon_textures,
+        opacities: if transparent { opacities } else { &[] },
+        opacities_out: Vec::new(),
         planes: Vec::new(),
         plane_slots: FastMap::default(),
         file_nodes: Vec::new(),
@@ -284,7 +300,12 @@ pub(crate) fn peel_file_encoded(
     if stored.is_some() {
         flags |= header_flags::TEXTURES;
     }
-    let version = if stored.is_some() {
+    if transparent {
+        flags |= header_flags::TRANSPARENT;
+    }
+    let version = if transparent {
+        format::TRANSPARENT_VERSION
+    } else if stored.is_some() {
         format::TEXTURED_VERSION
     } else {
         format::FORMAT_VERSION
@@ -337,6 +358,7 @@ pub(crate) fn peel_file_encoded(
         polygons,
         ids_out,
         file_nodes,
+        opacities_out,
         ..
     } = out;
     Ok(PeelFile {
@@ -354,6 +376,7 @@ pub(crate) fn peel_file_encoded(
         textures: texture_records,
         texels,
         polygon_textures,
+        opacities: opacities_out,
     })
 }
 
@@ -387,6 +410,10 @@ struct Emitter<'t> {
     extra_flags: &'t [u8],
     /// Per tree polygon, its texture (or empty).
     polygon_textures: &'t [u8],
+    /// Per tree polygon, its opacity (or empty: an opaque scene).
+    opacities: &'t [u8],
+    /// Per file polygon, its opacity (empty for an opaque scene).
+    opacities_out: Vec<u8>,
     /// The split nodes' planes, in order of first use.
     planes: Vec<[f32; 4]>,
     /// Tree plane -> index in `planes`.
@@ -566,11 +593,21 @@ impl Emitter<'_> {
         let (start, normal) = plane_start(self.vertices, self.per_step, &list);
         let exact = self.tree.planes[polygon.plane as usize].normal;
         let agrees = normal.dot(exact) >= 0.0;
+        let opacity = self.opacities.get(p as usize).copied();
+        let see_through = opacity.is_some_and(|a| a < OPAQUE);
         let flags = if polygon.interior_front == agrees {
             polygon_flags::INTERIOR_FRONT
         } else {
             0
-        } | self.extra_flags.get(p as usize).copied().unwrap_or(0);
+        } | self.extra_flags.get(p as usize).copied().unwrap_or(0)
+            | if see_through {
+                polygon_flags::TRANSPARENT
+            } else {
+                0
+            };
+        if let Some(a) = opacity {
+            self.opacities_out.push(a);
+        }
         self.polygons.push(Polygon {
             first_index: count(self.indices.len(), "polygon vertices")?,
             vertex_count,

@@ -5,8 +5,9 @@
 //! The byte layout is specified in `formats/peel.md`; [`layout`] holds its constants.
 //!
 //! One file per part of the scene, each with the accessors that read it: nodes (`node.rs`),
-//! polygons (`polygon.rs`), vertices, boxes and planes (`geometry.rs`), and the side of a
-//! polygon the eye is on (`side.rs`); the checks of [`Scene::parse`] in `validate.rs`.
+//! polygons (`polygon.rs`), vertices, boxes and planes (`geometry.rs`), the side of a
+//! polygon the eye is on (`side.rs`), textures (`texture.rs`) and opacities
+//! (`transparency.rs`); the checks of [`Scene::parse`] in `validate.rs`.
 
 mod geometry;
 pub mod layout;
@@ -15,6 +16,7 @@ mod parts;
 mod polygon;
 mod side;
 mod texture;
+mod transparency;
 mod validate;
 
 use core::fmt;
@@ -100,6 +102,10 @@ pub struct Scene<'a> {
     /// with the `textures` feature: zeroing it linked a `memclr` into the smallest build.
     #[cfg(feature = "textures")]
     textures: texture::TextureArrays,
+    /// The `opacities` array (with [`layout::header_flags::TRANSPARENT`]; else 0). Only with
+    /// the `transparency` feature.
+    #[cfg(feature = "transparency")]
+    opacities: usize,
     /// The size of a step on each axis ([`layout::step`]).
     step: Vec3,
     /// Steps per unit of length on each axis ([`layout::per_step`]): brings the eye to steps.

@@ -10,7 +10,6 @@
 
 use glam::Vec3;
 
-use super::layout::TEXTURED_VERSION;
 use super::layout::{
     self, colour_size, f32_at, f64_at, field_at, field_size, header_flags as hf,
     header_offset as h, index_size, node_kind, node_size, polygon_flags, polygon_size, u16_at,
@@ -21,6 +20,9 @@ use super::layout::{
 use super::layout::{
     texture_flags, u32_at, MAX_TEXTURES, MAX_TEXTURE_LOG2, NO_TEXTURE, TEXTURE_SIZE, UV_SIZE,
 };
+#[cfg(feature = "transparency")]
+use super::layout::{OPACITY_SIZE, OPAQUE};
+use super::layout::{TEXTURED_VERSION, TRANSPARENT_VERSION};
 #[cfg(feature = "textures")]
 use super::texture::TextureArrays;
 use super::{Header, Scene};
@@ -47,6 +49,8 @@ pub(super) fn parse(bytes: &[u8]) -> Result<Scene<'_>, ReadError> {
     check_depth(&scene)?;
     #[cfg(feature = "textures")]
     check_textures(&scene)?;
+    #[cfg(feature = "transparency")]
+    check_opacities(&scene)?;
     Ok(scene)
 }
 
@@ -67,7 +71,10 @@ fn read_header(bytes: &[u8]) -> Result<Header, ReadError> {
     }
     let version = u16_at(bytes, h::VERSION);
     if let Some(version) = version {
-        if version != FORMAT_VERSION && version != TEXTURED_VERSION {
+        if version != FORMAT_VERSION
+            && version != TEXTURED_VERSION
+            && version != TRANSPARENT_VERSION
+        {
             return Err(ReadError::UnsupportedVersion { version });
         }
     }
@@ -75,8 +82,13 @@ fn read_header(bytes: &[u8]) -> Result<Header, ReadError> {
         if flags & !hf::KNOWN != 0 {
             return Err(ReadError::UnknownFlags { flags });
         }
-        // Textures are version 6's, and version 6 always has them.
-        if (version == Some(TEXTURED_VERSION)) != (flags & hf::TEXTURES != 0) {
+        // Textures are version 6's (and may be version 7's), and version 6 always has them;
+        // transparency is version 7's, which always has it.
+        let textures = flags & hf::TEXTURES != 0;
+        let transparent = flags & hf::TRANSPARENT != 0;
+        if (version == Some(TRANSPARENT_VERSION)) != transparent
+            || (version == Some(TEXTURED_VERSION)) != (textures && !transparent)
+        {
             return Err(ReadError::InconsistentFlags { flags });
         }
         let both_widths = hf::NARROW | hf::MEDIUM;
@@ -91,8 +103,9 @@ fn read_header(bytes: &[u8]) -> Result<Header, ReadError> {
         let large = !cfg!(feature = "large-scenes")
             && (flags & hf::NARROW == 0 || flags & hf::INDEX16 == 0);
         let wide = !cfg!(feature = "wide-vertices") && flags & hf::WIDE_VERTICES != 0;
-        let textures = !cfg!(feature = "textures") && flags & hf::TEXTURES != 0;
-        if large || wide || textures {
+        let textures = !cfg!(feature = "textures") && textures;
+        let transparent = !cfg!(feature = "transparency") && transparent;
+        if large || wide || textures || transparent {
             return Err(ReadError::UnsupportedFlags { flags });
         }
     }
@@ -196,6 +209,12 @@ fn locate_arrays(bytes: &[u8], header: Header) -> Result<Scene<'_>, ReadError> {
             locate_textures(bytes, &mut at, header)?
         } else {
             TextureArrays::default()
+        },
+        #[cfg(feature = "transparency")]
+        opacities: if flags & hf::TRANSPARENT != 0 {
+            array(bytes, &mut at, header.polygon_count, OPACITY_SIZE)?
+        } else {
+            0
         },
         step: Vec3::new(
             layout::step(header.bounds_min.x, header.bounds_max.x),
@@ -333,6 +352,35 @@ fn check_textures(scene: &Scene<'_>) -> Result<(), ReadError> {
     Ok(())
 }
 
+/// Every polygon's opacity agrees with its flag (below 255 exactly when
+/// [`polygon_flags::TRANSPARENT`]), and a transparent polygon is neither smooth, nor a
+/// solid's, nor textured.
+#[cfg(feature = "transparency")]
+fn check_opacities(scene: &Scene<'_>) -> Result<(), ReadError> {
+    if !scene.has_transparency() {
+        return Ok(());
+    }
+    let b = scene.bytes;
+    let not_with =
+        polygon_flags::SMOOTH | polygon_flags::INSIDE_INTERIOR | polygon_flags::INSIDE_EXTERIOR;
+    let polygons = records(
+        scene.polygons,
+        scene.polygon_size,
+        scene.header.polygon_count,
+    );
+    let opacities = records(scene.opacities, OPACITY_SIZE, scene.header.polygon_count);
+    for ((i, polygon_at), (_, at)) in polygons.zip(opacities) {
+        let flags = u8_at(b, polygon_at + scene.field_size() + 1).unwrap_or(0);
+        let opacity = u8_at(b, at).unwrap_or(OPAQUE);
+        let flagged = flags & polygon_flags::TRANSPARENT != 0;
+        let textured = scene.polygon_texture(i).is_some();
+        if flagged != (opacity < OPAQUE) || flagged && (flags & not_with != 0 || textured) {
+            return Err(bad(at));
+        }
+    }
+    Ok(())
+}
+
 /// Finite centre, finite bounds with `min <= max` and a finite extent `max - min` (which
 /// decoding a vertex or box step multiplies).
 fn check_header_values(bytes: &[u8]) -> Result<(), ReadError> {
@@ -456,6 +504,7 @@ fn check_polygons(scene: &Scene<'_>) -> Result<(), ReadError> {
             && (!smooth || header.flags & hf::SHADES != 0)
             && (smooth || flags & polygon_flags::INTERIOR_BACK == 0)
             && (inside == 0 || header.flags & hf::SOLID != 0)
+            && (flags & polygon_flags::TRANSPARENT == 0 || header.flags & hf::TRANSPARENT != 0)
             && inside.count_ones() <= 1
             && vertex_count >= 3
             && u32::from(vertex_count) <= header.max_polygon_vertices

@@ -155,4 +155,10 @@ impl Source for Scene<'_> {
     fn corner_uv(&self, polygon: &Polygon, i: u32) -> [i32; 2] {
         Scene::polygon_vertex_index(self, polygon, i).map_or([0, 0], |v| self.vertex_uv(v))
     }
+    fn has_transparency(&self) -> bool {
+        Scene::has_transparency(self)
+    }
+    fn opacity(&self, i: u32, polygon: &Polygon) -> u8 {
+        self.opacity_of(i, polygon.flags)
+    }
 }

@@ -215,6 +215,7 @@ mod tests {
         );
         let (ua, ub, uc, ud) = (lo, DVec2::new(hi.x, lo.y), hi, DVec2::new(lo.x, hi.y));
         let triangle = |vertices, uv| SourceTriangle {
+            opacity: u8::MAX,
             vertices,
             colour: [255; 3],
             normals: None,

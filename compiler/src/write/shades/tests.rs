@@ -44,6 +44,7 @@ fn curved() -> Mesh {
         [(-3.0, -3.0), (-3.0, 3.0), (3.0, 3.0), (3.0, -3.0)].map(|(x, z)| DVec3::new(x, -1.2, z));
     for t in [[0, 1, 2], [0, 2, 3]] {
         mesh.triangles.push(SourceTriangle {
+            opacity: u8::MAX,
             vertices: t.map(|i| floor[i]),
             colour: [230, 120, 60],
             ..mesh.triangles[0]

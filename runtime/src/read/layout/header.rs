@@ -50,6 +50,10 @@ pub mod header_flags {
     /// always there: the file ends with the texture arrays (`uvs`, `textures`, `texels`,
     /// `polygon_textures`), and polygons may be textured.
     pub const TEXTURES: u16 = 1 << 12;
+    /// Only in a file of version [`TRANSPARENT_VERSION`](super::super::TRANSPARENT_VERSION),
+    /// and always there: the file ends with the `opacities` array (a `u8` per polygon), and
+    /// polygons may be [`polygon_flags::TRANSPARENT`](super::super::polygon_flags::TRANSPARENT).
+    pub const TRANSPARENT: u16 = 1 << 13;
     /// Every bit this version defines; a reader refuses others.
     pub const KNOWN: u16 = IDS
         | INDEX16
@@ -63,7 +67,8 @@ pub mod header_flags {
         | TWO_COLOURS
         | SHADES
         | SOLID
-        | TEXTURES;
+        | TEXTURES
+        | TRANSPARENT;
 }
 
 /// Bytes of the header.

@@ -2,7 +2,7 @@
 //! compiler's writer shares with this reader, and little-endian field access that never panics.
 //!
 //! One file per part of the format, its items all re-exported here: the header (`header.rs`),
-//! nodes (`node.rs`), polygons (`polygon.rs`), textures (`texture.rs`), vertices and their grid (`vertex.rs`), and how
+//! nodes (`node.rs`), polygons (`polygon.rs`), textures (`texture.rs`), transparency (`transparency.rs`), vertices and their grid (`vertex.rs`), and how
 //! any field is read (`fields.rs`).
 
 mod fields;
@@ -11,6 +11,7 @@ mod node;
 mod parts;
 mod polygon;
 mod texture;
+mod transparency;
 mod vertex;
 
 pub(crate) use fields::{
@@ -31,6 +32,7 @@ pub use texture::{
     texture_bytes, texture_flags, MAX_TEXTURES, MAX_TEXTURE_LOG2, NO_TEXTURE, TEXEL_SIZE,
     TEXTURED_VERSION, TEXTURE_SIZE, UV_FRACTION_BITS, UV_SIZE,
 };
+pub use transparency::{OPACITY_SIZE, OPAQUE, TRANSPARENT_VERSION};
 pub use vertex::{dequantise, per_step, step, vertex_size, Grid};
 
 // The core-specific paths the reader's tests check against the plain arithmetic.

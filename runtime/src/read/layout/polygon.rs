@@ -63,9 +63,13 @@ pub mod polygon_flags {
     pub const INSIDE_INTERIOR: u8 = 1 << 4;
     /// As [`INSIDE_INTERIOR`], the solid's inside on the polygon's exterior side.
     pub const INSIDE_EXTERIOR: u8 = 1 << 5;
+    /// Only with [`TRANSPARENT`](super::header_flags::TRANSPARENT), exactly when the
+    /// polygon's opacity (the `opacities` array) is below 255: it shows what lies behind it.
+    /// Never with [`SMOOTH`], [`INSIDE_INTERIOR`] or [`INSIDE_EXTERIOR`], nor textured.
+    pub const TRANSPARENT: u8 = 1 << 6;
     /// Every bit this version defines; a reader refuses others.
     pub const KNOWN: u8 =
-        INTERIOR_FRONT | SMOOTH | INTERIOR_BACK | INSIDE_INTERIOR | INSIDE_EXTERIOR;
+        INTERIOR_FRONT | SMOOTH | INTERIOR_BACK | INSIDE_INTERIOR | INSIDE_EXTERIOR | TRANSPARENT;
 }
 
 /// Bytes of a vertex's shades (with [`header_flags::SHADES`]): two intensities.
