@@ -797,13 +797,15 @@ impl References {
                 .map(|n| n as u32)
                 .map_err(|e| format!("{}: {e}", scene.peel.display()))
         };
+        // Only for the builds that take it (not every build of the method: a transparent
+        // scene, streamed with composite memory, has no scan-order frame).
         let scan_nodes = (
-            if needs(Variant::ScanOrder) {
+            if setups.iter().any(|s| s.variant == Variant::ScanOrder) {
                 scan_nodes(peel_compiler::spans::scan_nodes)?
             } else {
                 0
             },
-            if needs(Variant::ScanAa) {
+            if setups.iter().any(|s| s.variant == Variant::ScanAa) {
                 scan_nodes(peel_compiler::spans::scan_nodes_antialiased)?
             } else {
                 0

@@ -29,7 +29,6 @@ use std::path::{Path, PathBuf};
 use std::rc::Rc;
 
 use peel_runtime::display::Colour;
-use peel_runtime::render::Source as _;
 use peel_target_kit::config::{OrbitAngles, Variant};
 use peel_target_runner::results::{Record, TRANSPARENCY_GOALS};
 
@@ -211,9 +210,21 @@ impl Transparent<'_> {
                     .map(|&c| composite_peak(scene, c, SIZE, integer))
                     .collect::<Result<Vec<u64>, String>>()?;
                 let peak = peaks.iter().copied().max().unwrap_or(0);
+                // The builder's span memory (`spans::spans_per_row`) is measured without
+                // composite memory, which a transparent file's frame then needs all of: the
+                // glass box gets the fewest intervals per row with which no camera's frame,
+                // drawn with its composite runs, runs out.
+                let spans_per_row = if *kind == Kind::Glass {
+                    spans_with_composite(scene, self.cameras, SIZE, integer)?
+                } else {
+                    refs.spans_per_row
+                };
                 println!(
-                    "   {name} {}: composite peak on the host {peak} runs (per camera {peaks:?})",
-                    core.name()
+                    "   {name} {}: composite peak on the host {peak} runs (per camera {peaks:?}); \
+                     span memory {} intervals per row (the builder's {})",
+                    core.name(),
+                    spans_per_row,
+                    refs.spans_per_row
                 );
                 // The transparent scene gets the orbit's need (at least one run, so that its
                 // build always reports); the opaque ones none, as they need none.
@@ -230,7 +241,7 @@ impl Transparent<'_> {
                     size: SIZE,
                     setup,
                     cameras: self.cameras,
-                    spans_per_row: refs.spans_per_row,
+                    spans_per_row,
                     scan_nodes: 0,
                     pending_pixels: 0,
                     composite_runs,
@@ -261,16 +272,16 @@ impl Transparent<'_> {
     }
 }
 
-/// The most composite runs the streamed frame of `scene` from the orbit camera `angles` at
-/// `size` (the firmware's view) holds at once with every run a memory can address and span
-/// memory that never runs out, drawn as the firmware draws it (`integer` vertices or not):
-/// with at least as many, no row of the frame falls back. 0 for an opaque scene.
-pub fn composite_peak(
+/// A streamed frame of `scene` from the orbit camera `angles` at `size` with `spans` span-memory
+/// intervals per row and every composite run a memory can address, drawn as the firmware draws
+/// it (`integer` vertices or not): its stats and composite peak.
+fn composited_frame(
     scene: &Compiled,
     angles: OrbitAngles,
     (w, h): (u32, u32),
     integer: bool,
-) -> Result<u64, String> {
+    spans: usize,
+) -> Result<(peel_runtime::render::FrameStats, usize), String> {
     use peel_runtime::composite::{Composite, CompositeRun, MAX_RUNS};
     use peel_runtime::coverage::Coverage;
     use peel_runtime::display::SpanSink;
@@ -286,7 +297,7 @@ pub fn composite_peak(
         .map_err(|e| fail(e.to_string()))?;
     let rows = h as usize;
     let mut workspace: Box<Workspace<{ 1 << 14 }, 64>> = Box::default();
-    let mut intervals = vec![(0u16, 0u16); (w as usize).div_ceil(2) * rows];
+    let mut intervals = vec![(0u16, 0u16); spans * rows];
     let mut counts = vec![0u16; rows];
     let mut runs = vec![CompositeRun::default(); MAX_RUNS];
     let mut heads = vec![0u16; rows];
@@ -305,11 +316,54 @@ pub fn composite_peak(
         .draw(&parsed, &view, &mut Nowhere)
         .map_err(|e| fail(e.to_string()))?;
     let peak = renderer.composite().map_or(0, |c| c.peak());
-    if stats.fallback_rows > 0 || peak >= MAX_RUNS {
-        return Err(fail(format!(
-            "{} rows fall back with every run a memory can address",
+    Ok((stats, peak))
+}
+
+/// The fewest span-memory intervals per row (at least 1, at most half the width) with which
+/// no frame of `cameras` of `scene` at `size`, with composite runs to spare, runs out.
+fn spans_with_composite(
+    scene: &Compiled,
+    cameras: &[OrbitAngles],
+    size: (u32, u32),
+    integer: bool,
+) -> Result<u32, String> {
+    let enough = |spans: usize| -> Result<bool, String> {
+        for &c in cameras {
+            if composited_frame(scene, c, size, integer, spans)?.0.fallback {
+                return Ok(false);
+            }
+        }
+        Ok(true)
+    };
+    let (mut lo, mut hi) = (1, (size.0 as usize).div_ceil(2));
+    while lo < hi {
+        let mid = lo + (hi - lo) / 2;
+        if enough(mid)? {
+            hi = mid;
+        } else {
+            lo = mid + 1;
+        }
+    }
+    Ok(lo as u32)
+}
+
+/// The most composite runs the streamed frame of `scene` from the orbit camera `angles` at
+/// `size` (the firmware's view) holds at once with every run a memory can address and span
+/// memory that never runs out, drawn as the firmware draws it (`integer` vertices or not):
+/// with at least as many, no row of the frame falls back. 0 for an opaque scene.
+pub fn composite_peak(
+    scene: &Compiled,
+    angles: OrbitAngles,
+    (w, h): (u32, u32),
+    integer: bool,
+) -> Result<u64, String> {
+    let (stats, peak) = composited_frame(scene, angles, (w, h), integer, (w as usize).div_ceil(2))?;
+    if stats.fallback_rows > 0 || peak >= peel_runtime::composite::MAX_RUNS {
+        return Err(format!(
+            "{}: {} rows fall back with every run a memory can address",
+            scene.peel.display(),
             stats.fallback_rows
-        )));
+        ));
     }
     Ok(peak as u64)
 }
