@@ -15,10 +15,14 @@
 //! Peel's frames are checked pixel for pixel against `peel render` (front to back, with
 //! composite memory to spare; integer vertices on the Cortex-M0+), as every scene's are.
 //!
-//! Composite memory: for each core the host draws each camera's frame with every run a
-//! memory can address ([`composite_peak`], the same runtime code and vertices as the
-//! firmware) and the firmware gets the most runs any camera's frame held at once, so that no
-//! row of the orbit falls back; the firmware reports each frame's peak and fallen rows, and
+//! Memory: the builder's span memory (`peel_compiler::spans::spans_per_row`) draws a
+//! transparent file without composite memory, so it measures its bound; the glass box gets
+//! instead the fewest intervals per row with which no camera's frame, composited, runs out
+//! ([`spans_with_composite`]). Then for each core the host draws each camera's frame with
+//! those intervals and every run a memory can address ([`composite_peak`], the same runtime
+//! code and vertices as the firmware), then finds the fewest runs with which no row of any
+//! camera's frame falls back ([`runs_needed`]: a little more than that peak, as a span checks
+//! for the records it may need before it changes a row), which the firmware gets; the firmware reports each frame's peak and fallen rows, and
 //! the records hold the peak (the most over the cameras), the runs given and the fallen rows
 //! (**summed** over the cameras; the run fails on any). The composite memory is taken from
 //! the firmware's pool and counted in the RAM figure with the rest.
@@ -205,11 +209,6 @@ impl Transparent<'_> {
                     &[setup],
                     &refs_dir,
                 )?;
-                // The most runs a frame of the orbit holds, with every run there is.
-                let peaks = (self.cameras.iter())
-                    .map(|&c| composite_peak(scene, c, SIZE, integer))
-                    .collect::<Result<Vec<u64>, String>>()?;
-                let peak = peaks.iter().copied().max().unwrap_or(0);
                 // The builder's span memory (`spans::spans_per_row`) is measured without
                 // composite memory, which a transparent file's frame then needs all of: the
                 // glass box gets the fewest intervals per row with which no camera's frame,
@@ -219,6 +218,11 @@ impl Transparent<'_> {
                 } else {
                     refs.spans_per_row
                 };
+                // The most runs a frame of the orbit holds, with every run there is.
+                let peaks = (self.cameras.iter())
+                    .map(|&c| composite_peak(scene, c, SIZE, integer, spans_per_row))
+                    .collect::<Result<Vec<u64>, String>>()?;
+                let peak = peaks.iter().copied().max().unwrap_or(0);
                 println!(
                     "   {name} {}: composite peak on the host {peak} runs (per camera {peaks:?}); \
                      span memory {} intervals per row (the builder's {})",
@@ -229,7 +233,15 @@ impl Transparent<'_> {
                 // The transparent scene gets the orbit's need (at least one run, so that its
                 // build always reports); the opaque ones none, as they need none.
                 let composite_runs = match kind {
-                    Kind::Glass => peak.max(1) as u32,
+                    Kind::Glass => {
+                        let n =
+                            runs_needed(scene, self.cameras, SIZE, integer, spans_per_row, peak)?;
+                        println!(
+                            "   {name} {}: {n} composite runs, none falling back",
+                            core.name()
+                        );
+                        n.max(1) as u32
+                    }
                     _ if peak > 0 => {
                         return Err(format!("{name}: an opaque scene holds {peak} runs"))
                     }
@@ -281,6 +293,7 @@ fn composited_frame(
     (w, h): (u32, u32),
     integer: bool,
     spans: usize,
+    runs: usize,
 ) -> Result<(peel_runtime::render::FrameStats, usize), String> {
     use peel_runtime::composite::{Composite, CompositeRun, MAX_RUNS};
     use peel_runtime::coverage::Coverage;
@@ -299,7 +312,7 @@ fn composited_frame(
     let mut workspace: Box<Workspace<{ 1 << 14 }, 64>> = Box::default();
     let mut intervals = vec![(0u16, 0u16); spans * rows];
     let mut counts = vec![0u16; rows];
-    let mut runs = vec![CompositeRun::default(); MAX_RUNS];
+    let mut runs = vec![CompositeRun::default(); runs.min(MAX_RUNS)];
     let mut heads = vec![0u16; rows];
     let coverage =
         Coverage::new(&mut intervals, &mut counts, w, h).map_err(|e| fail(e.to_string()))?;
@@ -329,7 +342,11 @@ fn spans_with_composite(
 ) -> Result<u32, String> {
     let enough = |spans: usize| -> Result<bool, String> {
         for &c in cameras {
-            if composited_frame(scene, c, size, integer, spans)?.0.fallback {
+            let all = peel_runtime::composite::MAX_RUNS;
+            if composited_frame(scene, c, size, integer, spans, all)?
+                .0
+                .fallback
+            {
                 return Ok(false);
             }
         }
@@ -348,16 +365,19 @@ fn spans_with_composite(
 }
 
 /// The most composite runs the streamed frame of `scene` from the orbit camera `angles` at
-/// `size` (the firmware's view) holds at once with every run a memory can address and span
-/// memory that never runs out, drawn as the firmware draws it (`integer` vertices or not):
+/// `size` (the firmware's view) holds at once with every run a memory can address and the
+/// firmware's `spans` intervals per row, drawn as the firmware draws it (`integer` vertices or
+/// not; the peak depends on the span memory too):
 /// with at least as many, no row of the frame falls back. 0 for an opaque scene.
 pub fn composite_peak(
     scene: &Compiled,
     angles: OrbitAngles,
     (w, h): (u32, u32),
     integer: bool,
+    spans: u32,
 ) -> Result<u64, String> {
-    let (stats, peak) = composited_frame(scene, angles, (w, h), integer, (w as usize).div_ceil(2))?;
+    let all = peel_runtime::composite::MAX_RUNS;
+    let (stats, peak) = composited_frame(scene, angles, (w, h), integer, spans as usize, all)?;
     if stats.fallback_rows > 0 || peak >= peel_runtime::composite::MAX_RUNS {
         return Err(format!(
             "{}: {} rows fall back with every run a memory can address",
@@ -366,6 +386,49 @@ pub fn composite_peak(
         ));
     }
     Ok(peak as u64)
+}
+
+/// The fewest composite runs (at least `peak`, the most the frames hold at once) with which
+/// no row of any frame of `cameras` of `scene` at `size` with `spans` intervals per row falls
+/// back: a span checks that the records it may need are free before it changes a row, so the
+/// memory needs some runs beyond the peak.
+fn runs_needed(
+    scene: &Compiled,
+    cameras: &[OrbitAngles],
+    size: (u32, u32),
+    integer: bool,
+    spans: u32,
+    peak: u64,
+) -> Result<u64, String> {
+    let enough = |runs: u64| -> Result<bool, String> {
+        for &c in cameras {
+            let (stats, _) =
+                composited_frame(scene, c, size, integer, spans as usize, runs as usize)?;
+            if stats.fallback_rows > 0 {
+                return Ok(false);
+            }
+        }
+        Ok(true)
+    };
+    let (mut lo, mut hi) = (peak, peak.max(1) * 2);
+    while !enough(hi)? {
+        if hi >= peel_runtime::composite::MAX_RUNS as u64 {
+            return Err(format!(
+                "{}: rows fall back with every run a memory can address",
+                scene.peel.display()
+            ));
+        }
+        (lo, hi) = (hi, (hi * 2).min(peel_runtime::composite::MAX_RUNS as u64));
+    }
+    while lo < hi {
+        let mid = lo + (hi - lo) / 2;
+        if enough(mid)? {
+            hi = mid;
+        } else {
+            lo = mid + 1;
+        }
+    }
+    Ok(lo)
 }
 
 /// The comparison on each core: each camera's instructions of the glass box, the opaque box
