@@ -31,6 +31,10 @@ fn record(scene: &str, method: &str, path: &str, instructions: u64, ram_bytes: u
         pending_fallback: None,
         deterministic: true,
         objects: 0,
+        transparent: false,
+        fallback_rows: None,
+        composite_peak: None,
+        composite_runs: None,
     }
 }
 

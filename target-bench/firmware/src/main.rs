@@ -8,6 +8,7 @@
 //! peel-target variant=<variant> target=<target triple>
 //! frame <k> ticks=<SysTick ticks> display_bytes=<bytes> display_writes=<writes> fallback=<0|1>
 //! aa <k> antialiased=<0|1> pending_peak=<records> pending_records=<records>  (stream-aa, scan-aa)
+//! composite <k> fallback_rows=<rows> composite_peak=<runs> composite_runs=<runs>  (transparency)
 //! memory pool_used=<bytes> pool_capacity=<bytes> framebuffer=<bytes> stack_peak=<bytes>
 //! gfx3d commands_peak=<commands> capacity=<commands>   (embedded-3dgfx only)
 //! done
@@ -58,6 +59,10 @@ compile_error!("the objects feature goes with ftb-stream only");
     not(any(feature = "ftb-stream", feature = "embedded-3dgfx"))
 ))]
 compile_error!("the textures feature goes with ftb-stream or embedded-3dgfx only");
+
+// Transparent surfaces are drawn by the streamed build alone (its composite memory).
+#[cfg(all(feature = "transparency", not(feature = "ftb-stream")))]
+compile_error!("the transparency feature goes with ftb-stream only");
 
 variant!(
     "ftb-framebuffer" => FtbFramebuffer,
@@ -258,6 +263,19 @@ fn run(panel: &'static mut [u16], mut pool: Pool) -> Result<(), Failure> {
                 u8::from(antialiased),
                 peak,
                 records
+            );
+        }
+        // Transparency: the rows that fell back to screen-door transparency, and the most
+        // composite runs the frame held at once against the runs there are.
+        #[cfg(feature = "transparency")]
+        {
+            let (fallback_rows, peak, runs) = method.transparency();
+            hprintln!(
+                "composite {} fallback_rows={} composite_peak={} composite_runs={}",
+                k,
+                fallback_rows,
+                peak,
+                runs
             );
         }
         if config.flags & WRITE_FRAMES != 0 {

@@ -37,6 +37,12 @@ pub enum Use {
     /// embedded-3dgfx's texture manager, in the build with textures.
     #[cfg(all(feature = "textures", feature = "embedded-3dgfx"))]
     Textures,
+    /// Composite runs (transparent surfaces streamed; in that build only).
+    #[cfg(feature = "transparency")]
+    CompositeRuns,
+    /// The composite runs' row heads.
+    #[cfg(feature = "transparency")]
+    CompositeHeads,
     /// Pending-pixel records (anti-aliased frames; in that build only, like their names).
     #[cfg(feature = "aa")]
     PendingRecords,
@@ -64,6 +70,10 @@ impl core::fmt::Display for Use {
             Use::Meshes => "embedded-3dgfx meshes",
             #[cfg(all(feature = "textures", feature = "embedded-3dgfx"))]
             Use::Textures => "embedded-3dgfx texture manager",
+            #[cfg(feature = "transparency")]
+            Use::CompositeRuns => "composite runs",
+            #[cfg(feature = "transparency")]
+            Use::CompositeHeads => "composite row heads",
             #[cfg(feature = "aa")]
             Use::PendingRecords => "pending-pixel records",
             #[cfg(feature = "aa")]
@@ -146,7 +156,7 @@ impl Pool {
 
     /// `n` copies of `value`, aligned for `T` (a word skipped when `T` needs 8 bytes and the
     /// next word is not), for lists of plain records.
-    #[cfg(any(feature = "scanline-zbuffer", feature = "aa"))]
+    #[cfg(any(feature = "scanline-zbuffer", feature = "aa", feature = "transparency"))]
     pub fn filled<T: Copy>(
         &mut self,
         n: usize,

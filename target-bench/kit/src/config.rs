@@ -21,17 +21,18 @@
 //! | 316 | the scanline z-buffer's clipped points (u32) |
 //! | 320 | scan memory nodes (u32; scan order) |
 //! | 324 | pending-pixel records (u32; anti-aliased) |
+//! | 328 | composite runs (u32; 0 for none: the streamed build with transparency) |
 
 use crate::bytes::{f64_at, u32_at};
 
 /// Format version.
-pub const VERSION: u32 = 4;
+pub const VERSION: u32 = 5;
 /// The block's first bytes.
 pub const MAGIC: [u8; 4] = *b"PTBC";
 /// Cameras a block holds.
 pub const MAX_CAMERAS: usize = 16;
 /// Size of the block in bytes.
-pub const SIZE: usize = LISTS + 16;
+pub const SIZE: usize = LISTS + 20;
 /// Offset of the scanline z-buffer's list sizes.
 const LISTS: usize = 56 + 16 * MAX_CAMERAS;
 /// Flag: write each frame's panel memory to the host file `frame-<k>.rgb565`.
@@ -240,6 +241,10 @@ pub struct Config {
     /// Pending-pixel records (anti-aliased): what the builder measures over an orbit
     /// (`PENDING_PIXELS`).
     pub pending_pixels: u32,
+    /// Composite runs (`peel_runtime::composite`, 12 bytes each) for the transparent surfaces
+    /// of a streamed frame: what the runner measures over the orbit on the host; 0 gives the
+    /// renderer no composite memory (an opaque scene needs none).
+    pub composite_runs: u32,
 }
 
 /// Why a block was refused.
@@ -325,6 +330,7 @@ impl Config {
             clipped_points: u(LISTS + 4),
             scan_nodes: u(LISTS + 8),
             pending_pixels: u(LISTS + 12),
+            composite_runs: u(LISTS + 16),
         };
         let (w, h) = (config.width, config.height);
         let sized = (1..=4096).contains(&w) && (1..=4096).contains(&h);
@@ -363,6 +369,7 @@ impl Config {
         put(LISTS + 4, &self.clipped_points.to_le_bytes());
         put(LISTS + 8, &self.scan_nodes.to_le_bytes());
         put(LISTS + 12, &self.pending_pixels.to_le_bytes());
+        put(LISTS + 16, &self.composite_runs.to_le_bytes());
         b
     }
 }
@@ -393,6 +400,7 @@ mod tests {
             clipped_points: 17,
             scan_nodes: 2000,
             pending_pixels: 1714,
+            composite_runs: 300,
         }
     }
 

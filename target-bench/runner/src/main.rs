@@ -23,6 +23,7 @@ mod report;
 mod scenes;
 mod textured;
 mod tools;
+mod transparent;
 
 use std::collections::hash_map::{Entry, HashMap};
 use std::path::Path;
@@ -222,6 +223,7 @@ fn run(args: &Args) -> Result<Vec<String>, String> {
                             refs.scan_nodes.0
                         },
                         pending_pixels: refs.pending_pixels,
+                        composite_runs: 0,
                         scanline_lists: refs.scanline_lists,
                         elf: elf.to_path_buf(),
                         timeout_s: if args.quick { 120 } else { 900 },
@@ -338,6 +340,33 @@ fn run(args: &Args) -> Result<Vec<String>, String> {
             skipped.push(notice);
         }
     }
+    // The transparent glass box, its opaque baseline and the teapot alone: the streamed build
+    // with transparency, in full runs.
+    let mut transparent_summary = String::new();
+    if !args.quick {
+        let streamed = setups.iter().any(|s| s.variant == Variant::FtbStream);
+        if streamed && !args.shadows {
+            let outcome = transparent::Transparent {
+                tools: &tools,
+                models: &models,
+                firmware_dir: &firmware_dir,
+                cameras: &cameras,
+                scene_dir: &scene_dir,
+                runs_dir: &runs_dir,
+                references_dir: &out.join("references"),
+                timeout_s: 900,
+            }
+            .run()?;
+            records.extend(outcome.records);
+            problems.extend(outcome.problems);
+            transparent_summary = outcome.summary;
+        } else {
+            let notice = "transparent scene: skipped, only ftb-stream draws it, without --shadows"
+                .to_string();
+            println!("   {notice}");
+            skipped.push(notice);
+        }
+    }
     let json = results::json(&records)?;
     write(&out.join("results.json"), json.as_bytes())?;
     write(
@@ -348,6 +377,7 @@ fn run(args: &Args) -> Result<Vec<String>, String> {
             + &results::textured(&records)
             + &objects_summary
             + &textured_summary
+            + &transparent_summary
             + &skipped
                 .iter()
                 .map(|n| format!("\n{n}\n"))
@@ -372,7 +402,7 @@ fn run(args: &Args) -> Result<Vec<String>, String> {
         }
     }
     println!(
-        "\n{}{}{}{}{objects_summary}{textured_summary}",
+        "\n{}{}{}{}{objects_summary}{textured_summary}{transparent_summary}",
         results::markdown(&records),
         results::antialiased(&records),
         results::smooth(&records),
@@ -503,6 +533,7 @@ impl Smooth<'_> {
                     spans_per_row: spans_per_row as u32,
                     scan_nodes: scan_nodes as u32,
                     pending_pixels: 0,
+                    composite_runs: 0,
                     scanline_lists: (0, 0),
                     elf: self.firmware[&(core, setup.variant)].clone(),
                     timeout_s: self.timeout_s,
@@ -766,13 +797,15 @@ impl References {
                 .map(|n| n as u32)
                 .map_err(|e| format!("{}: {e}", scene.peel.display()))
         };
+        // Only for the builds that take it (not every build of the method: a transparent
+        // scene, streamed with composite memory, has no scan-order frame).
         let scan_nodes = (
-            if needs(Variant::ScanOrder) {
+            if setups.iter().any(|s| s.variant == Variant::ScanOrder) {
                 scan_nodes(peel_compiler::spans::scan_nodes)?
             } else {
                 0
             },
-            if needs(Variant::ScanAa) {
+            if setups.iter().any(|s| s.variant == Variant::ScanAa) {
                 scan_nodes(peel_compiler::spans::scan_nodes_antialiased)?
             } else {
                 0

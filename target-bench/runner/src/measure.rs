@@ -29,6 +29,8 @@ pub struct Measure<'a> {
     pub scan_nodes: u32,
     /// Pending-pixel records (anti-aliased).
     pub pending_pixels: u32,
+    /// Composite runs (the streamed build with transparency; 0: no composite memory).
+    pub composite_runs: u32,
     /// The scanline z-buffer's active edges and clipped points (the most over the cameras).
     pub scanline_lists: (u32, u32),
     pub elf: std::path::PathBuf,
@@ -115,6 +117,7 @@ impl Measure<'_> {
             clipped_points: self.scanline_lists.1,
             scan_nodes: self.scan_nodes,
             pending_pixels: self.pending_pixels,
+            composite_runs: self.composite_runs,
         };
         let config_path = dir.join("config.bin");
         write(&config_path, &config.encode())?;
@@ -143,6 +146,10 @@ impl Measure<'_> {
             match self.scene.shading() {
                 peel_target_runner::results::FLAT => String::new(),
                 shading => format!(" {shading}"),
+            } + if self.scene.transparent {
+                " transparent"
+            } else {
+                ""
             },
             self.core.name(),
             size_name(self.size),
@@ -240,6 +247,31 @@ impl Measure<'_> {
             pending_peak = aa.iter().map(|a| a.pending_peak).max();
             pending_fallback = Some(fell_back);
         }
+        // Transparency: every row of every frame composited exactly, none fallen back to
+        // screen-door transparency (the host's frames, with runs to spare, have none either,
+        // so a fallen row would show as differing pixels too).
+        let composite = &first.report.composite;
+        let (mut fallback_rows, mut composite_peak) = (None, None);
+        if !composite.is_empty() {
+            if composite.len() != self.cameras.len() {
+                return Err(format!(
+                    "{name}: {} composite reports for {} cameras",
+                    composite.len(),
+                    self.cameras.len()
+                ));
+            }
+            for (k, c) in composite.iter().enumerate() {
+                if c.fallback_rows > 0 {
+                    problems.push(format!(
+                        "{name}: camera {k}: {} rows fell back to screen-door transparency \
+                         (composite peak {} of {} runs)",
+                        c.fallback_rows, c.composite_peak, c.composite_runs
+                    ));
+                }
+            }
+            fallback_rows = Some(composite.iter().map(|c| c.fallback_rows).sum());
+            composite_peak = composite.iter().map(|c| c.composite_peak).max();
+        }
         if first.report.frames.iter().any(|f| f.fallback) {
             println!("   note: {name}: span memory ran out (finished back to front: same pixels)");
         }
@@ -302,6 +334,10 @@ impl Measure<'_> {
             pending_fallback,
             deterministic,
             objects: self.scene.objects,
+            transparent: self.scene.transparent,
+            fallback_rows,
+            composite_peak,
+            composite_runs: (self.composite_runs > 0).then_some(u64::from(self.composite_runs)),
         };
         let dash = |n: Option<u64>| n.map_or_else(|| "-".to_string(), |d| d.to_string());
         println!(

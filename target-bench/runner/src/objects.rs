@@ -209,6 +209,7 @@ impl Objects<'_> {
                 smooth: false,
                 textured: false,
                 objects: n,
+                transparent: false,
             };
 
         let (mut poses, mut statics) = (Vec::new(), Vec::new());
@@ -385,6 +386,7 @@ impl Objects<'_> {
             spans_per_row,
             scan_nodes: 0,
             pending_pixels: 0,
+            composite_runs: 0,
             scanline_lists: (0, 0),
             elf: elf.to_path_buf(),
             timeout_s: self.timeout_s,
@@ -834,6 +836,10 @@ mod tests {
             pending_fallback: None,
             deterministic: true,
             objects: 0,
+            transparent: false,
+            fallback_rows: None,
+            composite_peak: None,
+            composite_runs: None,
         };
         let combined = combine(&[record(30, 5, 0), record(10, 7, 1), record(20, 6, 2)]).unwrap();
         assert_eq!(

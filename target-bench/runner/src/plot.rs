@@ -167,6 +167,10 @@ mod tests {
             pending_fallback: None,
             deterministic: true,
             objects: 0,
+            transparent: false,
+            fallback_rows: None,
+            composite_peak: None,
+            composite_runs: None,
         }
     }
 

@@ -13,6 +13,17 @@ pub struct Frame {
     pub fallback: bool,
 }
 
+/// One frame's composite memory (the streamed build with transparency).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct CompositeUse {
+    /// Rows that fell back to screen-door transparency.
+    pub fallback_rows: u64,
+    /// The most composite runs held at once.
+    pub composite_peak: u64,
+    /// The runs there are.
+    pub composite_runs: u64,
+}
+
 /// One anti-aliased frame's pending pixels (stream-aa).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Antialiasing {
@@ -45,6 +56,9 @@ pub struct Report {
     pub gfx3d_commands: Option<u64>,
     /// stream-aa: each frame's pending pixels, in camera order (empty for other builds).
     pub antialiasing: Vec<Antialiasing>,
+    /// The build with transparency: each frame's composite memory, in camera order (empty for
+    /// other builds).
+    pub composite: Vec<CompositeUse>,
 }
 
 /// `key=value` fields of a line, after its first word.
@@ -83,6 +97,7 @@ pub fn parse(output: &str) -> Result<Report, String> {
         stack_peak: 0,
         gfx3d_commands: None,
         antialiasing: Vec::new(),
+        composite: Vec::new(),
     };
     let (mut memory, mut done) = (false, false);
     for line in output.lines() {
@@ -130,6 +145,21 @@ pub fn parse(output: &str) -> Result<Report, String> {
                     antialiased: field(line, "antialiased")? != 0,
                     pending_peak: field(line, "pending_peak")?,
                     pending_records: field(line, "pending_records")?,
+                });
+            }
+            Some("composite") => {
+                let k: usize = line
+                    .split_whitespace()
+                    .nth(1)
+                    .and_then(|k| k.parse().ok())
+                    .ok_or_else(|| format!("no frame number in {line:?}"))?;
+                if k != report.composite.len() || k + 1 != report.frames.len() {
+                    return Err(format!("{line:?} out of order"));
+                }
+                report.composite.push(CompositeUse {
+                    fallback_rows: field(line, "fallback_rows")?,
+                    composite_peak: field(line, "composite_peak")?,
+                    composite_runs: field(line, "composite_runs")?,
                 });
             }
             Some("gfx3d") => report.gfx3d_commands = Some(field(line, "commands_peak")?),
@@ -213,6 +243,37 @@ mod tests {
         );
         let early = aa.replacen("aa 1", "aa 0", 1);
         assert!(parse(&early).unwrap_err().contains("out of order"));
+        let transparent = GOOD
+            .replace(
+                "fallback=0\n",
+                "fallback=0\ncomposite 0 fallback_rows=0 composite_peak=310 composite_runs=320\n",
+            )
+            .replace(
+                "fallback=1\n",
+                "fallback=1\ncomposite 1 fallback_rows=4 composite_peak=320 composite_runs=320\n",
+            );
+        let c = parse(&transparent).unwrap().composite;
+        assert_eq!(
+            c,
+            [
+                CompositeUse {
+                    fallback_rows: 0,
+                    composite_peak: 310,
+                    composite_runs: 320
+                },
+                CompositeUse {
+                    fallback_rows: 4,
+                    composite_peak: 320,
+                    composite_runs: 320
+                }
+            ]
+        );
+        assert!(
+            parse(&transparent.replacen("composite 1", "composite 0", 1))
+                .unwrap_err()
+                .contains("out of order")
+        );
+        assert!(parse(GOOD).unwrap().composite.is_empty());
         let gfx = GOOD.replace("done", "gfx3d commands_peak=3184 capacity=16384\ndone");
         assert_eq!(parse(&gfx).unwrap().gfx3d_commands, Some(3184));
     }

@@ -71,6 +71,28 @@ pub struct Record {
     /// the JSON, for a plain scene (so records written before it read the same).
     #[serde(default, skip_serializing_if = "is_zero")]
     pub objects: u64,
+    /// A scene with transparent surfaces (`"transparent": true`, composited in exact order);
+    /// `false`, and absent from the JSON, for an opaque one, such as the transparent scene's
+    /// opaque baseline. Part of a record's identity: the two stand side by side.
+    #[serde(default, skip_serializing_if = "is_false")]
+    pub transparent: bool,
+    /// Transparency (the build with composite memory): rows that fell back to screen-door
+    /// transparency for want of composite runs, summed over the cameras (`None`, and absent,
+    /// for other builds).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub fallback_rows: Option<u64>,
+    /// Transparency: the most composite runs a frame held at once, over the cameras.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub composite_peak: Option<u64>,
+    /// Transparency: the composite runs the firmware has (12 bytes each; see
+    /// `target-bench/runner/src/transparent.rs` for how they are sized).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub composite_runs: Option<u64>,
+}
+
+/// Whether `b` is false (a record's `transparent` is then left out of the JSON).
+fn is_false(b: &bool) -> bool {
+    !*b
 }
 
 /// Whether `n` is 0 (a record's `objects` is then left out of the JSON).
@@ -92,8 +114,9 @@ pub const TEXTURED: &str = "textured";
 
 impl Record {
     /// What tells a record apart from every other of a run: scene, method, path, shading,
-    /// core and size (the key results are compared and looked up by).
-    pub fn identity(&self) -> (&str, &str, &str, &str, &str, u32, u32) {
+    /// core, size and transparency (the key results are compared and looked up by).
+    #[allow(clippy::type_complexity)]
+    pub fn identity(&self) -> (&str, &str, &str, &str, &str, u32, u32, bool) {
         (
             &self.scene,
             &self.method,
@@ -102,6 +125,7 @@ impl Record {
             &self.core,
             self.width,
             self.height,
+            self.transparent,
         )
     }
 
@@ -165,7 +189,7 @@ const fn figures(key: &'static str, cell: fn(&Record) -> String) -> Column {
 }
 
 /// Every field of [`Record`] as a column, in the JSON's order.
-pub const COLUMNS: [Column; 22] = [
+pub const COLUMNS: [Column; 26] = [
     words("scene", |r| r.scene.clone()),
     words("method", |r| r.method.clone()),
     words("path", |r| r.path.clone()),
@@ -190,6 +214,10 @@ pub const COLUMNS: [Column; 22] = [
     }),
     words("deterministic", |r| yes_no(r.deterministic).to_string()),
     figures("objects", |r| r.objects.to_string()),
+    words("transparent", |r| yes_no(r.transparent).to_string()),
+    figures("fallback_rows", |r| or_dash(r.fallback_rows)),
+    figures("composite_peak", |r| or_dash(r.composite_peak)),
+    figures("composite_runs", |r| or_dash(r.composite_runs)),
 ];
 
 fn yes_no(b: bool) -> &'static str {
@@ -446,7 +474,7 @@ fn flat_twin<'r>(records: &'r [Record], smooth: &Record) -> Option<&'r Record> {
     records.iter().find(|r| {
         r.is_flat() && {
             let (a, b) = (r.identity(), smooth.identity());
-            (a.0, a.1, a.2, a.4, a.5, a.6) == (b.0, b.1, b.2, b.4, b.5, b.6)
+            (a.0, a.1, a.2, a.4, a.5, a.6, a.7) == (b.0, b.1, b.2, b.4, b.5, b.6, b.7)
         }
     })
 }
@@ -582,6 +610,11 @@ pub fn textured(records: &[Record]) -> String {
     s
 }
 
+/// Goals for the transparent scene (the glass box around the teapot) streamed at 320x240 on
+/// both cores: instructions at most this multiple of the opaque box's, in at most this RAM
+/// (bytes), with no row falling back.
+pub const TRANSPARENCY_GOALS: (f64, u64) = (1.5, 40_960);
+
 /// The scenes of the README's table of Peel and the alternatives that `records` has: the
 /// teapot and the cow, or the generated meshes that stood in for them.
 pub fn alternatives_scenes(records: &[Record]) -> Vec<&'static str> {
@@ -674,6 +707,10 @@ mod tests {
             pending_fallback: None,
             deterministic: true,
             objects: 0,
+            transparent: false,
+            fallback_rows: None,
+            composite_peak: None,
+            composite_runs: None,
         }
     }
 
@@ -717,6 +754,34 @@ mod tests {
             keys
         );
         assert_eq!(COLUMNS[21].key, "objects");
+        assert_eq!(
+            COLUMNS[22..].iter().map(|c| c.key).collect::<Vec<_>>(),
+            [
+                "transparent",
+                "fallback_rows",
+                "composite_peak",
+                "composite_runs"
+            ]
+        );
+        let glass = Record {
+            transparent: true,
+            fallback_rows: Some(0),
+            composite_peak: Some(310),
+            composite_runs: Some(320),
+            ..record()
+        };
+        let j = json(std::slice::from_ref(&glass)).unwrap();
+        assert!(
+            j.contains(
+                "\"deterministic\": true,\n    \"transparent\": true,\n    \"fallback_rows\": 0,\n    \
+                 \"composite_peak\": 310,\n    \"composite_runs\": 320\n"
+            ),
+            "{j}"
+        );
+        let back: Vec<Record> = serde_json::from_str(&j).unwrap();
+        assert_eq!(back, std::slice::from_ref(&glass));
+        // The transparent record and its opaque baseline are told apart.
+        assert_ne!(glass.identity(), record().identity());
         let posed = Record {
             objects: 2,
             ..record()

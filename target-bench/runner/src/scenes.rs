@@ -133,6 +133,10 @@ pub struct Compiled {
     pub textured: bool,
     /// Objects the frames pose (a file of parts, [`crate::objects`]); 0 for a plain scene.
     pub objects: u64,
+    /// Its records are of the transparent scene (`"transparent": true`): set by the runner
+    /// that compiles it ([`crate::transparent`]), which checks the file has transparent
+    /// polygons.
+    pub transparent: bool,
 }
 
 impl Compiled {
@@ -246,6 +250,7 @@ pub fn compile(
         smooth,
         textured,
         objects: 0,
+        transparent: false,
     })
 }
 

@@ -196,6 +196,7 @@ impl Textured<'_> {
                             spans_per_row: refs.spans_per_row,
                             scan_nodes: 0,
                             pending_pixels: 0,
+                            composite_runs: 0,
                             scanline_lists: (0, 0),
                             elf: firmware[&(core, setup.variant)].clone(),
                             timeout_s: self.timeout_s,
@@ -267,7 +268,7 @@ impl Textured<'_> {
 }
 
 /// Instructions of each frame of the first run in `dir` (its QEMU log).
-fn instructions(dir: &Path) -> Result<Vec<u64>, String> {
+pub(crate) fn instructions(dir: &Path) -> Result<Vec<u64>, String> {
     let log = dir.join("run-1/qemu.out");
     let text = std::fs::read_to_string(&log)
         .map_err(|e| format!("{}: cannot read: {e}", log.display()))?;

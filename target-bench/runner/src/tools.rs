@@ -127,6 +127,12 @@ impl Tools {
         self.build(core, variant, Some("textures"), gfx3d_commands, dir)
     }
 
+    /// Build the streamed firmware with transparency (`--features ftb-stream,transparency`,
+    /// the glass box and its opaque baseline) on `core` into `dir`.
+    pub fn build_transparency_firmware(&self, core: Core, dir: &Path) -> Result<PathBuf, String> {
+        self.build(core, Variant::FtbStream, Some("transparency"), None, dir)
+    }
+
     /// Build `variant` with the feature `extra` too, if any.
     fn build(
         &self,

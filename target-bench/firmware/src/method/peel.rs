@@ -2,6 +2,8 @@
 //! back to front (into a framebuffer, in bands).
 
 use peel_runtime::camera::LocalView;
+#[cfg(feature = "transparency")]
+use peel_runtime::composite::{Composite, CompositeRun};
 use peel_runtime::coverage::Coverage;
 #[cfg(not(any(feature = "scan", feature = "smooth")))]
 use peel_runtime::display::DrawTargetSink;
@@ -68,6 +70,12 @@ pub struct Method {
     pending_records: usize,
     #[cfg(feature = "aa")]
     antialiased: bool,
+    /// Transparency: the composite runs there are, and the rows of the last frame that fell
+    /// back to screen-door transparency (`FrameStats::fallback_rows`).
+    #[cfg(feature = "transparency")]
+    composite_runs: usize,
+    #[cfg(feature = "transparency")]
+    fallback_rows: u32,
 }
 
 impl Method {
@@ -147,6 +155,15 @@ impl Method {
             let heads = pool.filled(height as usize, Default::default(), Use::PendingHeads)?;
             renderer = renderer.antialias(Pending::new(records, heads, height)?);
         }
+        // Transparency: the runs the runner measures over the orbit (none for an opaque
+        // scene), a list head per row. Element types as `Composite::new` takes them.
+        #[cfg(feature = "transparency")]
+        if config.composite_runs > 0 {
+            let n = config.composite_runs as usize;
+            let runs = pool.filled(n, CompositeRun::default(), Use::CompositeRuns)?;
+            let heads = pool.filled(height as usize, 0u16, Use::CompositeHeads)?;
+            renderer = renderer.composite_memory(Composite::new(runs, heads, height)?);
+        }
         // A static rather than a singleton, which would build the array in `main`'s stack
         // frame first and so count it twice (`.bss` and the stack's high-water mark).
         // SAFETY: the singleton above makes this run once, so this is the only reference.
@@ -191,7 +208,20 @@ impl Method {
             pending_records: config.pending_pixels as usize,
             #[cfg(feature = "aa")]
             antialiased: false,
+            #[cfg(feature = "transparency")]
+            composite_runs: config.composite_runs as usize,
+            #[cfg(feature = "transparency")]
+            fallback_rows: 0,
         })
+    }
+
+    /// Transparency: the rows of the last frame that fell back to screen-door transparency,
+    /// the most composite runs it held at once and the runs there are. With no row fallen
+    /// back the frame's transparent pixels are exact.
+    #[cfg(feature = "transparency")]
+    pub fn transparency(&self) -> (u32, usize, usize) {
+        let peak = self.renderer.composite().map_or(0, |c| c.peak());
+        (self.fallback_rows, peak, self.composite_runs)
     }
 
     /// Anti-aliased: whether the last frame was, the most records it held pending at once
@@ -282,6 +312,10 @@ impl Method {
             #[cfg(feature = "aa")]
             {
                 self.antialiased = stats.antialiased;
+            }
+            #[cfg(feature = "transparency")]
+            {
+                self.fallback_rows = stats.fallback_rows;
             }
             return Ok(stats.fallback);
         }
