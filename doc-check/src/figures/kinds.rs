@@ -215,7 +215,7 @@ fn value(mut params: Params, sources: &mut Sources) -> Result<String, String> {
 /// The fields that tell apart the records a ratio compares, besides the method (and path).
 fn identity(source: &str) -> Result<&'static [&'static str], String> {
     match source {
-        "target" => Ok(&["scene", "shading", "core", "width", "height"]),
+        "target" => Ok(&["scene", "shading", "transparent", "core", "width", "height"]),
         "frames" => Ok(&["scene"]),
         _ => Err(format!(
             "ratio compares methods: results/{source}.json has none"

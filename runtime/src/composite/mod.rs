@@ -77,19 +77,23 @@ impl Under {
         transmittance: ONE,
     };
 
-    /// Behind one more surface of `colour` at `opacity`.
+    /// Behind one more surface of `colour` at `opacity`: in multiplies and shifts (no
+    /// division, which a Cortex-M0+ does in software).
     #[inline]
     fn behind(self, colour: Colour, opacity: u8) -> Under {
-        let (t, a) = (self.transmittance, u32::from(opacity));
-        // `T a c` in quarters of a level: `T a c 4 / (2^15 255)`, rounded.
+        // `alpha = opacity / 255` in `2^-15`, rounded: `255` is exactly `ONE`.
+        let alpha = (u32::from(opacity) * 8_421_505 + (1 << 15)) >> 16;
+        // `T alpha`, what this surface shows, in `2^-15`.
+        let shown = (self.transmittance * alpha + (1 << 14)) >> 15;
+        // `T alpha c` in quarters of a level: `shown c 4 / 2^15`, rounded.
         let add = |shift: u32, c: u8| {
             let old = (self.sum >> shift) & SUM_MASK;
-            let more = (t * a * u32::from(c) + 255 * 4096) / (255 * 8192);
+            let more = (shown * u32::from(c) + (1 << 12)) >> 13;
             (old + more).min(SUM_MASK) << shift
         };
         Under {
             sum: add(0, colour.r) | add(SUM_BITS, colour.g) | add(2 * SUM_BITS, colour.b),
-            transmittance: (t * (255 - a) + 127) / 255,
+            transmittance: self.transmittance - shown.min(self.transmittance),
         }
     }
 
@@ -171,7 +175,9 @@ impl<'m> Composite<'m> {
         self.runs.len().min(MAX_RUNS)
     }
 
-    /// The most records in use at once since the frame began.
+    /// The records the frame asked for at once, at most, since it began: in use, and what a
+    /// span counted it might need before it changed a row (a little more than the most in
+    /// use). A memory of this many records draws the same frame with no row falling back.
     pub fn peak(&self) -> usize {
         self.peak
     }
@@ -340,6 +346,7 @@ impl<'m> Composite<'m> {
         }
         let mut need = 0;
         pieces(&mut |a, b| need += self.needed(y, a, b));
+        self.peak = self.peak.max(self.in_use + need);
         if need > self.free_records() {
             self.fall_back(y);
             return;
@@ -412,9 +419,12 @@ impl<'m> Composite<'m> {
         if self.fallen(y) {
             return false;
         }
-        if self.has_runs(y) && self.free_records() == 0 {
-            self.fall_back(y);
-            return false;
+        if self.has_runs(y) {
+            self.peak = self.peak.max(self.in_use + 1);
+            if self.free_records() == 0 {
+                self.fall_back(y);
+                return false;
+            }
         }
         true
     }

@@ -235,6 +235,8 @@ fn an_opaque_span_inside_a_run_needs_a_record() {
     let (sink, composite) = draw(&spans, 2, Colour::grey(0));
     assert_eq!(composite.fallen_rows(), 0);
     assert_eq!(sink.at(6, 0), Some(over(glass, 100, wall)));
+    // The peak counts the record the wall asked for.
+    assert_eq!(composite.peak(), 2);
 }
 
 fn arb_span() -> impl Strategy<Value = Span> {
@@ -266,6 +268,10 @@ proptest! {
         prop_assume!(depth <= 3);
         let (sink, composite) = draw(&spans, 256, bg);
         prop_assert_eq!(composite.fallen_rows(), 0);
+        // Memory of the peak draws it with no row falling back, the same pixels.
+        let (again, exactly) = draw(&spans, composite.peak(), bg);
+        prop_assert_eq!(exactly.fallen_rows(), 0);
+        prop_assert_eq!(&again.pixels, &sink.pixels);
         let exact = model(&spans, bg);
         for y in 0..H {
             for x in 0..W {
