@@ -12,6 +12,8 @@ extern crate std;
 
 pub mod camera;
 pub mod clip;
+// (Without the feature nothing draws through it; its types stay for the renderer's API.)
+#[cfg_attr(not(feature = "transparency"), allow(dead_code))]
 pub mod composite;
 pub mod coverage;
 pub mod display;

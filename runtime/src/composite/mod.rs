@@ -30,6 +30,7 @@ mod sink;
 mod tests;
 
 pub(crate) use screen_door::ScreenDoor;
+#[cfg_attr(not(feature = "transparency"), allow(unused_imports))]
 pub(crate) use sink::Composited;
 
 use crate::coverage::Coverage;

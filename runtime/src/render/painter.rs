@@ -16,9 +16,13 @@ use super::texture::{texture_map, Corners};
 use super::Source;
 use crate::camera::LocalView;
 use crate::clip::{self, Frustum};
-use crate::composite::{Composite, Composited};
+use crate::composite::Composite;
+#[cfg(feature = "transparency")]
+use crate::composite::Composited;
 use crate::coverage::{Clipped, Coverage, Mode};
-use crate::display::{Colour, Filter, SpanSink, Transparent};
+#[cfg(feature = "transparency")]
+use crate::display::{Colour, Transparent};
+use crate::display::{Filter, SpanSink};
 use crate::error::RenderError;
 use crate::fill::gradient::Gradient;
 use crate::fill::samples::{SAMPLE_COLUMNS, SAMPLE_ROWS};
@@ -709,6 +713,7 @@ impl<'v, const SUB: u32, K: Cuts> Painter<'_, 'v, SUB, K> {
         };
         // A transparent polygon's opacity (opaque in an id image, whose pixels name the
         // nearest surface).
+        #[cfg(feature = "transparency")]
         let opacity = match self.paint {
             Paint::Colours if cfg!(feature = "transparency") => scene.opacity(index, polygon),
             _ => u8::MAX,
@@ -769,18 +774,15 @@ impl<'v, const SUB: u32, K: Cuts> Painter<'_, 'v, SUB, K> {
                 sink.pixels
             }
             (_, coverage) => {
-                // Transparent surfaces front to back: through the composite memory (never
-                // without the feature: the optimiser drops that fill).
-                let composite = self
-                    .composite
-                    .take()
-                    .filter(|_| cfg!(feature = "transparency"));
                 let rect = [x0, y0, x1, y1];
-                // (Out of the painter while it fills: `fill_into` borrows it whole.)
-                let points = core::mem::take(&mut self.points);
-                let pts = points.get(..count).unwrap_or(&[]);
-                let (pixels, counted) = match (composite, coverage) {
+                // Transparent surfaces front to back: through the composite memory (only in a
+                // build with the feature: without it, this path is not compiled at all).
+                #[cfg(feature = "transparency")]
+                let coverage = match (self.composite.take(), coverage) {
                     (Some(composite), Some(coverage)) => {
+                        // (Out of the painter while it fills: `fill_into` borrows it whole.)
+                        let points = core::mem::take(&mut self.points);
+                        let pts = points.get(..count).unwrap_or(&[]);
                         let mut sink = Composited {
                             composite: &mut *composite,
                             coverage,
@@ -793,27 +795,61 @@ impl<'v, const SUB: u32, K: Cuts> Painter<'_, 'v, SUB, K> {
                         );
                         let counted = sink.pixels;
                         self.composite = Some(composite);
-                        (filled, counted)
+                        self.points = points;
+                        stats.add(Counter::PixelsWritten, filled.unwrap_or(counted));
+                        return Ok(());
                     }
                     (composite, coverage) => {
                         self.composite = composite;
-                        let mut sink = Clipped {
-                            coverage,
-                            sink,
-                            first_row: r0,
-                            pixels: 0,
-                        };
-                        let filled = self.fill_into(
-                            scene, index, polygon, pts, rect, gradient, colour, opacity, &mut sink,
-                        );
-                        (filled, sink.pixels)
+                        coverage
                     }
                 };
-                self.points = points;
-                match pixels {
-                    Some(textured) => textured,
-                    None => counted,
+                let mut sink = Clipped {
+                    coverage,
+                    sink,
+                    first_row: r0,
+                    pixels: 0,
+                };
+                let rows = self.rows.clone();
+                // A textured polygon: its texels through its perspective map, lit by its
+                // colour or its gradient.
+                #[cfg(feature = "textures")]
+                {
+                    let lighting = match gradient {
+                        Some(g) => Lighting::Smooth(g),
+                        None => Lighting::Colour(colour),
+                    };
+                    let map = self.texture_map(scene, index, polygon, pts, (1, 1), lighting);
+                    if let Some(mut map) = map {
+                        let (edges, rows) = (&mut *self.edges, rows.clone());
+                        let pixels =
+                            fill::fill_in_rect(pts, rect, edges, width, rows, &mut map, &mut sink);
+                        stats.add(Counter::PixelsWritten, pixels);
+                        return Ok(());
+                    }
                 }
+                match gradient {
+                    Some(mut g) => {
+                        fill::fill_in_rect(pts, rect, self.edges, width, rows, &mut g, &mut sink)
+                    }
+                    #[cfg(feature = "transparency")]
+                    None if opacity < u8::MAX => {
+                        let mut paint = Transparent { colour, opacity };
+                        fill::fill_in_rect(
+                            pts, rect, self.edges, width, rows, &mut paint, &mut sink,
+                        )
+                    }
+                    None => fill::fill_in_rect(
+                        pts,
+                        rect,
+                        self.edges,
+                        width,
+                        rows,
+                        &mut { colour },
+                        &mut sink,
+                    ),
+                };
+                sink.pixels
             }
         };
         stats.add(Counter::PixelsWritten, pixels);
@@ -823,6 +859,7 @@ impl<'v, const SUB: u32, K: Cuts> Painter<'_, 'v, SUB, K> {
     /// Fill polygon `index` (its screen polygon `pts`, within `rect`) into `sink`: its texels
     /// through its perspective map (returning the pixels the fill drew), else its gradient,
     /// its colour at its `opacity`, or its one colour (returning `None`: the sink counts).
+    #[cfg(feature = "transparency")]
     #[allow(clippy::too_many_arguments)]
     #[inline(always)]
     fn fill_into<T: Source + ?Sized, S: SpanSink + ?Sized>(
