@@ -29,6 +29,7 @@ mod sink;
 #[cfg(test)]
 mod tests;
 
+#[cfg_attr(not(feature = "transparency"), allow(unused_imports))]
 pub(crate) use screen_door::ScreenDoor;
 #[cfg_attr(not(feature = "transparency"), allow(unused_imports))]
 pub(crate) use sink::Composited;

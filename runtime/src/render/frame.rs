@@ -17,7 +17,9 @@ use super::painter::{NoCuts, Painter, PieceCuts, Root, StepCut};
 use super::{FrameStats, Source};
 use crate::camera::LocalView;
 use crate::clip::{self, Frustum};
-use crate::composite::{Composite, ScreenDoor};
+use crate::composite::Composite;
+#[cfg(feature = "transparency")]
+use crate::composite::ScreenDoor;
 use crate::coverage::{Coverage, Mode};
 use crate::display::{Colour, Filter, SpanSink};
 use crate::error::RenderError;
@@ -335,6 +337,7 @@ pub(super) struct Frame<'a, 'm, const SUB: u32> {
     integer_vertices: bool,
     /// The renderer's background, which finishes the runs behind transparent surfaces (a
     /// scan-order frame's too, whose gaps the read-out paints).
+    #[cfg_attr(not(feature = "transparency"), allow(dead_code))]
     backdrop: Option<Colour>,
     tally: Tally,
 }
@@ -365,42 +368,25 @@ impl<const SUB: u32> Frame<'_, '_, SUB> {
             // No overdraw on a display (nor in scan memory): the frame stops here.
             return Err(RenderError::SpanMemoryFull);
         }
-        let composited = self.painter.composite.is_some();
+        // (Only a build with transparency has composite memory in a frame, or this code.)
+        let composited = cfg!(feature = "transparency") && self.painter.composite.is_some();
         if overflow.is_some() && composited {
             // Runs cannot be drawn over: the whole frame again, back to front.
             self.again_back_to_front(scene, target, background)?;
         } else if let Some(last) = overflow {
             self.fallback(scene, target, last, background)?;
         } else if order == Order::FrontToBack {
-            match (
-                self.painter.composite.as_deref_mut(),
-                self.coverage.as_deref_mut(),
-            ) {
-                (Some(composite), Some(coverage)) => {
-                    let band = rows.end - rows.start;
-                    let backdrop = self.backdrop;
-                    composite.finish_rows(coverage, backdrop, band, rows.start, target);
-                    self.tally.fallback_rows = composite.fallen_rows();
-                    if self.tally.fallback_rows > 0 {
-                        self.screen_door_pass(scene, target, background)?;
-                    }
-                    if self.coverage.as_deref().is_some_and(|c| c.exhausted()) {
-                        // (Scan memory, which the runs went into.)
-                        return Err(RenderError::SpanMemoryFull);
-                    }
-                }
-                (_, coverage) => {
-                    let coverage = coverage.map(|c| &*c);
-                    if coverage.is_some() {
-                        paint_background(background, coverage, width, &rows, target);
-                    }
-                }
+            #[cfg(feature = "transparency")]
+            if composited {
+                return self.finish_composited(scene, target, background, kept);
+            }
+            let coverage = self.coverage.as_deref();
+            if coverage.is_some() {
+                paint_background(background, coverage, width, &rows, target);
             }
         }
         let distinct = match self.coverage.as_deref() {
-            Some(c) if !c.exhausted() && !self.tally.fallback && self.tally.fallback_rows == 0 => {
-                Some(c.covered() + kept)
-            }
+            Some(c) if !c.exhausted() && !self.tally.fallback => Some(c.covered() + kept),
             _ => None,
         };
         Ok(self.tally.report(distinct))
@@ -481,8 +467,45 @@ impl<const SUB: u32> Frame<'_, '_, SUB> {
         walked.map(|_| ())
     }
 
+    /// The end of a front-to-back frame with transparent surfaces: the runs finished with the
+    /// background (in scan memory, kept there), then the rows that fell back drawn again.
+    #[cfg(feature = "transparency")]
+    fn finish_composited<C, S>(
+        mut self,
+        scene: &C,
+        target: &mut S,
+        background: Option<Colour>,
+        kept: u64,
+    ) -> Result<FrameStats, RenderError>
+    where
+        C: Content + ?Sized,
+        S: SpanSink + ?Sized,
+    {
+        let rows = self.rows.clone();
+        let backdrop = self.backdrop;
+        if let (Some(composite), Some(coverage)) = (
+            self.painter.composite.as_deref_mut(),
+            self.coverage.as_deref_mut(),
+        ) {
+            let band = rows.end - rows.start;
+            composite.finish_rows(coverage, backdrop, band, rows.start, target);
+            self.tally.fallback_rows = composite.fallen_rows();
+        }
+        if self.tally.fallback_rows > 0 {
+            self.screen_door_pass(scene, target, background)?;
+        }
+        let distinct = match self.coverage.as_deref() {
+            // (Scan memory, which the runs went into.)
+            Some(c) if c.exhausted() => return Err(RenderError::SpanMemoryFull),
+            Some(c) if self.tally.fallback_rows == 0 => Some(c.covered() + kept),
+            _ => None,
+        };
+        Ok(self.tally.report(distinct))
+    }
+
     /// The rows that fell back to screen-door transparency, drawn again front to back (see
     /// [`crate::composite`]): a walk a group of them, then the group's background.
+    #[cfg(feature = "transparency")]
     fn screen_door_pass<C, S>(
         &mut self,
         scene: &C,
