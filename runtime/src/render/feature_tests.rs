@@ -185,6 +185,7 @@ fn culled_cube(order: Order) -> (FrameStats, bool) {
         integer: None,
         antialias: None,
         composite: None,
+        door: false,
         cuts: NoCuts,
     };
     let entered = painter.enter(&t, 0, None, &mut Tally::default());

@@ -18,8 +18,6 @@ use super::{FrameStats, Source};
 use crate::camera::LocalView;
 use crate::clip::{self, Frustum};
 use crate::composite::Composite;
-#[cfg(feature = "transparency")]
-use crate::composite::ScreenDoor;
 use crate::coverage::{Coverage, Mode};
 use crate::display::{Colour, Filter, SpanSink};
 use crate::error::RenderError;
@@ -300,6 +298,7 @@ where
         integer,
         antialias: pending,
         composite,
+        door: false,
         cuts: NoCuts,
     };
     Ok(Frame {
@@ -516,36 +515,31 @@ impl<const SUB: u32> Frame<'_, '_, SUB> {
         C: Content + ?Sized,
         S: SpanSink + ?Sized,
     {
-        let (Some(composite), Some(coverage)) =
-            (self.painter.composite.take(), self.coverage.take())
-        else {
-            return Ok(());
-        };
         let (band, first_row, width) =
             (self.rows.end - self.rows.start, self.rows.start, self.width);
-        let (mut from, mut result) = (0, Ok(()));
-        let scan = self.output == Output::Scan;
-        while let Some(until) = composite.next_group(from, band, coverage) {
-            let mut sink = ScreenDoor {
-                composite: &mut *composite,
-                sink: &mut *target,
-                scan: Some(&mut *coverage).filter(|_| scan),
-                first_row,
-                width,
-                pixels: 0,
+        // (Scan order: the read-out paints the gaps.)
+        let background = background.filter(|_| self.output != Output::Scan);
+        let mut from = 0;
+        loop {
+            let (Some(composite), Some(coverage)) = (
+                self.painter.composite.as_deref_mut(),
+                self.coverage.as_deref(),
+            ) else {
+                return Ok(());
             };
-            result = self.walk(scene, &mut sink, None).map(|_| ());
-            if result.is_err() {
-                break;
+            let Some(until) = composite.next_group(from, band, coverage) else {
+                return Ok(());
+            };
+            // The same walk as the first pass's, its fills through the screen door.
+            self.painter.door = true;
+            let walked = self.walk(scene, target, None);
+            self.painter.door = false;
+            walked?;
+            if let Some(composite) = self.painter.composite.as_deref_mut() {
+                composite.end_group(until, width, background, first_row, target);
             }
-            // (Scan order: the read-out paints the gaps.)
-            let background = background.filter(|_| !scan);
-            composite.end_group(until, width, background, first_row, target);
             from = until;
         }
-        self.painter.composite = Some(composite);
-        self.coverage = Some(coverage);
-        result
     }
 
     /// Pass 2 (span memory exhausted at polygon `last`): the polygons from the farthest up to

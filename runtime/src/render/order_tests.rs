@@ -297,6 +297,7 @@ fn a_full_screen_stops_the_walk_and_culls_covered_subtrees() {
             integer: None,
             antialias: None,
             composite: None,
+            door: false,
             cuts: NoCuts,
         };
         let mut tally = Tally::default();

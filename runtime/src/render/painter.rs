@@ -18,7 +18,7 @@ use crate::camera::LocalView;
 use crate::clip::{self, Frustum};
 use crate::composite::Composite;
 #[cfg(feature = "transparency")]
-use crate::composite::Composited;
+use crate::composite::{Composited, ScreenDoor};
 use crate::coverage::{Clipped, Coverage, Mode};
 #[cfg(feature = "transparency")]
 use crate::display::{Colour, Transparent};
@@ -299,6 +299,10 @@ pub(super) struct Painter<'w, 'v, const SUB: u32, K: Cuts = NoCuts> {
     /// The runs behind transparent surfaces, in a front-to-back frame of a scene that has
     /// them ([`super::Renderer::composite_memory`]).
     pub(super) composite: Option<&'w mut Composite<'v>>,
+    /// The screen-door pass of the rows that fell back ([`crate::composite`]): the fills go
+    /// through the screen door, each pixel once.
+    #[cfg_attr(not(feature = "transparency"), allow(dead_code))]
+    pub(super) door: bool,
     /// The half-spaces, in camera space, a piece of a posed object is clipped to (none
     /// otherwise; see [`crate::place`]).
     pub(super) cuts: K,
@@ -338,6 +342,7 @@ impl<'v, const SUB: u32, K: Cuts> Painter<'_, 'v, SUB, K> {
             integer: integer.filter(|_| unclipped),
             antialias: self.antialias.as_deref_mut(),
             composite: self.composite.as_deref_mut(),
+            door: self.door,
             cuts,
         }
     }
@@ -779,6 +784,26 @@ impl<'v, const SUB: u32, K: Cuts> Painter<'_, 'v, SUB, K> {
                 // build with the feature: without it, this path is not compiled at all).
                 #[cfg(feature = "transparency")]
                 let coverage = match (self.composite.take(), coverage) {
+                    (Some(composite), coverage) if self.door => {
+                        let points = core::mem::take(&mut self.points);
+                        let pts = points.get(..count).unwrap_or(&[]);
+                        let mut sink = ScreenDoor {
+                            composite: &mut *composite,
+                            sink,
+                            scan: coverage.filter(|c| c.keeps_colours()),
+                            first_row: r0,
+                            width,
+                            pixels: 0,
+                        };
+                        let filled = self.fill_into(
+                            scene, index, polygon, pts, rect, gradient, colour, opacity, &mut sink,
+                        );
+                        let counted = sink.pixels;
+                        self.composite = Some(composite);
+                        self.points = points;
+                        stats.add(Counter::PixelsWritten, filled.unwrap_or(counted));
+                        return Ok(());
+                    }
                     (Some(composite), Some(coverage)) => {
                         // (Out of the painter while it fills: `fill_into` borrows it whole.)
                         let points = core::mem::take(&mut self.points);
