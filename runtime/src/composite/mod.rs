@@ -30,8 +30,6 @@ mod sink;
 mod tests;
 
 #[cfg_attr(not(feature = "transparency"), allow(unused_imports))]
-pub(crate) use screen_door::ScreenDoor;
-#[cfg_attr(not(feature = "transparency"), allow(unused_imports))]
 pub(crate) use sink::Composited;
 
 use crate::coverage::Coverage;

@@ -1,14 +1,13 @@
 //! The screen-door pass: the rows that fell back (see the module docs of [`super`]) drawn
-//! again front to back, a transparent surface as the pixels of its screen door
-//! ([`screen_door_shows`]), each pixel once. Which pixels are drawn is a bitmap per row in
+//! again front to back by the first pass's walk, a transparent surface as the pixels of its
+//! screen door ([`crate::display::screen_door_shows`]), each pixel once (the pass's route is
+//! [`super::Composited`]'s, in its door mode). Which pixels are drawn is a bitmap per row in
 //! the composite memory, whose runs are spent by then; when it cannot hold every such row at
 //! once the pass walks the tree once a group of them.
 
 use super::{Composite, FALLEN};
 use crate::coverage::Coverage;
-use crate::display::{
-    screen_door_shows, Colour, Nowhere, RowShade, RowTexture, SpanPaint, SpanSink,
-};
+use crate::display::{Colour, Nowhere, SpanPaint, SpanSink};
 
 /// A row that fell back and waits for a later group (the low bits of its head).
 const NO_SLOT: u16 = super::NONE;
@@ -141,73 +140,48 @@ impl Composite<'_> {
     }
 }
 
-/// The screen-door pass's sink (the renderer's spans, in frame rows): of the rows in the
-/// group, the pixels not drawn yet, each drawn once; every other span is dropped.
-pub(crate) struct ScreenDoor<'c, 'm, 'v, S: SpanSink + ?Sized> {
-    pub(crate) composite: &'c mut Composite<'m>,
-    pub(crate) sink: &'c mut S,
-    /// Scan memory, which takes the pixels instead of `sink` (a scan-order frame).
-    pub(crate) scan: Option<&'c mut Coverage<'v>>,
-    pub(crate) first_row: u32,
-    pub(crate) width: u32,
-    pub(crate) pixels: u64,
-}
-
-impl<S: SpanSink + ?Sized> ScreenDoor<'_, '_, '_, S> {
-    /// Draw the pixels of `x_start .. x_end` on frame row `y` that `shows` and that are not
-    /// drawn yet, with `paint`.
-    fn route<P: SpanPaint>(
+impl Composite<'_> {
+    /// A span of the screen-door pass on frame row `y` (of a band whose row 0 is frame row
+    /// `first_row`, `width` wide): of the rows in the group, the pixels of `x_start .. x_end`
+    /// that `shows` and that are not drawn yet, drawn with `paint` into `sink`, or into
+    /// `coverage` when it keeps colours (scan memory); every other span is dropped. Returns
+    /// the pixels drawn.
+    #[allow(clippy::too_many_arguments)]
+    pub(crate) fn through_door<P: SpanPaint, S: SpanSink + ?Sized>(
         &mut self,
+        coverage: &mut Coverage<'_>,
+        sink: &mut S,
+        (first_row, width): (u32, u32),
         y: u32,
         x_start: u32,
         x_end: u32,
         paint: &P,
         shows: impl Fn(u32) -> bool,
-    ) {
-        let local = y.wrapping_sub(self.first_row);
-        let Some(slot) = self.composite.slot(local) else {
-            return;
+    ) -> u64 {
+        let local = y.wrapping_sub(first_row);
+        let Some(slot) = self.slot(local) else {
+            return 0;
         };
-        let base = slot * words_per_row(self.width);
-        let x_end = x_end.min(self.width);
-        let mut x = x_start;
+        let base = slot * words_per_row(width);
+        let x_end = x_end.min(width);
+        let (mut x, mut drawn) = (x_start, 0);
         while x < x_end {
-            if self.composite.drawn(base, x) || !shows(x) {
+            if self.drawn(base, x) || !shows(x) {
                 x += 1;
                 continue;
             }
             let start = x;
-            while x < x_end && !self.composite.drawn(base, x) && shows(x) {
+            while x < x_end && !self.drawn(base, x) && shows(x) {
                 x += 1;
             }
-            self.composite.mark(base, start, x);
-            match self.scan.as_deref_mut() {
-                Some(scan) => {
-                    scan.span(local, start, x, paint, &mut Nowhere);
-                }
-                None => paint.paint(&mut *self.sink, y, start, x),
+            self.mark(base, start, x);
+            if coverage.keeps_colours() {
+                coverage.span(local, start, x, paint, &mut Nowhere);
+            } else {
+                paint.paint(&mut *sink, y, start, x);
             }
-            self.pixels += u64::from(x - start);
+            drawn += u64::from(x - start);
         }
-    }
-}
-
-impl<S: SpanSink + ?Sized> SpanSink for ScreenDoor<'_, '_, '_, S> {
-    fn span(&mut self, y: u32, x_start: u32, x_end: u32, colour: Colour) {
-        self.route(y, x_start, x_end, &colour, |_| true);
-    }
-
-    fn shaded_span(&mut self, y: u32, x_start: u32, x_end: u32, shade: &RowShade) {
-        self.route(y, x_start, x_end, shade, |_| true);
-    }
-
-    fn textured_span(&mut self, y: u32, x_start: u32, x_end: u32, texture: &RowTexture<'_>) {
-        self.route(y, x_start, x_end, texture, |_| true);
-    }
-
-    fn transparent_span(&mut self, y: u32, x_start: u32, x_end: u32, colour: Colour, opacity: u8) {
-        self.route(y, x_start, x_end, &colour, |x| {
-            screen_door_shows(x, y, opacity)
-        });
+        drawn
     }
 }

@@ -5,7 +5,9 @@
 
 use super::Composite;
 use crate::coverage::Coverage;
-use crate::display::{Colour, Nowhere, RowShade, RowTexture, Shifted, SpanPaint, SpanSink};
+use crate::display::{
+    screen_door_shows, Colour, Nowhere, RowShade, RowTexture, Shifted, SpanPaint, SpanSink,
+};
 
 /// A polygon's route from the fill to `sink` through `coverage` and `composite` (their row 0
 /// being frame row `first_row`), counting the pixels sent.
@@ -15,6 +17,9 @@ pub(crate) struct Composited<'c, 'm, 'n, S: SpanSink + ?Sized> {
     pub(crate) sink: &'c mut S,
     pub(crate) first_row: u32,
     pub(crate) pixels: u64,
+    /// The screen-door pass (`screen_door.rs`), of a frame `width` wide: the spans go through
+    /// the screen door of the rows that fell back, each pixel once.
+    pub(crate) door: Option<u32>,
 }
 
 /// The pieces the span memory forwards of an opaque span, on their way to the sink: each
@@ -109,20 +114,49 @@ impl<S: SpanSink + ?Sized> Composited<'_, '_, '_, S> {
     }
 }
 
+impl<S: SpanSink + ?Sized> Composited<'_, '_, '_, S> {
+    /// A span of the screen-door pass: `paint` where `shows`.
+    fn door<P: SpanPaint>(
+        &mut self,
+        width: u32,
+        (y, x_start, x_end): (u32, u32, u32),
+        paint: &P,
+        shows: impl Fn(u32) -> bool,
+    ) {
+        let at = (self.first_row, width);
+        let (coverage, sink) = (&mut *self.coverage, &mut *self.sink);
+        let n = (self.composite).through_door(coverage, sink, at, y, x_start, x_end, paint, shows);
+        self.pixels = self.pixels.saturating_add(n);
+    }
+}
+
 impl<S: SpanSink + ?Sized> SpanSink for Composited<'_, '_, '_, S> {
     fn span(&mut self, y: u32, x_start: u32, x_end: u32, colour: Colour) {
-        self.opaque(y, x_start, x_end, &colour);
+        match self.door {
+            Some(width) => self.door(width, (y, x_start, x_end), &colour, |_| true),
+            None => self.opaque(y, x_start, x_end, &colour),
+        }
     }
 
     fn shaded_span(&mut self, y: u32, x_start: u32, x_end: u32, shade: &RowShade) {
-        self.opaque(y, x_start, x_end, shade);
+        match self.door {
+            Some(width) => self.door(width, (y, x_start, x_end), shade, |_| true),
+            None => self.opaque(y, x_start, x_end, shade),
+        }
     }
 
     fn textured_span(&mut self, y: u32, x_start: u32, x_end: u32, texture: &RowTexture<'_>) {
-        self.opaque(y, x_start, x_end, texture);
+        match self.door {
+            Some(width) => self.door(width, (y, x_start, x_end), texture, |_| true),
+            None => self.opaque(y, x_start, x_end, texture),
+        }
     }
 
     fn transparent_span(&mut self, y: u32, x_start: u32, x_end: u32, colour: Colour, opacity: u8) {
+        if let Some(width) = self.door {
+            let shows = |x| screen_door_shows(x, y, opacity);
+            return self.door(width, (y, x_start, x_end), &colour, shows);
+        }
         let local = y.wrapping_sub(self.first_row);
         let coverage = &*self.coverage;
         let pieces = |piece: &mut dyn FnMut(u32, u32)| {

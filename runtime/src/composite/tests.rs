@@ -95,6 +95,7 @@ fn draw(spans: &[Span], records: usize, background: Colour) -> (Once, Composite<
             sink: &mut sink,
             first_row: 0,
             pixels: 0,
+            door: None,
         };
         if s.opacity == 255 {
             route.span(s.y, s.a, s.b, s.colour);
@@ -197,6 +198,7 @@ fn fragments_of_one_face_make_one_run() {
             sink: &mut sink,
             first_row: 0,
             pixels: 0,
+            door: None,
         }
         .transparent_span(s.y, s.a, s.b, s.colour, s.opacity);
     }

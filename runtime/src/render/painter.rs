@@ -18,7 +18,7 @@ use crate::camera::LocalView;
 use crate::clip::{self, Frustum};
 use crate::composite::Composite;
 #[cfg(feature = "transparency")]
-use crate::composite::{Composited, ScreenDoor};
+use crate::composite::Composited;
 use crate::coverage::{Clipped, Coverage, Mode};
 #[cfg(feature = "transparency")]
 use crate::display::{Colour, Transparent};
@@ -784,26 +784,6 @@ impl<'v, const SUB: u32, K: Cuts> Painter<'_, 'v, SUB, K> {
                 // build with the feature: without it, this path is not compiled at all).
                 #[cfg(feature = "transparency")]
                 let coverage = match (self.composite.take(), coverage) {
-                    (Some(composite), coverage) if self.door => {
-                        let points = core::mem::take(&mut self.points);
-                        let pts = points.get(..count).unwrap_or(&[]);
-                        let mut sink = ScreenDoor {
-                            composite: &mut *composite,
-                            sink,
-                            scan: coverage.filter(|c| c.keeps_colours()),
-                            first_row: r0,
-                            width,
-                            pixels: 0,
-                        };
-                        let filled = self.fill_into(
-                            scene, index, polygon, pts, rect, gradient, colour, opacity, &mut sink,
-                        );
-                        let counted = sink.pixels;
-                        self.composite = Some(composite);
-                        self.points = points;
-                        stats.add(Counter::PixelsWritten, filled.unwrap_or(counted));
-                        return Ok(());
-                    }
                     (Some(composite), Some(coverage)) => {
                         // (Out of the painter while it fills: `fill_into` borrows it whole.)
                         let points = core::mem::take(&mut self.points);
@@ -814,6 +794,7 @@ impl<'v, const SUB: u32, K: Cuts> Painter<'_, 'v, SUB, K> {
                             sink,
                             first_row: r0,
                             pixels: 0,
+                            door: self.door.then_some(width),
                         };
                         let filled = self.fill_into(
                             scene, index, polygon, pts, rect, gradient, colour, opacity, &mut sink,
