@@ -142,7 +142,7 @@ fn a_bad_marker_writes_nothing() {
     let o = figures(dir.path(), &[]);
     assert!(!o.status.success());
     assert!(
-        stderr(&o).contains("README.md:8: ratio: no scene/shading/core/width/height of results/target.json has both a=zbuffer-int"),
+        stderr(&o).contains("README.md:8: ratio: no scene/shading/transparent/core/width/height of results/target.json has both a=zbuffer-int"),
         "{}",
         stderr(&o)
     );

@@ -223,6 +223,17 @@ fn identity(source: &str) -> Result<&'static [&'static str], String> {
     }
 }
 
+/// A group's name in a message: its fields' values, those absent (an opaque record's
+/// `transparent`) left out.
+fn named(g: &[String]) -> String {
+    let present: Vec<&str> = g
+        .iter()
+        .map(String::as_str)
+        .filter(|v| !v.is_empty())
+        .collect();
+    present.join(" ")
+}
+
 /// `ratio`: `a`'s field over `b`'s for each scene (and core and size) that has both, one
 /// figure or their range.
 fn ratio(mut params: Params, sources: &mut Sources) -> Result<String, String> {
@@ -275,14 +286,14 @@ fn ratio(mut params: Params, sources: &mut Sources) -> Result<String, String> {
                 _ => Err(format!(
                     "{side} is {} records for {}: name the path (METHOD/PATH) or filter",
                     found.len(),
-                    g.join(" ")
+                    named(&g)
                 )),
             }
         };
         if let (Some(x), Some(y)) = (one(&a)?, one(&b)?) {
             let (x, y) = (number_of(x, &key, &source)?, number_of(y, &key, &source)?);
             if y == 0.0 {
-                return Err(format!("{b}'s {key} is 0 for {}", g.join(" ")));
+                return Err(format!("{b}'s {key} is 0 for {}", named(&g)));
             }
             ratios.push(x / y);
         }
